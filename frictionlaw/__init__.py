@@ -1,0 +1,40 @@
+"""Runtime of the SBMF constitutive friction law (Eqs. 24-25) for FE contact nodes.
+
+Light by design: imports numpy and numba only.
+"""
+
+from .law import alpha_first, alpha_reload, reload_jump, shear_limit, shear_limit_dp
+from .laws import Coulomb, CoulombCap, SBMFLaw, Tresca, law_from_name
+from .params import FrictionParams
+from .state import HistoryState
+from .traction import (
+    OPEN,
+    SLIP,
+    STICK,
+    TractionResult,
+    traction_update,
+    traction_update_force,
+)
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "FrictionParams",
+    "alpha_first",
+    "alpha_reload",
+    "shear_limit",
+    "shear_limit_dp",
+    "reload_jump",
+    "Coulomb",
+    "Tresca",
+    "CoulombCap",
+    "SBMFLaw",
+    "law_from_name",
+    "HistoryState",
+    "TractionResult",
+    "traction_update",
+    "traction_update_force",
+    "OPEN",
+    "STICK",
+    "SLIP",
+]

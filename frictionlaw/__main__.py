@@ -1,0 +1,37 @@
+"""``frictionlaw-demo``: print the law over a pressure range (first loading and a reload)."""
+
+import argparse
+
+import numpy as np
+
+from . import FrictionParams, alpha_first, reload_jump, shear_limit
+
+
+def default_params():
+    """DC04-like demo parameters (Table 1 hardness; C, n of the order the calibration gives)."""
+    return FrictionParams(m=0.7, sigma_y=800e6 / 2.8, H=800e6, C1=1.0, n1=2.0, C2=2.5, n2=2.0)
+
+
+def main(argv=None):
+    """Entry point."""
+    ap = argparse.ArgumentParser(prog="frictionlaw-demo", description=__doc__)
+    ap.add_argument("--params", help="FrictionParams JSON file (default: built-in demo set)")
+    ap.add_argument("--p-hist", type=float, default=400e6, help="history pressure for the reload column (Pa)")
+    args = ap.parse_args(argv)
+    params = FrictionParams.from_json(args.params) if args.params else default_params()
+    print(
+        f"m={params.m:g} k={params.k / 1e6:.1f} MPa H={params.H / 1e6:.0f} MPa "
+        f"C1={params.C1:g} n1={params.n1:g} C2={params.C2:g} n2={params.n2:g}"
+    )
+    print(f"Coulomb slope at p->0: mu_eff = {params.mu_eff:.4f}; cap m k = {params.tau_max / 1e6:.1f} MPa")
+    ph = args.p_hist
+    print(f"{'p [MPa]':>8} {'alpha1':>8} {'tau Eq24 [MPa]':>15} {f'tau reload, p_hist={ph / 1e6:.0f} MPa':>28}")
+    for p in np.linspace(0, 1000e6, 11):
+        t1 = shear_limit(p, 0.0, params)
+        t2 = shear_limit(p, ph, params)
+        print(f"{p / 1e6:8.0f} {alpha_first(p, params):8.4f} {t1 / 1e6:15.3f} {t2 / 1e6:28.3f}")
+    print(f"Eq. 25 jump at p_hist = {ph / 1e6:.0f} MPa: {reload_jump(params, ph) / 1e6:.3f} MPa")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,11 @@
+"""Law codes and node status codes shared by the kernels and the Python layer (no numba here)."""
+
+CODE_COULOMB = 0
+CODE_TRESCA = 1
+CODE_CAP = 2
+CODE_SBMF = 3
+CODE_SBMF_RELOAD = 4  # Eq. 25 alone, whatever p is (for alpha_reload)
+
+STATUS_OPEN = 0
+STATUS_STICK = 1
+STATUS_SLIP = 2

@@ -1,0 +1,124 @@
+"""Friction laws with one interface: Coulomb, Tresca, Coulomb with a cap, and the SBMF law.
+
+Every law has ``shear_limit(p, p_hist=0) -> (tau, dtau_dp)`` and the kernel
+description (``code``, ``coeffs``) that :func:`frictionlaw.traction_update`
+and a host's own numba loop (:func:`frictionlaw.kernels.shear_scalar`) use.
+
+Nomenclature
+------------
+mu : Coulomb coefficient, ``tau = mu p``
+m, k : Tresca factor and shear flow stress, ``tau = m k``
+tau_max : shear cap of Coulomb-with-cap (Abaqus TAUMAX, Orowan), ``tau = min(mu p, tau_max)``
+"""
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _codes as K
+from .law import evaluate, sbmf_coeffs
+from .params import FrictionParams, check_range
+
+__all__ = ["Coulomb", "Tresca", "CoulombCap", "SBMFLaw", "law_from_name"]
+
+
+class _Law:
+    code: int
+    uses_history = False
+
+    @property
+    def coeffs(self):
+        raise NotImplementedError
+
+    def shear_limit(self, p, p_hist=0.0):
+        """Return ``(tau, dtau_dp)`` for pressure ``p`` (Pa) and history ``p_hist``."""
+        return evaluate(self.code, self.coeffs, p, p_hist)
+
+
+def _pos(name, v):
+    return check_range(name, v, 0.0, math.inf, hi_open=True)
+
+
+@dataclass(frozen=True)
+class Coulomb(_Law):
+    """Coulomb's law ``tau = mu p``."""
+
+    mu: float
+    code = K.CODE_COULOMB
+
+    def __post_init__(self):
+        object.__setattr__(self, "mu", _pos("mu", self.mu))
+
+    @property
+    def coeffs(self):
+        return np.array([self.mu, 0, 0, 0, 0, 0, 0, 0], float)
+
+
+@dataclass(frozen=True)
+class Tresca(_Law):
+    """Tresca's law ``tau = m k`` wherever ``p > 0``."""
+
+    m: float
+    k: float
+    code = K.CODE_TRESCA
+
+    def __post_init__(self):
+        object.__setattr__(self, "m", check_range("m", self.m, 0.0, 1.0))
+        object.__setattr__(self, "k", _pos("k", self.k))
+
+    @property
+    def coeffs(self):
+        return np.array([self.m * self.k, 0, 0, 0, 0, 0, 0, 0], float)
+
+
+@dataclass(frozen=True)
+class CoulombCap(_Law):
+    """Coulomb with a shear cap: ``tau = min(mu p, tau_max)`` (Abaqus TAUMAX, Orowan)."""
+
+    mu: float
+    tau_max: float
+    code = K.CODE_CAP
+
+    def __post_init__(self):
+        object.__setattr__(self, "mu", _pos("mu", self.mu))
+        object.__setattr__(self, "tau_max", _pos("tau_max", self.tau_max))
+
+    @property
+    def coeffs(self):
+        return np.array([self.mu, self.tau_max, 0, 0, 0, 0, 0, 0], float)
+
+
+@dataclass(frozen=True)
+class SBMFLaw(_Law):
+    """The paper's law, Eqs. 24-25, with the pressure history ``p_hist`` per node."""
+
+    params: FrictionParams
+    code = K.CODE_SBMF
+    uses_history = True
+
+    def __post_init__(self):
+        if not isinstance(self.params, FrictionParams):
+            raise ValueError("params must be a FrictionParams instance")
+
+    @property
+    def coeffs(self):
+        return sbmf_coeffs(self.params)
+
+    def coulomb_cap_equivalent(self):
+        """The Coulomb-with-cap law this one tends to for ``n1 -> inf``."""
+        return CoulombCap(mu=self.params.mu_eff, tau_max=self.params.tau_max)
+
+
+def law_from_name(name, *, mu=None, m=None, k=None, tau_max=None, params=None):
+    """Build a law from its command-line name: ``coulomb``, ``tresca``, ``cap``, ``sbmf``."""
+    name = name.lower()
+    if name == "coulomb":
+        return Coulomb(mu)
+    if name == "tresca":
+        return Tresca(m, k)
+    if name == "cap":
+        return CoulombCap(mu, tau_max if tau_max is not None else (m or 1.0) * k)
+    if name == "sbmf":
+        return SBMFLaw(params)
+    raise ValueError(f"law must be one of 'coulomb', 'tresca', 'cap', 'sbmf', got {name!r}")

@@ -1,0 +1,161 @@
+"""Per-node pressure history ``p_hist`` with trial/commit semantics (DESIGN.md, section 5).
+
+The host evaluates the law any number of times during the Newton iterations of
+an increment; each evaluation proposes a *trial* history ``max(p_hist, p)`` from
+the *committed* one, so iterations never ratchet it. The host calls
+:meth:`HistoryState.commit` once the increment is accepted, or
+:meth:`HistoryState.rollback` on a cut-back.
+"""
+
+import numpy as np
+
+from ._io import atomic_write
+from .law import as_float_array
+
+__all__ = ["HistoryState"]
+
+_RESTART_FORMAT = "sbmf-friction-restart"
+_RESTART_VERSION = 1
+
+
+class HistoryState:
+    """Committed and trial ``p_hist`` (Pa) for ``n_nodes`` contact nodes.
+
+    Parameters
+    ----------
+    n_nodes : int
+        Number of nodes (``>= 0``).
+    p_hist : array_like, optional
+        Initial committed history (``>= 0``, no NaN); zeros by default.
+    """
+
+    def __init__(self, n_nodes=0, p_hist=None):
+        if p_hist is None:
+            n = int(n_nodes)
+            if n < 0:
+                raise ValueError(f"n_nodes must be >= 0, got {n_nodes!r}")
+            committed = np.zeros(n)
+        else:
+            committed = _check_hist(p_hist).copy()
+        self._committed = committed
+        self._trial = committed.copy()
+
+    @property
+    def n_nodes(self):
+        """Number of nodes."""
+        return self._committed.size
+
+    def __len__(self):
+        return self.n_nodes
+
+    @property
+    def p_hist(self):
+        """Committed history (read-only view)."""
+        v = self._committed.view()
+        v.flags.writeable = False
+        return v
+
+    @property
+    def p_hist_trial(self):
+        """Trial history of the current increment (read-only view)."""
+        v = self._trial.view()
+        v.flags.writeable = False
+        return v
+
+    def propose(self, p):
+        """Set the trial history to ``max(committed, p)`` (``p <= 0`` leaves it as committed)."""
+        p = as_float_array("p", p)
+        if p.shape != self._committed.shape:
+            raise ValueError(f"p must have shape {self._committed.shape}, got {p.shape}")
+        np.maximum(self._committed, np.where(p > 0, p, 0.0), out=self._trial)
+
+    def set_trial(self, p_trial):
+        """Set the trial history directly (used by the fused traction kernel)."""
+        self._trial[:] = np.maximum(self._committed, _check_hist(p_trial))
+
+    def commit(self):
+        """Accept the increment: the trial history becomes the committed one."""
+        self._committed[:] = self._trial
+
+    def rollback(self):
+        """Discard the trial history (cut-back): back to the committed one."""
+        self._trial[:] = self._committed
+
+    def resize(self, n_nodes):
+        """Grow (new nodes get ``p_hist = 0``) or shrink to ``n_nodes`` nodes."""
+        n = int(n_nodes)
+        if n < 0:
+            raise ValueError(f"n_nodes must be >= 0, got {n_nodes!r}")
+        old = self.n_nodes
+        for name in ("_committed", "_trial"):
+            arr = getattr(self, name)
+            new = np.zeros(n)
+            new[: min(n, old)] = arr[: min(n, old)]
+            setattr(self, name, new)
+
+    def grow(self, n_new):
+        """Append ``n_new`` nodes (new contact) with ``p_hist = 0``; returns their indices."""
+        n_new = int(n_new)
+        if n_new < 0:
+            raise ValueError(f"n_new must be >= 0, got {n_new!r}")
+        start = self.n_nodes
+        self.resize(start + n_new)
+        return np.arange(start, start + n_new)
+
+    def remap(self, index_map):
+        """Renumber nodes: new node ``i`` takes old node ``index_map[i]``; ``-1`` means a new node.
+
+        For remeshing: the host gives, for each new node, the old node it inherits
+        (nearest node or a transfer of its choice).
+        """
+        idx = np.asarray(index_map)
+        if idx.ndim != 1 or not np.issubdtype(idx.dtype, np.integer):
+            raise ValueError("index_map must be a 1-D integer array")
+        if idx.size and (idx.min() < -1 or idx.max() >= self.n_nodes):
+            raise ValueError(f"index_map entries must be in [-1, {self.n_nodes - 1}]")
+        for name in ("_committed", "_trial"):
+            arr = getattr(self, name)
+            new = np.zeros(idx.size)
+            keep = idx >= 0
+            new[keep] = arr[idx[keep]]
+            setattr(self, name, new)
+
+    def save(self, path):
+        """Write the committed history to a restart file (``.npz``, atomic)."""
+
+        def write(fh):
+            np.savez(
+                fh,
+                format=np.array(_RESTART_FORMAT),
+                version=np.array(_RESTART_VERSION),
+                p_hist=self._committed,
+            )
+
+        return atomic_write(path, write)
+
+    @classmethod
+    def load(cls, path):
+        """Read a restart file written by :meth:`save`."""
+        try:
+            with np.load(path, allow_pickle=False) as data:
+                fmt = str(data["format"])
+                ver = int(data["version"])
+                p_hist = np.array(data["p_hist"], dtype=np.float64)
+        except (KeyError, ValueError, OSError) as exc:
+            raise ValueError(f"{path}: not a friction restart file ({exc})") from None
+        if fmt != _RESTART_FORMAT:
+            raise ValueError(f"{path}: format {fmt!r} is not {_RESTART_FORMAT!r}")
+        if ver != _RESTART_VERSION:
+            raise ValueError(
+                f"{path}: unsupported restart version {ver}, expected {_RESTART_VERSION}"
+            )
+        return cls(p_hist=p_hist)
+
+
+def _check_hist(p_hist):
+    arr = as_float_array("p_hist", p_hist)
+    if arr.ndim != 1:
+        raise ValueError(f"p_hist must be 1-D, got shape {arr.shape}")
+    if (arr < 0).any():
+        raise ValueError("p_hist must be >= 0")
+    return arr

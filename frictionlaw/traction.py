@@ -1,0 +1,145 @@
+"""The tangential traction update of a friction user subroutine (stick/slip return map).
+
+Penalty regularised stick: the trial traction ``t_tr = t_old + k_t du`` is kept
+while ``|t_tr| <= tau(p, p_hist)`` (stick), otherwise returned radially onto the
+limit circle (slip). Outputs include the consistent tangent for implicit hosts.
+"""
+
+from typing import NamedTuple
+
+import numpy as np
+
+from . import _codes as K
+from .law import PARALLEL_THRESHOLD, as_float_array, kernels
+
+__all__ = ["TractionResult", "traction_update", "traction_update_force", "OPEN", "STICK", "SLIP"]
+
+OPEN, STICK, SLIP = K.STATUS_OPEN, K.STATUS_STICK, K.STATUS_SLIP
+
+
+class TractionResult(NamedTuple):
+    """Result of :func:`traction_update` (stress based) or :func:`traction_update_force`.
+
+    Attributes
+    ----------
+    traction : ndarray, shape (n, d)
+        New tangential traction (Pa) or force (N, force adapter).
+    status : ndarray of int8, shape (n,)
+        0 open, 1 stick, 2 slip.
+    dt_dslip : ndarray, shape (n, d, d)
+        Consistent tangent ``d traction / d slip_increment``.
+    dt_dp : ndarray, shape (n, d)
+        ``d traction / d p`` (force adapter: ``d force / d f_n``).
+    """
+
+    traction: np.ndarray
+    status: np.ndarray
+    dt_dslip: np.ndarray
+    dt_dp: np.ndarray
+
+
+def _as_2d(name, v, n):
+    a = as_float_array(name, v)
+    if a.ndim == 1:
+        a = a[:, None]
+    if a.ndim != 2 or a.shape[0] != n or a.shape[1] not in (1, 2):
+        raise ValueError(f"{name} must have shape ({n},), ({n}, 1) or ({n}, 2), got {np.shape(v)}")
+    if not np.isfinite(a).all():
+        raise ValueError(f"{name} must be finite")
+    return np.ascontiguousarray(a)
+
+
+def traction_update(law, p, slip_increment, traction_old, k_t, state=None, *, parallel=None):
+    """Stick/slip traction update at every contact node (stress based).
+
+    Parameters
+    ----------
+    law : Coulomb, Tresca, CoulombCap or SBMFLaw
+        The friction law.
+    p : array_like, shape (n,)
+        Contact pressure (Pa); ``p <= 0`` is an open node (zero traction).
+    slip_increment : array_like, shape (n,), (n, 1) or (n, 2)
+        Relative tangential displacement increment (m), 1 or 2 directions.
+    traction_old : array_like, same shape as ``slip_increment``
+        Traction at the end of the last accepted increment (Pa).
+    k_t : float or array_like, shape (n,)
+        Tangential penalty stiffness (Pa/m), ``> 0``.
+    state : HistoryState, optional
+        ``p_hist`` per node for laws with history. Its committed history is
+        used and the trial history ``max(p_hist, p)`` is proposed; the host
+        commits once per accepted increment. Without a state every node is
+        on first loading (``p_hist = 0``).
+    parallel : bool, optional
+        Force the parallel (True) or serial (False) kernel; by size otherwise.
+
+    Returns
+    -------
+    TractionResult
+    """
+    p = as_float_array("p", p)
+    if p.ndim != 1:
+        raise ValueError(f"p must be 1-D (one value per node), got shape {p.shape}")
+    n = p.size
+    squeeze = np.ndim(slip_increment) == 1
+    du = _as_2d("slip_increment", slip_increment, n)
+    t_old = _as_2d("traction_old", traction_old, n)
+    if t_old.shape != du.shape:
+        raise ValueError("traction_old must have the shape of slip_increment")
+    kt = np.ascontiguousarray(np.broadcast_to(as_float_array("k_t", k_t), (n,)))
+    if not (np.isfinite(kt).all() and (kt > 0).all()):
+        raise ValueError("k_t must be finite and > 0")
+    if getattr(law, "uses_history", False) and state is not None:
+        if state.n_nodes != n:
+            raise ValueError(f"state has {state.n_nodes} nodes, p has {n}")
+        p_hist = np.ascontiguousarray(state.p_hist, dtype=np.float64)
+    else:
+        p_hist = np.zeros(n)
+    d = du.shape[1]
+    t_new = np.empty((n, d))
+    status = np.empty(n, np.int8)
+    dt_ddu = np.empty((n, d, d))
+    dt_dp = np.empty((n, d))
+    p_trial = np.empty(n)
+    if parallel is None:
+        parallel = n >= PARALLEL_THRESHOLD
+    kern = kernels().traction_array_parallel if parallel else kernels().traction_array
+    kern(
+        int(law.code),
+        law.coeffs,
+        np.ascontiguousarray(p),
+        p_hist,
+        du,
+        t_old,
+        kt,
+        t_new,
+        status,
+        dt_ddu,
+        dt_dp,
+        p_trial,
+    )
+    if state is not None and getattr(law, "uses_history", False):
+        state.set_trial(p_trial)
+    if squeeze:
+        return TractionResult(t_new[:, 0], status, dt_ddu[:, 0, 0], dt_dp[:, 0])
+    return TractionResult(t_new, status, dt_ddu, dt_dp)
+
+
+def traction_update_force(law, f_n, area, slip_increment, force_old, k_force, state=None, **kw):
+    """Force-based adapter (Abaqus/Explicit VFRIC style): forces and nodal areas in, forces out.
+
+    ``p = f_n / area``, ``t_old = force_old / area`` and ``k_t = k_force / area``
+    (``k_force`` in N/m); the returned ``traction`` is the new tangential force
+    (N), ``dt_dslip`` is ``d force / d slip`` (N/m) and ``dt_dp`` is
+    ``d force / d f_n``.
+    """
+    area = as_float_array("area", area)
+    if not (np.isfinite(area).all() and (area > 0).all()):
+        raise ValueError("area must be finite and > 0")
+    f_n = as_float_array("f_n", f_n)
+    p = f_n / area
+    a2 = area[:, None] if np.ndim(slip_increment) == 2 else area
+    t_old = as_float_array("force_old", force_old) / a2
+    k_t = as_float_array("k_force", k_force) / area
+    res = traction_update(law, p, slip_increment, t_old, k_t, state, **kw)
+    a3 = area[:, None, None] if res.dt_dslip.ndim == 3 else area
+    return TractionResult(res.traction * a2, res.status, res.dt_dslip * a3, res.dt_dp)
