@@ -16,16 +16,22 @@ def main(argv=None):
     """Entry point."""
     ap = argparse.ArgumentParser(prog="frictionlaw-demo", description=__doc__)
     ap.add_argument("--params", help="FrictionParams JSON file (default: built-in demo set)")
-    ap.add_argument("--p-hist", type=float, default=400e6, help="history pressure for the reload column (Pa)")
+    ap.add_argument(
+        "--p-hist", type=float, default=400e6, help="history pressure for the reload column (Pa)"
+    )
     args = ap.parse_args(argv)
     params = FrictionParams.from_json(args.params) if args.params else default_params()
     print(
         f"m={params.m:g} k={params.k / 1e6:.1f} MPa H={params.H / 1e6:.0f} MPa "
         f"C1={params.C1:g} n1={params.n1:g} C2={params.C2:g} n2={params.n2:g}"
     )
-    print(f"Coulomb slope at p->0: mu_eff = {params.mu_eff:.4f}; cap m k = {params.tau_max / 1e6:.1f} MPa")
+    print(
+        f"Coulomb slope at p->0: mu_eff = {params.mu_eff:.4f}; cap m k = {params.tau_max / 1e6:.1f} MPa"
+    )
     ph = args.p_hist
-    print(f"{'p [MPa]':>8} {'alpha1':>8} {'tau Eq24 [MPa]':>15} {f'tau reload, p_hist={ph / 1e6:.0f} MPa':>28}")
+    print(
+        f"{'p [MPa]':>8} {'alpha1':>8} {'tau Eq24 [MPa]':>15} {f'tau reload, p_hist={ph / 1e6:.0f} MPa':>28}"
+    )
     for p in np.linspace(0, 1000e6, 11):
         t1 = shear_limit(p, 0.0, params)
         t2 = shear_limit(p, ph, params)

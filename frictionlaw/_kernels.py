@@ -142,7 +142,16 @@ def sbmf_shear_scalar(p, p_hist, tau_max, H, C1, n1, C2, n2, continuous):
     return sbmf_first_scalar(p, tau_max, H, C1, n1)
 
 
-@nb.jit(types.UniTuple(float64, 2)(int64, float64[::1], float64, float64), **_opts)
+_RO = types.Array(float64, 1, "C", readonly=True)  # coeffs frozen as a global in a host's njit
+
+
+@nb.jit(
+    [
+        types.UniTuple(float64, 2)(int64, float64[::1], float64, float64),
+        types.UniTuple(float64, 2)(int64, _RO, float64, float64),
+    ],
+    **_opts,
+)
 def shear_scalar(code, coeffs, p, p_hist):
     """Shear limit ``(tau, dtau/dp)`` of law ``code`` (see the module table)."""
     if not p > 0.0:

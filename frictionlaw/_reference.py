@@ -42,10 +42,11 @@ def alpha_reload(p, p_hist, C1, n1, C2, n2, H, continuous=False):
     a1h = alpha_first(p_hist, C1, n1, H)
     out = np.zeros(p.shape)
     ok = (p > 0) & (a1h > 0)
-    x2 = p[ok] * C2 / (H * a1h[ok])
-    val = a1h[ok] * smooth_min(x2, n2)
-    if continuous:
-        val = val / smooth_min(p_hist[ok] * C2 / (H * a1h[ok]), n2)
+    with np.errstate(over="ignore"):  # x2 = inf is a valid argument of smooth_min (g = 1)
+        x2 = p[ok] * C2 / (H * a1h[ok])
+        val = a1h[ok] * smooth_min(x2, n2)
+        if continuous:
+            val = val / smooth_min(p_hist[ok] * C2 / (H * a1h[ok]), n2)
     out[ok] = val
     return out
 

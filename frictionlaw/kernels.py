@@ -12,7 +12,7 @@ Example
 ...         out[i] = kernels.shear_scalar(code, coeffs, p[i], p_hist[i])[0]
 """
 
-from ._kernels import (
+from ._codes import (
     CODE_CAP,
     CODE_COULOMB,
     CODE_SBMF,
@@ -20,6 +20,8 @@ from ._kernels import (
     STATUS_OPEN,
     STATUS_SLIP,
     STATUS_STICK,
+)
+from ._kernels import (
     sbmf_first_scalar,
     sbmf_reload_scalar,
     sbmf_shear_scalar,

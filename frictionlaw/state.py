@@ -55,6 +55,10 @@ class HistoryState:
         v.flags.writeable = False
         return v
 
+    def committed_array(self):
+        """The committed history array itself (writable, no copy), for kernels. Do not modify."""
+        return self._committed
+
     @property
     def p_hist_trial(self):
         """Trial history of the current increment (read-only view)."""

@@ -85,13 +85,13 @@ def traction_update(law, p, slip_increment, traction_old, k_t, state=None, *, pa
     t_old = _as_2d("traction_old", traction_old, n)
     if t_old.shape != du.shape:
         raise ValueError("traction_old must have the shape of slip_increment")
-    kt = np.ascontiguousarray(np.broadcast_to(as_float_array("k_t", k_t), (n,)))
+    kt = np.array(np.broadcast_to(as_float_array("k_t", k_t), (n,)), dtype=np.float64)
     if not (np.isfinite(kt).all() and (kt > 0).all()):
         raise ValueError("k_t must be finite and > 0")
     if getattr(law, "uses_history", False) and state is not None:
         if state.n_nodes != n:
             raise ValueError(f"state has {state.n_nodes} nodes, p has {n}")
-        p_hist = np.ascontiguousarray(state.p_hist, dtype=np.float64)
+        p_hist = state.committed_array()
     else:
         p_hist = np.zeros(n)
     d = du.shape[1]
