@@ -34,7 +34,7 @@ from ._codes import (
     STATUS_STICK,
 )
 
-_LN_Y_MAX = 700.0  # exp(700) ~ 1e304: tanh is exactly 1 long before
+_Y_SATURATED = 350.0  # tanh(y) == 1 and 2y/sinh(2y) < 1e-300 beyond
 
 _opts = dict(nopython=True, cache=True, nogil=True, error_model="numpy")
 
@@ -43,38 +43,32 @@ _opts = dict(nopython=True, cache=True, nogil=True, error_model="numpy")
 def smooth_min_scalar(x, n):
     """Smooth minimum ``g(x) = tanh(x**n) ** (1/n)`` of ``x`` and 1 (Eqs. 24-25).
 
-    Returns ``(g, g / x, dg/dx)``. Evaluated in logs so that the small-``x``
-    limit ``g -> x`` survives any ``n`` (``x**n`` may underflow) and large
-    ``x`` never overflows. ``x <= 0`` gives ``(0, 1, 1)``: the right limits.
+    Returns ``(g, g / x, dg/dx)``. With ``y = x**n``: for ``y < 1`` it is
+    evaluated as ``g = x (tanh(y)/y) ** (1/n)`` so that the small-``x`` limit
+    ``g -> x`` survives any ``n`` (``y`` may underflow to 0), and as
+    ``exp(ln tanh(y) / n)`` above; ``tanh`` and ``dg/dx = (g/x) 2y/sinh(2y)``
+    both come from one ``expm1(-2y)``. ``x <= 0`` gives ``(0, 1, 1)``, the right limits.
     """
     if not x > 0.0:
         return 0.0, 1.0, 1.0
-    lny = n * math.log(x)
-    if lny > _LN_Y_MAX:
+    y = x**n
+    if y < 1e-4:
+        # ln(tanh(y)/y) = -y^2/3 + 7 y^4/90 + O(y^6); z/sinh(z) = 1 - z^2/6 + O(z^4), z = 2y
+        y2 = y * y
+        gox = math.exp((-y2 / 3.0 + 7.0 * y2 * y2 / 90.0) / n)
+        return x * gox, gox, gox * (1.0 - 2.0 * y2 / 3.0)
+    if y > _Y_SATURATED:
         return 1.0, 1.0 / x, 0.0
-    y = math.exp(lny)
+    em = math.expm1(-2.0 * y)  # e - 1 with e = exp(-2y), accurate for small y
+    two_e = 2.0 + em  # 1 + e
+    t = -em / two_e  # tanh(y)
+    s = 4.0 * y * (1.0 + em) / (-em * two_e)  # 2y / sinh(2y)
     if y < 1.0:
-        # ln(tanh(y)/y): series for tiny y, direct otherwise
-        if y < 1e-4:
-            y2 = y * y
-            lr = -y2 / 3.0 + 7.0 * y2 * y2 / 90.0
-        else:
-            lr = math.log(math.tanh(y) / y)
-        gox = math.exp(lr / n)
+        gox = math.exp(math.log(t / y) / n)
         g = x * gox
     else:
-        e = math.exp(-2.0 * y)
-        lt = math.log1p(-2.0 * e / (1.0 + e))  # ln tanh(y)
-        g = math.exp(lt / n)
+        g = math.exp(math.log1p(-2.0 * (1.0 + em) / two_e) / n)
         gox = g / x
-    # dg/dx = (g/x) * z / sinh(z) with z = 2y
-    z = 2.0 * y
-    if z < 1e-4:
-        s = 1.0 - z * z / 6.0
-    elif z > _LN_Y_MAX:
-        s = 0.0
-    else:
-        s = z / math.sinh(z)
     return g, gox, gox * s
 
 
