@@ -9,6 +9,7 @@ k : shear flow stress (Pa), ``sigma_y / 2`` in the paper (Tresca)
 C1, n1 : first-loading parameters of Eq. 24
 C2, n2 : un-/reloading parameters of Eq. 25
 continuous_reload : normalise Eq. 25 so that it meets Eq. 24 at ``p_hist``
+geo_ratio : Eq. 26's geometric share, ``f(p) = geo_ratio k alpha(p)`` (0: Eqs. 24-25 alone)
 """
 
 import json
@@ -34,6 +35,7 @@ _UNITS = {
     "n1": "1",
     "C2": "1",
     "n2": "1",
+    "geo_ratio": "1",
 }
 
 _N_MAX = 1e6
@@ -76,6 +78,11 @@ class FrictionParams:
     continuous_reload : bool
         Use the normalised Eq. 25 that equals Eq. 24 at ``p = p_hist``
         (see :func:`frictionlaw.reload_jump`). Default ``False`` (the paper's form).
+    geo_ratio : float
+        Eq. 26's extra term for rough tools in ``[0, 10]``: ``tau = m [k alpha + f]`` with
+        ``f = geo_ratio k alpha`` (the calibration finds ``tau_geo / tau_adh`` nearly independent
+        of the pressure, Sec. 3.2), i.e. ``tau = m k (1 + geo_ratio) alpha``. Applied on both
+        branches. Default 0: the paper's Eqs. 24-25.
     provenance : dict
         Free mapping recorded in the file (calibration inputs, fit quality).
     """
@@ -89,6 +96,7 @@ class FrictionParams:
     n2: float
     k: float | None = None
     continuous_reload: bool = False
+    geo_ratio: float = 0.0
     provenance: dict = field(default_factory=dict, compare=False, hash=False, repr=False)
 
     def __post_init__(self):
@@ -113,18 +121,19 @@ class FrictionParams:
                 f"continuous_reload must be True or False, got {self.continuous_reload!r}"
             )
         set_(self, "continuous_reload", bool(self.continuous_reload))
+        set_(self, "geo_ratio", check_range("geo_ratio", self.geo_ratio, 0.0, 10.0))
         if not isinstance(self.provenance, dict):
             raise ValueError("provenance must be a dict (a JSON object)")
 
     @property
     def tau_max(self):
-        """Tresca cap ``m k`` (Pa): the law's large-pressure limit."""
-        return self.m * self.k
+        """Large-pressure limit (Pa): the Tresca cap ``m k``, times ``1 + geo_ratio`` (Eq. 26)."""
+        return self.m * self.k * (1.0 + self.geo_ratio)
 
     @property
     def mu_eff(self):
-        """Small-pressure Coulomb slope of Eq. 24, ``m k C1 / H``."""
-        return self.m * self.k * self.C1 / self.H
+        """Small-pressure Coulomb slope of Eq. 24, ``m k C1 / H`` (times ``1 + geo_ratio``)."""
+        return self.tau_max * self.C1 / self.H
 
     def replace(self, **changes):
         """Return a copy with ``changes`` applied (validated again)."""

@@ -83,3 +83,23 @@ def test_malformed_files_raise_clear_errors(tmp_path):
         f.write_text(json.dumps(d))
         with pytest.raises(ValueError, match=msg):
             FrictionParams.from_json(f)
+
+
+def test_eq26_geometric_share_scales_the_law_and_round_trips(tmp_path):
+    import numpy as np
+
+    from frictionlaw import shear_limit
+
+    p0 = FrictionParams(**BASE)
+    p1 = FrictionParams(**BASE, geo_ratio=0.08)
+    assert p1.tau_max == pytest.approx(1.08 * p0.tau_max, rel=1e-15)
+    assert p1.mu_eff == pytest.approx(1.08 * p0.mu_eff, rel=1e-15)
+    p = np.linspace(0, 2e9, 41)
+    for p_hist in (0.0, 5e8):
+        np.testing.assert_allclose(shear_limit(p, p_hist, p1), 1.08 * shear_limit(p, p_hist, p0), rtol=1e-14)
+    assert FrictionParams.from_json(p1.to_json(tmp_path / "g.json")).geo_ratio == 0.08
+    d = p0.to_dict()
+    d["parameters"].pop("geo_ratio")  # files without the term read as Eqs. 24-25 alone
+    assert FrictionParams.from_dict(d).geo_ratio == 0.0
+    with pytest.raises(ValueError, match=r"geo_ratio must be in \[0, 10\]"):
+        FrictionParams(**BASE, geo_ratio=-0.1)
