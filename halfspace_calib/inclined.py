@@ -36,6 +36,7 @@ __all__ = [
     "patch_normals",
     "contact_normals",
     "tau_geo",
+    "tau_geo_from_surfaces",
 ]
 
 
@@ -215,6 +216,47 @@ def tau_geo(p, nv, direction=1):
     tan_phi = -direction * nv[..., 0] / nv[..., 2]  # > 0 on entering flanks
     entering = tan_phi > 0
     return float(np.sum(np.where(entering, p * tan_phi, 0.0)) / p.size)
+
+
+def tau_geo_from_surfaces(p, z_workpiece, z_tool, block, dx, dy=None, plastic=None, direction=1):
+    """Eq. 23 from the measured height maps of both bodies (Eqs. 19-23 in one call).
+
+    Fits the patch planes of both bodies (:func:`fit_patch_planes`), forms their upward normals
+    (the tool's in the workpiece's frame), applies the elastic/plastic rule
+    (:func:`contact_normals`) and sums the entering flanks (:func:`tau_geo`).
+
+    Parameters
+    ----------
+    p : array_like, shape (Nx, Ny)
+        Contact pressure of the normal solution (Pa).
+    z_workpiece, z_tool : array_like, shape (Nx * sx, Ny * sy)
+        Measured heights (m) on the same ``x, y`` grid; the tool's heights are positive towards the
+        workpiece (as in the composite topography ``h = z_workpiece + z_tool``).
+    block : int or (int, int)
+        Measured points per solver element ``(sx, sy)``.
+    dx, dy : float
+        Spacing of the measured points (m).
+    plastic : array_like of bool, shape (Nx, Ny), optional
+        Plastic set of the normal solution; default: all elastic.
+    direction : {1, -1}
+        Sliding direction of the tool relative to the workpiece along ``x``.
+
+    Returns
+    -------
+    float
+        ``tau_geo`` in Pa.
+    """
+    pw = fit_patch_planes(z_workpiece, block, dx, dy)
+    pt = fit_patch_planes(z_tool, block, dx, dy)
+    p = np.asarray(p, dtype=float)
+    if p.shape != pw.alpha.shape or pt.alpha.shape != pw.alpha.shape:
+        raise ValueError(
+            f"p {p.shape} must match the element grid of both surfaces "
+            f"{pw.alpha.shape}, {pt.alpha.shape}"
+        )
+    plastic = np.zeros(p.shape, bool) if plastic is None else plastic
+    nv = contact_normals(patch_normals(pw.alpha, pw.beta), patch_normals(-pt.alpha, -pt.beta), plastic)
+    return tau_geo(p, nv, direction)
 
 
 def _check_block(block):

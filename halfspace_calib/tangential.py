@@ -430,7 +430,8 @@ def _mprgp(A, b, lo, hi, x0, tol_abs, maxiter, alpha_bar, gamma=1.0):
             Ad = A(d)
             nmv += 1
             dAd = _dot(d, Ad)
-            a_cg = _dot(grad, d) / dAd
+            # zero curvature (periodic mean mode under full contact): go to the bound
+            a_cg = _dot(grad, d) / dAd if dAd > 0 else np.inf
             a_f = _max_step(x, d, lo, hi)
             if a_cg <= a_f:
                 x = x - a_cg * d
@@ -452,7 +453,9 @@ def _mprgp(A, b, lo, hi, x0, tol_abs, maxiter, alpha_bar, gamma=1.0):
             # proportioning: release bound elements along the chopped gradient
             Ab = A(beta)
             nmv += 1
-            a = min(_dot(grad, beta) / _dot(beta, Ab), _max_step(x, beta, lo, hi))
+            bAb = _dot(beta, Ab)
+            a_max = _max_step(x, beta, lo, hi)
+            a = min(_dot(grad, beta) / bAb, a_max) if bAb > 0 else a_max
             x = np.clip(x - a * beta, lo, hi)
             grad = grad - a * Ab
             phi, beta = split(x, grad)

@@ -162,3 +162,24 @@ def test_bad_input():
         tau_geo(np.ones((2, 2)), nv, direction=0)
     with pytest.raises(ValueError, match="up"):
         contact_normals(-nv, nv, np.zeros((2, 2), bool))
+
+
+def test_tau_geo_from_surfaces():
+    from halfspace_calib.inclined import tau_geo_from_surfaces
+
+    rng = np.random.default_rng(4)
+    n, s, dx = 8, 4, 1e-6
+    zw = np.cumsum(rng.normal(scale=0.05 * dx, size=(n * s, n * s)), axis=0)
+    p = rng.uniform(0, 500e6, size=(n, n))
+    planes = fit_patch_planes(zw, s, dx)
+    ref = tau_geo(p, patch_normals(planes.alpha, planes.beta))
+    assert ref > 0
+    # a conforming tool (heights towards the workpiece = -z_workpiece) has the workpiece's normals
+    assert tau_geo_from_surfaces(p, zw, -zw, s, dx) == pytest.approx(ref, rel=1e-12)
+    # flat tool: plastic contact takes the tool's normal -> no geometric shear
+    flat = np.zeros_like(zw)
+    assert tau_geo_from_surfaces(p, zw, flat, s, dx, plastic=np.ones((n, n), bool)) == 0.0
+    el = tau_geo_from_surfaces(p, zw, flat, s, dx)
+    assert 0 < el < ref
+    with pytest.raises(ValueError, match="element grid"):
+        tau_geo_from_surfaces(p[:4], zw, flat, s, dx)

@@ -282,3 +282,15 @@ def test_bad_pressure_and_gs_size():
         solve_tangential(np.ones(4), 1e-6, E_STAR, E_PR, delta=1e-9, mu=0.3)
     with pytest.raises(ValueError, match="gauss-seidel"):
         solve_tangential(np.ones((100, 100)), 1e-6, E_STAR, E_PR, delta=1e-9, mu=0.3, method="gauss-seidel")
+
+
+def test_periodic_full_contact_slides_everywhere():
+    # periodic half-space in full contact: the mean mode is infinitely compliant, so any shift
+    # slides every element (and the solver must not divide by the zero curvature)
+    p = np.full((16, 16), 100e6)
+    for method in ("mprgp", "gauss-seidel"):
+        r = solve_tangential(p, 1e-6, E_STAR, E_PR, delta=-1e-9, m=0.5, sigma_y=200e6,
+                             periodic=True, method=method)
+        assert r.converged, r.message
+        assert r.slip.all()
+        np.testing.assert_allclose(r.q, -50e6)
