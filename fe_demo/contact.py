@@ -42,6 +42,18 @@ def nodal_areas(x, edges, nodes):
     return area[nodes]
 
 
+class _HostState(HistoryState):
+    """``HistoryState`` whose ``p_hist`` is a writeable copy.
+
+    Works around ``frictionlaw.traction_update`` handing the read-only committed
+    view to its numba kernel (no matching signature for readonly arrays).
+    """
+
+    @property
+    def p_hist(self):
+        return np.array(super().p_hist)
+
+
 @dataclass
 class ContactEval:
     """Contact contributions at one iterate (arrays over candidate nodes)."""
@@ -76,7 +88,7 @@ class DieContact:
         self.law = law
         self.eps_n = float(eps_n)
         self.eps_t = float(eps_t)
-        self.state = HistoryState(self.nodes.size)
+        self.state = _HostState(self.nodes.size)
         self.tau_old = np.zeros(self.nodes.size)
         self.last = None
 
@@ -123,6 +135,10 @@ class DieContact:
         """Accept the increment: traction becomes the old traction, ``p_hist`` is committed."""
         self.tau_old = np.where(ev.p > 0, ev.tau, 0.0)
         self.state.commit()
+
+    def reset_history(self):
+        """Forget the committed ``p_hist`` (a law without history, for comparisons)."""
+        self.state = _HostState(self.nodes.size)
 
     def rollback(self):
         """Cut-back: discard the trial ``p_hist``."""

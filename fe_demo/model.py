@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.linalg import spsolve
+from scipy.sparse.linalg import splu
 
 from .contact import DieContact, nodal_areas
 from .element import Assembler, internal_force, kinematics, stiffness
@@ -75,6 +75,8 @@ class _Trial:
     norm: float
     ref: float
     valid: bool
+    kin: object = None
+    D: object = None
 
 
 @dataclass
@@ -174,13 +176,20 @@ class FormingModel:
         ep = float((self.eps_p * kin.dV).sum() / kin.dV.sum())
         return float(self.mat.flow_stress(ep))
 
+    def flow_stress_hom(self):
+        """Flow stress at the homogeneous-compression strain ``ln(h0 / h)`` (Pa).
+
+        The slab method's and the ring charts' ``sigma_f``; Tresca's ``k`` in the demo.
+        """
+        return float(self.mat.flow_stress(max(math.log(self.h0 / self.height), 0.0)))
+
     def die_force(self):
         """Die force (N) of the last accepted increment."""
         ev = self.accepted
         return 0.0 if ev is None else float(ev.fz.sum())
 
     # ------------------------------------------------------------------ kernel
-    def _evaluate(self, du, z_die, area, need_tangent):
+    def _evaluate(self, du, z_die, area):
         tm = self.timings
         t0 = time.perf_counter()
         x1 = self.x + du.reshape(-1, 2)
@@ -209,23 +218,29 @@ class FormingModel:
         R[2 * nodes + 1] += ev.fz
         R[2 * nodes] += ev.fr
         R[~self.free] = 0.0
-        t3 = time.perf_counter()
-        tm.contact += t3 - t2
-        K = None
-        if need_tangent:
-            K = self.asm.matrix(stiffness(kin1, D))
-            zi, ri = 2 * nodes + 1, 2 * nodes
-            Kc = sp.coo_matrix(
-                (
-                    np.concatenate([ev.kzz, ev.krr, ev.krz]),
-                    (np.concatenate([zi, ri, ri]), np.concatenate([zi, ri, zi])),
-                ),
-                shape=K.shape,
-            )
-            K = (K + Kc.tocsr()).tocsr()
-            tm.assembly += time.perf_counter() - t3
+        tm.contact += time.perf_counter() - t2
         trial = _Trial(du, sig, ep, ev, float(np.linalg.norm(R)), max(ref, 1e-30), True)
-        return trial, R, K
+        trial.kin = kin1
+        trial.D = D
+        return trial, R
+
+    def _tangent(self, trial):
+        """Global tangent at ``trial``: material part plus the contact terms."""
+        t0 = time.perf_counter()
+        ev = trial.contact
+        nodes = self.contact.nodes
+        K = self.asm.matrix(stiffness(trial.kin, trial.D))
+        zi, ri = 2 * nodes + 1, 2 * nodes
+        Kc = sp.coo_matrix(
+            (
+                np.concatenate([ev.kzz, ev.krr, ev.krz]),
+                (np.concatenate([zi, ri, ri]), np.concatenate([zi, ri, zi])),
+            ),
+            shape=K.shape,
+        )
+        K = (K + Kc.tocsr())[self.free][:, self.free].tocsc()
+        self.timings.assembly += time.perf_counter() - t0
+        return K
 
     def _predictor(self, dz):
         if self.du_last is not None and self.dz_last:
@@ -242,17 +257,17 @@ class FormingModel:
         z_die = self.z_die + dz
         area = nodal_areas(self.x, self.axi.boundary_edges, self.contact.nodes)
         du = self._predictor(dz)
-        out = self._evaluate(du, z_die, area, True)
+        out = self._evaluate(du, z_die, area)
         if out is None:
             return None, 0, "inverted element at the predictor"
-        trial, R, K = out
+        trial, R = out
         free = self.free
         for it in range(1, self.opt.max_iter + 1):
             self.n_newton += 1
+            Kff = self._tangent(trial)
             t0 = time.perf_counter()
-            Kff = K[free][:, free]
             try:
-                d = spsolve(Kff.tocsc(), -R[free])
+                d = splu(Kff, permc_spec="MMD_AT_PLUS_A").solve(-R[free])
             except RuntimeError as exc:  # singular factor
                 return None, it, f"linear solve failed: {exc}"
             self.timings.solve += time.perf_counter() - t0
@@ -263,7 +278,7 @@ class FormingModel:
             s = 1.0
             best = None
             for _ in range(6 if self.opt.line_search else 1):
-                cand = self._evaluate(du + s * step, z_die, area, True)
+                cand = self._evaluate(du + s * step, z_die, area)
                 if cand is not None:
                     if best is None or cand[0].norm < best[0].norm:
                         best = cand
@@ -272,7 +287,7 @@ class FormingModel:
                 s *= 0.5
             if best is None:
                 return None, it, "every line-search step inverts an element"
-            trial, R, K = best
+            trial, R = best
             du = trial.du
             if trial.norm <= self.opt.rtol * trial.ref:
                 return trial, it, "converged"
