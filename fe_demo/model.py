@@ -151,6 +151,7 @@ class FormingModel:
             raise ValueError("mesh has inverted elements")
         h_min = float(np.sqrt((kin.dV / (2 * np.pi * np.maximum(kin.r, 1e-30))).sum(1).min()))
         eps = self.opt.penalty_factor * material.E / h_min
+        self.f_floor = 1e-3 * material.sigma_y0 * np.pi * float(self.x[:, 0].max()) ** 2
         self.contact = DieContact(axi.contact_nodes, None, eps, eps)
         self.du_last = None
         self.dz_last = None
@@ -219,7 +220,9 @@ class FormingModel:
         R[2 * nodes] += ev.fr
         R[~self.free] = 0.0
         tm.contact += time.perf_counter() - t2
-        trial = _Trial(du, sig, ep, ev, float(np.linalg.norm(R)), max(ref, 1e-30), True)
+        # force scale: internal forces, floored at 1e-3 of the initial yield force so that
+        # a fully unloaded (self-equilibrated) body can still converge
+        trial = _Trial(du, sig, ep, ev, float(np.linalg.norm(R)), max(ref, self.f_floor), True)
         trial.kin = kin1
         trial.D = D
         return trial, R

@@ -331,7 +331,9 @@ def run_multistage(
 ):
     """Upset to ``first_reduction``, unload (springback, contact opens), reload to ``reduction``.
 
-    The unload lifts the die until every node has left contact. With
+    The unload lifts the die until every node has left contact; the reload first
+    returns to the stage-1 die position in ``2 n_unload`` fine increments (where the
+    nodes come back below their ``p_hist`` and Eq. 25 applies), then goes on. With
     ``reset_history=True`` the committed ``p_hist`` is wiped after unloading (a law
     without history), for comparison. Adds the columns ``stage`` (1 load, 2 unload,
     3 reload) and ``tau_diff_eq25`` (largest ``|tau(p, p_hist) - tau(p, 0)|`` over the
@@ -366,6 +368,7 @@ def run_multistage(
         model, [(z0 * (1 - r1), n1)], law, mu, m, progress, snapshot_every, extra
     )
     hists = [h1]
+    z_loaded = model.z_die
     if ok:
         # unload: elastic springback of the height is about sigma_f h / E; lift 3x that
         stage["k"] = 2
@@ -383,8 +386,16 @@ def run_multistage(
             model.contact.reset_history()
         stage["k"] = 3
         n3 = max(1, n_inc - n1)
+        # re-contact back to the stage-1 die position in fine steps (Eq. 25 acts here), then on
         ok, msg, h3, s3 = _drive(
-            model, [(z0 * (1 - r2), n3)], law, mu, m, progress, snapshot_every, extra
+            model,
+            [(z_loaded, 2 * n_unload), (z0 * (1 - r2), n3)],
+            law,
+            mu,
+            m,
+            progress,
+            snapshot_every,
+            extra,
         )
         hists.append(h3)
         snaps += s3
