@@ -18,6 +18,7 @@ during iterations, committed only for accepted increments).
 from dataclasses import dataclass
 
 import numpy as np
+
 from frictionlaw import HistoryState, traction_update
 
 __all__ = ["nodal_areas", "DieContact", "ContactEval"]

@@ -17,7 +17,14 @@ from skfem import ElementQuad1
 from skfem.quadrature import get_quadrature
 from skfem.refdom import RefQuad
 
-__all__ = ["Kinematics", "reference_basis", "kinematics", "Assembler"]
+__all__ = [
+    "Kinematics",
+    "reference_basis",
+    "kinematics",
+    "Assembler",
+    "internal_force",
+    "stiffness",
+]
 
 
 def reference_basis():

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["Material", "DC04", "radial_return", "elastic_matrix"]
+__all__ = ["Material", "DC04", "radial_return", "elastic_matrix", "von_mises"]
 
 #: Voigt helpers: trace vector and the deviatoric projector (engineering shear)
 _ONE = np.array([1.0, 1.0, 1.0, 0.0])

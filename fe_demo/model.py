@@ -27,7 +27,7 @@ from .contact import DieContact, nodal_areas
 from .element import Assembler, internal_force, kinematics, stiffness
 from .material import DC04, radial_return
 
-__all__ = ["SolverOptions", "IncrementResult", "FormingModel"]
+__all__ = ["SolverOptions", "IncrementResult", "FormingModel", "Timings"]
 
 
 @dataclass
@@ -246,9 +246,12 @@ class FormingModel:
         return K
 
     def _predictor(self, dz):
-        """Initial guess: the last accepted increment scaled to ``dz``; without one a
-        vertical compression that slightly penetrates the die (every top node starts
-        active and sticking, which keeps Tresca-type laws from chattering)."""
+        """Initial guess for the increment ``dz``.
+
+        The last accepted increment scaled to ``dz``; without one a vertical compression
+        that slightly penetrates the die (every top node starts active and sticking,
+        which keeps Tresca-type laws from chattering).
+        """
         if self.du_last is not None and self.dz_last:
             return self.du_last * (dz / self.dz_last)
         h = self.z_die

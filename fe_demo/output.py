@@ -15,6 +15,7 @@ __all__ = [
     "plot_die_profile",
     "plot_law_comparison",
     "plot_ring_chart",
+    "summary_table",
 ]
 
 _FIRST = ("height_reduction", "force", "inner_diameter_change")

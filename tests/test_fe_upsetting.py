@@ -23,7 +23,7 @@ def _frictionless(n_inc=10, reduction=0.5, nr=8, nz=4):
 
 def test_frictionless_upsetting_is_homogeneous():
     model, rows = _frictionless()
-    for red, force, ep_min, ep_max, r_out in rows:
+    for _red, force, ep_min, ep_max, r_out in rows:
         # homogeneous plastic strain everywhere (penalty penetration ~1e-7 m is the only
         # source of non-uniformity)
         assert ep_max - ep_min < 2e-3 * ep_max
