@@ -72,7 +72,7 @@ def build_parser():
     ap = argparse.ArgumentParser(prog="fe-demo", description=__doc__.splitlines()[0])
     sub = ap.add_subparsers(dest="scene", required=True)
     p = sub.add_parser("upsetting", help="cylinder upsetting D0=20 mm, h0=10 mm")
-    _add_common(p, law="sbmf", nr=48, increments=50, reduction=0.5, out="fe_out/upsetting")
+    _add_common(p, law="sbmf", nr=64, increments=50, reduction=0.5, out="fe_out/upsetting")
     p.add_argument("--diameter", type=float, default=20e-3, help="D0 in m")
     p.add_argument("--height", type=float, default=10e-3, help="h0 in m")
     p = sub.add_parser("ring", help="ring compression 6:3:2 (OD 18, ID 9, h 6 mm)")

@@ -207,7 +207,7 @@ def run_upsetting(
     params=None,
     diameter=20e-3,
     height=10e-3,
-    nr=48,
+    nr=64,
     nz=None,
     reduction=0.5,
     n_increments=50,
