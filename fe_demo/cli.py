@@ -22,6 +22,7 @@ from .output import (
     plot_die_profile,
     plot_force_stroke,
     plot_law_comparison,
+    plot_recontact,
     plot_ring_chart,
     summary_table,
     write_history_csv,
@@ -136,6 +137,8 @@ def _write_run(folder, res, title):
 def _jd(o):
     if isinstance(o, np.generic):
         return o.item()
+    if isinstance(o, np.ndarray):
+        return o.tolist()
     return str(o)
 
 
@@ -192,8 +195,10 @@ def _cmd_ring(args):
     if m_list:
         for m in m_list:
             runs.append(("tresca" if m > 0 else "none", m, f"FE m={m:g}"))
+    elif args.law == "all":
+        runs = [(law, args.m, _label(law, args)) for law in LAWS if law != "none"]
     else:
-        runs.append((args.law if args.law != "all" else "sbmf", args.m, _label(args.law, args)))
+        runs.append((args.law, args.m, _label(args.law, args)))
     rows, fe = [], {}
     ok = True
     for law, m, lab in runs:
@@ -221,10 +226,10 @@ def _cmd_ring(args):
 
 
 def _cmd_multistage(args):
-    law = args.law if args.law != "all" else "sbmf"
+    laws = [w for w in LAWS if w != "none"] if args.law == "all" else [args.law]
     rows, curves = [], {}
     ok = True
-    for reset in (False, True):
+    for law, reset in ((w, r) for w in laws for r in (False, True)):
         kw = _common_kw(args, law)
         res = run_multistage(
             law,
@@ -234,7 +239,11 @@ def _cmd_multistage(args):
             **kw,
         )
         lab = _label(law, args) + (" without p_hist" if reset else " with p_hist")
-        _write_run(args.out / ("no_history" if reset else "with_history"), res, lab)
+        sub = args.out / law if len(laws) > 1 else args.out
+        _write_run(sub / ("no_history" if reset else "with_history"), res, lab)
+        prof = res.info.get("recontact_profile")
+        if prof is not None and not reset:
+            plot_recontact(sub / "recontact_friction.png", prof)
         if res.history:
             curves[lab] = res.history
         rows.append(_summary_row(lab, res))
@@ -248,6 +257,18 @@ def _cmd_multistage(args):
             list(curves),
             title="Upset - unload - reload",
         )
+        zoom = {}
+        for lab, h in curves.items():
+            sel = (h["stage"] >= 2) & (h["height_reduction"] <= args.first_reduction + 0.02)
+            if sel.any():
+                zoom[lab] = {k: v[sel] for k, v in h.items()}
+        if zoom:
+            plot_force_stroke(
+                args.out / "multistage_recontact.png",
+                list(zoom.values()),
+                list(zoom),
+                title="Unload and re-contact (Eq. 25 region)",
+            )
     print(summary_table(rows))
     for lab, h in curves.items():
         st = h["stage"]

@@ -15,6 +15,7 @@ __all__ = [
     "plot_die_profile",
     "plot_law_comparison",
     "plot_ring_chart",
+    "plot_recontact",
     "summary_table",
 ]
 
@@ -125,6 +126,32 @@ def plot_die_profile(path, profile, title="Along the die"):
     ax.set_title(title)
     ax.grid(alpha=0.3)
     ax.legend()
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def plot_recontact(path, profile, title="Re-contact: friction limit with and without p_hist"):
+    """Pressure, ``p_hist`` and the shear limit of Eq. 25 vs first loading along the die."""
+    plt = _plt()
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4))
+    r = 1e3 * profile["r"]
+    on = profile["p"] > 0
+    a1.plot(r[on], profile["p"][on] / 1e6, "o-", ms=3, label="p")
+    a1.plot(r[on], profile["p_hist"][on] / 1e6, "--", label="p_hist")
+    a1.set_ylabel("MPa")
+    a2.plot(r[on], profile["tau_limit"][on] / 1e6, "o-", ms=3, label="tau limit with p_hist")
+    a2.plot(
+        r[on], profile["tau_limit_first_loading"][on] / 1e6, "s--", ms=3,
+        label="tau limit without history (Eq. 24)",
+    )
+    a2.set_ylabel("MPa")
+    for a in (a1, a2):
+        a.set_xlabel("r (mm)")
+        a.grid(alpha=0.3)
+        a.legend()
+    fig.suptitle(f"{title} (height reduction {100 * profile['height_reduction']:.2f} %)")
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)

@@ -348,17 +348,34 @@ def run_multistage(
     axi = cylinder_mesh(diameter, height, nr, nz)
     model = FormingModel(axi, material, factory, options or SolverOptions())
     stage = {"k": 1}
+    best = {"n": -1, "profile": None}
 
     def extra(mdl):
         ev = mdl.accepted
         law_obj = mdl.contact.law
         diff = 0.0
+        n25 = 0
         if law_obj is not None and ev is not None and (ev.p > 0).any():
             ph = np.asarray(mdl.contact.state.p_hist)
             act = ev.p > 0
             t_h = law_obj.shear_limit(ev.p[act], ph[act])[0]
             t_0 = law_obj.shear_limit(ev.p[act], 0.0)[0]
             diff = float(np.max(np.abs(t_h - t_0)))
+            n25 = int(np.sum(ev.p[act] < ph[act]))
+            if stage["k"] == 3 and n25 > best["n"]:
+                prof = contact_profile(mdl)
+                order = np.argsort(mdl.x[mdl.contact.nodes, 0])
+                on = ev.p[order] > 0
+                lim_h = np.zeros(on.size)
+                lim_0 = np.zeros(on.size)
+                lim_h[on] = law_obj.shear_limit(ev.p[order][on], ph[order][on])[0]
+                lim_0[on] = law_obj.shear_limit(ev.p[order][on], 0.0)[0]
+                prof.update(
+                    tau_limit=lim_h,
+                    tau_limit_first_loading=lim_0,
+                    height_reduction=mdl.height_reduction,
+                )
+                best.update(n=n25, profile=prof)
         return {"stage": stage["k"], "tau_diff_eq25": diff}
 
     t0 = time.perf_counter()
@@ -406,6 +423,7 @@ def run_multistage(
         "scene": "multistage",
         "law": law,
         "reset_history": reset_history,
+        "recontact_profile": best["profile"],
         "n_elements": axi.n_elements,
         "newton_iterations": model.n_newton,
         "cutback_log": list(model.log),

@@ -57,6 +57,7 @@ def test_upsetting_all_laws_and_ring_and_multistage(tmp_path):
                  "--no-progress", "--vtu-every", "0"]) == 0
     assert (ms / "with_history" / "history.csv").exists()
     assert (ms / "multistage_force.png").exists()
+    assert (ms / "recontact_friction.png").exists()
 
 
 def test_bad_input(tmp_path, capsys):
