@@ -74,6 +74,7 @@ def build_parser():
     sub = ap.add_subparsers(dest="scene", required=True)
     p = sub.add_parser("upsetting", help="cylinder upsetting D0=20 mm, h0=10 mm")
     _add_common(p, law="sbmf", nr=64, increments=50, reduction=0.5, out="fe_out/upsetting")
+    p.add_argument("--remesh-below", type=float, default=0.0, help="remesh threshold (0: off)")
     p.add_argument("--diameter", type=float, default=20e-3, help="D0 in m")
     p.add_argument("--height", type=float, default=10e-3, help="h0 in m")
     p = sub.add_parser("ring", help="ring compression 6:3:2 (OD 18, ID 9, h 6 mm)")
@@ -83,6 +84,12 @@ def build_parser():
         type=str,
         default=",".join(f"{m:g}" for m in CHART_M),
         help="Tresca factors for the chart sweep (law tresca only; '' for a single run)",
+    )
+    p.add_argument(
+        "--remesh-below",
+        type=float,
+        default=0.3,
+        help="remesh when the worst element corner sine falls below this (0: off)",
     )
     p = sub.add_parser("multistage", help="upset, unload, reload (Eq. 25)")
     _add_common(p, law="sbmf", nr=24, increments=30, reduction=0.45, out="fe_out/multistage")
@@ -151,7 +158,8 @@ def _summary_row(label, res):
         "elements": res.info.get("n_elements", 0),
         "increments": len(h.get("force", [])),
         "newton": res.info.get("newton_iterations", 0),
-        "cutbacks": len(res.info.get("cutback_log", [])),
+        "cutbacks": sum("cut-back" in s for s in res.info.get("cutback_log", [])),
+        "remesh": res.info.get("n_remesh", 0),
         "reduction": float(h["height_reduction"][-1]) if h else 0.0,
         "force_kN": float(h["force"][-1] / 1e3) if h else 0.0,
         "wall_s": res.wall_time,
@@ -169,7 +177,12 @@ def _cmd_upsetting(args):
     for law in laws:
         kw = _common_kw(args, law)
         res = run_upsetting(
-            law, diameter=args.diameter, height=args.height, reduction=args.reduction, **kw
+            law,
+            diameter=args.diameter,
+            height=args.height,
+            reduction=args.reduction,
+            remesh_below=args.remesh_below,
+            **kw,
         )
         lab = _label(law, args)
         folder = args.out / law if len(laws) > 1 else args.out
@@ -204,7 +217,7 @@ def _cmd_ring(args):
     for law, m, lab in runs:
         kw = _common_kw(args, law)
         kw["m"] = m
-        res = run_ring(law, reduction=args.reduction, **kw)
+        res = run_ring(law, reduction=args.reduction, remesh_below=args.remesh_below, **kw)
         folder = args.out / lab.replace(" ", "_").replace("=", "") if len(runs) > 1 else args.out
         _write_run(folder, res, lab)
         if res.history:

@@ -31,6 +31,8 @@ class AxiMesh:
         Boundary edges (node pairs) off the mid-plane, for nodal contact areas.
     inner_mid_node : int
         For a ring: the inner-surface node on the mid-plane (-1 otherwise).
+    grid : ndarray, shape (nr + 1, nz + 1)
+        Node number at radial index ``i`` and axial index ``j`` (for remeshing).
     """
 
     mesh: MeshQuad
@@ -39,6 +41,7 @@ class AxiMesh:
     contact_nodes: np.ndarray
     boundary_edges: np.ndarray
     inner_mid_node: int = -1
+    grid: np.ndarray = None
 
     @property
     def n_elements(self):
@@ -67,7 +70,13 @@ def _build(r, z, inner_free):
     inner_mid = -1
     if inner_free:
         inner_mid = int(np.flatnonzero((np.abs(p[0] - r[0]) < tol) & (np.abs(p[1]) < tol))[0])
-    return AxiMesh(mesh, axis, sym, cand, edges, inner_mid)
+    i = np.searchsorted(r, p[0] - tol)
+    j = np.searchsorted(z, p[1] - tol)
+    grid = np.full((r.size, z.size), -1)
+    grid[i, j] = np.arange(p.shape[1])
+    if (grid < 0).any():
+        raise RuntimeError("structured grid numbering failed")
+    return AxiMesh(mesh, axis, sym, cand, edges, inner_mid, grid)
 
 
 def _grid(a, b, n):

@@ -159,6 +159,7 @@ class FormingModel:
         self.log = []
         self.timings = Timings()
         self.n_newton = 0
+        self.n_remesh = 0
 
     # ------------------------------------------------------------------ state
     @property

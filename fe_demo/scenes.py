@@ -17,6 +17,7 @@ from .laws import make_law_factory
 from .material import DC04
 from .mesh import cylinder_mesh, ring_mesh
 from .model import FormingModel, SolverOptions
+from .remesh import block_corners, element_quality, remesh
 from .slab import slab_pressure_coulomb, slab_pressure_tresca
 
 __all__ = [
@@ -139,8 +140,14 @@ def _record(model, law_name, mu, m):
     }
 
 
-def _drive(model, stages, law_name, mu, m, progress, snapshot_every, extra=None):
-    """Run ``stages`` (a list of (target_z_die, n_increments)); returns (ok, msg, rows, snaps)."""
+def _drive(
+    model, stages, law_name, mu, m, progress, snapshot_every, extra=None, remesh_below=0.0
+):
+    """Run ``stages`` (a list of (target_z_die, n_increments)); returns (ok, msg, rows, snaps).
+
+    After an accepted increment whose worst element quality (smallest corner sine)
+    is below ``remesh_below``, the mesh is rebuilt and the fields transferred.
+    """
     rows, snaps = [], [_snapshot(model)]
     bar = None
     total = sum(n for _, n in stages)
@@ -165,6 +172,20 @@ def _drive(model, stages, law_name, mu, m, progress, snapshot_every, extra=None)
                 row = _record(model, law_name, mu, m)
                 row["nit"] = res.nit
                 row["cutbacks"] = res.cutbacks
+                row["min_quality"] = float(
+                    element_quality(model.x, model.t, block_corners(model.axi)).min()
+                )
+                row["remeshed"] = 0
+                if remesh_below > 0 and row["min_quality"] < remesh_below:
+                    try:
+                        q = remesh(model)
+                        row["remeshed"] = 1
+                        model.log.append(
+                            f"remeshed at reduction {model.height_reduction:.4f}: quality "
+                            f"{row['min_quality']:.3f} -> {q:.3f}"
+                        )
+                    except RuntimeError as exc:
+                        model.log.append(f"remesh skipped: {exc}")
                 if extra is not None:
                     row.update(extra(model))
                 rows.append(row)
@@ -215,8 +236,9 @@ def run_upsetting(
     options=None,
     progress=False,
     snapshot_every=0,
+    remesh_below=0.0,
 ):
-    """Cylinder upsetting between flat dies.
+    """Cylinder upsetting between flat dies (``remesh_below`` as in :func:`run_ring`).
 
     History columns: ``height_reduction`` (fraction of h0), ``stroke`` (m), ``force``
     (N), ``contact_radius`` (m), ``avg_pressure`` (force over contact area, Pa),
@@ -233,11 +255,12 @@ def run_upsetting(
     t0 = time.perf_counter()
     z_end = model.z_die * (1.0 - red)
     ok, msg, hist, snaps = _drive(
-        model, [(z_end, n_inc)], law, mu, m, progress, snapshot_every
+        model, [(z_end, n_inc)], law, mu, m, progress, snapshot_every, None, remesh_below
     )
     wall = time.perf_counter() - t0
     info = {
         "scene": "upsetting",
+        "n_remesh": model.n_remesh,
         "law": law,
         "mu": mu,
         "m": m,
@@ -268,8 +291,12 @@ def run_ring(
     options=None,
     progress=False,
     snapshot_every=0,
+    remesh_below=0.0,
 ):
     """Ring compression (standard 6:3:2 ring by default).
+
+    ``remesh_below > 0`` remeshes (:func:`fe_demo.remesh.remesh`) whenever the worst
+    element's smallest corner sine falls below it.
 
     Adds the column ``inner_diameter_change``: ``(D_i - D_i0) / D_i0`` of the inner
     surface at the mid-plane.
@@ -291,11 +318,12 @@ def run_ring(
     t0 = time.perf_counter()
     z_end = model.z_die * (1.0 - red)
     ok, msg, hist, snaps = _drive(
-        model, [(z_end, n_inc)], law, mu, m, progress, snapshot_every, extra
+        model, [(z_end, n_inc)], law, mu, m, progress, snapshot_every, extra, remesh_below
     )
     wall = time.perf_counter() - t0
     info = {
         "scene": "ring",
+        "n_remesh": model.n_remesh,
         "law": law,
         "mu": mu,
         "m": m,
