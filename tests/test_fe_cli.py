@@ -71,3 +71,15 @@ def test_bad_input(tmp_path, capsys):
         make_law_factory("foo")
     with pytest.raises(ValueError, match="mu must be"):
         make_law_factory("coulomb", mu=-1)
+
+
+def test_fe_demo_never_imports_halfspace_calib():
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, fe_demo, fe_demo.cli, fe_demo.scenes, fe_demo.remesh;"
+        "print('halfspace_calib' in sys.modules)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
