@@ -288,8 +288,9 @@ def _cmd_multistage(args):
         if (st == 3).any():
             n25 = h["n_reload_eq25"][st == 3]
             print(
-                f"[{lab}] reload: nodes on Eq. 25 per increment max {int(n25.max())}, "
-                f"max |tau(p,p_hist)-tau(p,0)| = {h['tau_diff_eq25'][st == 3].max() / 1e6:.2f} MPa"
+                f"[{lab}] reload: contact nodes below p_hist (Eq. 25 for sbmf) per increment "
+                f"max {int(n25.max())}, max |tau(p,p_hist)-tau(p,0)| = "
+                f"{h['tau_diff_eq25'][st == 3].max() / 1e6:.2f} MPa"
             )
     print(f"output in {args.out}")
     return 0 if ok else 1
