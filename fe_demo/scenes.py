@@ -18,7 +18,7 @@ from .material import DC04
 from .mesh import cylinder_mesh, ring_mesh
 from .model import FormingModel, SolverOptions
 from .remesh import block_corners, element_quality, remesh
-from .slab import slab_pressure_coulomb, slab_pressure_tresca
+from .slab import slab_pressure_coulomb, slab_pressure_law, slab_pressure_tresca
 
 __all__ = [
     "SceneResult",
@@ -113,10 +113,13 @@ def _record(model, law_name, mu, m):
     eps_hom = math.log(model.h0 / h)
     sf = float(model.mat.flow_stress(eps_hom))
     d = 2.0 * rc if rc > 0 else 2.0 * float(model.x[:, 0].max())
-    if law_name in ("tresca", "cap"):
+    law = model.contact.law
+    if law_name == "tresca":
         slab = float(slab_pressure_tresca(sf, m, d, h))
     elif law_name == "coulomb":
         slab = float(slab_pressure_coulomb(sf, mu, d, h, form="exact"))
+    elif law is not None:  # cap, sbmf (first loading): integrate the slab equation
+        slab = float(slab_pressure_law(sf, lambda p: law.shear_limit(p, 0.0)[0], d, h))
     else:
         slab = sf
     ph = np.asarray(model.contact.state.p_hist)

@@ -11,8 +11,14 @@ Dieter, *Mechanical Metallurgy*, sec. 19-4 (Siebel 1923 for the Coulomb form).
 import math
 
 import numpy as np
+from scipy.integrate import solve_ivp
 
-__all__ = ["slab_pressure_tresca", "slab_pressure_coulomb", "slab_profile_tresca"]
+__all__ = [
+    "slab_pressure_tresca",
+    "slab_pressure_coulomb",
+    "slab_profile_tresca",
+    "slab_pressure_law",
+]
 
 
 def _check(sigma_f, d, h):
@@ -61,3 +67,30 @@ def slab_pressure_coulomb(sigma_f, mu, d, h, *, form="siebel"):
         val = np.where(small, 1.0 + a / 3.0, 2.0 * (np.expm1(a_s) - a_s) / a_s**2)
         return sigma_f * (val if val.ndim else float(val))
     raise ValueError(f"form must be 'siebel' or 'exact', got {form!r}")
+
+
+def slab_pressure_law(sigma_f, tau_of_p, d, h, *, rtol=1e-9):
+    """Average die pressure for any pressure-dependent friction law ``tau(p)`` (Pa).
+
+    Integrates the slab equation ``dp/ds = 2 tau(p) / h`` inwards from the free edge
+    (``s = R - r``, ``p(0) = sigma_f``) together with ``int p r dr`` (``solve_ivp``,
+    RK45), and returns ``2 int_0^R p r dr / R^2``. For Coulomb with a cap (``tau =
+    min(mu p, tau_max)``) and the SBMF law (first loading, Eq. 24), which have no
+    closed form.
+
+    Parameters
+    ----------
+    tau_of_p : callable
+        ``tau_of_p(p) -> tau`` for a scalar pressure (Pa -> Pa), ``>= 0``.
+    """
+    _check(sigma_f, d, h)
+    R = 0.5 * d
+
+    def rhs(s, y):
+        p = y[0]
+        return [2.0 * float(tau_of_p(p)) / h, p * (R - s)]
+
+    sol = solve_ivp(rhs, (0.0, R), [float(sigma_f), 0.0], method="RK45", rtol=rtol, atol=1e-12)
+    if not sol.success:
+        raise RuntimeError(f"slab integration failed: {sol.message}")
+    return 2.0 * sol.y[1, -1] / (R * R)

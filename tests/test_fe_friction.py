@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from fe_demo.scenes import run_upsetting
-from fe_demo.slab import slab_pressure_coulomb, slab_pressure_tresca
+from fe_demo.slab import slab_pressure_coulomb, slab_pressure_law, slab_pressure_tresca
 
 COLUMNS = ("height_reduction", "force", "avg_pressure", "slab_pressure", "contact_radius")
 
@@ -64,6 +64,14 @@ def test_slab_method_overpredicts_at_large_m():
     assert np.all(ratio[late] > 0.9)
 
 
+def test_sbmf_and_cap_against_integrated_slab():
+    for law, kw in (("sbmf", {}), ("cap", {"mu": 0.1, "m": 0.2})):
+        h = _check_history(run_upsetting(law, nr=12, n_increments=15, **kw))
+        ratio = h["avg_pressure"] / h["slab_pressure"]
+        # measured 0.99-1.06 (sbmf example law saturates at m k: sticking-like, cf. m = 1)
+        assert np.all(np.abs(ratio[h["height_reduction"] >= 0.1] - 1.0) < 0.08), (law, ratio)
+
+
 def test_coulomb_small_mu_matches_exact_slab():
     res = run_upsetting("coulomb", mu=0.05, nr=12, n_increments=15)
     h = _check_history(res)
@@ -85,6 +93,19 @@ def test_slab_formulas():
     p = np.exp(2 * mu * (d / 2 - r) / h)
     avg = np.trapezoid(p * 2 * np.pi * r, r) / (np.pi * (d / 2) ** 2)
     assert slab_pressure_coulomb(1.0, mu, d, h, form="exact") == pytest.approx(avg, rel=1e-6)
+    # general slab ODE against both closed forms, and the cap between its two limits
+    sf = 200e6
+    assert slab_pressure_law(sf, lambda p: mu * p, d, h) == pytest.approx(
+        slab_pressure_coulomb(sf, mu, d, h, form="exact"), rel=1e-7
+    )
+    k = sf / np.sqrt(3)
+    assert slab_pressure_law(sf, lambda p: 0.5 * k, d, h) == pytest.approx(
+        slab_pressure_tresca(sf, 0.5, d, h), rel=1e-9
+    )
+    cap = slab_pressure_law(sf, lambda p: min(mu * p, 0.2 * k), d, h)
+    assert sf < cap < min(
+        slab_pressure_coulomb(sf, mu, d, h, form="exact"), slab_pressure_tresca(sf, 0.2, d, h)
+    )
     with pytest.raises(ValueError, match="m must be"):
         slab_pressure_tresca(1.0, 1.5, 1.0, 1.0)
     with pytest.raises(ValueError, match="form"):
