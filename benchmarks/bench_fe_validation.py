@@ -25,6 +25,8 @@ def slab_table(nr=32, n_inc=25):
     cases = [("none", {}, "m=0")]
     cases += [("tresca", {"m": m}, f"tresca m={m:g}") for m in (0.1, 0.3, 0.5, 1.0)]
     cases += [("coulomb", {"mu": mu}, f"coulomb mu={mu:g}") for mu in (0.05, 0.1, 0.2)]
+    cases += [("cap", {"mu": 0.1, "m": 0.2}, "cap mu=0.1 m=0.2 (slab ODE)")]
+    cases += [("sbmf", {}, "sbmf example (slab ODE)")]
     for law, kw, lab in cases:
         res = run_upsetting(law, nr=nr, n_increments=n_inc, **kw)
         h = res.history
