@@ -13,6 +13,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from fe_demo.model import SolverOptions  # noqa: E402
 from fe_demo.scenes import run_upsetting  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results"
@@ -20,9 +21,11 @@ MESHES = (8, 16, 32, 64)
 INCREMENTS = (8, 15, 30, 60)
 
 
-def run(nr, n_inc):
+def run(nr, n_inc, **opt):
     c0 = time.process_time()
-    res = run_upsetting("tresca", m=0.3, nr=nr, n_increments=n_inc, reduction=0.3)
+    res = run_upsetting(
+        "tresca", m=0.3, nr=nr, n_increments=n_inc, reduction=0.3, options=SolverOptions(**opt)
+    )
     cpu = time.process_time() - c0
     assert res.converged, res.message
     h = res.history
@@ -35,6 +38,8 @@ def run(nr, n_inc):
         "newton": res.info["newton_iterations"],
         "wall_s": res.wall_time,
         "cpu_s": cpu,
+        "penalty_factor": opt.get("penalty_factor", 10.0),
+        "rtol": opt.get("rtol", 1e-6),
     }
 
 
@@ -49,6 +54,8 @@ def main():
     OUT.mkdir(exist_ok=True)
     mesh_rows = [run(nr, 30) for nr in MESHES]
     inc_rows = [run(32, n) for n in INCREMENTS]
+    pen_rows = [run(32, 30, penalty_factor=f) for f in (1.0, 10.0, 100.0)]
+    tol_rows = [run(32, 30, rtol=t) for t in (1e-4, 1e-6, 1e-8)]
     with (OUT / "fe_convergence.csv").open("w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=["study", *mesh_rows[0]])
         w.writeheader()
@@ -56,6 +63,10 @@ def main():
             w.writerow({"study": "mesh", **r})
         for r in inc_rows:
             w.writerow({"study": "increments", **r})
+        for r in pen_rows:
+            w.writerow({"study": "penalty_factor", **r})
+        for r in tol_rows:
+            w.writerow({"study": "rtol", **r})
     for name, rows in (("mesh (30 increments)", mesh_rows), ("increments (nr=32)", inc_rows)):
         d, rate = rates(rows, "force_kN")
         print(f"\n{name}")
@@ -66,6 +77,11 @@ def main():
                 f"{r['nr']:<3} {r['elements']:<9} {r['increments']:<5} {r['force_kN']:<10.3f} "
                 f"{dd:<9} {rate[i]:<6.2f} {r['newton']:<7} {r['wall_s']:<7.2f} {r['cpu_s']:.2f}"
             )
+    for name, rows, key in (("penalty", pen_rows, "penalty_factor"), ("rtol", tol_rows, "rtol")):
+        print(f"\n{name} (nr=32, 30 increments)")
+        print(f"{key:<15} force_kN    newton  cpu_s")
+        for r in rows:
+            print(f"{r[key]:<15g} {r['force_kN']:<11.4f} {r['newton']:<7} {r['cpu_s']:.2f}")
     import matplotlib
 
     matplotlib.use("Agg")
