@@ -1,0 +1,316 @@
+"""``fe-demo``: command-line runner for the upsetting, ring and multistage scenes.
+
+Examples
+--------
+``fe-demo upsetting`` (SBMF law with the shipped illustrative parameters),
+``fe-demo upsetting --law sbmf --params calibrated.json --out out/ups``,
+``fe-demo upsetting --law all`` (every law side by side),
+``fe-demo ring`` (Tresca m in {0, 0.1, 0.2, 0.3, 0.5, 1} over the upper-bound chart),
+``fe-demo multistage`` (upset, unload, reload; with and without ``p_hist``).
+"""
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from .laws import LAWS
+from .material import DC04, Material
+from .output import (
+    plot_die_profile,
+    plot_force_stroke,
+    plot_law_comparison,
+    plot_recontact,
+    plot_ring_chart,
+    summary_table,
+    write_history_csv,
+    write_vtu_series,
+)
+from .ring_chart import CHART_M, ring_chart
+from .scenes import contact_profile, run_multistage, run_ring, run_upsetting
+
+__all__ = ["main", "build_parser"]
+
+_LAWS_ALL = (*LAWS, "all")
+
+
+def _positive_int(name):
+    def conv(s):
+        v = int(s)
+        if v < 1:
+            raise argparse.ArgumentTypeError(f"{name} must be >= 1, got {s}")
+        return v
+
+    return conv
+
+
+def _add_common(p, *, law, nr, increments, reduction, out):
+    p.add_argument("--law", choices=_LAWS_ALL, default=law, help=f"friction law (default {law})")
+    p.add_argument("--mu", type=float, default=0.1, help="Coulomb coefficient (coulomb, cap)")
+    p.add_argument("--m", type=float, default=0.3, help="Tresca friction factor (tresca, cap)")
+    p.add_argument("--tau-max", type=float, default=None, help="cap of 'cap' in Pa")
+    p.add_argument(
+        "--params", type=Path, default=None, help="SBMF parameter JSON (FrictionParams file)"
+    )
+    p.add_argument("--material", type=Path, default=None, help="material JSON (E, nu, K, eps0, n)")
+    p.add_argument("--nr", type=_positive_int("nr"), default=nr, help="elements across the radius")
+    p.add_argument("--nz", type=_positive_int("nz"), default=None, help="elements over h/2")
+    p.add_argument(
+        "--increments", type=_positive_int("increments"), default=increments, help="increments"
+    )
+    p.add_argument("--reduction", type=float, default=reduction, help="final height reduction")
+    p.add_argument("--out", type=Path, default=Path(out), help="output folder")
+    p.add_argument(
+        "--vtu-every", type=int, default=5, help="VTU snapshot every N increments (0: none)"
+    )
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+
+
+def build_parser():
+    """The argument parser of ``fe-demo``."""
+    ap = argparse.ArgumentParser(prog="fe-demo", description=__doc__.splitlines()[0])
+    sub = ap.add_subparsers(dest="scene", required=True)
+    p = sub.add_parser("upsetting", help="cylinder upsetting D0=20 mm, h0=10 mm")
+    _add_common(p, law="sbmf", nr=64, increments=50, reduction=0.5, out="fe_out/upsetting")
+    p.add_argument("--remesh-below", type=float, default=0.0, help="remesh threshold (0: off)")
+    p.add_argument("--diameter", type=float, default=20e-3, help="D0 in m")
+    p.add_argument("--height", type=float, default=10e-3, help="h0 in m")
+    p = sub.add_parser("ring", help="ring compression 6:3:2 (OD 18, ID 9, h 6 mm)")
+    _add_common(p, law="tresca", nr=16, increments=50, reduction=0.5, out="fe_out/ring")
+    p.add_argument(
+        "--m-list",
+        type=str,
+        default=",".join(f"{m:g}" for m in CHART_M),
+        help="Tresca factors for the chart sweep (law tresca only; '' for a single run)",
+    )
+    p.add_argument(
+        "--remesh-below",
+        type=float,
+        default=0.3,
+        help="remesh when the worst element corner sine falls below this (0: off)",
+    )
+    p = sub.add_parser("multistage", help="upset, unload, reload (Eq. 25)")
+    _add_common(p, law="sbmf", nr=24, increments=30, reduction=0.45, out="fe_out/multistage")
+    p.add_argument("--first-reduction", type=float, default=0.3, help="reduction of stage 1")
+    return ap
+
+
+def _material(args):
+    return Material.from_json(args.material) if args.material else DC04
+
+
+def _common_kw(args, law):
+    return {
+        "mu": args.mu,
+        "m": args.m,
+        "tau_max": args.tau_max,
+        "params": args.params,
+        "nr": args.nr,
+        "nz": args.nz,
+        "n_increments": args.increments,
+        "material": _material(args),
+        "progress": not args.no_progress,
+        "snapshot_every": max(0, args.vtu_every),
+    }
+
+
+def _label(law, args):
+    if law == "tresca":
+        return f"tresca m={args.m:g}"
+    if law == "coulomb":
+        return f"coulomb mu={args.mu:g}"
+    if law == "cap":
+        return f"cap mu={args.mu:g}"
+    if law == "sbmf":
+        return "sbmf " + (args.params.name if args.params else "(example params)")
+    return "frictionless"
+
+
+def _write_run(folder, res, title):
+    folder.mkdir(parents=True, exist_ok=True)
+    if res.history:
+        write_history_csv(folder / "history.csv", res.history)
+        plot_force_stroke(folder / "force_stroke.png", [res.history], [title], title=title)
+    plot_die_profile(folder / "die_profile.png", contact_profile(res.model), title=title)
+    if res.snapshots and len(res.snapshots) > 1:
+        write_vtu_series(folder / "vtu", res.model.t, res.snapshots)
+    info = dict(res.info)
+    info.update(converged=res.converged, message=res.message, wall_time_s=res.wall_time)
+    (folder / "summary.json").write_text(json.dumps(info, indent=2, default=_jd) + "\n")
+
+
+def _jd(o):
+    if isinstance(o, np.generic):
+        return o.item()
+    if isinstance(o, np.ndarray):
+        return o.tolist()
+    return str(o)
+
+
+def _summary_row(label, res):
+    h = res.history
+    tm = res.info.get("timings", {})
+    return {
+        "run": label,
+        "ok": res.converged,
+        "elements": res.info.get("n_elements", 0),
+        "increments": len(h.get("force", [])),
+        "newton": res.info.get("newton_iterations", 0),
+        "cutbacks": sum("cut-back" in s for s in res.info.get("cutback_log", [])),
+        "remesh": res.info.get("n_remesh", 0),
+        "reduction": float(h["height_reduction"][-1]) if h else 0.0,
+        "force_kN": float(h["force"][-1] / 1e3) if h else 0.0,
+        "wall_s": res.wall_time,
+        "solve_s": tm.get("solve", 0.0),
+        "assembly_s": tm.get("assembly", 0.0),
+        "material_s": tm.get("material", 0.0) + tm.get("kinematics", 0.0),
+        "contact_s": tm.get("contact", 0.0),
+    }
+
+
+def _cmd_upsetting(args):
+    laws = [w for w in LAWS if w != "none"] if args.law == "all" else [args.law]
+    results, rows = {}, []
+    ok = True
+    for law in laws:
+        kw = _common_kw(args, law)
+        res = run_upsetting(
+            law,
+            diameter=args.diameter,
+            height=args.height,
+            reduction=args.reduction,
+            remesh_below=args.remesh_below,
+            **kw,
+        )
+        lab = _label(law, args)
+        folder = args.out / law if len(laws) > 1 else args.out
+        _write_run(folder, res, lab)
+        results[lab] = (res.history, contact_profile(res.model)) if res.history else None
+        rows.append(_summary_row(lab, res))
+        ok &= res.converged
+        if not res.converged:
+            print(f"[{lab}] FAILED: {res.message}", file=sys.stderr)
+    if len(laws) > 1:
+        done = {k: v for k, v in results.items() if v is not None}
+        if done:
+            plot_law_comparison(args.out / "law_comparison.png", done)
+    print(summary_table(rows))
+    print(f"output in {args.out}")
+    return 0 if ok else 1
+
+
+def _cmd_ring(args):
+    m_list = [float(s) for s in args.m_list.split(",") if s.strip()] if args.law == "tresca" else []
+    chart = {m: ring_chart(m, args.reduction) for m in CHART_M}
+    runs = []
+    if m_list:
+        for m in m_list:
+            runs.append(("tresca" if m > 0 else "none", m, f"FE m={m:g}"))
+    elif args.law == "all":
+        runs = [(law, args.m, _label(law, args)) for law in LAWS if law != "none"]
+    else:
+        runs.append((args.law, args.m, _label(args.law, args)))
+    rows, fe = [], {}
+    ok = True
+    for law, m, lab in runs:
+        kw = _common_kw(args, law)
+        kw["m"] = m
+        res = run_ring(law, reduction=args.reduction, remesh_below=args.remesh_below, **kw)
+        folder = args.out / lab.replace(" ", "_").replace("=", "") if len(runs) > 1 else args.out
+        _write_run(folder, res, lab)
+        if res.history:
+            fe[lab] = (res.history["height_reduction"], res.history["inner_diameter_change"])
+        rows.append(_summary_row(lab, res))
+        ok &= res.converged
+        if not res.converged:
+            print(f"[{lab}] FAILED: {res.message}", file=sys.stderr)
+    args.out.mkdir(parents=True, exist_ok=True)
+    plot_ring_chart(args.out / "ring_chart.png", chart, fe)
+    with (args.out / "ring_chart_upper_bound.csv").open("w", encoding="utf-8") as fh:
+        fh.write("m,height_reduction,inner_diameter_change\n")
+        for m, (red, d) in chart.items():
+            for a, b in zip(red, d, strict=True):
+                fh.write(f"{m:g},{a:.6g},{b:.6g}\n")
+    print(summary_table(rows))
+    print(f"output in {args.out}")
+    return 0 if ok else 1
+
+
+def _cmd_multistage(args):
+    laws = [w for w in LAWS if w != "none"] if args.law == "all" else [args.law]
+    rows, curves = [], {}
+    ok = True
+    for law, reset in ((w, r) for w in laws for r in (False, True)):
+        kw = _common_kw(args, law)
+        res = run_multistage(
+            law,
+            first_reduction=args.first_reduction,
+            reduction=args.reduction,
+            reset_history=reset,
+            **kw,
+        )
+        lab = _label(law, args) + (" without p_hist" if reset else " with p_hist")
+        sub = args.out / law if len(laws) > 1 else args.out
+        _write_run(sub / ("no_history" if reset else "with_history"), res, lab)
+        prof = res.info.get("recontact_profile")
+        if prof is not None and not reset:
+            plot_recontact(sub / "recontact_friction.png", prof)
+        if res.history:
+            curves[lab] = res.history
+        rows.append(_summary_row(lab, res))
+        ok &= res.converged
+        if not res.converged:
+            print(f"[{lab}] FAILED: {res.message}", file=sys.stderr)
+    if curves:
+        plot_force_stroke(
+            args.out / "multistage_force.png",
+            list(curves.values()),
+            list(curves),
+            title="Upset - unload - reload",
+        )
+        zoom = {}
+        for lab, h in curves.items():
+            sel = (h["stage"] >= 2) & (h["height_reduction"] <= args.first_reduction + 0.02)
+            if sel.any():
+                zoom[lab] = {k: v[sel] for k, v in h.items()}
+        if zoom:
+            plot_force_stroke(
+                args.out / "multistage_recontact.png",
+                list(zoom.values()),
+                list(zoom),
+                title="Unload and re-contact (Eq. 25 region)",
+            )
+    print(summary_table(rows))
+    for lab, h in curves.items():
+        st = h["stage"]
+        if (st == 3).any():
+            n25 = h["n_reload_eq25"][st == 3]
+            print(
+                f"[{lab}] reload: contact nodes below p_hist (Eq. 25 for sbmf) per increment "
+                f"max {int(n25.max())}, max |tau(p,p_hist)-tau(p,0)| = "
+                f"{h['tau_diff_eq25'][st == 3].max() / 1e6:.2f} MPa"
+            )
+    print(f"output in {args.out}")
+    return 0 if ok else 1
+
+
+def main(argv=None):
+    """Entry point of the ``fe-demo`` console script."""
+    args = build_parser().parse_args(argv)
+    if not (0.0 < args.reduction < 0.9):
+        print("error: --reduction must be in (0, 0.9)", file=sys.stderr)
+        return 2
+    if args.params is not None and not args.params.exists():
+        print(f"error: --params file {args.params} does not exist", file=sys.stderr)
+        return 2
+    try:
+        if args.scene == "upsetting":
+            return _cmd_upsetting(args)
+        if args.scene == "ring":
+            return _cmd_ring(args)
+        return _cmd_multistage(args)
+    except ValueError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2

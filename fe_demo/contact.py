@@ -1,0 +1,146 @@
+"""Rigid flat die contact: penalty normal pressure with an active set, friction from ``frictionlaw``.
+
+The die is the plane ``z = z_die`` above the workpiece (the half-model's mid-plane
+is the symmetry plane). Every candidate node (all boundary nodes off the mid-plane,
+so that free-surface nodes folding onto the die during barreling are caught) is
+checked each iteration: the penetration ``g = z - z_die`` gives the pressure
+``p = eps_n max(g, 0)`` (penalty, Pa/m), so a node whose contact force would turn
+tensile is released. The nodal area is the consistent axisymmetric lumping
+``2 pi int N_a r ds`` of the node's boundary edges at the start of the increment.
+
+Friction: the die is fixed radially, so the slip increment of a node is its radial
+displacement increment. The tangential traction comes from
+:func:`frictionlaw.traction_update` with the node's traction at the last accepted
+increment and the runtime's :class:`frictionlaw.HistoryState` (trial ``p_hist``
+during iterations, committed only for accepted increments).
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from frictionlaw import HistoryState, traction_update
+
+__all__ = ["nodal_areas", "DieContact", "ContactEval"]
+
+
+def nodal_areas(x, edges, nodes):
+    """Consistent axisymmetric nodal areas ``2 pi int N_a r ds`` (m^2) over ``edges``.
+
+    Parameters
+    ----------
+    x : ndarray, shape (n_nodes, 2)
+    edges : ndarray, shape (2, n_edges)
+    nodes : ndarray
+        The nodes whose areas are returned (in this order).
+    """
+    a, b = edges
+    L = np.hypot(x[b, 0] - x[a, 0], x[b, 1] - x[a, 1])
+    ra, rb = x[a, 0], x[b, 0]
+    area = np.zeros(x.shape[0])
+    np.add.at(area, a, 2 * np.pi * L * (2 * ra + rb) / 6.0)
+    np.add.at(area, b, 2 * np.pi * L * (ra + 2 * rb) / 6.0)
+    return area[nodes]
+
+
+class _HostState(HistoryState):
+    """``HistoryState`` whose ``p_hist`` is a writeable copy.
+
+    Works around ``frictionlaw.traction_update`` handing the read-only committed
+    view to its numba kernel (no matching signature for readonly arrays).
+    """
+
+    @property
+    def p_hist(self):
+        return np.array(super().p_hist)
+
+
+@dataclass
+class ContactEval:
+    """Contact contributions at one iterate (arrays over candidate nodes)."""
+
+    p: np.ndarray  # pressure (Pa)
+    tau: np.ndarray  # radial traction on the die side (Pa); force on workpiece is -tau*A
+    status: np.ndarray  # frictionlaw OPEN/STICK/SLIP
+    fz: np.ndarray  # residual contribution at z dofs (N)
+    fr: np.ndarray  # residual contribution at r dofs (N)
+    kzz: np.ndarray  # d fz / d uz
+    krr: np.ndarray  # d fr / d ur
+    krz: np.ndarray  # d fr / d uz
+
+
+class DieContact:
+    """Penalty die contact with friction for the candidate nodes of a mesh.
+
+    Parameters
+    ----------
+    nodes : ndarray
+        Candidate node numbers.
+    law : frictionlaw law or None
+        ``None`` for frictionless contact.
+    eps_n : float
+        Normal penalty (Pa/m).
+    eps_t : float
+        Tangential (stick) penalty ``k_t`` (Pa/m).
+    """
+
+    def __init__(self, nodes, law, eps_n, eps_t):
+        self.nodes = np.asarray(nodes)
+        self.law = law
+        self.eps_n = float(eps_n)
+        self.eps_t = float(eps_t)
+        self.state = _HostState(self.nodes.size)
+        self.tau_old = np.zeros(self.nodes.size)
+        self.last = None
+
+    def evaluate(self, z, z_die, dur, area):
+        """Pressure, friction traction and their residual/tangent contributions.
+
+        Parameters
+        ----------
+        z : ndarray
+            Current z of the candidate nodes (m).
+        z_die : float
+            Die position (m).
+        dur : ndarray
+            Radial displacement increment of the candidate nodes in this increment (m).
+        area : ndarray
+            Nodal areas (m^2).
+        """
+        g = z - z_die
+        active = g > 0
+        p = np.where(active, self.eps_n * g, 0.0)
+        fz = p * area
+        kzz = np.where(active, self.eps_n * area, 0.0)
+        n = self.nodes.size
+        if self.law is None:
+            tau = np.zeros(n)
+            status = np.where(active, 2, 0).astype(np.int8)
+            fr = np.zeros(n)
+            krr = np.zeros(n)
+            krz = np.zeros(n)
+            self.state.propose(p)
+        else:
+            res = traction_update(self.law, p, dur, self.tau_old, self.eps_t, self.state)
+            tau, status = res.traction, res.status
+            fr = tau * area
+            krr = res.dt_dslip * area
+            krz = np.where(active, res.dt_dp * self.eps_n * area, 0.0)
+            if not getattr(self.law, "uses_history", False):
+                self.state.propose(p)  # track p_hist for output whatever the law
+        ev = ContactEval(p, tau, status, fz, fr, kzz, krr, krz)
+        self.last = ev
+        return ev
+
+    def commit(self, ev):
+        """Accept the increment: traction becomes the old traction, ``p_hist`` is committed."""
+        self.tau_old = np.where(ev.p > 0, ev.tau, 0.0)
+        self.state.commit()
+
+    def reset_history(self):
+        """Forget the committed ``p_hist`` (a law without history, for comparisons)."""
+        self.state = _HostState(self.nodes.size)
+
+    def rollback(self):
+        """Cut-back: discard the trial ``p_hist``."""
+        self.state.rollback()

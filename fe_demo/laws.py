@@ -1,0 +1,72 @@
+"""Friction laws for the FE demo, built from command-line style options.
+
+Which shear flow stress ``k`` each law uses
+-------------------------------------------
+- ``tresca``: ``tau = m k`` with ``k = sigma_f / sqrt(3)`` (von Mises), where
+  ``sigma_f`` is the workpiece flow stress at the homogeneous-compression strain
+  ``ln(h0 / h)``, updated at the start of every increment. This is the ``k`` of
+  the ring charts and of the slab method.
+- ``cap``: ``tau = min(mu p, tau_max)``; ``tau_max = m sigma_f / sqrt(3)`` (updated
+  like Tresca's) unless ``tau_max`` is given in Pa.
+- ``coulomb``: ``tau = mu p``, no ``k``.
+- ``sbmf``: the paper's law (Eqs. 24-25) with ``k`` from the parameter file, by
+  default ``sigma_y / 2`` (Tresca), fixed during the run.
+"""
+
+import math
+from pathlib import Path
+
+from frictionlaw import Coulomb, CoulombCap, FrictionParams, SBMFLaw, Tresca
+
+__all__ = ["LAWS", "make_law_factory", "example_params", "EXAMPLE_PARAMS_PATH"]
+
+LAWS = ("none", "coulomb", "tresca", "cap", "sbmf")
+
+#: illustrative (not calibrated) SBMF parameter file shipped with the demo
+EXAMPLE_PARAMS_PATH = Path(__file__).with_name("data") / "sbmf_example.json"
+
+
+def example_params():
+    """The shipped illustrative SBMF parameters (``FrictionParams.from_json``)."""
+    return FrictionParams.from_json(EXAMPLE_PARAMS_PATH)
+
+
+def make_law_factory(law="tresca", *, mu=0.1, m=0.3, tau_max=None, params=None):
+    """Return ``factory(model) -> law`` (or ``None`` for frictionless dies).
+
+    Parameters
+    ----------
+    law : {"none", "coulomb", "tresca", "cap", "sbmf"}
+    mu : float
+        Coulomb coefficient (coulomb, cap), ``>= 0``.
+    m : float
+        Friction factor in ``[0, 1]`` (tresca, cap's default cap).
+    tau_max : float, optional
+        Cap in Pa for ``cap``.
+    params : FrictionParams or str or Path, optional
+        Parameters for ``sbmf`` (object or JSON file); the shipped example otherwise.
+    """
+    if law not in LAWS:
+        raise ValueError(f"law must be one of {LAWS}, got {law!r}")
+    if law == "none":
+        return None
+    if law in ("coulomb", "cap") and not (math.isfinite(float(mu)) and float(mu) >= 0):
+        raise ValueError(f"mu must be finite and >= 0, got {mu!r}")
+    if law in ("tresca", "cap") and not (0.0 <= float(m) <= 1.0):
+        raise ValueError(f"m must be in [0, 1], got {m!r}")
+    if law == "coulomb":
+        fixed = Coulomb(mu)
+        return lambda model: fixed
+    if law == "tresca":
+        return lambda model: Tresca(m, model.flow_stress_hom() / math.sqrt(3.0))
+    if law == "cap":
+        if tau_max is not None:
+            fixed = CoulombCap(mu, tau_max)
+            return lambda model: fixed
+        return lambda model: CoulombCap(mu, m * model.flow_stress_hom() / math.sqrt(3.0))
+    if params is None:
+        params = example_params()
+    elif not isinstance(params, FrictionParams):
+        params = FrictionParams.from_json(params)
+    fixed = SBMFLaw(params)
+    return lambda model: fixed

@@ -1,0 +1,85 @@
+"""The fe-demo command line: files written, columns, bad input."""
+
+import csv
+
+import meshio
+import numpy as np
+import pytest
+
+from fe_demo.cli import main
+from fe_demo.laws import make_law_factory
+
+
+def _csv(path):
+    with path.open() as fh:
+        rows = list(csv.DictReader(fh))
+    return rows
+
+
+def test_upsetting_cli_writes_csv_png_vtu(tmp_path, capsys):
+    out = tmp_path / "ups"
+    rc = main(
+        ["upsetting", "--nr", "4", "--increments", "4", "--reduction", "0.2",
+         "--out", str(out), "--no-progress", "--vtu-every", "2"]
+    )
+    assert rc == 0
+    rows = _csv(out / "history.csv")
+    assert len(rows) == 4
+    assert list(rows[0])[:2] == ["height_reduction", "force"]
+    red = np.array([float(r["height_reduction"]) for r in rows])
+    np.testing.assert_allclose(red, [0.05, 0.1, 0.15, 0.2], atol=1e-9)
+    for png in ("force_stroke.png", "die_profile.png"):
+        assert (out / png).stat().st_size > 1000
+    pvd = (out / "vtu" / "step.pvd").read_text()
+    assert pvd.count("<DataSet") == 3
+    m = meshio.read(out / "vtu" / "step_0002.vtu")
+    assert {"displacement", "contact_pressure", "shear", "p_hist"} <= set(m.point_data)
+    assert {"von_mises", "eps_p", "stress_zz"} <= set(m.cell_data)
+    assert m.point_data["p_hist"].max() > 0
+    assert "sbmf" in capsys.readouterr().out
+
+
+def test_upsetting_all_laws_and_ring_and_multistage(tmp_path):
+    out = tmp_path / "all"
+    args = ["--nr", "4", "--increments", "3", "--reduction", "0.15", "--no-progress"]
+    assert main(["upsetting", "--law", "all", "--out", str(out), "--vtu-every", "0", *args]) == 0
+    assert (out / "law_comparison.png").exists()
+    for law in ("coulomb", "tresca", "cap", "sbmf"):
+        assert (out / law / "history.csv").exists()
+    ring = tmp_path / "ring"
+    assert main(["ring", "--m-list", "0,1", "--out", str(ring), "--vtu-every", "0", *args]) == 0
+    assert (ring / "ring_chart.png").exists()
+    rows = _csv(ring / "FE_m1" / "history.csv")
+    assert list(rows[0])[:3] == ["height_reduction", "force", "inner_diameter_change"]
+    assert float(rows[-1]["inner_diameter_change"]) < 0
+    ms = tmp_path / "ms"
+    assert main(["multistage", "--out", str(ms), "--nr", "4", "--increments", "6",
+                 "--no-progress", "--vtu-every", "0"]) == 0
+    assert (ms / "with_history" / "history.csv").exists()
+    assert (ms / "multistage_force.png").exists()
+    assert (ms / "recontact_friction.png").exists()
+
+
+def test_bad_input(tmp_path, capsys):
+    assert main(["upsetting", "--reduction", "1.2", "--out", str(tmp_path)]) == 2
+    assert main(["upsetting", "--params", str(tmp_path / "nope.json")]) == 2
+    assert main(["upsetting", "--law", "tresca", "--m", "2", "--out", str(tmp_path)]) == 2
+    assert "m must be in [0, 1]" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        main(["upsetting", "--law", "foo"])
+    with pytest.raises(ValueError, match="law must be one of"):
+        make_law_factory("foo")
+    with pytest.raises(ValueError, match="mu must be"):
+        make_law_factory("coulomb", mu=-1)
+
+
+def test_fe_demo_never_imports_halfspace_calib():
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, fe_demo, fe_demo.cli, fe_demo.scenes, fe_demo.remesh;"
+        "print('halfspace_calib' in sys.modules)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
