@@ -43,18 +43,6 @@ def nodal_areas(x, edges, nodes):
     return area[nodes]
 
 
-class _HostState(HistoryState):
-    """``HistoryState`` whose ``p_hist`` is a writeable copy.
-
-    Works around ``frictionlaw.traction_update`` handing the read-only committed
-    view to its numba kernel (no matching signature for readonly arrays).
-    """
-
-    @property
-    def p_hist(self):
-        return np.array(super().p_hist)
-
-
 @dataclass
 class ContactEval:
     """Contact contributions at one iterate (arrays over candidate nodes)."""
@@ -89,7 +77,7 @@ class DieContact:
         self.law = law
         self.eps_n = float(eps_n)
         self.eps_t = float(eps_t)
-        self.state = _HostState(self.nodes.size)
+        self.state = HistoryState(self.nodes.size)
         self.tau_old = np.zeros(self.nodes.size)
         self.last = None
 
@@ -139,7 +127,7 @@ class DieContact:
 
     def reset_history(self):
         """Forget the committed ``p_hist`` (a law without history, for comparisons)."""
-        self.state = _HostState(self.nodes.size)
+        self.state = HistoryState(self.nodes.size)
 
     def rollback(self):
         """Cut-back: discard the trial ``p_hist``."""
