@@ -1,0 +1,290 @@
+"""Topography file readers and writers behind :func:`halfspace_calib.surfaces.read_surface`.
+
+Plain formats are read with NumPy only; instrument formats (Keyence ``.vk4``/``.vk6``,
+ISO 25178 ``.x3p``, Digital Surf ``.sur``, Zygo ``.datx``, Sensofar ``.plu`` and the
+other formats of SurfaceTopography) go through the optional ``SurfaceTopography``
+package, installed with the ``topography`` extra.
+
+Every loader returns ``(heights, dx, dy, info)``: heights in m as a float64 array
+indexed ``[i, j]`` with ``x = i dx`` along axis 0 and ``y = j dy`` along axis 1,
+spacings in m, and a dict for the provenance.
+"""
+
+import hashlib
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+__all__ = [
+    "UNITS",
+    "PLAIN_LAYOUTS",
+    "TOPOGRAPHY_EXTRA_HINT",
+    "unit_factor",
+    "file_sha256",
+    "layout_for",
+    "load_npy",
+    "load_matrix",
+    "load_xyz",
+    "load_instrument",
+    "import_surface_topography",
+    "write_plain",
+]
+
+#: length units accepted by the readers, as factors to metres
+UNITS = {"m": 1.0, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "μm": 1e-6, "nm": 1e-9}
+
+#: file suffix -> plain layout read without optional packages
+PLAIN_LAYOUTS = {
+    ".npy": "npy",
+    ".txt": "matrix",
+    ".csv": "matrix",
+    ".dat": "matrix",
+    ".asc": "matrix",
+    ".xyz": "xyz",
+}
+
+TOPOGRAPHY_EXTRA_HINT = (
+    "instrument formats (.vk4, .vk6, .x3p, .sur, .datx, .plu, ...) need the optional "
+    "SurfaceTopography package: pip install 'sbmf-friction[topography]' "
+    "(or pip install SurfaceTopography)"
+)
+
+
+def unit_factor(unit, name="unit"):
+    """Factor from ``unit`` to metres; ``ValueError`` naming ``name`` for an unknown unit."""
+    if unit is None:
+        raise ValueError(f"{name} is required for this file: one of {sorted(set(UNITS))}")
+    try:
+        return UNITS[str(unit).strip()]
+    except KeyError:
+        raise ValueError(f"{name} must be one of {sorted(set(UNITS))}, got {unit!r}") from None
+
+
+def file_sha256(path):
+    """Hex SHA-256 of a file's bytes (recorded in the provenance)."""
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for chunk in iter(lambda: fh.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()
+
+
+def layout_for(path):
+    """Plain layout (``npy``, ``matrix``, ``xyz``) for ``path``'s suffix, else ``instrument``."""
+    return PLAIN_LAYOUTS.get(Path(path).suffix.lower(), "instrument")
+
+
+def _check_matrix(path, arr):
+    if arr.ndim != 2 or min(arr.shape) < 2:
+        raise ValueError(
+            f"{path}: expected a 2-D height matrix with at least 2 x 2 points, got shape {arr.shape}"
+        )
+    bad = int(np.count_nonzero(~np.isfinite(arr)))
+    if bad:
+        raise ValueError(
+            f"{path}: {bad} missing or non-finite heights; fill or crop them before use"
+        )
+    return arr
+
+
+def load_npy(path, unit):
+    """Heights (m) from a NumPy ``.npy`` 2-D array given in ``unit``."""
+    f = unit_factor(unit)
+    try:
+        arr = np.load(path, allow_pickle=False)
+    except (OSError, ValueError) as exc:
+        raise ValueError(f"{path}: cannot read as a NumPy .npy array ({exc})") from None
+    if not isinstance(arr, np.ndarray) or not np.issubdtype(arr.dtype, np.number):
+        raise ValueError(f"{path}: the .npy file does not hold a numeric array")
+    arr = _check_matrix(path, np.asarray(arr, dtype=np.float64))
+    return arr * f
+
+
+def _delimiter(path):
+    with open(path, encoding="utf-8", errors="replace") as fh:
+        for line in fh:
+            s = line.strip()
+            if s and not s.startswith("#"):
+                return "," if "," in s else None
+    raise ValueError(f"{path}: the file holds no data lines")
+
+
+def _loadtxt(path, what):
+    try:
+        delim = _delimiter(path)
+        return np.loadtxt(path, delimiter=delim, comments="#", dtype=np.float64, ndmin=2)
+    except UnicodeDecodeError:
+        raise ValueError(f"{path}: cannot read as a text {what} (not a text file)") from None
+    except ValueError as exc:
+        raise ValueError(f"{path}: cannot read as a text {what} ({exc})") from None
+
+
+def load_matrix(path, unit):
+    """Heights (m) from a whitespace- or comma-separated matrix in ``unit``.
+
+    Row ``i`` of the file becomes ``heights[i, :]`` (``x`` along the rows). Lines starting
+    with ``#`` are comments.
+    """
+    f = unit_factor(unit)
+    arr = _check_matrix(path, _loadtxt(path, "height matrix"))
+    return arr * f
+
+
+def _grid_axis(path, name, v):
+    """Index of each coordinate on a regular axis, the step and the first value."""
+    uniq = np.unique(v)
+    n = uniq.size
+    if n < 2:
+        raise ValueError(f"{path}: all points share one {name} value; need a 2-D grid")
+    step = (uniq[-1] - uniq[0]) / (n - 1)
+    idx = np.rint((v - uniq[0]) / step).astype(np.int64)
+    dev = np.abs(v - (uniq[0] + idx * step)).max()
+    if dev > 0.05 * step or np.unique(idx).size != n:
+        raise ValueError(
+            f"{path}: the {name} values are not on a regular grid ({n} distinct values, "
+            f"mean step {step:g}, largest deviation {dev:g}); resample the points onto a "
+            "regular grid first"
+        )
+    return idx, n, step
+
+
+def load_xyz(path, unit, xy_unit=None):
+    """Grid an ``x y z`` point list (whitespace or comma separated) onto its regular grid.
+
+    Parameters
+    ----------
+    path : path-like
+        Three columns ``x y z``; row order is free.
+    unit : str
+        Unit of ``z``.
+    xy_unit : str, optional
+        Unit of ``x`` and ``y``; defaults to ``unit``.
+
+    Returns
+    -------
+    heights, dx, dy : ndarray, float, float
+        Heights in m on the grid, spacings in m.
+
+    Raises
+    ------
+    ValueError
+        If the points do not form a complete regular grid (missing, duplicate or
+        irregularly spaced points).
+    """
+    fz = unit_factor(unit)
+    fxy = unit_factor(unit if xy_unit is None else xy_unit, "xy_unit")
+    data = _loadtxt(path, "x y z point list")
+    if data.shape[1] != 3:
+        raise ValueError(f"{path}: an x y z point list needs 3 columns, found {data.shape[1]}")
+    if not np.isfinite(data).all():
+        raise ValueError(f"{path}: the point list holds missing or non-finite values")
+    ix, nx, dx = _grid_axis(path, "x", data[:, 0])
+    iy, ny, dy = _grid_axis(path, "y", data[:, 1])
+    if data.shape[0] != nx * ny:
+        raise ValueError(
+            f"{path}: {data.shape[0]} points do not fill a complete {nx} x {ny} grid; "
+            "the point list is not gridded"
+        )
+    flat = ix * ny + iy
+    if np.unique(flat).size != flat.size:
+        raise ValueError(f"{path}: duplicate (x, y) points; the point list is not gridded")
+    h = np.empty(nx * ny)
+    h[flat] = data[:, 2]
+    return h.reshape(nx, ny) * fz, dx * fxy, dy * fxy
+
+
+def import_surface_topography():
+    """Import SurfaceTopography quietly, or raise ``ImportError`` naming the extra."""
+    try:
+        with warnings.catch_warnings():
+            # NuMPI warns when mpi4py is absent; the serial stub is what we want
+            warnings.simplefilter("ignore", ImportWarning)
+            import SurfaceTopography
+    except ImportError as exc:
+        raise ImportError(TOPOGRAPHY_EXTRA_HINT) from exc
+    return SurfaceTopography
+
+
+def load_instrument(path, unit=None, fill_undefined=False):
+    """Read an instrument file through SurfaceTopography.
+
+    Returns ``(heights, dx, dy, info)``; ``dx``, ``dy`` are ``None`` if the file has
+    no lateral calibration. ``unit`` is used only when the file has none.
+    """
+    st = import_surface_topography()
+    caught = []
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            topo = st.read_topography(str(path))
+    except Exception as exc:  # the package raises many types for a bad file
+        if type(exc).__name__ == "CannotDetectFileFormat":
+            msg = "no SurfaceTopography reader recognises it: damaged or unsupported format"
+        else:
+            text = str(exc).strip()
+            msg = f"{type(exc).__name__}: {text.splitlines()[0] if text else ''}"
+        raise ValueError(f"{path}: cannot read this file as a topography ({msg})") from None
+    if topo.dim != 2:
+        raise ValueError(f"{path}: holds a line scan, not an areal topography")
+    file_unit = topo.unit
+    if file_unit is None:
+        unit_factor(unit)
+        f = UNITS[unit]
+    else:
+        f = unit_factor(file_unit, "the file's unit")
+        if unit is not None and unit_factor(unit) != f:
+            raise ValueError(
+                f"{path}: unit={unit!r} contradicts the file's own unit {file_unit!r}; "
+                "leave unit unset"
+            )
+    if topo.has_undefined_data:
+        if not fill_undefined:
+            raise ValueError(
+                f"{path}: the topography has undefined (unmeasured) points; pass "
+                "fill_undefined=True to interpolate them, or crop them away"
+            )
+        topo = topo.interpolate_undefined_data()
+    h = np.asarray(np.ma.getdata(topo.heights()), dtype=np.float64) * f
+    _check_matrix(path, h)
+    sizes = topo.physical_sizes
+    if sizes is None or any(s is None for s in sizes):
+        dx = dy = None
+    else:
+        dx = float(sizes[0]) * f / h.shape[0]
+        dy = float(sizes[1]) * f / h.shape[1]
+    info = {
+        "reader": "SurfaceTopography " + str(getattr(st, "__version__", "?")),
+        "file_unit": file_unit,
+        "filled_undefined": bool(fill_undefined and topo.has_undefined_data),
+    }
+    if caught:
+        info["reader_warnings"] = [str(w.message) for w in caught]
+    return h, dx, dy, info
+
+
+def write_plain(heights, dx, dy, path, unit="um"):
+    """Write heights (m) as ``.npy``, a text matrix (``.txt``/``.csv``/...) or ``.xyz``.
+
+    Values are written in ``unit`` with full precision (``%.17g``), so a round trip
+    through the matching reader is exact up to the unit conversion's rounding.
+    """
+    path = Path(path)
+    f = unit_factor(unit)
+    layout = layout_for(path)
+    h = np.asarray(heights, dtype=np.float64) / f
+    if layout == "npy":
+        np.save(path, h)
+    elif layout == "matrix":
+        delim = "," if path.suffix.lower() == ".csv" else " "
+        np.savetxt(path, h, fmt="%.17g", delimiter=delim, header=f"heights in {unit}")
+    elif layout == "xyz":
+        nx, ny = h.shape
+        x, y = np.meshgrid(np.arange(nx) * dx / f, np.arange(ny) * dy / f, indexing="ij")
+        pts = np.column_stack([x.ravel(), y.ravel(), h.ravel()])
+        np.savetxt(path, pts, fmt="%.17g", header=f"x y z in {unit}")
+    else:
+        raise ValueError(
+            f"path must end in one of {sorted(PLAIN_LAYOUTS)} to be written, got {path.name!r}"
+        )
+    return path
