@@ -502,7 +502,7 @@ def _check_targets(ra_target, rq_target):
     return r_a, r_q
 
 
-def _spectrum_settings(shape, size, hurst, rolloff_wavelength, cutoff_wavelength):
+def _spectrum_settings(shape, size, hurst, rolloff_wavelength, cutoff_wavelength, strict=True):
     nx, ny = _pair("shape", shape, _count)
     lx, ly = _pair("size", size, _positive)
     try:
@@ -519,7 +519,7 @@ def _spectrum_settings(shape, size, hurst, rolloff_wavelength, cutoff_wavelength
         raise ValueError(
             f"cutoff_wavelength must be >= 2 * grid spacing = {nyq:g} m (Nyquist), got {ls!r}"
         )
-    if not ls < lr:
+    if strict and not ls < lr:
         raise ValueError(f"rolloff_wavelength ({lr:g} m) must exceed cutoff_wavelength ({ls:g} m)")
     return (nx, ny), (lx, ly), hu, lr, ls
 
@@ -600,44 +600,34 @@ def _preset(name, kind, n, size, seed, measured_n, hurst, rolloff, match):
         target["Ra"] = None
     elif match == "ra":
         target["Rq"] = None
-    if measured_n is None:
-        surf = self_affine(
-            n,
-            size,
-            hurst=hurst,
-            rolloff_wavelength=rolloff,
-            rq=target["Rq"],
-            ra=target["Ra"],
-            seed=seed,
-        )
-    else:
-        m = _count("measured_n", measured_n, 2)
-        if m % n:
-            raise ValueError(f"measured_n must be a multiple of n={n}, got {measured_n!r}")
-        shp, sz, hu, lr, ls = _spectrum_settings(m, size, hurst, rolloff, None)
-        fine = _gaussian_field(shp, sz, hu, lr, ls, _count("seed", seed, 0))
+    m = n if measured_n is None else _count("measured_n", measured_n, 2)
+    if m % n:
+        raise ValueError(f"measured_n must be a multiple of n={n}, got {measured_n!r}")
+    seed = _count("seed", seed, 0)
+    # a grid too coarse for the roll-off gives band-limited white noise (strict=False)
+    shp, sz, hu, lr, ls = _spectrum_settings(m, size, hurst, rolloff, None, strict=False)
+    h = _gaussian_field(shp, sz, hu, lr, ls, seed)
+    if m > n:
         s = m // n
-        coarse = fine.reshape(n, s, n, s).mean(axis=(1, 3))
-        h, info = _impose(coarse, target["Ra"], target["Rq"])
-        prov = {
-            "source": "generator",
-            "generator": "halfspace_calib.surfaces.self_affine (block-averaged)",
-            "shape": [n, n],
-            "measured_shape": [m, m],
-            "size": [size, size],
-            "hurst": hu,
-            "rolloff_wavelength": lr,
-            "cutoff_wavelength": ls,
-            "rq": target["Rq"],
-            "ra": target["Ra"],
-            "seed": seed,
-            **info,
-        }
-        surf = Surface(h, size / n, size / n, provenance=prov, periodic=True)
-    prov = copy.deepcopy(surf.provenance)
-    prov["preset"] = name
-    prov["match"] = match
-    return Surface(surf.heights, surf.dx, surf.dy, provenance=prov, periodic=True)
+        h = h.reshape(n, s, n, s).mean(axis=(1, 3))
+    h, info = _impose(h, target["Ra"], target["Rq"])
+    prov = {
+        "source": "generator",
+        "generator": "halfspace_calib.surfaces.dc04_edt_like/tool_like",
+        "preset": name,
+        "match": match,
+        "shape": [n, n],
+        "measured_shape": [m, m],
+        "size": [size, size],
+        "hurst": hu,
+        "rolloff_wavelength": lr,
+        "cutoff_wavelength": ls,
+        "rq": target["Rq"],
+        "ra": target["Ra"],
+        "seed": seed,
+        **info,
+    }
+    return Surface(h, size / n, size / n, provenance=prov, periodic=True)
 
 
 def dc04_edt_like(n=128, *, size=PAPER_SIZE, seed=1, measured_n=None, match="both"):

@@ -1,0 +1,597 @@
+"""Fit the law's parameters to half-space contact-ratio curves (Sec. 4).
+
+* :func:`fit_first_loading`: ``C1, n1`` of Eq. 24's ``alpha1(p)`` from the first-loading
+  curve ``alpha_rc(p_mean)``.
+* :func:`fit_reload`: ``C2, n2`` of Eq. 25's ``alpha2(p)`` from all un-/reloading curves
+  together (each measured at ``p < p_hist`` on the surface deformed at ``p_hist``), with
+  ``C1, n1`` fixed; ``continuous=True`` fits the runtime's continuous variant
+  (``FrictionParams(continuous_reload=True)``), whose reload branch meets Eq. 24 at
+  ``p_hist``: the fit constrained to have no jump.
+* :func:`make_params`: the :class:`frictionlaw.FrictionParams` with the calibration's
+  provenance, ready for ``to_json``.
+
+The law is evaluated by :mod:`frictionlaw` itself, so the fitted parameters mean exactly
+what the runtime will compute. Both fits are bounded nonlinear least squares
+(:func:`scipy.optimize.least_squares`, trust-region reflective) on ``alpha`` residuals, in
+the logarithms of ``C`` and ``n`` (well scaled, and keeps them positive), started from the
+best point of a coarse grid around the small-pressure slope ``C ~ alpha H / p``.
+"""
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import least_squares
+
+import frictionlaw
+from frictionlaw import FrictionParams, alpha_first, alpha_reload, reload_jump
+
+__all__ = [
+    "C_BOUNDS",
+    "N_BOUNDS",
+    "FitResult",
+    "FirstLoadingFit",
+    "ReloadFit",
+    "ReloadCurve",
+    "fit_first_loading",
+    "fit_reload",
+    "make_params",
+]
+
+#: default bounds of C1, C2 (dimensionless): C > 0, far outside any measured value
+C_BOUNDS = (1e-3, 1e3)
+#: default bounds of n1, n2: from a very round to a sharp corner of the smooth minimum
+N_BOUNDS = (0.2, 50.0)
+
+_N_GRID = (0.5, 1.0, 2.0, 4.0, 8.0, 16.0)
+_C_GRID = tuple(np.geomspace(0.25, 4.0, 9))
+
+
+@dataclass(frozen=True)
+class FitResult:
+    """Outcome of a least-squares fit of a contact-ratio law.
+
+    Attributes
+    ----------
+    params : dict
+        Fitted parameters by name (``C1``, ``n1`` or ``C2``, ``n2``).
+    stderr : dict
+        Asymptotic standard errors (from the Jacobian at the optimum and the residual
+        variance); ``inf`` where the data do not determine a parameter.
+    residuals : ndarray
+        ``alpha_model - alpha`` at each data point (stacked over curves for reload).
+    r_squared : float
+        Coefficient of determination ``1 - SS_res / SS_tot`` (0 if ``alpha`` is constant).
+    rmse : float
+        Root mean square residual.
+    success : bool
+        The optimiser converged (:attr:`scipy.optimize.OptimizeResult.success`).
+    message : str
+        The optimiser's message, plus a note for parameters stopped at a bound.
+    nfev : int
+        Residual evaluations of the least-squares stage.
+    at_bound : tuple of str
+        Parameters that ended on a bound.
+    H : float
+        Hardness used (Pa).
+    """
+
+    params: dict
+    stderr: dict
+    residuals: np.ndarray
+    r_squared: float
+    rmse: float
+    success: bool
+    message: str
+    nfev: int
+    at_bound: tuple
+    H: float
+
+    @property
+    def converged(self):
+        """Alias of :attr:`success`."""
+        return self.success
+
+    def summary(self):
+        """JSON-ready dict of the fit quality (for the provenance)."""
+        return {
+            "params": dict(self.params),
+            "stderr": {k: _finite_or_none(v) for k, v in self.stderr.items()},
+            "r_squared": self.r_squared,
+            "rmse": self.rmse,
+            "max_abs_residual": float(np.max(np.abs(self.residuals))),
+            "n_points": int(self.residuals.size),
+            "success": self.success,
+            "message": self.message,
+            "nfev": self.nfev,
+            "at_bound": list(self.at_bound),
+        }
+
+
+@dataclass(frozen=True)
+class FirstLoadingFit(FitResult):
+    """:class:`FitResult` of Eq. 24 with ``C1``, ``n1`` as attributes."""
+
+    @property
+    def C1(self):
+        """Fitted ``C1``."""
+        return self.params["C1"]
+
+    @property
+    def n1(self):
+        """Fitted ``n1``."""
+        return self.params["n1"]
+
+
+@dataclass(frozen=True)
+class ReloadFit(FitResult):
+    """:class:`FitResult` of Eq. 25 with the jump of the law at each ``p_hist``.
+
+    Attributes
+    ----------
+    C1, n1 : float
+        The first-loading parameters held fixed.
+    continuous : bool
+        Fitted the continuous variant (``FrictionParams.continuous_reload``).
+    p_hist : ndarray
+        The curves' ``p_hist`` (Pa).
+    jump : ndarray
+        Eq. 25's jump in contact ratio at each ``p_hist``,
+        ``alpha1(p_hist) - alpha2(p_hist)`` (``tau`` jumps by ``m k`` times this).
+    """
+
+    C1: float = math.nan
+    n1: float = math.nan
+    continuous: bool = False
+    p_hist: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    jump: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    @property
+    def C2(self):
+        """Fitted ``C2``."""
+        return self.params["C2"]
+
+    @property
+    def n2(self):
+        """Fitted ``n2``."""
+        return self.params["n2"]
+
+    @property
+    def jump_relative(self):
+        """Jump relative to ``alpha1(p_hist)`` (the shear's relative drop at ``p_hist``)."""
+        a1 = alpha_first(self.p_hist, _law(self.H, self.C1, self.n1))
+        return self.jump / a1
+
+    def summary(self):
+        """JSON-ready dict of the fit quality and the jumps."""
+        d = super().summary()
+        d["continuous"] = self.continuous
+        d["jump"] = [
+            {"p_hist": float(ph), "jump_alpha": float(j), "jump_relative": float(r)}
+            for ph, j, r in zip(self.p_hist, self.jump, self.jump_relative, strict=True)
+        ]
+        return d
+
+
+@dataclass(frozen=True)
+class ReloadCurve:
+    """One un-/reloading curve: ``alpha`` at pressures ``p < p_hist`` (Pa)."""
+
+    p_hist: float
+    p: np.ndarray
+    alpha: np.ndarray
+
+
+# -- validation -------------------------------------------------------------------------
+
+
+def _finite_or_none(v):
+    return float(v) if math.isfinite(v) else None
+
+
+def _positive(name, v):
+    try:
+        f = float(v)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a finite number > 0, got {v!r}") from None
+    if not (math.isfinite(f) and f > 0):
+        raise ValueError(f"{name} must be a finite number > 0, got {v!r}")
+    return f
+
+
+def _bounds(name, b):
+    try:
+        lo, hi = (float(x) for x in b)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a pair (lo, hi) with 0 < lo < hi, got {b!r}") from None
+    if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo < hi):
+        raise ValueError(f"{name} must be a pair (lo, hi) with 0 < lo < hi < inf, got {b!r}")
+    return lo, hi
+
+
+def _data(p, alpha, p_name="p", alpha_name="alpha"):
+    p = np.asarray(p, dtype=np.float64)
+    alpha = np.asarray(alpha, dtype=np.float64)
+    if p.ndim != 1 or alpha.ndim != 1:
+        raise ValueError(f"{p_name} and {alpha_name} must be 1-D arrays")
+    if p.shape != alpha.shape:
+        raise ValueError(
+            f"{alpha_name} must have the same length as {p_name}: {alpha.size} != {p.size}"
+        )
+    if not np.isfinite(p).all():
+        raise ValueError(f"{p_name} must be finite (no NaN or inf)")
+    if not np.isfinite(alpha).all():
+        raise ValueError(f"{alpha_name} must be finite (no NaN or inf)")
+    if (p <= 0).any():
+        raise ValueError(f"{p_name} must be > 0 (Pa), got min {p.min():g}")
+    if ((alpha < 0) | (alpha > 1)).any():
+        raise ValueError(
+            f"{alpha_name} must be in [0, 1] (a contact ratio), got range "
+            f"[{alpha.min():g}, {alpha.max():g}]"
+        )
+    return p, alpha
+
+
+def _curve(i, c):
+    if isinstance(c, ReloadCurve):
+        ph, p, a = c.p_hist, c.p, c.alpha
+    elif isinstance(c, dict):
+        try:
+            ph, p, a = c["p_hist"], c["p"], c["alpha"]
+        except KeyError as exc:
+            raise ValueError(f"curves[{i}] lacks key {exc}") from None
+    else:
+        try:
+            ph, p, a = c
+        except (TypeError, ValueError):
+            raise ValueError(
+                f"curves[{i}] must be a ReloadCurve, a dict or a tuple (p_hist, p, alpha)"
+            ) from None
+    ph = _positive(f"curves[{i}].p_hist", ph)
+    p, a = _data(p, a, f"curves[{i}].p", f"curves[{i}].alpha")
+    if (p >= ph).any():
+        raise ValueError(
+            f"curves[{i}].p must be < p_hist = {ph:g} Pa (reloading), got max {p.max():g}"
+        )
+    return ReloadCurve(ph, p, a)
+
+
+# -- model --------------------------------------------------------------------------------
+
+
+def _law(H, C1, n1, C2=1.0, n2=1.0, continuous=False):
+    """A FrictionParams for evaluating alpha (``m``, ``sigma_y`` do not enter alpha)."""
+    return FrictionParams(
+        m=1.0, sigma_y=2.0, H=H, C1=C1, n1=n1, C2=C2, n2=n2, continuous_reload=continuous
+    )
+
+
+def _weights(alpha, relative):
+    if not relative:
+        return np.ones_like(alpha)
+    if (alpha <= 0).any():
+        raise ValueError("alpha must be > 0 for a relative fit (relative=True)")
+    return 1.0 / alpha
+
+
+def _r_squared(res, alpha):
+    ss_tot = float(np.sum((alpha - alpha.mean()) ** 2))
+    ss_res = float(np.sum(res**2))
+    return 1.0 - ss_res / ss_tot if ss_tot > 0 else 0.0
+
+
+def _solve(residual, x_start, lb, ub, names):
+    """Bounded least squares in log-parameters; returns params, stderr, sol, note."""
+    x0 = np.clip(np.log(x_start), np.log(lb) + 1e-9, np.log(ub) - 1e-9)
+    sol = least_squares(
+        residual,
+        x0,
+        bounds=(np.log(lb), np.log(ub)),
+        method="trf",
+        jac="3-point",
+        ftol=1e-14,
+        xtol=1e-14,
+        gtol=1e-14,
+        max_nfev=2000,
+    )
+    vals = np.exp(sol.x)
+    res = sol.fun
+    dof = max(res.size - len(names), 1)
+    s2 = float(res @ res) / dof
+    jtj = sol.jac.T @ sol.jac
+    try:
+        cov = np.linalg.inv(jtj) * s2 if np.linalg.cond(jtj) < 1e14 else None
+    except np.linalg.LinAlgError:
+        cov = None
+    stderr = {}
+    for i, nm in enumerate(names):
+        var = math.inf if cov is None else float(cov[i, i])
+        stderr[nm] = float(vals[i] * math.sqrt(var)) if 0 <= var < math.inf else math.inf
+    at = tuple(
+        nm
+        for i, nm in enumerate(names)
+        if sol.active_mask[i] != 0 or np.isclose(vals[i], (lb[i], ub[i]), rtol=1e-6).any()
+    )
+    msg = sol.message
+    if at:
+        msg += f" Note: {', '.join(at)} ended on a bound; the data do not fix it within them."
+    params = {nm: float(v) for nm, v in zip(names, vals, strict=True)}
+    return params, stderr, sol, at, msg
+
+
+def _start(cost, c_slope, n_bounds, c_bounds):
+    """Best point of a coarse (C, n) grid around the small-pressure slope estimate."""
+    best, arg = math.inf, (c_slope, 1.0)
+    for cm in _C_GRID:
+        c = min(max(c_slope * cm, c_bounds[0]), c_bounds[1])
+        for n in _N_GRID:
+            n = min(max(n, n_bounds[0]), n_bounds[1])
+            v = cost(c, n)
+            if v < best:
+                best, arg = v, (c, n)
+    return arg
+
+
+def fit_first_loading(p, alpha, H, *, relative=False, C_bounds=C_BOUNDS, n_bounds=N_BOUNDS):
+    """Fit ``C1, n1`` of Eq. 24, ``alpha1(p) = tanh((p C1 / H)**n1)**(1/n1)``.
+
+    Parameters
+    ----------
+    p : array_like
+        Mean contact pressures ``p_mean`` of the first-loading sweep (Pa), ``> 0``.
+    alpha : array_like
+        Contact ratios ``alpha_rc = A_real / A0`` at ``p``, in ``[0, 1]``.
+    H : float
+        Hardness (Pa) used in the half-space model.
+    relative : bool
+        Minimise relative residuals ``(alpha_model - alpha) / alpha`` (for scatter
+        proportional to ``alpha``; needs ``alpha > 0``) instead of absolute ones.
+    C_bounds, n_bounds : (float, float)
+        Bounds of ``C1`` and ``n1``.
+
+    Returns
+    -------
+    FirstLoadingFit
+        ``C1``, ``n1``, standard errors, residuals, ``r_squared``, ``success``, ``message``.
+
+    Raises
+    ------
+    ValueError
+        For mismatched lengths, fewer than 3 points, NaN, ``p <= 0``, ``alpha`` outside
+        ``[0, 1]`` or bad bounds (the message names the argument).
+    """
+    p, alpha = _data(p, alpha)
+    H = _positive("H", H)
+    cb, nb = _bounds("C_bounds", C_bounds), _bounds("n_bounds", n_bounds)
+    if p.size < 3:
+        raise ValueError(f"p needs at least 3 points to fit C1 and n1, got {p.size}")
+    w = _weights(alpha, relative)
+
+    def model(c, n):
+        return alpha_first(p, _law(H, c, n))
+
+    def residual(x):
+        return (model(*np.exp(x)) - alpha) * w
+
+    c_slope = float(np.max(alpha * H / p)) or 1.0  # alpha1 <= p C1 / H, tight at small p
+    start = _start(lambda c, n: float(np.sum(((model(c, n) - alpha) * w) ** 2)), c_slope, nb, cb)
+    lb, ub = np.array([cb[0], nb[0]]), np.array([cb[1], nb[1]])
+    params, stderr, sol, at, msg = _solve(residual, start, lb, ub, ("C1", "n1"))
+    res = model(params["C1"], params["n1"]) - alpha
+    return FirstLoadingFit(
+        params=params,
+        stderr=stderr,
+        residuals=res,
+        r_squared=_r_squared(res, alpha),
+        rmse=float(np.sqrt(np.mean(res**2))),
+        success=bool(sol.success),
+        message=msg,
+        nfev=int(sol.nfev),
+        at_bound=at,
+        H=H,
+    )
+
+
+def fit_reload(
+    curves, H, C1, n1, *, continuous=False, relative=False, C_bounds=C_BOUNDS, n_bounds=N_BOUNDS
+):
+    """Fit ``C2, n2`` of Eq. 25 to all un-/reloading curves together.
+
+    ``alpha2(p) = alpha1(p_hist) tanh(x2**n2)**(1/n2)``, ``x2 = p C2 / (H alpha1(p_hist))``,
+    with ``alpha1`` from Eq. 24 and the given ``C1, n1`` (as the runtime evaluates it).
+
+    Parameters
+    ----------
+    curves : sequence
+        Each a :class:`ReloadCurve`, a dict with ``p_hist``, ``p``, ``alpha``, or a tuple
+        ``(p_hist, p, alpha)``: contact ratios at pressures ``0 < p < p_hist`` (Pa) on the
+        surface deformed by loading to ``p_hist``.
+    H : float
+        Hardness (Pa).
+    C1, n1 : float
+        First-loading parameters (from :func:`fit_first_loading`).
+    continuous : bool
+        Fit the continuous variant (``FrictionParams(continuous_reload=True)``): Eq. 25
+        normalised to meet Eq. 24 at ``p_hist``, i.e. the fit constrained to zero jump.
+    relative : bool
+        Minimise relative residuals (see :func:`fit_first_loading`).
+    C_bounds, n_bounds : (float, float)
+        Bounds of ``C2`` and ``n2``.
+
+    Returns
+    -------
+    ReloadFit
+        ``C2``, ``n2``, residuals (curves stacked in order), ``r_squared``, ``success``,
+        ``message`` and ``jump``, Eq. 25's drop of ``alpha`` at each ``p_hist``.
+    """
+    if isinstance(curves, (ReloadCurve, dict)) or not hasattr(curves, "__len__"):
+        raise ValueError("curves must be a sequence of reload curves")
+    if len(curves) == 0:
+        raise ValueError("curves must hold at least one reload curve")
+    cs = [_curve(i, c) for i, c in enumerate(curves)]
+    H = _positive("H", H)
+    C1, n1 = _positive("C1", C1), _positive("n1", n1)
+    cb, nb = _bounds("C_bounds", C_bounds), _bounds("n_bounds", n_bounds)
+    p = np.concatenate([c.p for c in cs])
+    ph = np.concatenate([np.full(c.p.size, c.p_hist) for c in cs])
+    alpha = np.concatenate([c.alpha for c in cs])
+    if p.size < 3:
+        raise ValueError(f"curves need at least 3 points in all to fit C2 and n2, got {p.size}")
+    cont = bool(continuous)
+    w = _weights(alpha, relative)
+
+    def model(c, n):
+        return alpha_reload(p, ph, _law(H, C1, n1, c, n, cont))
+
+    def residual(x):
+        return (model(*np.exp(x)) - alpha) * w
+
+    c_slope = float(np.max(alpha * H / p)) or 1.0  # alpha2 ~ p C2 / H at small p
+    start = _start(lambda c, n: float(np.sum(((model(c, n) - alpha) * w) ** 2)), c_slope, nb, cb)
+    lb, ub = np.array([cb[0], nb[0]]), np.array([cb[1], nb[1]])
+    params, stderr, sol, at, msg = _solve(residual, start, lb, ub, ("C2", "n2"))
+    res = model(params["C2"], params["n2"]) - alpha
+    p_hist = np.array([c.p_hist for c in cs])
+    law = _law(H, C1, n1, params["C2"], params["n2"], cont)
+    jump = np.atleast_1d(reload_jump(law, p_hist))  # m k = 1 here: the jump in alpha
+    return ReloadFit(
+        params=params,
+        stderr=stderr,
+        residuals=res,
+        r_squared=_r_squared(res, alpha),
+        rmse=float(np.sqrt(np.mean(res**2))),
+        success=bool(sol.success),
+        message=msg,
+        nfev=int(sol.nfev),
+        at_bound=at,
+        H=H,
+        C1=C1,
+        n1=n1,
+        continuous=cont,
+        p_hist=p_hist,
+        jump=jump,
+    )
+
+
+# -- parameter file -------------------------------------------------------------------------
+
+
+def _plain(obj, where="provenance"):
+    """Deep copy of ``obj`` with NumPy and path objects as JSON types; ``ValueError`` if not."""
+    from pathlib import PurePath
+
+    if obj is None or isinstance(obj, (bool, str)):
+        return obj
+    if isinstance(obj, (int, np.integer)) and not isinstance(obj, bool):
+        return int(obj)
+    if isinstance(obj, (float, np.floating)):
+        f = float(obj)
+        return f if math.isfinite(f) else None
+    if isinstance(obj, np.bool_):
+        return bool(obj)
+    if isinstance(obj, np.ndarray):
+        return _plain(obj.tolist(), where)
+    if isinstance(obj, PurePath):
+        return str(obj)
+    if isinstance(obj, dict):
+        return {str(k): _plain(v, f"{where}.{k}") for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_plain(v, f"{where}[{i}]") for i, v in enumerate(obj)]
+    if hasattr(obj, "provenance") and hasattr(obj, "heights"):  # a Surface
+        d = dict(obj.provenance)
+        try:
+            d["roughness"] = obj.roughness().as_dict()
+        except (AttributeError, ValueError):
+            pass
+        d["grid_shape"] = list(obj.heights.shape)
+        d["dx"], d["dy"] = float(obj.dx), float(obj.dy)
+        return _plain(d, where)
+    raise ValueError(f"{where}: {type(obj).__name__} cannot be written to the JSON file")
+
+
+def make_params(
+    first,
+    reload,
+    *,
+    m,
+    sigma_y,
+    H=None,
+    k=None,
+    surfaces=None,
+    grid=None,
+    tolerance=None,
+    pressures=None,
+    material=None,
+    extra=None,
+):
+    """Assemble the calibrated :class:`frictionlaw.FrictionParams` with its provenance.
+
+    Parameters
+    ----------
+    first : FirstLoadingFit
+        Result of :func:`fit_first_loading`.
+    reload : ReloadFit
+        Result of :func:`fit_reload` (its ``C1, n1`` must be ``first``'s); its
+        ``continuous`` flag becomes ``continuous_reload``.
+    m : float
+        Tresca friction factor in ``[0, 1]`` (measured, e.g. ring compression).
+    sigma_y : float
+        Yield stress of the softer body (Pa).
+    H : float, optional
+        Hardness (Pa); defaults to the fits' ``H`` and must equal it if given.
+    k : float, optional
+        Shear flow stress (Pa); default ``sigma_y / 2``.
+    surfaces : dict, optional
+        Name -> :class:`~halfspace_calib.surfaces.Surface` (its provenance, grid and
+        roughness are recorded) or a dict.
+    grid, tolerance, pressures, material, extra : optional
+        JSON-able records of the solver grid, solver tolerance, the pressure lists, the
+        material data and anything else; NumPy values are converted.
+
+    Returns
+    -------
+    FrictionParams
+        With ``provenance = {"software", "surfaces", "grid", "tolerance", "pressures",
+        "material", "fit": {"first_loading", "reload"}, ...}``.
+    """
+    if not isinstance(first, FirstLoadingFit):
+        raise ValueError("first must be the FirstLoadingFit returned by fit_first_loading")
+    if not isinstance(reload, ReloadFit):
+        raise ValueError("reload must be the ReloadFit returned by fit_reload")
+    if (reload.C1, reload.n1) != (first.C1, first.n1) or reload.H != first.H:
+        raise ValueError(
+            "reload was fitted with other C1, n1 or H than first: refit it with first's values"
+        )
+    if H is None:
+        H = first.H
+    elif _positive("H", H) != first.H:
+        raise ValueError(f"H = {H!r} differs from the fits' H = {first.H!r}")
+    import scipy
+
+    prov = {
+        "software": {
+            "sbmf-friction": frictionlaw.__version__,
+            "numpy": np.__version__,
+            "scipy": scipy.__version__,
+        },
+        "surfaces": _plain(surfaces or {}, "surfaces"),
+        "grid": _plain(grid, "grid"),
+        "tolerance": _plain(tolerance, "tolerance"),
+        "pressures": _plain(pressures, "pressures"),
+        "material": _plain(material, "material"),
+        "fit": {"first_loading": first.summary(), "reload": reload.summary()},
+    }
+    if extra is not None:
+        prov["extra"] = _plain(extra, "extra")
+    return FrictionParams(
+        m=m,
+        sigma_y=sigma_y,
+        H=H,
+        C1=first.C1,
+        n1=first.n1,
+        C2=reload.C2,
+        n2=reload.n2,
+        k=k,
+        continuous_reload=reload.continuous,
+        provenance=_plain(prov),
+    )
