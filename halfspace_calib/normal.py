@@ -509,12 +509,12 @@ def _finish(h, p, u, g, nit, converged, res, tol, p_mean, H, periodic, vc, dA):
     removed = float(u_pl.sum())
     note = ""
     if vc and removed > 0:
-        out = ~contact
-        if out.any():
-            deformed[out] += removed / np.count_nonzero(out)
-        else:
-            deformed += removed / deformed.size
-            note = " (full contact: removed volume spread over all elements)"
+        lift, rest = volume_conserving_lift(np.where(contact, 0.0, np.maximum(gap, 0.0)), removed)
+        deformed += lift
+        if rest > 0:
+            deformed += rest / deformed.size
+            note = (f" (the valleys hold only {100 * (1 - rest / removed):.1f} % of the removed "
+                    "volume: the rest raises the whole surface evenly)")
     if converged:
         msg = f"converged in {nit} iterations, residual {res:.2e} < tol {tol:.1e}{note}"
     else:
@@ -538,6 +538,43 @@ def _finish(h, p, u, g, nit, converged, res, tol, p_mean, H, periodic, vc, dA):
         H=None if H is None else float(H),
         periodic=bool(periodic),
     )
+
+
+def volume_conserving_lift(gap, volume):
+    """Spread a plastically removed volume over the out-of-contact elements (Pullen, Williamson).
+
+    The paper adds the volume "evenly on the element patches that are not in contact". Read
+    literally, at high loads that lift exceeds the flattened plateau and pushes valleys through
+    the tool. Here the lift is even but capped by each element's loaded gap (material flows into
+    a valley until it meets the tool): ``lift_k = min(c, gap_k)`` with ``c`` such that
+    ``sum(lift) = volume`` (water filling).
+
+    Parameters
+    ----------
+    gap : ndarray
+        Loaded gap per element (m), ``>= 0``; 0 on contact elements (they get no lift).
+    volume : float
+        Removed volume in element units (m, i.e. ``sum(u_pl)``).
+
+    Returns
+    -------
+    lift : ndarray
+        Height added per element (m).
+    rest : float
+        Volume that did not fit below the tool (``> 0`` only if every valley is filled).
+    """
+    g = np.asarray(gap, dtype=float)
+    cap = float(g.sum())
+    if volume >= cap:
+        return g.copy(), float(volume - cap)
+    gs = np.sort(g[g > 0].ravel())
+    n = gs.size
+    # filled(c) = sum(min(c, g_k)) is piecewise linear: find the segment holding the volume
+    below = np.concatenate([[0.0], np.cumsum(gs)[:-1]])
+    filled_at = below + gs * (n - np.arange(n))
+    j = int(np.searchsorted(filled_at, volume))
+    c = (volume - below[j]) / (n - j)
+    return np.minimum(g, c), 0.0
 
 
 def solve_normal_pair(tool, workpiece, dx: float, E_star: float, p_mean: float,

@@ -204,17 +204,20 @@ def test_volume_conservation_and_deformed_surface():
     n = 64
     h = rough_surface(n, 6)
     dx = 2.11e-3 / n
-    res = solve_normal(h, dx, E_STAR, 500e6, H=H_DC04)
-    assert res.converged and res.removed_volume > 0
+    res = solve_normal(h, dx, E_STAR, 200e6, H=H_DC04)
+    assert res.converged and res.removed_volume > 0 and "raises the whole surface" not in res.message
     v0 = np.sum(h - h.min())
     assert abs(res.deformed_heights.sum() - h.sum()) <= 1e-10 * v0
     assert res.removed_volume == pytest.approx(res.plastic_displacement.sum() * dx * dx)
-    # contact elements only lose height, out-of-contact ones rise by the same amount each
+    # contact elements only lose height; out-of-contact ones rise evenly, each at most up to the
+    # loaded tool (its gap): min(c, gap)
     out = res.pressure == 0
     rise = res.deformed_heights[out] - h[out]
-    np.testing.assert_allclose(rise, rise[0], rtol=1e-12)
-    assert rise[0] > 0
-    off = solve_normal(h, dx, E_STAR, 500e6, H=H_DC04, volume_conservation=False)
+    gap = res.gap[out]
+    assert np.all(rise > 0) and np.all(rise <= gap * (1 + 1e-12))
+    c = rise.max()
+    np.testing.assert_allclose(rise, np.minimum(gap, c), rtol=1e-12, atol=1e-18)
+    off = solve_normal(h, dx, E_STAR, 200e6, H=H_DC04, volume_conservation=False)
     np.testing.assert_allclose(off.deformed_heights, h - off.plastic_displacement)
 
 
@@ -307,3 +310,17 @@ def test_flat_surface_uniform_pressure():
     res = solve_normal(np.zeros((16, 16)), 1e-5, E_STAR, 123e6, H=H_DC04)
     assert res.converged and res.alpha == 1.0
     np.testing.assert_allclose(res.pressure, 123e6, rtol=1e-14)
+
+
+def test_volume_conserving_lift_water_filling():
+    from halfspace_calib.normal import volume_conserving_lift
+
+    gap = np.array([0.0, 1.0, 2.0, 4.0, 0.5])
+    lift, rest = volume_conserving_lift(gap, 3.0)
+    assert rest == 0.0 and lift.sum() == pytest.approx(3.0, rel=1e-15)
+    c = lift.max()
+    np.testing.assert_allclose(lift, np.minimum(gap, c))
+    assert c == pytest.approx((3.0 - 0.5) / 3)  # the 0.5 valley fills, three share the rest
+    lift, rest = volume_conserving_lift(gap, 10.0)  # more than the valleys hold
+    np.testing.assert_array_equal(lift, gap)
+    assert rest == pytest.approx(2.5)
