@@ -238,7 +238,8 @@ def load_instrument(path, unit=None, fill_undefined=False):
                 f"{path}: unit={unit!r} contradicts the file's own unit {file_unit!r}; "
                 "leave unit unset"
             )
-    if topo.has_undefined_data:
+    had_holes = bool(topo.has_undefined_data)
+    if had_holes:
         if not fill_undefined:
             raise ValueError(
                 f"{path}: the topography has undefined (unmeasured) points; pass "
@@ -256,7 +257,7 @@ def load_instrument(path, unit=None, fill_undefined=False):
     info = {
         "reader": "SurfaceTopography " + str(getattr(st, "__version__", "?")),
         "file_unit": file_unit,
-        "filled_undefined": bool(fill_undefined and topo.has_undefined_data),
+        "filled_undefined": had_holes,
     }
     if caught:
         info["reader_warnings"] = [str(w.message) for w in caught]

@@ -230,6 +230,10 @@ def read_surface(
         raise FileNotFoundError(f"surface file not found: {path}")
     if size is not None and (dx is not None or dy is not None):
         raise ValueError("give either size or dx (and dy), not both")
+    if layout in ("npy", "matrix"):
+        _io.unit_factor(unit)
+        if dx is None and size is None:
+            raise ValueError(f"{path}: the file has no lateral calibration; pass dx or size (m)")
     info = {}
     if layout == "npy":
         h = _io.load_npy(path, unit)

@@ -393,3 +393,23 @@ def test_instrument_roundtrip_x3p(tmp_path):
     junk.write_bytes(b"definitely not a keyence file" * 10)
     with pytest.raises(ValueError, match="junk.vk4"):
         S.read_surface(junk)
+
+
+def test_instrument_undefined_points_and_units(tmp_path):
+    try:
+        st = io_topo.import_surface_topography()
+    except ImportError:
+        pytest.skip("SurfaceTopography (the topography extra) is not installed")
+    h = np.linspace(0.0, 1.0, 48).reshape(8, 6)
+    h[2, 3] = np.nan
+    topo = st.Topography(np.ma.masked_invalid(h), physical_sizes=(160.0, 120.0), unit="um")
+    p = tmp_path / "holes.x3p"
+    topo.to_x3p(str(p))
+    with pytest.raises(ValueError, match="fill_undefined"):
+        S.read_surface(p)
+    s = S.read_surface(p, fill_undefined=True)
+    assert np.isfinite(s.heights).all() and s.provenance["filled_undefined"]
+    # the hole lies on a plane: any sensible interpolation puts it there
+    assert s.heights[2, 3] == pytest.approx((2 * 6 + 3) / 47 * 1e-6, rel=0.05)
+    with pytest.raises(ValueError, match="contradicts"):
+        S.read_surface(tmp_path / "holes.x3p", unit="nm", fill_undefined=True)
