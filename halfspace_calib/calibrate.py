@@ -54,7 +54,8 @@ class Scene:
     Surfaces: ``workpiece`` / ``tool`` are file paths (read with
     :func:`halfspace_calib.surfaces.read_surface`, ``unit`` and ``size`` for plain files) or
     ``None`` for the synthetic DC04-EDT-like sheet and tool of Table 1 (``rough_tool`` for the
-    rough tool). Both are levelled and block-averaged to ``grid x grid`` elements.
+    rough tool; ``measured_n``, a multiple of ``grid``, generates them on that finer grid and
+    block-averages, so that one seed is the same physical surface at every ``grid``). Both are levelled and block-averaged to ``grid x grid`` elements.
     Materials in Pa; ``sigma_y`` defaults to ``H / 2.8`` (Bowden and Tabor). ``m`` is Tresca's
     factor: it does not enter the half-space model, only the parameter file (measure it, e.g. by
     ring compression).
@@ -68,6 +69,7 @@ class Scene:
     seed_workpiece: int = 1
     seed_tool: int = 2
     grid: int = 128
+    measured_n: int | None = None
     E_workpiece: float = 210e9
     nu_workpiece: float = 0.3
     E_tool: float = 210e9
@@ -163,9 +165,11 @@ def scene_surfaces(scene):
         path = getattr(scene, which)
         if path is None:
             if which == "workpiece":
-                s = _surf.dc04_edt_like(n, seed=scene.seed_workpiece)
+                s = _surf.dc04_edt_like(n, seed=scene.seed_workpiece, measured_n=scene.measured_n)
             else:
-                s = _surf.tool_like(n, rough=scene.rough_tool, seed=scene.seed_tool)
+                s = _surf.tool_like(
+                    n, rough=scene.rough_tool, seed=scene.seed_tool, measured_n=scene.measured_n
+                )
         else:
             s = _surf.read_surface(path, unit=scene.unit, size=scene.size)
             s = _surf.level(s)
