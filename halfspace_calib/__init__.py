@@ -3,4 +3,22 @@
 Sec. 2-3 of the paper: surfaces in, ``FrictionParams`` JSON out.
 """
 
-__all__: list[str] = []
+from .influence import InfluenceOperator, love_coefficients, normal_operator
+from .normal import (
+    NormalResult,
+    composite_heights,
+    composite_modulus,
+    solve_normal,
+    solve_normal_pair,
+)
+
+__all__: list[str] = [
+    "InfluenceOperator",
+    "NormalResult",
+    "composite_heights",
+    "composite_modulus",
+    "love_coefficients",
+    "normal_operator",
+    "solve_normal",
+    "solve_normal_pair",
+]

@@ -1,0 +1,329 @@
+"""Influence coefficients of the elastic half-space and their FFT application (Sec. 2.1).
+
+The surface is discretised into ``Nx x Ny`` rectangular elements of size ``2a x 2b``
+(``dx = 2a``, ``dy = 2b``) carrying a uniform pressure each. The normal displacement at the
+centre of element ``k`` is ``u_k = sum_l C_kl p_l`` (Eq. 3) with Love's closed form of the
+Boussinesq integral (Eq. 4) and the composite modulus ``E_star`` of Eq. 2.
+
+``C_kl`` depends only on the offset ``x_k - x_l, y_k - y_l``, so the sum is a discrete
+convolution evaluated by FFT in two modes:
+
+- non-periodic (DC-FFT, Liu, Wang and Liu 2000): the coefficients for all offsets
+  ``-(N-1) .. N-1`` are laid out on a zero-padded grid of at least ``2N - 1`` points per axis
+  (rounded up to a fast FFT length), so that the circular convolution equals the linear one:
+  the exact finite-body result of Eq. 3 (Hertz, isolated contacts).
+- periodic: the surface is one period of an infinite periodic surface. Either the coefficients
+  are taken at minimal-image offsets (``from_coefficients(..., periodic=True)``) or an exact
+  spectral Green's function is used (``from_spectrum``). For the normal problem the default is
+  the exact spectral periodic Green's function ``2 / (E_star |q|)`` (see ``normal_operator``).
+
+The operator is generic: any even-or-odd kernel given as a function of the offset (for instance
+the Cerruti coefficients of Eq. 16) reuses the same FFT machinery and the cached spectrum.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+
+import numpy as np
+import scipy.fft as sfft
+
+__all__ = [
+    "InfluenceOperator",
+    "love_coefficients",
+    "normal_operator",
+    "periodic_spectrum_normal",
+]
+
+
+def _check_positive(name: str, value: float) -> float:
+    value = float(value)
+    if not np.isfinite(value) or value <= 0.0:
+        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+    return value
+
+
+def _check_shape(shape) -> tuple[int, int]:
+    try:
+        nx, ny = (int(s) for s in shape)
+    except (TypeError, ValueError):
+        raise ValueError(f"shape must be a pair of integers >= 1, got {shape!r}") from None
+    if nx < 1 or ny < 1:
+        raise ValueError(f"shape must be a pair of integers >= 1, got {shape!r}")
+    return nx, ny
+
+
+def _xasinh(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """``x * asinh(y / |x|)``, continuous with value 0 at ``x = 0``."""
+    ax = np.abs(x)
+    safe = np.where(ax > 0.0, ax, 1.0)
+    return np.where(ax > 0.0, x * np.arcsinh(y / safe), 0.0)
+
+
+def _love_primitive(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Primitive ``F`` with ``d2F/dx dy = 1 / sqrt(x^2 + y^2)``."""
+    return _xasinh(x, y) + _xasinh(y, x)
+
+
+def love_coefficients(x, y, a: float, b: float, E_star: float) -> np.ndarray:
+    """Love's closed form of the normal influence coefficient (Eq. 4).
+
+    Normal surface displacement at offset ``(x, y)`` from the centre of a ``2a x 2b``
+    rectangle loaded by a unit uniform pressure on an elastic half-space,
+    ``C = 1 / (pi E_star) * iint_{-a,-b}^{a,b} d xi d eta / rho`` with ``rho`` of Eq. 5.
+
+    Parameters
+    ----------
+    x, y : array_like
+        Offsets ``x_k - x_l`` and ``y_k - y_l`` in m (broadcast together).
+    a, b : float
+        Half-widths of the element in m (``dx = 2a``, ``dy = 2b``).
+    E_star : float
+        Composite modulus of Eq. 2 in Pa.
+
+    Returns
+    -------
+    numpy.ndarray
+        Influence coefficients in m/Pa.
+
+    Notes
+    -----
+    Evaluated as ``F(x+a, y+b) - F(x-a, y+b) - F(x+a, y-b) + F(x-a, y-b)`` with the primitive
+    ``F(X, Y) = X asinh(Y/|X|) + Y asinh(X/|Y|)``, which is Love's (1929) logarithmic form
+    rewritten without cancellation (the ``X ln|X|`` terms of the log form cancel pairwise).
+    """
+    a = _check_positive("a", a)
+    b = _check_positive("b", b)
+    E_star = _check_positive("E_star", E_star)
+    x = np.asarray(x, dtype=float)
+    y = np.asarray(y, dtype=float)
+    F = _love_primitive
+    val = F(x + a, y + b) - F(x - a, y + b) - F(x + a, y - b) + F(x - a, y - b)
+    return val / (np.pi * E_star)
+
+
+def periodic_spectrum_normal(qx: np.ndarray, qy: np.ndarray, E_star: float) -> np.ndarray:
+    """Exact periodic Green's function of the half-space in Fourier space, ``2 / (E_star |q|)``.
+
+    A pressure ``p cos(q . x)`` gives the displacement ``2 p cos(q . x) / (E_star |q|)`` (the
+    Fourier transform of Eq. 1). The ``q = 0`` mode (the mean displacement of a periodic
+    surface, undefined for a half-space) is set to 0; it is absorbed by the approach ``u0``.
+    """
+    q = np.hypot(qx, qy)
+    safe = np.where(q > 0.0, q, 1.0)
+    return np.where(q > 0.0, 2.0 / (E_star * safe), 0.0)
+
+
+def _offsets(n: int, m: int, periodic: bool) -> np.ndarray:
+    """Integer offsets laid out in FFT order on an axis of length ``m``."""
+    i = np.arange(m)
+    if periodic:
+        # minimal image: 0, 1, .., ceil(n/2)-1, -floor(n/2), .., -1
+        return (i + n // 2) % n - n // 2
+    # linear convolution: offsets 0..n-1 then -(n-1)..-1 at the end, zeros in between
+    off = np.where(i < n, i, i - m)
+    return off
+
+
+class InfluenceOperator:
+    """Discrete convolution ``u = C * p`` applied by FFT with a cached spectrum.
+
+    Build with :meth:`from_coefficients` (a real-space kernel, e.g. Love's Eq. 4 or Cerruti's
+    Eq. 16) or :meth:`from_spectrum` (periodic only, an exact spectral Green's function).
+
+    Attributes
+    ----------
+    shape : tuple of int
+        Grid ``(Nx, Ny)`` of the pressure and displacement fields.
+    fft_shape : tuple of int
+        FFT grid: ``shape`` when periodic, a fast length ``>= 2N - 1`` per axis otherwise.
+    periodic : bool
+        Periodic (circular) or non-periodic (zero-padded, linear) convolution.
+    spectrum : numpy.ndarray
+        ``rfft2`` of the kernel on ``fft_shape`` (complex, cached).
+    kernel : numpy.ndarray
+        The real-space kernel on ``fft_shape`` in FFT order (offset ``(0, 0)`` at index
+        ``(0, 0)``); used by :meth:`apply_sparse`.
+    """
+
+    def __init__(self, kernel: np.ndarray, shape, periodic: bool, workers: int | None = None):
+        self.shape = _check_shape(shape)
+        self.periodic = bool(periodic)
+        kernel = np.ascontiguousarray(kernel, dtype=float)
+        if self.periodic and kernel.shape != self.shape:
+            raise ValueError(f"periodic kernel must have shape {self.shape}, got {kernel.shape}")
+        if not self.periodic and (
+            kernel.shape[0] < 2 * self.shape[0] - 1 or kernel.shape[1] < 2 * self.shape[1] - 1
+        ):
+            raise ValueError(
+                f"non-periodic kernel must be at least (2Nx-1, 2Ny-1) = "
+                f"{(2 * self.shape[0] - 1, 2 * self.shape[1] - 1)}, got {kernel.shape}"
+            )
+        self.fft_shape = kernel.shape
+        self.workers = workers if workers is not None else (os.cpu_count() or 1)
+        self.kernel = kernel
+        self.spectrum = sfft.rfft2(kernel, workers=self.workers)
+
+    # ------------------------------------------------------------------ builders
+    @classmethod
+    def from_coefficients(
+        cls,
+        coeff_fn: Callable[[np.ndarray, np.ndarray], np.ndarray],
+        shape,
+        dx: float,
+        dy: float | None = None,
+        periodic: bool = True,
+        workers: int | None = None,
+    ) -> InfluenceOperator:
+        """Operator from a kernel given as a function of the offset.
+
+        Parameters
+        ----------
+        coeff_fn : callable
+            ``coeff_fn(x, y)`` returns the influence of element ``l`` on element ``k`` for the
+            offsets ``x = x_k - x_l``, ``y = y_k - y_l`` in m (2-D arrays, broadcast).
+        shape : tuple of int
+            Grid ``(Nx, Ny)``; axis 0 is x (spacing ``dx``), axis 1 is y (spacing ``dy``).
+        dx, dy : float
+            Element sizes ``2a`` and ``2b`` in m; ``dy`` defaults to ``dx``.
+        periodic : bool
+            Minimal-image offsets on the ``Nx x Ny`` torus when True, zero-padded linear
+            convolution (DC-FFT) when False.
+        workers : int, optional
+            Threads for ``scipy.fft`` (default: all CPUs).
+        """
+        nx, ny = _check_shape(shape)
+        dx = _check_positive("dx", dx)
+        dy = dx if dy is None else _check_positive("dy", dy)
+        if periodic:
+            mx, my = nx, ny
+        else:
+            mx, my = sfft.next_fast_len(2 * nx - 1, real=True), sfft.next_fast_len(
+                2 * ny - 1, real=True
+            )
+        ox = _offsets(nx, mx, periodic)
+        oy = _offsets(ny, my, periodic)
+        X = (ox * dx)[:, None]
+        Y = (oy * dy)[None, :]
+        kernel = np.asarray(coeff_fn(X, Y), dtype=float)
+        kernel = np.broadcast_to(kernel, (mx, my)).copy()
+        if not periodic:
+            # offsets beyond +-(N-1) never pair two elements: keep them zero
+            kernel[(ox > nx - 1) | (ox < -(nx - 1)), :] = 0.0
+            kernel[:, (oy > ny - 1) | (oy < -(ny - 1))] = 0.0
+        return cls(kernel, (nx, ny), periodic, workers)
+
+    @classmethod
+    def from_spectrum(
+        cls,
+        spectrum_fn: Callable[[np.ndarray, np.ndarray], np.ndarray],
+        shape,
+        dx: float,
+        dy: float | None = None,
+        workers: int | None = None,
+    ) -> InfluenceOperator:
+        """Periodic operator from a Green's function in Fourier space.
+
+        ``spectrum_fn(qx, qy)`` gives the displacement per unit pressure amplitude of the mode
+        ``exp(i (qx x + qy y))`` with angular wavenumbers in rad/m on the grid's period
+        ``Lx = Nx dx``, ``Ly = Ny dy``.
+        """
+        nx, ny = _check_shape(shape)
+        dx = _check_positive("dx", dx)
+        dy = dx if dy is None else _check_positive("dy", dy)
+        qx = 2.0 * np.pi * sfft.fftfreq(nx, d=dx)[:, None]
+        qy = 2.0 * np.pi * sfft.rfftfreq(ny, d=dy)[None, :]
+        spec = np.broadcast_to(np.asarray(spectrum_fn(qx, qy), dtype=float), (nx, ny // 2 + 1))
+        kernel = sfft.irfft2(spec, s=(nx, ny))
+        op = cls(kernel, (nx, ny), True, workers)
+        # keep the exact spectrum (the round trip above only adds roundoff)
+        op.spectrum = np.asarray(spec, dtype=complex).copy()
+        return op
+
+    # ------------------------------------------------------------------ application
+    def apply(self, p: np.ndarray) -> np.ndarray:
+        """Displacement ``u = C * p`` (Eq. 3) for a field ``p`` of shape ``shape``."""
+        p = np.asarray(p, dtype=float)
+        if p.shape != self.shape:
+            raise ValueError(f"p must have shape {self.shape}, got {p.shape}")
+        nx, ny = self.shape
+        ph = sfft.rfft2(p, s=self.fft_shape, workers=self.workers)
+        ph *= self.spectrum
+        u = sfft.irfft2(ph, s=self.fft_shape, workers=self.workers, overwrite_x=True)
+        if self.periodic:
+            return u
+        return np.ascontiguousarray(u[:nx, :ny])
+
+    __call__ = apply
+
+    def apply_sparse(self, rows, cols, values) -> np.ndarray:
+        """``C * p`` for a field with few non-zeros, by direct summation of kernel columns.
+
+        Costs ``O(len(values) * Nx * Ny)``; cheaper than :meth:`apply` for a handful of
+        elements. Used by the solver for the small projection corrections.
+        """
+        nx, ny = self.shape
+        mx, my = self.fft_shape
+        u = np.zeros(self.shape)
+        ix = np.arange(nx)
+        iy = np.arange(ny)
+        for i0, j0, v in zip(np.atleast_1d(rows), np.atleast_1d(cols), np.atleast_1d(values),
+                             strict=True):
+            u += v * self.kernel[np.ix_((ix - i0) % mx, (iy - j0) % my)]
+        return u
+
+    def dense_matrix(self) -> np.ndarray:
+        """The full ``(Nx Ny) x (Nx Ny)`` influence matrix (row-major); for tests of small grids."""
+        nx, ny = self.shape
+        mx, my = self.fft_shape
+        ix, iy = np.meshgrid(np.arange(nx), np.arange(ny), indexing="ij")
+        ix = ix.ravel()
+        iy = iy.ravel()
+        return self.kernel[(ix[:, None] - ix[None, :]) % mx, (iy[:, None] - iy[None, :]) % my]
+
+
+def normal_operator(
+    shape,
+    dx: float,
+    E_star: float,
+    *,
+    dy: float | None = None,
+    periodic: bool = True,
+    kernel: str = "spectral",
+    workers: int | None = None,
+) -> InfluenceOperator:
+    """The normal influence operator of Eqs. 3-4.
+
+    Parameters
+    ----------
+    shape : tuple of int
+        Grid ``(Nx, Ny)``.
+    dx, dy : float
+        Element sizes ``2a``, ``2b`` in m (``dy`` defaults to ``dx``).
+    E_star : float
+        Composite modulus (Eq. 2) in Pa.
+    periodic : bool
+        Periodic patch of a larger surface (True) or an isolated finite body (False, DC-FFT).
+    kernel : {"spectral", "love"}
+        Periodic mode only: ``"spectral"`` (default) uses the exact periodic Green's function
+        ``2 / (E_star |q|)`` (point values of the displacement of a sampled pressure field,
+        exact for every Fourier mode of the grid); ``"love"`` uses Love's coefficients at
+        minimal-image offsets (a truncated periodisation: accurate at short wavelengths, the
+        long-range 1/r tail beyond half a period is cut). Non-periodic mode always uses Love.
+    workers : int, optional
+        Threads for ``scipy.fft``.
+    """
+    E_star = _check_positive("E_star", E_star)
+    dx = _check_positive("dx", dx)
+    dy = dx if dy is None else _check_positive("dy", dy)
+    if kernel not in ("spectral", "love"):
+        raise ValueError(f"kernel must be 'spectral' or 'love', got {kernel!r}")
+    if periodic and kernel == "spectral":
+        return InfluenceOperator.from_spectrum(
+            lambda qx, qy: periodic_spectrum_normal(qx, qy, E_star), shape, dx, dy, workers
+        )
+    return InfluenceOperator.from_coefficients(
+        lambda x, y: love_coefficients(x, y, dx / 2, dy / 2, E_star),
+        shape, dx, dy, periodic=periodic, workers=workers,
+    )

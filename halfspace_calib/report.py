@@ -1,0 +1,177 @@
+"""Output of a calibration: parameter file, CSV tables of every curve, PNG plots, a summary."""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["write_outputs"]
+
+
+def _write_csv(path, header, rows):
+    with open(path, "w", newline="", encoding="utf-8") as fh:
+        w = csv.writer(fh)
+        w.writerow(header)
+        w.writerows(rows)
+
+
+def write_tables(cal, out):
+    """``loading.csv``, ``reload.csv`` and ``roughness.csv`` (SI units: Pa, m)."""
+    lv = cal.sweeps.levels
+    _write_csv(
+        out / "loading.csv",
+        [
+            "p_mean",
+            "alpha",
+            "converged",
+            "nit",
+            "residual",
+            "max_pressure",
+            "plastic_fraction",
+            "u0",
+        ],
+        [
+            [
+                v["p_hist"],
+                v["loading"]["alpha"],
+                int(v["loading"]["converged"]),
+                v["loading"]["nit"],
+                v["loading"]["residual"],
+                v["loading"]["max_pressure"],
+                v["loading"]["plastic_fraction"],
+                v["loading"]["u0"],
+            ]
+            for v in lv
+        ],
+    )
+    _write_csv(
+        out / "reload.csv",
+        [
+            "p_hist",
+            "p_mean",
+            "alpha",
+            "converged",
+            "nit",
+            "residual",
+            "max_pressure",
+            "plastic_fraction",
+        ],
+        [
+            [
+                v["p_hist"],
+                r["p_mean"],
+                r["alpha"],
+                int(r["converged"]),
+                r["nit"],
+                r["residual"],
+                r["max_pressure"],
+                r["plastic_fraction"],
+            ]
+            for v in lv
+            for r in v["reload"]
+        ],
+    )
+    wp = cal.sweeps.surfaces["workpiece"]
+    h0 = np.asarray(wp.heights) - np.mean(wp.heights)
+    rows = [[0.0, float(np.mean(np.abs(h0))), float(np.sqrt(np.mean(h0 * h0)))]]
+    rows += [[v["p_hist"], v["Ra_after"], v["Rq_after"]] for v in lv]
+    _write_csv(out / "roughness.csv", ["p_mean", "Ra", "Rq"], rows)
+
+
+def write_plots(cal, out):
+    """PNG plots: alpha vs p with Eq. 24, reload curves with Eq. 25, Ra/Rq vs p, pressure map."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from frictionlaw import alpha_first, alpha_reload
+
+    P = cal.params
+    MPa = 1e6
+    p, a = cal.sweeps.loading
+    pp = np.linspace(0, max(p.max() * 1.1, 1.0), 300)
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    ax.plot(p / MPa, a, "o", label="half-space model")
+    ax.plot(pp / MPa, alpha_first(pp, P), "-", label=f"Eq. 24: C1={P.C1:.3g}, n1={P.n1:.3g}")
+    ax.set(
+        xlabel="p_mean [MPa]",
+        ylabel="alpha_rc = A_real / A0",
+        title=f"First loading (R^2 = {cal.first.r_squared:.4f})",
+    )
+    ax.grid(alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(out / "alpha_first_loading.png", dpi=120)
+    plt.close(fig)
+
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    ax.plot(pp / MPa, alpha_first(pp, P), "k-", lw=1, label="Eq. 24 (first loading)")
+    for i, c in enumerate(cal.sweeps.reload_curves()):
+        col = f"C{i % 10}"
+        ax.plot(c.p / MPa, c.alpha, "o", color=col, ms=4)
+        q = np.linspace(0, c.p_hist, 100)
+        ax.plot(
+            q / MPa,
+            alpha_reload(q, c.p_hist, P),
+            "-",
+            color=col,
+            label=f"Eq. 25, p_hist={c.p_hist / MPa:.0f} MPa",
+        )
+    ax.set(
+        xlabel="p_mean [MPa]",
+        ylabel="alpha_rc",
+        title=f"Un-/reloading: C2={P.C2:.3g}, n2={P.n2:.3g} (R^2 = {cal.reload.r_squared:.4f})",
+    )
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out / "alpha_reload.png", dpi=120)
+    plt.close(fig)
+
+    lv = cal.sweeps.levels
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    pr = np.array([v["p_hist"] for v in lv]) / MPa
+    ax.plot(pr, [v["Ra_after"] * 1e6 for v in lv], "o-", label="Ra")
+    ax.plot(pr, [v["Rq_after"] * 1e6 for v in lv], "s-", label="Rq")
+    ax.set(
+        xlabel="p_mean [MPa]",
+        ylabel="roughness after unloading [um]",
+        title="Workpiece roughness after unloading (Figs. 3-4)",
+    )
+    ax.grid(alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(out / "roughness.png", dpi=120)
+    plt.close(fig)
+
+    maps = [v for v in lv if "pressure_map" in v]
+    if maps:
+        v = maps[-1]
+        wp = cal.sweeps.surfaces["workpiece"]
+        fig, ax = plt.subplots(figsize=(5.4, 4.6))
+        ext = [0, wp.shape[1] * wp.dy * 1e3, 0, wp.shape[0] * wp.dx * 1e3]
+        im = ax.imshow(v["pressure_map"] / MPa, origin="lower", extent=ext, cmap="viridis")
+        fig.colorbar(im, ax=ax, label="p [MPa]")
+        ax.set(
+            xlabel="y [mm]",
+            ylabel="x [mm]",
+            title=f"Contact pressure at p_mean = {v['p_hist'] / MPa:.0f} MPa",
+        )
+        fig.tight_layout()
+        fig.savefig(out / "pressure_map.png", dpi=120)
+        plt.close(fig)
+
+
+def write_outputs(cal, out):
+    """Write ``params.json``, the CSV tables, the plots and ``summary.json`` into ``out``."""
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    cal.params.to_json(out / "params.json")
+    write_tables(cal, out)
+    write_plots(cal, out)
+    (out / "summary.json").write_text(json.dumps(cal.summary(), indent=2, default=float) + "\n")
+    return out

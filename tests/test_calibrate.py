@@ -1,0 +1,102 @@
+"""Calibration pipeline end to end on a small grid: sweeps, fit, files, CLI and scene file."""
+
+import csv
+import json
+
+import numpy as np
+import pytest
+
+from frictionlaw import FrictionParams, alpha_first
+from halfspace_calib.calibrate import Scene, calibrate, load_scene
+from halfspace_calib.cli import main
+from halfspace_calib.report import write_outputs
+
+SMALL = dict(
+    grid=32, pressures=(25e6, 100e6, 200e6, 400e6, 600e6), reload_fractions=(0.1, 0.3, 0.6, 0.9)
+)
+
+
+@pytest.fixture(scope="module")
+def cal():
+    return calibrate(Scene(**SMALL), progress=False)
+
+
+def test_sweeps_obey_the_contact_invariants(cal):
+    p, alpha = cal.sweeps.loading
+    assert p.size == 5 and not cal.sweeps.failed
+    # A_real / A0 >= p_mean / H (no element carries more than H) and grows with the load
+    assert np.all(alpha >= p / cal.scene.H - 1e-12)
+    assert np.all(np.diff(alpha) > 0)
+    for lv in cal.sweeps.levels:
+        assert lv["loading"]["converged"] and lv["loading"]["max_pressure"] <= cal.scene.H * (
+            1 + 1e-9
+        )
+        a_hist = lv["loading"]["alpha"]
+        for r in lv["reload"]:
+            assert r["converged"]
+            # reloading the flattened surface is elastic and has more contact area than first loading
+            assert r["plastic_fraction"] == 0.0 and r["max_pressure"] < cal.scene.H
+            assert r["alpha"] <= a_hist + 1e-12
+            assert r["alpha"] >= np.interp(r["p_mean"], p, alpha) - 1e-12
+
+
+def test_fit_quality_and_parameter_file(cal, tmp_path):
+    P = cal.params
+    assert cal.first.r_squared > 0.995 and cal.reload.r_squared > 0.95
+    p, alpha = cal.sweeps.loading
+    np.testing.assert_allclose(alpha_first(p, P), alpha, atol=0.03)
+    write_outputs(cal, tmp_path)
+    Q = FrictionParams.from_json(tmp_path / "params.json")
+    assert (Q.C1, Q.n1, Q.C2, Q.n2, Q.m, Q.H) == (P.C1, P.n1, P.C2, P.n2, 0.5, 800e6)
+    prov = Q.provenance
+    assert prov["grid"]["shape"] == [32, 32] and prov["tolerance"] == 1e-8
+    assert prov["surfaces"]["workpiece"]["source"] == "generator"
+    with open(tmp_path / "loading.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    assert [float(r["p_mean"]) for r in rows] == list(SMALL["pressures"])
+    assert float(rows[-1]["alpha"]) == pytest.approx(alpha[-1])
+    with open(tmp_path / "reload.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    assert {"p_hist", "p_mean", "alpha"} <= set(rows[0])
+    assert len(rows) == 4 * 4  # p_hist >= 100 MPa: four levels, four fractions each
+    for name in (
+        "alpha_first_loading.png",
+        "alpha_reload.png",
+        "roughness.png",
+        "pressure_map.png",
+    ):
+        assert (tmp_path / name).stat().st_size > 10_000
+    # plastic flattening lowers the roughness of the unloaded workpiece (Figs. 3-4)
+    with open(tmp_path / "roughness.csv") as fh:
+        rq = [float(r["Rq"]) for r in csv.DictReader(fh)]
+    assert rq[-1] < rq[0]
+
+
+def test_scene_validation_names_the_field():
+    with pytest.raises(ValueError, match=r"pressures must be in \(0, H\)"):
+        Scene(pressures=(100e6, 200e6, 900e6))
+    with pytest.raises(ValueError, match="m must be in"):
+        Scene(m=1.2)
+    with pytest.raises(ValueError, match="grid must be an integer >= 8"):
+        Scene(grid=4)
+    assert Scene(H=700e6).sigma_y == pytest.approx(250e6)
+
+
+def test_scene_file_and_cli(tmp_path):
+    scene = tmp_path / "scene.toml"
+    scene.write_text(
+        "[scene]\ngrid = 16\npressures = [50e6, 150e6, 300e6, 500e6]\nm = 0.3\n"
+        "reload_fractions = [0.2, 0.5, 0.8]\n"
+    )
+    s = load_scene(scene, tol=1e-7)
+    assert s.grid == 16 and s.m == 0.3 and s.tol == 1e-7
+    bad = tmp_path / "bad.toml"
+    bad.write_text("grid = 16\nbogus = 1\n")
+    with pytest.raises(ValueError, match="unknown scene keys"):
+        load_scene(bad)
+    out = tmp_path / "out"
+    assert main(["--scene", str(scene), "--out", str(out), "--quiet", "--m", "0.4"]) == 0
+    P = FrictionParams.from_json(out / "params.json")
+    assert P.m == 0.4
+    assert json.loads((out / "summary.json").read_text())["failed_levels"] == []
+    assert main(["--grid", "16", "--m", "2", "--out", str(out)]) == 2
