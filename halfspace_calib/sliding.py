@@ -137,9 +137,14 @@ def sliding_workpiece(shape=SLIDING_SHAPE, size=SLIDING_SIZE, *, seed=1,
 
     The spectrum of :func:`halfspace_calib.surfaces.dc04_edt_like` (self-affine, Hurst 0.8,
     100 um roll-off) on the ``6.33 mm x 2.11 mm`` strip, with Ra and Rq both matched
-    (:func:`halfspace_calib.surfaces.self_affine`).
+    (:func:`halfspace_calib.surfaces.self_affine`). On grids too coarse for the roll-off
+    (Nyquist wavelength ``>= 100 um``) the roll-off moves just above the Nyquist wavelength:
+    band-limited white noise, as the presets do.
     """
-    return _surf.self_affine(shape, size, hurst=0.8, rolloff_wavelength=100e-6,
+    nx, ny = shape
+    nyquist = 2 * max(size[0] / nx, size[1] / ny)
+    rolloff = max(100e-6, 1.001 * nyquist)
+    return _surf.self_affine(shape, size, hurst=0.8, rolloff_wavelength=rolloff,
                              ra=ra, rq=rq, seed=seed)
 
 

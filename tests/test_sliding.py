@@ -255,3 +255,20 @@ def test_study_bad_input():
                       progress=False)
     with pytest.raises(ValueError, match="result must be"):
         write_sliding_outputs({"a": 1}, "unused")
+
+
+def test_cli_sliding_option(tmp_path, capsys):
+    from halfspace_calib.cli import main
+
+    out = tmp_path / "cal"
+    argv = ["--grid", "16", "--pressures", "50e6,150e6,300e6,500e6", "--reload-fractions", "0.2,0.5,0.8",
+            "--tol", "1e-7", "--out", str(out), "--quiet", "--sliding"]
+    assert main(argv) == 0
+    text = capsys.readouterr().out
+    assert "W_def / W_adh mean" in text and text.count(" MPa: W_def / W_adh") == 6
+    with open(out / "sliding" / "sliding.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert len(rows) == 6 * (48 - 16 + 1)
+    assert {float(r["p_mean"]) for r in rows} == {100e6, 200e6, 300e6, 400e6, 500e6, 600e6}
+    assert all(float(r["ratio"]) >= 0 for r in rows)
+    assert (out / "sliding" / "fig15_ratio.png").exists() and (out / "params.json").exists()
