@@ -5,9 +5,10 @@ Run from the repository root::
 
     python benchmarks/bench_sliding.py            # knobs on 40 positions + all six full sweeps
     python benchmarks/bench_sliding.py --quick    # knobs only
+    python benchmarks/bench_sliding.py --decomposition  # steady ratio: tool vs flat tool, vc
 
 Writes ``benchmarks/results/sliding_bench.csv`` (knobs), ``benchmarks/results/sliding_study.csv``
-(per pressure) and the study's CSV/PNG into ``benchmarks/results/sliding/``.
+(per pressure), ``benchmarks/results/sliding_decomposition.csv`` and the study's CSV/PNG into ``benchmarks/results/sliding/``.
 
 OpenBLAS is limited to one thread (before numpy loads): on a machine with more busy threads than
 cores, its threaded ``ddot`` (``np.vdot`` in the solver) spin-waits and one 128 x 128 dot product
@@ -50,8 +51,9 @@ def knobs(n_pos=40, p_mean=600e6):
     flat = np.zeros_like(tl.heights)
     base = dict(H=800e6, m=0.5, positions=n_pos)
     cases = [
-        ("default (periodic, vc, tol 1e-8, warm)", tl.heights, {}),
-        ("no warm start", tl.heights, dict(warm_start=False)),
+        ("default (periodic, vc, tol 1e-8, warm tool)", tl.heights, {}),
+        ("warm start shifted with the workpiece", tl.heights, dict(warm_start="workpiece")),
+        ("no warm start", tl.heights, dict(warm_start="none")),
         ("tol 1e-6", tl.heights, dict(tol=1e-6)),
         ("tol 1e-10", tl.heights, dict(tol=1e-10)),
         ("non-periodic window (isolated stamp)", tl.heights, dict(periodic=False)),
@@ -111,14 +113,47 @@ def full(workers):
                  f"load average {l0:.1f} -> {l1:.1f}, nproc {os.cpu_count()}\n")
 
 
+def decomposition(n_pos=60):
+    """Steady ratio per pressure: the Table 1 tool, a flat tool (only the entering row is fresh),
+    without volume conservation, and the tool-slope estimate 2 H / (m sigma_y) <(t_k - t_k+1)^+> / 2a.
+    """
+    wp, tl = sliding_surfaces()
+    Es = composite_modulus(210e9, 0.3, 210e9, 0.3)
+    t = tl.heights
+    slope = float(np.maximum(t[:-1] - t[1:], 0).mean() / wp.dx)
+    H, m = 800e6, 0.5
+    est_tool = 2 * H / (m * H / 2.8) * slope
+    rows = []
+    for p in SLIDING_PRESSURES:
+        row = dict(p_mean=p, positions=n_pos, tool_slope_estimate=est_tool)
+        for name, tool, kw in (("tool", t, {}), ("flat_tool", 0 * t, {}),
+                               ("tool_no_vc", t, dict(volume_conservation=False)),
+                               ("flat_tool_no_vc", 0 * t, dict(volume_conservation=False))):
+            r = sliding_sweep(wp, tool, wp.dx, Es, p, H=H, m=m, positions=n_pos, **kw)
+            # steady part: the last half of the positions
+            row[f"ratio_{name}"] = float(np.mean(r.ratio[n_pos // 2:]))
+            row[f"alpha_{name}"] = float(np.mean(r.alpha[n_pos // 2:]))
+        rows.append(row)
+        print(" ".join(f"{k}={v:.4g}" for k, v in row.items()), flush=True)
+    with open(RES / "sliding_decomposition.csv", "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true", help="knobs only")
     ap.add_argument("--no-knobs", action="store_true")
+    ap.add_argument("--decomposition", action="store_true",
+                    help="only the per-pressure decomposition (tool / flat tool / no vc)")
     ap.add_argument("--workers", type=int, default=1)
     a = ap.parse_args()
     RES.mkdir(parents=True, exist_ok=True)
     print(f"load average {os.getloadavg()}, nproc {os.cpu_count()}", flush=True)
+    if a.decomposition:
+        decomposition()
+        return
     if not a.no_knobs:
         knobs()
     if not a.quick:

@@ -283,7 +283,8 @@ def _positive(name, v):
     return float(v)
 
 
-def _check_sweep(workpiece, tool, dx, E_star, p_mean, H, m, sigma_y, positions, tol, dy):
+def _check_sweep(workpiece, tool, dx, E_star, p_mean, H, m, sigma_y, positions, tol, dy,
+                 warm_start="tool"):
     wp = _as_array("workpiece", workpiece)
     tl = _as_array("tool", tool)
     if wp.shape[1] != tl.shape[1]:
@@ -302,6 +303,8 @@ def _check_sweep(workpiece, tool, dx, E_star, p_mean, H, m, sigma_y, positions, 
     if isinstance(m, bool) or not (isinstance(m, (int, float)) and 0 < m <= 1):
         raise ValueError(f"m must be in (0, 1] (W_adh = 0 at m = 0), got {m!r}")
     sigma_y = H / 2.8 if sigma_y is None else _positive("sigma_y", sigma_y)
+    if warm_start not in WARM_STARTS:
+        raise ValueError(f"warm_start must be one of {WARM_STARTS}, got {warm_start!r}")
     if not (isinstance(tol, (int, float)) and 0 < tol < 1):
         raise ValueError(f"tol must be in (0, 1), got {tol!r}")
     n_max = wp.shape[0] - tl.shape[0] + 1
@@ -315,16 +318,30 @@ def _check_sweep(workpiece, tool, dx, E_star, p_mean, H, m, sigma_y, positions, 
     return wp, tl, dx, dy, E_star, p_mean, H, float(m), sigma_y, int(positions)
 
 
-def _shifted(p, p_mean):
-    """Warm start for the next position: the workpiece moves one row back under the tool."""
+WARM_STARTS = ("tool", "workpiece", "none")
+
+
+def _warm_start(p, p_mean, mode):
+    """Initial pressure of the next position from the previous one (``None``: uniform).
+
+    ``"tool"``: the previous field as it is, i.e. fixed in the tool (window) frame: once the
+    plateau has conformed to the tool, the pressure pattern follows the tool's asperities.
+    ``"workpiece"``: shifted by one element with the workpiece (which moves one row back under
+    the tool); the fresh leading row starts at ``p_mean``. ``benchmarks/bench_sliding.py``
+    compares them (iterations per position).
+    """
+    if p is None or mode == "none":
+        return None
+    if mode == "tool":
+        return p
     out = np.empty_like(p)
     out[:-1] = p[1:]
-    out[-1] = p_mean  # the fresh leading row: no information, the mean pressure
+    out[-1] = p_mean
     return out
 
 
 def sliding_sweep(workpiece, tool, dx, E_star, p_mean, *, H, m, sigma_y=None, positions=None,
-                  tol=1e-8, volume_conservation=True, periodic=True, warm_start=True, dy=None,
+                  tol=1e-8, volume_conservation=True, periodic=True, warm_start="tool", dy=None,
                   maxiter=5000, progress=False):
     """Slide the tool window over the workpiece, one element per position (Sec. 3.3).
 
@@ -356,8 +373,10 @@ def sliding_sweep(workpiece, tool, dx, E_star, p_mean, *, H, m, sigma_y=None, po
     periodic : bool
         Window operator: periodic (default, a patch of a larger contact) or non-periodic (an
         isolated stamp); see the module docstring.
-    warm_start : bool
-        Start each position from the previous pressure shifted by one element.
+    warm_start : {"tool", "workpiece", "none"}
+        Initial pressure of each position after the first: the previous field in the tool frame
+        (default; fewest iterations, measured), shifted one element with the workpiece, or
+        uniform (cold). The converged answer does not depend on it (the problem is convex).
     maxiter : int
         Solver iteration limit per position.
     progress : bool
@@ -370,7 +389,7 @@ def sliding_sweep(workpiece, tool, dx, E_star, p_mean, *, H, m, sigma_y=None, po
         goes on) and reported in ``converged`` / ``message``.
     """
     wp, tl, dx, dy, E_star, p_mean, H, m, sigma_y, n_pos = _check_sweep(
-        workpiece, tool, dx, E_star, p_mean, H, m, sigma_y, positions, tol, dy
+        workpiece, tool, dx, E_star, p_mean, H, m, sigma_y, positions, tol, dy, warm_start
     )
     t0 = time.perf_counter()
     nt = tl.shape[0]
@@ -386,7 +405,7 @@ def sliding_sweep(workpiece, tool, dx, E_star, p_mean, *, H, m, sigma_y=None, po
     bar = _bar(n_pos, progress, f"sliding {p_mean / 1e6:g} MPa")
     for i in range(n_pos):
         win = wp[i:i + nt]
-        p_init = _shifted(p_prev, p_mean) if (warm_start and p_prev is not None) else None
+        p_init = _warm_start(p_prev, p_mean, warm_start)
         r = solve_normal_pair(tl, win, dx, E_star, p_mean, H=H, periodic=periodic, tol=tol,
                               dy=dy, maxiter=maxiter, p_init=p_init,
                               volume_conservation=volume_conservation, operator=op)
@@ -457,7 +476,7 @@ def _sweep_job(job):
 
 def sliding_study(pressures=SLIDING_PRESSURES, *, workpiece=None, tool=None, dx=None,
                   E_star=None, H=800e6, m=0.5, sigma_y=None, positions=None, tol=1e-8,
-                  volume_conservation=True, periodic=True, warm_start=True, seed_workpiece=1,
+                  volume_conservation=True, periodic=True, warm_start="tool", seed_workpiece=1,
                   seed_tool=2, rough_tool=False, workers=1, scheduler=None, progress=True):
     """The sliding study of Sec. 3.3: one :func:`sliding_sweep` per pressure, as independent jobs.
 
@@ -510,7 +529,8 @@ def sliding_study(pressures=SLIDING_PRESSURES, *, workpiece=None, tool=None, dx=
               warm_start=warm_start, dy=dy)
     wp_h, tl_h = _as_array("workpiece", workpiece), _as_array("tool", tool)
     # validate everything once, before any job runs
-    _check_sweep(wp_h, tl_h, dx, E_star, pressures[0], H, m, sigma_y, positions, tol, dy)
+    _check_sweep(wp_h, tl_h, dx, E_star, pressures[0], H, m, sigma_y, positions, tol, dy,
+                 warm_start)
     jobs = [dict(workpiece=wp_h, tool=tl_h, dx=dx, E_star=E_star, p_mean=p, kw=kw)
             for p in pressures]
     t0 = time.perf_counter()

@@ -155,10 +155,13 @@ def test_flattened_front_gives_work_only_from_the_new_row():
 
 def test_warm_start_does_not_change_the_answer(small, sweep_vc):
     wp, tl = small
-    cold = sliding_sweep(wp, tl, DX, E_STAR, 300e6, H=H, m=0.5, positions=12, warm_start=False)
-    np.testing.assert_allclose(cold.alpha, sweep_vc.alpha, atol=2 / 576)
-    np.testing.assert_allclose(cold.W_def, sweep_vc.W_def, rtol=1e-4,
-                               atol=1e-4 * sweep_vc.W_def[1:].mean())
+    for mode in ("none", "workpiece"):
+        other = sliding_sweep(wp, tl, DX, E_STAR, 300e6, H=H, m=0.5, positions=12,
+                              warm_start=mode)
+        np.testing.assert_allclose(other.alpha, sweep_vc.alpha, atol=2 / 576)
+        np.testing.assert_allclose(other.W_def, sweep_vc.W_def, rtol=1e-4,
+                                   atol=1e-4 * sweep_vc.W_def[1:].mean())
+        np.testing.assert_allclose(other.u0, sweep_vc.u0, rtol=1e-6)
 
 
 def test_ratio_small_on_default_like_case(small, sweep_vc):
@@ -234,6 +237,7 @@ def test_study_runs_one_sweep_per_pressure_and_writes_outputs(small, sweep_vc, t
         (dict(tool=np.zeros((48, 16))), "at least as long"),
         (dict(workpiece=np.full((40, 16), np.nan)), "finite"),
         (dict(workpiece=np.zeros(40)), "2-D"),
+        (dict(warm_start=True), "warm_start"),
     ],
 )
 def test_bad_input(kw, match):
