@@ -6,9 +6,10 @@ Run from the repository root::
     python benchmarks/bench_sliding.py            # knobs on 40 positions + all six full sweeps
     python benchmarks/bench_sliding.py --quick    # knobs only
     python benchmarks/bench_sliding.py --decomposition  # steady ratio: tool vs flat tool, vc
+    python benchmarks/bench_sliding.py --resolution     # steady ratio against the element size
 
 Writes ``benchmarks/results/sliding_bench.csv`` (knobs), ``benchmarks/results/sliding_study.csv``
-(per pressure), ``benchmarks/results/sliding_decomposition.csv`` and the study's CSV/PNG into ``benchmarks/results/sliding/``.
+(per pressure), ``benchmarks/results/sliding_decomposition.csv``, ``sliding_resolution.csv`` and the study's CSV/PNG into ``benchmarks/results/sliding/``.
 
 OpenBLAS is limited to one thread (before numpy loads): on a machine with more busy threads than
 cores, its threaded ``ddot`` (``np.vdot`` in the solver) spin-waits and one 128 x 128 dot product
@@ -141,18 +142,50 @@ def decomposition(n_pos=60):
         w.writerows(rows)
 
 
+def resolution(pressures=(300e6, 600e6)):
+    """Steady ratio against the element size: the same surfaces block-averaged to 3n x n."""
+    from halfspace_calib import surfaces as S
+
+    wp0, _ = sliding_surfaces()
+    Es = composite_modulus(210e9, 0.3, 210e9, 0.3)
+    rows = []
+    for n in (32, 64, 128):
+        wp = S.block_average(wp0, (3 * n, n))
+        tl = S.tool_like(n, size=2.11e-3, seed=2, measured_n=128)
+        t = tl.heights
+        slope = float(np.maximum(t[:-1] - t[1:], 0).mean() / wp.dx)
+        n_pos = min(2 * n + 1, 80)
+        for p in pressures:
+            row = dict(n=n, dx=wp.dx, p_mean=p, positions=n_pos, Ra_workpiece=S.ra(wp),
+                       Ra_tool=S.ra(tl), tool_slope=slope)
+            for name, tool in (("tool", t), ("flat_tool", 0 * t)):
+                r = sliding_sweep(wp, tool, wp.dx, Es, p, H=800e6, m=0.5, positions=n_pos)
+                row[f"ratio_{name}"] = float(np.mean(r.ratio[n_pos // 2:]))
+            rows.append(row)
+            print(" ".join(f"{k}={v:.4g}" for k, v in row.items()), flush=True)
+    with open(RES / "sliding_resolution.csv", "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true", help="knobs only")
     ap.add_argument("--no-knobs", action="store_true")
     ap.add_argument("--decomposition", action="store_true",
                     help="only the per-pressure decomposition (tool / flat tool / no vc)")
+    ap.add_argument("--resolution", action="store_true",
+                    help="only the element-size study (n = 32, 64, 128)")
     ap.add_argument("--workers", type=int, default=1)
     a = ap.parse_args()
     RES.mkdir(parents=True, exist_ok=True)
     print(f"load average {os.getloadavg()}, nproc {os.cpu_count()}", flush=True)
     if a.decomposition:
         decomposition()
+        return
+    if a.resolution:
+        resolution()
         return
     if not a.no_knobs:
         knobs()
