@@ -173,7 +173,11 @@ class SlidingResult:
     x : numpy.ndarray
         Sliding distance ``i * 2a`` in m.
     u0, alpha : numpy.ndarray
-        Global approach (m, Fig. 11) and contact ratio ``A_real / A0`` (Fig. 12).
+        Global approach (m, Fig. 11) and contact ratio ``A_real / A0`` (Fig. 12). ``u0`` is
+        measured from first touch (Eq. 7), so it jumps when a higher peak enters the window.
+    separation : numpy.ndarray
+        ``h_max - u0`` (m): height of the rigid tool datum in the frame of the composite heights
+        (0 = mean plane of the initial surfaces); smooth along the path, unlike ``u0``.
     displaced_volume : numpy.ndarray
         Volume plastically displaced at each position (m^3).
     W_def, W_adh, ratio : numpy.ndarray
@@ -203,6 +207,7 @@ class SlidingResult:
     position: np.ndarray
     x: np.ndarray
     u0: np.ndarray
+    separation: np.ndarray
     alpha: np.ndarray
     displaced_volume: np.ndarray
     W_def: np.ndarray
@@ -397,7 +402,7 @@ def sliding_sweep(workpiece, tool, dx, E_star, p_mean, *, H, m, sigma_y=None, po
     A0 = tl.size * dx * dy
     initial = wp.copy()
     upl = np.zeros_like(wp)
-    rec = {k: np.empty(n_pos) for k in ("u0", "alpha", "dV", "pf", "res")}
+    rec = {k: np.empty(n_pos) for k in ("u0", "sep", "alpha", "dV", "pf", "res")}
     nit = np.empty(n_pos, dtype=int)
     conv = np.empty(n_pos, dtype=bool)
     msgs = []
@@ -405,6 +410,7 @@ def sliding_sweep(workpiece, tool, dx, E_star, p_mean, *, H, m, sigma_y=None, po
     bar = _bar(n_pos, progress, f"sliding {p_mean / 1e6:g} MPa")
     for i in range(n_pos):
         win = wp[i:i + nt]
+        rec["sep"][i] = float((tl + win).max())  # h_max of the composite heights
         p_init = _warm_start(p_prev, p_mean, warm_start)
         r = solve_normal_pair(tl, win, dx, E_star, p_mean, H=H, periodic=periodic, tol=tol,
                               dy=dy, maxiter=maxiter, p_init=p_init,
@@ -420,13 +426,14 @@ def sliding_sweep(workpiece, tool, dx, E_star, p_mean, *, H, m, sigma_y=None, po
             bar.update()
     if bar is not None:
         bar.close()
+    rec["sep"] -= rec["u0"]
     W_def = deformation_work(H, rec["dV"])
     W_adh = adhesive_work(m, sigma_y, rec["alpha"], A0, dx)
     pos = np.arange(n_pos)
     return SlidingResult(
         p_mean=p_mean, H=H, m=m, sigma_y=sigma_y, dx=dx, dy=dy, tool_shape=tuple(tl.shape),
         periodic=bool(periodic), volume_conservation=bool(volume_conservation), tol=float(tol),
-        position=pos, x=pos * dx, u0=rec["u0"], alpha=rec["alpha"], displaced_volume=rec["dV"],
+        position=pos, x=pos * dx, u0=rec["u0"], separation=rec["sep"], alpha=rec["alpha"], displaced_volume=rec["dV"],
         W_def=W_def, W_adh=W_adh, ratio=W_def / W_adh, plastic_fraction=rec["pf"], nit=nit,
         residual=rec["res"], converged=conv, messages=msgs, workpiece_initial=initial,
         workpiece_final=wp, plastic_displacement=upl, seconds=time.perf_counter() - t0,
@@ -546,7 +553,7 @@ def sliding_study(pressures=SLIDING_PRESSURES, *, workpiece=None, tool=None, dx=
 
 # ----------------------------------------------------------------------------- output
 CSV_COLUMNS = ["position", "x", "p_mean", "u0", "alpha", "W_def", "W_adh", "ratio",
-               "converged", "nit"]
+               "separation", "displaced_volume", "converged", "nit"]
 
 
 def _results_of(result):
@@ -570,7 +577,7 @@ def write_sliding_outputs(result, out_dir):
     -------
     pathlib.Path
         ``out_dir``. Files: ``sliding.csv`` (columns ``position, x, p_mean, u0, alpha, W_def,
-        W_adh, ratio, converged, nit``; SI units), ``sliding_summary.csv`` (steady sliding per
+        W_adh, ratio, separation, displaced_volume, converged, nit``; SI units), ``sliding_summary.csv`` (steady sliding per
         pressure), ``fig11_u0.png``, ``fig12_alpha.png``, ``fig13_W_adh.png``,
         ``fig14_W_def.png``, ``fig15_ratio.png``.
     """
@@ -587,7 +594,9 @@ def write_sliding_outputs(result, out_dir):
                 w.writerow([int(r.position[i]), repr(float(r.x[i])), repr(r.p_mean),
                             repr(float(r.u0[i])), repr(float(r.alpha[i])),
                             repr(float(r.W_def[i])), repr(float(r.W_adh[i])),
-                            repr(float(r.ratio[i])), int(r.converged[i]), int(r.nit[i])])
+                            repr(float(r.ratio[i])), repr(float(r.separation[i])),
+                            repr(float(r.displaced_volume[i])), int(r.converged[i]),
+                            int(r.nit[i])])
     keys = ["p_mean", "positions", "ratio_mean", "ratio_max", "W_def_mean", "W_adh_mean",
             "alpha_mean", "first_ratio", "converged", "seconds"]
     with open(out / "sliding_summary.csv", "w", newline="", encoding="utf-8") as fh:

@@ -69,6 +69,8 @@ def test_first_position_equals_plain_solve(small, sweep_vc):
     r = sweep_vc
     assert r.u0[0] == pytest.approx(plain.u0, rel=1e-12, abs=1e-18)
     assert r.alpha[0] == plain.alpha
+    h_max = (tl.heights + wp.heights[:24]).max()
+    assert r.separation[0] == pytest.approx(h_max - plain.u0, rel=1e-12)
     assert r.displaced_volume[0] == pytest.approx(plain.removed_volume, rel=1e-12)
     assert r.W_def[0] == pytest.approx(H * plain.removed_volume, rel=1e-12)
     A0 = 24 * 24 * DX * DX
