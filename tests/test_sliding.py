@@ -155,6 +155,20 @@ def test_flattened_front_gives_work_only_from_the_new_row():
     assert 0 < upl[row].mean() < 2e-6
 
 
+@pytest.mark.parametrize("vc", [False, True])
+def test_restart_on_the_flattened_sheet(small, vc):
+    # a sheet whose front part is already flattened by an earlier pass: re-loading the last
+    # window does no plastic work, and the sweep goes on as if it had never stopped
+    wp, tl = small
+    kw = dict(H=H, m=0.5, volume_conservation=vc)
+    long = sliding_sweep(wp, tl, DX, E_STAR, 300e6, positions=14, **kw)
+    first = sliding_sweep(wp, tl, DX, E_STAR, 300e6, positions=12, **kw)
+    again = sliding_sweep(first.workpiece_final[11:], tl, DX, E_STAR, 300e6, positions=3, **kw)
+    assert again.W_def[0] < 1e-6 * long.W_def[1:].mean()
+    np.testing.assert_allclose(again.W_def[1:], long.W_def[12:], rtol=1e-6)
+    np.testing.assert_allclose(again.alpha[1:], long.alpha[12:], atol=1 / 576)
+
+
 def test_warm_start_does_not_change_the_answer(small, sweep_vc):
     wp, tl = small
     for mode in ("none", "workpiece"):
