@@ -170,13 +170,17 @@ def _sliding(scene, out, quiet=False):
         (3 * n, n), (3 * n * tool.dx, n * tool.dy), seed=scene.seed_workpiece
     )
     t0 = time.perf_counter()
-    study = sliding_study(
-        tuple(p for p in SLIDING_PRESSURES if p < scene.H),
-        workpiece=wp, tool=tool, E_star=scene.E_star, H=scene.H, m=scene.m,
-        sigma_y=scene.sigma_y, tol=scene.tol, volume_conservation=scene.volume_conservation,
-        periodic=scene.periodic, workers=scene.workers, scheduler=scene.scheduler,
-        progress=not quiet,
-    )
+    try:
+        study = sliding_study(
+            tuple(p for p in SLIDING_PRESSURES if p < scene.H),
+            workpiece=wp, tool=tool, E_star=scene.E_star, H=scene.H, m=scene.m,
+            sigma_y=scene.sigma_y, tol=scene.tol, volume_conservation=scene.volume_conservation,
+            periodic=scene.periodic, workers=scene.workers, scheduler=scene.scheduler,
+            progress=not quiet,
+        )
+    except ValueError as exc:  # e.g. m = 0 (no adhesive work) or H below 100 MPa
+        print(f"  sliding (Sec. 3.3) skipped: {exc}")
+        return
     dest = write_sliding_outputs(study, out / "sliding")
     s = study.summary()
     print(f"  sliding (Sec. 3.3, {time.perf_counter() - t0:.1f} s) -> {dest / 'sliding.csv'}")

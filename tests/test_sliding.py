@@ -292,3 +292,7 @@ def test_cli_sliding_option(tmp_path, capsys):
     assert {float(r["p_mean"]) for r in rows} == {100e6, 200e6, 300e6, 400e6, 500e6, 600e6}
     assert all(float(r["ratio"]) >= 0 for r in rows)
     assert (out / "sliding" / "fig15_ratio.png").exists() and (out / "params.json").exists()
+
+    capsys.readouterr()
+    assert main(argv[:-1] + ["--m", "0", "--sliding"]) == 0
+    assert "sliding (Sec. 3.3) skipped: m must be in (0, 1]" in capsys.readouterr().out
