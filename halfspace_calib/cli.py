@@ -78,6 +78,12 @@ def build_parser():
         "--workers", type=int, help="local processes (1: in this process, 0: one per CPU)"
     )
     g.add_argument("--scheduler", help="Dask scheduler address, e.g. tcp://host:8786")
+    ap.add_argument(
+        "--sliding",
+        action="store_true",
+        help="after the calibration, run the sliding study of Sec. 3.3 (W_def / W_adh at "
+        "100-600 MPa on a 3x longer synthetic strip, Ra 0.989 um) into <out>/sliding/",
+    )
     ap.add_argument("--quiet", action="store_true", help="no progress bar")
     return ap
 
@@ -143,12 +149,49 @@ def main(argv=None):
         f"  reloads: largest local pressure {s['max_reload_pressure_over_H']:.3f} H, "
         f"plastic fraction {s['max_reload_plastic_fraction']:.4f}"
     )
+    if args.sliding:
+        _sliding(scene, out, quiet=args.quiet)
     if cal.sweeps.failed:
         print(
             f"  WARNING: {len(cal.sweeps.failed)} load levels failed: "
             + "; ".join(f"{f['p_hist']:g} Pa" for f in cal.sweeps.failed)
         )
     return 0
+
+
+def _sliding(scene, out, quiet=False):
+    """The sliding study (Sec. 3.3) with the scene's tool and materials; prints its summary."""
+    from .calibrate import scene_surfaces
+    from .sliding import SLIDING_PRESSURES, sliding_study, sliding_workpiece, write_sliding_outputs
+
+    _, tool = scene_surfaces(scene)
+    n = scene.grid
+    wp = sliding_workpiece(
+        (3 * n, n), (3 * n * tool.dx, n * tool.dy), seed=scene.seed_workpiece
+    )
+    t0 = time.perf_counter()
+    try:
+        study = sliding_study(
+            tuple(p for p in SLIDING_PRESSURES if p < scene.H),
+            workpiece=wp, tool=tool, E_star=scene.E_star, H=scene.H, m=scene.m,
+            sigma_y=scene.sigma_y, tol=scene.tol, volume_conservation=scene.volume_conservation,
+            periodic=scene.periodic, workers=scene.workers, scheduler=scene.scheduler,
+            progress=not quiet,
+        )
+    except ValueError as exc:  # e.g. m = 0 (no adhesive work) or H below 100 MPa
+        print(f"  sliding (Sec. 3.3) skipped: {exc}")
+        return
+    dest = write_sliding_outputs(study, out / "sliding")
+    s = study.summary()
+    print(f"  sliding (Sec. 3.3, {time.perf_counter() - t0:.1f} s) -> {dest / 'sliding.csv'}")
+    for row in s["rows"]:
+        print(
+            f"    {row['p_mean'] / 1e6:5.0f} MPa: W_def / W_adh mean {row['ratio_mean']:.4f}, "
+            f"max {row['ratio_max']:.4f} (positions >= 1; paper: < 0.008)"
+            + ("" if row["converged"] else "  [NOT all positions converged]")
+        )
+    for p, err in study.errors.items():
+        print(f"    WARNING: sliding at {p:g} Pa failed: {err.splitlines()[0]}")
 
 
 if __name__ == "__main__":
