@@ -173,13 +173,20 @@ _shear_array_sig = types.void(
 )
 
 
-def _shear_array(code, coeffs, p, p_hist, tau, dtau):
-    for i in nb.prange(p.shape[0]):
+# Serial and parallel array kernels are separate functions: numba's on-disk cache is keyed by
+# the Python function, so one function jitted twice would share (and swap) cache entries.
+@nb.jit(_shear_array_sig, **_opts)
+def shear_array(code, coeffs, p, p_hist, tau, dtau):
+    """``tau[i], dtau[i] = shear_scalar(code, coeffs, p[i], p_hist[i])``, serial."""
+    for i in range(p.shape[0]):
         tau[i], dtau[i] = shear_scalar(code, coeffs, p[i], p_hist[i])
 
 
-shear_array = nb.jit(_shear_array_sig, **_opts)(_shear_array)
-shear_array_parallel = nb.jit(_shear_array_sig, parallel=True, **_opts)(_shear_array)
+@nb.jit(_shear_array_sig, parallel=True, **_opts)
+def shear_array_parallel(code, coeffs, p, p_hist, tau, dtau):
+    """As :func:`shear_array`, threads over the nodes."""
+    for i in nb.prange(p.shape[0]):
+        tau[i], dtau[i] = shear_scalar(code, coeffs, p[i], p_hist[i])
 
 
 @nb.jit(
@@ -253,13 +260,23 @@ _traction_array_sig = types.void(
 )
 
 
-def _traction_array(code, coeffs, p, p_hist, du, t_old, k_t, t_new, status, dt_ddu, dt_dp, p_trial):
-    for i in nb.prange(p.shape[0]):
+@nb.jit(_traction_array_sig, **_opts)
+def traction_array(code, coeffs, p, p_hist, du, t_old, k_t, t_new, status, dt_ddu, dt_dp, p_trial):
+    """:func:`traction_scalar` at every node, and the trial history ``max(p_hist, p)``, serial."""
+    for i in range(p.shape[0]):
         status[i] = traction_scalar(
             code, coeffs, p[i], p_hist[i], du[i], t_old[i], k_t[i], t_new[i], dt_ddu[i], dt_dp[i]
         )
         p_trial[i] = max(p_hist[i], p[i]) if p[i] > 0.0 else p_hist[i]
 
 
-traction_array = nb.jit(_traction_array_sig, **_opts)(_traction_array)
-traction_array_parallel = nb.jit(_traction_array_sig, parallel=True, **_opts)(_traction_array)
+@nb.jit(_traction_array_sig, parallel=True, **_opts)
+def traction_array_parallel(
+    code, coeffs, p, p_hist, du, t_old, k_t, t_new, status, dt_ddu, dt_dp, p_trial
+):
+    """As :func:`traction_array`, threads over the nodes."""
+    for i in nb.prange(p.shape[0]):
+        status[i] = traction_scalar(
+            code, coeffs, p[i], p_hist[i], du[i], t_old[i], k_t[i], t_new[i], dt_ddu[i], dt_dp[i]
+        )
+        p_trial[i] = max(p_hist[i], p[i]) if p[i] > 0.0 else p_hist[i]
