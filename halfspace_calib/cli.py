@@ -202,8 +202,8 @@ def _print_tangential(e, out):
     print(f"  tangential (pre-sliding, {e['seconds']:.1f} s) -> {out / 'tangential'}")
     for r in s["rows"]:
         print(
-            f"    {r['p_mean'] / 1e6:5.0f} MPa: k_t0 = {r['k_t0']:.3e} Pa/m, k_sec = "
-            f"{r['k_sec']:.3e} Pa/m, full sliding at {r['delta_full'] * 1e9:.1f} nm"
+            f"    {r['p_mean'] / 1e6:5.0f} MPa: k_t0 = {r['k_t0']:.3e}, k_eq = {r['k_eq']:.3e}, "
+            f"k_sec = {r['k_sec']:.3e} Pa/m, full sliding at {r['delta_full'] * 1e9:.1f} nm"
             + ("" if r["converged"] else "  [NOT converged]")
         )
     for err in s["errors"]:

@@ -233,8 +233,8 @@ def summarize_tangential(levels):
     -------
     dict
         ``rows`` (per pressure: ``p_mean``, ``alpha``, ``q_limit``, ``delta_full``,
-        ``delta_stick``, ``k_t0``, ``k_sec``, ``converged``), ``errors``, ``k_t0_fit``,
-        ``k_sec_fit`` (:func:`~halfspace_calib.presliding.stiffness_power_law`),
+        ``delta_stick``, ``k_t0``, ``k_sec``, ``k_eq``, ``converged``), ``errors``, ``k_t0_fit``,
+        ``k_sec_fit``, ``k_eq_fit`` (:func:`~halfspace_calib.presliding.stiffness_power_law`),
         ``full_sliding_max_rel_diff`` (solve against the shortcut) and ``recommendation``.
     """
     rows, errors = [], []
@@ -255,6 +255,7 @@ def summarize_tangential(levels):
             "delta_stick": t["delta_stick"],
             "k_t0": t["k_t0"],
             "k_sec": t["k_sec"],
+            "k_eq": t["k_eq"],
             "converged": t["converged"],
         })
         full = [q for d, q in zip(t["delta"], t["q_mean"], strict=True)
@@ -267,19 +268,20 @@ def summarize_tangential(levels):
         p = [r["p_mean"] for r in ok]
         out["k_t0_fit"] = stiffness_power_law(p, [r["k_t0"] for r in ok])
         out["k_sec_fit"] = stiffness_power_law(p, [r["k_sec"] for r in ok])
-        f = out["k_sec_fit"]
+        out["k_eq_fit"] = stiffness_power_law(p, [r["k_eq"] for r in ok])
+        f = out["k_eq_fit"]
         out["recommendation"] = (
-            "penalty k_t of frictionlaw.traction_update (Pa/m, per node at its pressure): the "
-            f"secant stiffness k_sec(p) = {f['k_ref']:.3e} * (p / {f['p_ref']:.3g} Pa)^"
-            f"{f['exponent']:.3f} (max error {100 * f['max_rel_error']:.0f} % on the table): the "
-            "bilinear stick/slip law then reaches full sliding at the same shift as the rough "
-            "contact; k_t0 (the initial slope) is the stiffest physically meaningful value. Both "
-            "are the roughness layer's stiffness only (periodic half-space: delta from the mean "
-            "surface displacement); the bulk compliance is in the FE model."
+            "penalty k_t of frictionlaw.traction_update (Pa/m, per node at its pressure): "
+            f"k_eq(p) = {f['k_ref']:.3e} * (p / {f['p_ref']:.3g} Pa)^{f['exponent']:.3f} (max "
+            f"error {100 * f['max_rel_error']:.0f} % on the table), the bilinear stick/slip law "
+            "with the rough contact's complementary energy up to full sliding; k_t0 (the initial "
+            "slope) is the stiffest and k_sec (secant to full sliding) the softest physically "
+            "meaningful value. All are the roughness layer's stiffness only (periodic half-space: "
+            "delta from the mean surface displacement); the bulk compliance is in the FE model."
         )
     elif ok:
-        out["recommendation"] = (f"penalty k_t of frictionlaw.traction_update: k_sec = "
-                                 f"{ok[0]['k_sec']:.3e} Pa/m at {ok[0]['p_mean']:.3g} Pa")
+        out["recommendation"] = (f"penalty k_t of frictionlaw.traction_update: k_eq = "
+                                 f"{ok[0]['k_eq']:.3e} Pa/m at {ok[0]['p_mean']:.3g} Pa")
     else:
         out["recommendation"] = "no converged tangential curve: no stiffness recommendation"
     return out
@@ -302,7 +304,8 @@ def write_tangential_outputs(levels, summary, out_dir):
                                          "slip_fraction"],
                [[p, d, q, q / t["q_limit"], s] for p, t in curves
                 for d, q, s in zip(t["delta"], t["q_mean"], t["slip_fraction"], strict=True)])
-    keys = ["p_mean", "alpha", "q_limit", "delta_full", "delta_stick", "k_t0", "k_sec", "converged"]
+    keys = ["p_mean", "alpha", "q_limit", "delta_full", "delta_stick", "k_t0", "k_eq", "k_sec",
+            "converged"]
     _write_csv(out / "tangential_stiffness.csv", keys,
                [[r[k] for k in keys] for r in summary["rows"]])
     if not curves:
@@ -328,6 +331,7 @@ def write_tangential_outputs(levels, summary, out_dir):
     fig, ax = plt.subplots(figsize=(6, 4.2))
     p = np.array([r["p_mean"] for r in rows]) / 1e6
     ax.loglog(p, [r["k_t0"] for r in rows], "o-", label="k_t0 (initial)")
+    ax.loglog(p, [r["k_eq"] for r in rows], "^-", label="k_eq (energy-equivalent, recommended)")
     ax.loglog(p, [r["k_sec"] for r in rows], "s-", label="k_sec (secant to full sliding)")
     ax.set(xlabel="p_mean [MPa]", ylabel="tangential stiffness [Pa/m]",
            title="Interface tangential stiffness (penalty k_t)")

@@ -13,7 +13,11 @@ The interface's tangential stiffness is what an FE host needs as the penalty ``k
 - ``k_t0 = d q_mean / d delta`` at ``delta -> 0`` (all elements stick, the response is exactly
   linear, so one solve at a small shift gives it exactly);
 - ``k_sec = tau_adh / delta_full``: the secant to full sliding, the stiffness of the bilinear
-  stick/slip law of the runtime that reaches the cap at the same shift as the rough contact.
+  stick/slip law of the runtime that reaches the cap at the same shift as the rough contact. The
+  last sticking elements creep to the cap over a long tail, so this one is soft;
+- ``k_eq = tau_adh^2 / (2 W_c)`` with ``W_c = int_0^tau_adh delta dq`` (trapezoidal rule over
+  the computed curve): the bilinear law with the same complementary energy as the rough contact up
+  to full sliding, insensitive to the tail. For the concave curve ``k_sec <= k_eq <= k_t0``.
 
 In the periodic mode (the calibration's default) the mean tangential displacement of the periodic
 half-space is a gauge (no finite value), so ``delta`` is measured from the mean surface displacement:
@@ -31,7 +35,8 @@ from . import tangential as _tang
 __all__ = ["PRESLIDING_FRACTIONS", "PreslidingCurve", "presliding_curve", "stiffness_power_law"]
 
 #: shifts of the curve as fractions of ``delta_full`` (1.0 and above: full sliding)
-PRESLIDING_FRACTIONS = (0.02, 0.05, 0.1, 0.2, 0.3, 0.45, 0.6, 0.8, 1.0, 1.25)
+PRESLIDING_FRACTIONS = (0.02, 0.05, 0.08, 0.12, 0.16, 0.2, 0.25, 0.3, 0.4, 0.5, 0.65, 0.8, 1.0,
+                        1.25)
 
 
 @dataclass
@@ -51,8 +56,9 @@ class PreslidingCurve:
         Smallest shift at which every contact element slides (m).
     delta_stick : float
         Largest shift with no slip at all (m): the end of the linear range.
-    k_t0, k_sec : float
-        Initial and secant tangential stiffness (Pa/m), see the module docstring.
+    k_t0, k_sec, k_eq : float
+        Initial, secant and energy-equivalent tangential stiffness (Pa/m), see the module
+        docstring.
     converged : bool
         Every tangential solve converged.
     nit : int
@@ -69,6 +75,7 @@ class PreslidingCurve:
     delta_stick: float
     k_t0: float
     k_sec: float
+    k_eq: float
     converged: bool
     nit: int
     message: str
@@ -84,6 +91,7 @@ class PreslidingCurve:
             "delta_stick": self.delta_stick,
             "k_t0": self.k_t0,
             "k_sec": self.k_sec,
+            "k_eq": self.k_eq,
             "converged": self.converged,
             "nit": self.nit,
             "message": self.message,
@@ -152,19 +160,23 @@ def presliding_curve(p, dx, E_star, E_prime, *, m, sigma_y, dy=None, periodic=Tr
         deltas.append(float(f * delta_full))
         qs.append(r.q_mean)
         slips.append(float(r.slip.sum() / n_contact))
+    d_arr, q_arr = np.array(deltas), np.array(qs)
+    upto = d_arr <= delta_full * (1 + 1e-12)  # the curve from 0 to full sliding
+    w_c = float(np.sum(0.5 * (d_arr[upto][1:] + d_arr[upto][:-1]) * np.diff(q_arr[upto])))
     ok = all(r.converged for r in results) and not r0.slip.any()
     bad = next((r.message for r in results if not r.converged), "")
     if r0.slip.any():
         bad = "no slip-free shift found for the initial stiffness"
     return PreslidingCurve(
-        delta=np.array(deltas),
-        q_mean=np.array(qs),
+        delta=d_arr,
+        q_mean=q_arr,
         slip_fraction=np.array(slips),
         q_limit=q_limit,
         delta_full=delta_full,
         delta_stick=delta_stick,
         k_t0=k_t0,
         k_sec=q_limit / delta_full,
+        k_eq=q_limit**2 / (2 * w_c) if w_c > 0 else float("inf"),
         converged=bool(ok),
         nit=int(sum(r.nit for r in results)),
         message=bad or f"{len(results)} tangential solves converged",

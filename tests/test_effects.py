@@ -91,7 +91,11 @@ def test_presliding_full_sliding_equals_the_shortcut(loaded):
     assert np.all(np.diff(c.slip_fraction) >= 0) and c.slip_fraction[part][-1] < 1
     # stiffness: secant below the initial slope, the curve below the initial tangent
     assert c.k_sec == pytest.approx(shortcut / c.delta_full, rel=1e-14)
-    assert 0 < c.k_sec < c.k_t0
+    assert 0 < c.k_sec < c.k_eq < c.k_t0
+    # k_eq: the bilinear law with the curve's complementary energy int delta dq (trapezoid)
+    d, q = c.delta[~full | (c.delta == c.delta_full)], c.q_mean[~full | (c.delta == c.delta_full)]
+    w = np.sum(0.5 * (d[1:] + d[:-1]) * np.diff(q))
+    assert c.k_eq == pytest.approx(shortcut**2 / (2 * w), rel=1e-12)
     assert np.all(c.q_mean <= c.k_t0 * c.delta * (1 + 1e-9))
     assert 0 < c.delta_stick < c.delta_full
 
@@ -199,9 +203,9 @@ def test_provenance_and_outputs(cal_all, tmp_path):
     assert extra["model"]["effects"] == ["normal", "tangential", "inclined"]
     t = extra["effects"]["tangential"]
     assert [r["p_mean"] for r in t["rows"]] == list(SMALL["pressures"])
-    assert all(r["converged"] and r["k_sec"] < r["k_t0"] for r in t["rows"])
+    assert all(r["converged"] and r["k_sec"] < r["k_eq"] < r["k_t0"] for r in t["rows"])
     assert t["full_sliding_max_rel_diff"] < 1e-12
-    assert "traction_update" in t["recommendation"] and t["k_sec_fit"]["exponent"] > 0
+    assert "traction_update" in t["recommendation"] and t["k_eq_fit"]["exponent"] > 0
     # stiffer with the load: more contact carries the shift
     k = [r["k_t0"] for r in t["rows"]]
     assert np.all(np.diff(k) > 0)
