@@ -271,10 +271,12 @@ def summarize_tangential(levels):
         out["k_eq_fit"] = stiffness_power_law(p, [r["k_eq"] for r in ok])
         f = out["k_eq_fit"]
         out["recommendation"] = (
-            "penalty k_t of frictionlaw.traction_update (Pa/m, per node at its pressure): "
-            f"k_eq(p) = {f['k_ref']:.3e} * (p / {f['p_ref']:.3g} Pa)^{f['exponent']:.3f} (max "
-            f"error {100 * f['max_rel_error']:.0f} % on the table), the bilinear stick/slip law "
-            "with the rough contact's complementary energy up to full sliding; k_t0 (the initial "
+            "penalty k_t of frictionlaw.traction_update (Pa/m, per node at its pressure): k_eq, "
+            "the bilinear stick/slip law with the rough contact's complementary energy up to full "
+            "sliding, interpolated log-log in the table (tangential/tangential_stiffness.csv); as "
+            f"a rough summary k_eq(p) = {f['k_ref']:.3e} * (p / {f['p_ref']:.3g} Pa)^"
+            f"{f['exponent']:.3f} (max error {100 * f['max_rel_error']:.0f} % on the table). "
+            "k_t0 (the initial "
             "slope) is the stiffest and k_sec (secant to full sliding) the softest physically "
             "meaningful value. All are the roughness layer's stiffness only (periodic half-space: "
             "delta from the mean surface displacement); the bulk compliance is in the FE model."
