@@ -66,8 +66,9 @@ class Scene:
     Effects (:mod:`halfspace_calib.effects`): ``effects`` names what is modelled besides the
     always-on ``"normal"`` sweeps: ``"tangential"`` (pre-sliding stiffness), ``"inclined"``
     (Eq. 23 and, if the mean ``tau_geo / tau_adh`` exceeds ``geo_threshold``, Eq. 26's
-    ``geo_ratio``), ``"sliding"`` (Sec. 3.3). ``measured_n`` (default ``4 grid``) is the measured
-    grid of the synthetic surfaces for the inclined patches.
+    ``geo_ratio``), ``"sliding"`` (Sec. 3.3). With ``"inclined"`` on synthetic surfaces
+    ``measured_n`` defaults to ``4 grid``: the inclined patches are fitted on that measured grid
+    and the calibration's surfaces are block averages of the same random field.
     """
 
     workpiece: str | None = None
@@ -101,6 +102,10 @@ class Scene:
 
     def __post_init__(self):
         self.effects = _eff.check_effects(self.effects)
+        synthetic = self.workpiece is None and self.tool is None
+        if "inclined" in self.effects and synthetic and self.measured_n is None:
+            # the inclined patches need the measured grid: calibrate on the same random field
+            self.measured_n = 4 * self.grid if isinstance(self.grid, int) else None
         self.pressures = tuple(float(p) for p in self.pressures)
         self.reload_fractions = tuple(float(f) for f in self.reload_fractions)
         if self.sigma_y is None:

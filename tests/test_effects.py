@@ -244,3 +244,19 @@ def test_m_zero_skips_with_reasons(tmp_path, capsys):
     assert "inclined patches skipped: m = 0" in text
     eff = json.loads((out / "summary.json").read_text())["effect_results"]
     assert set(eff) == {"tangential", "inclined"} and all("skipped" in v for v in eff.values())
+
+
+def test_inclined_uses_the_calibration_field():
+    # with the inclined patches the synthetic surfaces come from the measured grid (4 x grid), so
+    # the geometric study's solver surfaces are the calibration's surfaces (same random field)
+    from halfspace_calib.calibrate import scene_surfaces
+    from halfspace_calib.effects import scene_measured_surfaces
+
+    s = Scene(grid=16, effects=("inclined",), rough_tool=True)
+    assert s.measured_n == 64 and Scene(grid=16).measured_n is None
+    wp, tl = scene_surfaces(s)
+    fw, ft, block = scene_measured_surfaces(s)
+    assert block == 4 and fw.shape == (64, 64)
+    for coarse, fine in ((wp, fw), (tl, ft)):
+        avg = S.block_average(fine, 16).heights
+        assert np.corrcoef(avg.ravel(), coarse.heights.ravel())[0, 1] > 0.99
