@@ -260,3 +260,22 @@ def test_inclined_uses_the_calibration_field():
     for coarse, fine in ((wp, fw), (tl, ft)):
         avg = S.block_average(fine, 16).heights
         assert np.corrcoef(avg.ravel(), coarse.heights.ravel())[0, 1] > 0.99
+
+
+def test_cli_all_effects(tmp_path, capsys):
+    out = tmp_path / "all"
+    argv = ["--grid", "16", "--pressures", "50e6,150e6,300e6,500e6", "--reload-fractions",
+            "0.2,0.5,0.8", "--tol", "1e-7", "--out", str(out), "--quiet",
+            "--effects", "tangential,inclined", "--geo-threshold", "0", "--sliding"]
+    assert main(argv) == 0
+    text = capsys.readouterr().out
+    assert "effects modelled: normal, tangential, inclined, sliding" in text
+    assert text.count("k_eq = ") == 4 and "> geo_threshold = 0: Eq. 26" in text
+    assert text.count(" MPa: W_def / W_adh mean") == 6
+    P = FrictionParams.from_json(out / "params.json")
+    assert P.provenance["extra"]["model"]["effects"] == list(EFFECTS) and P.geo_ratio > 0
+    sl = json.loads((out / "summary.json").read_text())["effect_results"]["sliding"]
+    assert [r["p_mean"] for r in sl["rows"]] == [100e6, 200e6, 300e6, 400e6, 500e6, 600e6]
+    assert 0 <= sl["ratio_max"] < 1 and sl["failed_pressures"] == []
+    for sub in ("tangential/tangential.csv", "geometric/geometric.csv", "sliding/sliding.csv"):
+        assert (out / sub).exists()
