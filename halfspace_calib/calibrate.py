@@ -27,10 +27,13 @@ from pathlib import Path
 
 import numpy as np
 
+from . import effects as _eff
 from . import fit as _fit
 from . import surfaces as _surf
+from .cerruti import E_prime
 from .jobs import run_jobs
 from .normal import composite_modulus, solve_normal_pair
+from .presliding import presliding_curve
 
 __all__ = [
     "Scene",
@@ -59,6 +62,13 @@ class Scene:
     Materials in Pa; ``sigma_y`` defaults to ``H / 2.8`` (Bowden and Tabor). ``m`` is Tresca's
     factor: it does not enter the half-space model, only the parameter file (measure it, e.g. by
     ring compression).
+
+    Effects (:mod:`halfspace_calib.effects`): ``effects`` names what is modelled besides the
+    always-on ``"normal"`` sweeps: ``"tangential"`` (pre-sliding stiffness), ``"inclined"``
+    (Eq. 23 and, if the mean ``tau_geo / tau_adh`` exceeds ``geo_threshold``, Eq. 26's
+    ``geo_ratio``), ``"sliding"`` (Sec. 3.3). With ``"inclined"`` on synthetic surfaces
+    ``measured_n`` defaults to ``4 grid``: the inclined patches are fitted on that measured grid
+    and the calibration's surfaces are block averages of the same random field.
     """
 
     workpiece: str | None = None
@@ -87,8 +97,15 @@ class Scene:
     continuous_reload: bool = False
     workers: int = 1
     scheduler: str | None = None
+    effects: tuple = ("normal",)
+    geo_threshold: float = 0.05
 
     def __post_init__(self):
+        self.effects = _eff.check_effects(self.effects)
+        synthetic = self.workpiece is None and self.tool is None
+        if "inclined" in self.effects and synthetic and self.measured_n is None:
+            # the inclined patches need the measured grid: calibrate on the same random field
+            self.measured_n = 4 * self.grid if isinstance(self.grid, int) else None
         self.pressures = tuple(float(p) for p in self.pressures)
         self.reload_fractions = tuple(float(f) for f in self.reload_fractions)
         if self.sigma_y is None:
@@ -122,6 +139,17 @@ class Scene:
             raise ValueError("reload_surface must be 'plastic' or 'volume_conserving'")
         if not isinstance(self.workers, int) or self.workers < 0:
             raise ValueError(f"workers must be an integer >= 0, got {self.workers!r}")
+        self.effects = _eff.check_effects(self.effects)
+        g = self.geo_threshold
+        if not (isinstance(g, (int, float)) and math.isfinite(g) and g >= 0):
+            raise ValueError(f"geo_threshold must be a finite number >= 0 (a ratio), got {g!r}")
+        if "inclined" in self.effects and self.workpiece is None and self.tool is None:
+            mn = self.measured_n
+            if mn is not None and (not isinstance(mn, int) or mn % self.grid or mn < 2 * self.grid):
+                raise ValueError(
+                    f"measured_n must be a multiple >= 2 of grid={self.grid} for the inclined "
+                    f"effect (measured points per element), got {mn!r}"
+                )
 
     @property
     def E_star(self):
@@ -223,6 +251,8 @@ def _level_job(job):
         )
     if job["keep_map"]:
         out["pressure_map"] = res.pressure
+    if job.get("tangential") is not None:
+        out["tangential"] = _tangential_record(res, job)
     reload = []
     if job["reload_pressures"]:
         if job["reload_surface"] == "plastic":
@@ -248,6 +278,20 @@ def _level_job(job):
         reload.reverse()
     out["reload"] = reload
     return out
+
+
+def _tangential_record(res, job):
+    """Pre-sliding curve on the loaded contact (the tangential effect); errors are recorded."""
+    t = job["tangential"]
+    t0 = time.perf_counter()
+    try:
+        curve = presliding_curve(
+            res.pressure, job["dx"], job["E_star"], t["E_prime"], m=t["m"],
+            sigma_y=t["sigma_y"], dy=job["dy"], periodic=job["periodic"], tol=t["tol"],
+        )
+    except Exception as exc:  # noqa: BLE001 - one failed curve must not lose the load level
+        return {"error": f"{type(exc).__name__}: {exc}", "seconds": time.perf_counter() - t0}
+    return dict(curve.as_dict(), seconds=time.perf_counter() - t0)
 
 
 @dataclass
@@ -298,6 +342,14 @@ def run_sweeps(scene, *, progress=True):
     """Run the first-loading and reload sweeps of ``scene``; failures are recorded, not raised."""
     wp, tl = scene_surfaces(scene)
     E_star = scene.E_star
+    tangential = None
+    if "tangential" in scene.effects and scene.m > 0:
+        tangential = {
+            "E_prime": E_prime(scene.E_workpiece, scene.nu_workpiece, scene.E_tool, scene.nu_tool),
+            "m": scene.m,
+            "sigma_y": scene.sigma_y,
+            "tol": scene.tol,
+        }
     jobs = []
     top = max(scene.pressures)
     for p in scene.pressures:
@@ -317,6 +369,7 @@ def run_sweeps(scene, *, progress=True):
                 "reload_surface": scene.reload_surface,
                 "reload_pressures": reload,
                 "keep_map": p == top,
+                "tangential": tangential,
             }
         )
     t0 = time.perf_counter()
@@ -348,6 +401,7 @@ class Calibration:
     sweeps: SweepResult
     scene: Scene
     seconds: float
+    effects: dict = field(default_factory=dict)
 
     def summary(self):
         """JSON-ready summary (also stored in the parameter file's provenance)."""
@@ -370,6 +424,9 @@ class Calibration:
             "failed_levels": self.sweeps.failed,
             "max_reload_pressure_over_H": self.sweeps.max_reload_pressure() / self.scene.H,
             "max_reload_plastic_fraction": self.sweeps.max_reload_plastic_fraction(),
+            "geo_ratio": P.geo_ratio,
+            "effects": list(self.scene.effects),
+            "effect_results": _effects_record(self.effects),
             "seconds": self.seconds,
         }
 
@@ -382,6 +439,7 @@ def calibrate(scene=None, *, progress=True):
     """
     scene = Scene() if scene is None else scene
     t0 = time.perf_counter()
+    measured = _eff.scene_measured_surfaces(scene) if "inclined" in scene.effects else None
     sweeps = run_sweeps(scene, progress=progress)
     p, alpha = sweeps.loading
     curves = sweeps.reload_curves()
@@ -400,6 +458,7 @@ def calibrate(scene=None, *, progress=True):
         curves, scene.H, first.C1, first.n1, continuous=scene.continuous_reload
     )
     wp, tl = sweeps.surfaces["workpiece"], sweeps.surfaces["tool"]
+    effects = _run_effects(scene, sweeps, measured, progress)
     params = _fit.make_params(
         first,
         reload,
@@ -428,11 +487,62 @@ def calibrate(scene=None, *, progress=True):
             "model": {
                 "volume_conservation": scene.volume_conservation,
                 "reload_surface": scene.reload_surface,
-                "effects": ["normal"],
+                "effects": list(scene.effects),
                 "max_reload_pressure_over_H": sweeps.max_reload_pressure() / scene.H,
                 "max_reload_plastic_fraction": sweeps.max_reload_plastic_fraction(),
                 "failed_levels": sweeps.failed,
-            }
+                "geo_threshold": scene.geo_threshold,
+            },
+            "effects": _effects_record(effects),
         },
     )
-    return Calibration(params, first, reload, sweeps, scene, time.perf_counter() - t0)
+    if "inclined" in effects:
+        params = params.replace(geo_ratio=effects["inclined"].get("decision", {}).get("geo_ratio", 0.0))
+    return Calibration(params, first, reload, sweeps, scene, time.perf_counter() - t0, effects)
+
+
+def _run_effects(scene, sweeps, measured, progress):
+    """Run (or collect) every effect of the scene but ``"normal"``; see :mod:`.effects`."""
+    out = {}
+    if "tangential" in scene.effects:
+        if scene.m == 0:
+            out["tangential"] = {"skipped": "m = 0: the Tresca bound (Eq. 18) is zero, no "
+                                            "tangential traction and no stiffness"}
+        else:
+            secs = sum(lv.get("tangential", {}).get("seconds", 0.0) for lv in sweeps.levels)
+            out["tangential"] = {"summary": _eff.summarize_tangential(sweeps.levels),
+                                 "seconds": secs}
+    if "inclined" in scene.effects:
+        out["inclined"] = _eff.run_inclined(scene, measured=measured)
+    if "sliding" in scene.effects:
+        out["sliding"] = _eff.run_sliding(scene, progress=progress)
+    return out
+
+
+def _effects_record(effects):
+    """JSON-ready record of the effects' key results (provenance and ``summary.json``)."""
+    rec = {}
+    for name, e in effects.items():
+        if "skipped" in e:
+            rec[name] = {"skipped": e["skipped"]}
+        elif name == "tangential":
+            rec[name] = dict(e["summary"], seconds=e["seconds"])
+        elif name == "inclined":
+            d = e["decision"]
+            rec[name] = {
+                "geo_ratio": d["geo_ratio"],
+                "applied": d["applied"],
+                "ratio_mean": d["ratio_mean"],
+                "threshold": d["threshold"],
+                "reason": d["reason"],
+                "method": d["method"],
+                "fit": d["fit"],
+                "study": e["result"].summary(),
+                "seconds": e["seconds"],
+            }
+        elif name == "sliding":
+            st = e["study"]
+            rec[name] = dict(st.summary(), errors={str(k): v.splitlines()[0]
+                                                   for k, v in st.errors.items()},
+                             seconds=e["seconds"])
+    return rec

@@ -78,11 +78,24 @@ def build_parser():
         "--workers", type=int, help="local processes (1: in this process, 0: one per CPU)"
     )
     g.add_argument("--scheduler", help="Dask scheduler address, e.g. tcp://host:8786")
-    ap.add_argument(
+    g = ap.add_argument_group("effects")
+    g.add_argument(
+        "--effects",
+        help="comma-separated effects to model: normal (always on), tangential (pre-sliding "
+        "stiffness k_t per pressure, into <out>/tangential/), inclined (tau_geo of inclined "
+        "patches, Eq. 23, and Eq. 26's geo_ratio if significant, into <out>/geometric/), sliding "
+        "(W_def / W_adh of Sec. 3.3, into <out>/sliding/); default: the scene's, else normal",
+    )
+    g.add_argument(
+        "--geo-threshold",
+        type=float,
+        help="mean tau_geo / tau_adh above which Eq. 26's term is fitted (default 0.05)",
+    )
+    g.add_argument(
         "--sliding",
         action="store_true",
-        help="after the calibration, run the sliding study of Sec. 3.3 (W_def / W_adh at "
-        "100-600 MPa on a 3x longer synthetic strip, Ra 0.989 um) into <out>/sliding/",
+        help="same as adding 'sliding' to --effects: the sliding study of Sec. 3.3 (W_def / W_adh "
+        "at 100-600 MPa on a 3x longer synthetic strip, Ra 0.989 um) into <out>/sliding/",
     )
     ap.add_argument("--quiet", action="store_true", help="no progress bar")
     return ap
@@ -116,8 +129,18 @@ def scene_from_args(args):
             "continuous_reload",
             "workers",
             "scheduler",
+            "effects",
+            "geo_threshold",
         )
     }
+    if args.sliding:
+        from .effects import check_effects
+
+        if over["effects"] is None:  # add to the scene file's effects, or to the default
+            base = load_scene(args.scene).effects if args.scene else ("normal",)
+        else:
+            base = check_effects(over["effects"])
+        over["effects"] = tuple(base) + ("sliding",)
     if over["H"] is None and over["sigma_y"] is not None and not args.scene:
         over["H"] = 2.8 * over["sigma_y"]
     if args.scene:
@@ -149,8 +172,7 @@ def main(argv=None):
         f"  reloads: largest local pressure {s['max_reload_pressure_over_H']:.3f} H, "
         f"plastic fraction {s['max_reload_plastic_fraction']:.4f}"
     )
-    if args.sliding:
-        _sliding(scene, out, quiet=args.quiet)
+    _print_effects(cal, out)
     if cal.sweeps.failed:
         print(
             f"  WARNING: {len(cal.sweeps.failed)} load levels failed: "
@@ -159,31 +181,46 @@ def main(argv=None):
     return 0
 
 
-def _sliding(scene, out, quiet=False):
-    """The sliding study (Sec. 3.3) with the scene's tool and materials; prints its summary."""
-    from .calibrate import scene_surfaces
-    from .sliding import SLIDING_PRESSURES, sliding_study, sliding_workpiece, write_sliding_outputs
+def _print_effects(cal, out):
+    """One block per modelled effect besides the normal sweeps."""
+    eff = cal.effects
+    print(f"  effects modelled: {', '.join(cal.scene.effects)}")
+    for name in ("tangential", "inclined", "sliding"):
+        e = eff.get(name)
+        if e is None:
+            continue
+        if "skipped" in e:
+            label = {"tangential": "tangential (pre-sliding)", "inclined": "inclined patches",
+                     "sliding": "sliding (Sec. 3.3)"}[name]
+            print(f"  {label} skipped: {e['skipped']}")
+            continue
+        getattr(sys.modules[__name__], f"_print_{name}")(e, out)
 
-    _, tool = scene_surfaces(scene)
-    n = scene.grid
-    wp = sliding_workpiece(
-        (3 * n, n), (3 * n * tool.dx, n * tool.dy), seed=scene.seed_workpiece
-    )
-    t0 = time.perf_counter()
-    try:
-        study = sliding_study(
-            tuple(p for p in SLIDING_PRESSURES if p < scene.H),
-            workpiece=wp, tool=tool, E_star=scene.E_star, H=scene.H, m=scene.m,
-            sigma_y=scene.sigma_y, tol=scene.tol, volume_conservation=scene.volume_conservation,
-            periodic=scene.periodic, workers=scene.workers, scheduler=scene.scheduler,
-            progress=not quiet,
+
+def _print_tangential(e, out):
+    s = e["summary"]
+    print(f"  tangential (pre-sliding, {e['seconds']:.1f} s) -> {out / 'tangential'}")
+    for r in s["rows"]:
+        print(
+            f"    {r['p_mean'] / 1e6:5.0f} MPa: k_t0 = {r['k_t0']:.3e}, k_eq = {r['k_eq']:.3e}, "
+            f"k_sec = {r['k_sec']:.3e} Pa/m, full sliding at {r['delta_full'] * 1e9:.1f} nm"
+            + ("" if r["converged"] else "  [NOT converged]")
         )
-    except ValueError as exc:  # e.g. m = 0 (no adhesive work) or H below 100 MPa
-        print(f"  sliding (Sec. 3.3) skipped: {exc}")
-        return
-    dest = write_sliding_outputs(study, out / "sliding")
+    for err in s["errors"]:
+        print(f"    WARNING: tangential at {err['p_mean']:g} Pa failed: {err['error']}")
+    print(f"    {s['recommendation']}")
+
+
+def _print_inclined(e, out):
+    d = e["decision"]
+    print(f"  inclined patches (Eqs. 19-23, {e['seconds']:.1f} s) -> {out / 'geometric'}")
+    print(f"    {d['reason']}")
+
+
+def _print_sliding(e, out):
+    study = e["study"]
     s = study.summary()
-    print(f"  sliding (Sec. 3.3, {time.perf_counter() - t0:.1f} s) -> {dest / 'sliding.csv'}")
+    print(f"  sliding (Sec. 3.3, {e['seconds']:.1f} s) -> {out / 'sliding' / 'sliding.csv'}")
     for row in s["rows"]:
         print(
             f"    {row['p_mean'] / 1e6:5.0f} MPa: W_def / W_adh mean {row['ratio_mean']:.4f}, "

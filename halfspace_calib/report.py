@@ -167,11 +167,18 @@ def write_plots(cal, out):
 
 
 def write_outputs(cal, out):
-    """Write ``params.json``, the CSV tables, the plots and ``summary.json`` into ``out``."""
+    """Write ``params.json``, the CSV tables, the plots and ``summary.json`` into ``out``.
+
+    Each modelled effect writes its CSV and PNG into a subfolder: ``tangential/``,
+    ``geometric/`` (the inclined patches) and ``sliding/``.
+    """
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     cal.params.to_json(out / "params.json")
     write_tables(cal, out)
     write_plots(cal, out)
+    from .effects import write_effect_outputs
+
+    write_effect_outputs(cal, out)
     (out / "summary.json").write_text(json.dumps(cal.summary(), indent=2, default=float) + "\n")
     return out

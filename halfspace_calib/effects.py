@@ -1,0 +1,360 @@
+"""Which friction effects a calibration models, how each runs, and what it reports (Sec. 2.2, 3.2-3.3).
+
+A :class:`~halfspace_calib.calibrate.Scene` names its effects (``Scene.effects``):
+
+``"normal"`` (always on)
+    the normal-contact sweeps and the fit of Eqs. 24-25. Under full sliding every contact element
+    is at the Tresca cap, so ``tau_adh = m (sigma_y / 2) alpha_rc`` needs no tangential solve.
+``"tangential"``
+    partial slip (pre-sliding) at every first-loading pressure on the loaded contact:
+    ``q_mean(delta)`` up to full sliding and the interface's tangential stiffness, the penalty
+    ``k_t`` of :func:`frictionlaw.traction_update` (:mod:`halfspace_calib.presliding`).
+``"inclined"``
+    the geometric shear of inclined patches (Eqs. 19-23, :mod:`halfspace_calib.geometric`) for the
+    scene's workpiece and tool over the scene's pressures; if the mean ``tau_geo / tau_adh``
+    exceeds ``Scene.geo_threshold``, Eq. 26's term is fitted into ``FrictionParams.geo_ratio``
+    (least squares of ``f(p) = geo_ratio k alpha(p)``, :func:`halfspace_calib.geometric.fit_geo_ratio`),
+    otherwise ``geo_ratio`` stays 0 and the record says why.
+``"sliding"``
+    the sliding study of Sec. 3.3 (:func:`halfspace_calib.sliding.sliding_study`), ``W_def / W_adh``
+    at 100-600 MPa; it is reported, it does not change the parameters (the paper: below 0.008).
+
+An effect that cannot run for the scene (e.g. ``m = 0``: no adhesive shear) is skipped and its
+record carries ``skipped`` with the reason.
+"""
+
+from __future__ import annotations
+
+import csv
+import time
+from pathlib import Path
+
+import numpy as np
+
+from . import surfaces as _surf
+from .geometric import fit_geo_ratio, geometric_sweep, measured_surfaces, write_geometric_outputs
+from .presliding import stiffness_power_law
+
+__all__ = [
+    "EFFECTS",
+    "check_effects",
+    "scene_measured_surfaces",
+    "run_inclined",
+    "geo_decision",
+    "run_sliding",
+    "summarize_tangential",
+    "write_tangential_outputs",
+    "write_effect_outputs",
+]
+
+#: the effects a scene can select, in the order they run
+EFFECTS = ("normal", "tangential", "inclined", "sliding")
+
+
+def check_effects(effects):
+    """Validated effects as a tuple in :data:`EFFECTS` order, ``"normal"`` always included.
+
+    Parameters
+    ----------
+    effects : str or iterable of str
+        Names from :data:`EFFECTS`; a string may list them comma separated.
+
+    Raises
+    ------
+    ValueError
+        An unknown name (the message lists the allowed ones).
+    """
+    if isinstance(effects, str):
+        names = [e.strip() for e in effects.split(",") if e.strip()]
+    else:
+        try:
+            names = list(effects)
+        except TypeError:
+            raise ValueError(f"effects must be a list of names from {list(EFFECTS)}, "
+                             f"got {effects!r}") from None
+    bad = [e for e in names if not isinstance(e, str) or e not in EFFECTS]
+    if bad:
+        raise ValueError(f"effects must be names from {list(EFFECTS)}, got unknown {bad}")
+    chosen = set(names) | {"normal"}
+    return tuple(e for e in EFFECTS if e in chosen)
+
+
+# ----------------------------------------------------------------------------- inclined
+def scene_measured_surfaces(scene):
+    """The scene's workpiece and tool as measured (fine) maps: ``(workpiece, tool, block)``.
+
+    Synthetic surfaces: :func:`halfspace_calib.geometric.measured_surfaces` on
+    ``scene.measured_n`` points a side (default ``4 scene.grid``), Table 1 ``Ra`` on the solver
+    grid. Files: read and levelled; the block is ``(nx // grid, ny // grid)`` points, the
+    remainder trimmed evenly as :func:`~halfspace_calib.calibrate.scene_surfaces` does, and at
+    least 2 a side (a plane needs measured points finer than the element), otherwise a
+    ``ValueError``.
+    """
+    n = scene.grid
+    if scene.workpiece is None and scene.tool is None:
+        fine = scene.measured_n if scene.measured_n is not None else 4 * n
+        if fine % n or fine // n < 2:
+            raise ValueError(f"measured_n must be a multiple >= 2 of grid={n} for the inclined "
+                             f"patches, got {scene.measured_n!r}")
+        s = fine // n
+        wp, tl = measured_surfaces(n, s, rough_tool=scene.rough_tool,
+                                   seed_workpiece=scene.seed_workpiece, seed_tool=scene.seed_tool)
+        return wp, tl, s
+    out = []
+    for which in ("workpiece", "tool"):
+        path = getattr(scene, which)
+        if path is None:
+            raise ValueError(f"the inclined effect needs both surfaces measured: give {which} as a "
+                             "file too (a synthetic map has no measured points of its own)")
+        out.append(_surf.level(_surf.read_surface(path, unit=scene.unit, size=scene.size)))
+    wp, tl = out
+    if wp.shape != tl.shape:
+        raise ValueError(f"workpiece {wp.shape} and tool {tl.shape} must be measured on the same grid")
+    sx, sy = wp.shape[0] // n, wp.shape[1] // n
+    if min(sx, sy) < 2:
+        raise ValueError(f"the measured maps ({wp.shape}) must have at least 2 points per element "
+                         f"edge on grid={n} for the inclined patches (Eqs. 19-21)")
+    return _crop_to(wp, n, sx, sy), _crop_to(tl, n, sx, sy), (sx, sy)
+
+
+def _crop_to(surface, n, sx, sy):
+    """The even trim of :func:`~halfspace_calib.surfaces.block_average` (``trim=True``)."""
+    nx, ny = surface.shape
+    mx, my = n * sx, n * sy
+    return _surf.crop(surface, (mx, my), ((nx - mx) // 2, (ny - my) // 2))
+
+
+def geo_decision(result, threshold, m):
+    """Whether Eq. 26's geometric term goes into the parameters, and why.
+
+    Parameters
+    ----------
+    result : GeometricResult
+        The inclined-patch sweep of the scene.
+    threshold : float
+        Significance threshold on the mean ``tau_geo / tau_adh`` (``Scene.geo_threshold``).
+    m : float
+        Tresca factor (only recorded).
+
+    Returns
+    -------
+    dict
+        ``geo_ratio`` (0 unless applied), ``applied``, ``ratio_mean``, ``threshold``, ``fit``
+        (:func:`~halfspace_calib.geometric.fit_geo_ratio`), ``method`` and ``reason``.
+    """
+    fit = fit_geo_ratio(result)
+    mean = fit["ratio_mean"]
+    applied = bool(mean > threshold)
+    if applied:
+        reason = (f"mean tau_geo / tau_adh = {mean:.4f} > geo_threshold = {threshold:g}: Eq. 26's "
+                  f"f(p) = geo_ratio k alpha(p) fitted, geo_ratio = {fit['geo_ratio']:.4f} "
+                  f"(RMS misfit {100 * fit['rms_misfit']:.1f} % of tau_geo)")
+    else:
+        reason = (f"mean tau_geo / tau_adh = {mean:.4f} <= geo_threshold = {threshold:g}: "
+                  "the geometric shear is not significant, Eq. 26's term is left out (geo_ratio = 0)")
+    return {
+        "geo_ratio": fit["geo_ratio"] if applied else 0.0,
+        "applied": applied,
+        "ratio_mean": mean,
+        "threshold": float(threshold),
+        "fit": fit,
+        "method": "least squares of tau_geo(p) = geo_ratio * tau_adh(p) = geo_ratio m k alpha(p) "
+                  "over the scene's pressures (alpha of the inclined-patch normal solves)",
+        "m": float(m),
+        "reason": reason,
+    }
+
+
+def run_inclined(scene, *, measured=None):
+    """The inclined-patch sweep for the scene's surfaces and pressures, and the ``geo_ratio`` decision.
+
+    ``measured``: the result of :func:`scene_measured_surfaces` if already made.
+
+    Returns
+    -------
+    dict
+        ``{"result": GeometricResult, "decision": dict, "seconds": float}`` or
+        ``{"skipped": reason}`` when ``m = 0``.
+    """
+    if scene.m == 0:
+        return {"skipped": "m = 0: no adhesive shear, tau_geo / tau_adh undefined and Eq. 26 "
+                           "(m [k alpha + f]) vanishes; geo_ratio = 0"}
+    t0 = time.perf_counter()
+    wp, tl, s = scene_measured_surfaces(scene) if measured is None else measured
+    res = geometric_sweep(wp, tl, scene.pressures, block=s, E_star=scene.E_star, H=scene.H,
+                          m=scene.m, sigma_y=scene.sigma_y, tol=scene.tol, periodic=scene.periodic,
+                          volume_conservation=scene.volume_conservation,
+                          label="rough tool" if scene.rough_tool else "scene tool")
+    return {"result": res, "decision": geo_decision(res, scene.geo_threshold, scene.m),
+            "seconds": time.perf_counter() - t0}
+
+
+# ----------------------------------------------------------------------------- sliding
+def run_sliding(scene, *, progress=True):
+    """The sliding study of Sec. 3.3 with the scene's tool and materials.
+
+    Returns
+    -------
+    dict
+        ``{"study": SlidingStudy, "seconds": float}`` or ``{"skipped": reason}`` when the study
+        cannot run (``m = 0``, ``H`` at or below 100 MPa).
+    """
+    from .calibrate import scene_surfaces
+    from .sliding import SLIDING_PRESSURES, sliding_study, sliding_workpiece
+
+    _, tool = scene_surfaces(scene)
+    n = scene.grid
+    wp = sliding_workpiece((3 * n, n), (3 * n * tool.dx, n * tool.dy), seed=scene.seed_workpiece)
+    t0 = time.perf_counter()
+    try:
+        study = sliding_study(
+            tuple(p for p in SLIDING_PRESSURES if p < scene.H),
+            workpiece=wp, tool=tool, E_star=scene.E_star, H=scene.H, m=scene.m,
+            sigma_y=scene.sigma_y, tol=scene.tol, volume_conservation=scene.volume_conservation,
+            periodic=scene.periodic, workers=scene.workers, scheduler=scene.scheduler,
+            progress=progress,
+        )
+    except ValueError as exc:  # e.g. m = 0 (no adhesive work) or H below 100 MPa
+        return {"skipped": str(exc)}
+    return {"study": study, "seconds": time.perf_counter() - t0}
+
+
+# ----------------------------------------------------------------------------- tangential
+def summarize_tangential(levels):
+    """Stiffness table, power-law fits and the FE recommendation from the sweeps' curves.
+
+    Parameters
+    ----------
+    levels : list of dict
+        ``SweepResult.levels`` of a sweep run with the tangential effect (each with a
+        ``"tangential"`` record).
+
+    Returns
+    -------
+    dict
+        ``rows`` (per pressure: ``p_mean``, ``alpha``, ``q_limit``, ``delta_full``,
+        ``delta_stick``, ``k_t0``, ``k_sec``, ``k_eq``, ``converged``), ``errors``, ``k_t0_fit``,
+        ``k_sec_fit``, ``k_eq_fit`` (:func:`~halfspace_calib.presliding.stiffness_power_law`),
+        ``full_sliding_max_rel_diff`` (solve against the shortcut) and ``recommendation``.
+    """
+    rows, errors = [], []
+    max_diff = 0.0
+    for lv in levels:
+        t = lv.get("tangential")
+        if t is None:
+            continue
+        if "error" in t:
+            errors.append({"p_mean": lv["p_hist"], "error": t["error"]})
+            continue
+        alpha = lv["loading"]["alpha"]
+        rows.append({
+            "p_mean": lv["p_hist"],
+            "alpha": alpha,
+            "q_limit": t["q_limit"],
+            "delta_full": t["delta_full"],
+            "delta_stick": t["delta_stick"],
+            "k_t0": t["k_t0"],
+            "k_sec": t["k_sec"],
+            "k_eq": t["k_eq"],
+            "converged": t["converged"],
+        })
+        full = [q for d, q in zip(t["delta"], t["q_mean"], strict=True)
+                if d >= t["delta_full"] * (1 - 1e-12)]
+        for q in full:
+            max_diff = max(max_diff, abs(q - t["q_limit"]) / t["q_limit"])
+    out = {"rows": rows, "errors": errors, "full_sliding_max_rel_diff": max_diff}
+    ok = [r for r in rows if r["converged"]]
+    if len(ok) >= 2:
+        p = [r["p_mean"] for r in ok]
+        out["k_t0_fit"] = stiffness_power_law(p, [r["k_t0"] for r in ok])
+        out["k_sec_fit"] = stiffness_power_law(p, [r["k_sec"] for r in ok])
+        out["k_eq_fit"] = stiffness_power_law(p, [r["k_eq"] for r in ok])
+        f = out["k_eq_fit"]
+        out["recommendation"] = (
+            "penalty k_t of frictionlaw.traction_update (Pa/m, per node at its pressure): k_eq, "
+            "the bilinear stick/slip law with the rough contact's complementary energy up to full "
+            "sliding, interpolated log-log in the table (tangential/tangential_stiffness.csv); as "
+            f"a rough summary k_eq(p) = {f['k_ref']:.3e} * (p / {f['p_ref']:.3g} Pa)^"
+            f"{f['exponent']:.3f} (max error {100 * f['max_rel_error']:.0f} % on the table). "
+            "k_t0 (the initial "
+            "slope) is the stiffest and k_sec (secant to full sliding) the softest physically "
+            "meaningful value. All are the roughness layer's stiffness only (periodic half-space: "
+            "delta from the mean surface displacement); the bulk compliance is in the FE model."
+        )
+    elif ok:
+        out["recommendation"] = (f"penalty k_t of frictionlaw.traction_update: k_eq = "
+                                 f"{ok[0]['k_eq']:.3e} Pa/m at {ok[0]['p_mean']:.3g} Pa")
+    else:
+        out["recommendation"] = "no converged tangential curve: no stiffness recommendation"
+    return out
+
+
+def _write_csv(path, header, rows):
+    with open(path, "w", newline="", encoding="utf-8") as fh:
+        w = csv.writer(fh)
+        w.writerow(header)
+        w.writerows(rows)
+
+
+def write_tangential_outputs(levels, summary, out_dir):
+    """``tangential.csv`` (curves), ``tangential_stiffness.csv`` and two PNGs into ``out_dir``."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    curves = [(lv["p_hist"], lv["tangential"]) for lv in levels
+              if lv.get("tangential") and "error" not in lv["tangential"]]
+    _write_csv(out / "tangential.csv", ["p_mean", "delta", "q_mean", "q_over_q_limit",
+                                         "slip_fraction"],
+               [[p, d, q, q / t["q_limit"], s] for p, t in curves
+                for d, q, s in zip(t["delta"], t["q_mean"], t["slip_fraction"], strict=True)])
+    keys = ["p_mean", "alpha", "q_limit", "delta_full", "delta_stick", "k_t0", "k_eq", "k_sec",
+            "converged"]
+    _write_csv(out / "tangential_stiffness.csv", keys,
+               [[r[k] for k in keys] for r in summary["rows"]])
+    if not curves:
+        return out
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    for i, (p, t) in enumerate(curves):
+        ax.plot(np.array(t["delta"]) * 1e9, np.array(t["q_mean"]) / 1e6, "-o", ms=3,
+                color=f"C{i % 10}", label=f"{p / 1e6:g} MPa")
+    ax.set(xlabel="rigid shift delta [nm]", ylabel="q_mean [MPa]",
+           title="Pre-sliding: mean tangential traction (Tresca cap, Eq. 18)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out / "tangential_curves.png", dpi=120)
+    plt.close(fig)
+
+    rows = summary["rows"]
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    p = np.array([r["p_mean"] for r in rows]) / 1e6
+    ax.loglog(p, [r["k_t0"] for r in rows], "o-", label="k_t0 (initial)")
+    ax.loglog(p, [r["k_eq"] for r in rows], "^-", label="k_eq (energy-equivalent, recommended)")
+    ax.loglog(p, [r["k_sec"] for r in rows], "s-", label="k_sec (secant to full sliding)")
+    ax.set(xlabel="p_mean [MPa]", ylabel="tangential stiffness [Pa/m]",
+           title="Interface tangential stiffness (penalty k_t)")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(out / "tangential_stiffness.png", dpi=120)
+    plt.close(fig)
+    return out
+
+
+def write_effect_outputs(cal, out):
+    """Each modelled effect's CSV and PNG into ``out/tangential``, ``out/geometric``, ``out/sliding``."""
+    out = Path(out)
+    eff = cal.effects
+    if "tangential" in eff and "summary" in eff["tangential"]:
+        write_tangential_outputs(cal.sweeps.levels, eff["tangential"]["summary"],
+                                 out / "tangential")
+    if "inclined" in eff and "result" in eff["inclined"]:
+        write_geometric_outputs(eff["inclined"]["result"], out / "geometric")
+    if "sliding" in eff and "study" in eff["sliding"]:
+        from .sliding import write_sliding_outputs
+
+        write_sliding_outputs(eff["sliding"]["study"], out / "sliding")
