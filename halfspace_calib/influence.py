@@ -164,6 +164,8 @@ class InfluenceOperator:
         self.workers = workers if workers is not None else (os.cpu_count() or 1)
         self.kernel = kernel
         self.spectrum = sfft.rfft2(kernel, workers=self.workers)
+        self._weights = None
+        self._spec_real = None
 
     # ------------------------------------------------------------------ builders
     @classmethod
@@ -239,6 +241,7 @@ class InfluenceOperator:
         op = cls(kernel, (nx, ny), True, workers)
         # keep the exact spectrum (the round trip above only adds roundoff)
         op.spectrum = np.asarray(spec, dtype=complex).copy()
+        op._weights = None
         return op
 
     # ------------------------------------------------------------------ application
@@ -256,6 +259,34 @@ class InfluenceOperator:
         return np.ascontiguousarray(u[:nx, :ny])
 
     __call__ = apply
+
+    def forward(self, p: np.ndarray) -> np.ndarray:
+        """``rfft2`` of ``p`` on the (padded) FFT grid: the half spectrum used by :meth:`backward`."""
+        return sfft.rfft2(p, s=self.fft_shape, workers=self.workers)
+
+    def backward(self, p_hat: np.ndarray) -> np.ndarray:
+        """Displacement from a pressure half spectrum: ``apply(p) == backward(forward(p))``."""
+        nx, ny = self.shape
+        u = sfft.irfft2(p_hat * self.spectrum, s=self.fft_shape, workers=self.workers,
+                        overwrite_x=True)
+        return u if self.periodic else np.ascontiguousarray(u[:nx, :ny])
+
+    def energy(self, p_hat: np.ndarray) -> float:
+        """Quadratic form ``p . (C p)`` from the half spectrum of ``p`` (Parseval).
+
+        For a symmetric kernel; exact in both modes because ``p`` vanishes on the padding.
+        """
+        if self._weights is None:
+            my = self.fft_shape[1]
+            w = np.full(my // 2 + 1, 2.0)
+            w[0] = 1.0
+            if my % 2 == 0:
+                w[-1] = 1.0
+            self._weights = w / (self.fft_shape[0] * my)
+            self._spec_real = np.ascontiguousarray(self.spectrum.real)
+        a = p_hat.real**2 + p_hat.imag**2
+        a *= self._spec_real
+        return float(a.sum(axis=0) @ self._weights)
 
     def apply_sparse(self, rows, cols, values) -> np.ndarray:
         """``C * p`` for a field with few non-zeros, by direct summation of kernel columns.

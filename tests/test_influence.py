@@ -168,3 +168,17 @@ def test_bad_input():
     op = normal_operator((8, 8), 1e-6, 1e9)
     with pytest.raises(ValueError, match="p must have shape"):
         op.apply(np.zeros((8, 9)))
+
+
+@pytest.mark.parametrize("periodic", [True, False])
+def test_forward_backward_energy(periodic):
+    rng = np.random.default_rng(5)
+    for shape in [(12, 9), (10, 10)]:
+        op = normal_operator(shape, 1e-6, E_STAR, periodic=periodic)
+        p = rng.random(shape)
+        ph = op.forward(p)
+        np.testing.assert_allclose(op.backward(ph), op.apply(p), rtol=1e-13)
+        assert op.energy(ph) == pytest.approx(np.vdot(p, op.apply(p)), rel=1e-12)
+        # an independent dense oracle of the quadratic form
+        assert op.energy(ph) == pytest.approx(p.ravel() @ op.dense_matrix() @ p.ravel(),
+                                              rel=1e-12)

@@ -307,3 +307,76 @@ def test_flat_surface_uniform_pressure():
     res = solve_normal(np.zeros((16, 16)), 1e-5, E_STAR, 123e6, H=H_DC04)
     assert res.converged and res.alpha == 1.0
     np.testing.assert_allclose(res.pressure, 123e6, rtol=1e-14)
+
+
+# ----------------------------------------------------------------------------- numba kernels
+def _kernel_data(seed, n=500):
+    rng = np.random.default_rng(seed)
+    H = 1.0
+    p = rng.random(n) * 1.4 - 0.2
+    p = np.clip(p, 0.0, H)  # a mix of zeros, caps and free values
+    return rng, H, p, rng.standard_normal(n), rng.standard_normal(n), rng.standard_normal(n)
+
+
+@pytest.mark.parametrize("pmax_is_inf", [False, True])
+def test_kernels_against_numpy(pmax_is_inf):
+    from halfspace_calib import _kernels as K
+
+    rng, H, p, u, h, t0 = _kernel_data(1)
+    pmax = np.inf if pmax_is_inf else H
+    free = (p > 0) & (p < pmax)
+    s, nf = K.free_gap_sum(u, h, p, pmax)
+    assert nf == free.sum() and s == pytest.approx((u - h)[free].sum(), rel=1e-12)
+
+    g = np.empty_like(u)
+    viol, G = K.gap_and_residual(u, h, p, pmax, 0.3, g)
+    g_ref = u - h + 0.3
+    np.testing.assert_allclose(g, g_ref, rtol=1e-15)
+    r = np.where(p <= 0, np.minimum(g_ref, 0), np.where(p >= pmax, np.maximum(g_ref, 0), g_ref))
+    assert viol == pytest.approx(np.sum(r**2), rel=1e-12)
+    assert G == pytest.approx(np.sum(g_ref[free] ** 2), rel=1e-12)
+
+    t = t0.copy()
+    gt = K.direction(g, p, pmax, 0.7, t)
+    t_ref = np.where(free, g + 0.7 * t0, 0.0)
+    t_ref[free] -= t_ref[free].mean()
+    np.testing.assert_allclose(t, t_ref, atol=1e-14)
+    assert gt == pytest.approx(np.dot(g, t_ref), rel=1e-12)
+
+    q = np.empty_like(p)
+    tau = 0.2
+    released, changed, sfree, mfree, ncap = K.step_project(p, t, g, tau, pmax, q)
+    raw = p - tau * t
+    rel = ((p <= 0) & (g < 0)) | ((p >= pmax) & (g > 0))
+    q_ref = np.clip(np.where(rel, p - tau * g, raw), 0.0, pmax)
+    np.testing.assert_allclose(q, q_ref, rtol=1e-15)
+    fq = (q_ref > 0) & (q_ref < pmax)
+    assert released == rel.any() and changed == bool(np.any(q_ref != raw))
+    assert sfree == pytest.approx(q_ref[fq].sum(), rel=1e-12)
+    assert mfree == q_ref[fq].max() and ncap == np.sum(q_ref >= pmax)
+
+    q2 = q.copy()
+    K.scale_free(q2, 0.9, pmax)
+    np.testing.assert_allclose(q2, np.where(fq, 0.9 * q, q), rtol=1e-15)
+
+
+def test_project_box_sum_is_the_projection():
+    from halfspace_calib.normal import project_box_sum
+
+    rng = np.random.default_rng(12)
+    y = rng.standard_normal(40)
+    for H in (None, 0.5):
+        target = 7.0
+        x = project_box_sum(y, target, H)
+        ub = np.inf if H is None else H
+        assert x.sum() == pytest.approx(target, rel=1e-13)
+        assert x.min() >= 0 and x.max() <= ub
+        # optimality: no feasible pairwise exchange reduces |x - y|^2 (KKT of the projection):
+        # y - x is constant on free elements, <= it at zeros, >= it at the cap
+        d = y - x
+        free = (x > 0) & (x < ub)
+        lam = d[free].mean()
+        np.testing.assert_allclose(d[free], lam, atol=1e-12)
+        assert np.all(d[x == 0] <= lam + 1e-12)
+        if H is not None:
+            assert np.all(d[x >= ub] >= lam - 1e-12)
