@@ -10,7 +10,15 @@ from __future__ import annotations
 
 import numba as nb
 
-__all__ = ["free_gap_sum", "gap_and_residual", "direction", "step_project", "scale_free"]
+__all__ = [
+    "active_gap",
+    "direction",
+    "dot_free",
+    "free_gap_sum",
+    "gap_and_residual",
+    "scale_free",
+    "step_project",
+]
 
 _F = nb.float64
 _I = nb.int64
@@ -54,19 +62,19 @@ def gap_and_residual(u, h, p, pmax, shift, g):
     return viol, G
 
 
-@nb.njit(_F(_A, _A, _F, _F, _A), cache=True)
-def direction(g, p, pmax, beta, t):
+@nb.njit(_F(_A, _A, _A, _F, _F, _A), cache=True)
+def direction(z, g, p, pmax, beta, t):
     """Load-neutral conjugate direction, in place.
 
-    ``t = g + beta t`` on free elements, 0 elsewhere, then minus its mean over the free
-    elements. Returns ``sum_free g t``.
+    ``t = z + beta t`` on free elements, 0 elsewhere, then minus its mean over the free
+    elements (``z`` is the gap ``g`` or its preconditioned version). Returns ``sum_free g t``.
     """
     s = 0.0
     n = 0
     for k in range(p.size):
         pk = p[k]
         if pk > 0.0 and pk < pmax:
-            tk = g[k] + beta * t[k]
+            tk = z[k] + beta * t[k]
             t[k] = tk
             s += tk
             n += 1
@@ -82,12 +90,13 @@ def direction(g, p, pmax, beta, t):
     return gt
 
 
-@nb.njit(nb.types.Tuple((nb.boolean, nb.boolean, _F, _F, _I))(_A, _A, _A, _F, _F, _A),
+@nb.njit(nb.types.Tuple((nb.boolean, nb.boolean, _F, _F, _I))(_A, _A, _A, _A, _F, _F, _A),
          cache=True)
-def step_project(p, t, g, tau, pmax, q):
+def step_project(p, t, g, d, tau, pmax, q):
     """Projected CG step ``q = clip(p - tau t, 0, pmax)``, releasing bound elements.
 
-    Bound elements whose gap asks them to leave the bound get ``q = p - tau g`` (clipped).
+    Bound elements whose gap ``g`` asks them to leave the bound get ``q = p - tau d`` (clipped),
+    with ``d`` the (preconditioned) gap.
 
     Returns ``(any_release, changed, sum_free, max_free, n_cap)``: whether a bound element was
     released, whether ``q`` differs from ``p - tau t`` anywhere, the sum and the maximum of ``q``
@@ -103,7 +112,7 @@ def step_project(p, t, g, tau, pmax, q):
         raw = pk - tau * t[k]
         qk = raw
         if (pk <= 0.0 and g[k] < 0.0) or (pk >= pmax and g[k] > 0.0):
-            qk = pk - tau * g[k]
+            qk = pk - tau * d[k]
             released = True
         if qk < 0.0:
             qk = 0.0
@@ -128,3 +137,26 @@ def scale_free(q, c, pmax):
         qk = q[k]
         if qk > 0.0 and qk < pmax:
             q[k] = c * qk
+
+
+@nb.njit(nb.void(_A, _A, _F, _A), cache=True)
+def active_gap(g, p, pmax, out):
+    """``out = g`` on free elements and on bound elements whose gap violates the bound, else 0."""
+    for k in range(p.size):
+        pk = p[k]
+        gk = g[k]
+        if (pk > 0.0 and pk < pmax) or (pk <= 0.0 and gk < 0.0) or (pk >= pmax and gk > 0.0):
+            out[k] = gk
+        else:
+            out[k] = 0.0
+
+
+@nb.njit(_F(_A, _A, _A, _F), cache=True)
+def dot_free(a, b, p, pmax):
+    """``sum_free a b``."""
+    s = 0.0
+    for k in range(p.size):
+        pk = p[k]
+        if pk > 0.0 and pk < pmax:
+            s += a[k] * b[k]
+    return s

@@ -166,6 +166,7 @@ class InfluenceOperator:
         self.spectrum = sfft.rfft2(kernel, workers=self.workers)
         self._weights = None
         self._spec_real = None
+        self.inverse_spectrum = None
 
     # ------------------------------------------------------------------ builders
     @classmethod
@@ -271,6 +272,17 @@ class InfluenceOperator:
                         overwrite_x=True)
         return u if self.periodic else np.ascontiguousarray(u[:nx, :ny])
 
+    def apply_inverse(self, u: np.ndarray) -> np.ndarray:
+        """Approximate inverse ``C^-1 u`` by ``inverse_spectrum`` (a preconditioner).
+
+        Requires ``inverse_spectrum`` (set by :func:`normal_operator`: ``E_star |q| / 2``).
+        """
+        nx, ny = self.shape
+        uh = sfft.rfft2(u, s=self.fft_shape, workers=self.workers)
+        uh *= self.inverse_spectrum
+        z = sfft.irfft2(uh, s=self.fft_shape, workers=self.workers, overwrite_x=True)
+        return z if self.periodic else np.ascontiguousarray(z[:nx, :ny])
+
     def energy(self, p_hat: np.ndarray) -> float:
         """Quadratic form ``p . (C p)`` from the half spectrum of ``p`` (Parseval).
 
@@ -351,10 +363,26 @@ def normal_operator(
     if kernel not in ("spectral", "love"):
         raise ValueError(f"kernel must be 'spectral' or 'love', got {kernel!r}")
     if periodic and kernel == "spectral":
-        return InfluenceOperator.from_spectrum(
+        op = InfluenceOperator.from_spectrum(
             lambda qx, qy: periodic_spectrum_normal(qx, qy, E_star), shape, dx, dy, workers
         )
-    return InfluenceOperator.from_coefficients(
-        lambda x, y: love_coefficients(x, y, dx / 2, dy / 2, E_star),
-        shape, dx, dy, periodic=periodic, workers=workers,
-    )
+    else:
+        op = InfluenceOperator.from_coefficients(
+            lambda x, y: love_coefficients(x, y, dx / 2, dy / 2, E_star),
+            shape, dx, dy, periodic=periodic, workers=workers,
+        )
+    op.inverse_spectrum = inverse_spectrum_normal(op.fft_shape, dx, dy, E_star)
+    return op
+
+
+def inverse_spectrum_normal(fft_shape, dx: float, dy: float, E_star: float) -> np.ndarray:
+    """Inverse of the continuous Green's function, ``E_star |q| / 2``, on an FFT half spectrum.
+
+    Used as preconditioner; the ``q = 0`` mode gets the value of the lowest mode.
+    """
+    mx, my = fft_shape
+    qx = 2.0 * np.pi * sfft.fftfreq(mx, d=dx)[:, None]
+    qy = 2.0 * np.pi * sfft.rfftfreq(my, d=dy)[None, :]
+    inv = 0.5 * E_star * np.hypot(qx, qy)
+    inv[0, 0] = 0.5 * E_star * 2.0 * np.pi / max(mx * dx, my * dy)
+    return inv

@@ -313,6 +313,7 @@ def solve_normal(
     kernel: str = "spectral",
     operator: InfluenceOperator | None = None,
     refresh: int = 32,
+    precondition: bool = True,
     max_memory: float = 8 * 2**30,
     workers: int | None = None,
 ) -> NormalResult:
@@ -350,6 +351,10 @@ def solve_normal(
     refresh : int
         Recompute the pressure spectrum from scratch at least every ``refresh`` iterations
         (it is otherwise updated by the CG recurrence; results agree to roundoff).
+    precondition : bool
+        Precondition the CG by the inverse of the continuous Green's function,
+        ``E_star |q| / 2`` (one extra FFT pair per iteration, several times fewer iterations);
+        False gives the plain Polonsky-Keer iteration.
     max_memory : float
         Refuse (``ValueError``) grids whose estimated memory exceeds this many bytes.
     workers : int, optional
@@ -375,6 +380,7 @@ def solve_normal(
     p, u, g, nit, converged, res = _pk_box_cg(
         operator, h, float(p_mean), H, p_init, tol, int(maxiter), refresh,
         scale=_residual_scale(h, p_mean, dx, E_star),
+        precondition=bool(precondition) and operator.inverse_spectrum is not None,
     )
     return _finish(h, p, u, g, nit, converged, res, tol, p_mean, H, periodic,
                    volume_conservation, dx * dy_)
@@ -385,7 +391,7 @@ def _residual_scale(h, p_mean, dx, E_star):
     return s if s > 0 else p_mean * dx / E_star
 
 
-def _pk_box_cg(op, h, p_mean, H, p_init, tol, maxiter, refresh, scale):
+def _pk_box_cg(op, h, p_mean, H, p_init, tol, maxiter, refresh, scale, precondition):
     """Polonsky-Keer CG on the box ``[0, H]`` with load control; see the module docstring."""
     shape = h.shape
     n = h.size
@@ -400,6 +406,7 @@ def _pk_box_cg(op, h, p_mean, H, p_init, tol, maxiter, refresh, scale):
     q = np.empty(shape)
     g = np.empty(shape)
     t = np.zeros(shape)
+    ga = np.empty(shape) if precondition else None
     ph = op.forward(p)
     u = op.backward(ph)
     exact = True
@@ -442,13 +449,20 @@ def _pk_box_cg(op, h, p_mean, H, p_init, tol, maxiter, refresh, scale):
             best, it_best = np.inf, nit
             continue
         nit += 1
-        gt = _k.direction(g.ravel(), pf, pmax, delta * G / G_old, t.ravel())
+        if precondition:
+            # z = C^-1 g on the free and violating elements (Vollebregt 2014 style)
+            _k.active_gap(g.ravel(), pf, pmax, ga.ravel())
+            z = op.apply_inverse(ga)
+            G = _k.dot_free(g.ravel(), z.ravel(), pf, pmax)
+        else:
+            z = g
+        gt = _k.direction(z.ravel(), g.ravel(), pf, pmax, delta * G / G_old, t.ravel())
         G_old = G if G > 0 else 1.0
         th = op.forward(t)
         tKt = op.energy(th)
         tau = gt / tKt if tKt > 0 else 0.0
         released, changed, s_free, m_free, n_cap = _k.step_project(
-            pf, t.ravel(), g.ravel(), tau, pmax, q.ravel()
+            pf, t.ravel(), g.ravel(), z.ravel(), tau, pmax, q.ravel()
         )
         delta = 0.0 if released else 1.0
         rest = target - (0.0 if H is None else H * n_cap)
