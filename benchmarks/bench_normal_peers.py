@@ -168,6 +168,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
 
     peers = {"tamaas": available("tamaas"), "contactmechanics": available("ContactMechanics")}
+    solve_normal(self_affine(32), L / 32, E_STAR, 1e8, H=H)  # load the numba kernels
     rows = []
     for n in list(args.sizes) + list(args.ours_only):
         h = self_affine(n)

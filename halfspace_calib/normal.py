@@ -62,6 +62,8 @@ __all__ = [
     "NormalResult",
     "composite_heights",
     "composite_modulus",
+    "estimate_memory",
+    "project_box_sum",
     "solve_normal",
     "solve_normal_pair",
 ]
