@@ -44,13 +44,16 @@ H = 800e6
 RESULTS = Path(__file__).resolve().parent / "results"
 
 
-def self_affine(n, seed=1, rq=1e-6, hurst=0.8):
-    """Periodic self-affine Gaussian surface, PSD ~ q^-(2 + 2 Hurst) down to the grid scale."""
+def self_affine(n, seed=1, rq=1e-6, hurst=0.8, kmax=None):
+    """Periodic self-affine Gaussian surface, PSD ~ q^-(2 + 2 Hurst) down to the grid scale
+    (or, with ``kmax``, band-limited to at most ``kmax`` wavelengths per patch side)."""
     rng = np.random.default_rng(seed)
     qx = np.fft.fftfreq(n)[:, None]
     qy = np.fft.rfftfreq(n)[None, :]
     q = np.hypot(qx, qy)
     amp = np.where(q > 0, np.where(q > 0, q, 1.0) ** (-(1 + hurst)), 0.0)
+    if kmax is not None:
+        amp[q * n > kmax] = 0.0
     spec = amp * (rng.standard_normal(q.shape) + 1j * rng.standard_normal(q.shape))
     h = np.fft.irfft2(spec, s=(n, n))
     return h * (rq / h.std())
@@ -67,12 +70,13 @@ def fft_pair_time(shape, workers, repeat=5):
     return best
 
 
-def run_ours(h, p_mean, capped, tol, workers):
+def run_ours(h, p_mean, capped, tol, workers, precondition=True):
     n = h.shape[0]
     t0 = time.perf_counter()
     op = normal_operator(h.shape, L / n, E_STAR, periodic=True, workers=workers)
     t1 = time.perf_counter()
-    r = solve_normal(h, L / n, E_STAR, p_mean, H=H if capped else None, tol=tol, operator=op)
+    r = solve_normal(h, L / n, E_STAR, p_mean, H=H if capped else None, tol=tol, operator=op,
+                     precondition=precondition)
     t2 = time.perf_counter()
     return dict(p=r.pressure, alpha=r.alpha, nit=r.nit, wall=t2 - t0, solve=t2 - t1,
                 converged=r.converged)
@@ -116,6 +120,7 @@ def run_tamaas(h, p_mean, capped, tol):
         else:
             solver = tm.PolonskyKeerRey(model, h.copy(), tol)
         solver.setDumpFrequency(1)
+        solver.setMaxIterations(100000)
         t0 = time.perf_counter()
         err = solver.solve(p_mean)
         wall = time.perf_counter() - t0
@@ -164,18 +169,26 @@ def main(argv=None):
     ap.add_argument("--tamaas-capped-max", type=int, default=0,
                     help="largest grid for Tamaas KatoSaturated (0: skip; >200 s at 128^2)")
     ap.add_argument("--workers", type=int, default=1, help="threads for our FFTs")
+    ap.add_argument("--no-precondition", action="store_true",
+                    help="run ours as the plain Polonsky-Keer iteration")
+    ap.add_argument("--cases", nargs="+", default=["el", "H"], choices=["el", "H"],
+                    help="elastic (el) and/or capped at H = 800 MPa (H)")
+    ap.add_argument("--peers", nargs="*", default=["tamaas", "contactmechanics"],
+                    help="peers to run (default both)")
     ap.add_argument("--out", default="normal_peers")
     args = ap.parse_args(argv)
 
-    peers = {"tamaas": available("tamaas"), "contactmechanics": available("ContactMechanics")}
+    peers = {name: available({"tamaas": "tamaas", "contactmechanics": "ContactMechanics"}[name])
+             for name in args.peers}
     solve_normal(self_affine(32), L / 32, E_STAR, 1e8, H=H)  # load the numba kernels
     rows = []
     for n in list(args.sizes) + list(args.ours_only):
         h = self_affine(n)
         pair = fft_pair_time((n, n), args.workers)
         for p_mean in args.loads:
-            for capped in (False, True):
-                ours = run_ours(h, p_mean, capped, args.tol, args.workers)
+            for capped in [c == "H" for c in args.cases]:
+                ours = run_ours(h, p_mean, capped, args.tol, args.workers,
+                                not args.no_precondition)
                 row = dict(n=n, p_mean_MPa=p_mean / 1e6, capped=capped, fft_pair_s=pair,
                            ours_alpha=ours["alpha"], ours_nit=ours["nit"],
                            ours_wall_s=ours["wall"], ours_converged=ours["converged"],

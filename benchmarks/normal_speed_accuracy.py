@@ -42,10 +42,13 @@ def main(argv=None):
     ap.add_argument("--loads", type=float, nargs="+", default=[300e6])
     ap.add_argument("--elastic", action="store_true", help="also the elastic case")
     ap.add_argument("--workers", type=int, default=1)
+    ap.add_argument("--kmax", type=int, default=None,
+                    help="band-limit the surface to kmax wavelengths per side (default: "
+                         "roughness down to the finest grid)")
     ap.add_argument("--out", default="normal_speed_accuracy")
     args = ap.parse_args(argv)
 
-    fine = self_affine(args.finest)
+    fine = self_affine(args.finest, kmax=args.kmax)
     sizes = []
     n = args.coarsest
     while n <= args.finest:

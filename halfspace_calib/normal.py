@@ -356,7 +356,8 @@ def solve_normal(
     precondition : bool
         Precondition the CG by the inverse of the continuous Green's function,
         ``E_star |q| / 2`` (one extra FFT pair per iteration, several times fewer iterations);
-        False gives the plain Polonsky-Keer iteration.
+        False gives the plain Polonsky-Keer iteration. Needs ``operator.inverse_spectrum``
+        (set by :func:`~halfspace_calib.influence.normal_operator`); ignored without it.
     max_memory : float
         Refuse (``ValueError``) grids whose estimated memory exceeds this many bytes.
     workers : int, optional
