@@ -390,3 +390,21 @@ def test_project_box_sum_is_the_projection():
         assert np.all(d[x == 0] <= lam + 1e-12)
         if H is not None:
             assert np.all(d[x >= ub] >= lam - 1e-12)
+
+
+def test_rectangular_elements_transpose_symmetry():
+    """2a x 2b elements: transposing the surface and swapping dx, dy transposes the answer."""
+    h = rough_surface(48, 13)[:, :30]
+    for periodic in (True, False):
+        a = solve_normal(h, 1e-5, E_STAR, 2e8, dy=2.5e-5, H=6e8, periodic=periodic, tol=1e-10)
+        b = solve_normal(h.T, 2.5e-5, E_STAR, 2e8, dy=1e-5, H=6e8, periodic=periodic, tol=1e-10)
+        assert a.converged and b.converged
+        np.testing.assert_allclose(a.pressure, b.pressure.T, atol=1e-6 * 2e8)
+        assert a.alpha == b.alpha
+
+
+def test_tiny_load_single_asperity():
+    h = rough_surface(32, 14)
+    res = solve_normal(h, 1e-5, E_STAR, 1.0, H=H_DC04)
+    assert res.converged and res.alpha == 1 / h.size
+    assert res.pressure.flat[np.argmax(h)] == pytest.approx(h.size * 1.0)
