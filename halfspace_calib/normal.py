@@ -34,7 +34,7 @@ Three modifications make it fast and robust:
 - preconditioning (``precondition=True``, in the spirit of Vollebregt, J. Optim. Theory Appl.
   161, 2014): the gap on the free and violating elements is multiplied in Fourier space by
   ``E_star |q| / 2``, the inverse of the continuous Green's function, before it enters the CG
-  recurrence and the release step (3-5x fewer iterations on rough surfaces for one more FFT
+  recurrence and the release step (2-6x fewer iterations on rough surfaces for one more FFT
   pair per iteration);
 - the CG direction is centred on the free set (zero sum), so a CG step keeps the load and the
   step length ``tau = g.t / t.Ct`` follows from the spectrum of ``t`` alone (Parseval,
