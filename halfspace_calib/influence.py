@@ -304,7 +304,7 @@ class InfluenceOperator:
         """``C * p`` for a field with few non-zeros, by direct summation of kernel columns.
 
         Costs ``O(len(values) * Nx * Ny)``; cheaper than :meth:`apply` for a handful of
-        elements. Used by the solver for the small projection corrections.
+        elements (e.g. the response to a few point loads).
         """
         nx, ny = self.shape
         mx, my = self.fft_shape

@@ -224,8 +224,8 @@ def _restore_load(p, target, H):
     """Scale the sub-cap pressures so that ``sum(p) = target`` while keeping ``p <= H``.
 
     Returns ``(p_new, c)``: elements at the cap stay there, positive ones below it are scaled
-    by ``c`` (those that would pass ``H`` are capped). Falls back to a uniform shift over all
-    elements, clipped to ``[0, H]`` (``c = None``), when scaling cannot carry the load.
+    by ``c`` (those that would pass ``H`` are capped). Falls back to the Euclidean projection
+    :func:`project_box_sum` (``c = None``) when scaling cannot carry the load.
     """
     if H is None:
         s = p.sum()
@@ -284,13 +284,6 @@ def project_box_sum(y, target, H=None):
     if free.any():
         out[free] += (target - out.sum()) / np.count_nonzero(free)
     return out
-
-
-def _kkt_violation(g, p, H):
-    at_zero = p <= 0
-    at_cap = (p >= H) if H is not None else np.zeros_like(at_zero)
-    r = np.where(at_zero, np.minimum(g, 0.0), g)
-    return np.where(at_cap, np.maximum(g, 0.0), r)
 
 
 def _shift(g_raw, p, H, free=None):
