@@ -314,6 +314,7 @@ def solve_normal(
     operator: InfluenceOperator | None = None,
     refresh: int = 32,
     precondition: bool = True,
+    single: bool = False,
     max_memory: float = 8 * 2**30,
     workers: int | None = None,
 ) -> NormalResult:
@@ -356,6 +357,10 @@ def solve_normal(
         ``E_star |q| / 2`` (one extra FFT pair per iteration, several times fewer iterations);
         False gives the plain Polonsky-Keer iteration. Needs ``operator.inverse_spectrum``
         (set by :func:`~halfspace_calib.influence.normal_operator`); ignored without it.
+    single : bool
+        Run the FFTs in single precision (measured speed-accuracy trade, see the docs; use with
+        ``tol >= 1e-5``: roundoff limits the residual to about 1e-6). Element-wise work stays
+        in double precision.
     max_memory : float
         Refuse (``ValueError``) grids whose estimated memory exceeds this many bytes.
     workers : int, optional
@@ -379,7 +384,7 @@ def solve_normal(
             f"{operator.shape} and periodic={operator.periodic}"
         )
     p, u, g, nit, converged, res = _pk_box_cg(
-        operator, h, float(p_mean), H, p_init, tol, int(maxiter), refresh,
+        operator.single() if single else operator, h, float(p_mean), H, p_init, tol, int(maxiter), refresh,
         scale=_residual_scale(h, p_mean, dx, E_star),
         precondition=bool(precondition) and operator.inverse_spectrum is not None,
     )

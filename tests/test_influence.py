@@ -198,3 +198,15 @@ def test_preconditioner_inverts_periodic_operator():
     assert np.vdot(opn.apply_inverse(a), b) == pytest.approx(np.vdot(a, opn.apply_inverse(b)),
                                                              rel=1e-10)
     assert np.vdot(opn.apply_inverse(a), a) > 0
+
+
+def test_single_precision_operator():
+    rng = np.random.default_rng(7)
+    for periodic in (True, False):
+        op = normal_operator((20, 16), 1e-6, E_STAR, periodic=periodic)
+        s = op.single()
+        p = rng.random((20, 16)) * 1e8
+        u, us = op.apply(p), s.backward(s.forward(p))
+        assert us.dtype == np.float64 and s.forward(p).dtype == np.complex64
+        np.testing.assert_allclose(us, u, rtol=2e-6, atol=2e-6 * np.abs(u).max())
+        assert op.real_dtype == np.float64  # the original is unchanged

@@ -408,3 +408,15 @@ def test_tiny_load_single_asperity():
     res = solve_normal(h, 1e-5, E_STAR, 1.0, H=H_DC04)
     assert res.converged and res.alpha == 1 / h.size
     assert res.pressure.flat[np.argmax(h)] == pytest.approx(h.size * 1.0)
+
+
+def test_single_precision_fft_option():
+    h = rough_surface(64, 15)
+    kw = dict(dx=2.11e-3 / 64, E_star=E_STAR, p_mean=300e6)
+    for H in (None, H_DC04):
+        ref = solve_normal(h, H=H, tol=1e-10, **kw)
+        s = solve_normal(h, H=H, tol=1e-6, single=True, **kw)
+        assert s.converged and s.residual < 1e-6
+        assert abs(s.alpha - ref.alpha) < 1e-3
+        assert np.linalg.norm(s.pressure - ref.pressure) / np.linalg.norm(ref.pressure) < 1e-4
+        assert s.pressure.dtype == np.float64 and s.pressure.max() <= (H or np.inf)
