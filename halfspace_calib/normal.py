@@ -359,7 +359,7 @@ def solve_normal(
         (set by :func:`~halfspace_calib.influence.normal_operator`); ignored without it.
     single : bool
         Run the FFTs in single precision (measured speed-accuracy trade, see the docs; use with
-        ``tol >= 1e-5``: roundoff limits the residual to about 1e-6). Element-wise work stays
+        ``tol >= 1e-6``, enforced: roundoff limits the residual to about 1e-7). Element-wise work stays
         in double precision.
     max_memory : float
         Refuse (``ValueError``) grids whose estimated memory exceeds this many bytes.
@@ -373,6 +373,8 @@ def solve_normal(
     h, p_init = _validate(
         heights, dx, dy, E_star, p_mean, H, tol, maxiter, p_init, max_memory, periodic
     )
+    if single and tol < 1e-6:
+        raise ValueError(f"tol must be >= 1e-6 with single=True (roundoff floor), got {tol!r}")
     dy_ = dx if dy is None else dy
     if operator is None:
         operator = normal_operator(

@@ -420,3 +420,5 @@ def test_single_precision_fft_option():
         assert abs(s.alpha - ref.alpha) < 1e-3
         assert np.linalg.norm(s.pressure - ref.pressure) / np.linalg.norm(ref.pressure) < 1e-4
         assert s.pressure.dtype == np.float64 and s.pressure.max() <= (H or np.inf)
+    with pytest.raises(ValueError, match="single"):
+        solve_normal(h, tol=1e-8, single=True, **kw)
