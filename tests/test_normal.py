@@ -190,14 +190,18 @@ def test_alpha_tends_to_one_near_hardness():
 
 
 def test_elastic_rough_periodic_equals_exact_recurrence():
-    """The one-FFT-per-iteration recurrence gives the same field as exact recomputation."""
+    """The spectral recurrence gives the same field as exact recomputation, and the
+    preconditioned CG the same as the plain Polonsky-Keer iteration, in fewer iterations."""
     h = rough_surface(64, 4)
     kw = dict(dx=2.11e-3 / 64, E_star=E_STAR, p_mean=300e6, tol=1e-10)
     for H in (None, H_DC04):
         fast = solve_normal(h, H=H, **kw)
         exact = solve_normal(h, H=H, refresh=1, **kw)
-        assert fast.converged and exact.converged
+        plain = solve_normal(h, H=H, precondition=False, **kw)
+        assert fast.converged and exact.converged and plain.converged
         np.testing.assert_allclose(fast.pressure, exact.pressure, atol=1e-6 * 300e6)
+        np.testing.assert_allclose(plain.pressure, fast.pressure, atol=1e-6 * 300e6)
+        assert fast.nit < plain.nit
 
 
 def test_volume_conservation_and_deformed_surface():
@@ -324,3 +328,114 @@ def test_volume_conserving_lift_water_filling():
     lift, rest = volume_conserving_lift(gap, 10.0)  # more than the valleys hold
     np.testing.assert_array_equal(lift, gap)
     assert rest == pytest.approx(2.5)
+
+
+# ----------------------------------------------------------------------------- numba kernels
+def _kernel_data(seed, n=500):
+    rng = np.random.default_rng(seed)
+    H = 1.0
+    p = rng.random(n) * 1.4 - 0.2
+    p = np.clip(p, 0.0, H)  # a mix of zeros, caps and free values
+    return rng, H, p, rng.standard_normal(n), rng.standard_normal(n), rng.standard_normal(n)
+
+
+@pytest.mark.parametrize("pmax_is_inf", [False, True])
+def test_kernels_against_numpy(pmax_is_inf):
+    from halfspace_calib import _kernels as K
+
+    rng, H, p, u, h, t0 = _kernel_data(1)
+    pmax = np.inf if pmax_is_inf else H
+    free = (p > 0) & (p < pmax)
+    s, nf = K.free_gap_sum(u, h, p, pmax)
+    assert nf == free.sum() and s == pytest.approx((u - h)[free].sum(), rel=1e-12)
+
+    g = np.empty_like(u)
+    viol, G = K.gap_and_residual(u, h, p, pmax, 0.3, g)
+    g_ref = u - h + 0.3
+    np.testing.assert_allclose(g, g_ref, rtol=1e-15)
+    r = np.where(p <= 0, np.minimum(g_ref, 0), np.where(p >= pmax, np.maximum(g_ref, 0), g_ref))
+    assert viol == pytest.approx(np.sum(r**2), rel=1e-12)
+    assert G == pytest.approx(np.sum(g_ref[free] ** 2), rel=1e-12)
+
+    t = t0.copy()
+    z = rng.standard_normal(p.size)
+    gt = K.direction(z, g, p, pmax, 0.7, t)
+    t_ref = np.where(free, z + 0.7 * t0, 0.0)
+    t_ref[free] -= t_ref[free].mean()
+    np.testing.assert_allclose(t, t_ref, atol=1e-14)
+    assert gt == pytest.approx(np.dot(g, t_ref), rel=1e-12)
+
+    q = np.empty_like(p)
+    tau = 0.2
+    released, changed, sfree, mfree, ncap = K.step_project(p, t, g, z, tau, pmax, q)
+    raw = p - tau * t
+    rel = ((p <= 0) & (g < 0)) | ((p >= pmax) & (g > 0))
+    q_ref = np.clip(np.where(rel, p - tau * z, raw), 0.0, pmax)
+    np.testing.assert_allclose(q, q_ref, rtol=1e-15)
+    fq = (q_ref > 0) & (q_ref < pmax)
+    assert released == rel.any() and changed == bool(np.any(q_ref != raw))
+    assert sfree == pytest.approx(q_ref[fq].sum(), rel=1e-12)
+    assert mfree == q_ref[fq].max() and ncap == np.sum(q_ref >= pmax)
+
+    q2 = q.copy()
+    K.scale_free(q2, 0.9, pmax)
+    np.testing.assert_allclose(q2, np.where(fq, 0.9 * q, q), rtol=1e-15)
+
+    ga = np.empty_like(g)
+    K.active_gap(g, p, pmax, ga)
+    np.testing.assert_array_equal(ga, np.where(free | rel, g, 0.0))
+    assert K.dot_free(g, z, p, pmax) == pytest.approx(np.dot(g[free], z[free]), rel=1e-12)
+
+
+def test_project_box_sum_is_the_projection():
+    from halfspace_calib.normal import project_box_sum
+
+    rng = np.random.default_rng(12)
+    y = rng.standard_normal(40)
+    for H in (None, 0.5):
+        target = 7.0
+        x = project_box_sum(y, target, H)
+        ub = np.inf if H is None else H
+        assert x.sum() == pytest.approx(target, rel=1e-13)
+        assert x.min() >= 0 and x.max() <= ub
+        # optimality: no feasible pairwise exchange reduces |x - y|^2 (KKT of the projection):
+        # y - x is constant on free elements, <= it at zeros, >= it at the cap
+        d = y - x
+        free = (x > 0) & (x < ub)
+        lam = d[free].mean()
+        np.testing.assert_allclose(d[free], lam, atol=1e-12)
+        assert np.all(d[x == 0] <= lam + 1e-12)
+        if H is not None:
+            assert np.all(d[x >= ub] >= lam - 1e-12)
+
+
+def test_rectangular_elements_transpose_symmetry():
+    """2a x 2b elements: transposing the surface and swapping dx, dy transposes the answer."""
+    h = rough_surface(48, 13)[:, :30]
+    for periodic in (True, False):
+        a = solve_normal(h, 1e-5, E_STAR, 2e8, dy=2.5e-5, H=6e8, periodic=periodic, tol=1e-10)
+        b = solve_normal(h.T, 2.5e-5, E_STAR, 2e8, dy=1e-5, H=6e8, periodic=periodic, tol=1e-10)
+        assert a.converged and b.converged
+        np.testing.assert_allclose(a.pressure, b.pressure.T, atol=1e-6 * 2e8)
+        assert a.alpha == b.alpha
+
+
+def test_tiny_load_single_asperity():
+    h = rough_surface(32, 14)
+    res = solve_normal(h, 1e-5, E_STAR, 1.0, H=H_DC04)
+    assert res.converged and res.alpha == 1 / h.size
+    assert res.pressure.flat[np.argmax(h)] == pytest.approx(h.size * 1.0)
+
+
+def test_single_precision_fft_option():
+    h = rough_surface(64, 15)
+    kw = dict(dx=2.11e-3 / 64, E_star=E_STAR, p_mean=300e6)
+    for H in (None, H_DC04):
+        ref = solve_normal(h, H=H, tol=1e-10, **kw)
+        s = solve_normal(h, H=H, tol=1e-6, single=True, **kw)
+        assert s.converged and s.residual < 1e-6
+        assert abs(s.alpha - ref.alpha) < 1e-3
+        assert np.linalg.norm(s.pressure - ref.pressure) / np.linalg.norm(ref.pressure) < 1e-4
+        assert s.pressure.dtype == np.float64 and s.pressure.max() <= (H or np.inf)
+    with pytest.raises(ValueError, match="single"):
+        solve_normal(h, tol=1e-8, single=True, **kw)
