@@ -31,6 +31,7 @@ from ._kernels import (
     smooth_min_scalar,
     traction_array,
     traction_array_parallel,
+    traction_row,
     traction_scalar,
 )
 
@@ -51,5 +52,6 @@ __all__ = [
     "smooth_min_scalar",
     "traction_array",
     "traction_array_parallel",
+    "traction_row",
     "traction_scalar",
 ]

@@ -56,8 +56,12 @@ class HistoryState:
         return v
 
     def committed_array(self):
-        """The committed history array itself (writable, no copy), for kernels. Do not modify."""
+        """The committed history array itself (no copy), for kernels that only read it."""
         return self._committed
+
+    def trial_array(self):
+        """The trial history array itself (no copy), for kernels that write ``max(p_hist, p)``."""
+        return self._trial
 
     @property
     def p_hist_trial(self):
@@ -72,10 +76,6 @@ class HistoryState:
         if p.shape != self._committed.shape:
             raise ValueError(f"p must have shape {self._committed.shape}, got {p.shape}")
         np.maximum(self._committed, np.where(p > 0, p, 0.0), out=self._trial)
-
-    def set_trial(self, p_trial):
-        """Set the trial history directly (used by the fused traction kernel)."""
-        self._trial[:] = np.maximum(self._committed, _check_hist(p_trial))
 
     def commit(self):
         """Accept the increment: the trial history becomes the committed one."""

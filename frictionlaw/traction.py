@@ -99,7 +99,9 @@ def traction_update(law, p, slip_increment, traction_old, k_t, state=None, *, pa
     status = np.empty(n, np.int8)
     dt_ddu = np.empty((n, d, d))
     dt_dp = np.empty((n, d))
-    p_trial = np.empty(n)
+    history = state is not None and getattr(law, "uses_history", False)
+    # the kernel writes the trial history max(p_hist, p) straight into the state
+    p_trial = state.trial_array() if history else np.empty(n)
     if parallel is None:
         parallel = n >= PARALLEL_THRESHOLD
     kern = kernels().traction_array_parallel if parallel else kernels().traction_array
@@ -117,8 +119,6 @@ def traction_update(law, p, slip_increment, traction_old, k_t, state=None, *, pa
         dt_dp,
         p_trial,
     )
-    if state is not None and getattr(law, "uses_history", False):
-        state.set_trial(p_trial)
     if squeeze:
         return TractionResult(t_new[:, 0], status, dt_ddu[:, 0, 0], dt_dp[:, 0])
     return TractionResult(t_new, status, dt_ddu, dt_dp)

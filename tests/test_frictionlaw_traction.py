@@ -140,3 +140,32 @@ def test_bad_input_messages():
         fl.Coulomb(-0.1)
     with pytest.raises(ValueError, match="law must be one of"):
         fl.law_from_name("amontons")
+
+
+def test_row_and_scalar_kernels_match_the_array_kernel():
+    rng = np.random.default_rng(5)
+    p, du, t_old, kt = random_case(rng, 300, 2)
+    law = fl.SBMFLaw(P)
+    ph = rng.uniform(0, 1.5, p.size) * H
+    res = fl.traction_update(law, p, du, t_old, kt, fl.HistoryState(p_hist=ph))
+    # row kernel over the host's 2-D arrays, node by node
+    t_new, dtd, dtp = np.empty_like(du), np.empty((p.size, 2, 2)), np.empty_like(du)
+    st = [
+        kernels.traction_row(
+            law.code, law.coeffs, p[i], ph[i], du, t_old, kt[i], t_new, dtd, dtp, i
+        )
+        for i in range(p.size)
+    ]
+    assert np.array_equal(st, res.status)
+    for a, b in ((t_new, res.traction), (dtd, res.dt_dslip), (dtp, res.dt_dp)):
+        np.testing.assert_array_equal(a, b)
+    # 1-D scalar kernel, one node at a time
+    for i in range(0, p.size, 7):
+        t1, d1, q1 = np.empty(2), np.empty((2, 2)), np.empty(2)
+        s1 = kernels.traction_scalar(
+            law.code, law.coeffs, p[i], ph[i], du[i].copy(), t_old[i].copy(), kt[i], t1, d1, q1
+        )
+        assert s1 == res.status[i]
+        np.testing.assert_array_equal(t1, res.traction[i])
+        np.testing.assert_array_equal(d1, res.dt_dslip[i])
+        np.testing.assert_array_equal(q1, res.dt_dp[i])
