@@ -1,7 +1,7 @@
 """Speed against accuracy of the calibration: grid resolution and solver tolerance.
 
-The same physical surfaces (generated on a 512 x 512 "measurement" grid and block-averaged to the
-solver grid) are calibrated at 64, 128, 256 and 512 squared with two solver tolerances. For each run
+The same physical surfaces (generated on a 1024 x 1024 "measurement" grid and block-averaged to the
+solver grid) are calibrated at 64, 128, 256, 512 and 1024 squared with two solver tolerances. For each run
 the table gives C1, n1, C2, n2, the law's shear at 100, 300 and 600 MPa (first loading) and at
 100 MPa after loading to 600 MPa (reload), the deviation of those shears from the finest run, and
 the wall time.
@@ -28,9 +28,9 @@ PROBE_NAMES = ["tau_100", "tau_300", "tau_600", "tau_100_after_600"]
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--grids", default="64,128,256,512")
+    ap.add_argument("--grids", default="64,128,256,512,1024")
     ap.add_argument("--tols", default="1e-6,1e-8")
-    ap.add_argument("--measured-n", type=int, default=512)
+    ap.add_argument("--measured-n", type=int, default=1024)
     ap.add_argument("--workers", type=int, default=1)
     args = ap.parse_args(argv)
     grids = [int(g) for g in args.grids.split(",")]
