@@ -254,8 +254,9 @@ class InfluenceOperator:
         if p.shape != self.shape:
             raise ValueError(f"p must have shape {self.shape}, got {p.shape}")
         nx, ny = self.shape
-        ph = sfft.rfft2(p, s=self.fft_shape, workers=self.workers)
-        ph *= self.spectrum
+        # spectrum first: a complex product rounds differently with its operands swapped, and
+        # this order keeps the tangential solver's iterates as they were before it used this class
+        ph = self.spectrum * sfft.rfft2(p, s=self.fft_shape, workers=self.workers)
         u = sfft.irfft2(ph, s=self.fft_shape, workers=self.workers, overwrite_x=True)
         if self.periodic:
             return u
