@@ -2,26 +2,20 @@
 
 from __future__ import annotations
 
-import csv
 import json
 from pathlib import Path
 
 import numpy as np
 
+from ._output import write_csv
+
 __all__ = ["write_outputs"]
-
-
-def _write_csv(path, header, rows):
-    with open(path, "w", newline="", encoding="utf-8") as fh:
-        w = csv.writer(fh)
-        w.writerow(header)
-        w.writerows(rows)
 
 
 def write_tables(cal, out):
     """``loading.csv``, ``reload.csv`` and ``roughness.csv`` (SI units: Pa, m)."""
     lv = cal.sweeps.levels
-    _write_csv(
+    write_csv(
         out / "loading.csv",
         [
             "p_mean",
@@ -47,7 +41,7 @@ def write_tables(cal, out):
             for v in lv
         ],
     )
-    _write_csv(
+    write_csv(
         out / "reload.csv",
         [
             "p_hist",
@@ -78,7 +72,7 @@ def write_tables(cal, out):
     h0 = np.asarray(wp.heights) - np.mean(wp.heights)
     rows = [[0.0, float(np.mean(np.abs(h0))), float(np.sqrt(np.mean(h0 * h0)))]]
     rows += [[v["p_hist"], v["Ra_after"], v["Rq_after"]] for v in lv]
-    _write_csv(out / "roughness.csv", ["p_mean", "Ra", "Rq"], rows)
+    write_csv(out / "roughness.csv", ["p_mean", "Ra", "Rq"], rows)
 
 
 def write_plots(cal, out):
