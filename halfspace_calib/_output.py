@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import csv
 
-__all__ = ["write_csv"]
+__all__ = ["pyplot", "save_png", "write_csv"]
 
 
 def write_csv(path, header, rows):
@@ -13,3 +13,22 @@ def write_csv(path, header, rows):
         w = csv.writer(fh)
         w.writerow(header)
         w.writerows(rows)
+
+
+def pyplot():
+    """``matplotlib.pyplot`` on the non-interactive Agg backend (imported on first use)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def save_png(fig, path):
+    """Lay out ``fig``, write it to ``path`` at 120 dpi and close it."""
+    import matplotlib.pyplot as plt
+
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)

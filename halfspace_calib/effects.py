@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from . import surfaces as _surf
-from ._output import write_csv
+from ._output import pyplot, save_png, write_csv
 from .geometric import fit_geo_ratio, geometric_sweep, measured_surfaces, write_geometric_outputs
 from .presliding import stiffness_power_law
 
@@ -305,10 +305,7 @@ def write_tangential_outputs(levels, summary, out_dir):
               [[r[k] for k in keys] for r in summary["rows"]])
     if not curves:
         return out
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     fig, ax = plt.subplots(figsize=(6, 4.2))
     for i, (p, t) in enumerate(curves):
@@ -318,9 +315,7 @@ def write_tangential_outputs(levels, summary, out_dir):
            title="Pre-sliding: mean tangential traction (Tresca cap, Eq. 18)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(out / "tangential_curves.png", dpi=120)
-    plt.close(fig)
+    save_png(fig, out / "tangential_curves.png")
 
     rows = summary["rows"]
     fig, ax = plt.subplots(figsize=(6, 4.2))
@@ -332,9 +327,7 @@ def write_tangential_outputs(levels, summary, out_dir):
            title="Interface tangential stiffness (penalty k_t)")
     ax.grid(alpha=0.3, which="both")
     ax.legend()
-    fig.tight_layout()
-    fig.savefig(out / "tangential_stiffness.png", dpi=120)
-    plt.close(fig)
+    save_png(fig, out / "tangential_stiffness.png")
     return out
 
 

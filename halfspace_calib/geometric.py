@@ -33,7 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from . import surfaces as _surf
-from ._output import write_csv
+from ._output import pyplot, save_png, write_csv
 from .inclined import tau_geo_from_surfaces
 from .normal import composite_modulus, solve_normal_pair
 from .tangential import tau_adh_full_sliding
@@ -406,10 +406,7 @@ def write_geometric_outputs(result, out_dir):
 
 
 def _plots(results, out):
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     marks = ["*", "o", "s", "^", "v", "D"]
     fig, ax = plt.subplots(figsize=(6, 4.2))
@@ -423,9 +420,7 @@ def _plots(results, out):
            title="Fig. 9: adhesive and geometric shear")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(out / "fig9_tau.png", dpi=120)
-    plt.close(fig)
+    save_png(fig, out / "fig9_tau.png")
 
     fig, ax = plt.subplots(figsize=(6, 4.2))
     for i, r in enumerate(results):
@@ -436,6 +431,4 @@ def _plots(results, out):
     ax.set_ylim(bottom=0)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(out / "fig10_ratio.png", dpi=120)
-    plt.close(fig)
+    save_png(fig, out / "fig10_ratio.png")

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._output import write_csv
+from ._output import pyplot, save_png, write_csv
 
 __all__ = ["write_outputs"]
 
@@ -77,10 +77,7 @@ def write_tables(cal, out):
 
 def write_plots(cal, out):
     """PNG plots: alpha vs p with Eq. 24, reload curves with Eq. 25, Ra/Rq vs p, pressure map."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     from frictionlaw import alpha_first, alpha_reload
 
@@ -98,9 +95,7 @@ def write_plots(cal, out):
     )
     ax.grid(alpha=0.3)
     ax.legend()
-    fig.tight_layout()
-    fig.savefig(out / "alpha_first_loading.png", dpi=120)
-    plt.close(fig)
+    save_png(fig, out / "alpha_first_loading.png")
 
     fig, ax = plt.subplots(figsize=(6, 4.2))
     ax.plot(pp / MPa, alpha_first(pp, P), "k-", lw=1, label="Eq. 24 (first loading)")
@@ -122,9 +117,7 @@ def write_plots(cal, out):
     )
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(out / "alpha_reload.png", dpi=120)
-    plt.close(fig)
+    save_png(fig, out / "alpha_reload.png")
 
     lv = cal.sweeps.levels
     fig, ax = plt.subplots(figsize=(6, 4.2))
@@ -138,9 +131,7 @@ def write_plots(cal, out):
     )
     ax.grid(alpha=0.3)
     ax.legend()
-    fig.tight_layout()
-    fig.savefig(out / "roughness.png", dpi=120)
-    plt.close(fig)
+    save_png(fig, out / "roughness.png")
 
     maps = [v for v in lv if "pressure_map" in v]
     if maps:
@@ -155,9 +146,7 @@ def write_plots(cal, out):
             ylabel="x [mm]",
             title=f"Contact pressure at p_mean = {v['p_hist'] / MPa:.0f} MPa",
         )
-        fig.tight_layout()
-        fig.savefig(out / "pressure_map.png", dpi=120)
-        plt.close(fig)
+        save_png(fig, out / "pressure_map.png")
 
 
 def write_outputs(cal, out):

@@ -54,7 +54,7 @@ from pathlib import Path
 import numpy as np
 
 from . import surfaces as _surf
-from ._output import write_csv
+from ._output import pyplot, save_png, write_csv
 from .influence import normal_operator
 from .jobs import run_jobs
 from .normal import composite_modulus, solve_normal_pair
@@ -600,10 +600,7 @@ def write_sliding_outputs(result, out_dir):
 
 
 def _plots(results, out):
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     figs = [
         ("fig11_u0.png", "u0", 1e6, "global approach u0 (um)", "Fig. 11", False),
@@ -629,6 +626,4 @@ def _plots(results, out):
         ax.set_ylabel(ylabel)
         ax.set_title(f"{title} (sliding, Sec. 3.3)")
         ax.legend(fontsize=7)
-        fig.tight_layout()
-        fig.savefig(out / name, dpi=120)
-        plt.close(fig)
+        save_png(fig, out / name)
