@@ -12,61 +12,27 @@ from ._output import pyplot, save_png, write_csv
 __all__ = ["write_outputs"]
 
 
+# columns of one normal solve, in the loading and the reload table
+_SOLVE_COLUMNS = ["alpha", "converged", "nit", "residual", "max_pressure", "plastic_fraction"]
+
+
+def _solve_cells(rec):
+    """The :data:`_SOLVE_COLUMNS` cells of a loading or reload record (``converged`` as 0/1)."""
+    return [int(rec[k]) if k == "converged" else rec[k] for k in _SOLVE_COLUMNS]
+
+
 def write_tables(cal, out):
     """``loading.csv``, ``reload.csv`` and ``roughness.csv`` (SI units: Pa, m)."""
     lv = cal.sweeps.levels
     write_csv(
         out / "loading.csv",
-        [
-            "p_mean",
-            "alpha",
-            "converged",
-            "nit",
-            "residual",
-            "max_pressure",
-            "plastic_fraction",
-            "u0",
-        ],
-        [
-            [
-                v["p_hist"],
-                v["loading"]["alpha"],
-                int(v["loading"]["converged"]),
-                v["loading"]["nit"],
-                v["loading"]["residual"],
-                v["loading"]["max_pressure"],
-                v["loading"]["plastic_fraction"],
-                v["loading"]["u0"],
-            ]
-            for v in lv
-        ],
+        ["p_mean", *_SOLVE_COLUMNS, "u0"],
+        [[v["p_hist"], *_solve_cells(v["loading"]), v["loading"]["u0"]] for v in lv],
     )
     write_csv(
         out / "reload.csv",
-        [
-            "p_hist",
-            "p_mean",
-            "alpha",
-            "converged",
-            "nit",
-            "residual",
-            "max_pressure",
-            "plastic_fraction",
-        ],
-        [
-            [
-                v["p_hist"],
-                r["p_mean"],
-                r["alpha"],
-                int(r["converged"]),
-                r["nit"],
-                r["residual"],
-                r["max_pressure"],
-                r["plastic_fraction"],
-            ]
-            for v in lv
-            for r in v["reload"]
-        ],
+        ["p_hist", "p_mean", *_SOLVE_COLUMNS],
+        [[v["p_hist"], r["p_mean"], *_solve_cells(r)] for v in lv for r in v["reload"]],
     )
     wp = cal.sweeps.surfaces["workpiece"]
     h0 = np.asarray(wp.heights) - np.mean(wp.heights)
