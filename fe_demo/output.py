@@ -95,6 +95,14 @@ def _plt():
     return plt
 
 
+def _save(plt, fig, path):
+    """Lay out, write the PNG at 120 dpi, close the figure; returns ``path``."""
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
 def plot_force_stroke(path, histories, labels, title="Cylinder upsetting"):
     """Force against height reduction for one or more runs."""
     plt = _plt()
@@ -106,10 +114,7 @@ def plot_force_stroke(path, histories, labels, title="Cylinder upsetting"):
     ax.set_title(title)
     ax.grid(alpha=0.3)
     ax.legend()
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return _save(plt, fig, path)
 
 
 def plot_die_profile(path, profile, title="Along the die"):
@@ -126,10 +131,7 @@ def plot_die_profile(path, profile, title="Along the die"):
     ax.set_title(title)
     ax.grid(alpha=0.3)
     ax.legend()
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return _save(plt, fig, path)
 
 
 def plot_recontact(path, profile, title="Re-contact: friction limit with and without p_hist"):
@@ -152,10 +154,7 @@ def plot_recontact(path, profile, title="Re-contact: friction limit with and wit
         a.grid(alpha=0.3)
         a.legend()
     fig.suptitle(f"{title} (height reduction {100 * profile['height_reduction']:.2f} %)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return _save(plt, fig, path)
 
 
 def plot_law_comparison(path, results, title="Friction laws side by side"):
@@ -174,10 +173,7 @@ def plot_law_comparison(path, results, title="Friction laws side by side"):
         a.grid(alpha=0.3)
         a.legend()
     fig.suptitle(title)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return _save(plt, fig, path)
 
 
 def plot_ring_chart(path, chart, fe_curves=None, title="Ring compression calibration chart"):
@@ -201,10 +197,7 @@ def plot_ring_chart(path, chart, fe_curves=None, title="Ring compression calibra
     ax.grid(alpha=0.3)
     if fe_curves:
         ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return _save(plt, fig, path)
 
 
 def summary_table(rows):

@@ -222,6 +222,30 @@ def _check_inc(n):
     return n
 
 
+def _press(scene, model, axi, red, n_inc, law, mu, m, progress, snapshot_every, extra,
+           remesh_below):
+    """One-stage scene: press the die to ``(1 - red)`` of its height in ``n_inc`` increments."""
+    t0 = time.perf_counter()
+    z_end = model.z_die * (1.0 - red)
+    ok, msg, hist, snaps = _drive(
+        model, [(z_end, n_inc)], law, mu, m, progress, snapshot_every, extra, remesh_below
+    )
+    wall = time.perf_counter() - t0
+    info = {
+        "scene": scene,
+        "n_remesh": model.n_remesh,
+        "law": law,
+        "mu": mu,
+        "m": m,
+        "n_elements": axi.n_elements,
+        "n_dof": 2 * model.n_nodes,
+        "newton_iterations": model.n_newton,
+        "cutback_log": list(model.log),
+        "timings": model.timings.as_dict(),
+    }
+    return SceneResult(ok, msg, hist, model, wall, snaps, info)
+
+
 def run_upsetting(
     law="tresca",
     *,
@@ -255,25 +279,10 @@ def run_upsetting(
     factory = make_law_factory(law, mu=mu, m=m, tau_max=tau_max, params=params)
     axi = cylinder_mesh(diameter, height, nr, nz)
     model = FormingModel(axi, material, factory, options or SolverOptions())
-    t0 = time.perf_counter()
-    z_end = model.z_die * (1.0 - red)
-    ok, msg, hist, snaps = _drive(
-        model, [(z_end, n_inc)], law, mu, m, progress, snapshot_every, None, remesh_below
+    return _press(
+        "upsetting", model, axi, red, n_inc, law, mu, m, progress, snapshot_every, None,
+        remesh_below,
     )
-    wall = time.perf_counter() - t0
-    info = {
-        "scene": "upsetting",
-        "n_remesh": model.n_remesh,
-        "law": law,
-        "mu": mu,
-        "m": m,
-        "n_elements": axi.n_elements,
-        "n_dof": 2 * model.n_nodes,
-        "newton_iterations": model.n_newton,
-        "cutback_log": list(model.log),
-        "timings": model.timings.as_dict(),
-    }
-    return SceneResult(ok, msg, hist, model, wall, snaps, info)
 
 
 def run_ring(
@@ -318,25 +327,9 @@ def run_ring(
             "inner_diameter_min_change": (mdl.x[:, 0].min() - r0) / r0,
         }
 
-    t0 = time.perf_counter()
-    z_end = model.z_die * (1.0 - red)
-    ok, msg, hist, snaps = _drive(
-        model, [(z_end, n_inc)], law, mu, m, progress, snapshot_every, extra, remesh_below
+    return _press(
+        "ring", model, axi, red, n_inc, law, mu, m, progress, snapshot_every, extra, remesh_below
     )
-    wall = time.perf_counter() - t0
-    info = {
-        "scene": "ring",
-        "n_remesh": model.n_remesh,
-        "law": law,
-        "mu": mu,
-        "m": m,
-        "n_elements": axi.n_elements,
-        "n_dof": 2 * model.n_nodes,
-        "newton_iterations": model.n_newton,
-        "cutback_log": list(model.log),
-        "timings": model.timings.as_dict(),
-    }
-    return SceneResult(ok, msg, hist, model, wall, snaps, info)
 
 
 def run_multistage(

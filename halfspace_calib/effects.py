@@ -25,13 +25,13 @@ record carries ``skipped`` with the reason.
 
 from __future__ import annotations
 
-import csv
 import time
 from pathlib import Path
 
 import numpy as np
 
 from . import surfaces as _surf
+from ._output import pyplot, save_png, write_csv
 from .geometric import fit_geo_ratio, geometric_sweep, measured_surfaces, write_geometric_outputs
 from .presliding import stiffness_power_law
 
@@ -289,33 +289,23 @@ def summarize_tangential(levels):
     return out
 
 
-def _write_csv(path, header, rows):
-    with open(path, "w", newline="", encoding="utf-8") as fh:
-        w = csv.writer(fh)
-        w.writerow(header)
-        w.writerows(rows)
-
-
 def write_tangential_outputs(levels, summary, out_dir):
     """``tangential.csv`` (curves), ``tangential_stiffness.csv`` and two PNGs into ``out_dir``."""
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     curves = [(lv["p_hist"], lv["tangential"]) for lv in levels
               if lv.get("tangential") and "error" not in lv["tangential"]]
-    _write_csv(out / "tangential.csv", ["p_mean", "delta", "q_mean", "q_over_q_limit",
-                                         "slip_fraction"],
-               [[p, d, q, q / t["q_limit"], s] for p, t in curves
-                for d, q, s in zip(t["delta"], t["q_mean"], t["slip_fraction"], strict=True)])
+    write_csv(out / "tangential.csv", ["p_mean", "delta", "q_mean", "q_over_q_limit",
+                                        "slip_fraction"],
+              [[p, d, q, q / t["q_limit"], s] for p, t in curves
+               for d, q, s in zip(t["delta"], t["q_mean"], t["slip_fraction"], strict=True)])
     keys = ["p_mean", "alpha", "q_limit", "delta_full", "delta_stick", "k_t0", "k_eq", "k_sec",
             "converged"]
-    _write_csv(out / "tangential_stiffness.csv", keys,
-               [[r[k] for k in keys] for r in summary["rows"]])
+    write_csv(out / "tangential_stiffness.csv", keys,
+              [[r[k] for k in keys] for r in summary["rows"]])
     if not curves:
         return out
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     fig, ax = plt.subplots(figsize=(6, 4.2))
     for i, (p, t) in enumerate(curves):
@@ -325,9 +315,7 @@ def write_tangential_outputs(levels, summary, out_dir):
            title="Pre-sliding: mean tangential traction (Tresca cap, Eq. 18)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(out / "tangential_curves.png", dpi=120)
-    plt.close(fig)
+    save_png(fig, out / "tangential_curves.png")
 
     rows = summary["rows"]
     fig, ax = plt.subplots(figsize=(6, 4.2))
@@ -339,9 +327,7 @@ def write_tangential_outputs(levels, summary, out_dir):
            title="Interface tangential stiffness (penalty k_t)")
     ax.grid(alpha=0.3, which="both")
     ax.legend()
-    fig.tight_layout()
-    fig.savefig(out / "tangential_stiffness.png", dpi=120)
-    plt.close(fig)
+    save_png(fig, out / "tangential_stiffness.png")
     return out
 
 

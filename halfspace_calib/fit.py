@@ -332,6 +332,37 @@ def _start(cost, c_slope, n_bounds, c_bounds):
     return arg
 
 
+def _fit_c_n(model, p, alpha, w, H, cb, nb, names):
+    """Weighted (``w``) least squares of a law ``model(C, n)`` to ``alpha`` at ``p``.
+
+    ``cb``, ``nb`` bound ``C`` and ``n``. The start is the best point of :func:`_start` around
+    the slope ``C = max(alpha H / p)`` (``alpha1 <= p C1 / H``, tight at small ``p``;
+    ``alpha2 ~ p C2 / H`` at small ``p``). Returns the :class:`FitResult` fields as a dict,
+    the parameters under ``names``.
+    """
+
+    def residual(x):
+        return (model(*np.exp(x)) - alpha) * w
+
+    c_slope = float(np.max(alpha * H / p)) or 1.0
+    start = _start(lambda c, n: float(np.sum(((model(c, n) - alpha) * w) ** 2)), c_slope, nb, cb)
+    lb, ub = np.array([cb[0], nb[0]]), np.array([cb[1], nb[1]])
+    params, stderr, sol, at, msg = _solve(residual, start, lb, ub, names)
+    res = model(params[names[0]], params[names[1]]) - alpha
+    return dict(
+        params=params,
+        stderr=stderr,
+        residuals=res,
+        r_squared=_r_squared(res, alpha),
+        rmse=float(np.sqrt(np.mean(res**2))),
+        success=bool(sol.success),
+        message=msg,
+        nfev=int(sol.nfev),
+        at_bound=at,
+        H=H,
+    )
+
+
 def fit_first_loading(p, alpha, H, *, relative=False, C_bounds=C_BOUNDS, n_bounds=N_BOUNDS):
     """Fit ``C1, n1`` of Eq. 24, ``alpha1(p) = tanh((p C1 / H)**n1)**(1/n1)``.
 
@@ -370,26 +401,7 @@ def fit_first_loading(p, alpha, H, *, relative=False, C_bounds=C_BOUNDS, n_bound
     def model(c, n):
         return alpha_first(p, _law(H, c, n))
 
-    def residual(x):
-        return (model(*np.exp(x)) - alpha) * w
-
-    c_slope = float(np.max(alpha * H / p)) or 1.0  # alpha1 <= p C1 / H, tight at small p
-    start = _start(lambda c, n: float(np.sum(((model(c, n) - alpha) * w) ** 2)), c_slope, nb, cb)
-    lb, ub = np.array([cb[0], nb[0]]), np.array([cb[1], nb[1]])
-    params, stderr, sol, at, msg = _solve(residual, start, lb, ub, ("C1", "n1"))
-    res = model(params["C1"], params["n1"]) - alpha
-    return FirstLoadingFit(
-        params=params,
-        stderr=stderr,
-        residuals=res,
-        r_squared=_r_squared(res, alpha),
-        rmse=float(np.sqrt(np.mean(res**2))),
-        success=bool(sol.success),
-        message=msg,
-        nfev=int(sol.nfev),
-        at_bound=at,
-        H=H,
-    )
+    return FirstLoadingFit(**_fit_c_n(model, p, alpha, w, H, cb, nb, ("C1", "n1")))
 
 
 def fit_reload(
@@ -443,28 +455,13 @@ def fit_reload(
     def model(c, n):
         return alpha_reload(p, ph, _law(H, C1, n1, c, n, cont))
 
-    def residual(x):
-        return (model(*np.exp(x)) - alpha) * w
-
-    c_slope = float(np.max(alpha * H / p)) or 1.0  # alpha2 ~ p C2 / H at small p
-    start = _start(lambda c, n: float(np.sum(((model(c, n) - alpha) * w) ** 2)), c_slope, nb, cb)
-    lb, ub = np.array([cb[0], nb[0]]), np.array([cb[1], nb[1]])
-    params, stderr, sol, at, msg = _solve(residual, start, lb, ub, ("C2", "n2"))
-    res = model(params["C2"], params["n2"]) - alpha
+    fit = _fit_c_n(model, p, alpha, w, H, cb, nb, ("C2", "n2"))
+    params = fit["params"]
     p_hist = np.array([c.p_hist for c in cs])
     law = _law(H, C1, n1, params["C2"], params["n2"], cont)
     jump = np.atleast_1d(reload_jump(law, p_hist))  # m k = 1 here: the jump in alpha
     return ReloadFit(
-        params=params,
-        stderr=stderr,
-        residuals=res,
-        r_squared=_r_squared(res, alpha),
-        rmse=float(np.sqrt(np.mean(res**2))),
-        success=bool(sol.success),
-        message=msg,
-        nfev=int(sol.nfev),
-        at_bound=at,
-        H=H,
+        **fit,
         C1=C1,
         n1=n1,
         continuous=cont,

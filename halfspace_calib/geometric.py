@@ -26,7 +26,6 @@ surfaces", i.e. after sampling down; ``roughness_on="measured"`` puts it on the 
 
 from __future__ import annotations
 
-import csv
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -34,6 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from . import surfaces as _surf
+from ._output import pyplot, save_png, write_csv
 from .inclined import tau_geo_from_surfaces
 from .normal import composite_modulus, solve_normal_pair
 from .tangential import tau_adh_full_sliding
@@ -396,24 +396,17 @@ def write_geometric_outputs(result, out_dir):
         raise ValueError("result must be a GeometricResult, a GeometricStudy or a list of them")
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    with open(out / "geometric.csv", "w", newline="", encoding="utf-8") as fh:
-        w = csv.writer(fh)
-        w.writerow(CSV_COLUMNS)
-        for r in results:
-            for i in range(r.p_mean.size):
-                w.writerow([r.label, repr(float(r.p_mean[i])), repr(float(r.alpha[i])),
-                            repr(float(r.tau_adh[i])), repr(float(r.tau_geo[i])),
-                            repr(float(r.ratio[i])), repr(float(r.plastic_fraction[i])),
-                            int(r.converged[i])])
+    write_csv(out / "geometric.csv", CSV_COLUMNS,
+              [[r.label, repr(float(r.p_mean[i])), repr(float(r.alpha[i])),
+                repr(float(r.tau_adh[i])), repr(float(r.tau_geo[i])), repr(float(r.ratio[i])),
+                repr(float(r.plastic_fraction[i])), int(r.converged[i])]
+               for r in results for i in range(r.p_mean.size)])
     _plots(results, out)
     return out
 
 
 def _plots(results, out):
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     marks = ["*", "o", "s", "^", "v", "D"]
     fig, ax = plt.subplots(figsize=(6, 4.2))
@@ -427,9 +420,7 @@ def _plots(results, out):
            title="Fig. 9: adhesive and geometric shear")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(out / "fig9_tau.png", dpi=120)
-    plt.close(fig)
+    save_png(fig, out / "fig9_tau.png")
 
     fig, ax = plt.subplots(figsize=(6, 4.2))
     for i, r in enumerate(results):
@@ -440,6 +431,4 @@ def _plots(results, out):
     ax.set_ylim(bottom=0)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(out / "fig10_ratio.png", dpi=120)
-    plt.close(fig)
+    save_png(fig, out / "fig10_ratio.png")

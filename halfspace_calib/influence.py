@@ -137,14 +137,15 @@ class InfluenceOperator:
     shape : tuple of int
         Grid ``(Nx, Ny)`` of the pressure and displacement fields.
     fft_shape : tuple of int
-        FFT grid: ``shape`` when periodic, a fast length ``>= 2N - 1`` per axis otherwise.
+        FFT grid: ``shape`` when periodic, ``>= 2N - 1`` per axis otherwise (a fast length
+        when built by :meth:`from_coefficients`).
     periodic : bool
         Periodic (circular) or non-periodic (zero-padded, linear) convolution.
     spectrum : numpy.ndarray
         ``rfft2`` of the kernel on ``fft_shape`` (complex, cached).
     kernel : numpy.ndarray
         The real-space kernel on ``fft_shape`` in FFT order (offset ``(0, 0)`` at index
-        ``(0, 0)``); used by :meth:`apply_sparse`.
+        ``(0, 0)``); used by :meth:`apply_sparse` and :meth:`dense_matrix`.
     """
 
     def __init__(self, kernel: np.ndarray, shape, periodic: bool, workers: int | None = None):
@@ -253,8 +254,9 @@ class InfluenceOperator:
         if p.shape != self.shape:
             raise ValueError(f"p must have shape {self.shape}, got {p.shape}")
         nx, ny = self.shape
-        ph = sfft.rfft2(p, s=self.fft_shape, workers=self.workers)
-        ph *= self.spectrum
+        # spectrum first: a complex product rounds differently with its operands swapped, and
+        # this order keeps the tangential solver's iterates as they were before it used this class
+        ph = self.spectrum * sfft.rfft2(p, s=self.fft_shape, workers=self.workers)
         u = sfft.irfft2(ph, s=self.fft_shape, workers=self.workers, overwrite_x=True)
         if self.periodic:
             return u
@@ -339,14 +341,27 @@ class InfluenceOperator:
             u += v * self.kernel[np.ix_((ix - i0) % mx, (iy - j0) % my)]
         return u
 
-    def dense_matrix(self) -> np.ndarray:
-        """The full ``(Nx Ny) x (Nx Ny)`` influence matrix (row-major); for tests of small grids."""
-        nx, ny = self.shape
+    @property
+    def norm(self) -> float:
+        """Bound of the operator's 2-norm: the largest ``|spectrum|`` (e.g. for a step length).
+
+        Exact when periodic (the spectrum holds the eigenvalues of the circulant); an upper bound
+        when not (the operator is a principal block of the circulant embedding on ``fft_shape``).
+        """
+        return float(np.max(np.abs(self.spectrum)))
+
+    def dense_matrix(self, idx=None) -> np.ndarray:
+        """Dense influence matrix ``C[k, l]`` between the flat (row-major) grid indices ``idx``.
+
+        All ``Nx Ny`` elements by default; for tests of small grids and dense reference solvers.
+        """
         mx, my = self.fft_shape
-        ix, iy = np.meshgrid(np.arange(nx), np.arange(ny), indexing="ij")
-        ix = ix.ravel()
-        iy = iy.ravel()
+        if idx is None:
+            idx = np.arange(self.shape[0] * self.shape[1])
+        ix, iy = np.unravel_index(idx, self.shape)
         return self.kernel[(ix[:, None] - ix[None, :]) % mx, (iy[:, None] - iy[None, :]) % my]
+
+    dense = dense_matrix
 
 
 def normal_operator(

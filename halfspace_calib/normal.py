@@ -425,7 +425,7 @@ def _pk_box_cg(op, h, p_mean, H, p_init, tol, maxiter, refresh, scale, precondit
     res = np.inf
     nit = 0
     best, it_best, n_fista = np.inf, 0, _STALL
-    lipschitz = float(np.abs(op.spectrum).max())
+    lipschitz = op.norm
     while True:
         pf, uf = p.ravel(), np.ascontiguousarray(u).ravel()
         sg, n_free = _k.free_gap_sum(uf, hf, pf, pmax)

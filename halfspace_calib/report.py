@@ -2,91 +2,48 @@
 
 from __future__ import annotations
 
-import csv
 import json
 from pathlib import Path
 
 import numpy as np
 
+from ._output import pyplot, save_png, write_csv
+
 __all__ = ["write_outputs"]
 
 
-def _write_csv(path, header, rows):
-    with open(path, "w", newline="", encoding="utf-8") as fh:
-        w = csv.writer(fh)
-        w.writerow(header)
-        w.writerows(rows)
+# columns of one normal solve, in the loading and the reload table
+_SOLVE_COLUMNS = ["alpha", "converged", "nit", "residual", "max_pressure", "plastic_fraction"]
+
+
+def _solve_cells(rec):
+    """The :data:`_SOLVE_COLUMNS` cells of a loading or reload record (``converged`` as 0/1)."""
+    return [int(rec[k]) if k == "converged" else rec[k] for k in _SOLVE_COLUMNS]
 
 
 def write_tables(cal, out):
     """``loading.csv``, ``reload.csv`` and ``roughness.csv`` (SI units: Pa, m)."""
     lv = cal.sweeps.levels
-    _write_csv(
+    write_csv(
         out / "loading.csv",
-        [
-            "p_mean",
-            "alpha",
-            "converged",
-            "nit",
-            "residual",
-            "max_pressure",
-            "plastic_fraction",
-            "u0",
-        ],
-        [
-            [
-                v["p_hist"],
-                v["loading"]["alpha"],
-                int(v["loading"]["converged"]),
-                v["loading"]["nit"],
-                v["loading"]["residual"],
-                v["loading"]["max_pressure"],
-                v["loading"]["plastic_fraction"],
-                v["loading"]["u0"],
-            ]
-            for v in lv
-        ],
+        ["p_mean", *_SOLVE_COLUMNS, "u0"],
+        [[v["p_hist"], *_solve_cells(v["loading"]), v["loading"]["u0"]] for v in lv],
     )
-    _write_csv(
+    write_csv(
         out / "reload.csv",
-        [
-            "p_hist",
-            "p_mean",
-            "alpha",
-            "converged",
-            "nit",
-            "residual",
-            "max_pressure",
-            "plastic_fraction",
-        ],
-        [
-            [
-                v["p_hist"],
-                r["p_mean"],
-                r["alpha"],
-                int(r["converged"]),
-                r["nit"],
-                r["residual"],
-                r["max_pressure"],
-                r["plastic_fraction"],
-            ]
-            for v in lv
-            for r in v["reload"]
-        ],
+        ["p_hist", "p_mean", *_SOLVE_COLUMNS],
+        [[v["p_hist"], r["p_mean"], *_solve_cells(r)] for v in lv for r in v["reload"]],
     )
     wp = cal.sweeps.surfaces["workpiece"]
     h0 = np.asarray(wp.heights) - np.mean(wp.heights)
     rows = [[0.0, float(np.mean(np.abs(h0))), float(np.sqrt(np.mean(h0 * h0)))]]
     rows += [[v["p_hist"], v["Ra_after"], v["Rq_after"]] for v in lv]
-    _write_csv(out / "roughness.csv", ["p_mean", "Ra", "Rq"], rows)
+    write_csv(out / "roughness.csv", ["p_mean", "Ra", "Rq"], rows)
 
 
 def write_plots(cal, out):
     """PNG plots: alpha vs p with Eq. 24, reload curves with Eq. 25, Ra/Rq vs p, pressure map."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     from frictionlaw import alpha_first, alpha_reload
 
@@ -104,9 +61,7 @@ def write_plots(cal, out):
     )
     ax.grid(alpha=0.3)
     ax.legend()
-    fig.tight_layout()
-    fig.savefig(out / "alpha_first_loading.png", dpi=120)
-    plt.close(fig)
+    save_png(fig, out / "alpha_first_loading.png")
 
     fig, ax = plt.subplots(figsize=(6, 4.2))
     ax.plot(pp / MPa, alpha_first(pp, P), "k-", lw=1, label="Eq. 24 (first loading)")
@@ -128,9 +83,7 @@ def write_plots(cal, out):
     )
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(out / "alpha_reload.png", dpi=120)
-    plt.close(fig)
+    save_png(fig, out / "alpha_reload.png")
 
     lv = cal.sweeps.levels
     fig, ax = plt.subplots(figsize=(6, 4.2))
@@ -144,9 +97,7 @@ def write_plots(cal, out):
     )
     ax.grid(alpha=0.3)
     ax.legend()
-    fig.tight_layout()
-    fig.savefig(out / "roughness.png", dpi=120)
-    plt.close(fig)
+    save_png(fig, out / "roughness.png")
 
     maps = [v for v in lv if "pressure_map" in v]
     if maps:
@@ -161,9 +112,7 @@ def write_plots(cal, out):
             ylabel="x [mm]",
             title=f"Contact pressure at p_mean = {v['p_hist'] / MPa:.0f} MPa",
         )
-        fig.tight_layout()
-        fig.savefig(out / "pressure_map.png", dpi=120)
-        plt.close(fig)
+        save_png(fig, out / "pressure_map.png")
 
 
 def write_outputs(cal, out):

@@ -54,6 +54,7 @@ from pathlib import Path
 import numpy as np
 
 from . import surfaces as _surf
+from ._output import pyplot, save_png, write_csv
 from .influence import normal_operator
 from .jobs import run_jobs
 from .normal import composite_modulus, solve_normal_pair
@@ -581,40 +582,25 @@ def write_sliding_outputs(result, out_dir):
         pressure), ``fig11_u0.png``, ``fig12_alpha.png``, ``fig13_W_adh.png``,
         ``fig14_W_def.png``, ``fig15_ratio.png``.
     """
-    import csv
-
     results = _results_of(result)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    with open(out / "sliding.csv", "w", newline="", encoding="utf-8") as fh:
-        w = csv.writer(fh)
-        w.writerow(CSV_COLUMNS)
-        for r in results:
-            for i in range(r.position.size):
-                w.writerow([int(r.position[i]), repr(float(r.x[i])), repr(r.p_mean),
-                            repr(float(r.u0[i])), repr(float(r.alpha[i])),
-                            repr(float(r.W_def[i])), repr(float(r.W_adh[i])),
-                            repr(float(r.ratio[i])), repr(float(r.separation[i])),
-                            repr(float(r.displaced_volume[i])), int(r.converged[i]),
-                            int(r.nit[i])])
+    write_csv(out / "sliding.csv", CSV_COLUMNS,
+              [[int(r.position[i]), repr(float(r.x[i])), repr(r.p_mean), repr(float(r.u0[i])),
+                repr(float(r.alpha[i])), repr(float(r.W_def[i])), repr(float(r.W_adh[i])),
+                repr(float(r.ratio[i])), repr(float(r.separation[i])),
+                repr(float(r.displaced_volume[i])), int(r.converged[i]), int(r.nit[i])]
+               for r in results for i in range(r.position.size)])
     keys = ["p_mean", "positions", "ratio_mean", "ratio_max", "W_def_mean", "W_adh_mean",
             "alpha_mean", "first_ratio", "converged", "seconds"]
-    with open(out / "sliding_summary.csv", "w", newline="", encoding="utf-8") as fh:
-        w = csv.writer(fh)
-        w.writerow(keys)
-        for r in results:
-            s = r.steady
-            w.writerow([s[k] for k in keys])
+    write_csv(out / "sliding_summary.csv", keys, [[r.steady[k] for k in keys] for r in results])
     if results:
         _plots(results, out)
     return out
 
 
 def _plots(results, out):
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     figs = [
         ("fig11_u0.png", "u0", 1e6, "global approach u0 (um)", "Fig. 11", False),
@@ -640,6 +626,4 @@ def _plots(results, out):
         ax.set_ylabel(ylabel)
         ax.set_title(f"{title} (sliding, Sec. 3.3)")
         ax.legend(fontsize=7)
-        fig.tight_layout()
-        fig.savefig(out / name, dpi=120)
-        plt.close(fig)
+        save_png(fig, out / name)

@@ -184,6 +184,28 @@ def test_forward_backward_energy(periodic):
                                               rel=1e-12)
 
 
+@pytest.mark.parametrize("periodic,kernel", [(True, "spectral"), (True, "love"), (False, "love")])
+def test_norm_bound_and_dense_block(periodic, kernel):
+    op = normal_operator((9, 7), 1e-6, E_STAR, dy=1.3e-6, periodic=periodic, kernel=kernel)
+    C = op.dense_matrix()
+    lam = np.linalg.eigvalsh(C)
+    if periodic:
+        # circulant: the spectrum holds the eigenvalues, so the bound is the exact 2-norm
+        assert op.norm == pytest.approx(np.abs(lam).max(), rel=1e-12)
+    else:
+        # Toeplitz block of the circulant embedding: an upper bound, which for Love's positive
+        # kernel is the circulant's Perron (q = 0) eigenvalue, the sum of the embedded kernel
+        assert np.abs(lam).max() <= op.norm * (1 + 1e-12)
+        assert op.norm == pytest.approx(op.kernel.sum(), rel=1e-12)
+    # dense_matrix(idx) is the block of the full matrix between the flat indices idx
+    idx = np.array([0, 5, 17, 40, 62])
+    np.testing.assert_array_equal(op.dense_matrix(idx), C[np.ix_(idx, idx)])
+    np.testing.assert_array_equal(op.dense(idx), C[np.ix_(idx, idx)])
+    rng = np.random.default_rng(8)
+    p = rng.random((9, 7))
+    np.testing.assert_allclose(C @ p.ravel(), op.apply(p).ravel(), rtol=1e-12)
+
+
 def test_preconditioner_inverts_periodic_operator():
     """The preconditioner E*|q|/2 is the exact inverse of the spectral periodic operator on
     every non-zero mode (so the preconditioned CG is exact for full contact)."""
