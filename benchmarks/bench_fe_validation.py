@@ -55,7 +55,9 @@ def ring_table(nr=16, n_inc=50):
                 "reached": round(float(h["height_reduction"][-1]), 3),
                 "fe_dDi_end_pct": round(100 * float(h["inner_diameter_change"][-1]), 2),
                 "chart_dDi_end_pct": round(100 * float(ref[-1]), 2),
-                "max_abs_diff_pct": round(100 * float(np.abs(h["inner_diameter_change"] - ref).max()), 2),
+                "max_abs_diff_pct": round(
+                    100 * float(np.abs(h["inner_diameter_change"] - ref).max()), 2
+                ),
                 "cutbacks": len(res.info["cutback_log"]),
                 "wall_s": round(res.wall_time, 1),
             }

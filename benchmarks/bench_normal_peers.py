@@ -75,11 +75,20 @@ def run_ours(h, p_mean, capped, tol, workers, precondition=True):
     t0 = time.perf_counter()
     op = normal_operator(h.shape, L / n, E_STAR, periodic=True, workers=workers)
     t1 = time.perf_counter()
-    r = solve_normal(h, L / n, E_STAR, p_mean, H=H if capped else None, tol=tol, operator=op,
-                     precondition=precondition)
+    r = solve_normal(
+        h,
+        L / n,
+        E_STAR,
+        p_mean,
+        H=H if capped else None,
+        tol=tol,
+        operator=op,
+        precondition=precondition,
+    )
     t2 = time.perf_counter()
-    return dict(p=r.pressure, alpha=r.alpha, nit=r.nit, wall=t2 - t0, solve=t2 - t1,
-                converged=r.converged)
+    return dict(
+        p=r.pressure, alpha=r.alpha, nit=r.nit, wall=t2 - t0, solve=t2 - t1, converged=r.converged
+    )
 
 
 @contextlib.contextmanager
@@ -126,8 +135,13 @@ def run_tamaas(h, p_mean, capped, tol):
         wall = time.perf_counter() - t0
     its = [int(m) for m in re.findall(r"^\s*(\d+)\s+\S+\s+\S+\s*$", out["text"], re.M)]
     p = np.array(model.traction).reshape(n, n)
-    return dict(p=p, alpha=float(np.mean(p > 0)), nit=max(its) if its else -1, wall=wall,
-                converged=bool(err < tol))
+    return dict(
+        p=p,
+        alpha=float(np.mean(p > 0)),
+        nit=max(its) if its else -1,
+        wall=wall,
+        converged=bool(err < tol),
+    )
 
 
 def run_cm(h, p_mean, capped, pentol_rel):
@@ -139,13 +153,18 @@ def run_cm(h, p_mean, capped, pentol_rel):
     sub = PeriodicFFTElasticHalfSpace((n, n), E_STAR, physical_sizes=(L, L))
     t0 = time.perf_counter()
     res = constrained_conjugate_gradients(
-        sub, h, hardness=H * dx * dx if capped else None, external_force=p_mean * L * L,
-        pentol=pentol_rel * h.std(), maxiter=100000,
+        sub,
+        h,
+        hardness=H * dx * dx if capped else None,
+        external_force=p_mean * L * L,
+        pentol=pentol_rel * h.std(),
+        maxiter=100000,
     )
     wall = time.perf_counter() - t0
     p = np.asarray(res.jac) / (dx * dx)
-    return dict(p=p, alpha=float(np.mean(p > 0)), nit=int(res.nit), wall=wall,
-                converged=bool(res.success))
+    return dict(
+        p=p, alpha=float(np.mean(p > 0)), nit=int(res.nit), wall=wall, converged=bool(res.success)
+    )
 
 
 def available(mod):
@@ -160,26 +179,49 @@ def available(mod):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", type=int, nargs="+", default=[256, 512])
-    ap.add_argument("--ours-only", type=int, nargs="*", default=[],
-                    help="extra sizes run with our solver only (e.g. 2048)")
+    ap.add_argument(
+        "--ours-only",
+        type=int,
+        nargs="*",
+        default=[],
+        help="extra sizes run with our solver only (e.g. 2048)",
+    )
     ap.add_argument("--loads", type=float, nargs="+", default=[300e6])
     ap.add_argument("--tol", type=float, default=1e-8, help="our tolerance")
     ap.add_argument("--tamaas-tol", type=float, default=1e-10)
     ap.add_argument("--cm-pentol", type=float, default=1e-6, help="CM pentol / Rq")
-    ap.add_argument("--tamaas-capped-max", type=int, default=0,
-                    help="largest grid for Tamaas KatoSaturated (0: skip; >200 s at 128^2)")
+    ap.add_argument(
+        "--tamaas-capped-max",
+        type=int,
+        default=0,
+        help="largest grid for Tamaas KatoSaturated (0: skip; >200 s at 128^2)",
+    )
     ap.add_argument("--workers", type=int, default=1, help="threads for our FFTs")
-    ap.add_argument("--no-precondition", action="store_true",
-                    help="run ours as the plain Polonsky-Keer iteration")
-    ap.add_argument("--cases", nargs="+", default=["el", "H"], choices=["el", "H"],
-                    help="elastic (el) and/or capped at H = 800 MPa (H)")
-    ap.add_argument("--peers", nargs="*", default=["tamaas", "contactmechanics"],
-                    help="peers to run (default both)")
+    ap.add_argument(
+        "--no-precondition",
+        action="store_true",
+        help="run ours as the plain Polonsky-Keer iteration",
+    )
+    ap.add_argument(
+        "--cases",
+        nargs="+",
+        default=["el", "H"],
+        choices=["el", "H"],
+        help="elastic (el) and/or capped at H = 800 MPa (H)",
+    )
+    ap.add_argument(
+        "--peers",
+        nargs="*",
+        default=["tamaas", "contactmechanics"],
+        help="peers to run (default both)",
+    )
     ap.add_argument("--out", default="normal_peers")
     args = ap.parse_args(argv)
 
-    peers = {name: available({"tamaas": "tamaas", "contactmechanics": "ContactMechanics"}[name])
-             for name in args.peers}
+    peers = {
+        name: available({"tamaas": "tamaas", "contactmechanics": "ContactMechanics"}[name])
+        for name in args.peers
+    }
     solve_normal(self_affine(32), L / 32, E_STAR, 1e8, H=H)  # load the numba kernels
     rows = []
     for n in list(args.sizes) + list(args.ours_only):
@@ -187,49 +229,74 @@ def main(argv=None):
         pair = fft_pair_time((n, n), args.workers)
         for p_mean in args.loads:
             for capped in [c == "H" for c in args.cases]:
-                ours = run_ours(h, p_mean, capped, args.tol, args.workers,
-                                not args.no_precondition)
-                row = dict(n=n, p_mean_MPa=p_mean / 1e6, capped=capped, fft_pair_s=pair,
-                           ours_alpha=ours["alpha"], ours_nit=ours["nit"],
-                           ours_wall_s=ours["wall"], ours_converged=ours["converged"],
-                           ours_iter_over_fft_pair=ours["solve"] / max(ours["nit"], 1) / pair)
+                ours = run_ours(h, p_mean, capped, args.tol, args.workers, not args.no_precondition)
+                row = dict(
+                    n=n,
+                    p_mean_MPa=p_mean / 1e6,
+                    capped=capped,
+                    fft_pair_s=pair,
+                    ours_alpha=ours["alpha"],
+                    ours_nit=ours["nit"],
+                    ours_wall_s=ours["wall"],
+                    ours_converged=ours["converged"],
+                    ours_iter_over_fft_pair=ours["solve"] / max(ours["nit"], 1) / pair,
+                )
                 if n in args.sizes:
                     for name, ok in peers.items():
                         if not ok:
                             continue
                         if name == "tamaas" and capped and n > args.tamaas_capped_max:
                             continue
-                        r = (run_tamaas(h, p_mean, capped, args.tamaas_tol) if name == "tamaas"
-                             else run_cm(h, p_mean, capped, args.cm_pentol))
+                        r = (
+                            run_tamaas(h, p_mean, capped, args.tamaas_tol)
+                            if name == "tamaas"
+                            else run_cm(h, p_mean, capped, args.cm_pentol)
+                        )
                         row[f"{name}_alpha"] = r["alpha"]
                         row[f"{name}_dalpha"] = abs(r["alpha"] - ours["alpha"])
-                        row[f"{name}_L2"] = float(np.linalg.norm(r["p"] - ours["p"])
-                                                  / np.linalg.norm(ours["p"]))
+                        row[f"{name}_L2"] = float(
+                            np.linalg.norm(r["p"] - ours["p"]) / np.linalg.norm(ours["p"])
+                        )
                         row[f"{name}_nit"] = r["nit"]
                         row[f"{name}_wall_s"] = r["wall"]
                         row[f"{name}_converged"] = r["converged"]
                         row[f"ours_over_{name}"] = ours["wall"] / r["wall"]
                 rows.append(row)
-                print(json.dumps({k: (round(v, 6) if isinstance(v, float) else v)
-                                  for k, v in row.items()}), flush=True)
+                print(
+                    json.dumps(
+                        {k: (round(v, 6) if isinstance(v, float) else v) for k, v in row.items()}
+                    ),
+                    flush=True,
+                )
 
     RESULTS.mkdir(exist_ok=True)
-    meta = dict(platform=platform.platform(), cpus=os.cpu_count(), args=vars(args),
-                numpy=np.__version__, date=time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime()))
+    meta = dict(
+        platform=platform.platform(),
+        cpus=os.cpu_count(),
+        args=vars(args),
+        numpy=np.__version__,
+        date=time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime()),
+    )
     (RESULTS / f"{args.out}.json").write_text(json.dumps(dict(meta=meta, rows=rows), indent=1))
     table = format_table(rows)
     (RESULTS / f"{args.out}.md").write_text(table + "\n")
     print(table)
-    bad = [r for r in rows for k in ("tamaas_dalpha", "contactmechanics_dalpha")
-           if r.get(k, 0.0) > 1e-3]
+    bad = [
+        r
+        for r in rows
+        for k in ("tamaas_dalpha", "contactmechanics_dalpha")
+        if r.get(k, 0.0) > 1e-3
+    ]
     if bad:
         print("WARNING: alpha disagreement > 1e-3 in", len(bad), "rows")
 
 
 def format_table(rows):
-    head = ("| N | p_mean MPa | capped | alpha ours | nit ours | t ours s | iter/FFT-pair "
-            "| alpha TM | nit TM | t TM s | L2 TM | ours/TM "
-            "| alpha CM | nit CM | t CM s | L2 CM | ours/CM |")
+    head = (
+        "| N | p_mean MPa | capped | alpha ours | nit ours | t ours s | iter/FFT-pair "
+        "| alpha TM | nit TM | t TM s | L2 TM | ours/TM "
+        "| alpha CM | nit CM | t CM s | L2 CM | ours/CM |"
+    )
     sep = "|" + "---|" * 17
     lines = [head, sep]
 

@@ -72,14 +72,27 @@ def knobs(n_pos=40, p_mean=600e6):
         if ref is None:
             ref = r
         dev = float(np.max(np.abs(r.W_def[1:] - ref.W_def[1:])) / np.mean(ref.W_def[1:]))
-        rows.append(dict(case=name, p_mean=p_mean, positions=n_pos, seconds=round(dt, 2),
-                         s_per_position=round(dt / n_pos, 3), nit_mean=round(float(r.nit.mean()), 1),
-                         ratio_mean=s["ratio_mean"], ratio_max=s["ratio_max"],
-                         alpha_mean=s["alpha_mean"], max_rel_dev_W_def_vs_default=dev,
-                         converged=r.all_converged, load_avg=round((l0 + load()) / 2, 2)))
-        print(f"{name:45s} {dt:7.2f} s  nit {r.nit.mean():6.1f}  ratio mean "
-              f"{s['ratio_mean']:.4f} max {s['ratio_max']:.4f}  dev {dev:.2e}  load {load():.1f}",
-              flush=True)
+        rows.append(
+            dict(
+                case=name,
+                p_mean=p_mean,
+                positions=n_pos,
+                seconds=round(dt, 2),
+                s_per_position=round(dt / n_pos, 3),
+                nit_mean=round(float(r.nit.mean()), 1),
+                ratio_mean=s["ratio_mean"],
+                ratio_max=s["ratio_max"],
+                alpha_mean=s["alpha_mean"],
+                max_rel_dev_W_def_vs_default=dev,
+                converged=r.all_converged,
+                load_avg=round((l0 + load()) / 2, 2),
+            )
+        )
+        print(
+            f"{name:45s} {dt:7.2f} s  nit {r.nit.mean():6.1f}  ratio mean "
+            f"{s['ratio_mean']:.4f} max {s['ratio_max']:.4f}  dev {dev:.2e}  load {load():.1f}",
+            flush=True,
+        )
     with open(RES / "sliding_bench.csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
@@ -94,24 +107,41 @@ def full(workers):
     rows = []
     for r in st.ok:
         s = r.steady
-        rows.append(dict(p_mean=r.p_mean, positions=s["positions"], seconds=round(r.seconds, 1),
-                         nit_mean=round(float(r.nit.mean()), 1), W_def_mean=s["W_def_mean"],
-                         W_adh_mean=s["W_adh_mean"], ratio_mean=s["ratio_mean"],
-                         ratio_max=s["ratio_max"], first_ratio=s["first_ratio"],
-                         alpha_mean=s["alpha_mean"], converged=s["converged"]))
-        print(f"{r.p_mean / 1e6:5.0f} MPa  {r.seconds:7.1f} s  W_def {s['W_def_mean']:.3e} J  "
-              f"W_adh {s['W_adh_mean']:.3e} J  ratio mean {s['ratio_mean']:.4f} "
-              f"max {s['ratio_max']:.4f}  {r.message}", flush=True)
+        rows.append(
+            dict(
+                p_mean=r.p_mean,
+                positions=s["positions"],
+                seconds=round(r.seconds, 1),
+                nit_mean=round(float(r.nit.mean()), 1),
+                W_def_mean=s["W_def_mean"],
+                W_adh_mean=s["W_adh_mean"],
+                ratio_mean=s["ratio_mean"],
+                ratio_max=s["ratio_max"],
+                first_ratio=s["first_ratio"],
+                alpha_mean=s["alpha_mean"],
+                converged=s["converged"],
+            )
+        )
+        print(
+            f"{r.p_mean / 1e6:5.0f} MPa  {r.seconds:7.1f} s  W_def {s['W_def_mean']:.3e} J  "
+            f"W_adh {s['W_adh_mean']:.3e} J  ratio mean {s['ratio_mean']:.4f} "
+            f"max {s['ratio_max']:.4f}  {r.message}",
+            flush=True,
+        )
     for p, e in st.errors.items():
         print(f"{p / 1e6:g} MPa FAILED: {e}")
-    print(f"all six pressures: {st.seconds:.1f} s wall (workers={workers}), "
-          f"load average {l0:.1f} -> {l1:.1f}")
+    print(
+        f"all six pressures: {st.seconds:.1f} s wall (workers={workers}), "
+        f"load average {l0:.1f} -> {l1:.1f}"
+    )
     with open(RES / "sliding_study.csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
-        fh.write(f"# all six pressures: {st.seconds:.1f} s wall, workers={workers}, "
-                 f"load average {l0:.1f} -> {l1:.1f}, nproc {os.cpu_count()}\n")
+        fh.write(
+            f"# all six pressures: {st.seconds:.1f} s wall, workers={workers}, "
+            f"load average {l0:.1f} -> {l1:.1f}, nproc {os.cpu_count()}\n"
+        )
 
 
 def decomposition(n_pos=60):
@@ -127,13 +157,16 @@ def decomposition(n_pos=60):
     rows = []
     for p in SLIDING_PRESSURES:
         row = dict(p_mean=p, positions=n_pos, tool_slope_estimate=est_tool)
-        for name, tool, kw in (("tool", t, {}), ("flat_tool", 0 * t, {}),
-                               ("tool_no_vc", t, dict(volume_conservation=False)),
-                               ("flat_tool_no_vc", 0 * t, dict(volume_conservation=False))):
+        for name, tool, kw in (
+            ("tool", t, {}),
+            ("flat_tool", 0 * t, {}),
+            ("tool_no_vc", t, dict(volume_conservation=False)),
+            ("flat_tool_no_vc", 0 * t, dict(volume_conservation=False)),
+        ):
             r = sliding_sweep(wp, tool, wp.dx, Es, p, H=H, m=m, positions=n_pos, **kw)
             # steady part: the last half of the positions
-            row[f"ratio_{name}"] = float(np.mean(r.ratio[n_pos // 2:]))
-            row[f"alpha_{name}"] = float(np.mean(r.alpha[n_pos // 2:]))
+            row[f"ratio_{name}"] = float(np.mean(r.ratio[n_pos // 2 :]))
+            row[f"alpha_{name}"] = float(np.mean(r.alpha[n_pos // 2 :]))
         rows.append(row)
         print(" ".join(f"{k}={v:.4g}" for k, v in row.items()), flush=True)
     with open(RES / "sliding_decomposition.csv", "w", newline="") as fh:
@@ -156,11 +189,18 @@ def resolution(pressures=(300e6, 600e6)):
         slope = float(np.maximum(t[:-1] - t[1:], 0).mean() / wp.dx)
         n_pos = min(2 * n + 1, 80)
         for p in pressures:
-            row = dict(n=n, dx=wp.dx, p_mean=p, positions=n_pos, Ra_workpiece=S.ra(wp),
-                       Ra_tool=S.ra(tl), tool_slope=slope)
+            row = dict(
+                n=n,
+                dx=wp.dx,
+                p_mean=p,
+                positions=n_pos,
+                Ra_workpiece=S.ra(wp),
+                Ra_tool=S.ra(tl),
+                tool_slope=slope,
+            )
             for name, tool in (("tool", t), ("flat_tool", 0 * t)):
                 r = sliding_sweep(wp, tool, wp.dx, Es, p, H=800e6, m=0.5, positions=n_pos)
-                row[f"ratio_{name}"] = float(np.mean(r.ratio[n_pos // 2:]))
+                row[f"ratio_{name}"] = float(np.mean(r.ratio[n_pos // 2 :]))
             rows.append(row)
             print(" ".join(f"{k}={v:.4g}" for k, v in row.items()), flush=True)
     with open(RES / "sliding_resolution.csv", "w", newline="") as fh:
@@ -173,10 +213,14 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true", help="knobs only")
     ap.add_argument("--no-knobs", action="store_true")
-    ap.add_argument("--decomposition", action="store_true",
-                    help="only the per-pressure decomposition (tool / flat tool / no vc)")
-    ap.add_argument("--resolution", action="store_true",
-                    help="only the element-size study (n = 32, 64, 128)")
+    ap.add_argument(
+        "--decomposition",
+        action="store_true",
+        help="only the per-pressure decomposition (tool / flat tool / no vc)",
+    )
+    ap.add_argument(
+        "--resolution", action="store_true", help="only the element-size study (n = 32, 64, 128)"
+    )
     ap.add_argument("--workers", type=int, default=1)
     a = ap.parse_args()
     RES.mkdir(parents=True, exist_ok=True)

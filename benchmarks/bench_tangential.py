@@ -65,7 +65,9 @@ def mindlin_theory(p, dx, X, Y, a, p0, ratio):
     P = p.sum() * dx * dx
     c = a * (1 - ratio) ** (1 / 3)
     r2 = X**2 + Y**2
-    q = MU * p - np.where(r2 < c * c, MU * p0 * c / a * np.sqrt(np.clip(1 - r2 / c**2, 0, None)), 0.0)
+    q = MU * p - np.where(
+        r2 < c * c, MU * p0 * c / a * np.sqrt(np.clip(1 - r2 / c**2, 0, None)), 0.0
+    )
     delta = 3 * MU * P / (16 * a * G_STAR) * (1 - (1 - ratio) ** (2 / 3))
     return P, c, q, delta
 
@@ -84,17 +86,40 @@ def table_gs(sizes):
                 g = tangential_bound(p, **kw)
             u = _CerrutiOperator(p.shape, dx, dx, E_STAR, E_PR, False)(g)
             delta = 0.6 * u[g > 0].max()
-            rm, tm = timed(lambda p=p, dx=dx, kw=kw, d=delta: solve_tangential(
-                p, dx, E_STAR, E_PR, delta=d, tol=1e-8, **kw), repeat=3)
-            rg, tg = timed(lambda p=p, dx=dx, kw=kw, d=delta: solve_tangential(
-                p, dx, E_STAR, E_PR, delta=d, tol=1e-8, method="gauss-seidel", maxiter=20000, **kw))
-            rows.append(dict(
-                case=case, n=n, n_contact=int((g > 0).sum()),
-                mprgp_s=tm, mprgp_it=rm.nit, gs_s=tg, gs_sweeps=rg.nit,
-                speedup=tg / tm, dq_rel=float(np.abs(rm.q - rg.q).max() / g.max()),
-                same_stick=bool(np.array_equal(rm.stick, rg.stick)),
-                converged=bool(rm.converged and rg.converged),
-            ))
+            rm, tm = timed(
+                lambda p=p, dx=dx, kw=kw, d=delta: solve_tangential(
+                    p, dx, E_STAR, E_PR, delta=d, tol=1e-8, **kw
+                ),
+                repeat=3,
+            )
+            rg, tg = timed(
+                lambda p=p, dx=dx, kw=kw, d=delta: solve_tangential(
+                    p,
+                    dx,
+                    E_STAR,
+                    E_PR,
+                    delta=d,
+                    tol=1e-8,
+                    method="gauss-seidel",
+                    maxiter=20000,
+                    **kw,
+                )
+            )
+            rows.append(
+                dict(
+                    case=case,
+                    n=n,
+                    n_contact=int((g > 0).sum()),
+                    mprgp_s=tm,
+                    mprgp_it=rm.nit,
+                    gs_s=tg,
+                    gs_sweeps=rg.nit,
+                    speedup=tg / tm,
+                    dq_rel=float(np.abs(rm.q - rg.q).max() / g.max()),
+                    same_stick=bool(np.array_equal(rm.stick, rg.stick)),
+                    converged=bool(rm.converged and rg.converged),
+                )
+            )
             print_row(rows[-1])
     return rows
 
@@ -105,18 +130,30 @@ def table_scaling(sizes, ratio=0.5):
         p, dx, X, Y, a, p0 = hertz(n)
         P, c, q_th, d_th = mindlin_theory(p, dx, X, Y, a, p0, ratio)
         L2 = (n * dx) ** 2
-        r, t = timed(lambda p=p, dx=dx, q=ratio * MU * P / L2: solve_tangential(
-            p, dx, E_STAR, E_PR, q_mean=q, mu=MU))
-        rd, td = timed(lambda p=p, dx=dx, d=r.delta: solve_tangential(p, dx, E_STAR, E_PR, delta=d, mu=MU))
+        r, t = timed(
+            lambda p=p, dx=dx, q=ratio * MU * P / L2: solve_tangential(
+                p, dx, E_STAR, E_PR, q_mean=q, mu=MU
+            )
+        )
+        rd, td = timed(
+            lambda p=p, dx=dx, d=r.delta: solve_tangential(p, dx, E_STAR, E_PR, delta=d, mu=MU)
+        )
         c_num = np.sqrt(r.stick.sum() * dx * dx / np.pi)
-        rows.append(dict(
-            n=n, a_over_dx=a / dx, force_ctrl_s=t, force_ctrl_matvec=r.nit,
-            disp_ctrl_s=td, disp_ctrl_matvec=rd.nit,
-            err_c=abs(c_num / c - 1), err_delta=abs(r.delta / d_th - 1),
-            err_q_max=float(np.abs(r.q - q_th).max() / (MU * p0)),
-            err_q_l2=float(np.sqrt(((r.q - q_th) ** 2).sum() / (q_th**2).sum())),
-            converged=bool(r.converged),
-        ))
+        rows.append(
+            dict(
+                n=n,
+                a_over_dx=a / dx,
+                force_ctrl_s=t,
+                force_ctrl_matvec=r.nit,
+                disp_ctrl_s=td,
+                disp_ctrl_matvec=rd.nit,
+                err_c=abs(c_num / c - 1),
+                err_delta=abs(r.delta / d_th - 1),
+                err_q_max=float(np.abs(r.q - q_th).max() / (MU * p0)),
+                err_q_l2=float(np.sqrt(((r.q - q_th) ** 2).sum() / (q_th**2).sum())),
+                converged=bool(r.converged),
+            )
+        )
         print_row(rows[-1])
     return rows
 
@@ -127,14 +164,22 @@ def table_tol(n, tols):
     ref = solve_tangential(p, dx, E_STAR, E_PR, q_mean=0.5 * MU * p.mean(), mu=MU, tol=1e-12)
     rows = []
     for tol in tols:
-        r, t = timed(lambda tol=tol: solve_tangential(
-            p, dx, E_STAR, E_PR, q_mean=0.5 * MU * p.mean(), mu=MU, tol=tol))
-        rows.append(dict(
-            n=n, tol=tol, time_s=t, matvec=r.nit,
-            err_delta=abs(r.delta / ref.delta - 1),
-            err_q=float(np.abs(r.q - ref.q).max() / g.max()),
-            stick_diff=int((r.stick != ref.stick).sum()),
-        ))
+        r, t = timed(
+            lambda tol=tol: solve_tangential(
+                p, dx, E_STAR, E_PR, q_mean=0.5 * MU * p.mean(), mu=MU, tol=tol
+            )
+        )
+        rows.append(
+            dict(
+                n=n,
+                tol=tol,
+                time_s=t,
+                matvec=r.nit,
+                err_delta=abs(r.delta / ref.delta - 1),
+                err_q=float(np.abs(r.q - ref.q).max() / g.max()),
+                stick_diff=int((r.stick != ref.stick).sum()),
+            )
+        )
         print_row(rows[-1])
     return rows
 
@@ -194,9 +239,13 @@ def main(argv=None):
     t3 = table_tol(64 if args.quick else 128, [1e-4, 1e-6, 1e-8, 1e-10])
     if not args.quick:
         plot_profile()
-    md = (markdown("MPRGP vs projected Gauss-Seidel", t1) + "\n"
-          + markdown("MPRGP scaling and accuracy vs Cattaneo-Mindlin", t2) + "\n"
-          + markdown("Tolerance knob", t3))
+    md = (
+        markdown("MPRGP vs projected Gauss-Seidel", t1)
+        + "\n"
+        + markdown("MPRGP scaling and accuracy vs Cattaneo-Mindlin", t2)
+        + "\n"
+        + markdown("Tolerance knob", t3)
+    )
     (OUT / "bench_tangential.md").write_text(md)
     with open(OUT / "bench_tangential.csv", "w", newline="") as fh:
         for name, rows in (("gs", t1), ("scaling", t2), ("tol", t3)):

@@ -39,16 +39,32 @@ def main(argv=None):
     for tol in tols:
         for n in grids:
             t0 = time.perf_counter()
-            cal = calibrate(Scene(grid=n, measured_n=args.measured_n, tol=tol, workers=args.workers),
-                            progress=False)
+            cal = calibrate(
+                Scene(grid=n, measured_n=args.measured_n, tol=tol, workers=args.workers),
+                progress=False,
+            )
             dt = time.perf_counter() - t0
             P = cal.params
             taus = [float(shear_limit(p, ph, P)) for p, ph in PROBES]
-            rows.append({"grid": n, "tol": tol, "C1": P.C1, "n1": P.n1, "C2": P.C2, "n2": P.n2,
-                         **dict(zip(PROBE_NAMES, taus, strict=True)), "seconds": dt,
-                         "r2_first": cal.first.r_squared, "r2_reload": cal.reload.r_squared})
-            print(f"grid {n:4d} tol {tol:.0e}: {dt:7.1f} s  C1={P.C1:.4f} n1={P.n1:.3f} "
-                  f"C2={P.C2:.3f} n2={P.n2:.3f}", flush=True)
+            rows.append(
+                {
+                    "grid": n,
+                    "tol": tol,
+                    "C1": P.C1,
+                    "n1": P.n1,
+                    "C2": P.C2,
+                    "n2": P.n2,
+                    **dict(zip(PROBE_NAMES, taus, strict=True)),
+                    "seconds": dt,
+                    "r2_first": cal.first.r_squared,
+                    "r2_reload": cal.reload.r_squared,
+                }
+            )
+            print(
+                f"grid {n:4d} tol {tol:.0e}: {dt:7.1f} s  C1={P.C1:.4f} n1={P.n1:.3f} "
+                f"C2={P.C2:.3f} n2={P.n2:.3f}",
+                flush=True,
+            )
     ref = max(rows, key=lambda r: (r["grid"], -r["tol"]))
     for r in rows:
         r["max_dev_tau"] = max(abs(r[k] / ref[k] - 1) for k in PROBE_NAMES)
@@ -86,7 +102,9 @@ def main(argv=None):
         sel = [r for r in rows if r["tol"] == tol]
         g = np.array([r["grid"] for r in sel])
         for k, mk in zip(PROBE_NAMES, "osd^", strict=True):
-            axes[0].semilogx(g, [r[k] / 1e6 for r in sel], mk + "-", base=2, label=f"{k}, tol {tol:.0e}")
+            axes[0].semilogx(
+                g, [r[k] / 1e6 for r in sel], mk + "-", base=2, label=f"{k}, tol {tol:.0e}"
+            )
         axes[1].loglog(g, [r["seconds"] for r in sel], "o-", base=2, label=f"tol {tol:.0e}")
     axes[0].set(xlabel="grid N (N x N)", ylabel="tau [MPa]", title="Calibrated law's shear")
     axes[1].set(xlabel="grid N (N x N)", ylabel="wall time [s]", title="Calibration time")

@@ -42,34 +42,65 @@ def main():
     base = rows[0][1]
     with open(OUT / "effects_timing.csv", "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(["effects", "seconds", "effect_seconds", "added_seconds", "grid",
-                    "OPENBLAS_NUM_THREADS", "load_avg_1min"])
+        w.writerow(
+            [
+                "effects",
+                "seconds",
+                "effect_seconds",
+                "added_seconds",
+                "grid",
+                "OPENBLAS_NUM_THREADS",
+                "load_avg_1min",
+            ]
+        )
         for r in rows:
-            w.writerow(r + [round(r[1] - base, 2), args.grid,
-                            os.environ.get("OPENBLAS_NUM_THREADS", ""), os.getloadavg()[0]])
+            w.writerow(
+                r
+                + [
+                    round(r[1] - base, 2),
+                    args.grid,
+                    os.environ.get("OPENBLAS_NUM_THREADS", ""),
+                    os.getloadavg()[0],
+                ]
+            )
     print("\n| effects | calibration (s) | the effect's own time (s) | added to normal only (s) |")
     print("|---|---|---|---|")
     for r in rows:
         print(f"| {r[0]} | {r[1]:.1f} | {r[2]:.1f} | {r[1] - base:+.1f} |")
 
     t = cals["tangential"].effects["tangential"]["summary"]
-    keys = ["p_mean", "alpha", "q_limit", "delta_full", "delta_stick", "k_t0", "k_eq", "k_sec",
-            "converged"]
+    keys = [
+        "p_mean",
+        "alpha",
+        "q_limit",
+        "delta_full",
+        "delta_stick",
+        "k_t0",
+        "k_eq",
+        "k_sec",
+        "converged",
+    ]
     with open(OUT / "effects_tangential.csv", "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(keys)
         w.writerows([[r[k] for k in keys] for r in t["rows"]])
-    print("\n| p_mean (MPa) | alpha | tau_adh = q at full sliding (MPa) | delta_stick (nm) | "
-          "delta_full (nm) | k_t0 (Pa/m) | k_eq (Pa/m) | k_sec (Pa/m) |")
+    print(
+        "\n| p_mean (MPa) | alpha | tau_adh = q at full sliding (MPa) | delta_stick (nm) | "
+        "delta_full (nm) | k_t0 (Pa/m) | k_eq (Pa/m) | k_sec (Pa/m) |"
+    )
     print("|---|---|---|---|---|---|---|---|")
     for r in t["rows"]:
-        print(f"| {r['p_mean'] / 1e6:.0f} | {r['alpha']:.3f} | {r['q_limit'] / 1e6:.2f} | "
-              f"{r['delta_stick'] * 1e9:.2f} | {r['delta_full'] * 1e9:.1f} | {r['k_t0']:.3e} | "
-              f"{r['k_eq']:.3e} | {r['k_sec']:.3e} |")
+        print(
+            f"| {r['p_mean'] / 1e6:.0f} | {r['alpha']:.3f} | {r['q_limit'] / 1e6:.2f} | "
+            f"{r['delta_stick'] * 1e9:.2f} | {r['delta_full'] * 1e9:.1f} | {r['k_t0']:.3e} | "
+            f"{r['k_eq']:.3e} | {r['k_sec']:.3e} |"
+        )
     for k in ("k_t0_fit", "k_eq_fit", "k_sec_fit"):
         f = t[k]
-        print(f"{k}: {f['k_ref']:.3e} (p / 100 MPa)^{f['exponent']:.3f}, max error "
-              f"{100 * f['max_rel_error']:.0f} %")
+        print(
+            f"{k}: {f['k_ref']:.3e} (p / 100 MPa)^{f['exponent']:.3f}, max error "
+            f"{100 * f['max_rel_error']:.0f} %"
+        )
     print(f"full sliding vs shortcut: max rel. diff {t['full_sliding_max_rel_diff']:.1e}")
     inc = cals["inclined"].effects["inclined"]["decision"]
     print(f"inclined (default scene, smooth tool): {inc['reason']}")

@@ -42,11 +42,16 @@ def main(argv=None):
     ap.add_argument("--loads", type=float, nargs="+", default=[300e6])
     ap.add_argument("--elastic", action="store_true", help="also the elastic case")
     ap.add_argument("--workers", type=int, default=1)
-    ap.add_argument("--single", action="store_true",
-                    help="also run every case with single-precision FFTs")
-    ap.add_argument("--kmax", type=int, default=None,
-                    help="band-limit the surface to kmax wavelengths per side (default: "
-                         "roughness down to the finest grid)")
+    ap.add_argument(
+        "--single", action="store_true", help="also run every case with single-precision FFTs"
+    )
+    ap.add_argument(
+        "--kmax",
+        type=int,
+        default=None,
+        help="band-limit the surface to kmax wavelengths per side (default: "
+        "roughness down to the finest grid)",
+    )
     ap.add_argument("--out", default="normal_speed_accuracy")
     args = ap.parse_args(argv)
 
@@ -58,45 +63,85 @@ def main(argv=None):
         n *= 2
     solve_normal(block_average(fine, sizes[0]), L / sizes[0], E_STAR, 1e8)  # JIT warm-up
     rows = []
-    for capped in ([True, False] if args.elastic else [True]):
+    for capped in [True, False] if args.elastic else [True]:
         for p_mean in args.loads:
             for n in sizes:
                 h = block_average(fine, n)
-                for tol, single in [(t, s) for t in sorted(args.tols, reverse=True)
-                                    for s in ([False, True] if args.single else [False])
-                                    if not (s and t < 1e-6)]:  # below single roundoff
+                for tol, single in [
+                    (t, s)
+                    for t in sorted(args.tols, reverse=True)
+                    for s in ([False, True] if args.single else [False])
+                    if not (s and t < 1e-6)
+                ]:  # below single roundoff
                     t0 = time.perf_counter()
-                    r = solve_normal(h, L / n, E_STAR, p_mean, H=H if capped else None,
-                                     tol=tol, workers=args.workers, maxiter=20000, single=single)
+                    r = solve_normal(
+                        h,
+                        L / n,
+                        E_STAR,
+                        p_mean,
+                        H=H if capped else None,
+                        tol=tol,
+                        workers=args.workers,
+                        maxiter=20000,
+                        single=single,
+                    )
                     wall = time.perf_counter() - t0
-                    rows.append(dict(capped=capped, p_mean_MPa=p_mean / 1e6, n=n, tol=tol,
-                                     single=single,
-                                     alpha=r.alpha, p_contact_MPa=p_mean / r.alpha / 1e6,
-                                     nit=r.nit, wall_s=wall, converged=r.converged,
-                                     rq_um=float(h.std() * 1e6)))
+                    rows.append(
+                        dict(
+                            capped=capped,
+                            p_mean_MPa=p_mean / 1e6,
+                            n=n,
+                            tol=tol,
+                            single=single,
+                            alpha=r.alpha,
+                            p_contact_MPa=p_mean / r.alpha / 1e6,
+                            nit=r.nit,
+                            wall_s=wall,
+                            converged=r.converged,
+                            rq_um=float(h.std() * 1e6),
+                        )
+                    )
                     print(json.dumps(rows[-1]), flush=True)
     # deviation from the finest grid at the tightest tolerance, per case
     for r in rows:
-        ref = [q for q in rows if q["capped"] == r["capped"] and q["p_mean_MPa"] == r["p_mean_MPa"]
-               and q["n"] == sizes[-1] and q["tol"] == min(args.tols) and not q["single"]][0]
-        same_n = [q for q in rows if q["capped"] == r["capped"]
-                  and q["p_mean_MPa"] == r["p_mean_MPa"] and q["n"] == r["n"]
-                  and q["tol"] == min(args.tols) and not q["single"]][0]
+        ref = [
+            q
+            for q in rows
+            if q["capped"] == r["capped"]
+            and q["p_mean_MPa"] == r["p_mean_MPa"]
+            and q["n"] == sizes[-1]
+            and q["tol"] == min(args.tols)
+            and not q["single"]
+        ][0]
+        same_n = [
+            q
+            for q in rows
+            if q["capped"] == r["capped"]
+            and q["p_mean_MPa"] == r["p_mean_MPa"]
+            and q["n"] == r["n"]
+            and q["tol"] == min(args.tols)
+            and not q["single"]
+        ][0]
         r["alpha_rel_dev_finest"] = r["alpha"] / ref["alpha"] - 1.0
         r["alpha_rel_dev_tol"] = r["alpha"] / same_n["alpha"] - 1.0
 
     RESULTS.mkdir(exist_ok=True)
-    (RESULTS / f"{args.out}.json").write_text(json.dumps(dict(args=vars(args), rows=rows),
-                                                         indent=1))
-    lines = ["| case | p_mean MPa | N | tol | FFT | Rq um | alpha | dev vs finest "
-             "| dev vs tightest tol | p in contact MPa | nit | wall s |", "|" + "---|" * 12]
+    (RESULTS / f"{args.out}.json").write_text(
+        json.dumps(dict(args=vars(args), rows=rows), indent=1)
+    )
+    lines = [
+        "| case | p_mean MPa | N | tol | FFT | Rq um | alpha | dev vs finest "
+        "| dev vs tightest tol | p in contact MPa | nit | wall s |",
+        "|" + "---|" * 12,
+    ]
     for r in rows:
         lines.append(
             f"| {'H' if r['capped'] else 'el'} | {r['p_mean_MPa']:.0f} | {r['n']} | {r['tol']:.0e} "
             f"| {'single' if r['single'] else 'double'} "
             f"| {r['rq_um']:.3f} | {r['alpha']:.4f} | {100 * r['alpha_rel_dev_finest']:+.2f}% "
             f"| {100 * r['alpha_rel_dev_tol']:+.3f}% | {r['p_contact_MPa']:.1f} | {r['nit']} "
-            f"| {r['wall_s']:.3f} |")
+            f"| {r['wall_s']:.3f} |"
+        )
     table = "\n".join(lines)
     (RESULTS / f"{args.out}.md").write_text(table + "\n")
     print(table)
@@ -113,8 +158,14 @@ def plot(rows, sizes, args, path):
     for capped in sorted({r["capped"] for r in rows}):
         for p_mean in args.loads:
             for tol in sorted(args.tols):
-                sel = [r for r in rows if r["capped"] == capped and r["tol"] == tol
-                       and r["p_mean_MPa"] == p_mean / 1e6 and not r["single"]]
+                sel = [
+                    r
+                    for r in rows
+                    if r["capped"] == capped
+                    and r["tol"] == tol
+                    and r["p_mean_MPa"] == p_mean / 1e6
+                    and not r["single"]
+                ]
                 lab = f"{'H' if capped else 'el'} {p_mean / 1e6:.0f} MPa tol {tol:.0e}"
                 ax[0].plot([r["n"] for r in sel], [r["alpha"] for r in sel], "o-", label=lab)
                 ax[1].loglog([r["n"] for r in sel], [r["wall_s"] for r in sel], "o-", label=lab)

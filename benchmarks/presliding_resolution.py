@@ -31,19 +31,47 @@ def main():
             r = solve_normal_pair(tl.heights, wp.heights, wp.dx, es, p, H=800e6)
             t0 = time.perf_counter()
             c = presliding_curve(r.pressure, wp.dx, es, ep, m=0.5, sigma_y=800e6 / 2.8)
-            rows.append([n, p, r.alpha, c.k_t0, c.k_eq, c.k_sec, c.delta_full, c.converged,
-                         c.nit, round(time.perf_counter() - t0, 2)])
+            rows.append(
+                [
+                    n,
+                    p,
+                    r.alpha,
+                    c.k_t0,
+                    c.k_eq,
+                    c.k_sec,
+                    c.delta_full,
+                    c.converged,
+                    c.nit,
+                    round(time.perf_counter() - t0, 2),
+                ]
+            )
     with open(OUT, "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(["grid", "p_mean", "alpha", "k_t0", "k_eq", "k_sec", "delta_full", "converged",
-                    "nit", "seconds"])
+        w.writerow(
+            [
+                "grid",
+                "p_mean",
+                "alpha",
+                "k_t0",
+                "k_eq",
+                "k_sec",
+                "delta_full",
+                "converged",
+                "nit",
+                "seconds",
+            ]
+        )
         w.writerows(rows)
-    print("| grid | p_mean (MPa) | alpha | k_t0 (Pa/m) | k_eq (Pa/m) | k_sec (Pa/m) | "
-          "delta_full (nm) | MPRGP iterations | time (s) |")
+    print(
+        "| grid | p_mean (MPa) | alpha | k_t0 (Pa/m) | k_eq (Pa/m) | k_sec (Pa/m) | "
+        "delta_full (nm) | MPRGP iterations | time (s) |"
+    )
     print("|---|---|---|---|---|---|---|---|---|")
     for r in rows:
-        print(f"| {r[0]} | {r[1] / 1e6:.0f} | {r[2]:.3f} | {r[3]:.3e} | {r[4]:.3e} | {r[5]:.3e} | "
-              f"{r[6] * 1e9:.1f} | {r[8]} | {r[9]:.1f} |")
+        print(
+            f"| {r[0]} | {r[1] / 1e6:.0f} | {r[2]:.3f} | {r[3]:.3e} | {r[4]:.3e} | {r[5]:.3e} | "
+            f"{r[6] * 1e9:.1f} | {r[8]} | {r[9]:.1f} |"
+        )
 
 
 if __name__ == "__main__":

@@ -134,9 +134,7 @@ class Assembler:
     def matrix(self, ke):
         """Assemble element matrices ``ke (n_el, 8, 8)`` into a CSR matrix."""
         data = np.bincount(self._inv, weights=ke.ravel(), minlength=self._nnz)
-        return sp.csr_matrix(
-            (data, self._indices, self._indptr), shape=(self.n_dof, self.n_dof)
-        )
+        return sp.csr_matrix((data, self._indices, self._indptr), shape=(self.n_dof, self.n_dof))
 
 
 def internal_force(kin, sigma):

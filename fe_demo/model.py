@@ -300,9 +300,13 @@ class FormingModel:
             du = trial.du
             if trial.norm <= self.opt.rtol * trial.ref:
                 return trial, it, "converged"
-        return None, self.opt.max_iter, (
-            f"no convergence in {self.opt.max_iter} iterations "
-            f"(|R|/|f_int| = {trial.norm / trial.ref:.2e})"
+        return (
+            None,
+            self.opt.max_iter,
+            (
+                f"no convergence in {self.opt.max_iter} iterations "
+                f"(|R|/|f_int| = {trial.norm / trial.ref:.2e})"
+            ),
         )
 
     def _commit(self, trial, dz):

@@ -145,7 +145,10 @@ def plot_recontact(path, profile, title="Re-contact: friction limit with and wit
     a1.set_ylabel("MPa")
     a2.plot(r[on], profile["tau_limit"][on] / 1e6, "o-", ms=3, label="tau limit with p_hist")
     a2.plot(
-        r[on], profile["tau_limit_first_loading"][on] / 1e6, "s--", ms=3,
+        r[on],
+        profile["tau_limit_first_loading"][on] / 1e6,
+        "s--",
+        ms=3,
         label="tau limit without history (Eq. 24)",
     )
     a2.set_ylabel("MPa")

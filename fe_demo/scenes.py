@@ -143,9 +143,7 @@ def _record(model, law_name, mu, m):
     }
 
 
-def _drive(
-    model, stages, law_name, mu, m, progress, snapshot_every, extra=None, remesh_below=0.0
-):
+def _drive(model, stages, law_name, mu, m, progress, snapshot_every, extra=None, remesh_below=0.0):
     """Run ``stages`` (a list of (target_z_die, n_increments)); returns (ok, msg, rows, snaps).
 
     After an accepted increment whose worst element quality (smallest corner sine)
@@ -222,8 +220,9 @@ def _check_inc(n):
     return n
 
 
-def _press(scene, model, axi, red, n_inc, law, mu, m, progress, snapshot_every, extra,
-           remesh_below):
+def _press(
+    scene, model, axi, red, n_inc, law, mu, m, progress, snapshot_every, extra, remesh_below
+):
     """One-stage scene: press the die to ``(1 - red)`` of its height in ``n_inc`` increments."""
     t0 = time.perf_counter()
     z_end = model.z_die * (1.0 - red)
@@ -280,7 +279,17 @@ def run_upsetting(
     axi = cylinder_mesh(diameter, height, nr, nz)
     model = FormingModel(axi, material, factory, options or SolverOptions())
     return _press(
-        "upsetting", model, axi, red, n_inc, law, mu, m, progress, snapshot_every, None,
+        "upsetting",
+        model,
+        axi,
+        red,
+        n_inc,
+        law,
+        mu,
+        m,
+        progress,
+        snapshot_every,
+        None,
         remesh_below,
     )
 

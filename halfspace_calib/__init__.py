@@ -1,8 +1,17 @@
 """Calibration of the SBMF friction law from elasto-plastic half-space contact of rough surfaces.
 
-Sec. 2-3 of the paper: surfaces in, ``FrictionParams`` JSON out.
+Sec. 2-3 of the paper: surfaces in, ``FrictionParams`` JSON out. The main entry points:
+
+- :func:`calibrate` / :class:`Scene` / :func:`write_outputs` (and the ``halfspace-calib`` command)
+- :func:`solve_normal`, :func:`solve_normal_pair` (Sec. 2.1), :func:`solve_tangential` (Sec. 2.2)
+- surfaces: :func:`read_surface`, :func:`dc04_edt_like`, :func:`tool_like`, :func:`self_affine`
+- fits: :func:`fit_first_loading` (Eq. 24), :func:`fit_reload` (Eq. 25)
+- studies: :func:`geometric_study` (Sec. 3.2), :func:`sliding_study` (Sec. 3.3)
 """
 
+from .calibrate import Calibration, Scene, calibrate, load_scene
+from .fit import fit_first_loading, fit_reload, make_params
+from .geometric import geometric_study
 from .influence import InfluenceOperator, love_coefficients, normal_operator
 from .normal import (
     NormalResult,
@@ -11,14 +20,48 @@ from .normal import (
     solve_normal,
     solve_normal_pair,
 )
+from .report import write_outputs
+from .sliding import sliding_study, sliding_sweep
+from .surfaces import (
+    Surface,
+    block_average,
+    dc04_edt_like,
+    level,
+    read_surface,
+    roughness,
+    self_affine,
+    tool_like,
+)
+from .tangential import solve_tangential, tau_adh_full_sliding
 
 __all__: list[str] = [
+    "Calibration",
     "InfluenceOperator",
     "NormalResult",
+    "Scene",
+    "Surface",
+    "block_average",
+    "calibrate",
     "composite_heights",
     "composite_modulus",
+    "dc04_edt_like",
+    "fit_first_loading",
+    "fit_reload",
+    "geometric_study",
+    "level",
+    "load_scene",
     "love_coefficients",
+    "make_params",
     "normal_operator",
+    "read_surface",
+    "roughness",
+    "self_affine",
+    "sliding_study",
+    "sliding_sweep",
     "solve_normal",
     "solve_normal_pair",
+    "solve_tangential",
+    "tau_adh_full_sliding",
+    "tool_like",
+    "write_outputs",
 ]

@@ -90,8 +90,9 @@ def direction(z, g, p, pmax, beta, t):
     return gt
 
 
-@nb.njit(nb.types.Tuple((nb.boolean, nb.boolean, _F, _F, _I))(_A, _A, _A, _A, _F, _F, _A),
-         cache=True)
+@nb.njit(
+    nb.types.Tuple((nb.boolean, nb.boolean, _F, _F, _I))(_A, _A, _A, _A, _F, _F, _A), cache=True
+)
 def step_project(p, t, g, d, tau, pmax, q):
     """Projected CG step ``q = clip(p - tau t, 0, pmax)``, releasing bound elements.
 

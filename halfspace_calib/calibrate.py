@@ -286,8 +286,15 @@ def _tangential_record(res, job):
     t0 = time.perf_counter()
     try:
         curve = presliding_curve(
-            res.pressure, job["dx"], job["E_star"], t["E_prime"], m=t["m"],
-            sigma_y=t["sigma_y"], dy=job["dy"], periodic=job["periodic"], tol=t["tol"],
+            res.pressure,
+            job["dx"],
+            job["E_star"],
+            t["E_prime"],
+            m=t["m"],
+            sigma_y=t["sigma_y"],
+            dy=job["dy"],
+            periodic=job["periodic"],
+            tol=t["tol"],
         )
     except Exception as exc:  # noqa: BLE001 - one failed curve must not lose the load level
         return {"error": f"{type(exc).__name__}: {exc}", "seconds": time.perf_counter() - t0}
@@ -497,7 +504,9 @@ def calibrate(scene=None, *, progress=True):
         },
     )
     if "inclined" in effects:
-        params = params.replace(geo_ratio=effects["inclined"].get("decision", {}).get("geo_ratio", 0.0))
+        params = params.replace(
+            geo_ratio=effects["inclined"].get("decision", {}).get("geo_ratio", 0.0)
+        )
     return Calibration(params, first, reload, sweeps, scene, time.perf_counter() - t0, effects)
 
 
@@ -506,12 +515,16 @@ def _run_effects(scene, sweeps, measured, progress):
     out = {}
     if "tangential" in scene.effects:
         if scene.m == 0:
-            out["tangential"] = {"skipped": "m = 0: the Tresca bound (Eq. 18) is zero, no "
-                                            "tangential traction and no stiffness"}
+            out["tangential"] = {
+                "skipped": "m = 0: the Tresca bound (Eq. 18) is zero, no "
+                "tangential traction and no stiffness"
+            }
         else:
             secs = sum(lv.get("tangential", {}).get("seconds", 0.0) for lv in sweeps.levels)
-            out["tangential"] = {"summary": _eff.summarize_tangential(sweeps.levels),
-                                 "seconds": secs}
+            out["tangential"] = {
+                "summary": _eff.summarize_tangential(sweeps.levels),
+                "seconds": secs,
+            }
     if "inclined" in scene.effects:
         out["inclined"] = _eff.run_inclined(scene, measured=measured)
     if "sliding" in scene.effects:
@@ -542,7 +555,9 @@ def _effects_record(effects):
             }
         elif name == "sliding":
             st = e["study"]
-            rec[name] = dict(st.summary(), errors={str(k): v.splitlines()[0]
-                                                   for k, v in st.errors.items()},
-                             seconds=e["seconds"])
+            rec[name] = dict(
+                st.summary(),
+                errors={str(k): v.splitlines()[0] for k, v in st.errors.items()},
+                seconds=e["seconds"],
+            )
     return rec

@@ -190,8 +190,11 @@ def _print_effects(cal, out):
         if e is None:
             continue
         if "skipped" in e:
-            label = {"tangential": "tangential (pre-sliding)", "inclined": "inclined patches",
-                     "sliding": "sliding (Sec. 3.3)"}[name]
+            label = {
+                "tangential": "tangential (pre-sliding)",
+                "inclined": "inclined patches",
+                "sliding": "sliding (Sec. 3.3)",
+            }[name]
             print(f"  {label} skipped: {e['skipped']}")
             continue
         getattr(sys.modules[__name__], f"_print_{name}")(e, out)

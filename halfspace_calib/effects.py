@@ -70,8 +70,9 @@ def check_effects(effects):
         try:
             names = list(effects)
         except TypeError:
-            raise ValueError(f"effects must be a list of names from {list(EFFECTS)}, "
-                             f"got {effects!r}") from None
+            raise ValueError(
+                f"effects must be a list of names from {list(EFFECTS)}, got {effects!r}"
+            ) from None
     bad = [e for e in names if not isinstance(e, str) or e not in EFFECTS]
     if bad:
         raise ValueError(f"effects must be names from {list(EFFECTS)}, got unknown {bad}")
@@ -94,26 +95,39 @@ def scene_measured_surfaces(scene):
     if scene.workpiece is None and scene.tool is None:
         fine = scene.measured_n if scene.measured_n is not None else 4 * n
         if fine % n or fine // n < 2:
-            raise ValueError(f"measured_n must be a multiple >= 2 of grid={n} for the inclined "
-                             f"patches, got {scene.measured_n!r}")
+            raise ValueError(
+                f"measured_n must be a multiple >= 2 of grid={n} for the inclined "
+                f"patches, got {scene.measured_n!r}"
+            )
         s = fine // n
-        wp, tl = measured_surfaces(n, s, rough_tool=scene.rough_tool,
-                                   seed_workpiece=scene.seed_workpiece, seed_tool=scene.seed_tool)
+        wp, tl = measured_surfaces(
+            n,
+            s,
+            rough_tool=scene.rough_tool,
+            seed_workpiece=scene.seed_workpiece,
+            seed_tool=scene.seed_tool,
+        )
         return wp, tl, s
     out = []
     for which in ("workpiece", "tool"):
         path = getattr(scene, which)
         if path is None:
-            raise ValueError(f"the inclined effect needs both surfaces measured: give {which} as a "
-                             "file too (a synthetic map has no measured points of its own)")
+            raise ValueError(
+                f"the inclined effect needs both surfaces measured: give {which} as a "
+                "file too (a synthetic map has no measured points of its own)"
+            )
         out.append(_surf.level(_surf.read_surface(path, unit=scene.unit, size=scene.size)))
     wp, tl = out
     if wp.shape != tl.shape:
-        raise ValueError(f"workpiece {wp.shape} and tool {tl.shape} must be measured on the same grid")
+        raise ValueError(
+            f"workpiece {wp.shape} and tool {tl.shape} must be measured on the same grid"
+        )
     sx, sy = wp.shape[0] // n, wp.shape[1] // n
     if min(sx, sy) < 2:
-        raise ValueError(f"the measured maps ({wp.shape}) must have at least 2 points per element "
-                         f"edge on grid={n} for the inclined patches (Eqs. 19-21)")
+        raise ValueError(
+            f"the measured maps ({wp.shape}) must have at least 2 points per element "
+            f"edge on grid={n} for the inclined patches (Eqs. 19-21)"
+        )
     return _crop_to(wp, n, sx, sy), _crop_to(tl, n, sx, sy), (sx, sy)
 
 
@@ -146,12 +160,16 @@ def geo_decision(result, threshold, m):
     mean = fit["ratio_mean"]
     applied = bool(mean > threshold)
     if applied:
-        reason = (f"mean tau_geo / tau_adh = {mean:.4f} > geo_threshold = {threshold:g}: Eq. 26's "
-                  f"f(p) = geo_ratio k alpha(p) fitted, geo_ratio = {fit['geo_ratio']:.4f} "
-                  f"(RMS misfit {100 * fit['rms_misfit']:.1f} % of tau_geo)")
+        reason = (
+            f"mean tau_geo / tau_adh = {mean:.4f} > geo_threshold = {threshold:g}: Eq. 26's "
+            f"f(p) = geo_ratio k alpha(p) fitted, geo_ratio = {fit['geo_ratio']:.4f} "
+            f"(RMS misfit {100 * fit['rms_misfit']:.1f} % of tau_geo)"
+        )
     else:
-        reason = (f"mean tau_geo / tau_adh = {mean:.4f} <= geo_threshold = {threshold:g}: "
-                  "the geometric shear is not significant, Eq. 26's term is left out (geo_ratio = 0)")
+        reason = (
+            f"mean tau_geo / tau_adh = {mean:.4f} <= geo_threshold = {threshold:g}: "
+            "the geometric shear is not significant, Eq. 26's term is left out (geo_ratio = 0)"
+        )
     return {
         "geo_ratio": fit["geo_ratio"] if applied else 0.0,
         "applied": applied,
@@ -159,7 +177,7 @@ def geo_decision(result, threshold, m):
         "threshold": float(threshold),
         "fit": fit,
         "method": "least squares of tau_geo(p) = geo_ratio * tau_adh(p) = geo_ratio m k alpha(p) "
-                  "over the scene's pressures (alpha of the inclined-patch normal solves)",
+        "over the scene's pressures (alpha of the inclined-patch normal solves)",
         "m": float(m),
         "reason": reason,
     }
@@ -177,16 +195,31 @@ def run_inclined(scene, *, measured=None):
         ``{"skipped": reason}`` when ``m = 0``.
     """
     if scene.m == 0:
-        return {"skipped": "m = 0: no adhesive shear, tau_geo / tau_adh undefined and Eq. 26 "
-                           "(m [k alpha + f]) vanishes; geo_ratio = 0"}
+        return {
+            "skipped": "m = 0: no adhesive shear, tau_geo / tau_adh undefined and Eq. 26 "
+            "(m [k alpha + f]) vanishes; geo_ratio = 0"
+        }
     t0 = time.perf_counter()
     wp, tl, s = scene_measured_surfaces(scene) if measured is None else measured
-    res = geometric_sweep(wp, tl, scene.pressures, block=s, E_star=scene.E_star, H=scene.H,
-                          m=scene.m, sigma_y=scene.sigma_y, tol=scene.tol, periodic=scene.periodic,
-                          volume_conservation=scene.volume_conservation,
-                          label="rough tool" if scene.rough_tool else "scene tool")
-    return {"result": res, "decision": geo_decision(res, scene.geo_threshold, scene.m),
-            "seconds": time.perf_counter() - t0}
+    res = geometric_sweep(
+        wp,
+        tl,
+        scene.pressures,
+        block=s,
+        E_star=scene.E_star,
+        H=scene.H,
+        m=scene.m,
+        sigma_y=scene.sigma_y,
+        tol=scene.tol,
+        periodic=scene.periodic,
+        volume_conservation=scene.volume_conservation,
+        label="rough tool" if scene.rough_tool else "scene tool",
+    )
+    return {
+        "result": res,
+        "decision": geo_decision(res, scene.geo_threshold, scene.m),
+        "seconds": time.perf_counter() - t0,
+    }
 
 
 # ----------------------------------------------------------------------------- sliding
@@ -209,9 +242,17 @@ def run_sliding(scene, *, progress=True):
     try:
         study = sliding_study(
             tuple(p for p in SLIDING_PRESSURES if p < scene.H),
-            workpiece=wp, tool=tool, E_star=scene.E_star, H=scene.H, m=scene.m,
-            sigma_y=scene.sigma_y, tol=scene.tol, volume_conservation=scene.volume_conservation,
-            periodic=scene.periodic, workers=scene.workers, scheduler=scene.scheduler,
+            workpiece=wp,
+            tool=tool,
+            E_star=scene.E_star,
+            H=scene.H,
+            m=scene.m,
+            sigma_y=scene.sigma_y,
+            tol=scene.tol,
+            volume_conservation=scene.volume_conservation,
+            periodic=scene.periodic,
+            workers=scene.workers,
+            scheduler=scene.scheduler,
             progress=progress,
         )
     except ValueError as exc:  # e.g. m = 0 (no adhesive work) or H below 100 MPa
@@ -247,19 +288,24 @@ def summarize_tangential(levels):
             errors.append({"p_mean": lv["p_hist"], "error": t["error"]})
             continue
         alpha = lv["loading"]["alpha"]
-        rows.append({
-            "p_mean": lv["p_hist"],
-            "alpha": alpha,
-            "q_limit": t["q_limit"],
-            "delta_full": t["delta_full"],
-            "delta_stick": t["delta_stick"],
-            "k_t0": t["k_t0"],
-            "k_sec": t["k_sec"],
-            "k_eq": t["k_eq"],
-            "converged": t["converged"],
-        })
-        full = [q for d, q in zip(t["delta"], t["q_mean"], strict=True)
-                if d >= t["delta_full"] * (1 - 1e-12)]
+        rows.append(
+            {
+                "p_mean": lv["p_hist"],
+                "alpha": alpha,
+                "q_limit": t["q_limit"],
+                "delta_full": t["delta_full"],
+                "delta_stick": t["delta_stick"],
+                "k_t0": t["k_t0"],
+                "k_sec": t["k_sec"],
+                "k_eq": t["k_eq"],
+                "converged": t["converged"],
+            }
+        )
+        full = [
+            q
+            for d, q in zip(t["delta"], t["q_mean"], strict=True)
+            if d >= t["delta_full"] * (1 - 1e-12)
+        ]
         for q in full:
             max_diff = max(max_diff, abs(q - t["q_limit"]) / t["q_limit"])
     out = {"rows": rows, "errors": errors, "full_sliding_max_rel_diff": max_diff}
@@ -282,8 +328,10 @@ def summarize_tangential(levels):
             "delta from the mean surface displacement); the bulk compliance is in the FE model."
         )
     elif ok:
-        out["recommendation"] = (f"penalty k_t of frictionlaw.traction_update: k_eq = "
-                                 f"{ok[0]['k_eq']:.3e} Pa/m at {ok[0]['p_mean']:.3g} Pa")
+        out["recommendation"] = (
+            f"penalty k_t of frictionlaw.traction_update: k_eq = "
+            f"{ok[0]['k_eq']:.3e} Pa/m at {ok[0]['p_mean']:.3g} Pa"
+        )
     else:
         out["recommendation"] = "no converged tangential curve: no stiffness recommendation"
     return out
@@ -293,26 +341,53 @@ def write_tangential_outputs(levels, summary, out_dir):
     """``tangential.csv`` (curves), ``tangential_stiffness.csv`` and two PNGs into ``out_dir``."""
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    curves = [(lv["p_hist"], lv["tangential"]) for lv in levels
-              if lv.get("tangential") and "error" not in lv["tangential"]]
-    write_csv(out / "tangential.csv", ["p_mean", "delta", "q_mean", "q_over_q_limit",
-                                        "slip_fraction"],
-              [[p, d, q, q / t["q_limit"], s] for p, t in curves
-               for d, q, s in zip(t["delta"], t["q_mean"], t["slip_fraction"], strict=True)])
-    keys = ["p_mean", "alpha", "q_limit", "delta_full", "delta_stick", "k_t0", "k_eq", "k_sec",
-            "converged"]
-    write_csv(out / "tangential_stiffness.csv", keys,
-              [[r[k] for k in keys] for r in summary["rows"]])
+    curves = [
+        (lv["p_hist"], lv["tangential"])
+        for lv in levels
+        if lv.get("tangential") and "error" not in lv["tangential"]
+    ]
+    write_csv(
+        out / "tangential.csv",
+        ["p_mean", "delta", "q_mean", "q_over_q_limit", "slip_fraction"],
+        [
+            [p, d, q, q / t["q_limit"], s]
+            for p, t in curves
+            for d, q, s in zip(t["delta"], t["q_mean"], t["slip_fraction"], strict=True)
+        ],
+    )
+    keys = [
+        "p_mean",
+        "alpha",
+        "q_limit",
+        "delta_full",
+        "delta_stick",
+        "k_t0",
+        "k_eq",
+        "k_sec",
+        "converged",
+    ]
+    write_csv(
+        out / "tangential_stiffness.csv", keys, [[r[k] for k in keys] for r in summary["rows"]]
+    )
     if not curves:
         return out
     plt = pyplot()
 
     fig, ax = plt.subplots(figsize=(6, 4.2))
     for i, (p, t) in enumerate(curves):
-        ax.plot(np.array(t["delta"]) * 1e9, np.array(t["q_mean"]) / 1e6, "-o", ms=3,
-                color=f"C{i % 10}", label=f"{p / 1e6:g} MPa")
-    ax.set(xlabel="rigid shift delta [nm]", ylabel="q_mean [MPa]",
-           title="Pre-sliding: mean tangential traction (Tresca cap, Eq. 18)")
+        ax.plot(
+            np.array(t["delta"]) * 1e9,
+            np.array(t["q_mean"]) / 1e6,
+            "-o",
+            ms=3,
+            color=f"C{i % 10}",
+            label=f"{p / 1e6:g} MPa",
+        )
+    ax.set(
+        xlabel="rigid shift delta [nm]",
+        ylabel="q_mean [MPa]",
+        title="Pre-sliding: mean tangential traction (Tresca cap, Eq. 18)",
+    )
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
     save_png(fig, out / "tangential_curves.png")
@@ -323,8 +398,11 @@ def write_tangential_outputs(levels, summary, out_dir):
     ax.loglog(p, [r["k_t0"] for r in rows], "o-", label="k_t0 (initial)")
     ax.loglog(p, [r["k_eq"] for r in rows], "^-", label="k_eq (energy-equivalent, recommended)")
     ax.loglog(p, [r["k_sec"] for r in rows], "s-", label="k_sec (secant to full sliding)")
-    ax.set(xlabel="p_mean [MPa]", ylabel="tangential stiffness [Pa/m]",
-           title="Interface tangential stiffness (penalty k_t)")
+    ax.set(
+        xlabel="p_mean [MPa]",
+        ylabel="tangential stiffness [Pa/m]",
+        title="Interface tangential stiffness (penalty k_t)",
+    )
     ax.grid(alpha=0.3, which="both")
     ax.legend()
     save_png(fig, out / "tangential_stiffness.png")
@@ -336,8 +414,9 @@ def write_effect_outputs(cal, out):
     out = Path(out)
     eff = cal.effects
     if "tangential" in eff and "summary" in eff["tangential"]:
-        write_tangential_outputs(cal.sweeps.levels, eff["tangential"]["summary"],
-                                 out / "tangential")
+        write_tangential_outputs(
+            cal.sweeps.levels, eff["tangential"]["summary"], out / "tangential"
+        )
     if "inclined" in eff and "result" in eff["inclined"]:
         write_geometric_outputs(eff["inclined"]["result"], out / "geometric")
     if "sliding" in eff and "study" in eff["sliding"]:

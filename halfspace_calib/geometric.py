@@ -147,8 +147,16 @@ def _scale_to_solver_ra(fine, n, ra_target):
     )
 
 
-def measured_surfaces(n=128, block=4, *, rough_tool=False, seed_workpiece=1, seed_tool=2,
-                      size=_surf.PAPER_SIZE, roughness_on="solver"):
+def measured_surfaces(
+    n=128,
+    block=4,
+    *,
+    rough_tool=False,
+    seed_workpiece=1,
+    seed_tool=2,
+    size=_surf.PAPER_SIZE,
+    roughness_on="solver",
+):
     """Synthetic measured DC04-like workpiece and tool on an ``n block`` grid: ``(workpiece, tool)``.
 
     Parameters
@@ -216,9 +224,22 @@ def _check(pressures, H, m, sigma_y, tol):
     return pressures
 
 
-def geometric_sweep(workpiece, tool, pressures=GEO_PRESSURES, *, block, E_star=None, H=800e6,
-                    m=0.5, sigma_y=None, tol=1e-8, periodic=True, volume_conservation=True,
-                    direction=1, label=""):
+def geometric_sweep(
+    workpiece,
+    tool,
+    pressures=GEO_PRESSURES,
+    *,
+    block,
+    E_star=None,
+    H=800e6,
+    m=0.5,
+    sigma_y=None,
+    tol=1e-8,
+    periodic=True,
+    volume_conservation=True,
+    direction=1,
+    label="",
+):
     """``tau_adh``, ``tau_geo`` (Eq. 23) and ``tau_geo / tau_adh`` over ``pressures`` (Figs. 9-10).
 
     Parameters
@@ -269,15 +290,26 @@ def geometric_sweep(workpiece, tool, pressures=GEO_PRESSURES, *, block, E_star=N
     t0 = time.perf_counter()
     p_init = None
     for i in order:
-        r = solve_normal_pair(tc.heights, wc.heights, wc.dx, E_star, pressures[i], H=H, tol=tol,
-                              periodic=periodic, dy=wc.dy, p_init=p_init,
-                              volume_conservation=volume_conservation)
+        r = solve_normal_pair(
+            tc.heights,
+            wc.heights,
+            wc.dx,
+            E_star,
+            pressures[i],
+            H=H,
+            tol=tol,
+            periodic=periodic,
+            dy=wc.dy,
+            p_init=p_init,
+            volume_conservation=volume_conservation,
+        )
         p_init = r.pressure
         out["alpha"][i] = r.alpha
         out["plastic_fraction"][i] = r.plastic_fraction
         out["tau_adh"][i] = tau_adh_full_sliding(r.alpha, m, sigma_y)
-        out["tau_geo"][i] = tau_geo_from_surfaces(r.pressure, zw, zt, (sx, sy), dxf, dyf,
-                                                  plastic=r.pressure >= H, direction=direction)
+        out["tau_geo"][i] = tau_geo_from_surfaces(
+            r.pressure, zw, zt, (sx, sy), dxf, dyf, plastic=r.pressure >= H, direction=direction
+        )
         conv[i] = r.converged
         msgs[i] = r.message
     ratio = np.divide(out["tau_geo"], out["tau_adh"], out=np.zeros(k), where=out["tau_adh"] > 0)
@@ -299,9 +331,16 @@ def geometric_sweep(workpiece, tool, pressures=GEO_PRESSURES, *, block, E_star=N
         "tool_Ra": _surf.ra(tc),
         "tool_Rq": _surf.rq(tc),
     }
-    return GeometricResult(label, np.asarray(pressures), ratio=ratio, converged=conv,
-                           messages=msgs, settings=settings, seconds=time.perf_counter() - t0,
-                           **out)
+    return GeometricResult(
+        label,
+        np.asarray(pressures),
+        ratio=ratio,
+        converged=conv,
+        messages=msgs,
+        settings=settings,
+        seconds=time.perf_counter() - t0,
+        **out,
+    )
 
 
 def fit_geo_ratio(result):
@@ -337,9 +376,22 @@ def fit_geo_ratio(result):
     }
 
 
-def geometric_study(pressures=GEO_PRESSURES, *, n=128, block=4, seed_workpiece=1, seed_tool=2,
-                    roughness_on="solver", E_star=None, H=800e6, m=0.5, sigma_y=None, tol=1e-8,
-                    periodic=True, volume_conservation=True):
+def geometric_study(
+    pressures=GEO_PRESSURES,
+    *,
+    n=128,
+    block=4,
+    seed_workpiece=1,
+    seed_tool=2,
+    roughness_on="solver",
+    E_star=None,
+    H=800e6,
+    m=0.5,
+    sigma_y=None,
+    tol=1e-8,
+    periodic=True,
+    volume_conservation=True,
+):
     """Figs. 9-10: the DC04-like workpiece against the smooth and the rough tool.
 
     Parameters
@@ -359,17 +411,44 @@ def geometric_study(pressures=GEO_PRESSURES, *, n=128, block=4, seed_workpiece=1
     t0 = time.perf_counter()
     results = []
     for rough, label in ((False, "smooth tool"), (True, "rough tool")):
-        wp, tl = measured_surfaces(n, block, rough_tool=rough, seed_workpiece=seed_workpiece,
-                                   seed_tool=seed_tool, roughness_on=roughness_on)
-        results.append(geometric_sweep(wp, tl, pressures, block=block, E_star=E_star, H=H, m=m,
-                                       sigma_y=sigma_y, tol=tol, periodic=periodic,
-                                       volume_conservation=volume_conservation, label=label))
+        wp, tl = measured_surfaces(
+            n,
+            block,
+            rough_tool=rough,
+            seed_workpiece=seed_workpiece,
+            seed_tool=seed_tool,
+            roughness_on=roughness_on,
+        )
+        results.append(
+            geometric_sweep(
+                wp,
+                tl,
+                pressures,
+                block=block,
+                E_star=E_star,
+                H=H,
+                m=m,
+                sigma_y=sigma_y,
+                tol=tol,
+                periodic=periodic,
+                volume_conservation=volume_conservation,
+                label=label,
+            )
+        )
     return GeometricStudy(results, time.perf_counter() - t0)
 
 
 # ----------------------------------------------------------------------------- output
-CSV_COLUMNS = ["label", "p_mean", "alpha", "tau_adh", "tau_geo", "ratio", "plastic_fraction",
-               "converged"]
+CSV_COLUMNS = [
+    "label",
+    "p_mean",
+    "alpha",
+    "tau_adh",
+    "tau_geo",
+    "ratio",
+    "plastic_fraction",
+    "converged",
+]
 
 
 def write_geometric_outputs(result, out_dir):
@@ -396,11 +475,24 @@ def write_geometric_outputs(result, out_dir):
         raise ValueError("result must be a GeometricResult, a GeometricStudy or a list of them")
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    write_csv(out / "geometric.csv", CSV_COLUMNS,
-              [[r.label, repr(float(r.p_mean[i])), repr(float(r.alpha[i])),
-                repr(float(r.tau_adh[i])), repr(float(r.tau_geo[i])), repr(float(r.ratio[i])),
-                repr(float(r.plastic_fraction[i])), int(r.converged[i])]
-               for r in results for i in range(r.p_mean.size)])
+    write_csv(
+        out / "geometric.csv",
+        CSV_COLUMNS,
+        [
+            [
+                r.label,
+                repr(float(r.p_mean[i])),
+                repr(float(r.alpha[i])),
+                repr(float(r.tau_adh[i])),
+                repr(float(r.tau_geo[i])),
+                repr(float(r.ratio[i])),
+                repr(float(r.plastic_fraction[i])),
+                int(r.converged[i]),
+            ]
+            for r in results
+            for i in range(r.p_mean.size)
+        ],
+    )
     _plots(results, out)
     return out
 
@@ -412,22 +504,35 @@ def _plots(results, out):
     fig, ax = plt.subplots(figsize=(6, 4.2))
     for i, r in enumerate(results):
         mk = marks[i % len(marks)]
-        ax.plot(r.p_mean / 1e6, r.tau_adh / 1e6, "-" + mk, color=f"C{i}",
-                label=f"tau_adh, {r.label}")
-        ax.plot(r.p_mean / 1e6, r.tau_geo / 1e6, "--" + mk, color=f"C{i}",
-                label=f"tau_geo, {r.label}")
-    ax.set(xlabel="p_mean [MPa]", ylabel="shear stress [MPa]",
-           title="Fig. 9: adhesive and geometric shear")
+        ax.plot(
+            r.p_mean / 1e6, r.tau_adh / 1e6, "-" + mk, color=f"C{i}", label=f"tau_adh, {r.label}"
+        )
+        ax.plot(
+            r.p_mean / 1e6, r.tau_geo / 1e6, "--" + mk, color=f"C{i}", label=f"tau_geo, {r.label}"
+        )
+    ax.set(
+        xlabel="p_mean [MPa]",
+        ylabel="shear stress [MPa]",
+        title="Fig. 9: adhesive and geometric shear",
+    )
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
     save_png(fig, out / "fig9_tau.png")
 
     fig, ax = plt.subplots(figsize=(6, 4.2))
     for i, r in enumerate(results):
-        ax.plot(r.p_mean / 1e6, r.ratio, "-" + marks[i % len(marks)], color=f"C{i}",
-                label=f"{r.label} (mean {r.ratio_mean:.4f})")
-    ax.set(xlabel="p_mean [MPa]", ylabel="tau_geo / tau_adh",
-           title="Fig. 10: share of the geometric shear")
+        ax.plot(
+            r.p_mean / 1e6,
+            r.ratio,
+            "-" + marks[i % len(marks)],
+            color=f"C{i}",
+            label=f"{r.label} (mean {r.ratio_mean:.4f})",
+        )
+    ax.set(
+        xlabel="p_mean [MPa]",
+        ylabel="tau_geo / tau_adh",
+        title="Fig. 10: share of the geometric shear",
+    )
     ax.set_ylim(bottom=0)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)

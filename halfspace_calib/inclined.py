@@ -111,7 +111,11 @@ def fit_patch_planes(z, block, dx, dy=None):
     sxx, syy, sxy = bsum(w * xl * xl), bsum(w * yl * yl), bsum(w * xl * yl)
     sxz, syz, sz = bsum(w * xl * zb), bsum(w * yl * zb), bsum(zb)
     M = np.stack(
-        [np.stack([sxx, sxy, sx_], -1), np.stack([sxy, syy, sy_], -1), np.stack([sx_, sy_, s1], -1)],
+        [
+            np.stack([sxx, sxy, sx_], -1),
+            np.stack([sxy, syy, sy_], -1),
+            np.stack([sx_, sy_, s1], -1),
+        ],
         -2,
     )
     rhs = np.stack([sxz, syz, sz], -1)
@@ -174,8 +178,10 @@ def contact_normals(nv_workpiece, nv_tool, plastic):
         )
     if not (np.all(nw[..., 2] > 0) and np.all(nt[..., 2] > 0)):
         raise ValueError("normals must point up (nv_z > 0), see patch_normals")
-    mean = 0.5 * (nw / np.linalg.norm(nw, axis=-1, keepdims=True)
-                  + nt / np.linalg.norm(nt, axis=-1, keepdims=True))
+    mean = 0.5 * (
+        nw / np.linalg.norm(nw, axis=-1, keepdims=True)
+        + nt / np.linalg.norm(nt, axis=-1, keepdims=True)
+    )
     mean /= np.linalg.norm(mean, axis=-1, keepdims=True)
     return np.where(plastic[..., None], nt / np.linalg.norm(nt, axis=-1, keepdims=True), mean)
 
@@ -255,7 +261,9 @@ def tau_geo_from_surfaces(p, z_workpiece, z_tool, block, dx, dy=None, plastic=No
             f"{pw.alpha.shape}, {pt.alpha.shape}"
         )
     plastic = np.zeros(p.shape, bool) if plastic is None else plastic
-    nv = contact_normals(patch_normals(pw.alpha, pw.beta), patch_normals(-pt.alpha, -pt.beta), plastic)
+    nv = contact_normals(
+        patch_normals(pw.alpha, pw.beta), patch_normals(-pt.alpha, -pt.beta), plastic
+    )
     return tau_geo(p, nv, direction)
 
 

@@ -204,8 +204,9 @@ class InfluenceOperator:
         if periodic:
             mx, my = nx, ny
         else:
-            mx, my = sfft.next_fast_len(2 * nx - 1, real=True), sfft.next_fast_len(
-                2 * ny - 1, real=True
+            mx, my = (
+                sfft.next_fast_len(2 * nx - 1, real=True),
+                sfft.next_fast_len(2 * ny - 1, real=True),
             )
         ox = _offsets(nx, mx, periodic)
         oy = _offsets(ny, my, periodic)
@@ -284,14 +285,16 @@ class InfluenceOperator:
 
     def forward(self, p: np.ndarray) -> np.ndarray:
         """``rfft2`` of ``p`` on the (padded) FFT grid: the half spectrum used by :meth:`backward`."""
-        return sfft.rfft2(np.asarray(p, dtype=self.real_dtype), s=self.fft_shape,
-                          workers=self.workers)
+        return sfft.rfft2(
+            np.asarray(p, dtype=self.real_dtype), s=self.fft_shape, workers=self.workers
+        )
 
     def backward(self, p_hat: np.ndarray) -> np.ndarray:
         """Displacement from a pressure half spectrum: ``apply(p) == backward(forward(p))``."""
         nx, ny = self.shape
-        u = sfft.irfft2(p_hat * self.spectrum, s=self.fft_shape, workers=self.workers,
-                        overwrite_x=True)
+        u = sfft.irfft2(
+            p_hat * self.spectrum, s=self.fft_shape, workers=self.workers, overwrite_x=True
+        )
         u = u if self.periodic else u[:nx, :ny]
         return np.ascontiguousarray(u, dtype=np.float64)
 
@@ -301,8 +304,9 @@ class InfluenceOperator:
         Requires ``inverse_spectrum`` (set by :func:`normal_operator`: ``E_star |q| / 2``).
         """
         nx, ny = self.shape
-        uh = sfft.rfft2(np.asarray(u, dtype=self.real_dtype), s=self.fft_shape,
-                        workers=self.workers)
+        uh = sfft.rfft2(
+            np.asarray(u, dtype=self.real_dtype), s=self.fft_shape, workers=self.workers
+        )
         uh *= self.inverse_spectrum
         z = sfft.irfft2(uh, s=self.fft_shape, workers=self.workers, overwrite_x=True)
         z = z if self.periodic else z[:nx, :ny]
@@ -336,8 +340,9 @@ class InfluenceOperator:
         u = np.zeros(self.shape)
         ix = np.arange(nx)
         iy = np.arange(ny)
-        for i0, j0, v in zip(np.atleast_1d(rows), np.atleast_1d(cols), np.atleast_1d(values),
-                             strict=True):
+        for i0, j0, v in zip(
+            np.atleast_1d(rows), np.atleast_1d(cols), np.atleast_1d(values), strict=True
+        ):
             u += v * self.kernel[np.ix_((ix - i0) % mx, (iy - j0) % my)]
         return u
 
@@ -407,7 +412,11 @@ def normal_operator(
     else:
         op = InfluenceOperator.from_coefficients(
             lambda x, y: love_coefficients(x, y, dx / 2, dy / 2, E_star),
-            shape, dx, dy, periodic=periodic, workers=workers,
+            shape,
+            dx,
+            dy,
+            periodic=periodic,
+            workers=workers,
         )
     op.inverse_spectrum = inverse_spectrum_normal(op.fft_shape, dx, dy, E_star)
     return op

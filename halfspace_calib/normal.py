@@ -386,12 +386,20 @@ def solve_normal(
             f"{operator.shape} and periodic={operator.periodic}"
         )
     p, u, g, nit, converged, res = _pk_box_cg(
-        operator.single() if single else operator, h, float(p_mean), H, p_init, tol, int(maxiter), refresh,
+        operator.single() if single else operator,
+        h,
+        float(p_mean),
+        H,
+        p_init,
+        tol,
+        int(maxiter),
+        refresh,
         scale=_residual_scale(h, p_mean, dx, E_star),
         precondition=bool(precondition) and operator.inverse_spectrum is not None,
     )
-    return _finish(h, p, u, g, nit, converged, res, tol, p_mean, H, periodic,
-                   volume_conservation, dx * dy_)
+    return _finish(
+        h, p, u, g, nit, converged, res, tol, p_mean, H, periodic, volume_conservation, dx * dy_
+    )
 
 
 def _residual_scale(h, p_mean, dx, E_star):
@@ -536,13 +544,17 @@ def _finish(h, p, u, g, nit, converged, res, tol, p_mean, H, periodic, vc, dA):
         deformed += lift
         if rest > 0:
             deformed += rest / deformed.size
-            note = (f" (the valleys hold only {100 * (1 - rest / removed):.1f} % of the removed "
-                    "volume: the rest raises the whole surface evenly)")
+            note = (
+                f" (the valleys hold only {100 * (1 - rest / removed):.1f} % of the removed "
+                "volume: the rest raises the whole surface evenly)"
+            )
     if converged:
         msg = f"converged in {nit} iterations, residual {res:.2e} < tol {tol:.1e}{note}"
     else:
-        msg = (f"NOT converged: residual {res:.2e} >= tol {tol:.1e} after {nit} iterations "
-               f"(raise maxiter or tol){note}")
+        msg = (
+            f"NOT converged: residual {res:.2e} >= tol {tol:.1e} after {nit} iterations "
+            f"(raise maxiter or tol){note}"
+        )
     return NormalResult(
         pressure=p,
         alpha=float(np.count_nonzero(contact) / p.size),
@@ -600,8 +612,9 @@ def volume_conserving_lift(gap, volume):
     return np.minimum(g, c), 0.0
 
 
-def solve_normal_pair(tool, workpiece, dx: float, E_star: float, p_mean: float,
-                      **kwargs) -> NormalResult:
+def solve_normal_pair(
+    tool, workpiece, dx: float, E_star: float, p_mean: float, **kwargs
+) -> NormalResult:
     """Normal contact of a tool and a workpiece surface (two height maps in, one gap).
 
     The composite gap is formed by :func:`composite_heights`; the plastic displacement and the

@@ -35,8 +35,22 @@ from . import tangential as _tang
 __all__ = ["PRESLIDING_FRACTIONS", "PreslidingCurve", "presliding_curve", "stiffness_power_law"]
 
 #: shifts of the curve as fractions of ``delta_full`` (1.0 and above: full sliding)
-PRESLIDING_FRACTIONS = (0.02, 0.05, 0.08, 0.12, 0.16, 0.2, 0.25, 0.3, 0.4, 0.5, 0.65, 0.8, 1.0,
-                        1.25)
+PRESLIDING_FRACTIONS = (
+    0.02,
+    0.05,
+    0.08,
+    0.12,
+    0.16,
+    0.2,
+    0.25,
+    0.3,
+    0.4,
+    0.5,
+    0.65,
+    0.8,
+    1.0,
+    1.25,
+)
 
 
 @dataclass
@@ -98,8 +112,20 @@ class PreslidingCurve:
         }
 
 
-def presliding_curve(p, dx, E_star, E_prime, *, m, sigma_y, dy=None, periodic=True,
-                     fractions=PRESLIDING_FRACTIONS, tol=1e-8, maxiter=10000):
+def presliding_curve(
+    p,
+    dx,
+    E_star,
+    E_prime,
+    *,
+    m,
+    sigma_y,
+    dy=None,
+    periodic=True,
+    fractions=PRESLIDING_FRACTIONS,
+    tol=1e-8,
+    maxiter=10000,
+):
     """Tangential traction against the rigid shift up to full sliding, and the stiffness.
 
     Parameters

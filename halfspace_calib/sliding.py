@@ -132,8 +132,14 @@ def adhesive_work(m, sigma_y, alpha, A0, step):
 
 
 # ----------------------------------------------------------------------------- surfaces
-def sliding_workpiece(shape=SLIDING_SHAPE, size=SLIDING_SIZE, *, seed=1,
-                      ra=SLIDING_ROUGHNESS["Ra"], rq=SLIDING_ROUGHNESS["Rq"]):
+def sliding_workpiece(
+    shape=SLIDING_SHAPE,
+    size=SLIDING_SIZE,
+    *,
+    seed=1,
+    ra=SLIDING_ROUGHNESS["Ra"],
+    rq=SLIDING_ROUGHNESS["Rq"],
+):
     """Synthetic stand-in for the longer DC04 EDT sheet of Sec. 3.3 (Ra 0.989 um, Rq 1.201 um).
 
     The spectrum of :func:`halfspace_calib.surfaces.dc04_edt_like` (self-affine, Hurst 0.8,
@@ -145,12 +151,20 @@ def sliding_workpiece(shape=SLIDING_SHAPE, size=SLIDING_SIZE, *, seed=1,
     nx, ny = shape
     nyquist = 2 * max(size[0] / nx, size[1] / ny)
     rolloff = max(100e-6, 1.001 * nyquist)
-    return _surf.self_affine(shape, size, hurst=0.8, rolloff_wavelength=rolloff,
-                             ra=ra, rq=rq, seed=seed)
+    return _surf.self_affine(
+        shape, size, hurst=0.8, rolloff_wavelength=rolloff, ra=ra, rq=rq, seed=seed
+    )
 
 
-def sliding_surfaces(shape=SLIDING_SHAPE, size=SLIDING_SIZE, *, tool_n=None, rough_tool=False,
-                     seed_workpiece=1, seed_tool=2):
+def sliding_surfaces(
+    shape=SLIDING_SHAPE,
+    size=SLIDING_SIZE,
+    *,
+    tool_n=None,
+    rough_tool=False,
+    seed_workpiece=1,
+    seed_tool=2,
+):
     """Default workpiece strip and tool window of Sec. 3.3: ``(workpiece, tool)`` Surfaces.
 
     The tool is :func:`halfspace_calib.surfaces.tool_like` on a square of the strip's width
@@ -242,8 +256,10 @@ class SlidingResult:
         if not bad:
             return f"all {n} positions converged (tol {self.tol:.1e})"
         shown = ", ".join(str(i) for i in bad[:10]) + (" ..." if len(bad) > 10 else "")
-        return (f"{len(bad)} of {n} positions NOT converged (tol {self.tol:.1e}): {shown}; "
-                f"first: {self.messages[bad[0]]}")
+        return (
+            f"{len(bad)} of {n} positions NOT converged (tol {self.tol:.1e}): {shown}; "
+            f"first: {self.messages[bad[0]]}"
+        )
 
     @property
     def steady(self):
@@ -274,31 +290,39 @@ def _as_array(name, s):
     h = s.heights if isinstance(s, _surf.Surface) else s
     h = np.array(h, dtype=float, copy=True)
     if h.ndim != 2 or min(h.shape) < 2:
-        raise ValueError(f"{name} must be a 2-D height map with at least 2 x 2 elements, "
-                         f"got shape {h.shape}")
+        raise ValueError(
+            f"{name} must be a 2-D height map with at least 2 x 2 elements, got shape {h.shape}"
+        )
     if not np.all(np.isfinite(h)):
         raise ValueError(f"{name} must be finite (no NaN or inf)")
     return h
 
 
 def _positive(name, v):
-    if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)) or not (
-        math.isfinite(v) and v > 0
+    if (
+        isinstance(v, bool)
+        or not isinstance(v, (int, float, np.floating, np.integer))
+        or not (math.isfinite(v) and v > 0)
     ):
         raise ValueError(f"{name} must be a finite number > 0, got {v!r}")
     return float(v)
 
 
-def _check_sweep(workpiece, tool, dx, E_star, p_mean, H, m, sigma_y, positions, tol, dy,
-                 warm_start="tool"):
+def _check_sweep(
+    workpiece, tool, dx, E_star, p_mean, H, m, sigma_y, positions, tol, dy, warm_start="tool"
+):
     wp = _as_array("workpiece", workpiece)
     tl = _as_array("tool", tool)
     if wp.shape[1] != tl.shape[1]:
-        raise ValueError(f"workpiece and tool must have the same width Ny (axis 1), got "
-                         f"workpiece {wp.shape} and tool {tl.shape}")
+        raise ValueError(
+            f"workpiece and tool must have the same width Ny (axis 1), got "
+            f"workpiece {wp.shape} and tool {tl.shape}"
+        )
     if wp.shape[0] < tl.shape[0]:
-        raise ValueError(f"workpiece must be at least as long as the tool (axis 0), got "
-                         f"workpiece {wp.shape} and tool {tl.shape}")
+        raise ValueError(
+            f"workpiece must be at least as long as the tool (axis 0), got "
+            f"workpiece {wp.shape} and tool {tl.shape}"
+        )
     dx = _positive("dx", dx)
     dy = dx if dy is None else _positive("dy", dy)
     E_star = _positive("E_star", E_star)
@@ -316,11 +340,15 @@ def _check_sweep(workpiece, tool, dx, E_star, p_mean, H, m, sigma_y, positions, 
     n_max = wp.shape[0] - tl.shape[0] + 1
     if positions is None:
         positions = n_max
-    if isinstance(positions, bool) or not isinstance(positions, (int, np.integer)) or not (
-        1 <= positions <= n_max
+    if (
+        isinstance(positions, bool)
+        or not isinstance(positions, (int, np.integer))
+        or not (1 <= positions <= n_max)
     ):
-        raise ValueError(f"positions must be an integer in [1, {n_max}] (workpiece rows - tool "
-                         f"rows + 1), got {positions!r}")
+        raise ValueError(
+            f"positions must be an integer in [1, {n_max}] (workpiece rows - tool "
+            f"rows + 1), got {positions!r}"
+        )
     return wp, tl, dx, dy, E_star, p_mean, H, float(m), sigma_y, int(positions)
 
 
@@ -346,9 +374,25 @@ def _warm_start(p, p_mean, mode):
     return out
 
 
-def sliding_sweep(workpiece, tool, dx, E_star, p_mean, *, H, m, sigma_y=None, positions=None,
-                  tol=1e-8, volume_conservation=True, periodic=True, warm_start="tool", dy=None,
-                  maxiter=5000, progress=False):
+def sliding_sweep(
+    workpiece,
+    tool,
+    dx,
+    E_star,
+    p_mean,
+    *,
+    H,
+    m,
+    sigma_y=None,
+    positions=None,
+    tol=1e-8,
+    volume_conservation=True,
+    periodic=True,
+    warm_start="tool",
+    dy=None,
+    maxiter=5000,
+    progress=False,
+):
     """Slide the tool window over the workpiece, one element per position (Sec. 3.3).
 
     Parameters
@@ -410,14 +454,26 @@ def sliding_sweep(workpiece, tool, dx, E_star, p_mean, *, H, m, sigma_y=None, po
     p_prev = None
     bar = _bar(n_pos, progress, f"sliding {p_mean / 1e6:g} MPa")
     for i in range(n_pos):
-        win = wp[i:i + nt]
+        win = wp[i : i + nt]
         rec["sep"][i] = float((tl + win).max())  # h_max of the composite heights
         p_init = _warm_start(p_prev, p_mean, warm_start)
-        r = solve_normal_pair(tl, win, dx, E_star, p_mean, H=H, periodic=periodic, tol=tol,
-                              dy=dy, maxiter=maxiter, p_init=p_init,
-                              volume_conservation=volume_conservation, operator=op)
-        wp[i:i + nt] = r.deformed_workpiece
-        upl[i:i + nt] += r.plastic_displacement
+        r = solve_normal_pair(
+            tl,
+            win,
+            dx,
+            E_star,
+            p_mean,
+            H=H,
+            periodic=periodic,
+            tol=tol,
+            dy=dy,
+            maxiter=maxiter,
+            p_init=p_init,
+            volume_conservation=volume_conservation,
+            operator=op,
+        )
+        wp[i : i + nt] = r.deformed_workpiece
+        upl[i : i + nt] += r.plastic_displacement
         rec["u0"][i], rec["alpha"][i], rec["dV"][i] = r.u0, r.alpha, r.removed_volume
         rec["pf"][i], rec["res"][i] = r.plastic_fraction, r.residual
         nit[i], conv[i] = r.nit, r.converged
@@ -432,12 +488,34 @@ def sliding_sweep(workpiece, tool, dx, E_star, p_mean, *, H, m, sigma_y=None, po
     W_adh = adhesive_work(m, sigma_y, rec["alpha"], A0, dx)
     pos = np.arange(n_pos)
     return SlidingResult(
-        p_mean=p_mean, H=H, m=m, sigma_y=sigma_y, dx=dx, dy=dy, tool_shape=tuple(tl.shape),
-        periodic=bool(periodic), volume_conservation=bool(volume_conservation), tol=float(tol),
-        position=pos, x=pos * dx, u0=rec["u0"], separation=rec["sep"], alpha=rec["alpha"], displaced_volume=rec["dV"],
-        W_def=W_def, W_adh=W_adh, ratio=W_def / W_adh, plastic_fraction=rec["pf"], nit=nit,
-        residual=rec["res"], converged=conv, messages=msgs, workpiece_initial=initial,
-        workpiece_final=wp, plastic_displacement=upl, seconds=time.perf_counter() - t0,
+        p_mean=p_mean,
+        H=H,
+        m=m,
+        sigma_y=sigma_y,
+        dx=dx,
+        dy=dy,
+        tool_shape=tuple(tl.shape),
+        periodic=bool(periodic),
+        volume_conservation=bool(volume_conservation),
+        tol=float(tol),
+        position=pos,
+        x=pos * dx,
+        u0=rec["u0"],
+        separation=rec["sep"],
+        alpha=rec["alpha"],
+        displaced_volume=rec["dV"],
+        W_def=W_def,
+        W_adh=W_adh,
+        ratio=W_def / W_adh,
+        plastic_fraction=rec["pf"],
+        nit=nit,
+        residual=rec["res"],
+        converged=conv,
+        messages=msgs,
+        workpiece_initial=initial,
+        workpiece_final=wp,
+        plastic_displacement=upl,
+        seconds=time.perf_counter() - t0,
     )
 
 
@@ -478,14 +556,33 @@ class SlidingStudy:
 
 
 def _sweep_job(job):
-    return sliding_sweep(job["workpiece"], job["tool"], job["dx"], job["E_star"], job["p_mean"],
-                         **job["kw"])
+    return sliding_sweep(
+        job["workpiece"], job["tool"], job["dx"], job["E_star"], job["p_mean"], **job["kw"]
+    )
 
 
-def sliding_study(pressures=SLIDING_PRESSURES, *, workpiece=None, tool=None, dx=None,
-                  E_star=None, H=800e6, m=0.5, sigma_y=None, positions=None, tol=1e-8,
-                  volume_conservation=True, periodic=True, warm_start="tool", seed_workpiece=1,
-                  seed_tool=2, rough_tool=False, workers=1, scheduler=None, progress=True):
+def sliding_study(
+    pressures=SLIDING_PRESSURES,
+    *,
+    workpiece=None,
+    tool=None,
+    dx=None,
+    E_star=None,
+    H=800e6,
+    m=0.5,
+    sigma_y=None,
+    positions=None,
+    tol=1e-8,
+    volume_conservation=True,
+    periodic=True,
+    warm_start="tool",
+    seed_workpiece=1,
+    seed_tool=2,
+    rough_tool=False,
+    workers=1,
+    scheduler=None,
+    progress=True,
+):
     """The sliding study of Sec. 3.3: one :func:`sliding_sweep` per pressure, as independent jobs.
 
     Parameters
@@ -517,8 +614,9 @@ def sliding_study(pressures=SLIDING_PRESSURES, *, workpiece=None, tool=None, dx=
     if bad:
         raise ValueError(f"pressures must be in (0, H) = (0, {H:g}) Pa, got {bad}")
     if workpiece is None or tool is None:
-        dwp, dtl = sliding_surfaces(seed_workpiece=seed_workpiece, seed_tool=seed_tool,
-                                    rough_tool=rough_tool)
+        dwp, dtl = sliding_surfaces(
+            seed_workpiece=seed_workpiece, seed_tool=seed_tool, rough_tool=rough_tool
+        )
         workpiece = dwp if workpiece is None else workpiece
         tool = dtl if tool is None else tool
     if dx is None:
@@ -527,34 +625,64 @@ def sliding_study(pressures=SLIDING_PRESSURES, *, workpiece=None, tool=None, dx=
         dx = workpiece.dx
     dy = workpiece.dy if isinstance(workpiece, _surf.Surface) else None
     for s, name in ((workpiece, "workpiece"), (tool, "tool")):
-        if isinstance(s, _surf.Surface) and not (np.isclose(s.dx, dx, rtol=1e-6)
-                                                  and np.isclose(s.dy, dy or dx, rtol=1e-6)):
+        if isinstance(s, _surf.Surface) and not (
+            np.isclose(s.dx, dx, rtol=1e-6) and np.isclose(s.dy, dy or dx, rtol=1e-6)
+        ):
             raise ValueError(f"{name} element size {s.dx:g} x {s.dy:g} m differs from dx={dx:g} m")
     if E_star is None:
         E_star = composite_modulus(210e9, 0.3, 210e9, 0.3)
-    kw = dict(H=H, m=m, sigma_y=sigma_y, positions=positions, tol=tol,
-              volume_conservation=volume_conservation, periodic=periodic,
-              warm_start=warm_start, dy=dy)
+    kw = dict(
+        H=H,
+        m=m,
+        sigma_y=sigma_y,
+        positions=positions,
+        tol=tol,
+        volume_conservation=volume_conservation,
+        periodic=periodic,
+        warm_start=warm_start,
+        dy=dy,
+    )
     wp_h, tl_h = _as_array("workpiece", workpiece), _as_array("tool", tool)
     # validate everything once, before any job runs
-    _check_sweep(wp_h, tl_h, dx, E_star, pressures[0], H, m, sigma_y, positions, tol, dy,
-                 warm_start)
-    jobs = [dict(workpiece=wp_h, tool=tl_h, dx=dx, E_star=E_star, p_mean=p, kw=kw)
-            for p in pressures]
+    _check_sweep(
+        wp_h, tl_h, dx, E_star, pressures[0], H, m, sigma_y, positions, tol, dy, warm_start
+    )
+    jobs = [
+        dict(workpiece=wp_h, tool=tl_h, dx=dx, E_star=E_star, p_mean=p, kw=kw) for p in pressures
+    ]
     t0 = time.perf_counter()
-    out = run_jobs(_sweep_job, jobs, workers=workers, scheduler=scheduler, progress=progress,
-                   desc="sliding study")
+    out = run_jobs(
+        _sweep_job,
+        jobs,
+        workers=workers,
+        scheduler=scheduler,
+        progress=progress,
+        desc="sliding study",
+    )
     results = [j.value if j.ok else None for j in out]
     errors = {pressures[j.index]: j.error for j in out if not j.ok}
-    settings = dict(kw, E_star=E_star, dx=dx, workpiece_shape=list(wp_h.shape),
-                    tool_shape=list(tl_h.shape))
+    settings = dict(
+        kw, E_star=E_star, dx=dx, workpiece_shape=list(wp_h.shape), tool_shape=list(tl_h.shape)
+    )
     settings["sigma_y"] = H / 2.8 if sigma_y is None else sigma_y
     return SlidingStudy(pressures, results, errors, time.perf_counter() - t0, settings)
 
 
 # ----------------------------------------------------------------------------- output
-CSV_COLUMNS = ["position", "x", "p_mean", "u0", "alpha", "W_def", "W_adh", "ratio",
-               "separation", "displaced_volume", "converged", "nit"]
+CSV_COLUMNS = [
+    "position",
+    "x",
+    "p_mean",
+    "u0",
+    "alpha",
+    "W_def",
+    "W_adh",
+    "ratio",
+    "separation",
+    "displaced_volume",
+    "converged",
+    "nit",
+]
 
 
 def _results_of(result):
@@ -585,14 +713,40 @@ def write_sliding_outputs(result, out_dir):
     results = _results_of(result)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    write_csv(out / "sliding.csv", CSV_COLUMNS,
-              [[int(r.position[i]), repr(float(r.x[i])), repr(r.p_mean), repr(float(r.u0[i])),
-                repr(float(r.alpha[i])), repr(float(r.W_def[i])), repr(float(r.W_adh[i])),
-                repr(float(r.ratio[i])), repr(float(r.separation[i])),
-                repr(float(r.displaced_volume[i])), int(r.converged[i]), int(r.nit[i])]
-               for r in results for i in range(r.position.size)])
-    keys = ["p_mean", "positions", "ratio_mean", "ratio_max", "W_def_mean", "W_adh_mean",
-            "alpha_mean", "first_ratio", "converged", "seconds"]
+    write_csv(
+        out / "sliding.csv",
+        CSV_COLUMNS,
+        [
+            [
+                int(r.position[i]),
+                repr(float(r.x[i])),
+                repr(r.p_mean),
+                repr(float(r.u0[i])),
+                repr(float(r.alpha[i])),
+                repr(float(r.W_def[i])),
+                repr(float(r.W_adh[i])),
+                repr(float(r.ratio[i])),
+                repr(float(r.separation[i])),
+                repr(float(r.displaced_volume[i])),
+                int(r.converged[i]),
+                int(r.nit[i]),
+            ]
+            for r in results
+            for i in range(r.position.size)
+        ],
+    )
+    keys = [
+        "p_mean",
+        "positions",
+        "ratio_mean",
+        "ratio_max",
+        "W_def_mean",
+        "W_adh_mean",
+        "alpha_mean",
+        "first_ratio",
+        "converged",
+        "seconds",
+    ]
     write_csv(out / "sliding_summary.csv", keys, [[r.steady[k] for k in keys] for r in results])
     if results:
         _plots(results, out)

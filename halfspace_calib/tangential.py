@@ -259,7 +259,9 @@ def solve_tangential(
     _check_sizes(dx, dy)
     _check_moduli(E_star, E_prime)
     if (delta is None) == (q_mean is None):
-        raise ValueError("give exactly one of delta (displacement control) or q_mean (force control)")
+        raise ValueError(
+            "give exactly one of delta (displacement control) or q_mean (force control)"
+        )
     if method not in ("mprgp", "gauss-seidel"):
         raise ValueError(f"method must be 'mprgp' or 'gauss-seidel', got {method!r}")
     if not (np.isfinite(tol) and 0 < tol < 1):
@@ -492,8 +494,17 @@ def _force_control(shape, op, idx, g, q_mean, q_limit, inner, x0, tol):
 
     if target >= q_limit * (1 - 1e-12):
         x, res, nit, ok, msg = inner(delta_hi, g.copy())
-        return _result(shape, idx, g, sign * x, sign * delta_hi, res, nit, ok,
-                       "full sliding at the limit: delta is the smallest shift that slides all; " + msg)
+        return _result(
+            shape,
+            idx,
+            g,
+            sign * x,
+            sign * delta_hi,
+            res,
+            nit,
+            ok,
+            "full sliding at the limit: delta is the smallest shift that slides all; " + msg,
+        )
 
     def f(d):
         x, res, nit, ok, msg = inner(d, state["x"])
@@ -502,15 +513,25 @@ def _force_control(shape, op, idx, g, q_mean, q_limit, inner, x0, tol):
         state["last"] = (x, res, ok, msg, d)
         return x.sum() / n_grid - target
 
-    d_sol, info = optimize.brentq(f, 0.0, delta_hi, xtol=tol * delta_hi, rtol=4 * np.finfo(float).eps,
-                                  maxiter=200, full_output=True, disp=False)
+    d_sol, info = optimize.brentq(
+        f,
+        0.0,
+        delta_hi,
+        xtol=tol * delta_hi,
+        rtol=4 * np.finfo(float).eps,
+        maxiter=200,
+        full_output=True,
+        disp=False,
+    )
     if state["last"] is None or state["last"][4] != d_sol:
         f(d_sol)
     x, res, ok, msg, _ = state["last"]
     got = x.sum() / n_grid
     ok_q = abs(got - target) <= max(1e-6 * target, 10 * tol * q_limit)
     ok_all = bool(ok and info.converged and ok_q)
-    msg = (f"force control: Brent {'converged' if info.converged else 'NOT converged'} in "
-           f"{info.iterations} steps, mean traction error {abs(got - target) / target:.1e} "
-           f"(relative); last inner solve: {msg}")
+    msg = (
+        f"force control: Brent {'converged' if info.converged else 'NOT converged'} in "
+        f"{info.iterations} steps, mean traction error {abs(got - target) / target:.1e} "
+        f"(relative); last inner solve: {msg}"
+    )
     return _result(shape, idx, g, sign * x, sign * d_sol, res, state["nit"], ok_all, msg)

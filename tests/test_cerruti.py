@@ -69,7 +69,9 @@ def test_x2_plus_y2_identity_and_symmetry():
     np.testing.assert_allclose(I2 + J2, I1, rtol=1e-12)
     C = cerruti_coefficients(X, Y, dx, dy, E_STAR, E_PR)
     for sx, sy in [(-1, 1), (1, -1), (-1, -1)]:
-        np.testing.assert_allclose(cerruti_coefficients(sx * X, sy * Y, dx, dy, E_STAR, E_PR), C, rtol=1e-12)
+        np.testing.assert_allclose(
+            cerruti_coefficients(sx * X, sy * Y, dx, dy, E_STAR, E_PR), C, rtol=1e-12
+        )
     # Anisotropy: along x the x^2/r^3 term adds, along y it vanishes (positive E')
     cx = cerruti_coefficients(3.0, 0.0, 1.0, 1.0, E_STAR, E_PR)
     cy = cerruti_coefficients(0.0, 3.0, 1.0, 1.0, E_STAR, E_PR)
@@ -122,8 +124,14 @@ def test_moduli():
 @pytest.mark.parametrize(
     "kwargs",
     [
-        dict(dx=0.0), dict(dx=-1.0), dict(dy=np.nan), dict(E_star=0.0), dict(E_star=np.inf),
-        dict(E_prime=0.0), dict(E_prime=np.nan), dict(E_prime=-1e9),
+        dict(dx=0.0),
+        dict(dx=-1.0),
+        dict(dy=np.nan),
+        dict(E_star=0.0),
+        dict(E_star=np.inf),
+        dict(E_prime=0.0),
+        dict(E_prime=np.nan),
+        dict(E_prime=-1e9),
     ],
 )
 def test_bad_input_raises(kwargs):

@@ -18,8 +18,9 @@ from halfspace_calib.normal import composite_modulus, solve_normal_pair
 from halfspace_calib.presliding import presliding_curve, stiffness_power_law
 from halfspace_calib.report import write_outputs
 
-SMALL = dict(grid=16, pressures=(50e6, 150e6, 300e6, 500e6), reload_fractions=(0.2, 0.5, 0.8),
-             tol=1e-7)
+SMALL = dict(
+    grid=16, pressures=(50e6, 150e6, 300e6, 500e6), reload_fractions=(0.2, 0.5, 0.8), tol=1e-7
+)
 E_STAR = composite_modulus(210e9, 0.3, 210e9, 0.3)
 E_PR = E_prime(210e9, 0.3, 210e9, 0.3)
 SIGMA_Y = 800e6 / 2.8
@@ -106,13 +107,22 @@ def test_presliding_linear_below_first_slip(loaded):
     c = presliding_curve(r.pressure, dx, E_STAR, E_PR, m=0.5, sigma_y=SIGMA_Y)
     for f in (0.3, 0.9):
         d = f * c.delta_stick
-        s = tang.solve_tangential(r.pressure, dx, E_STAR, E_PR, delta=d, m=0.5, sigma_y=SIGMA_Y,
-                                  periodic=True)
+        s = tang.solve_tangential(
+            r.pressure, dx, E_STAR, E_PR, delta=d, m=0.5, sigma_y=SIGMA_Y, periodic=True
+        )
         assert not s.slip.any()
         assert s.q_mean == pytest.approx(c.k_t0 * d, rel=1e-6)
     # just beyond delta_stick the first element slips
-    s = tang.solve_tangential(r.pressure, dx, E_STAR, E_PR, delta=1.05 * c.delta_stick, m=0.5,
-                              sigma_y=SIGMA_Y, periodic=True)
+    s = tang.solve_tangential(
+        r.pressure,
+        dx,
+        E_STAR,
+        E_PR,
+        delta=1.05 * c.delta_stick,
+        m=0.5,
+        sigma_y=SIGMA_Y,
+        periodic=True,
+    )
     assert s.slip.any()
 
 
@@ -138,8 +148,16 @@ def test_stiffness_power_law_recovers_exact_power():
 # ----------------------------------------------------------------------------- geo decision
 def test_geo_decision_both_ways():
     ta = np.array([10e6, 20e6, 40e6])
-    res = GeometricResult("x", np.array([1e8, 2e8, 4e8]), ta / 71.4e6, ta, 0.08 * ta,
-                          np.full(3, 0.08), np.zeros(3), np.ones(3, bool))
+    res = GeometricResult(
+        "x",
+        np.array([1e8, 2e8, 4e8]),
+        ta / 71.4e6,
+        ta,
+        0.08 * ta,
+        np.full(3, 0.08),
+        np.zeros(3),
+        np.ones(3, bool),
+    )
     off = geo_decision(res, 0.1, 0.5)
     assert off["geo_ratio"] == 0.0 and not off["applied"]
     assert "0.0800 <= geo_threshold = 0.1" in off["reason"]
@@ -166,8 +184,9 @@ def test_without_tangential_no_tangential_solve(monkeypatch):
 
 @pytest.fixture(scope="module")
 def cal_all():
-    return calibrate(Scene(**SMALL, effects=("tangential", "inclined"), geo_threshold=0.0),
-                     progress=False)
+    return calibrate(
+        Scene(**SMALL, effects=("tangential", "inclined"), geo_threshold=0.0), progress=False
+    )
 
 
 def test_threshold_zero_fits_geo_ratio(cal_all):
@@ -220,8 +239,12 @@ def test_provenance_and_outputs(cal_all, tmp_path):
     assert float(rows[0]["k_t0"]) == pytest.approx(t["rows"][0]["k_t0"], rel=1e-15)
     with open(tmp_path / "geometric" / "geometric.csv", newline="") as fh:
         assert len(list(csv.DictReader(fh))) == 4
-    for f in ("tangential/tangential_curves.png", "tangential/tangential_stiffness.png",
-              "geometric/fig9_tau.png", "geometric/fig10_ratio.png"):
+    for f in (
+        "tangential/tangential_curves.png",
+        "tangential/tangential_stiffness.png",
+        "geometric/fig9_tau.png",
+        "geometric/fig10_ratio.png",
+    ):
         assert (tmp_path / f).stat().st_size > 10_000
     assert not (tmp_path / "sliding").exists()
 
@@ -235,9 +258,23 @@ def test_normal_only_records_no_effects(tmp_path):
 
 def test_m_zero_skips_with_reasons(tmp_path, capsys):
     out = tmp_path / "o"
-    argv = ["--grid", "16", "--pressures", "50e6,150e6,300e6,500e6", "--reload-fractions",
-            "0.2,0.5,0.8", "--tol", "1e-7", "--out", str(out), "--quiet", "--m", "0",
-            "--effects", "tangential,inclined"]
+    argv = [
+        "--grid",
+        "16",
+        "--pressures",
+        "50e6,150e6,300e6,500e6",
+        "--reload-fractions",
+        "0.2,0.5,0.8",
+        "--tol",
+        "1e-7",
+        "--out",
+        str(out),
+        "--quiet",
+        "--m",
+        "0",
+        "--effects",
+        "tangential,inclined",
+    ]
     assert main(argv) == 0
     text = capsys.readouterr().out
     assert "tangential (pre-sliding) skipped: m = 0" in text
@@ -264,9 +301,24 @@ def test_inclined_uses_the_calibration_field():
 
 def test_cli_all_effects(tmp_path, capsys):
     out = tmp_path / "all"
-    argv = ["--grid", "16", "--pressures", "50e6,150e6,300e6,500e6", "--reload-fractions",
-            "0.2,0.5,0.8", "--tol", "1e-7", "--out", str(out), "--quiet",
-            "--effects", "tangential,inclined", "--geo-threshold", "0", "--sliding"]
+    argv = [
+        "--grid",
+        "16",
+        "--pressures",
+        "50e6,150e6,300e6,500e6",
+        "--reload-fractions",
+        "0.2,0.5,0.8",
+        "--tol",
+        "1e-7",
+        "--out",
+        str(out),
+        "--quiet",
+        "--effects",
+        "tangential,inclined",
+        "--geo-threshold",
+        "0",
+        "--sliding",
+    ]
     assert main(argv) == 0
     text = capsys.readouterr().out
     assert "effects modelled: normal, tangential, inclined, sliding" in text

@@ -19,8 +19,20 @@ def _csv(path):
 def test_upsetting_cli_writes_csv_png_vtu(tmp_path, capsys):
     out = tmp_path / "ups"
     rc = main(
-        ["upsetting", "--nr", "4", "--increments", "4", "--reduction", "0.2",
-         "--out", str(out), "--no-progress", "--vtu-every", "2"]
+        [
+            "upsetting",
+            "--nr",
+            "4",
+            "--increments",
+            "4",
+            "--reduction",
+            "0.2",
+            "--out",
+            str(out),
+            "--no-progress",
+            "--vtu-every",
+            "2",
+        ]
     )
     assert rc == 0
     rows = _csv(out / "history.csv")
@@ -53,8 +65,23 @@ def test_upsetting_all_laws_and_ring_and_multistage(tmp_path):
     assert list(rows[0])[:3] == ["height_reduction", "force", "inner_diameter_change"]
     assert float(rows[-1]["inner_diameter_change"]) < 0
     ms = tmp_path / "ms"
-    assert main(["multistage", "--out", str(ms), "--nr", "4", "--increments", "6",
-                 "--no-progress", "--vtu-every", "0"]) == 0
+    assert (
+        main(
+            [
+                "multistage",
+                "--out",
+                str(ms),
+                "--nr",
+                "4",
+                "--increments",
+                "6",
+                "--no-progress",
+                "--vtu-every",
+                "0",
+            ]
+        )
+        == 0
+    )
     assert (ms / "with_history" / "history.csv").exists()
     assert (ms / "multistage_force.png").exists()
     assert (ms / "recontact_friction.png").exists()

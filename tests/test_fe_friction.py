@@ -103,8 +103,12 @@ def test_slab_formulas():
         slab_pressure_tresca(sf, 0.5, d, h), rel=1e-9
     )
     cap = slab_pressure_law(sf, lambda p: min(mu * p, 0.2 * k), d, h)
-    assert sf < cap < min(
-        slab_pressure_coulomb(sf, mu, d, h, form="exact"), slab_pressure_tresca(sf, 0.2, d, h)
+    assert (
+        sf
+        < cap
+        < min(
+            slab_pressure_coulomb(sf, mu, d, h, form="exact"), slab_pressure_tresca(sf, 0.2, d, h)
+        )
     )
     with pytest.raises(ValueError, match="m must be"):
         slab_pressure_tresca(1.0, 1.5, 1.0, 1.0)

@@ -79,9 +79,7 @@ def test_element_volume_patch_and_stiffness_symmetry():
     # exact strain rr = a, zz = b, tt = u_r / r = a + c z / r, gamma_rz = c + d; B-bar keeps
     # its deviatoric part and replaces the volumetric part by the element mean
     zq = np.einsum("aq,ae->eq", kin.N, x[axi.mesh.t, 1])
-    exact = np.stack(
-        np.broadcast_arrays(a, b, a + c * zq / kin.r, c + d), axis=-1
-    ).astype(float)
+    exact = np.stack(np.broadcast_arrays(a, b, a + c * zq / kin.r, c + d), axis=-1).astype(float)
     vol_ex = exact[..., :3].sum(-1)
     dev = eps.copy()
     dev[..., :3] -= eps[..., :3].sum(-1, keepdims=True) / 3

@@ -96,7 +96,9 @@ def test_eq26_geometric_share_scales_the_law_and_round_trips(tmp_path):
     assert p1.mu_eff == pytest.approx(1.08 * p0.mu_eff, rel=1e-15)
     p = np.linspace(0, 2e9, 41)
     for p_hist in (0.0, 5e8):
-        np.testing.assert_allclose(shear_limit(p, p_hist, p1), 1.08 * shear_limit(p, p_hist, p0), rtol=1e-14)
+        np.testing.assert_allclose(
+            shear_limit(p, p_hist, p1), 1.08 * shear_limit(p, p_hist, p0), rtol=1e-14
+        )
     assert FrictionParams.from_json(p1.to_json(tmp_path / "g.json")).geo_ratio == 0.08
     d = p0.to_dict()
     d["parameters"].pop("geo_ratio")  # files without the term read as Eqs. 24-25 alone

@@ -59,7 +59,9 @@ def test_measured_surfaces_have_table1_ra_on_the_solver_grid():
     for rough, key in ((False, "tool"), (True, "rough_tool")):
         wp, tl = measured_surfaces(16, 4, rough_tool=rough)
         assert wp.shape == tl.shape == (64, 64)
-        assert S.ra(S.block_average(wp, 16)) == pytest.approx(S.TABLE1["workpiece"]["Ra"], rel=1e-12)
+        assert S.ra(S.block_average(wp, 16)) == pytest.approx(
+            S.TABLE1["workpiece"]["Ra"], rel=1e-12
+        )
         assert S.ra(S.block_average(tl, 16)) == pytest.approx(S.TABLE1[key]["Ra"], rel=1e-12)
     _, tl = measured_surfaces(16, 4, roughness_on="measured")
     assert S.ra(tl) == pytest.approx(S.TABLE1["tool"]["Ra"], rel=1e-12)
@@ -103,7 +105,13 @@ def _result(tau_adh, tau_geo, converged=None):
     ta = np.asarray(tau_adh, float)
     tg = np.asarray(tau_geo, float)
     return GeometricResult(
-        "x", np.linspace(1e8, 6e8, k), ta / (M * K), ta, tg, tg / ta, np.zeros(k),
+        "x",
+        np.linspace(1e8, 6e8, k),
+        ta / (M * K),
+        ta,
+        tg,
+        tg / ta,
+        np.zeros(k),
         np.ones(k, bool) if converged is None else np.asarray(converged),
     )
 

@@ -180,8 +180,7 @@ def test_forward_backward_energy(periodic):
         np.testing.assert_allclose(op.backward(ph), op.apply(p), rtol=1e-13)
         assert op.energy(ph) == pytest.approx(np.vdot(p, op.apply(p)), rel=1e-12)
         # an independent dense oracle of the quadratic form
-        assert op.energy(ph) == pytest.approx(p.ravel() @ op.dense_matrix() @ p.ravel(),
-                                              rel=1e-12)
+        assert op.energy(ph) == pytest.approx(p.ravel() @ op.dense_matrix() @ p.ravel(), rel=1e-12)
 
 
 @pytest.mark.parametrize("periodic,kernel", [(True, "spectral"), (True, "love"), (False, "love")])
@@ -217,8 +216,9 @@ def test_preconditioner_inverts_periodic_operator():
     # non-periodic: still a symmetric positive operator (needed by the PCG)
     opn = normal_operator((12, 12), 1e-6, E_STAR, periodic=False)
     a, b = rng.standard_normal((2, 12, 12))
-    assert np.vdot(opn.apply_inverse(a), b) == pytest.approx(np.vdot(a, opn.apply_inverse(b)),
-                                                             rel=1e-10)
+    assert np.vdot(opn.apply_inverse(a), b) == pytest.approx(
+        np.vdot(a, opn.apply_inverse(b)), rel=1e-10
+    )
     assert np.vdot(opn.apply_inverse(a), a) > 0
 
 

@@ -30,8 +30,12 @@ def test_serial_and_process_paths_agree():
 
 def test_dask_local_cluster_path_agrees():
     distributed = pytest.importorskip("dask.distributed")
-    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
-                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+    with (
+        distributed.LocalCluster(
+            n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None
+        ) as cluster,
+        distributed.Client(cluster) as client,
+    ):
         c = _check(run_jobs(_work, JOBS, scheduler=client, progress=False))
         d = _check(run_jobs(_work, JOBS, scheduler=cluster.scheduler_address, progress=False))
     assert c == d == _check(run_jobs(_work, JOBS, progress=False))

@@ -68,7 +68,7 @@ def test_hertz_elasto_plastic_cap():
     x = (np.arange(n) - (n - 1) / 2) * dx
     X, Y = np.meshgrid(x, x, indexing="ij")
     r = np.hypot(X, Y)
-    h = -r**2 / (2 * R)
+    h = -(r**2) / (2 * R)
     a = L / 4
     F = 4 * E_STAR * a**3 / (3 * R)
     p0 = hertz(F, R, E_STAR).p0
@@ -115,13 +115,18 @@ def test_westergaard_full_contact_and_fourier_mode():
     ps = westergaard_full_contact_pressure(g, lam, E_STAR)
     res = solve_normal(h, dx, E_STAR, 1.5 * ps)
     assert res.converged and res.alpha == 1.0
-    np.testing.assert_allclose(res.pressure, westergaard_pressure(x, 1.5 * ps, g, lam, E_STAR)
-                               [:, None] * np.ones((1, 8)), rtol=1e-10)
+    np.testing.assert_allclose(
+        res.pressure,
+        westergaard_pressure(x, 1.5 * ps, g, lam, E_STAR)[:, None] * np.ones((1, 8)),
+        rtol=1e-10,
+    )
     # displacement of the single mode p* cos(q x): 2 p*/(E* q) (periodic gauge: zero mean)
     amp = fourier_mode_displacement(ps, 2 * np.pi / lam, E_STAR)
-    np.testing.assert_allclose(res.elastic_displacement,
-                               (amp * np.cos(2 * np.pi * x / lam))[:, None] * np.ones((1, 8)),
-                               atol=1e-10 * amp)
+    np.testing.assert_allclose(
+        res.elastic_displacement,
+        (amp * np.cos(2 * np.pi * x / lam))[:, None] * np.ones((1, 8)),
+        atol=1e-10 * amp,
+    )
     # just above the onset: still full contact; just below: not
     assert solve_normal(h, dx, E_STAR, 1.001 * ps).alpha == 1.0
     assert solve_normal(h, dx, E_STAR, 0.95 * ps).alpha < 1.0
@@ -140,8 +145,11 @@ def _oracle(h, dx, E, p_mean, H, periodic):
 
     def box_solution(lam):
         sol = optimize.minimize(
-            lambda s: (0.5 * s @ C @ s - s @ (hv + lam), C @ s - hv - lam), start, jac=True,
-            bounds=[(0, ub)] * n, method="L-BFGS-B",
+            lambda s: (0.5 * s @ C @ s - s @ (hv + lam), C @ s - hv - lam),
+            start,
+            jac=True,
+            bounds=[(0, ub)] * n,
+            method="L-BFGS-B",
             options={"ftol": 1e-15, "gtol": 1e-12, "maxiter": 5000},
         )
         return sol.x
@@ -209,7 +217,9 @@ def test_volume_conservation_and_deformed_surface():
     h = rough_surface(n, 6)
     dx = 2.11e-3 / n
     res = solve_normal(h, dx, E_STAR, 200e6, H=H_DC04)
-    assert res.converged and res.removed_volume > 0 and "raises the whole surface" not in res.message
+    assert (
+        res.converged and res.removed_volume > 0 and "raises the whole surface" not in res.message
+    )
     v0 = np.sum(h - h.min())
     assert abs(res.deformed_heights.sum() - h.sum()) <= 1e-10 * v0
     assert res.removed_volume == pytest.approx(res.plastic_displacement.sum() * dx * dx)

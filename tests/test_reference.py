@@ -17,8 +17,9 @@ E = 115.4e9
 def test_hertz_force_balance_and_approach():
     F, R = 12.0, 5e-3
     s = hertz(F, R, E)
-    force, _ = integrate.quad(lambda r: 2 * np.pi * r * hertz_pressure(r, F, R, E), 0, s.a,
-                              epsabs=0, epsrel=1e-12)
+    force, _ = integrate.quad(
+        lambda r: 2 * np.pi * r * hertz_pressure(r, F, R, E), 0, s.a, epsabs=0, epsrel=1e-12
+    )
     assert force == pytest.approx(F, rel=1e-9)
     # classical forms: a^3 = 3FR/(4E*), delta = (9 F^2 / (16 R E*^2))^(1/3), p0 = 2 E* a / (pi R)
     assert s.a**3 == pytest.approx(3 * F * R / (4 * E), rel=1e-13)
@@ -32,10 +33,18 @@ def test_westergaard_mean_pressure(ratio):
     g, lam = 1e-7, 1e-4
     ps = westergaard_full_contact_pressure(g, lam, E)
     pm = ratio * ps
-    mean, _ = integrate.quad(lambda x: westergaard_pressure(x, pm, g, lam, E), -lam / 2, lam / 2,
-                             points=[-westergaard_contact_halfwidth(pm, g, lam, E),
-                                     westergaard_contact_halfwidth(pm, g, lam, E)],
-                             epsabs=0, epsrel=1e-10, limit=200)
+    mean, _ = integrate.quad(
+        lambda x: westergaard_pressure(x, pm, g, lam, E),
+        -lam / 2,
+        lam / 2,
+        points=[
+            -westergaard_contact_halfwidth(pm, g, lam, E),
+            westergaard_contact_halfwidth(pm, g, lam, E),
+        ],
+        epsabs=0,
+        epsrel=1e-10,
+        limit=200,
+    )
     assert mean / lam == pytest.approx(pm, rel=1e-7)
 
 
@@ -56,7 +65,8 @@ def test_westergaard_limits():
     assert a == pytest.approx(np.sqrt(4 * R * pm * lam / (np.pi * E)), rel=1e-4)
     # periodic in x
     assert westergaard_pressure(0.1 * lam, 0.5 * ps, g, lam, E) == pytest.approx(
-        westergaard_pressure(1.1 * lam, 0.5 * ps, g, lam, E))
+        westergaard_pressure(1.1 * lam, 0.5 * ps, g, lam, E)
+    )
 
 
 def test_fourier_mode_consistent_with_westergaard():
@@ -66,7 +76,8 @@ def test_fourier_mode_consistent_with_westergaard():
     assert fourier_mode_displacement(ps, 2 * np.pi / lam, E) == pytest.approx(g, rel=1e-14)
     # and the mode response scales as 1/q: halving the wavelength halves the displacement
     assert fourier_mode_displacement(1e6, 2.0, E) == pytest.approx(
-        0.5 * fourier_mode_displacement(1e6, 1.0, E))
+        0.5 * fourier_mode_displacement(1e6, 1.0, E)
+    )
 
 
 def test_bad_input():

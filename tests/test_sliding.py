@@ -42,8 +42,9 @@ def sweep_vc(small):
 @pytest.fixture(scope="module")
 def sweep_novc(small):
     wp, tl = small
-    return sliding_sweep(wp, tl, DX, E_STAR, 300e6, H=H, m=0.5, positions=12,
-                         volume_conservation=False)
+    return sliding_sweep(
+        wp, tl, DX, E_STAR, 300e6, H=H, m=0.5, positions=12, volume_conservation=False
+    )
 
 
 def test_work_equations():
@@ -64,8 +65,9 @@ def test_default_surfaces_match_sec33():
 
 def test_first_position_equals_plain_solve(small, sweep_vc):
     wp, tl = small
-    plain = solve_normal_pair(tl.heights, wp.heights[:24], DX, E_STAR, 300e6, H=H,
-                              periodic=True, tol=1e-8)
+    plain = solve_normal_pair(
+        tl.heights, wp.heights[:24], DX, E_STAR, 300e6, H=H, periodic=True, tol=1e-8
+    )
     r = sweep_vc
     assert r.u0[0] == pytest.approx(plain.u0, rel=1e-12, abs=1e-18)
     assert r.alpha[0] == plain.alpha
@@ -87,8 +89,9 @@ def test_conservation_without_volume_conservation(small, sweep_novc):
     lost = (r.workpiece_initial - r.workpiece_final).sum() * dA
     assert lost == pytest.approx(total, rel=1e-10)
     assert r.plastic_displacement.sum() * dA == pytest.approx(total, rel=1e-12)
-    np.testing.assert_allclose(r.workpiece_final, wp.heights - r.plastic_displacement,
-                               rtol=0, atol=1e-20)
+    np.testing.assert_allclose(
+        r.workpiece_final, wp.heights - r.plastic_displacement, rtol=0, atol=1e-20
+    )
     assert np.all(r.plastic_displacement >= 0)
     # rows beyond the last window were never touched
     n_touched = 12 + 24 - 1
@@ -140,12 +143,13 @@ def test_flattened_front_gives_work_only_from_the_new_row():
     wp = np.zeros((40, ny))
     wp[row] = 2e-6
     tl = np.zeros((nt, ny))
-    r = sliding_sweep(wp, tl, DX, E_STAR, 100e6, H=H, m=0.5, periodic=True,
-                      volume_conservation=False)
+    r = sliding_sweep(
+        wp, tl, DX, E_STAR, 100e6, H=H, m=0.5, periodic=True, volume_conservation=False
+    )
     enter = row - nt + 1
     np.testing.assert_array_equal(r.W_def[:enter], 0.0)
     assert r.W_def[enter] > 0
-    assert np.all(r.W_def[enter + 1:] <= 1e-6 * r.W_def[enter])
+    assert np.all(r.W_def[enter + 1 :] <= 1e-6 * r.W_def[enter])
     assert r.plastic_fraction[enter] == pytest.approx(1 / nt)
     upl = r.plastic_displacement
     assert np.all(np.delete(upl, row, axis=0) == 0)
@@ -172,19 +176,18 @@ def test_restart_on_the_flattened_sheet(small, vc):
 def test_warm_start_does_not_change_the_answer(small, sweep_vc):
     wp, tl = small
     for mode in ("none", "workpiece"):
-        other = sliding_sweep(wp, tl, DX, E_STAR, 300e6, H=H, m=0.5, positions=12,
-                              warm_start=mode)
+        other = sliding_sweep(wp, tl, DX, E_STAR, 300e6, H=H, m=0.5, positions=12, warm_start=mode)
         np.testing.assert_allclose(other.alpha, sweep_vc.alpha, atol=2 / 576)
-        np.testing.assert_allclose(other.W_def, sweep_vc.W_def, rtol=1e-4,
-                                   atol=1e-4 * sweep_vc.W_def[1:].mean())
+        np.testing.assert_allclose(
+            other.W_def, sweep_vc.W_def, rtol=1e-4, atol=1e-4 * sweep_vc.W_def[1:].mean()
+        )
         np.testing.assert_allclose(other.u0, sweep_vc.u0, rtol=1e-6)
 
 
 def test_ratio_small_on_default_like_case(small, sweep_vc):
     wp, tl = small
     # the paper's picture: a smooth (here flat) tool, only the entering row is fresh
-    flat = sliding_sweep(wp, np.zeros_like(tl.heights), DX, E_STAR, 300e6, H=H, m=0.5,
-                         positions=12)
+    flat = sliding_sweep(wp, np.zeros_like(tl.heights), DX, E_STAR, 300e6, H=H, m=0.5, positions=12)
     assert flat.steady["ratio_max"] < 0.05, flat.steady
     assert flat.steady["ratio_mean"] > 0
     # the Table 1 tool adds the ploughing of the flattened plateau by its own asperities: per
@@ -193,9 +196,10 @@ def test_ratio_small_on_default_like_case(small, sweep_vc):
     r = sweep_vc
     s = r.steady
     t = tl.heights
-    est = flat.steady["ratio_mean"] + 2 * H / (0.5 * SIGMA_Y) * np.maximum(
-        t[:-1] - t[1:], 0
-    ).mean() / DX
+    est = (
+        flat.steady["ratio_mean"]
+        + 2 * H / (0.5 * SIGMA_Y) * np.maximum(t[:-1] - t[1:], 0).mean() / DX
+    )
     assert 0.5 < s["ratio_mean"] / est < 1.5, (s["ratio_mean"], est)
     assert s["ratio_mean"] > flat.steady["ratio_mean"]
     # the first indentation displaces far more than one sliding step
@@ -213,8 +217,9 @@ def test_unconverged_positions_are_reported(small):
 
 def test_study_runs_one_sweep_per_pressure_and_writes_outputs(small, sweep_vc, tmp_path):
     wp, tl = small
-    st = sliding_study((300e6, 150e6), workpiece=wp, tool=tl, E_star=E_STAR, positions=12,
-                       progress=False)
+    st = sliding_study(
+        (300e6, 150e6), workpiece=wp, tool=tl, E_star=E_STAR, positions=12, progress=False
+    )
     assert isinstance(st, SlidingStudy) and not st.errors
     a, b = st.results
     np.testing.assert_array_equal(a.W_def, sweep_vc.W_def)
@@ -224,8 +229,16 @@ def test_study_runs_one_sweep_per_pressure_and_writes_outputs(small, sweep_vc, t
     out = write_sliding_outputs(st, tmp_path / "sliding")
     with open(out / "sliding.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
-    assert list(rows[0])[:8] == ["position", "x", "p_mean", "u0", "alpha", "W_def", "W_adh",
-                                 "ratio"]
+    assert list(rows[0])[:8] == [
+        "position",
+        "x",
+        "p_mean",
+        "u0",
+        "alpha",
+        "W_def",
+        "W_adh",
+        "ratio",
+    ]
     assert len(rows) == 24
     assert float(rows[5]["W_def"]) == a.W_def[5] and float(rows[12]["p_mean"]) == 150e6
     for name in ("fig11_u0", "fig12_alpha", "fig13_W_adh", "fig14_W_def", "fig15_ratio"):
@@ -257,8 +270,15 @@ def test_study_runs_one_sweep_per_pressure_and_writes_outputs(small, sweep_vc, t
     ],
 )
 def test_bad_input(kw, match):
-    args = dict(workpiece=np.zeros((40, 16)), tool=np.zeros((16, 16)), dx=DX, E_star=E_STAR,
-                p_mean=100e6, H=H, m=0.5)
+    args = dict(
+        workpiece=np.zeros((40, 16)),
+        tool=np.zeros((16, 16)),
+        dx=DX,
+        E_star=E_STAR,
+        p_mean=100e6,
+        H=H,
+        m=0.5,
+    )
     args.update(kw)
     pos = [args.pop(k) for k in ("workpiece", "tool", "dx", "E_star", "p_mean")]
     with pytest.raises(ValueError, match=match):
@@ -271,8 +291,9 @@ def test_study_bad_input():
     with pytest.raises(ValueError, match="pressures"):
         sliding_study((), progress=False)
     with pytest.raises(ValueError, match="dx"):
-        sliding_study((100e6,), workpiece=np.zeros((40, 16)), tool=np.zeros((16, 16)),
-                      progress=False)
+        sliding_study(
+            (100e6,), workpiece=np.zeros((40, 16)), tool=np.zeros((16, 16)), progress=False
+        )
     with pytest.raises(ValueError, match="result must be"):
         write_sliding_outputs({"a": 1}, "unused")
 
@@ -281,8 +302,20 @@ def test_cli_sliding_option(tmp_path, capsys):
     from halfspace_calib.cli import main
 
     out = tmp_path / "cal"
-    argv = ["--grid", "16", "--pressures", "50e6,150e6,300e6,500e6", "--reload-fractions", "0.2,0.5,0.8",
-            "--tol", "1e-7", "--out", str(out), "--quiet", "--sliding"]
+    argv = [
+        "--grid",
+        "16",
+        "--pressures",
+        "50e6,150e6,300e6,500e6",
+        "--reload-fractions",
+        "0.2,0.5,0.8",
+        "--tol",
+        "1e-7",
+        "--out",
+        str(out),
+        "--quiet",
+        "--sliding",
+    ]
     assert main(argv) == 0
     text = capsys.readouterr().out
     assert "W_def / W_adh mean" in text and text.count(" MPa: W_def / W_adh") == 6

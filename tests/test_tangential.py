@@ -18,13 +18,17 @@ G_STAR = shear_modulus_composite(E, NU, E, NU)
 # ------------------------------------------------------------------ FFT application of Eq. 16
 
 
-@pytest.mark.parametrize("shape,dx,dy", [((7, 5), 1e-6, 0.7e-6), ((8, 8), 2e-6, 2e-6), ((1, 6), 1e-6, 1e-6)])
+@pytest.mark.parametrize(
+    "shape,dx,dy", [((7, 5), 1e-6, 0.7e-6), ((8, 8), 2e-6, 2e-6), ((1, 6), 1e-6, 1e-6)]
+)
 def test_nonperiodic_fft_equals_dense_sum(shape, dx, dy):
     nx, ny = shape
     op = _CerrutiOperator(shape, dx, dy, E_STAR, E_PR, periodic=False)
     X, Y = np.meshgrid(np.arange(nx) * dx, np.arange(ny) * dy, indexing="ij")
     Xf, Yf = X.ravel(), Y.ravel()
-    C = cerruti_coefficients(Xf[:, None] - Xf[None, :], Yf[:, None] - Yf[None, :], dx, dy, E_STAR, E_PR)
+    C = cerruti_coefficients(
+        Xf[:, None] - Xf[None, :], Yf[:, None] - Yf[None, :], dx, dy, E_STAR, E_PR
+    )
     q = np.random.default_rng(1).normal(size=shape)
     u = op(q).ravel()
     np.testing.assert_allclose(u, C @ q.ravel(), rtol=0, atol=1e-13 * np.abs(C @ q.ravel()).max())
@@ -115,7 +119,9 @@ def _mindlin_case(n, ratio, mu=0.3):
     c_th = a * (1 - ratio) ** (1 / 3)
     c_num = np.sqrt(res.stick.sum() * dx * dx / np.pi)
     d_th = 3 * mu * P / (16 * a * G_STAR) * (1 - (1 - ratio) ** (2 / 3))
-    q_th = mu * p - np.where(r2 < c_th**2, mu * p0 * c_th / a * np.sqrt(np.clip(1 - r2 / c_th**2, 0, None)), 0)
+    q_th = mu * p - np.where(
+        r2 < c_th**2, mu * p0 * c_th / a * np.sqrt(np.clip(1 - r2 / c_th**2, 0, None)), 0
+    )
     err_q_max = np.abs(res.q - q_th).max() / (mu * p0)
     err_q_l2 = np.sqrt(((res.q - q_th) ** 2).sum() / (q_th**2).sum())
     return res, p, dx, mu, abs(c_num / c_th - 1), abs(res.delta / d_th - 1), err_q_max, err_q_l2
@@ -177,9 +183,21 @@ def test_rough_tresca_kkt_and_gauss_seidel_reference(periodic):
     u_slide = _CerrutiOperator(p.shape, dx, dx, E_STAR, E_PR, periodic)(g)
     d_hi = u_slide[g > 0].max()  # from this shift on, everything slides
     for delta in (0.45 * d_hi, 0.7 * d_hi):
-        rm = solve_tangential(p, dx, E_STAR, E_PR, delta=delta, m=m, sigma_y=sy, periodic=periodic, tol=1e-10)
-        rg = solve_tangential(p, dx, E_STAR, E_PR, delta=delta, m=m, sigma_y=sy, periodic=periodic,
-                              method="gauss-seidel", tol=1e-10)
+        rm = solve_tangential(
+            p, dx, E_STAR, E_PR, delta=delta, m=m, sigma_y=sy, periodic=periodic, tol=1e-10
+        )
+        rg = solve_tangential(
+            p,
+            dx,
+            E_STAR,
+            E_PR,
+            delta=delta,
+            m=m,
+            sigma_y=sy,
+            periodic=periodic,
+            method="gauss-seidel",
+            tol=1e-10,
+        )
         assert rm.converged and rg.converged, (rm.message, rg.message)
         assert rm.stick.any() and rm.slip.any()  # partial slip: a real test of both branches
         _check_kkt(rm, p, dx, g, periodic)
@@ -281,7 +299,9 @@ def test_bad_pressure_and_gs_size():
     with pytest.raises(ValueError, match="2-D"):
         solve_tangential(np.ones(4), 1e-6, E_STAR, E_PR, delta=1e-9, mu=0.3)
     with pytest.raises(ValueError, match="gauss-seidel"):
-        solve_tangential(np.ones((100, 100)), 1e-6, E_STAR, E_PR, delta=1e-9, mu=0.3, method="gauss-seidel")
+        solve_tangential(
+            np.ones((100, 100)), 1e-6, E_STAR, E_PR, delta=1e-9, mu=0.3, method="gauss-seidel"
+        )
 
 
 def test_periodic_full_contact_slides_everywhere():
@@ -289,8 +309,9 @@ def test_periodic_full_contact_slides_everywhere():
     # slides every element (and the solver must not divide by the zero curvature)
     p = np.full((16, 16), 100e6)
     for method in ("mprgp", "gauss-seidel"):
-        r = solve_tangential(p, 1e-6, E_STAR, E_PR, delta=-1e-9, m=0.5, sigma_y=200e6,
-                             periodic=True, method=method)
+        r = solve_tangential(
+            p, 1e-6, E_STAR, E_PR, delta=-1e-9, m=0.5, sigma_y=200e6, periodic=True, method=method
+        )
         assert r.converged, r.message
         assert r.slip.all()
         np.testing.assert_allclose(r.q, -50e6)
