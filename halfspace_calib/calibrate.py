@@ -334,6 +334,25 @@ class SweepResult:
                 )
         return curves
 
+    def not_converged(self):
+        """Solves that did not reach the tolerance (left out of the fit): ``[{p_hist, p_mean, message}]``."""
+        out = []
+        for lv in self.levels:
+            if not lv["loading"]["converged"]:
+                out.append(
+                    {
+                        "p_hist": lv["p_hist"],
+                        "p_mean": lv["p_hist"],
+                        "message": lv["loading"]["message"],
+                    }
+                )
+            for r in lv["reload"]:
+                if not r["converged"]:
+                    out.append(
+                        {"p_hist": lv["p_hist"], "p_mean": r["p_mean"], "message": r["message"]}
+                    )
+        return out
+
     def max_reload_pressure(self):
         """Largest local pressure reached on any reload (Pa): ``< H`` means the reloads were elastic."""
         vals = [r["max_pressure"] for lv in self.levels for r in lv["reload"]]
@@ -429,6 +448,7 @@ class Calibration:
             if self.reload.jump.size
             else 0.0,
             "failed_levels": self.sweeps.failed,
+            "not_converged": self.sweeps.not_converged(),
             "max_reload_pressure_over_H": self.sweeps.max_reload_pressure() / self.scene.H,
             "max_reload_plastic_fraction": self.sweeps.max_reload_plastic_fraction(),
             "geo_ratio": P.geo_ratio,

@@ -178,6 +178,11 @@ def main(argv=None):
             f"  WARNING: {len(cal.sweeps.failed)} load levels failed: "
             + "; ".join(f"{f['p_hist']:g} Pa" for f in cal.sweeps.failed)
         )
+    for nc in s["not_converged"]:
+        print(
+            f"  WARNING: not converged, left out of the fit: p_hist {nc['p_hist']:g} Pa, "
+            f"p_mean {nc['p_mean']:g} Pa: {nc['message']}"
+        )
     return 0
 
 

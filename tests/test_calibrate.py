@@ -98,5 +98,22 @@ def test_scene_file_and_cli(tmp_path):
     assert main(["--scene", str(scene), "--out", str(out), "--quiet", "--m", "0.4"]) == 0
     P = FrictionParams.from_json(out / "params.json")
     assert P.m == 0.4
-    assert json.loads((out / "summary.json").read_text())["failed_levels"] == []
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["failed_levels"] == [] and summary["not_converged"] == []
     assert main(["--grid", "16", "--m", "2", "--out", str(out)]) == 2
+
+
+def test_non_converged_solves_are_reported_and_left_out():
+    """A tolerance the solver cannot reach within maxiter is reported, never silently fitted."""
+    from halfspace_calib.calibrate import run_sweeps
+
+    sweeps = run_sweeps(Scene(**SMALL), progress=False)
+    lv = sweeps.levels[2]
+    lv["loading"] = dict(lv["loading"], converged=False, message="NOT converged (test)")
+    p, _ = sweeps.loading
+    assert lv["p_hist"] not in p and p.size == 4
+    nc = sweeps.not_converged()
+    assert nc == [
+        {"p_hist": lv["p_hist"], "p_mean": lv["p_hist"], "message": "NOT converged (test)"}
+    ]
+    assert all(c.p_hist != lv["p_hist"] for c in sweeps.reload_curves())
