@@ -2,14 +2,15 @@
 
 Sec. 2-3 of the paper: surfaces in, ``FrictionParams`` JSON out. The main entry points:
 
-- :func:`calibrate` / :class:`Scene` / :func:`write_outputs` (and the ``halfspace-calib`` command)
+- :func:`halfspace_calib.calibrate.calibrate` with a :class:`Scene`, then :func:`write_outputs`
+  (and the ``halfspace-calib`` command); the module name is not shadowed by the function
 - :func:`solve_normal`, :func:`solve_normal_pair` (Sec. 2.1), :func:`solve_tangential` (Sec. 2.2)
 - surfaces: :func:`read_surface`, :func:`dc04_edt_like`, :func:`tool_like`, :func:`self_affine`
 - fits: :func:`fit_first_loading` (Eq. 24), :func:`fit_reload` (Eq. 25)
 - studies: :func:`geometric_study` (Sec. 3.2), :func:`sliding_study` (Sec. 3.3)
 """
 
-from .calibrate import Calibration, Scene, calibrate, load_scene
+from .calibrate import Calibration, Scene, load_scene
 from .fit import fit_first_loading, fit_reload, make_params
 from .geometric import geometric_study
 from .influence import InfluenceOperator, love_coefficients, normal_operator
@@ -41,7 +42,6 @@ __all__: list[str] = [
     "Scene",
     "Surface",
     "block_average",
-    "calibrate",
     "composite_heights",
     "composite_modulus",
     "dc04_edt_like",

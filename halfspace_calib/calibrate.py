@@ -55,7 +55,8 @@ class Scene:
     """Everything a calibration needs; every field has the paper's default (Table 1, Sec. 3.1).
 
     Surfaces: ``workpiece`` / ``tool`` are file paths (read with
-    :func:`halfspace_calib.surfaces.read_surface`, ``unit`` and ``size`` for plain files) or
+    :func:`halfspace_calib.surfaces.read_surface`; ``unit`` (or ``workpiece_unit`` / ``tool_unit``
+    for each file) and ``size`` for plain files) or
     ``None`` for the synthetic DC04-EDT-like sheet and tool of Table 1 (``rough_tool`` for the
     rough tool; ``measured_n``, a multiple of ``grid``, generates them on that finer grid and
     block-averages, so that one seed is the same physical surface at every ``grid``). Both are levelled and block-averaged to ``grid x grid`` elements.
@@ -74,6 +75,8 @@ class Scene:
     workpiece: str | None = None
     tool: str | None = None
     unit: str = "um"
+    workpiece_unit: str | None = None
+    tool_unit: str | None = None
     size: float | None = None
     rough_tool: bool = False
     seed_workpiece: int = 1
@@ -199,7 +202,8 @@ def scene_surfaces(scene):
                     n, rough=scene.rough_tool, seed=scene.seed_tool, measured_n=scene.measured_n
                 )
         else:
-            s = _surf.read_surface(path, unit=scene.unit, size=scene.size)
+            unit = getattr(scene, f"{which}_unit") or scene.unit
+            s = _surf.read_surface(path, unit=unit, size=scene.size)
             s = _surf.level(s)
             if s.shape != (n, n):
                 s = _surf.block_average(s, (n, n), trim=True)

@@ -35,6 +35,8 @@ def build_parser():
     g.add_argument("--workpiece", help="workpiece topography file (default: synthetic DC04 EDT)")
     g.add_argument("--tool", help="tool topography file (default: synthetic hardened tool)")
     g.add_argument("--unit", help="height unit of plain files: m, mm, um, nm (default um)")
+    g.add_argument("--workpiece-unit", help="height unit of the workpiece file (default --unit)")
+    g.add_argument("--tool-unit", help="height unit of the tool file (default --unit)")
     g.add_argument("--size", type=float, help="physical edge length of plain height matrices (m)")
     g.add_argument(
         "--rough-tool",
@@ -109,6 +111,8 @@ def scene_from_args(args):
             "workpiece",
             "tool",
             "unit",
+            "workpiece_unit",
+            "tool_unit",
             "size",
             "rough_tool",
             "grid",
