@@ -49,7 +49,9 @@ def _as_2d(name, v, n):
     return np.ascontiguousarray(a)
 
 
-def traction_update(law, p, slip_increment, traction_old, k_t, state=None, *, parallel=None):
+def traction_update(
+    law, p, slip_increment, traction_old, k_t, state=None, *, parallel=None, out=None
+):
     """Stick/slip traction update at every contact node (stress based).
 
     Parameters
@@ -71,10 +73,14 @@ def traction_update(law, p, slip_increment, traction_old, k_t, state=None, *, pa
         on first loading (``p_hist = 0``).
     parallel : bool, optional
         Force the parallel (True) or serial (False) kernel; by size otherwise.
+    out : TractionResult, optional
+        Arrays to write the result into (a previous result of the same shapes), so that a
+        host's Newton loop allocates nothing per call; C-contiguous, float64 (status int8).
 
     Returns
     -------
     TractionResult
+        ``out`` itself when it was given.
     """
     p = as_float_array("p", p)
     if p.ndim != 1:
@@ -95,10 +101,15 @@ def traction_update(law, p, slip_increment, traction_old, k_t, state=None, *, pa
     else:
         p_hist = np.zeros(n)
     d = du.shape[1]
-    t_new = np.empty((n, d))
-    status = np.empty(n, np.int8)
-    dt_ddu = np.empty((n, d, d))
-    dt_dp = np.empty((n, d))
+    if out is None:
+        t_new, status, dt_ddu, dt_dp = (
+            np.empty((n, d)),
+            np.empty(n, np.int8),
+            np.empty((n, d, d)),
+            np.empty((n, d)),
+        )
+    else:
+        t_new, status, dt_ddu, dt_dp = _out_views(out, n, d, squeeze)
     history = state is not None and getattr(law, "uses_history", False)
     # the kernel writes the trial history max(p_hist, p) straight into the state
     p_trial = state.trial_array() if history else np.empty(n)
@@ -119,9 +130,36 @@ def traction_update(law, p, slip_increment, traction_old, k_t, state=None, *, pa
         dt_dp,
         p_trial,
     )
+    if out is not None:
+        return out
     if squeeze:
         return TractionResult(t_new[:, 0], status, dt_ddu[:, 0, 0], dt_dp[:, 0])
     return TractionResult(t_new, status, dt_ddu, dt_dp)
+
+
+def _out_views(out, n, d, squeeze):
+    """2-D/3-D views of the caller's output arrays (which the kernel fills in place)."""
+    if not isinstance(out, TractionResult):
+        raise ValueError("out must be a TractionResult (e.g. the result of a previous call)")
+    shapes = ((n,), (n,), (n,), (n,)) if squeeze else ((n, d), (n,), (n, d, d), (n, d))
+    full = ((n, d), (n,), (n, d, d), (n, d))
+    views = []
+    for name, arr, shape, shp2, dtype in zip(
+        out._fields, out, shapes, full, (np.float64, np.int8, np.float64, np.float64), strict=True
+    ):
+        if (
+            not isinstance(arr, np.ndarray)
+            or arr.shape != shape
+            or arr.dtype != dtype
+            or not arr.flags.c_contiguous
+            or not arr.flags.writeable
+        ):
+            raise ValueError(
+                f"out.{name} must be a writable C-contiguous {np.dtype(dtype).name} array of "
+                f"shape {shape}"
+            )
+        views.append(arr.reshape(shp2))
+    return views
 
 
 def traction_update_force(law, f_n, area, slip_increment, force_old, k_force, state=None, **kw):

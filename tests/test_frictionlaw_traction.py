@@ -169,3 +169,20 @@ def test_row_and_scalar_kernels_match_the_array_kernel():
         np.testing.assert_array_equal(t1, res.traction[i])
         np.testing.assert_array_equal(d1, res.dt_dslip[i])
         np.testing.assert_array_equal(q1, res.dt_dp[i])
+
+
+@pytest.mark.parametrize("d", [1, 2])
+def test_output_buffers_are_reused(d):
+    rng = np.random.default_rng(6)
+    p, du, t_old, kt = random_case(rng, 500, d)
+    if d == 1:
+        du, t_old = du[:, 0], t_old[:, 0]
+    law = fl.SBMFLaw(P)
+    first = fl.traction_update(law, p, du, t_old, kt)
+    buf = fl.TractionResult(*(np.full_like(a, 7) for a in first))
+    again = fl.traction_update(law, p, du, t_old, kt, out=buf)
+    assert again is buf
+    for a, b in zip(first, buf, strict=True):
+        np.testing.assert_array_equal(a, b)
+    with pytest.raises(ValueError, match="out.status must be a writable C-contiguous int8 array"):
+        fl.traction_update(law, p, du, t_old, kt, out=buf._replace(status=np.zeros(500)))
