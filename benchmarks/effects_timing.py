@@ -18,6 +18,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from halfspace_calib.calibrate import Scene, calibrate  # noqa: E402
+from halfspace_calib.effects import write_stiffness_csv  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results"
 
@@ -69,21 +70,7 @@ def main():
         print(f"| {r[0]} | {r[1]:.1f} | {r[2]:.1f} | {r[1] - base:+.1f} |")
 
     t = cals["tangential"].effects["tangential"]["summary"]
-    keys = [
-        "p_mean",
-        "alpha",
-        "q_limit",
-        "delta_full",
-        "delta_stick",
-        "k_t0",
-        "k_eq",
-        "k_sec",
-        "converged",
-    ]
-    with open(OUT / "effects_tangential.csv", "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(keys)
-        w.writerows([[r[k] for k in keys] for r in t["rows"]])
+    write_stiffness_csv(t, OUT / "effects_tangential.csv")
     print(
         "\n| p_mean (MPa) | alpha | tau_adh = q at full sliding (MPa) | delta_stick (nm) | "
         "delta_full (nm) | k_t0 (Pa/m) | k_eq (Pa/m) | k_sec (Pa/m) |"

@@ -337,6 +337,27 @@ def summarize_tangential(levels):
     return out
 
 
+#: columns of the tangential stiffness table (one row per first-loading pressure)
+STIFFNESS_COLUMNS = (
+    "p_mean",
+    "alpha",
+    "q_limit",
+    "delta_full",
+    "delta_stick",
+    "k_t0",
+    "k_eq",
+    "k_sec",
+    "converged",
+)
+
+
+def write_stiffness_csv(summary, path):
+    """Write the tangential stiffness table of :func:`summarize_tangential`'s ``summary``."""
+    rows = [[r[k] for k in STIFFNESS_COLUMNS] for r in summary["rows"]]
+    write_csv(path, list(STIFFNESS_COLUMNS), rows)
+    return path
+
+
 def write_tangential_outputs(levels, summary, out_dir):
     """``tangential.csv`` (curves), ``tangential_stiffness.csv`` and two PNGs into ``out_dir``."""
     out = Path(out_dir)
@@ -355,20 +376,7 @@ def write_tangential_outputs(levels, summary, out_dir):
             for d, q, s in zip(t["delta"], t["q_mean"], t["slip_fraction"], strict=True)
         ],
     )
-    keys = [
-        "p_mean",
-        "alpha",
-        "q_limit",
-        "delta_full",
-        "delta_stick",
-        "k_t0",
-        "k_eq",
-        "k_sec",
-        "converged",
-    ]
-    write_csv(
-        out / "tangential_stiffness.csv", keys, [[r[k] for k in keys] for r in summary["rows"]]
-    )
+    write_stiffness_csv(summary, out / "tangential_stiffness.csv")
     if not curves:
         return out
     plt = pyplot()
