@@ -5,7 +5,7 @@ Light by design: imports numpy and numba only.
 
 from .law import alpha_first, alpha_reload, reload_jump, shear_limit, shear_limit_dp
 from .laws import Coulomb, CoulombCap, SBMFLaw, Tresca, law_from_name
-from .params import FrictionParams
+from .params import FrictionParams, TangentialStiffness
 from .state import HistoryState
 from .traction import (
     OPEN,
@@ -20,6 +20,7 @@ __version__ = "0.1.0"
 
 __all__ = [
     "FrictionParams",
+    "TangentialStiffness",
     "alpha_first",
     "alpha_reload",
     "shear_limit",

@@ -10,6 +10,8 @@ C1, n1 : first-loading parameters of Eq. 24
 C2, n2 : un-/reloading parameters of Eq. 25
 continuous_reload : normalise Eq. 25 so that it meets Eq. 24 at ``p_hist``
 geo_ratio : Eq. 26's geometric share, ``f(p) = geo_ratio k alpha(p)`` (0: Eqs. 24-25 alone)
+p_range : mean contact pressures (Pa) the calibration covered on first loading, ``(p_min, p_max)``
+k_t : calibrated tangential interface stiffness ``k_t(p)`` (Pa/m) as a table over ``p`` (Pa)
 """
 
 import json
@@ -21,7 +23,14 @@ import numpy as np
 
 from ._io import atomic_write
 
-__all__ = ["FrictionParams", "FORMAT_NAME", "FORMAT_VERSION", "check_range"]
+__all__ = [
+    "FrictionParams",
+    "TangentialStiffness",
+    "FORMAT_NAME",
+    "FORMAT_VERSION",
+    "K_T_FORMAT_VERSION",
+    "check_range",
+]
 
 FORMAT_NAME = "sbmf-friction-params"
 FORMAT_VERSION = 1
@@ -40,6 +49,9 @@ _UNITS = {
 
 _N_MAX = 1e6
 
+#: version of the optional ``tangential_stiffness`` object inside a version-1 parameter file
+K_T_FORMAT_VERSION = 1
+
 
 def check_range(name, value, lo, hi, *, lo_open=False, hi_open=False):
     """Return ``float(value)`` or raise ``ValueError`` naming ``name`` and the allowed range."""
@@ -55,6 +67,102 @@ def check_range(name, value, lo, hi, *, lo_open=False, hi_open=False):
     if not ok:
         raise ValueError(f"{name} must be in {rng}, got {value!r}")
     return v
+
+
+def _positive_table(name, values):
+    try:
+        arr = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a list of real numbers, got {values!r}") from None
+    if arr.ndim != 1 or arr.size < 1:
+        raise ValueError(f"{name} must be a non-empty 1-D list, got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)) or np.any(arr <= 0.0):
+        raise ValueError(f"{name} must hold finite values in (0, inf), got {values!r}")
+    return tuple(float(v) for v in arr)
+
+
+@dataclass(frozen=True)
+class TangentialStiffness:
+    """Calibrated tangential interface stiffness ``k_t(p)`` of the roughness layer.
+
+    A table of the stiffness (Pa/m, traction per slip) at the calibration's pressures (Pa),
+    evaluated by log-log interpolation between the points and held constant beyond the
+    first and last point (no extrapolation of a power law outside the calibrated range).
+    It is the penalty ``k_t`` of :func:`frictionlaw.traction_update` per node at its pressure.
+
+    Parameters
+    ----------
+    p : sequence of float
+        Mean contact pressures (Pa), strictly increasing, ``> 0``.
+    k_t : sequence of float
+        Stiffness at each pressure (Pa/m), ``> 0``, same length as ``p``.
+    """
+
+    p: tuple
+    k_t: tuple
+
+    def __post_init__(self):
+        p = _positive_table("k_t table p", self.p)
+        k = _positive_table("k_t table k_t", self.k_t)
+        if len(p) != len(k):
+            raise ValueError(f"k_t table: p has {len(p)} values, k_t has {len(k)}; need equal")
+        if any(b <= a for a, b in zip(p, p[1:], strict=False)):
+            raise ValueError(f"k_t table p must be strictly increasing, got {p}")
+        object.__setattr__(self, "p", p)
+        object.__setattr__(self, "k_t", k)
+
+    def __call__(self, p):
+        """``k_t`` (Pa/m) at pressures ``p`` (Pa); ``p <= 0`` gets the lowest tabulated value."""
+        p = np.asarray(p, dtype=float)
+        lp = np.log(np.clip(p, self.p[0], self.p[-1]))
+        k = np.exp(np.interp(lp, np.log(self.p), np.log(self.k_t)))
+        k = np.where(p <= self.p[0], self.k_t[0], k)
+        return np.where(p >= self.p[-1], self.k_t[-1], k)
+
+    def to_dict(self):
+        """The JSON object (with its own version and units)."""
+        return {
+            "version": K_T_FORMAT_VERSION,
+            "units": {"p": "Pa", "k_t": "Pa/m"},
+            "interpolation": "log-log, constant beyond the end points",
+            "p": list(self.p),
+            "k_t": list(self.k_t),
+        }
+
+    @classmethod
+    def from_dict(cls, doc, *, source="<dict>"):
+        """Build from :meth:`to_dict`'s object; raises ``ValueError`` if malformed."""
+        where = f"{source}: tangential_stiffness"
+        if not isinstance(doc, dict):
+            raise ValueError(f"{where} must be a JSON object")
+        version = doc.get("version")
+        if type(version) is not int or version != K_T_FORMAT_VERSION:
+            raise ValueError(
+                f"{where}: unsupported version {version!r}; this runtime reads {K_T_FORMAT_VERSION}"
+            )
+        units = doc.get("units", {})
+        if not isinstance(units, dict) or units.get("p", "Pa") != "Pa":
+            raise ValueError(f"{where}: p must be given in 'Pa'")
+        if units.get("k_t", "Pa/m") != "Pa/m":
+            raise ValueError(f"{where}: k_t must be given in 'Pa/m'")
+        try:
+            return cls(p=doc["p"], k_t=doc["k_t"])
+        except KeyError as exc:
+            raise ValueError(f"{where}: missing {exc.args[0]!r}") from None
+        except ValueError as exc:
+            raise ValueError(f"{where}: {exc}") from None
+
+
+def _check_p_range(p_range):
+    if p_range is None:
+        return None
+    try:
+        lo, hi = (float(v) for v in p_range)
+    except (TypeError, ValueError):
+        raise ValueError(f"p_range must be (p_min, p_max) in Pa, got {p_range!r}") from None
+    if not (math.isfinite(lo) and math.isfinite(hi) and 0.0 < lo <= hi):
+        raise ValueError(f"p_range must satisfy 0 < p_min <= p_max < inf (Pa), got {p_range!r}")
+    return (lo, hi)
 
 
 @dataclass(frozen=True)
@@ -83,6 +191,13 @@ class FrictionParams:
         ``f = geo_ratio k alpha`` (the calibration finds ``tau_geo / tau_adh`` nearly independent
         of the pressure, Sec. 3.2), i.e. ``tau = m k (1 + geo_ratio) alpha``. Applied on both
         branches. Default 0: the paper's Eqs. 24-25.
+    p_range : (float, float), optional
+        ``(p_min, p_max)`` in Pa: the mean contact pressures the calibration covered on first
+        loading. Beyond ``p_max`` the law is extrapolated (Eq. 24 saturates towards ``m k``).
+        ``None`` when unknown (hand-made parameter sets).
+    k_t : TangentialStiffness, optional
+        Calibrated tangential stiffness ``k_t(p)`` (written when the calibration ran the
+        tangential effect); ``None`` otherwise.
     provenance : dict
         Free mapping recorded in the file (calibration inputs, fit quality).
     """
@@ -97,6 +212,8 @@ class FrictionParams:
     k: float | None = None
     continuous_reload: bool = False
     geo_ratio: float = 0.0
+    p_range: tuple | None = None
+    k_t: TangentialStiffness | None = None
     provenance: dict = field(default_factory=dict, compare=False, hash=False, repr=False)
 
     def __post_init__(self):
@@ -122,6 +239,11 @@ class FrictionParams:
             )
         set_(self, "continuous_reload", bool(self.continuous_reload))
         set_(self, "geo_ratio", check_range("geo_ratio", self.geo_ratio, 0.0, 10.0))
+        set_(self, "p_range", _check_p_range(self.p_range))
+        if self.k_t is not None and not isinstance(self.k_t, TangentialStiffness):
+            raise ValueError(
+                f"k_t must be a TangentialStiffness table or None, got {type(self.k_t).__name__}"
+            )
         if not isinstance(self.provenance, dict):
             raise ValueError("provenance must be a dict (a JSON object)")
 
@@ -147,14 +269,21 @@ class FrictionParams:
         d = asdict(self)
         prov = d.pop("provenance")
         cont = d.pop("continuous_reload")
-        return {
+        p_range = d.pop("p_range")
+        d.pop("k_t")
+        doc = {
             "format": FORMAT_NAME,
             "version": FORMAT_VERSION,
             "units": dict(_UNITS),
             "parameters": d,
             "options": {"continuous_reload": cont},
-            "provenance": prov,
         }
+        if p_range is not None:
+            doc["calibrated_range"] = {"p_min": p_range[0], "p_max": p_range[1], "unit": "Pa"}
+        if self.k_t is not None:
+            doc["tangential_stiffness"] = self.k_t.to_dict()
+        doc["provenance"] = prov
+        return doc
 
     def to_json(self, path):
         """Write the versioned parameter file atomically; returns the path."""
@@ -194,6 +323,12 @@ class FrictionParams:
         return cls(
             **par,
             continuous_reload=opts.get("continuous_reload", False),
+            p_range=_read_range(doc.get("calibrated_range"), source),
+            k_t=(
+                None
+                if doc.get("tangential_stiffness") is None
+                else TangentialStiffness.from_dict(doc["tangential_stiffness"], source=source)
+            ),
             provenance=doc.get("provenance", {}),
         )
 
@@ -206,6 +341,19 @@ class FrictionParams:
         except json.JSONDecodeError as exc:
             raise ValueError(f"{path}: not valid JSON ({exc})") from None
         return cls.from_dict(doc, source=str(path))
+
+
+def _read_range(doc, source):
+    if doc is None:
+        return None
+    if not isinstance(doc, dict) or doc.get("unit", "Pa") != "Pa":
+        raise ValueError(f"{source}: calibrated_range must be an object {{p_min, p_max}} in Pa")
+    try:
+        return _check_p_range((doc["p_min"], doc["p_max"]))
+    except KeyError as exc:
+        raise ValueError(f"{source}: calibrated_range is missing {exc.args[0]!r}") from None
+    except ValueError as exc:
+        raise ValueError(f"{source}: calibrated_range: {exc}") from None
 
 
 def _json_default(obj):

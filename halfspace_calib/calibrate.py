@@ -526,6 +526,8 @@ def calibrate(scene=None, *, progress=True):
             },
             "effects": _effects_record(effects),
         },
+        p_range=(float(p.min()), float(p.max())),
+        k_t=_eff.stiffness_table(effects.get("tangential")),
     )
     if "inclined" in effects:
         params = params.replace(

@@ -30,6 +30,8 @@ from pathlib import Path
 
 import numpy as np
 
+from frictionlaw import TangentialStiffness
+
 from . import surfaces as _surf
 from ._output import pyplot, save_png, write_csv
 from .geometric import fit_geo_ratio, geometric_sweep, measured_surfaces, write_geometric_outputs
@@ -335,6 +337,28 @@ def summarize_tangential(levels):
     else:
         out["recommendation"] = "no converged tangential curve: no stiffness recommendation"
     return out
+
+
+def stiffness_table(outcome):
+    """The calibrated ``k_t(p)`` table for the parameter file, or ``None``.
+
+    Parameters
+    ----------
+    outcome : dict or None
+        The tangential effect's outcome (``{"summary": ...}`` from :func:`summarize_tangential`,
+        or ``{"skipped": ...}``), ``None`` when the effect did not run.
+
+    Returns
+    -------
+    frictionlaw.TangentialStiffness or None
+        ``k_eq`` at the pressures whose tangential solve converged (the recommended penalty),
+        ``None`` if there is none.
+    """
+    rows = [] if not outcome or "summary" not in outcome else outcome["summary"]["rows"]
+    ok = sorted((r["p_mean"], r["k_eq"]) for r in rows if r["converged"])
+    if not ok:
+        return None
+    return TangentialStiffness(p=[a for a, _ in ok], k_t=[b for _, b in ok])
 
 
 #: columns of the tangential stiffness table (one row per first-loading pressure)

@@ -520,6 +520,8 @@ def make_params(
     pressures=None,
     material=None,
     extra=None,
+    p_range=None,
+    k_t=None,
 ):
     """Assemble the calibrated :class:`frictionlaw.FrictionParams` with its provenance.
 
@@ -544,6 +546,10 @@ def make_params(
     grid, tolerance, pressures, material, extra : optional
         JSON-able records of the solver grid, solver tolerance, the pressure lists, the
         material data and anything else; NumPy values are converted.
+    p_range : (float, float), optional
+        Mean contact pressures (Pa) covered by the first-loading data, ``(p_min, p_max)``.
+    k_t : frictionlaw.TangentialStiffness, optional
+        Calibrated tangential stiffness table (from the tangential effect).
 
     Returns
     -------
@@ -590,5 +596,7 @@ def make_params(
         n2=reload.n2,
         k=k,
         continuous_reload=reload.continuous,
+        p_range=p_range,
+        k_t=k_t,
         provenance=_plain(prov),
     )

@@ -331,3 +331,17 @@ def test_cli_all_effects(tmp_path, capsys):
     assert 0 <= sl["ratio_max"] < 1 and sl["failed_pressures"] == []
     for sub in ("tangential/tangential.csv", "geometric/geometric.csv", "sliding/sliding.csv"):
         assert (out / sub).exists()
+
+
+def test_calibrated_stiffness_and_range_reach_the_parameter_file(cal_all, tmp_path):
+    P = cal_all.params
+    rows = [r for r in cal_all.effects["tangential"]["summary"]["rows"] if r["converged"]]
+    assert P.k_t is not None and len(P.k_t.p) == len(rows) >= 2
+    np.testing.assert_array_equal(P.k_t.p, sorted(r["p_mean"] for r in rows))
+    np.testing.assert_allclose(P.k_t(P.k_t.p), [r["k_eq"] for r in rows], rtol=1e-12)
+    assert P.p_range == (min(SMALL["pressures"]), max(SMALL["pressures"]))
+    f = tmp_path / "params.json"
+    P.to_json(f)
+    assert FrictionParams.from_json(f).k_t == P.k_t
+    # without the tangential effect there is no stiffness table
+    assert calibrate(Scene(**SMALL), progress=False).params.k_t is None

@@ -1,6 +1,8 @@
 import json
 import math
+import re
 
+import numpy as np
 import pytest
 
 from frictionlaw import FrictionParams
@@ -105,3 +107,52 @@ def test_eq26_geometric_share_scales_the_law_and_round_trips(tmp_path):
     assert FrictionParams.from_dict(d).geo_ratio == 0.0
     with pytest.raises(ValueError, match=r"geo_ratio must be in \[0, 10\]"):
         FrictionParams(**BASE, geo_ratio=-0.1)
+
+
+def test_tangential_stiffness_table_interpolates_log_log_and_round_trips(tmp_path):
+    from frictionlaw import TangentialStiffness
+
+    k = TangentialStiffness(p=[1e8, 4e8], k_t=[1e14, 1.6e15])  # k_t ~ p^2 between the points
+    np.testing.assert_allclose(k([2e8, 1e8, 4e8]), [4e14, 1e14, 1.6e15], rtol=1e-12)
+    # held constant beyond the calibrated points, p <= 0 included (no power-law extrapolation)
+    np.testing.assert_array_equal(k([-1.0, 0.0, 1e3, 1e12]), [1e14, 1e14, 1e14, 1.6e15])
+    P = FrictionParams(**BASE, p_range=(1e8, 6e8), k_t=k)
+    f = tmp_path / "p.json"
+    P.to_json(f)
+    doc = json.loads(f.read_text())
+    assert doc["calibrated_range"] == {"p_min": 1e8, "p_max": 6e8, "unit": "Pa"}
+    assert doc["tangential_stiffness"]["units"] == {"p": "Pa", "k_t": "Pa/m"}
+    Q = FrictionParams.from_json(f)
+    assert Q == P and Q.k_t == k and Q.p_range == (1e8, 6e8)
+    # files without the optional entries still read (version 1 unchanged)
+    plain = FrictionParams(**BASE)
+    assert (
+        plain.to_dict().keys() >= {"parameters"} and "tangential_stiffness" not in plain.to_dict()
+    )
+
+
+@pytest.mark.parametrize(
+    "kw, fragment",
+    [
+        (dict(p=[2e8, 1e8], k_t=[1.0, 2.0]), "strictly increasing"),
+        (dict(p=[1e8], k_t=[1.0, 2.0]), "need equal"),
+        (dict(p=[1e8], k_t=[0.0]), "k_t table k_t must hold finite values in (0, inf)"),
+        (dict(p=[], k_t=[]), "non-empty"),
+    ],
+)
+def test_tangential_stiffness_refuses_bad_tables(kw, fragment):
+    from frictionlaw import TangentialStiffness
+
+    with pytest.raises(ValueError, match=re.escape(fragment)):
+        TangentialStiffness(**kw)
+
+
+def test_p_range_and_k_t_validation():
+    with pytest.raises(ValueError, match=r"p_range must satisfy 0 < p_min <= p_max"):
+        FrictionParams(**BASE, p_range=(6e8, 1e8))
+    with pytest.raises(ValueError, match="k_t must be a TangentialStiffness"):
+        FrictionParams(**BASE, k_t=[1.0])
+    doc = FrictionParams(**BASE, p_range=(1e8, 6e8)).to_dict()
+    doc["calibrated_range"] = {"p_min": 1e8}
+    with pytest.raises(ValueError, match="calibrated_range is missing 'p_max'"):
+        FrictionParams.from_dict(doc)
