@@ -22,7 +22,7 @@ from scipy.optimize import minimize_scalar
 
 __all__ = ["ring_pressure_bound", "neutral_radius", "ring_chart", "CHART_M"]
 
-#: friction factors of the standard chart in the issue
+#: friction factors of the standard ring-compression calibration chart
 CHART_M = (0.0, 0.1, 0.2, 0.3, 0.5, 1.0)
 
 

@@ -5,7 +5,7 @@ never warns, and raises ``ValueError`` on NaN input. A scalar result is returned
 as a Python float when every input was a scalar.
 
 Notation: ``g(x; n) = tanh(x**n) ** (1/n)``, a smooth minimum of ``x`` and 1
-whose corner sharpens as ``n`` grows (see DESIGN.md, section 2, for the reading
+whose corner sharpens as ``n`` grows (see docs/design.md for the reading
 of the typesetting).
 """
 

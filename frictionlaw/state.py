@@ -1,4 +1,4 @@
-"""Per-node pressure history ``p_hist`` with trial/commit semantics (DESIGN.md, section 5).
+"""Per-node pressure history ``p_hist`` with trial/commit semantics (docs/design.md, invariants).
 
 The host evaluates the law any number of times during the Newton iterations of
 an increment; each evaluation proposes a *trial* history ``max(p_hist, p)`` from

@@ -154,3 +154,24 @@ def test_measured_surface_files_give_the_synthetic_result(tmp_path):
     finally:
         C.scene_surfaces = orig
     np.testing.assert_array_equal(got.loading[1], ref.loading[1])
+
+
+def test_default_scene_parameters_are_pinned():
+    """The README's default-scene figures: a change of the physics or the fit shows here."""
+    cal = calibrate(Scene(), progress=False)
+    P = cal.params
+    got = np.array([P.C1, P.n1, P.C2, P.n2])
+    np.testing.assert_allclose(got, [1.047, 2.867, 7.444, 0.575], rtol=1e-3)
+    assert cal.first.r_squared == pytest.approx(0.9998, abs=1e-4)
+    assert cal.reload.r_squared == pytest.approx(0.993, abs=1e-3)
+    assert P.mu_eff == pytest.approx(0.0935, abs=5e-5)
+
+
+def test_importing_the_main_module_runs_nothing(tmp_path, monkeypatch):
+    import importlib
+    import sys
+
+    monkeypatch.chdir(tmp_path)
+    sys.modules.pop("halfspace_calib.__main__", None)
+    importlib.import_module("halfspace_calib.__main__")
+    assert list(tmp_path.iterdir()) == []
