@@ -13,6 +13,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from _provenance import run_record
+
 from fe_demo.model import SolverOptions  # noqa: E402
 from fe_demo.scenes import run_upsetting  # noqa: E402
 
@@ -109,4 +111,5 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    with run_record(__file__):
+        main()

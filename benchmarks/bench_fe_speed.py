@@ -19,6 +19,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from _provenance import run_record
+
 from fe_demo.scenes import run_upsetting  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results"
@@ -68,5 +70,6 @@ def main(nrs):
 
 
 if __name__ == "__main__":
-    args = [int(a) for a in sys.argv[1:]] or [24, 48, 64, 100, 200]
-    main(args)
+    with run_record(__file__):
+        args = [int(a) for a in sys.argv[1:]] or [24, 48, 64, 100, 200]
+        main(args)

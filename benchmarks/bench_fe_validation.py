@@ -12,6 +12,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from _provenance import run_record
+
 from fe_demo.output import plot_ring_chart  # noqa: E402
 from fe_demo.ring_chart import CHART_M, ring_chart  # noqa: E402
 from fe_demo.scenes import run_ring, run_upsetting  # noqa: E402
@@ -81,4 +83,5 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    with run_record(__file__):
+        main()

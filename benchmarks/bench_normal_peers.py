@@ -35,6 +35,8 @@ import scipy.fft as sfft
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from _provenance import run_record
+
 from halfspace_calib.influence import normal_operator  # noqa: E402
 from halfspace_calib.normal import composite_modulus, solve_normal  # noqa: E402
 
@@ -319,4 +321,5 @@ def format_table(rows):
 
 
 if __name__ == "__main__":
-    main()
+    with run_record(__file__):
+        main()

@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numba
 import numpy as np
+from _provenance import run_record
 
 import frictionlaw as fl
 from frictionlaw import _reference as ref
@@ -133,4 +134,5 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    with run_record(__file__):
+        main()

@@ -30,6 +30,8 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from _provenance import run_record  # noqa: E402
+
 from halfspace_calib.normal import composite_modulus  # noqa: E402
 from halfspace_calib.sliding import (  # noqa: E402
     SLIDING_PRESSURES,
@@ -238,4 +240,5 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    with run_record(__file__):
+        main()

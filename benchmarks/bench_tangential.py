@@ -23,6 +23,7 @@ import pathlib
 import time
 
 import numpy as np
+from _provenance import run_record
 
 from halfspace_calib.cerruti import E_prime, shear_modulus_composite
 from halfspace_calib.tangential import _CerrutiOperator, solve_tangential, tangential_bound
@@ -257,4 +258,5 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    with run_record(__file__):
+        main()

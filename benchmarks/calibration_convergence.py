@@ -17,6 +17,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from _provenance import run_record
 
 from frictionlaw import shear_limit
 from halfspace_calib.calibrate import Scene, calibrate
@@ -116,4 +117,5 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    with run_record(__file__):
+        main()

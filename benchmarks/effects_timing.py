@@ -17,6 +17,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from _provenance import run_record
+
 from halfspace_calib.calibrate import Scene, calibrate  # noqa: E402
 from halfspace_calib.effects import write_stiffness_csv  # noqa: E402
 
@@ -95,4 +97,5 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    with run_record(__file__):
+        main()

@@ -16,6 +16,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from _provenance import run_record  # noqa: E402
+
 from halfspace_calib.geometric import (  # noqa: E402
     geometric_study,
     write_geometric_outputs,
@@ -114,4 +116,5 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    with run_record(__file__):
+        main()

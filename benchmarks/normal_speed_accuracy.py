@@ -22,6 +22,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+from _provenance import run_record
 from bench_normal_peers import E_STAR, H, L, self_affine  # noqa: E402
 
 from halfspace_calib.normal import solve_normal  # noqa: E402
@@ -182,4 +183,5 @@ def plot(rows, sizes, args, path):
 
 
 if __name__ == "__main__":
-    main()
+    with run_record(__file__):
+        main()

@@ -14,6 +14,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from _provenance import run_record
+
 from halfspace_calib import surfaces as S  # noqa: E402
 from halfspace_calib.cerruti import E_prime  # noqa: E402
 from halfspace_calib.normal import composite_modulus, solve_normal_pair  # noqa: E402
@@ -75,4 +77,5 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    with run_record(__file__):
+        main()

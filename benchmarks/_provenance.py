@@ -1,0 +1,96 @@
+"""Run record for every benchmark: which commit, which machine, how long, which files.
+
+Each benchmark script ends with::
+
+    if __name__ == "__main__":
+        with run_record(__file__):
+            main()
+
+and ``benchmarks/results/<script>.run.json`` then says which git commit (and whether the tree had
+uncommitted changes), which machine and library versions produced the result files written during
+the run, the command line and the wall time. Results from different commits or machines are not
+comparable; this file is how a reader tells.
+"""
+
+import contextlib
+import json
+import os
+import platform
+import subprocess
+import sys
+import time
+from datetime import UTC, datetime
+from pathlib import Path
+
+RESULTS = Path(__file__).resolve().parent / "results"
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _git(*args):
+    try:
+        out = subprocess.run(
+            ["git", *args], cwd=ROOT, capture_output=True, text=True, timeout=10, check=True
+        )
+    except (OSError, subprocess.SubprocessError):
+        return None
+    return out.stdout.strip()
+
+
+def _cpu_model():
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or platform.machine()
+
+
+def _versions():
+    out = {"python": platform.python_version()}
+    for name in ("numpy", "scipy", "numba", "skfem"):
+        with contextlib.suppress(ImportError):
+            out[name] = __import__(name).__version__
+    return out
+
+
+def machine():
+    """The machine and library versions, JSON-ready."""
+    return {
+        "hostname": platform.node(),
+        "platform": platform.platform(),
+        "cpu": _cpu_model(),
+        "cpu_count": os.cpu_count(),
+        "versions": _versions(),
+    }
+
+
+@contextlib.contextmanager
+def run_record(script):
+    """Write ``results/<script stem>.run.json`` after the block (also when it fails)."""
+    t0_wall, t0 = time.time(), time.perf_counter()
+    status = "failed"
+    try:
+        yield
+        status = "completed"
+    finally:
+        written = sorted(
+            str(p.relative_to(RESULTS))
+            for p in RESULTS.rglob("*")
+            if p.is_file() and p.stat().st_mtime >= t0_wall - 1 and not p.name.endswith(".run.json")
+        )
+        record = {
+            "script": f"benchmarks/{Path(script).name}",
+            "command": " ".join([Path(sys.executable).name, *sys.argv]),
+            "status": status,
+            "started_utc": datetime.fromtimestamp(t0_wall, UTC).isoformat(timespec="seconds"),
+            "wall_seconds": round(time.perf_counter() - t0, 2),
+            "git_commit": _git("rev-parse", "HEAD"),
+            "git_dirty": bool(_git("status", "--porcelain", "--untracked-files=no")),
+            "machine": machine(),
+            "files_written": written,
+        }
+        RESULTS.mkdir(exist_ok=True)
+        path = RESULTS / f"{Path(script).stem}.run.json"
+        path.write_text(json.dumps(record, indent=1) + "\n")
+        print(f"run record: {path.relative_to(ROOT)}")
