@@ -41,9 +41,11 @@ def test_history_changes_reload_but_not_first_loading(runs):
     recontact = (a["stage"] == 3) & (a["force"] > 1e3) & (a["height_reduction"] <= 0.3 + 1e-9)
     # without history the re-contact is first loading again
     assert np.all(b["n_reload_eq25"][recontact] == 0)
-    rel = np.abs(a["force"][recontact] - b["force"][recontact]) / b["force"][recontact]
-    # measured: 1-3 % higher force with the history (Eq. 25 raises tau at low p here)
-    assert rel.max() > 5e-3
-    stick_a = a["n_stick"][recontact].sum()
-    stick_b = b["n_stick"][recontact].sum()
-    assert stick_a != stick_b
+    rel = (a["force"][recontact] - b["force"][recontact]) / b["force"][recontact]
+    # measured: 2.6 %, 2.0 %, 0.05 % higher force with the history (Eq. 25 raises tau at low p
+    # here), fading as the pressure climbs back past p_hist onto Eq. 24
+    assert np.all(rel > 0) and 5e-3 < rel.max() < 0.05
+    assert np.all(np.diff(rel) < 0) and rel[-1] < 0.1 * rel.max()
+    # a higher friction limit holds at least as many nodes in stick, and more somewhere
+    stick_a, stick_b = a["n_stick"][recontact], b["n_stick"][recontact]
+    assert np.all(stick_a >= stick_b) and np.any(stick_a > stick_b)

@@ -123,8 +123,12 @@ def test_fit_geo_ratio_least_squares():
     # least squares weights the large stresses: against the plain mean of the ratios
     tg = np.array([3e6, 2e6, 4e6])
     f = fit_geo_ratio(_result(ta, tg))
-    assert f["geo_ratio"] == pytest.approx(np.dot(tg, ta) / np.dot(ta, ta), rel=1e-14)
-    assert f["ratio_mean"] == pytest.approx(np.mean(tg / ta), rel=1e-14)
+    # independent oracle: LAPACK least squares of tau_geo = g tau_adh (no intercept); by hand,
+    # g = (3*10 + 2*20 + 4*40) / (10^2 + 20^2 + 40^2) = 230 / 2100
+    g_lstsq = np.linalg.lstsq(ta[:, None], tg, rcond=None)[0][0]
+    assert f["geo_ratio"] == pytest.approx(g_lstsq, rel=1e-12)
+    assert f["geo_ratio"] == pytest.approx(230 / 2100, rel=1e-14)
+    assert f["ratio_mean"] == pytest.approx((0.3 + 0.1 + 0.1) / 3, rel=1e-14)
     # unconverged points are left out
     f = fit_geo_ratio(_result(ta, np.array([1e6, 2e6, 100e6]), [True, True, False]))
     assert f["geo_ratio"] == pytest.approx(0.1, rel=1e-14) and len(f["pressures"]) == 2

@@ -8,7 +8,6 @@ import pytest
 from halfspace_calib import surfaces as S
 from halfspace_calib.normal import composite_modulus, solve_normal_pair
 from halfspace_calib.sliding import (
-    SlidingResult,
     SlidingStudy,
     adhesive_work,
     deformation_work,
@@ -244,8 +243,12 @@ def test_study_runs_one_sweep_per_pressure_and_writes_outputs(small, sweep_vc, t
     for name in ("fig11_u0", "fig12_alpha", "fig13_W_adh", "fig14_W_def", "fig15_ratio"):
         assert (out / f"{name}.png").stat().st_size > 1000
     assert (out / "sliding_summary.csv").exists()
-    write_sliding_outputs(a, tmp_path / "one")
-    assert isinstance(a, SlidingResult)
+    one = write_sliding_outputs(a, tmp_path / "one")  # a single result writes its own rows
+    with open(one / "sliding.csv", newline="") as fh:
+        body = list(csv.reader(fh))[1:]
+    assert len(body) == a.position.size == 12
+    np.testing.assert_array_equal([int(r[0]) for r in body], a.position)
+    np.testing.assert_array_equal([float(r[5]) for r in body], a.W_def)
 
 
 @pytest.mark.parametrize(
