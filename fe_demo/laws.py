@@ -16,11 +16,11 @@ Which shear flow stress ``k`` each law uses
 import math
 from pathlib import Path
 
-from frictionlaw import Coulomb, CoulombCap, FrictionParams, SBMFLaw, Tresca
+from frictionlaw import LAW_NAMES, FrictionParams, law_from_name
 
 __all__ = ["LAWS", "make_law_factory", "example_params", "EXAMPLE_PARAMS_PATH"]
 
-LAWS = ("none", "coulomb", "tresca", "cap", "sbmf")
+LAWS = ("none", *LAW_NAMES)
 
 #: illustrative (not calibrated) SBMF parameter file shipped with the demo
 EXAMPLE_PARAMS_PATH = Path(__file__).with_name("data") / "sbmf_example.json"
@@ -54,19 +54,15 @@ def make_law_factory(law="tresca", *, mu=0.1, m=0.3, tau_max=None, params=None):
         raise ValueError(f"mu must be finite and >= 0, got {mu!r}")
     if law in ("tresca", "cap") and not (0.0 <= float(m) <= 1.0):
         raise ValueError(f"m must be in [0, 1], got {m!r}")
-    if law == "coulomb":
-        fixed = Coulomb(mu)
-        return lambda model: fixed
-    if law == "tresca":
-        return lambda model: Tresca(m, model.flow_stress_hom() / math.sqrt(3.0))
-    if law == "cap":
-        if tau_max is not None:
-            fixed = CoulombCap(mu, tau_max)
-            return lambda model: fixed
-        return lambda model: CoulombCap(mu, m * model.flow_stress_hom() / math.sqrt(3.0))
-    if params is None:
-        params = example_params()
-    elif not isinstance(params, FrictionParams):
-        params = FrictionParams.from_json(params)
-    fixed = SBMFLaw(params)
+    if law == "sbmf":
+        if params is None:
+            params = example_params()
+        elif not isinstance(params, FrictionParams):
+            params = FrictionParams.from_json(params)
+    if law in ("tresca", "cap") and not (law == "cap" and tau_max is not None):
+        # k of the ring charts and the slab method: the current flow stress / sqrt(3)
+        return lambda model: law_from_name(
+            law, mu=mu, m=m, k=model.flow_stress_hom() / math.sqrt(3.0)
+        )
+    fixed = law_from_name(law, mu=mu, m=m, tau_max=tau_max, params=params)
     return lambda model: fixed

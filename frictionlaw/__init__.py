@@ -4,7 +4,7 @@ Light by design: imports numpy and numba only.
 """
 
 from .law import alpha_first, alpha_reload, reload_jump, shear_limit, shear_limit_dp
-from .laws import Coulomb, CoulombCap, SBMFLaw, Tresca, law_from_name
+from .laws import LAW_NAMES, Coulomb, CoulombCap, SBMFLaw, Tresca, law_from_name
 from .params import FrictionParams, TangentialStiffness
 from .state import HistoryState
 from .traction import (
@@ -30,6 +30,7 @@ __all__ = [
     "Tresca",
     "CoulombCap",
     "SBMFLaw",
+    "LAW_NAMES",
     "law_from_name",
     "HistoryState",
     "TractionResult",

@@ -20,7 +20,7 @@ from . import _codes as K
 from .law import evaluate, sbmf_coeffs
 from .params import FrictionParams, check_range
 
-__all__ = ["Coulomb", "Tresca", "CoulombCap", "SBMFLaw", "law_from_name"]
+__all__ = ["Coulomb", "Tresca", "CoulombCap", "SBMFLaw", "LAW_NAMES", "law_from_name"]
 
 
 class _Law:
@@ -110,15 +110,34 @@ class SBMFLaw(_Law):
         return CoulombCap(mu=self.params.mu_eff, tau_max=self.params.tau_max)
 
 
+LAW_NAMES = ("coulomb", "tresca", "cap", "sbmf")
+
+
 def law_from_name(name, *, mu=None, m=None, k=None, tau_max=None, params=None):
-    """Build a law from its command-line name: ``coulomb``, ``tresca``, ``cap``, ``sbmf``."""
-    name = name.lower()
-    if name == "coulomb":
+    """Build a law from its name, the one factory of the project (CLI, FE demo, exports).
+
+    Parameters
+    ----------
+    name : {"coulomb", "tresca", "cap", "sbmf"}
+        ``coulomb``: ``tau = mu p``; ``tresca``: ``tau = m k``; ``cap``: ``tau = min(mu p,
+        tau_max)`` with ``tau_max = m k`` unless ``tau_max`` is given (Pa); ``sbmf``: Eqs. 24-25
+        with ``params``.
+    mu, m, k, tau_max : float, optional
+        The parameters the chosen law needs (Pa for ``k`` and ``tau_max``).
+    params : FrictionParams, optional
+        For ``sbmf``.
+    """
+    key = str(name).lower()
+    if key not in LAW_NAMES:
+        raise ValueError(f"law must be one of {LAW_NAMES}, got {name!r}")
+    if key == "coulomb":
         return Coulomb(mu)
-    if name == "tresca":
+    if key == "tresca":
         return Tresca(m, k)
-    if name == "cap":
-        return CoulombCap(mu, tau_max if tau_max is not None else (m or 1.0) * k)
-    if name == "sbmf":
-        return SBMFLaw(params)
-    raise ValueError(f"law must be one of 'coulomb', 'tresca', 'cap', 'sbmf', got {name!r}")
+    if key == "cap":
+        if tau_max is None:
+            if m is None or k is None:
+                raise ValueError("cap needs tau_max (Pa) or both m and k to set tau_max = m k")
+            tau_max = float(m) * float(k)
+        return CoulombCap(mu, tau_max)
+    return SBMFLaw(params)

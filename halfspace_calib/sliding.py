@@ -58,6 +58,7 @@ from ._output import pyplot, save_png, write_csv
 from .influence import normal_operator
 from .jobs import run_jobs
 from .normal import composite_modulus, solve_normal_pair
+from .tangential import tau_adh_full_sliding
 
 __all__ = [
     "SLIDING_PRESSURES",
@@ -107,8 +108,8 @@ def deformation_work(H, displaced_volume):
 def adhesive_work(m, sigma_y, alpha, A0, step):
     """Adhesive work of one sliding position, Sec. 3.3: ``W_adh = tau_adh * A0 * 2a``.
 
-    ``tau_adh = m (sigma_y / 2) alpha_rc`` is the Tresca shear in the real contact area (Eq. 18
-    at the cap on every contact element, i.e. full sliding; the first-loading form of Eq. 24).
+    ``tau_adh`` is :func:`~halfspace_calib.tangential.tau_adh_full_sliding`, the Tresca shear in
+    the real contact area (Eq. 18 at the cap on every contact element, i.e. full sliding).
 
     Parameters
     ----------
@@ -128,7 +129,7 @@ def adhesive_work(m, sigma_y, alpha, A0, step):
     float or numpy.ndarray
         ``W_adh`` in J.
     """
-    return m * (sigma_y / 2.0) * np.asarray(alpha, dtype=float) * A0 * step
+    return tau_adh_full_sliding(alpha, m, sigma_y) * A0 * step
 
 
 # ----------------------------------------------------------------------------- surfaces

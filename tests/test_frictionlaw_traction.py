@@ -186,3 +186,25 @@ def test_output_buffers_are_reused(d):
         np.testing.assert_array_equal(a, b)
     with pytest.raises(ValueError, match="out.status must be a writable C-contiguous int8 array"):
         fl.traction_update(law, p, du, t_old, kt, out=buf._replace(status=np.zeros(500)))
+
+
+def test_one_law_factory_for_runtime_and_fe_demo():
+    from fe_demo.laws import make_law_factory
+
+    # cap with m = 0 has a zero cap (it used to fall back to tau_max = k)
+    assert fl.law_from_name("cap", mu=0.1, m=0.0, k=1e8).tau_max == 0.0
+    assert fl.law_from_name("cap", mu=0.1, tau_max=5e7).tau_max == 5e7
+    with pytest.raises(ValueError, match="cap needs tau_max"):
+        fl.law_from_name("cap", mu=0.1)
+
+    class Model:  # the FE demo's k = sigma_f / sqrt(3) at the current strain
+        def flow_stress_hom(self):
+            return 3e8
+
+    k = 3e8 / np.sqrt(3.0)
+    for name in ("coulomb", "tresca", "cap"):
+        got = make_law_factory(name, mu=0.12, m=0.3)(Model())
+        assert got == fl.law_from_name(name, mu=0.12, m=0.3, k=k)
+    assert make_law_factory("cap", mu=0.1, m=0.0)(Model()).tau_max == 0.0
+    sbmf = make_law_factory("sbmf", params=P)(Model())
+    assert sbmf == fl.law_from_name("sbmf", params=P)
