@@ -32,6 +32,11 @@ def test_calibration_records_range_and_k_t(calibrated):
     P = FrictionParams.from_json(calibrated)
     assert P.p_range == (10e6, 600e6)
     assert P.k_t is not None and P.k_t.p[0] >= 10e6 and P.k_t.p[-1] <= 600e6
+    # the file explains itself: m is an input, k derived from sigma_y, the range's meaning
+    notes = json.loads(calibrated.read_text())["provenance"]["inputs"]
+    assert notes["m"].startswith("input, not fitted") and "ring compression" in notes["m"]
+    assert P.k == P.sigma_y / 2 and notes["k"].startswith("derived: sigma_y / 2")
+    assert "extrapolated" in notes["calibrated_range"]
 
 
 def test_upsetting_reports_the_nodes_beyond_the_range(upset):
