@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .calibrated_range import range_lines
 from .laws import LAWS
 from .material import DC04, Material
 from .output import (
@@ -149,6 +150,20 @@ def _jd(o):
     return str(o)
 
 
+def _report_run(label, res):
+    """Console lines after a run: a failure, the calibrated-range check, a k_t stick stiffness."""
+    if not res.converged:
+        print(f"[{label}] FAILED: {res.message}", file=sys.stderr)
+    for line in range_lines(label, res.info.get("calibrated_range")):
+        print(line)
+    kt = res.info.get("tangential_stiffness", {})
+    if kt.get("k_t_min_Pa_per_m") is not None:
+        print(
+            f"[{label}] stick stiffness k_t(p) from the parameter file: "
+            f"{kt['k_t_min_Pa_per_m']:.3g} .. {kt['k_t_max_Pa_per_m']:.3g} Pa/m"
+        )
+
+
 def _summary_row(label, res):
     h = res.history
     tm = res.info.get("timings", {})
@@ -190,8 +205,7 @@ def _cmd_upsetting(args):
         results[lab] = (res.history, contact_profile(res.model)) if res.history else None
         rows.append(_summary_row(lab, res))
         ok &= res.converged
-        if not res.converged:
-            print(f"[{lab}] FAILED: {res.message}", file=sys.stderr)
+        _report_run(lab, res)
     if len(laws) > 1:
         done = {k: v for k, v in results.items() if v is not None}
         if done:
@@ -224,8 +238,7 @@ def _cmd_ring(args):
             fe[lab] = (res.history["height_reduction"], res.history["inner_diameter_change"])
         rows.append(_summary_row(lab, res))
         ok &= res.converged
-        if not res.converged:
-            print(f"[{lab}] FAILED: {res.message}", file=sys.stderr)
+        _report_run(lab, res)
     args.out.mkdir(parents=True, exist_ok=True)
     plot_ring_chart(args.out / "ring_chart.png", chart, fe)
     with (args.out / "ring_chart_upper_bound.csv").open("w", encoding="utf-8") as fh:
@@ -261,8 +274,7 @@ def _cmd_multistage(args):
             curves[lab] = res.history
         rows.append(_summary_row(lab, res))
         ok &= res.converged
-        if not res.converged:
-            print(f"[{lab}] FAILED: {res.message}", file=sys.stderr)
+        _report_run(lab, res)
     if curves:
         plot_force_stroke(
             args.out / "multistage_force.png",

@@ -13,8 +13,17 @@ displacement increment. The tangential traction comes from
 :func:`frictionlaw.traction_update` with the node's traction at the last accepted
 increment and the runtime's :class:`frictionlaw.HistoryState` (trial ``p_hist``
 during iterations, committed only for accepted increments).
+
+Stick stiffness: the penalty ``eps_t`` (the demo passes ``eps_n``) unless the law's
+parameter file carries a calibrated ``k_t(p)`` table (:class:`frictionlaw.TangentialStiffness`);
+then every node gets ``k_t`` at its pressure at the start of the increment (the last
+accepted one). That value is fixed during the Newton iterations, so the tangent that
+:func:`frictionlaw.traction_update` returns (which treats ``k_t`` as a constant: no
+``d k_t / d p`` term in ``dt_dp``) is the exact derivative of the residual; the pressure
+dependence of the stiffness lags by one increment.
 """
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -79,7 +88,36 @@ class DieContact:
         self.eps_t = float(eps_t)
         self.state = HistoryState(self.nodes.size)
         self.tau_old = np.zeros(self.nodes.size)
+        self.p_old = np.zeros(self.nodes.size)
         self.last = None
+        self.k_t_used = (math.inf, 0.0)  # smallest, largest k_t (Pa/m) on a node in contact
+
+    def k_t_table(self):
+        """The law's calibrated ``k_t(p)`` table, or ``None`` (then the penalty ``eps_t``)."""
+        return getattr(getattr(self.law, "params", None), "k_t", None)
+
+    def stick_stiffness(self):
+        """Tangential stick stiffness per node (Pa/m) for the current increment.
+
+        ``k_t(p_old)`` from the parameter file's table at each node's pressure at the start
+        of the increment, or the scalar penalty ``eps_t`` when the law has no table.
+        """
+        table = self.k_t_table()
+        return self.eps_t if table is None else table(self.p_old)
+
+    def stiffness_record(self):
+        """What the run used as stick stiffness (for ``summary.json``)."""
+        if self.k_t_table() is None:
+            return {"source": "penalty eps_n (no k_t in the law)", "eps_t_Pa_per_m": self.eps_t}
+        lo, hi = self.k_t_used
+        used = math.isfinite(lo)  # False before any node was in contact
+        return {
+            "source": "k_t(p) of the parameter file, at the node's pressure at the start of "
+            "the increment",
+            "k_t_min_Pa_per_m": lo if used else None,
+            "k_t_max_Pa_per_m": hi if used else None,
+            "eps_n_Pa_per_m": self.eps_n,
+        }
 
     def evaluate(self, z, z_die, dur, area):
         """Pressure, friction traction and their residual/tangent contributions.
@@ -109,7 +147,9 @@ class DieContact:
             krz = np.zeros(n)
             self.state.propose(p)
         else:
-            res = traction_update(self.law, p, dur, self.tau_old, self.eps_t, self.state)
+            res = traction_update(
+                self.law, p, dur, self.tau_old, self.stick_stiffness(), self.state
+            )
             tau, status = res.traction, res.status
             fr = tau * area
             krr = res.dt_dslip * area
@@ -122,7 +162,12 @@ class DieContact:
 
     def commit(self, ev):
         """Accept the increment: traction becomes the old traction, ``p_hist`` is committed."""
+        if self.law is not None and self.k_t_table() is not None and (ev.p > 0).any():
+            kt = np.broadcast_to(self.stick_stiffness(), ev.p.shape)[ev.p > 0]
+            lo, hi = self.k_t_used
+            self.k_t_used = (min(lo, float(kt.min())), max(hi, float(kt.max())))
         self.tau_old = np.where(ev.p > 0, ev.tau, 0.0)
+        self.p_old = np.maximum(ev.p, 0.0)
         self.state.commit()
 
     def reset_history(self):

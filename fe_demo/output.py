@@ -9,6 +9,8 @@ import numpy as np
 from .material import von_mises
 
 __all__ = [
+    "HISTORY_UNITS",
+    "csv_header",
     "write_history_csv",
     "write_vtu_series",
     "plot_force_stroke",
@@ -21,15 +23,63 @@ __all__ = [
 
 _FIRST = ("height_reduction", "force", "inner_diameter_change")
 
+#: SI unit of every history column ("1": dimensionless fraction, ratio, count or flag)
+HISTORY_UNITS = {
+    "height_reduction": "1",
+    "stroke": "m",
+    "force": "N",
+    "contact_radius": "m",
+    "avg_pressure": "Pa",
+    "flow_stress_hom": "Pa",
+    "slab_pressure": "Pa",
+    "max_radius": "m",
+    "top_radius": "m",
+    "n_stick": "1",
+    "n_slip": "1",
+    "n_open": "1",
+    "n_reload_eq25": "1",
+    "nit": "1",
+    "cutbacks": "1",
+    "min_quality": "1",
+    "remeshed": "1",
+    "inner_diameter_change": "1",
+    "inner_diameter_min_change": "1",
+    "stage": "1",
+    "tau_diff_eq25": "Pa",
+    "n_above_range": "1",
+    "n_hist_above_range": "1",
+    "n_below_range": "1",
+    "p_peak": "Pa",
+    "p_hist_peak": "Pa",
+    "p_peak_over_p_max": "1",
+}
+
+
+def csv_header(key):
+    """CSV column name of history column ``key``: ``key_<unit>`` (``force_N``), bare if unitless.
+
+    Raises ``ValueError`` for a column without a declared unit in :data:`HISTORY_UNITS`.
+    """
+    try:
+        unit = HISTORY_UNITS[key]
+    except KeyError:
+        raise ValueError(f"history column {key!r} has no unit in HISTORY_UNITS") from None
+    return key if unit == "1" else f"{key}_{unit}"
+
 
 def write_history_csv(path, history):
-    """One row per accepted increment; ``height_reduction`` and ``force`` first."""
+    """One row per accepted increment; ``height_reduction`` and ``force_N`` first.
+
+    Headers carry the SI unit of dimensional columns (``force_N``, ``stroke_m``,
+    ``avg_pressure_Pa``); bare names are dimensionless (see :data:`HISTORY_UNITS`).
+    """
     path = Path(path)
     keys = [k for k in _FIRST if k in history] + [k for k in history if k not in _FIRST]
+    header = [csv_header(k) for k in keys]
     n = len(history[keys[0]]) if keys else 0
     with path.open("w", newline="", encoding="utf-8") as fh:
         w = csv.writer(fh)
-        w.writerow(keys)
+        w.writerow(header)
         for i in range(n):
             w.writerow([_fmt(history[k][i]) for k in keys])
     return path

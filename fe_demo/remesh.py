@@ -9,9 +9,9 @@ and every node set stay the same; only positions change. Fields move with it:
 
 - stress and equivalent plastic strain per quadrature point: piecewise-linear
   interpolation over the old quadrature points (nearest point outside their hull);
-- ``p_hist`` and the friction traction per contact node: from the nearest old contact
-  node through :meth:`frictionlaw.HistoryState.remap` (so the history is never lost
-  nor invented).
+- ``p_hist``, the friction traction and the last pressure (where ``k_t(p)`` is read) per
+  contact node: from the nearest old contact node through
+  :meth:`frictionlaw.HistoryState.remap` (so the history is never lost nor invented).
 """
 
 import numpy as np
@@ -154,6 +154,7 @@ def remesh(model):
     idx = cKDTree(x_old[cn]).query(x_new[cn])[1].astype(np.int64)
     model.contact.state.remap(idx)
     model.contact.tau_old = model.contact.tau_old[idx]
+    model.contact.p_old = model.contact.p_old[idx]
     model.x = x_new
     model.du_last = None
     model.dz_last = None

@@ -13,6 +13,7 @@ import numpy as np
 
 from frictionlaw import OPEN, SLIP, STICK
 
+from .calibrated_range import range_columns, range_summary
 from .laws import make_law_factory
 from .material import DC04
 from .mesh import cylinder_mesh, ring_mesh
@@ -126,7 +127,7 @@ def _record(model, law_name, mu, m):
     below = active & (ev.p < ph * (1 - 1e-9))
     top = model.x[:, 1] >= model.z_die - 1e-9 * model.h0
     r_top = float(model.x[top, 0].max()) if top.any() else 0.0
-    return {
+    row = {
         "height_reduction": red,
         "stroke": model.h0 - h,
         "force": F,
@@ -141,6 +142,8 @@ def _record(model, law_name, mu, m):
         "n_open": int(np.sum(ev.status == OPEN)),
         "n_reload_eq25": int(below.sum()),
     }
+    row.update(range_columns(model))
+    return row
 
 
 def _drive(model, stages, law_name, mu, m, progress, snapshot_every, extra=None, remesh_below=0.0):
@@ -241,6 +244,8 @@ def _press(
         "newton_iterations": model.n_newton,
         "cutback_log": list(model.log),
         "timings": model.timings.as_dict(),
+        "tangential_stiffness": model.contact.stiffness_record(),
+        "calibrated_range": range_summary(model, hist),
     }
     return SceneResult(ok, msg, hist, model, wall, snaps, info)
 
@@ -271,7 +276,10 @@ def run_upsetting(
     ``flow_stress_hom`` (flow stress at ``ln(h0/h)``), ``slab_pressure`` (slab-method
     average pressure of the same law, Pa), ``max_radius``, ``top_radius`` (m),
     counts of stick/slip/open contact nodes, ``n_reload_eq25`` (nodes in contact with
-    ``p < p_hist``, i.e. on Eq. 25), ``nit``, ``cutbacks``.
+    ``p < p_hist``, i.e. on Eq. 25), ``nit``, ``cutbacks``; with a parameter file that
+    records its calibrated range, :data:`fe_demo.calibrated_range.RANGE_COLUMNS`.
+    ``info`` holds ``tangential_stiffness`` (the stick stiffness used) and
+    ``calibrated_range`` (:func:`fe_demo.calibrated_range.range_summary`).
     """
     red = _check_reduction(reduction)
     n_inc = _check_inc(n_increments)
@@ -461,5 +469,7 @@ def run_multistage(
         "newton_iterations": model.n_newton,
         "cutback_log": list(model.log),
         "timings": model.timings.as_dict(),
+        "tangential_stiffness": model.contact.stiffness_record(),
+        "calibrated_range": range_summary(model, hist),
     }
     return SceneResult(ok, msg, hist, model, wall, snaps, info)

@@ -3,6 +3,7 @@
 Light by design: imports numpy and numba only.
 """
 
+from ._range import RangeCheck, check_pressure_range
 from .law import alpha_first, alpha_reload, reload_jump, shear_limit, shear_limit_dp
 from .laws import LAW_NAMES, Coulomb, CoulombCap, SBMFLaw, Tresca, law_from_name
 from .params import FrictionParams, TangentialStiffness
@@ -21,6 +22,8 @@ __version__ = "0.1.0"
 __all__ = [
     "FrictionParams",
     "TangentialStiffness",
+    "RangeCheck",
+    "check_pressure_range",
     "alpha_first",
     "alpha_reload",
     "shear_limit",

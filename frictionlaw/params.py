@@ -5,7 +5,7 @@ Nomenclature
 m : Tresca friction factor, ``0 <= m <= 1``
 sigma_y : yield stress of the softer body (Pa)
 H : hardness of the softer body (Pa), ``H ~ 2.8 sigma_y`` (Bowden and Tabor)
-k : shear flow stress (Pa), ``sigma_y / 2`` in the paper (Tresca)
+k : shear flow stress (Pa), ``sigma_y / 2`` in the paper (Tresca); allowed ``[1/2, 2/3] sigma_y``
 C1, n1 : first-loading parameters of Eq. 24
 C2, n2 : un-/reloading parameters of Eq. 25
 continuous_reload : normalise Eq. 25 so that it meets Eq. 24 at ``p_hist``
@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from ._io import atomic_write
+from ._shear_flow import check_k_against_sigma_y
 
 __all__ = [
     "FrictionParams",
@@ -182,7 +183,9 @@ class FrictionParams:
     C2, n2 : float
         Eq. 25 parameters, ``C2 > 0``, ``0 < n2 <= 1e6``.
     k : float, optional
-        Shear flow stress in Pa; defaults to ``sigma_y / 2`` as in the paper.
+        Shear flow stress in Pa (the law's ``k``); defaults to ``sigma_y / 2`` as in the paper.
+        Given explicitly, ``k / sigma_y`` must lie in ``[1/2, 2/3]`` (Tresca to twin shear,
+        von Mises ``1/sqrt(3)`` inside), else ``ValueError`` naming both values.
     continuous_reload : bool
         Use the normalised Eq. 25 that equals Eq. 24 at ``p = p_hist``
         (see :func:`frictionlaw.reload_jump`). Default ``False`` (the paper's form).
@@ -233,6 +236,7 @@ class FrictionParams:
             set_(self, n, check_range(n, getattr(self, n), 0.0, _N_MAX, lo_open=True))
         k = self.sigma_y / 2.0 if self.k is None else self.k
         set_(self, "k", check_range("k", k, 0.0, math.inf, lo_open=True, hi_open=True))
+        check_k_against_sigma_y(self.k, self.sigma_y)
         if not isinstance(self.continuous_reload, (bool, np.bool_)):
             raise ValueError(
                 f"continuous_reload must be True or False, got {self.continuous_reload!r}"

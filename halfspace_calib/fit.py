@@ -506,6 +506,31 @@ def _plain(obj, where="provenance"):
     raise ValueError(f"{where}: {type(obj).__name__} cannot be written to the JSON file")
 
 
+def _input_notes(k, p_range):
+    """The ``provenance["inputs"]`` notes: what the file's numbers are and where they came from."""
+    notes = {
+        "m": "input, not fitted: Tresca friction factor of the interface, measured separately "
+        "(e.g. ring compression); the roughness calibration cannot determine it",
+        "sigma_y": "input: yield stress of the softer body (Pa)",
+        "H": "input: hardness of the softer body (Pa), the half-space model's local pressure limit",
+        "k": (
+            "derived: sigma_y / 2 (Tresca, as in the paper); the law uses k, so change sigma_y "
+            "and k together (k / sigma_y must stay in [1/2, 2/3])"
+            if k is None
+            else "input: shear flow stress given explicitly (Pa); the law uses k, sigma_y only "
+            "bounds it (k / sigma_y in [1/2, 2/3])"
+        ),
+        "fitted": "C1, n1 (Eq. 24) and C2, n2 (Eq. 25) from the half-space contact ratios; "
+        "geo_ratio and k_t when those effects ran",
+    }
+    if p_range is not None:
+        notes["calibrated_range"] = (
+            "first-loading mean pressures the fit saw; beyond p_max the law is extrapolated "
+            "(frictionlaw.check_pressure_range counts such nodes)"
+        )
+    return notes
+
+
 def make_params(
     first,
     reload,
@@ -555,7 +580,9 @@ def make_params(
     -------
     FrictionParams
         With ``provenance = {"software", "surfaces", "grid", "tolerance", "pressures",
-        "material", "fit": {"first_loading", "reload"}, ...}``.
+        "material", "fit": {"first_loading", "reload"}, "inputs", ...}``; ``"inputs"`` says
+        in words which parameters are the user's inputs (``m``, ``sigma_y``, ``H``, ``k``)
+        and which the roughness calibration fitted.
     """
     if not isinstance(first, FirstLoadingFit):
         raise ValueError("first must be the FirstLoadingFit returned by fit_first_loading")
@@ -583,6 +610,7 @@ def make_params(
         "pressures": _plain(pressures, "pressures"),
         "material": _plain(material, "material"),
         "fit": {"first_loading": first.summary(), "reload": reload.summary()},
+        "inputs": _input_notes(k, p_range),
     }
     if extra is not None:
         prov["extra"] = _plain(extra, "extra")

@@ -8,6 +8,7 @@ import pytest
 
 from fe_demo.cli import main
 from fe_demo.laws import make_law_factory
+from fe_demo.output import HISTORY_UNITS, csv_header
 
 
 def _csv(path):
@@ -37,9 +38,16 @@ def test_upsetting_cli_writes_csv_png_vtu(tmp_path, capsys):
     assert rc == 0
     rows = _csv(out / "history.csv")
     assert len(rows) == 4
-    assert list(rows[0])[:2] == ["height_reduction", "force"]
+    assert list(rows[0])[:3] == ["height_reduction", "force_N", "stroke_m"]
     red = np.array([float(r["height_reduction"]) for r in rows])
     np.testing.assert_allclose(red, [0.05, 0.1, 0.15, 0.2], atol=1e-9)
+    # stroke in m: 20 % of h0 = 10 mm; every dimensional column names its SI unit
+    assert float(rows[-1]["stroke_m"]) == pytest.approx(2e-3, rel=1e-9)
+    units = {csv_header(k): u for k, u in HISTORY_UNITS.items()}
+    for col in rows[0]:
+        assert col in units and (units[col] == "1" or col.endswith("_" + units[col])), col
+    with pytest.raises(ValueError, match="'foo' has no unit"):
+        csv_header("foo")
     for png in ("force_stroke.png", "die_profile.png"):
         assert (out / png).stat().st_size > 1000
     pvd = (out / "vtu" / "step.pvd").read_text()
@@ -62,7 +70,7 @@ def test_upsetting_all_laws_and_ring_and_multistage(tmp_path):
     assert main(["ring", "--m-list", "0,1", "--out", str(ring), "--vtu-every", "0", *args]) == 0
     assert (ring / "ring_chart.png").exists()
     rows = _csv(ring / "FE_m1" / "history.csv")
-    assert list(rows[0])[:3] == ["height_reduction", "force", "inner_diameter_change"]
+    assert list(rows[0])[:3] == ["height_reduction", "force_N", "inner_diameter_change"]
     assert float(rows[-1]["inner_diameter_change"]) < 0
     ms = tmp_path / "ms"
     assert (

@@ -249,6 +249,10 @@ def test_make_params_file_roundtrip(tmp_path):
     assert prov["pressures"]["loading"][0] == 10e6
     assert prov["fit"]["first_loading"]["r_squared"] == pytest.approx(1.0, abs=1e-12)
     assert len(prov["fit"]["reload"]["jump"]) == P_HIST.size
+    # the file says which numbers are inputs: m is measured, not fitted from roughness
+    assert prov["inputs"]["m"].startswith("input, not fitted")
+    assert prov["inputs"]["k"].startswith("derived: sigma_y / 2")
+    assert "calibrated_range" not in prov["inputs"]  # no p_range given here
     json.dumps(prov)  # plain JSON types throughout
 
 

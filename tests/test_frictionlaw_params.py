@@ -156,3 +156,33 @@ def test_p_range_and_k_t_validation():
     doc["calibrated_range"] = {"p_min": 1e8}
     with pytest.raises(ValueError, match="calibrated_range is missing 'p_max'"):
         FrictionParams.from_dict(doc)
+
+
+@pytest.mark.parametrize("ratio", [0.5, 1 / math.sqrt(3), 2 / 3])
+def test_k_between_tresca_and_twin_shear_is_accepted(ratio):
+    # Tresca, von Mises and twin shear (the band's ends are exact, up to file rounding)
+    assert FrictionParams(**BASE, k=ratio * 300e6).k == ratio * 300e6
+    assert FrictionParams(**BASE, k=0.5 * 300e6 * (1 - 1e-12)).k < 150e6
+
+
+@pytest.mark.parametrize("k", [1.0, 0.49 * 300e6, 0.67 * 300e6, 1e12])
+def test_k_disagreeing_with_sigma_y_is_refused_naming_both(k):
+    with pytest.raises(ValueError) as exc:
+        FrictionParams(**BASE, k=k)
+    msg = str(exc.value)
+    assert f"k = {k:g} Pa disagrees with sigma_y = 3e+08 Pa" in msg
+    assert "allowed [0.5, 0.6667]" in msg and "leave k out for sigma_y/2" in msg
+
+
+def test_editing_sigma_y_in_a_file_without_k_is_not_silent(tmp_path):
+    """k is written to the file; a sigma_y changed by hand no longer passes unnoticed."""
+    f = tmp_path / "p.json"
+    FrictionParams(**BASE).to_json(f)
+    doc = json.loads(f.read_text())
+    assert doc["parameters"]["k"] == 150e6
+    doc["parameters"]["sigma_y"] = 400e6  # k / sigma_y = 0.375
+    with pytest.raises(ValueError, match=r"k = 1.5e\+08 Pa disagrees with sigma_y = 4e\+08 Pa"):
+        FrictionParams.from_dict(doc)
+    # leaving k out makes it follow sigma_y
+    del doc["parameters"]["k"]
+    assert FrictionParams.from_dict(doc).k == 200e6
