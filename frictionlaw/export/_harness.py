@@ -162,6 +162,8 @@ def build(sources, workdir, name, shim, *, flags=("-O2",)):
         raise RuntimeError("gfortran not found")
     objs, warnings = [], []
     for fname, text in sources.items():
+        if not fname.endswith(".f"):
+            continue  # READMEs
         src = workdir / fname
         src.write_text(text)
         obj = workdir / (src.stem + f"_{name}.o")
