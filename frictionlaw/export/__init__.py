@@ -31,6 +31,7 @@ __all__ = [
     "StiffnessSpec",
     "ExportResult",
     "export",
+    "render",
     "stiffness_spec",
     "law_constants",
     "main",
