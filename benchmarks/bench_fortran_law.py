@@ -1,0 +1,159 @@
+"""Per-node cost of the generated Fortran law vs a plain Coulomb routine vs frictionlaw's numba.
+
+One run, one process, one machine: the host-neutral entry ``SBMF_FRICTION`` (what every
+generated target calls per contact point; gfortran -O2) on the loading branch (Eq. 24) and the
+reloading branch (Eq. 25) with and without the ``alpha1(p_hist)`` cache in the second state
+variable, against a Coulomb routine with the same entry, return map and calling loop (the floor a
+host pays for any friction law), and against ``frictionlaw.traction_update`` (numba, serial, with
+``out=`` buffers) on the same data. 2 tangential directions; best of several repeats.
+
+Run: python benchmarks/bench_fortran_law.py [--nodes 200000] [--repeat 5]
+Writes benchmarks/results/fortran_law.csv and prints a table.
+"""
+
+import argparse
+import csv
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+import frictionlaw as fl
+from frictionlaw import export as exp
+from frictionlaw.export import _fortran, _harness
+
+H = 800e6
+PARAMS = fl.FrictionParams(
+    m=0.5,
+    sigma_y=285714285.71428573,
+    H=H,
+    C1=1.0466452593966644,
+    n1=2.8674798599724576,
+    C2=7.443848731746356,
+    n2=0.5753816933748891,
+)
+KT = 1e13
+
+
+def best(fn, repeat):
+    fn()
+    out = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        out.append(time.perf_counter() - t0)
+    return min(out)
+
+
+def libraries(workdir, params_path):
+    files, _ = exp.render("lsdyna", params_path)
+    sbmf, _ = _harness.build(files, workdir / "sbmf", "sbmf", "generic")
+    kt = exp.StiffnessSpec("host")
+    core = _fortran.core_source(exp.law_constants(PARAMS, exp.UNIT_SYSTEMS["SI"]), False, kt)
+    coul, _ = _harness.build(
+        {"coulomb.f": _harness.COULOMB_SOURCE + "C\n" + core}, workdir / "coul", "coul", "generic"
+    )
+    return _harness.GenericLib(sbmf), _harness.GenericLib(coul)
+
+
+def cases(n, rng):
+    du = rng.normal(size=(n, 2)) * 1e-6
+    t_old = rng.normal(size=(n, 2)) * 3e7
+    p_load = rng.uniform(0.05, 1.2, n) * H
+    p_hist_rel = rng.uniform(0.3, 1.2, n) * H
+    p_rel = p_hist_rel * rng.uniform(0.05, 0.95, n)
+    return (
+        {
+            "loading": (p_load, np.zeros(n)),
+            "reloading": (p_rel, p_hist_rel),
+        },
+        du,
+        t_old,
+    )
+
+
+def cache_of(host, p_hist, n):
+    """The committed cache value the host would hold for ``p_hist`` (one loading call)."""
+    out = host(p_hist, np.zeros(n), -np.ones(n), np.zeros((n, 2)), np.zeros((n, 2)), KT)
+    return out["g1h"].copy()
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--nodes", type=int, default=200_000)
+    ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--reps", type=int, default=5, help="sweeps over the nodes per timed call")
+    args = ap.parse_args(argv)
+    n, reps = args.nodes, args.reps
+    rng = np.random.default_rng(0)
+    law = fl.SBMFLaw(PARAMS)
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        PARAMS.to_json(tmp / "params.json")
+        sbmf, coul = libraries(tmp, tmp / "params.json")
+        data, du, t_old = cases(n, rng)
+        buf = sbmf(data["loading"][0], data["loading"][1], -np.ones(n), du, t_old, KT)
+        cbuf = coul(data["loading"][0], data["loading"][1], -np.ones(n), du, t_old, KT)
+        ref = fl.traction_update(law, data["loading"][0], du, t_old, KT, fl.HistoryState(n))
+        for branch, (p, ph) in data.items():
+            state = fl.HistoryState(n, ph)
+            g1 = cache_of(sbmf, ph, n) if branch == "reloading" else np.zeros(n)
+            variants = {"fortran_sbmf": g1}
+            if branch == "reloading":
+                variants["fortran_sbmf_nocache"] = -np.ones(n)
+            times = {}
+            for name, g in variants.items():
+                times[name] = best(
+                    lambda g=g, p=p, ph=ph: sbmf(p, ph, g, du, t_old, KT, reps=reps, out=buf),
+                    args.repeat,
+                ) / (n * reps)
+            times["fortran_coulomb"] = best(
+                lambda p=p, ph=ph: coul(p, ph, -np.ones(n), du, t_old, KT, reps=reps, out=cbuf),
+                args.repeat,
+            ) / (n * reps)
+
+            def numba_run(p=p, state=state):
+                for _ in range(reps):
+                    fl.traction_update(law, p, du, t_old, KT, state, parallel=False, out=ref)
+
+            times["numba_serial"] = best(numba_run, args.repeat) / (n * reps)
+            row = {"branch": branch, "nodes": n}
+            row.update({k: v * 1e9 for k, v in times.items()})
+            row["sbmf_over_coulomb"] = times["fortran_sbmf"] / times["fortran_coulomb"]
+            row["numba_over_fortran"] = times["numba_serial"] / times["fortran_sbmf"]
+            if "fortran_sbmf_nocache" in times:
+                row["cache_gain"] = times["fortran_sbmf_nocache"] / times["fortran_sbmf"]
+            rows.append(row)
+    cols = [
+        "branch",
+        "nodes",
+        "fortran_coulomb",
+        "fortran_sbmf",
+        "fortran_sbmf_nocache",
+        "numba_serial",
+        "sbmf_over_coulomb",
+        "numba_over_fortran",
+        "cache_gain",
+    ]
+    out = Path(__file__).parent / "results" / "fortran_law.csv"
+    out.parent.mkdir(exist_ok=True)
+    with open(out, "w", newline="") as fh:
+        w = csv.DictWriter(fh, cols)
+        w.writeheader()
+        for r in rows:
+            w.writerow(
+                {c: (f"{r[c]:.4g}" if isinstance(r.get(c), float) else r.get(c, "")) for c in cols}
+            )
+    print("ns per node (2 directions); ratios are time ratios")
+    print("| " + " | ".join(cols) + " |")
+    print("|" + "---|" * len(cols))
+    for r in rows:
+        cells = [f"{r[c]:.3g}" if isinstance(r.get(c), float) else str(r.get(c, "")) for c in cols]
+        print("| " + " | ".join(cells) + " |")
+    print(f"wrote {out}")
+
+
+if __name__ == "__main__":
+    main()

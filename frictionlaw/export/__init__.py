@@ -1,0 +1,351 @@
+"""``frictionlaw-export``: the calibrated law as FE user subroutines and friction tables.
+
+Imported only on demand (``import frictionlaw`` does not load it). From a parameter file it writes
+self-contained sources with the constants baked in as double-precision literals, a provenance
+header (the file's sha256, the fit summary, the unit system) and a README saying how to compile
+and activate them. See ``docs/fe_codes.md``.
+
+Targets: ``abaqus-fric``, ``abaqus-vfric``, ``lsdyna``, ``ansys-userfric`` (Fortran),
+``abaqus-table``, ``lsdyna-table`` (Eq. 24 as a friction-coefficient table; no history).
+"""
+
+import argparse
+import hashlib
+import math
+import os
+import shutil
+import sys
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..params import FrictionParams
+from . import _fortran, _readme, _tables
+
+__all__ = [
+    "TARGETS",
+    "UNIT_SYSTEMS",
+    "UnitSystem",
+    "StiffnessSpec",
+    "ExportResult",
+    "export",
+    "render",
+    "stiffness_spec",
+    "law_constants",
+    "main",
+]
+
+TARGETS = (
+    "abaqus-fric",
+    "abaqus-vfric",
+    "lsdyna",
+    "ansys-userfric",
+    "abaqus-table",
+    "lsdyna-table",
+)
+
+
+@dataclass(frozen=True)
+class UnitSystem:
+    """A host unit system: host value = SI value times the factor."""
+
+    name: str
+    stress: float  # Pa -> host stress unit
+    length: float  # m -> host length unit
+    stress_unit: str
+    length_unit: str
+
+    @property
+    def stiffness(self):
+        """Factor for a tangential stiffness (stress per length)."""
+        return self.stress / self.length
+
+
+UNIT_SYSTEMS = {
+    "SI": UnitSystem("SI", 1.0, 1.0, "Pa", "m"),
+    "mm-t-s": UnitSystem("mm-t-s", 1e-6, 1e3, "MPa", "mm"),
+}
+
+
+@dataclass(frozen=True)
+class StiffnessSpec:
+    """Where the generated routine takes the tangential stick stiffness ``k_t`` from.
+
+    ``kind`` is ``"table"`` (the parameter file's calibrated ``k_t(p)``, log-log interpolated),
+    ``"constant"`` (``--k-t``) or ``"host"`` (the host's own penalty: for Abaqus FRIC an elastic
+    slip of 0.005 x CHRLNGTH). Values are in the host's units.
+    """
+
+    kind: str
+    p: tuple = ()
+    k: tuple = ()
+    log_p: tuple = ()
+    log_k: tuple = ()
+    value: float = 0.0
+
+    def describe(self, units):
+        """One line for headers and READMEs."""
+        k_unit = f"{units.stress_unit}/{units.length_unit}"
+        if self.kind == "table":
+            return (
+                f"calibrated k_t(p) table from the parameter file ({len(self.p)} points, "
+                f"{self.k[0]:.4g}..{self.k[-1]:.4g} {k_unit}, log-log, constant beyond the ends)"
+            )
+        if self.kind == "constant":
+            return f"constant k_t = {self.value:.6g} {k_unit} (--k-t)"
+        return "the host's penalty (no calibrated k_t in the parameter file, no --k-t)"
+
+
+def stiffness_spec(params, units, k_t=None):
+    """The stiffness source: ``k_t`` (Pa/m) if given, else the file's table, else the host's."""
+    if k_t is not None:
+        v = float(k_t)
+        if not (math.isfinite(v) and v > 0):
+            raise ValueError(f"--k-t must be a finite stiffness > 0 in Pa/m, got {k_t!r}")
+        return StiffnessSpec("constant", value=v * units.stiffness)
+    table = getattr(params, "k_t", None)
+    if table is None:
+        return StiffnessSpec("host")
+    p = tuple(float(v) * units.stress for v in table.p)
+    k = tuple(float(v) * units.stiffness for v in table.k_t)
+    return StiffnessSpec(
+        "table", p=p, k=k, log_p=tuple(np.log(p).tolist()), log_k=tuple(np.log(k).tolist())
+    )
+
+
+def law_constants(params, units):
+    """The constants baked into the Fortran core, in the host's units."""
+    return {
+        "TMAX": params.tau_max * units.stress,
+        "H": params.H * units.stress,
+        "C1": params.C1,
+        "XN1": params.n1,
+        "C2": params.C2,
+        "XN2": params.n2,
+    }
+
+
+@dataclass(frozen=True)
+class ExportResult:
+    """What :func:`export` wrote: the folder, its files, and the table (table targets)."""
+
+    out: Path
+    files: tuple
+    table: object = None
+
+
+def _sha256(path):
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for chunk in iter(lambda: fh.read(1 << 16), b""):
+            h.update(chunk)
+    return h.hexdigest()
+
+
+def _fit_summary(params):
+    fit = params.provenance.get("fit", {}) if isinstance(params.provenance, dict) else {}
+    out = []
+    for key in ("first_loading", "reload"):
+        f = fit.get(key)
+        if isinstance(f, dict):
+            r2 = f.get("r_squared")
+            rmse = f.get("rmse")
+            npts = f.get("n_points")
+            out.append(f"fit {key}: R^2={r2:.6g}, rmse={rmse:.3g}, points={npts}")
+    return out or ["fit summary: none recorded in the parameter file"]
+
+
+def header_lines(target, params, params_path, sha, units, kt):
+    """Provenance lines (without comment markers)."""
+    from .. import __version__
+
+    s = units.stress_unit
+    lines = [
+        f"SBMF friction law (Eqs. 24-26), target {target}",
+        f"generated by frictionlaw-export {__version__}; do not edit by hand",
+        f"parameter file: {Path(params_path).name}",
+        f"sha256: {sha}",
+        f"units: {units.name} (stress {s}, length {units.length_unit})",
+        f"m={params.m!r} k={params.k * units.stress!r} {s}",
+        f"H={params.H * units.stress!r} {s} geo_ratio={params.geo_ratio!r}",
+        f"C1={params.C1!r} n1={params.n1!r}",
+        f"C2={params.C2!r} n2={params.n2!r}",
+        f"continuous_reload={params.continuous_reload}",
+        f"tau_max=m k (1+geo_ratio)={params.tau_max * units.stress!r} {s}",
+        f"mu_eff=tau_max C1/H={params.mu_eff!r}",
+    ]
+    if params.p_range is not None:
+        lo, hi = (v * units.stress for v in params.p_range)
+        lines.append(f"calibrated pressures: {lo:.6g}..{hi:.6g} {s}")
+    lines += _fit_summary(params)
+    if kt is not None:
+        lines.append("stick stiffness: " + kt.describe(units))
+    return lines
+
+
+def _wrap(lines, width):
+    out = []
+    for line in lines:
+        while len(line) > width:
+            cut = line.rfind(" ", 0, width)
+            cut = cut if cut > 0 else width
+            out.append(line[:cut])
+            line = "  " + line[cut:].lstrip()
+        out.append(line)
+    return out
+
+
+def _comment(lines, marker, width):
+    return "".join(f"{marker} {line}\n" for line in _wrap(lines, width - len(marker) - 1))
+
+
+_FORTRAN = {
+    "abaqus-fric": ("sbmf_fric.f", _fortran.fric_source),
+    "abaqus-vfric": ("sbmf_vfric.f", _fortran.vfric_source),
+    "lsdyna": ("sbmf_lsdyna.f", _fortran.generic_source),
+    "ansys-userfric": ("sbmf_userfric.f", _fortran.generic_source),
+}
+
+
+def _check_args(target, units, table_tol):
+    if target not in TARGETS:
+        raise ValueError(f"target must be one of {', '.join(TARGETS)}; got {target!r}")
+    if units not in UNIT_SYSTEMS:
+        raise ValueError(f"units must be one of {', '.join(UNIT_SYSTEMS)}; got {units!r}")
+    if not (1e-6 <= float(table_tol) <= 0.1):
+        raise ValueError(f"--table-tol must be in [1e-6, 0.1], got {table_tol!r}")
+
+
+def render(target, params_path, *, units="SI", k_t=None, table_tol=1e-3):
+    """The files of ``target`` as ``{name: text}`` plus the table (or None); writes nothing."""
+    _check_args(target, units, table_tol)
+    if k_t is not None and target.endswith("-table"):
+        raise ValueError("--k-t applies to the Fortran targets only (a table has no stiffness)")
+    params_path = Path(params_path)
+    params = FrictionParams.from_json(params_path)
+    sha = _sha256(params_path)
+    us = UNIT_SYSTEMS[units]
+    if target in _FORTRAN:
+        name, make = _FORTRAN[target]
+        kt = stiffness_spec(params, us, k_t)
+        head = _comment(header_lines(target, params, params_path, sha, us, kt), "C", 72)
+        src = make(head, law_constants(params, us), params.continuous_reload, kt)
+        readme = _readme.fortran_readme(target, name, params, us, kt, sha)
+        return {name: src, "README.md": readme}, None
+    table = _tables.build_table(params, table_tol)
+    head_lines = header_lines(target, params, params_path, sha, us, None)
+    if target == "abaqus-table":
+        name = "sbmf_friction_table.inp"
+        text = _comment(head_lines, "**", 100) + _readme.abaqus_table(table, us)
+    else:
+        name = "sbmf_friction_table.k"
+        text = _comment(head_lines, "$", 80) + _readme.lsdyna_table(table, us)
+    readme = _readme.table_readme(target, name, params, us, table, sha)
+    return {name: text, "README.md": readme}, table
+
+
+def export(target, params_path, out, *, units="SI", k_t=None, table_tol=1e-3, force=False):
+    """Write ``target``'s files for the parameter file ``params_path`` into the folder ``out``.
+
+    Parameters
+    ----------
+    target : str
+        One of :data:`TARGETS`.
+    params_path : path
+        ``params.json`` written by the calibration (or :meth:`FrictionParams.to_json`).
+    out : path
+        Output folder; it appears whole or not at all. An existing folder is an error unless
+        ``force`` (then it is replaced).
+    units : {"SI", "mm-t-s"}
+        Unit system of the host model (Pa, m or MPa, mm).
+    k_t : float, optional
+        Constant tangential stick stiffness in Pa/m (overrides the file's calibrated table).
+    table_tol : float
+        Table targets: bound on ``|tau_table - tau| / tau_max`` on first loading.
+    force : bool
+        Replace an existing ``out``.
+
+    Returns
+    -------
+    ExportResult
+    """
+    out = Path(out)
+    if out.exists() and not force:
+        raise ValueError(f"--out {out} exists; remove it or pass --force to replace it")
+    files, table = render(target, params_path, units=units, k_t=k_t, table_tol=table_tol)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
+    try:
+        for name, text in files.items():
+            (tmp / name).write_text(text, encoding="utf-8")
+        if out.exists():
+            old = Path(tempfile.mkdtemp(prefix=f".{out.name}.old.", dir=out.parent))
+            os.replace(out, old / "x")
+            os.replace(tmp, out)
+            shutil.rmtree(old)
+        else:
+            os.replace(tmp, out)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return ExportResult(out, tuple(sorted(files)), table)
+
+
+def _parser():
+    ap = argparse.ArgumentParser(
+        prog="frictionlaw-export",
+        description="Write the calibrated friction law as an FE user subroutine or friction table.",
+    )
+    ap.add_argument("target", help="one of: " + ", ".join(TARGETS))
+    ap.add_argument("--params", required=True, help="params.json from the calibration")
+    ap.add_argument("--out", required=True, help="output folder (must not exist unless --force)")
+    ap.add_argument("--units", default="SI", help="SI (Pa, m) or mm-t-s (MPa, mm); default SI")
+    ap.add_argument(
+        "--k-t",
+        type=float,
+        default=None,
+        help="constant tangential stick stiffness in Pa/m (Fortran targets; overrides the "
+        "parameter file's calibrated k_t table)",
+    )
+    ap.add_argument(
+        "--table-tol",
+        type=float,
+        default=1e-3,
+        help="table targets: max |tau_table - tau| / tau_max on first loading (default 1e-3)",
+    )
+    ap.add_argument("--force", action="store_true", help="replace an existing --out folder")
+    return ap
+
+
+def main(argv=None):
+    """Console entry point; returns 0 on success, 1 if the export failed, 2 on bad input."""
+    ap = _parser()
+    try:
+        args = ap.parse_args(argv)
+    except SystemExit as exc:
+        return int(exc.code or 0)
+    try:
+        res = export(
+            args.target,
+            args.params,
+            args.out,
+            units=args.units,
+            k_t=args.k_t,
+            table_tol=args.table_tol,
+            force=args.force,
+        )
+    except (ValueError, FileNotFoundError, IsADirectoryError) as exc:
+        print(f"frictionlaw-export: error: {exc}", file=sys.stderr)
+        return 2
+    except RuntimeError as exc:
+        print(f"frictionlaw-export: failed: {exc}", file=sys.stderr)
+        return 1
+    print(f"wrote {', '.join(res.files)} to {res.out}")
+    if res.table is not None:
+        print(
+            f"table: {len(res.table.p)} pressures, measured max |tau_table - tau| = "
+            f"{res.table.max_error:.3g} tau_max (tolerance {res.table.tol:g})"
+        )
+    return 0

@@ -1,0 +1,596 @@
+"""Fixed-form Fortran sources of the law (Eqs. 24-26) and the host wrappers (private).
+
+Every generated file is self-contained: the law core (``SBMF_SMIN``, ``SBMF_FIRST``,
+``SBMF_RELOAD``, ``SBMF_SHEAR``, ``SBMF_KT``, ``SBMF_RMAP``) with the calibrated constants as
+double-precision ``PARAMETER`` literals, followed by the host's entry point. The core follows
+:mod:`frictionlaw._kernels` statement by statement (same branches, same operation order, ``expm1``
+and ``log1p`` from the C library through ``ISO_C_BINDING``), so that the compiled routine and the
+runtime agree to rounding.
+
+State per contact point (the host keeps it only for converged increments):
+
+1. ``p_hist``: the largest pressure carried so far (required).
+2. ``G1H``: a cache of ``alpha1(p_hist)`` (``alpha1 / x1`` when ``x1 = p_hist C1 / H < 1``),
+   written whenever ``p_hist`` is; ``<= 0`` means "not known" and it is recomputed (optional).
+3. the status of the last call, 0 open, 1 stick, 2 slip (optional, output only).
+"""
+
+__all__ = ["core_source", "fric_source", "vfric_source", "generic_source", "fortran_double"]
+
+_MAX_COLS = 72
+
+
+def fortran_double(v):
+    """``v`` as a double-precision literal that reads back to the same float64."""
+    s = f"{float(v):.17e}"
+    mant, exp = s.split("e")
+    return f"{mant}D{int(exp):+d}"
+
+
+def _params_block(c, names):
+    lines = ["      DOUBLE PRECISION " + ", ".join(names)]
+    for n in names:
+        lines.append(f"      PARAMETER ({n} = {fortran_double(c[n])})")
+    return lines
+
+
+def _check_fixed_form(text):
+    for i, line in enumerate(text.splitlines(), 1):
+        if len(line) > _MAX_COLS:
+            raise AssertionError(f"generated line {i} exceeds {_MAX_COLS} columns: {line!r}")
+    return text
+
+
+_SMIN = """\
+C=======================================================================
+C     Smooth minimum of Eqs. 24-25: G = tanh(X**XN)**(1/XN), GOX = G/X,
+C     DG = dG/dX. Small X**XN: series, so that G -> X survives any XN;
+C     large: G = 1. X <= 0 gives (0, 1, 1).
+C=======================================================================
+      SUBROUTINE SBMF_SMIN(X, XN, G, GOX, DG)
+      IMPLICIT NONE
+      DOUBLE PRECISION X, XN, G, GOX, DG
+      DOUBLE PRECISION Y, Y2, EM, TWOE, T, S
+      DOUBLE PRECISION SBMF_EXPM1, SBMF_LOG1P
+      EXTERNAL SBMF_EXPM1, SBMF_LOG1P
+      IF (.NOT. (X .GT. 0.0D0)) THEN
+        G = 0.0D0
+        GOX = 1.0D0
+        DG = 1.0D0
+        RETURN
+      END IF
+      Y = X**XN
+      IF (Y .LT. 1.0D-4) THEN
+        Y2 = Y*Y
+        GOX = EXP((-Y2/3.0D0 + 7.0D0*Y2*Y2/90.0D0)/XN)
+        G = X*GOX
+        DG = GOX*(1.0D0 - 2.0D0*Y2/3.0D0)
+        RETURN
+      END IF
+      IF (Y .GT. 350.0D0) THEN
+        G = 1.0D0
+        GOX = 1.0D0/X
+        DG = 0.0D0
+        RETURN
+      END IF
+      EM = SBMF_EXPM1(-2.0D0*Y)
+      TWOE = 2.0D0 + EM
+      T = -EM/TWOE
+      S = 4.0D0*Y*(1.0D0 + EM)/(-EM*TWOE)
+      IF (Y .LT. 1.0D0) THEN
+        GOX = EXP(LOG(T/Y)/XN)
+        G = X*GOX
+      ELSE
+        G = EXP(SBMF_LOG1P(-2.0D0*(1.0D0 + EM)/TWOE)/XN)
+        GOX = G/X
+      END IF
+      DG = GOX*S
+      RETURN
+      END
+C
+      DOUBLE PRECISION FUNCTION SBMF_EXPM1(Z)
+      USE, INTRINSIC :: ISO_C_BINDING
+      IMPLICIT NONE
+      DOUBLE PRECISION Z
+      INTERFACE
+        FUNCTION C_EXPM1(A) BIND(C, NAME='expm1')
+          IMPORT :: C_DOUBLE
+          REAL(C_DOUBLE), VALUE :: A
+          REAL(C_DOUBLE) :: C_EXPM1
+        END FUNCTION C_EXPM1
+      END INTERFACE
+      SBMF_EXPM1 = C_EXPM1(Z)
+      RETURN
+      END
+C
+      DOUBLE PRECISION FUNCTION SBMF_LOG1P(Z)
+      USE, INTRINSIC :: ISO_C_BINDING
+      IMPLICIT NONE
+      DOUBLE PRECISION Z
+      INTERFACE
+        FUNCTION C_LOG1P(A) BIND(C, NAME='log1p')
+          IMPORT :: C_DOUBLE
+          REAL(C_DOUBLE), VALUE :: A
+          REAL(C_DOUBLE) :: C_LOG1P
+        END FUNCTION C_LOG1P
+      END INTERFACE
+      SBMF_LOG1P = C_LOG1P(Z)
+      RETURN
+      END
+"""
+
+
+def _law(c, continuous):
+    """Eqs. 24, 25 and the branch selection, with the constants of ``c`` baked in."""
+    law = ["TMAX", "H", "C1", "XN1", "C2", "XN2"]
+    first = [
+        "C=======================================================================",
+        "C     Eq. 24: TAU = TMAX g(P C1/H; n1), DTAU = dTAU/dP; G1 = the cache",
+        "C     value of alpha1 for p_hist = P (alpha1/x1 if x1 < 1, else alpha1).",
+        "C=======================================================================",
+        "      SUBROUTINE SBMF_FIRST(P, TAU, DTAU, G1)",
+        "      IMPLICIT NONE",
+        "      DOUBLE PRECISION P, TAU, DTAU, G1",
+        "      DOUBLE PRECISION X1, G, GOX, DG",
+        *_params_block(c, law),
+        "      X1 = P*C1/H",
+        "      CALL SBMF_SMIN(X1, XN1, G, GOX, DG)",
+        "      IF (X1 .LT. 1.0D0) THEN",
+        "        TAU = P*(TMAX*C1/H)*GOX",
+        "        G1 = GOX",
+        "      ELSE",
+        "        TAU = TMAX*G",
+        "        G1 = G",
+        "      END IF",
+        "      TAU = MIN(TAU, TMAX)",
+        "      DTAU = TMAX*C1/H*DG",
+        "      RETURN",
+        "      END",
+        "C",
+    ]
+    cont = []
+    if continuous:
+        cont = [
+            "C     continuous_reload: divide by g(x2(p_hist); n2)",
+            "      CALL SBMF_SMIN(X2H, XN2, G2H, GOX2H, DG2H)",
+            "      SCL = 1.0D0/G2H",
+        ]
+    reload = [
+        "C=======================================================================",
+        "C     Eq. 25 below p_hist: TAU = TMAX a1h g(x2; n2), x2 = P C2/(H a1h),",
+        "C     a1h = alpha1(PH). G1H: cached alpha1(PH) (<= 0: recompute it).",
+        "C     x2 is formed from P/PH when x1h < 1 so that a1h -> 0 cannot",
+        "C     overflow." + (" Continuous variant (meets Eq. 24 at PH)." if continuous else ""),
+        "C=======================================================================",
+        "      SUBROUTINE SBMF_RELOAD(P, PH, G1H, TAU, DTAU, G1OUT)",
+        "      IMPLICIT NONE",
+        "      DOUBLE PRECISION P, PH, G1H, TAU, DTAU, G1OUT",
+        "      DOUBLE PRECISION X1H, A1H, GOX1H, DG1H, X2, X2H",
+        "      DOUBLE PRECISION G2, GOX2, DG2, SCL",
+        *(["      DOUBLE PRECISION G2H, GOX2H, DG2H"] if continuous else []),
+        *_params_block(c, law),
+        "      X1H = PH*C1/H",
+        "      IF (G1H .GT. 0.0D0) THEN",
+        "        IF (X1H .LT. 1.0D0) THEN",
+        "          GOX1H = G1H",
+        "          A1H = X1H*GOX1H",
+        "        ELSE",
+        "          A1H = G1H",
+        "          GOX1H = A1H/X1H",
+        "        END IF",
+        "      ELSE",
+        "        CALL SBMF_SMIN(X1H, XN1, A1H, GOX1H, DG1H)",
+        "      END IF",
+        "      IF (X1H .LT. 1.0D0) THEN",
+        "        G1OUT = GOX1H",
+        "        X2 = (P/PH)*(C2/C1)/GOX1H",
+        "        X2H = (C2/C1)/GOX1H",
+        "      ELSE",
+        "        G1OUT = A1H",
+        "        X2 = (P*C2/H)/A1H",
+        "        X2H = (PH*C2/H)/A1H",
+        "      END IF",
+        "      CALL SBMF_SMIN(X2, XN2, G2, GOX2, DG2)",
+        "      SCL = 1.0D0",
+        *cont,
+        "      IF (X2 .LT. 1.0D0) THEN",
+        "        TAU = P*(TMAX*C2/H)*GOX2*SCL",
+        "      ELSE",
+        "        TAU = TMAX*A1H*G2*SCL",
+        "      END IF",
+        "      TAU = MIN(TAU, TMAX*A1H*SCL)",
+        "      DTAU = TMAX*C2/H*DG2*SCL",
+        "      RETURN",
+        "      END",
+        "C",
+    ]
+    shear = [
+        "C=======================================================================",
+        "C     Shear limit (Eqs. 24-26): Eq. 25 while P < PH, else Eq. 24;",
+        "C     P <= 0 gives 0. G1OUT: the cache value for max(PH, P).",
+        "C=======================================================================",
+        "      SUBROUTINE SBMF_SHEAR(P, PH, G1H, TAU, DTAU, G1OUT)",
+        "      IMPLICIT NONE",
+        "      DOUBLE PRECISION P, PH, G1H, TAU, DTAU, G1OUT",
+        "      G1OUT = G1H",
+        "      IF (.NOT. (P .GT. 0.0D0)) THEN",
+        "        TAU = 0.0D0",
+        "        DTAU = 0.0D0",
+        "        RETURN",
+        "      END IF",
+        "      IF (P .LT. PH) THEN",
+        "        CALL SBMF_RELOAD(P, PH, G1H, TAU, DTAU, G1OUT)",
+        "      ELSE",
+        "        CALL SBMF_FIRST(P, TAU, DTAU, G1OUT)",
+        "      END IF",
+        "      RETURN",
+        "      END",
+        "C",
+    ]
+    return first + reload + shear
+
+
+def _kt(kt):
+    """``SBMF_KT(P, KFALL)``: the stick stiffness (table, constant, or the host's fallback)."""
+    head = [
+        "C=======================================================================",
+        "C     Tangential stick stiffness k_t at pressure P (stress/length).",
+    ]
+    if kt.kind == "table":
+        n = len(kt.log_p)
+        body = [
+            "C     Calibrated table k_t(p): log-log interpolation, constant beyond",
+            "C     the end points (as frictionlaw.TangentialStiffness).",
+            "C=======================================================================",
+            "      DOUBLE PRECISION FUNCTION SBMF_KT(P, KFALL)",
+            "      IMPLICIT NONE",
+            "      DOUBLE PRECISION P, KFALL, LP, W",
+            "      INTEGER NKT, J",
+            f"      PARAMETER (NKT = {n})",
+            "      DOUBLE PRECISION LPT(NKT), LKT(NKT), PLO, PHI, KLO, KHI",
+            f"      PARAMETER (PLO = {fortran_double(kt.p[0])})",
+            f"      PARAMETER (PHI = {fortran_double(kt.p[-1])})",
+            f"      PARAMETER (KLO = {fortran_double(kt.k[0])})",
+            f"      PARAMETER (KHI = {fortran_double(kt.k[-1])})",
+        ]
+        for name, vals in (("LPT", kt.log_p), ("LKT", kt.log_k)):
+            for j, v in enumerate(vals, 1):
+                body.append(f"      DATA {name}({j}) /{fortran_double(v)}/")
+        body += [
+            "      IF (KFALL .LT. 0.0D0) CONTINUE",
+            "      IF (.NOT. (P .GT. PLO)) THEN",
+            "        SBMF_KT = KLO",
+            "        RETURN",
+            "      END IF",
+            "      IF (.NOT. (P .LT. PHI)) THEN",
+            "        SBMF_KT = KHI",
+            "        RETURN",
+            "      END IF",
+            "      LP = LOG(P)",
+            "      J = 1",
+            "   10 IF (J .LT. NKT - 1 .AND. LP .GE. LPT(J + 1)) THEN",
+            "        J = J + 1",
+            "        GOTO 10",
+            "      END IF",
+            "      W = (LKT(J + 1) - LKT(J))/(LPT(J + 1) - LPT(J))",
+            "      SBMF_KT = EXP(W*(LP - LPT(J)) + LKT(J))",
+            "      RETURN",
+            "      END",
+            "C",
+        ]
+        return head + body
+    if kt.kind == "constant":
+        return head + [
+            "C     Constant value given at export time (--k-t).",
+            "C=======================================================================",
+            "      DOUBLE PRECISION FUNCTION SBMF_KT(P, KFALL)",
+            "      IMPLICIT NONE",
+            "      DOUBLE PRECISION P, KFALL",
+            "      IF (P .LT. 0.0D0 .AND. KFALL .LT. 0.0D0) CONTINUE",
+            f"      SBMF_KT = {fortran_double(kt.value)}",
+            "      RETURN",
+            "      END",
+            "C",
+        ]
+    return head + [
+        "C     No calibrated k_t in the parameter file: the host's KFALL.",
+        "C=======================================================================",
+        "      DOUBLE PRECISION FUNCTION SBMF_KT(P, KFALL)",
+        "      IMPLICIT NONE",
+        "      DOUBLE PRECISION P, KFALL",
+        "      IF (P .LT. 0.0D0) CONTINUE",
+        "      SBMF_KT = KFALL",
+        "      RETURN",
+        "      END",
+        "C",
+    ]
+
+
+_RMAP = """\
+C=======================================================================
+C     Stick/slip return map (frictionlaw.traction_update): trial
+C     TTR = TOLD + KT DU; stick if |TTR| <= TAU (tangent KT I), else
+C     radial return TNEW = TAU n, tangent KT TAU/|TTR| (I - n n),
+C     dTNEW/dP = DTAU n. ISTAT: 1 stick, 2 slip.
+C=======================================================================
+      SUBROUTINE SBMF_RMAP(ND, TAU, DTAU, DU, TOLD, KT, TNEW, DTDDU,
+     &                     DTDP, ISTAT)
+      IMPLICIT NONE
+      INTEGER ND, ISTAT, A, B
+      DOUBLE PRECISION TAU, DTAU, DU(ND), TOLD(ND), KT, TNEW(ND)
+      DOUBLE PRECISION DTDDU(ND, ND), DTDP(ND), V, XNORM2, XNORM, F
+      DO A = 1, ND
+        DTDP(A) = 0.0D0
+        DO B = 1, ND
+          DTDDU(A, B) = 0.0D0
+        END DO
+      END DO
+      XNORM2 = 0.0D0
+      DO A = 1, ND
+        V = TOLD(A) + KT*DU(A)
+        TNEW(A) = V
+        XNORM2 = XNORM2 + V*V
+      END DO
+      XNORM = SQRT(XNORM2)
+      IF (XNORM .LE. TAU) THEN
+        DO A = 1, ND
+          DTDDU(A, A) = KT
+        END DO
+        ISTAT = 1
+        RETURN
+      END IF
+      F = KT*TAU/XNORM
+      DO A = 1, ND
+        TNEW(A) = TNEW(A)/XNORM
+      END DO
+      DO A = 1, ND
+        DTDP(A) = DTAU*TNEW(A)
+        DO B = 1, ND
+          IF (A .EQ. B) THEN
+            DTDDU(A, B) = F*(1.0D0 - TNEW(A)*TNEW(B))
+          ELSE
+            DTDDU(A, B) = F*(0.0D0 - TNEW(A)*TNEW(B))
+          END IF
+        END DO
+      END DO
+      DO A = 1, ND
+        TNEW(A) = TNEW(A)*TAU
+      END DO
+      ISTAT = 2
+      RETURN
+      END
+C
+"""
+
+
+def core_source(constants, continuous, kt):
+    """The law core: smooth minimum, Eqs. 24-25, stiffness, return map (fixed form)."""
+    lines = _SMIN.splitlines() + ["C"] + _law(constants, continuous) + _kt(kt)
+    return "\n".join(lines) + "\n" + _RMAP
+
+
+_FRIC = """\
+C=======================================================================
+C     Abaqus/Standard user subroutine FRIC (documented argument list).
+C     STATEV(1) = p_hist (DEPVAR >= 1), STATEV(2) = cached
+C     alpha1(p_hist) (DEPVAR >= 2, optional), STATEV(3) = status of
+C     the last call,
+C     0 open 1 stick 2 slip (DEPVAR >= 3, optional, output only).
+C     Abaqus passes STATEV and TAU as at the start of the increment and
+C     keeps the values written here only when the increment converges:
+C     p_hist therefore rises only through Abaqus' commit.
+C     PROPS are not used (NPROPS may be 0).
+C=======================================================================
+      SUBROUTINE FRIC(LM,TAU,DDTDDG,DDTDDP,DSLIP,SED,SFD,
+     1 DDTDDT,PNEWDT,STATEV,DGAM,TAULM,PRESS,DPRESS,DDPDDH,SLIP,
+     2 KSTEP,KINC,TIME,DTIME,NOEL,CINAME,SLNAME,MSNAME,NPT,NODE,
+     3 NPATCH,COORDS,RCOORD,DROT,TEMP,PREDEF,NFDIR,MCRD,NPRED,
+     4 NSTATV,CHRLNGTH,PROPS,NPROPS)
+C
+      INCLUDE 'ABA_PARAM.INC'
+C
+      CHARACTER*80 CINAME,SLNAME,MSNAME
+C
+      DIMENSION TAU(NFDIR),DDTDDG(NFDIR,NFDIR),DDTDDP(NFDIR),
+     1 DSLIP(NFDIR),DDTDDT(NFDIR,2),STATEV(*),DGAM(NFDIR),
+     2 TAULM(NFDIR),SLIP(NFDIR),TIME(2),COORDS(MCRD),
+     3 RCOORD(MCRD),DROT(2,2),TEMP(2),PREDEF(2,*),PROPS(NPROPS)
+C
+      DOUBLE PRECISION P, PH, G1H, G1NEW, TLIM, DTAU, XKT, KFALL
+      DOUBLE PRECISION TOLD(2), TNEW(2), DTDDU(2,2), DTDP(2)
+      INTEGER ISTAT, IA, IB
+      DOUBLE PRECISION SBMF_KT
+      EXTERNAL SBMF_KT
+C     elastic slip of Abaqus' own penalty friction: 0.005 CHRLNGTH
+      DOUBLE PRECISION FSLIP
+      PARAMETER (FSLIP = 5.0D-3)
+C
+      P = PRESS
+      PH = STATEV(1)
+      G1H = -1.0D0
+      IF (NSTATV .GE. 2) G1H = STATEV(2)
+      SED = 0.0D0
+      SFD = 0.0D0
+      DO IA = 1, NFDIR
+        DSLIP(IA) = 0.0D0
+        DDTDDP(IA) = 0.0D0
+        DDTDDT(IA, 1) = 0.0D0
+        DDTDDT(IA, 2) = 0.0D0
+        DO IB = 1, NFDIR
+          DDTDDG(IA, IB) = 0.0D0
+        END DO
+      END DO
+      IF (.NOT. (P .GT. 0.0D0)) THEN
+C       open (no pressure): no friction, history unchanged
+        LM = 2
+        DO IA = 1, NFDIR
+          TAU(IA) = 0.0D0
+        END DO
+        IF (NSTATV .GE. 3) STATEV(3) = 0.0D0
+        RETURN
+      END IF
+      CALL SBMF_SHEAR(P, PH, G1H, TLIM, DTAU, G1NEW)
+      KFALL = MAX(TLIM, TINY(1.0D0))/(FSLIP*CHRLNGTH)
+      XKT = SBMF_KT(P, KFALL)
+      DO IA = 1, NFDIR
+        TOLD(IA) = TAU(IA)
+      END DO
+      CALL SBMF_RMAP(NFDIR, TLIM, DTAU, DGAM, TOLD, XKT, TNEW, DTDDU,
+     &               DTDP, ISTAT)
+      LM = 0
+      DO IA = 1, NFDIR
+        TAU(IA) = TNEW(IA)
+        DDTDDP(IA) = DTDP(IA)
+        DO IB = 1, NFDIR
+          DDTDDG(IA, IB) = DTDDU(IA, IB)
+        END DO
+        IF (ISTAT .EQ. 2) THEN
+          DSLIP(IA) = DGAM(IA) - (TNEW(IA) - TOLD(IA))/XKT
+        END IF
+        SED = SED + 0.5D0*TNEW(IA)*TNEW(IA)/XKT
+        SFD = SFD + TNEW(IA)*DSLIP(IA)
+      END DO
+C     trial history max(p_hist, p): kept by Abaqus only if converged
+      STATEV(1) = MAX(PH, P)
+      IF (NSTATV .GE. 2) STATEV(2) = G1NEW
+      IF (NSTATV .GE. 3) STATEV(3) = DBLE(ISTAT)
+      RETURN
+      END
+"""
+
+_VFRIC = """\
+C=======================================================================
+C     Abaqus/Explicit user subroutine VFRIC (documented argument list).
+C     statev(1,n) = p_hist of secondary (slave) node n, statev(2,n) =
+C     cached alpha1(p_hist) (optional), statev(3,n) = last status
+C     (optional). Explicit has no iterations: each increment commits.
+C     p = fNormal/areaSec; the force limit tau(p, p_hist) areaSec;
+C     stick when the stick force is within it, otherwise slip.
+C=======================================================================
+      subroutine vfric(
+C Write only -
+     1 fTangential,
+C Read/Write -
+     2 statev,
+C Read only -
+     3 kStep, kInc, nContact, nFacNod, nSecNod, nMainNod,
+     4 nFricDir, nDir, nStateVar, nProps, nTemp, nPred, numDefTfv,
+     5 jSecUid, jMainUid, jConSecid, jConMainid, timStep, timGlb,
+     6 dTimCur, surfInt, surfSec, surfMain, lContType,
+     7 dSlipFric, fStickForce, fTangPrev, fNormal, frictionWork,
+     8 shape, coordSec, coordMain, dirCosSl, dirCosN, props,
+     9 areaSec, tempSec, preDefSec, tempMain, preDefMain)
+C
+      include 'vaba_param.inc'
+C
+      character*80 surfInt, surfSec, surfMain
+C
+      dimension props(nProps), statev(nStateVar,nSecNod),
+     1 dSlipFric(nDir,nContact),
+     2 fTangential(nFricDir,nContact),
+     3 fTangPrev(nDir,nContact),
+     4 fStickForce(nContact), areaSec(nSecNod),
+     5 fNormal(nContact), shape(nFacNod,nContact),
+     6 coordSec(nDir,nSecNod), coordMain(nDir,nMainNod),
+     7 dirCosSl(nDir,nContact), dirCosN(nDir,nContact),
+     8 jSecUid(nSecNod), jMainUid(nMainNod),
+     9 jConSecid(nContact), jConMainid(nFacNod,nContact),
+     1 tempSec(nContact), preDefSec(nContact,nPred),
+     2 tempMain(numDefTfv), preDefMain(numDefTfv,nPred)
+C
+      double precision p, ph, g1h, g1new, tlim, dtau, flim
+      integer k, n, ia, istat
+C
+      do k = 1, nContact
+        n = jConSecid(k)
+        do ia = 1, nFricDir
+          fTangential(ia, k) = 0.0d0
+        end do
+        p = fNormal(k)/areaSec(n)
+        ph = statev(1, n)
+        g1h = -1.0d0
+        if (nStateVar .ge. 2) g1h = statev(2, n)
+        if (.not. (p .gt. 0.0d0)) then
+          if (nStateVar .ge. 3) statev(3, n) = 0.0d0
+        else
+          call SBMF_SHEAR(p, ph, g1h, tlim, dtau, g1new)
+          flim = tlim*areaSec(n)
+          if (fStickForce(k) .le. flim) then
+            fTangential(1, k) = -fStickForce(k)
+            istat = 1
+          else
+            fTangential(1, k) = -flim
+            istat = 2
+          end if
+          statev(1, n) = max(ph, p)
+          if (nStateVar .ge. 2) statev(2, n) = g1new
+          if (nStateVar .ge. 3) statev(3, n) = dble(istat)
+        end if
+      end do
+      return
+      end
+"""
+
+_GENERIC = """\
+C=======================================================================
+C     Host-neutral entry point, to be called from the host's friction
+C     template (see the README): one contact point per call.
+C     In:  ND (1 or 2 tangential directions), P (contact pressure),
+C          PH (committed p_hist), G1H (committed cache, or -1),
+C          DU(ND) (slip increment since the last converged state),
+C          TOLD(ND) (traction of the last converged state),
+C          KHOST (the host's tangential penalty, used only when the
+C          parameter file has no calibrated k_t and no --k-t was given).
+C     Out: TNEW(ND), DTDDU(ND,ND), DTDP(ND), ISTAT (0 open, 1 stick,
+C          2 slip), PHNEW, G1NEW: the trial state; the caller stores
+C          it only when the host accepts (converges) the increment.
+C=======================================================================
+      SUBROUTINE SBMF_FRICTION(ND, P, PH, G1H, DU, TOLD, KHOST, TNEW,
+     &                         DTDDU, DTDP, ISTAT, PHNEW, G1NEW)
+      IMPLICIT NONE
+      INTEGER ND, ISTAT, A, B
+      DOUBLE PRECISION P, PH, G1H, DU(ND), TOLD(ND), KHOST, TNEW(ND)
+      DOUBLE PRECISION DTDDU(ND, ND), DTDP(ND), PHNEW, G1NEW
+      DOUBLE PRECISION TLIM, DTAU, XKT
+      DOUBLE PRECISION SBMF_KT
+      EXTERNAL SBMF_KT
+      IF (.NOT. (P .GT. 0.0D0)) THEN
+        DO A = 1, ND
+          TNEW(A) = 0.0D0
+          DTDP(A) = 0.0D0
+          DO B = 1, ND
+            DTDDU(A, B) = 0.0D0
+          END DO
+        END DO
+        ISTAT = 0
+        PHNEW = PH
+        G1NEW = G1H
+        RETURN
+      END IF
+      CALL SBMF_SHEAR(P, PH, G1H, TLIM, DTAU, G1NEW)
+      XKT = SBMF_KT(P, KHOST)
+      CALL SBMF_RMAP(ND, TLIM, DTAU, DU, TOLD, XKT, TNEW, DTDDU, DTDP,
+     &               ISTAT)
+      PHNEW = MAX(PH, P)
+      RETURN
+      END
+"""
+
+
+def _assemble(header, body, constants, continuous, kt):
+    return _check_fixed_form(header + body + "C\n" + core_source(constants, continuous, kt))
+
+
+def fric_source(header, constants, continuous, kt):
+    """Abaqus/Standard ``FRIC`` with the core appended."""
+    return _assemble(header, _FRIC, constants, continuous, kt)
+
+
+def vfric_source(header, constants, continuous, kt):
+    """Abaqus/Explicit ``VFRIC`` with the core appended."""
+    return _assemble(header, _VFRIC, constants, continuous, kt)
+
+
+def generic_source(header, constants, continuous, kt):
+    """The host-neutral ``SBMF_FRICTION`` entry with the core appended (LS-DYNA, ANSYS)."""
+    return _assemble(header, _GENERIC, constants, continuous, kt)

@@ -1,0 +1,295 @@
+"""Host emulation for the generated Fortran: C-callable shims, gfortran build, ctypes calls.
+
+Used by the tests and ``benchmarks/bench_fortran_law.py``. Each shim calls the generated entry
+point exactly as the host's documentation describes (argument list, state passed in as at the
+start of the increment), for many contact points per call, so that one compile serves thousands
+of cases. ``ABA_PARAM.INC`` and ``vaba_param.inc`` are replaced by stubs with Abaqus' documented
+content (implicit double precision).
+"""
+
+import ctypes
+import shutil
+import subprocess
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["gfortran", "build", "FricLib", "VfricLib", "GenericLib", "COULOMB_SOURCE"]
+
+_ABA_PARAM = "      IMPLICIT REAL*8(A-H,O-Z)\n      PARAMETER (NPRECD=2)\n"
+_VABA_PARAM = (
+    "      implicit real*8 (a-h,o-z)\n"
+    "      parameter (j_sys_Dimension = 2)\n"
+    "      parameter (n_vec_Length = 136)\n"
+    "      parameter (maxblk = n_vec_Length)\n"
+)
+
+_SHIM_FRIC = """
+subroutine h_fric(n, nd, nstatv, press, dgam, tau_in, sv_in, chr, tau_out, dtdg, dtdp, &
+                  dslip, sv_out, lm_out, sed, sfd) bind(c, name='h_fric')
+  use iso_c_binding
+  implicit none
+  integer(c_int), value :: n, nd, nstatv
+  real(c_double), intent(in) :: press(n), dgam(nd, n), tau_in(nd, n), sv_in(nstatv, n), chr(n)
+  real(c_double), intent(out) :: tau_out(nd, n), dtdg(nd, nd, n), dtdp(nd, n), dslip(nd, n)
+  real(c_double), intent(out) :: sv_out(nstatv, n), sed(n), sfd(n)
+  integer(c_int), intent(out) :: lm_out(n)
+  integer :: i, lm, kstep, kinc, noel, npt, node, npatch, mcrd, npred, nprops
+  double precision :: tau(nd), dd(nd, nd), ddp(nd), ds(nd), ddtddt(nd, 2), statev(nstatv)
+  double precision :: dg(nd), taulm(nd), slip(nd), time(2), coords(3), rcoord(3), drot(2, 2)
+  double precision :: temp(2), predef(2, 1), props(1), pnewdt, dpress, ddpddh, dtime, sedv, sfdv
+  character(len=80) :: ciname, slname, msname
+  kstep = 1; kinc = 1; noel = 1; npt = 1; node = 1; npatch = 1; mcrd = 3; npred = 0
+  nprops = 0; time = 0d0; dtime = 1d0; coords = 0d0; rcoord = 0d0; drot = 0d0; temp = 0d0
+  predef = 0d0; props = 0d0; taulm = 0d0; slip = 0d0; dpress = 0d0; ddpddh = 0d0
+  ciname = 'CP'; slname = 'SLAVE'; msname = 'MASTER'
+  do i = 1, n
+    lm = 0
+    pnewdt = 1d0
+    tau = tau_in(:, i)
+    statev = sv_in(:, i)
+    dg = dgam(:, i)
+    call fric(lm, tau, dd, ddp, ds, sedv, sfdv, ddtddt, pnewdt, statev, dg, taulm, press(i), &
+              dpress, ddpddh, slip, kstep, kinc, time, dtime, noel, ciname, slname, msname, &
+              npt, node, npatch, coords, rcoord, drot, temp, predef, nd, mcrd, npred, nstatv, &
+              chr(i), props, nprops)
+    tau_out(:, i) = tau
+    dtdg(:, :, i) = dd
+    dtdp(:, i) = ddp
+    dslip(:, i) = ds
+    sv_out(:, i) = statev
+    lm_out(i) = lm
+    sed(i) = sedv
+    sfd(i) = sfdv
+  end do
+end subroutine h_fric
+"""
+
+_SHIM_VFRIC = """
+subroutine h_vfric(n, nsv, fnormal, fstick, area, statev, ftang) bind(c, name='h_vfric')
+  use iso_c_binding
+  implicit none
+  integer(c_int), value :: n, nsv
+  real(c_double), intent(in) :: fnormal(n), fstick(n), area(n)
+  real(c_double), intent(inout) :: statev(nsv, n)
+  real(c_double), intent(out) :: ftang(2, n)
+  integer :: i, jsec(n), jmain(1), jcons(n), jconm(1, n)
+  double precision :: dslip(3, n), fprev(3, n), fwork(n), shp(1, n), csec(3, n), cmain(3, 1)
+  double precision :: dcs(3, n), dcn(3, n), props(1), tsec(n), pdsec(n, 1), tmain(1), pdmain(1, 1)
+  character(len=80) :: sint, ssec, smain
+  do i = 1, n
+    jsec(i) = i
+    jcons(i) = i
+    jconm(1, i) = 1
+  end do
+  jmain = 1
+  dslip = 0d0; fprev = 0d0; fwork = 0d0; shp = 1d0; csec = 0d0; cmain = 0d0; dcs = 0d0
+  dcn = 0d0; props = 0d0; tsec = 0d0; pdsec = 0d0; tmain = 0d0; pdmain = 0d0
+  sint = 'SBMF'; ssec = 'SEC'; smain = 'MAIN'
+  call vfric(ftang, statev, 1, 1, n, 1, n, 1, 2, 3, nsv, 0, 0, 1, 1, jsec, jmain, jcons, jconm, &
+             1d-6, 0d0, 1d-6, sint, ssec, smain, 1, dslip, fstick, fprev, fnormal, fwork, shp, &
+             csec, cmain, dcs, dcn, props, area, tsec, pdsec, tmain, pdmain)
+end subroutine h_vfric
+"""
+
+_SHIM_GENERIC = """
+subroutine h_generic(n, nd, reps, p, ph, g1h, du, told, khost, tnew, dtddu, dtdp, istat, &
+                     phnew, g1new) bind(c, name='h_generic')
+  use iso_c_binding
+  implicit none
+  integer(c_int), value :: n, nd, reps
+  real(c_double), intent(in) :: p(n), ph(n), g1h(n), du(nd, n), told(nd, n), khost(n)
+  real(c_double), intent(out) :: tnew(nd, n), dtddu(nd, nd, n), dtdp(nd, n), phnew(n), g1new(n)
+  integer(c_int), intent(out) :: istat(n)
+  integer :: i, r, ist
+  do r = 1, reps
+    do i = 1, n
+      call sbmf_friction(nd, p(i), ph(i), g1h(i), du(1, i), told(1, i), khost(i), tnew(1, i), &
+                         dtddu(1, 1, i), dtdp(1, i), ist, phnew(i), g1new(i))
+      istat(i) = ist
+    end do
+  end do
+end subroutine h_generic
+"""
+
+#: plain Coulomb routine with the same entry, return map and calling cost (the benchmark floor)
+COULOMB_SOURCE = """\
+      SUBROUTINE SBMF_FRICTION(ND, P, PH, G1H, DU, TOLD, KHOST, TNEW,
+     &                         DTDDU, DTDP, ISTAT, PHNEW, G1NEW)
+      IMPLICIT NONE
+      INTEGER ND, ISTAT, A, B
+      DOUBLE PRECISION P, PH, G1H, DU(ND), TOLD(ND), KHOST, TNEW(ND)
+      DOUBLE PRECISION DTDDU(ND, ND), DTDP(ND), PHNEW, G1NEW, TLIM, XMU
+      PARAMETER (XMU = 0.1D0)
+      PHNEW = PH
+      G1NEW = G1H
+      IF (.NOT. (P .GT. 0.0D0)) THEN
+        DO A = 1, ND
+          TNEW(A) = 0.0D0
+          DTDP(A) = 0.0D0
+          DO B = 1, ND
+            DTDDU(A, B) = 0.0D0
+          END DO
+        END DO
+        ISTAT = 0
+        RETURN
+      END IF
+      TLIM = XMU*P
+      CALL SBMF_RMAP(ND, TLIM, XMU, DU, TOLD, KHOST, TNEW, DTDDU, DTDP,
+     &               ISTAT)
+      RETURN
+      END
+"""
+
+
+def gfortran():
+    """Path of ``gfortran`` or None."""
+    return shutil.which("gfortran")
+
+
+def build(sources, workdir, name, shim, *, flags=("-O2",)):
+    """Compile generated ``sources`` (``{file: text}``) with ``shim`` into ``workdir/name.so``.
+
+    Returns ``(ctypes.CDLL, warnings)`` where ``warnings`` is gfortran's ``-Wall`` output for
+    the generated files (the shim is compiled separately).
+    """
+    workdir = Path(workdir)
+    workdir.mkdir(parents=True, exist_ok=True)
+    (workdir / "ABA_PARAM.INC").write_text(_ABA_PARAM)
+    (workdir / "vaba_param.inc").write_text(_VABA_PARAM)
+    fc = gfortran()
+    if fc is None:
+        raise RuntimeError("gfortran not found")
+    objs, warnings = [], []
+    for fname, text in sources.items():
+        if not fname.endswith(".f"):
+            continue  # READMEs
+        src = workdir / fname
+        src.write_text(text)
+        obj = workdir / (src.stem + f"_{name}.o")
+        r = subprocess.run(
+            [fc, "-Wall", "-fPIC", *flags, "-I", str(workdir), "-c", str(src), "-o", str(obj)],
+            capture_output=True,
+            text=True,
+        )
+        if r.returncode != 0:
+            raise RuntimeError(f"gfortran failed on {fname}:\n{r.stderr}")
+        warnings.append(r.stderr)
+        objs.append(obj)
+    shim_src = workdir / f"shim_{name}.f90"
+    shim_src.write_text({"fric": _SHIM_FRIC, "vfric": _SHIM_VFRIC, "generic": _SHIM_GENERIC}[shim])
+    shim_obj = workdir / f"shim_{name}.o"
+    subprocess.run(
+        [fc, "-fPIC", *flags, "-c", str(shim_src), "-o", str(shim_obj)], check=True, text=True
+    )
+    lib = workdir / f"{name}.so"
+    subprocess.run(
+        [fc, "-shared", *flags, *map(str, objs), str(shim_obj), "-o", str(lib)], check=True
+    )
+    return ctypes.CDLL(str(lib)), "".join(warnings)
+
+
+def _f(a):
+    return np.ascontiguousarray(a, dtype=np.float64)
+
+
+def _ptr(a):
+    return a.ctypes.data_as(ctypes.c_void_p)
+
+
+class FricLib:
+    """Abaqus/Standard ``FRIC`` called per contact point as Abaqus does."""
+
+    def __init__(self, lib):
+        self._fn = lib.h_fric
+        self._fn.restype = None
+
+    def __call__(self, press, dgam, tau_start, statev_start, chrlngth):
+        """One iteration: every point gets the start-of-increment ``TAU`` and ``STATEV``.
+
+        Arrays are (n,), (n, nd), (n, nd), (n, nstatv), (n,); returns a dict of outputs.
+        """
+        press, dgam, tau_start, sv = map(_f, (press, dgam, tau_start, statev_start))
+        chr_ = _f(np.broadcast_to(chrlngth, press.shape))
+        n, nd = dgam.shape
+        nsv = sv.shape[1]
+        out = {
+            "tau": np.empty((n, nd)),
+            "ddtddg": np.empty((n, nd, nd)),
+            "ddtddp": np.empty((n, nd)),
+            "dslip": np.empty((n, nd)),
+            "statev": np.empty((n, nsv)),
+            "lm": np.empty(n, np.int32),
+            "sed": np.empty(n),
+            "sfd": np.empty(n),
+        }
+        self._fn(
+            ctypes.c_int(n),
+            ctypes.c_int(nd),
+            ctypes.c_int(nsv),
+            *map(_ptr, (press, dgam, tau_start, sv, chr_)),
+            *map(_ptr, out.values()),
+        )
+        # Fortran DDTDDG(a, b) -> row-major [b, a] in memory: transpose to [a, b]
+        out["ddtddg"] = np.ascontiguousarray(out["ddtddg"].transpose(0, 2, 1))
+        return out
+
+
+class VfricLib:
+    """Abaqus/Explicit ``VFRIC`` called once per increment for all contact points."""
+
+    def __init__(self, lib):
+        self._fn = lib.h_vfric
+        self._fn.restype = None
+
+    def __call__(self, f_normal, f_stick, area, statev):
+        """``statev`` (n, nstatev) is updated in place; returns ``fTangential`` (n, 2)."""
+        f_normal, f_stick, area = map(_f, (f_normal, f_stick, area))
+        if not (statev.flags.c_contiguous and statev.dtype == np.float64):
+            raise ValueError("statev must be a C-contiguous float64 array")
+        n, nsv = statev.shape
+        ft = np.empty((n, 2))
+        self._fn(
+            ctypes.c_int(n),
+            ctypes.c_int(nsv),
+            *map(_ptr, (f_normal, f_stick, area)),
+            _ptr(statev),
+            _ptr(ft),
+        )
+        return ft
+
+
+class GenericLib:
+    """The host-neutral ``SBMF_FRICTION`` over many contact points (LS-DYNA, ANSYS glue)."""
+
+    def __init__(self, lib):
+        self._fn = lib.h_generic
+        self._fn.restype = None
+
+    def __call__(self, p, p_hist, g1h, du, t_old, k_host, reps=1, out=None):
+        """Returns a dict: ``t``, ``dt_ddu``, ``dt_dp``, ``status``, ``p_hist``, ``g1h``."""
+        p, p_hist, g1h, du, t_old = map(_f, (p, p_hist, g1h, du, t_old))
+        kh = _f(np.broadcast_to(k_host, p.shape))
+        n, nd = du.shape
+        if out is None:
+            out = {
+                "t": np.empty((n, nd)),
+                "dt_ddu": np.empty((n, nd, nd)),
+                "dt_dp": np.empty((n, nd)),
+                "status": np.empty(n, np.int32),
+                "p_hist": np.empty(n),
+                "g1h": np.empty(n),
+            }
+        self._fn(
+            ctypes.c_int(n),
+            ctypes.c_int(nd),
+            ctypes.c_int(reps),
+            *map(_ptr, (p, p_hist, g1h, du, t_old, kh)),
+            *map(_ptr, out.values()),
+        )
+        return out
+
+    @staticmethod
+    def tangent(out):
+        """``dt_ddu`` as [node, a, b] (the Fortran array is column-major per node)."""
+        return out["dt_ddu"].transpose(0, 2, 1)

@@ -1,0 +1,243 @@
+"""Texts of the exported folders: READMEs and the table decks (private)."""
+
+__all__ = ["fortran_readme", "table_readme", "abaqus_table", "lsdyna_table"]
+
+_STATE = """\
+State per contact point (the host keeps it only for converged increments):
+
+| index | meaning | required |
+|---|---|---|
+| 1 | `p_hist`: the largest contact pressure the point has carried ({s}) | yes |
+| 2 | cache of `alpha1(p_hist)`, written with `p_hist` (saves the Eq. 25 branch a `g` evaluation; `<= 0` means "recompute") | no |
+| 3 | status of the last call: 0 open, 1 stick, 2 slip (output only) | no |
+
+Start the analysis with all state variables zero (the host's default): `p_hist = 0` is a virgin
+surface. To start from a pre-loaded surface set `STATEV(1)` and leave `STATEV(2) = 0`.
+"""
+
+_LAW = """\
+The law: `tau = m k (1 + geo_ratio) alpha`, `alpha = alpha1(p)` (Eq. 24) while `p >= p_hist`,
+`alpha = alpha2(p, p_hist)` (Eq. 25) below it{cont}; `p <= 0` gives zero traction. It is evaluated
+exactly as `frictionlaw`'s kernels do (no NaN or overflow for any finite input).
+"""
+
+
+def _law(params):
+    cont = (
+        ", normalised to meet Eq. 24 at `p_hist` (continuous_reload)"
+        if params.continuous_reload
+        else ""
+    )
+    return _LAW.format(cont=cont)
+
+
+def _units(units):
+    if units.name == "SI":
+        return "Units: SI (Pa, m, N). The model must use SI units."
+    return (
+        "Units: mm-tonne-s (MPa = N/mm^2, mm, N). Pressures, `p_hist`, `tau_max` and `H` are in MPa; "
+        "a tangential stiffness is in MPa/mm = N/mm^3."
+    )
+
+
+def _kt_text(target, kt, units):
+    if target == "abaqus-vfric":
+        return (
+            "Stick: Abaqus/Explicit passes the stick force (the force that stops the relative "
+            "motion in this increment); the routine returns it when it is within "
+            "`tau(p, p_hist) x area`, so no stiffness is needed."
+        )
+    text = "Stick stiffness: " + kt.describe(units) + "."
+    if kt.kind == "host" and target == "abaqus-fric":
+        text += (
+            " Abaqus' own convention is used: elastic slip 0.005 x CHRLNGTH, i.e. "
+            "`k_t = tau(p, p_hist) / (0.005 CHRLNGTH)` (at least the smallest normal double "
+            "over it)."
+        )
+    elif kt.kind == "host":
+        text += " The calling glue passes the host's tangential penalty as `KHOST`."
+    return text
+
+
+def fortran_readme(target, name, params, units, kt, sha):
+    """README of a Fortran target."""
+    body = {
+        "abaqus-fric": _ABAQUS_FRIC,
+        "abaqus-vfric": _ABAQUS_VFRIC,
+        "lsdyna": _LSDYNA,
+        "ansys-userfric": _ANSYS,
+    }[target]
+    return (
+        f"# `{target}`: SBMF friction law as a user subroutine\n\n"
+        f"File: `{name}` (fixed-form Fortran, double precision; parameter file sha256 `{sha}`).\n\n"
+        + _law(params)
+        + "\n"
+        + _units(units)
+        + "\n\n"
+        + _kt_text(target, kt, units)
+        + "\n\n"
+        + body.format(name=name)
+        + "\n"
+        + _STATE.format(s=units.stress_unit)
+        + "\nTested here: compiled with gfortran -Wall and driven by a harness that emulates the "
+        "host's documented calling sequence (iterations, converged increments, cut-backs) against "
+        "`frictionlaw.traction_update`; no commercial solver runs in this project. See "
+        "docs/fe_codes.md of the sbmf-friction project.\n"
+    )
+
+
+_ABAQUS_FRIC = """\
+## Compile and activate (Abaqus/Standard)
+
+    abaqus job=<job> input=<model>.inp user={name}
+
+Input deck (no PROPERTIES: the constants are compiled in; NPROPS = 0):
+
+    *SURFACE INTERACTION, NAME=SBMF
+    *FRICTION, USER, DEPVAR=3
+
+`DEPVAR=1` is enough (`p_hist` only); 2 adds the `alpha1(p_hist)` cache; 3 the status output
+(request `SDV` contact output to see them).
+
+Interface relied upon (Abaqus User Subroutines Reference, FRIC): `TAU` and `STATEV` are passed in
+as the values at the start of the increment, `DGAM` is the slip increment since then, `PRESS` the
+current contact pressure; Abaqus keeps `STATEV` only when the increment converges and restores it
+on a cut-back. The routine returns `LM = 0` (relative motion: elastic stick or slip) with `TAU`,
+`DDTDDG`, `DDTDDP`, `DSLIP`, `SED`, `SFD`, or `LM = 2` (no friction) when `PRESS <= 0`.
+`DDTDDP` is unsymmetric: use `*CONTACT PAIR ... UNSYMM=YES`/the unsymmetric solver to use it.
+"""
+
+_ABAQUS_VFRIC = """\
+## Compile and activate (Abaqus/Explicit)
+
+    abaqus job=<job> input=<model>.inp user={name}
+
+Input deck (contact pair algorithm; VFRIC cannot be used with general contact):
+
+    *SURFACE INTERACTION, NAME=SBMF
+    *FRICTION, USER=VFRIC, DEPVAR=3
+
+Interface relied upon (Abaqus User Subroutines Reference, VFRIC): per contact point `fNormal`
+(normal force), `fStickForce` (the force that would stop the relative motion), `areaSec` (area of
+the secondary node), `statev(nStateVar, nSecNod)` per secondary node; `fTangential(1)` must lie in
+`[-fStickForce, 0]`. Explicit has no iterations and no cut-backs: the history is updated in every
+increment.
+"""
+
+_LSDYNA = """\
+## Use in LS-DYNA
+
+The file holds the law core and the host-neutral entry point `SBMF_FRICTION` (one contact point
+per call; arguments documented in the file). LS-DYNA's user friction is compiled into a user
+executable from the object files LS-DYNA ships (routine `usrfrc` in `dyn21.f`, activated with
+`*USER_INTERFACE_FRICTION` and the contact's user-friction flag; LS-DYNA Keyword User's Manual,
+Vol. I, `*USER_INTERFACE_FRICTION`, and the manual's appendix on user-defined friction).
+That argument list could not be checked from public documentation for this export, so no
+`usrfrc` wrapper is generated: call `SBMF_FRICTION` from your version's `usrfrc` template with
+
+- `P` = normal force / contact area of the segment, `ND` = 2,
+- `PH`, `G1H` = history variables 1 and 2 of the contact point (`NHSV >= 2`),
+- `DU`, `TOLD` = the tangential slip increment and traction of the last converged cycle,
+
+and store `PHNEW`, `G1NEW` back into the history variables (explicit: every cycle commits).
+Add `{name}` to the user-executable build (e.g. append it to `dyn21.f`).
+"""
+
+_ANSYS = """\
+## Use in ANSYS Mechanical APDL (CONTA17x)
+
+The file holds the law core and the host-neutral entry point `SBMF_FRICTION` (one contact point
+per call; arguments documented in the file). ANSYS calls `USERFRIC` for contact elements
+CONTA172/174/175/177 whose material is defined with `TB,FRIC,,,,USER` (Programmer's Reference,
+"Subroutines for Customizing Contact Interfacial Behavior", `userfric`); the state variables are
+declared with `NSVR` and the routine is linked into a custom executable (`ANSCUSTOM`) or a user
+library (`ANS_USER_PATH`). The exact argument list of `userfric` differs between releases and
+could not be checked from public documentation for this export, so no `USERFRIC` wrapper is
+generated: call `SBMF_FRICTION` from the `userfric.F` template of your release with
+
+- `P` = the contact pressure, `ND` = 1 (2-D) or 2 (3-D),
+- `PH`, `G1H` = state variables 1 and 2 as at the start of the substep,
+- `DU` = the tangential slip increment of the substep, `TOLD` = the traction at its start,
+- `KHOST` = the tangential penalty stiffness ANSYS passes (used only without a calibrated k_t),
+
+return `TNEW` as the frictional stress, `DTDDU`/`DTDP` as its derivatives, and store `PHNEW`,
+`G1NEW` as the new state (ANSYS keeps state only for converged substeps).
+"""
+
+
+def table_readme(target, name, params, units, table, sha):
+    """README of a table target."""
+    s = units.stress_unit
+    host = {
+        "abaqus-table": (
+            "Abaqus: include the deck lines under the interaction (`*INCLUDE, INPUT=" + name + "`"
+            " below `*SURFACE INTERACTION`, or paste them). Abaqus interpolates `mu` linearly in "
+            "the contact pressure and holds it constant beyond the end points; `TAUMAX` caps the "
+            "shear at `m k (1 + geo_ratio)`."
+        ),
+        "lsdyna-table": (
+            "LS-DYNA: the deck defines the curve of `mu` against pressure and a table over relative "
+            "velocity (the same curve at every velocity). Reference the table from the contact "
+            "with `FS = -2`, `FD = <table id>` and set `VC` (the viscous-friction cap, a shear "
+            "stress) to the value given in the deck (LS-DYNA Keyword User's Manual, `*CONTACT`, "
+            "card 2: FS, FD, VC). The last two points carry the same `mu` so that LS-DYNA's "
+            "linear extrapolation beyond the curve stays flat."
+        ),
+    }[target]
+    return (
+        f"# `{target}`: SBMF first-loading law (Eq. 24) as a friction table\n\n"
+        f"File: `{name}` (parameter file sha256 `{sha}`). {_units(units)}\n\n"
+        f"{host}\n\n"
+        f"Table: {len(table.p)} pressures from 0 to {table.p[-1] * units.stress:.6g} {s}, "
+        f"`mu = tau(p)/p` of Eq. 24 at each (`mu_eff = {params.mu_eff:.6g}` at p = 0), "
+        f"cap `tau_max = {table.tau_max * units.stress:.6g} {s}`. "
+        f"Interpolation error, requested: `|tau_table - tau| <= {table.tol:g} tau_max`; "
+        f"measured on an independent grid: {table.max_error:.3g} tau_max "
+        f"(at p = {table.max_error_p * units.stress:.4g} {s}).\n\n"
+        "What a table cannot do: it is a function of the current pressure only, so it cannot "
+        "carry the history `p_hist`. Eq. 25 (the lower shear when the pressure falls below the "
+        "largest pressure carried, and the reload back to Eq. 24) is lost; unloading follows "
+        "Eq. 24 back down. Use a user-subroutine target where un-/reloading matters.\n"
+    )
+
+
+def _fmt(v):
+    return f"{v:.10e}"
+
+
+def abaqus_table(table, units):
+    """Abaqus deck lines: ``*FRICTION, TAUMAX=`` with ``mu, slip rate, pressure`` data lines."""
+    lines = [
+        "** first-loading SBMF law (Eq. 24) as mu(contact pressure); no p_hist history",
+        "** data lines: friction coefficient, slip rate (blank), contact pressure",
+        f"*FRICTION, TAUMAX={_fmt(table.tau_max * units.stress)}",
+    ]
+    for p, mu in zip(table.p, table.mu, strict=True):
+        lines.append(f"{_fmt(mu)}, , {_fmt(p * units.stress)}")
+    return "\n".join(lines) + "\n"
+
+
+def lsdyna_table(table, units, table_id=9100):
+    """LS-DYNA keyword deck: mu(p) curves, a velocity table, and the contact's VC."""
+    lines = [
+        "$ first-loading SBMF law (Eq. 24) as mu(pressure); no p_hist history",
+        f"$ on the contact card: FS = -2, FD = {table_id}, "
+        f"VC = {_fmt(table.tau_max * units.stress)}",
+        "*KEYWORD",
+    ]
+    p_last = table.p[-1] * units.stress
+    for cid in (table_id + 1, table_id + 2):
+        lines += ["*DEFINE_CURVE", "$     lcid", f"{cid:10d}", "$ pressure, mu"]
+        for p, mu in zip(table.p, table.mu, strict=True):
+            lines.append(f"{_fmt(p * units.stress)},{_fmt(mu)}")
+        lines.append(f"{_fmt(1e3 * p_last)},{_fmt(table.mu[-1])}")
+    lines += [
+        "*DEFINE_TABLE",
+        "$     tbid",
+        f"{table_id:10d}",
+        "$ relative velocity, curve id",
+        f"{_fmt(0.0)},{table_id + 1}",
+        f"{_fmt(1e20)},{table_id + 2}",
+        "*END",
+    ]
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,129 @@
+"""frictionlaw-export: CLI contract, provenance header, friction tables against Eq. 24."""
+
+import hashlib
+import re
+
+import numpy as np
+import pytest
+
+import frictionlaw as fl
+import frictionlaw.export as exp
+from frictionlaw.export import _tables
+
+DEFAULT = dict(
+    m=0.5,
+    sigma_y=285714285.71428573,
+    H=800000000.0,
+    C1=1.0466452593966644,
+    n1=2.8674798599724576,
+    C2=7.443848731746356,
+    n2=0.5753816933748891,
+)
+
+
+@pytest.fixture(scope="module")
+def params_file(tmp_path_factory):
+    path = tmp_path_factory.mktemp("p") / "params.json"
+    fl.FrictionParams(**DEFAULT, p_range=(1e7, 6e8)).to_json(path)
+    return path
+
+
+@pytest.mark.parametrize("target", exp.TARGETS)
+@pytest.mark.parametrize("units", ["SI", "mm-t-s"])
+def test_every_target_writes_source_and_readme(tmp_path, params_file, target, units):
+    out = tmp_path / "out"
+    assert (
+        exp.main([target, "--params", str(params_file), "--out", str(out), "--units", units]) == 0
+    )
+    names = sorted(p.name for p in out.iterdir())
+    assert "README.md" in names and len(names) == 2
+    src = next(p for p in out.iterdir() if p.name != "README.md").read_text()
+    sha = hashlib.sha256(params_file.read_bytes()).hexdigest()
+    assert sha in src and f"units: {units}" in src
+    assert "fit" in src  # fit summary line (none recorded here)
+    if target.endswith("-table"):
+        assert "cannot" in (out / "README.md").read_text()  # says what a table cannot do
+    else:
+        assert max(len(line) for line in src.splitlines()) <= 72  # fixed form
+
+
+def test_constants_in_host_units(tmp_path, params_file):
+    files_si, _ = exp.render("abaqus-fric", params_file, units="SI")
+    files_mm, _ = exp.render("abaqus-fric", params_file, units="mm-t-s")
+    p = fl.FrictionParams.from_json(params_file)
+
+    def const(text, name):
+        m = re.search(rf"PARAMETER \({name} = ([-+0-9.D]+)\)", text)
+        return float(m.group(1).replace("D", "e"))
+
+    assert const(files_si["sbmf_fric.f"], "TMAX") == p.tau_max
+    assert const(files_si["sbmf_fric.f"], "H") == p.H
+    assert const(files_mm["sbmf_fric.f"], "TMAX") == p.tau_max * 1e-6
+    assert const(files_mm["sbmf_fric.f"], "H") == p.H * 1e-6
+    assert const(files_mm["sbmf_fric.f"], "XN1") == p.n1
+
+
+def test_bad_input_exit_2_and_no_output(tmp_path, params_file, capsys):
+    out = tmp_path / "o"
+    assert exp.main(["nastran", "--params", str(params_file), "--out", str(out)]) == 2
+    assert (
+        exp.main(["lsdyna", "--params", str(params_file), "--out", str(out), "--units", "ft"]) == 2
+    )
+    assert exp.main(["lsdyna", "--params", str(tmp_path / "none.json"), "--out", str(out)]) == 2
+    assert exp.main(["lsdyna", "--params", str(params_file), "--out", str(out), "--k-t", "-1"]) == 2
+    args = ["abaqus-table", "--params", str(params_file), "--out", str(out)]
+    assert exp.main([*args, "--table-tol", "0.5"]) == 2
+    assert exp.main([*args, "--k-t", "1e12"]) == 2  # no option silently ignored
+    assert not out.exists()
+    err = capsys.readouterr().err
+    assert "target must be one of" in err and "Traceback" not in err
+    assert exp.main(args) == 0
+    assert exp.main(args) == 2  # exists
+    assert exp.main([*args, "--force"]) == 0
+
+
+def test_k_t_table_baked_in(tmp_path):
+    kt = fl.params.TangentialStiffness(p=(1e7, 1e8), k_t=(1e12, 4e12))
+    path = tmp_path / "p.json"
+    fl.FrictionParams(**DEFAULT, k_t=kt).to_json(path)
+    files, _ = exp.render("lsdyna", path)
+    assert "calibrated k_t(p) table" in files["sbmf_lsdyna.f"]
+    files, _ = exp.render("lsdyna", path, k_t=3e12)
+    assert "constant k_t = 3e+12" in files["sbmf_lsdyna.f"]
+
+
+@pytest.mark.parametrize(
+    "changes",
+    [{}, {"n1": 0.5}, {"n1": 20.0, "geo_ratio": 0.4}, {"C1": 5.0, "m": 0.1}],
+)
+@pytest.mark.parametrize("tol", [1e-2, 1e-3])
+def test_table_within_stated_tolerance(changes, tol):
+    p = fl.FrictionParams(**{**DEFAULT, **changes})
+    t = _tables.build_table(p, tol)
+    assert t.max_error <= tol
+    # independent check on a different grid (random pressures up to 50x the last point)
+    rng = np.random.default_rng(1)
+    q = np.concatenate([rng.uniform(0, 1.2 * t.p[-1], 20000), rng.uniform(0, 50 * t.p[-1], 2000)])
+    err = np.abs(_tables.table_shear(q, t.p, t.mu, p.tau_max) - fl.shear_limit(q, 0.0, p))
+    assert err.max() <= tol * p.tau_max
+    assert t.p[0] == 0.0 and t.mu[0] == pytest.approx(p.mu_eff, rel=1e-14)
+    # the table cannot follow Eq. 25: unloading below p_hist it stays on Eq. 24, off by far
+    # more than its tolerance (the documented limitation)
+    ph = 0.8 * t.p[-1]
+    below = ph * np.linspace(0.05, 0.95, 19)
+    miss = fl.shear_limit(below, ph, p) - _tables.table_shear(below, t.p, t.mu, p.tau_max)
+    assert np.abs(miss).max() > 3 * tol * p.tau_max
+
+
+def test_table_decks_hold_the_table(tmp_path, params_file):
+    files, t = exp.render("abaqus-table", params_file, units="mm-t-s")
+    deck = files["sbmf_friction_table.inp"]
+    rows = [r for r in deck.splitlines() if r and not r.startswith("*")]
+    assert len(rows) == len(t.p)
+    mu, p = zip(*[(float(r.split(",")[0]), float(r.split(",")[2])) for r in rows], strict=True)
+    np.testing.assert_allclose(np.array(p), t.p * 1e-6, rtol=1e-10)
+    np.testing.assert_allclose(mu, t.mu, rtol=1e-10)
+    assert f"TAUMAX={t.tau_max * 1e-6:.10e}" in deck
+    files, t2 = exp.render("lsdyna-table", params_file)
+    k = files["sbmf_friction_table.k"]
+    assert "*DEFINE_TABLE" in k and k.count("*DEFINE_CURVE") == 2 and "FS = -2" in k

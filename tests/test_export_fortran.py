@@ -1,0 +1,368 @@
+"""Generated Fortran user subroutines against the runtime, under the hosts' calling sequences.
+
+Each target is compiled once per parameter set and unit system (gfortran -Wall) into a shared
+library with a shim that calls the documented entry point for many contact points; a Python
+"host" drives increments with several iterations (state passed in as at the start of the
+increment, kept only when the increment converges, discarded on a cut-back) and compares every
+iteration node by node with ``frictionlaw.traction_update`` + ``HistoryState``.
+"""
+
+import re
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import frictionlaw as fl
+import frictionlaw.export as exp
+from frictionlaw.export import _fortran, _harness
+from frictionlaw.params import TangentialStiffness
+
+pytestmark = pytest.mark.skipif(
+    _harness.gfortran() is None,
+    reason="gfortran not installed (.ci/run installs it: apt-get install -y gfortran)",
+)
+
+# the default calibration's parameters (halfspace-calib defaults), as inputs
+DEFAULT = dict(
+    m=0.5,
+    sigma_y=285714285.71428573,
+    H=800000000.0,
+    C1=1.0466452593966644,
+    n1=2.8674798599724576,
+    C2=7.443848731746356,
+    n2=0.5753816933748891,
+)
+KT_TABLE = TangentialStiffness(p=(1e7, 1e8, 6e8), k_t=(2e12, 8e12, 3e13))
+PARAM_SETS = {
+    "default": fl.FrictionParams(**DEFAULT),
+    # extremes of the runtime's tests: n from 0.1 to 1000, continuous reload, Eq. 26, k_t table
+    "soft": fl.FrictionParams(
+        **{**DEFAULT, "n1": 0.1, "n2": 1000.0},
+        continuous_reload=True,
+        geo_ratio=0.3,
+        k_t=KT_TABLE,
+    ),
+    "sharp": fl.FrictionParams(**{**DEFAULT, "n1": 1000.0, "n2": 0.1, "C1": 10.0, "C2": 0.5}),
+}
+UNITS = exp.UNIT_SYSTEMS
+TINY = np.finfo(float).tiny
+FSLIP = 0.005
+
+_LIBS = {}
+
+
+def _write_params(tmp_path_factory, key):
+    path = tmp_path_factory.getbasetemp() / f"params_{key}.json"
+    if not path.exists():
+        PARAM_SETS[key].to_json(path)
+    return path
+
+
+def lib_for(tmp_path_factory, target, key, units, k_t=None):
+    """Compile (once per session) ``target`` for parameter set ``key`` in ``units``."""
+    tag = (target, key, units, k_t)
+    if tag not in _LIBS:
+        files, _ = exp.render(target, _write_params(tmp_path_factory, key), units=units, k_t=k_t)
+        src = {n: t for n, t in files.items() if n.endswith(".f")}
+        shim = {"abaqus-fric": "fric", "abaqus-vfric": "vfric"}.get(target, "generic")
+        name = re.sub(r"[^a-z0-9]", "_", f"{target}_{key}_{units}_{k_t}".lower())
+        wd = tmp_path_factory.mktemp(name)
+        lib, warnings = _harness.build(src, wd, name, shim)
+        wrap = {"fric": _harness.FricLib, "vfric": _harness.VfricLib}.get(shim, _harness.GenericLib)
+        _LIBS[tag] = (wrap(lib), warnings)
+    return _LIBS[tag]
+
+
+# -- data of one iteration --------------------------------------------------------------------
+def pressures(rng, n, p_hist, H):
+    """A mix: open, tiny (down to 1e-300 Pa), at/around p_hist, below it (Eq. 25), up to 1e6 H."""
+    kind = rng.integers(0, 7, n)
+    p = 10.0 ** rng.uniform(np.log10(H) - 3, np.log10(H) + 6, n)  # first loading / reloading
+    p = np.where(kind == 0, -rng.uniform(0, H, n) * (rng.random(n) < 0.5), p)  # open (0 or < 0)
+    p = np.where(kind == 1, 10.0 ** rng.uniform(-300, -200, n), p)
+    p = np.where(kind == 2, p_hist, p)
+    below = p_hist * rng.uniform(0.0, 1.0, n)
+    p = np.where((kind >= 3) & (kind <= 4) & (p_hist > 0), below, p)
+    p = np.where(kind == 5, 10.0 ** rng.uniform(np.log10(H) - 2, np.log10(H) + 0.5, n), p)
+    return p
+
+
+def slips(rng, n, nd, params, k_scale):
+    """Slip increments that give both stick and slip (trial traction 0.01 .. 10 tau_max)."""
+    mag = params.tau_max / k_scale * 10.0 ** rng.uniform(-2, 1, (n, 1))
+    return rng.normal(size=(n, nd)) * mag
+
+
+def expected_kt(params, kt_spec, units, p, tau, chr_):
+    """The k_t the routine must use (SI), mirroring the three stiffness sources."""
+    if kt_spec.kind == "constant":
+        return np.full(p.shape, kt_spec.value / units.stiffness)
+    if kt_spec.kind == "table":
+        return params.k_t(p)
+    # the floor acts in the host's units (TINY MPa is not TINY Pa)
+    return np.maximum(tau * units.stress, TINY) / (FSLIP * chr_ * units.length) / units.stiffness
+
+
+def assert_close(a, b, rtol, what, scale=None):
+    """Node-wise ``max |a - b| <= rtol max |b|`` (or ``rtol scale`` when given)."""
+    a, b = np.asarray(a), np.asarray(b)
+    axes = tuple(range(1, a.ndim))
+    if scale is None:
+        scale = np.max(np.abs(b), axis=axes) if axes else np.abs(b)
+    err = np.max(np.abs(a - b), axis=axes) if axes else np.abs(a - b)
+    bad = err > rtol * np.maximum(scale, TINY)
+    assert not bad.any(), (
+        f"{what}: {bad.sum()} nodes off, worst rel {np.max(err / np.maximum(scale, TINY)):.3g}"
+    )
+
+
+def traction_scale(units, ref_t, t_old, kt, du):
+    """SI: the traction itself. mm-t-s: the largest term of ``t_old + k_t du`` too, because the
+    unit conversion perturbs the inputs by an ulp and the stick update may cancel."""
+    scale = np.max(np.abs(ref_t), axis=1)
+    if units.name == "SI":
+        return scale
+    terms = np.maximum(np.max(np.abs(t_old), axis=1), np.max(np.abs(kt[:, None] * du), axis=1))
+    return np.maximum(scale, terms)
+
+
+def knife_edge(t_old, du, kt, tau, eps):
+    """Nodes whose trial |t| is within eps of tau (stick/slip may differ by rounding there)."""
+    tr = np.linalg.norm(t_old + kt[:, None] * du, axis=1)
+    return np.abs(tr - tau) <= eps * np.maximum(tau, TINY)
+
+
+def check_cache(params, p_hist, cache):
+    """Cache = alpha1(p_hist) / x1 for x1 < 1, alpha1(p_hist) otherwise (p_hist > 0)."""
+    on = p_hist > 0
+    x1 = p_hist[on] * params.C1 / params.H
+    a1 = fl.alpha_first(p_hist[on], params)
+    want = np.where(x1 < 1, a1 / np.where(x1 > 0, x1, 1.0), a1)
+    ok = x1 > 1e-300  # a1 / x1 loses digits only for subnormal x1
+    np.testing.assert_allclose(cache[on][ok], want[ok], rtol=1e-12)
+
+
+# -- FRIC ---------------------------------------------------------------------------------------
+def run_fric(host, params, kt_spec, units, seed, nd, nstatv, n=48, n_incr=6):
+    """Drive FRIC through increments/iterations/cut-backs and compare with the runtime."""
+    rng = np.random.default_rng(seed)
+    law = fl.SBMFLaw(params)
+    s, ln = units.stress, units.length
+    state = fl.HistoryState(n)
+    sv = np.zeros((n, nstatv))  # Abaqus' STATEV at the start of the increment (committed)
+    tau_c = np.zeros((n, nd))  # TAU at the start of the increment (SI)
+    chr_ = 10.0 ** rng.uniform(-4, -2, n)  # CHRLNGTH (m)
+    k_scale = params.tau_max / (FSLIP * 1e-3)
+    checked = 0
+    for _ in range(n_incr):
+        for _attempt in range(2):
+            ph = state.p_hist.copy()
+            dgam = np.zeros((n, nd))
+            for _it in range(int(rng.integers(1, 4))):
+                p = pressures(rng, n, ph, params.H)
+                dgam = dgam + slips(rng, n, nd, params, k_scale)  # total since increment start
+                tau_lim = law.shear_limit(p, ph)[0]
+                kt = expected_kt(params, kt_spec, units, p, tau_lim, chr_)
+                ref = fl.traction_update(law, p, dgam, tau_c, kt, state)
+                out = host(p * s, dgam * ln, tau_c * s, sv, chr_ * ln)
+                # traction, tangents (host units -> SI), state
+                scale = traction_scale(units, ref.traction, tau_c, kt, dgam)
+                assert_close(out["tau"] / s, ref.traction, 1e-12, "traction", scale)
+                assert_close(out["ddtddg"] / (s / ln), ref.dt_dslip, 1e-10, "DDTDDG")
+                assert_close(out["ddtddp"], ref.dt_dp, 1e-10, "DDTDDP")
+                assert np.array_equal(
+                    out["statev"][:, 0], np.maximum(ph * s, np.where(p > 0, p * s, 0))
+                )
+                np.testing.assert_allclose(out["statev"][:, 0] / s, state.p_hist_trial, rtol=1e-15)
+                open_ = ~(p > 0)
+                assert np.array_equal(out["lm"] == 2, open_)
+                assert np.all(out["lm"][~open_] == 0)
+                if nstatv >= 2:  # the alpha1(p_hist) cache matches the new p_hist
+                    check_cache(params, out["statev"][:, 0] / s, out["statev"][:, 1])
+                if nstatv >= 3:
+                    edge = knife_edge(tau_c, dgam, kt, tau_lim, 1e-9 if units.name != "SI" else 0)
+                    st_f = out["statev"][:, 2].astype(int)
+                    assert np.array_equal(st_f[~edge], ref.status[~edge]), "stick/slip status"
+                    # frictional slip only when slipping
+                    assert np.all(out["dslip"][st_f == 1] == 0)
+                checked += n
+                last = (out, ref)
+            if rng.random() < 0.3:  # cut-back: Abaqus discards STATEV and TAU of the attempt
+                state.rollback()
+                continue
+            out, ref = last
+            sv = out["statev"].copy()
+            tau_c = out["tau"] / s
+            state.commit()
+            assert np.array_equal(sv[:, 0], state.p_hist * s) or units.name != "SI"
+            break
+        else:
+            state.rollback()
+    return checked
+
+
+@pytest.mark.parametrize("units", ["SI", "mm-t-s"])
+@pytest.mark.parametrize("key", ["default", "soft", "sharp"])
+def test_fric_compiles_cleanly(tmp_path_factory, key, units):
+    _, warnings = lib_for(tmp_path_factory, "abaqus-fric", key, units)
+    # only the documented interface's unused arguments may warn
+    others = [w for w in re.findall(r"Warning: (.*)", warnings) if "Unused dummy argument" not in w]
+    assert others == []
+
+
+FRIC_CASES = st.tuples(
+    st.integers(0, 2**32 - 1), st.sampled_from([1, 2]), st.sampled_from([1, 2, 3])
+)
+
+
+@pytest.mark.parametrize(
+    "key,units,k_t",
+    [
+        ("default", "SI", None),
+        ("default", "mm-t-s", None),
+        ("soft", "SI", None),
+        ("soft", "mm-t-s", None),
+        ("sharp", "SI", 5e12),
+    ],
+)
+@settings(
+    max_examples=12, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
+@given(case=FRIC_CASES)
+def test_fric_agrees_with_runtime(tmp_path_factory, key, units, k_t, case):
+    seed, nd, nstatv = case
+    host, _ = lib_for(tmp_path_factory, "abaqus-fric", key, units, k_t)
+    params = PARAM_SETS[key]
+    us = UNITS[units]
+    kt_spec = exp.stiffness_spec(params, us, k_t)
+    assert run_fric(host, params, kt_spec, us, seed, nd, nstatv) > 0
+
+
+# -- VFRIC --------------------------------------------------------------------------------------
+def run_vfric(host, params, units, seed, nsv, n=48, n_incr=8):
+    """Explicit increments (no iterations, every increment commits) against the force adapter."""
+    rng = np.random.default_rng(seed)
+    law = fl.SBMFLaw(params)
+    s, ln = units.stress, units.length
+    state = fl.HistoryState(n)
+    statev = np.zeros((n, nsv))
+    for _ in range(n_incr):
+        ph = state.p_hist.copy()
+        area = 10.0 ** rng.uniform(-8, -4, n)  # m^2
+        p = pressures(rng, n, ph, params.H)
+        if units.name != "SI":  # forces of 1e-300 Pa x 1e-8 m^2 are subnormal: SI covers them
+            p = np.where((p > 0) & (p < 1e-280), 1e-280, p)
+        f_n = p * area
+        f_stick = params.tau_max * area * 10.0 ** rng.uniform(-2, 1, n)
+        # the force adapter with k_force = area (k_t = 1): trial = -stick force
+        ref = fl.traction_update_force(law, f_n, area, -f_stick / area, np.zeros(n), area, state)
+        ft = host(f_n * s * ln**2, f_stick * s * ln**2, area * ln**2, statev)
+        # p = fNormal / area rounds differently in mm-t-s: at p == p_hist that may pick the other
+        # branch of Eq. 24/25 (a jump of the law); those nodes are compared in SI only
+        si = units.name == "SI"
+        keep = si | ~(np.abs(p - ph) <= 1e-12 * ph)
+        assert_close(ft[keep, 0] / (s * ln**2), ref.traction[keep], 1e-12, "fTangential(1)")
+        assert np.all(ft[:, 1] == 0)
+        assert np.all(ft[:, 0] <= 0) and np.all(-ft[:, 0] <= f_stick * s * ln**2 * (1 + 1e-15))
+        np.testing.assert_allclose(statev[keep, 0] / s, state.p_hist_trial[keep], rtol=1e-15)
+        if si:
+            assert np.array_equal(statev[:, 0], state.p_hist_trial)
+        if nsv >= 2:
+            check_cache(params, statev[:, 0] / s, statev[:, 1])
+        if nsv >= 3:
+            tau = law.shear_limit(p, ph)[0]
+            edge = np.abs(f_stick / area - tau) <= 1e-9 * np.maximum(tau, TINY)
+            edge |= ~keep
+            assert np.array_equal(statev[~edge, 2].astype(int), ref.status[~edge])
+        state.commit()
+    return n * n_incr
+
+
+@pytest.mark.parametrize("key,units", [("default", "SI"), ("default", "mm-t-s"), ("soft", "SI")])
+@settings(
+    max_examples=12, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
+@given(seed=st.integers(0, 2**32 - 1), nsv=st.sampled_from([1, 2, 3]))
+def test_vfric_agrees_with_runtime(tmp_path_factory, key, units, seed, nsv):
+    host, warnings = lib_for(tmp_path_factory, "abaqus-vfric", key, units)
+    others = [w for w in re.findall(r"Warning: (.*)", warnings) if "Unused dummy argument" not in w]
+    assert others == []
+    assert run_vfric(host, PARAM_SETS[key], UNITS[units], seed, nsv) > 0
+
+
+# -- host-neutral entry (LS-DYNA, ANSYS) ------------------------------------------------------
+def run_generic(host, params, kt_spec, units, seed, nd, n=48, n_incr=6):
+    """Implicit-host sequence with the state kept by the caller, as the glue must do."""
+    rng = np.random.default_rng(seed)
+    law = fl.SBMFLaw(params)
+    s, ln = units.stress, units.length
+    state = fl.HistoryState(n)
+    ph_c = np.zeros(n)  # committed state in host units
+    g1_c = np.zeros(n)
+    t_c = np.zeros((n, nd))
+    k_host = 10.0 ** rng.uniform(11, 14, n)  # Pa/m
+    for _ in range(n_incr):
+        du = np.zeros((n, nd))
+        for _it in range(int(rng.integers(1, 4))):
+            p = pressures(rng, n, state.p_hist, params.H)
+            du = du + slips(rng, n, nd, params, 1e13)
+            kt = k_host if kt_spec.kind == "host" else expected_kt(params, kt_spec, units, p, 0, 1)
+            ref = fl.traction_update(law, p, du, t_c, kt, state)
+            out = host(p * s, ph_c, g1_c, du * ln, t_c * s, k_host * units.stiffness)
+            scale = traction_scale(units, ref.traction, t_c, np.broadcast_to(kt, p.shape), du)
+            assert_close(out["t"] / s, ref.traction, 1e-12, "traction", scale)
+            assert_close(host.tangent(out) / units.stiffness, ref.dt_dslip, 1e-10, "dt/ddu")
+            assert_close(out["dt_dp"], ref.dt_dp, 1e-10, "dt/dp")
+            np.testing.assert_allclose(out["p_hist"] / s, state.p_hist_trial, rtol=1e-15)
+            tau = law.shear_limit(p, state.p_hist.copy())[0]
+            edge = knife_edge(t_c, du, kt, tau, 1e-9 if units.name != "SI" else 0)
+            assert np.array_equal(out["status"][~edge], ref.status[~edge])
+        if rng.random() < 0.3:
+            state.rollback()  # cut-back: the glue drops PHNEW, G1NEW
+            continue
+        ph_c, g1_c, t_c = out["p_hist"].copy(), out["g1h"].copy(), out["t"] / s
+        state.commit()
+        check_cache(params, ph_c / s, g1_c)
+    return n * n_incr
+
+
+@pytest.mark.parametrize("target", ["lsdyna", "ansys-userfric"])
+@pytest.mark.parametrize("key,units", [("default", "SI"), ("soft", "mm-t-s")])
+@settings(
+    max_examples=10, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
+@given(seed=st.integers(0, 2**32 - 1), nd=st.sampled_from([1, 2]))
+def test_generic_agrees_with_runtime(tmp_path_factory, target, key, units, seed, nd):
+    host, warnings = lib_for(tmp_path_factory, target, key, units)
+    assert "Warning" not in warnings  # the core and the entry point compile without any warning
+    params = PARAM_SETS[key]
+    us = UNITS[units]
+    assert run_generic(host, params, exp.stiffness_spec(params, us), us, seed, nd) > 0
+
+
+def test_constants_are_exact_double_literals():
+    for v in (0.1, 1.0466452593966644, 142857142.85714287, 5e-324, 1.7976931348623157e308):
+        lit = _fortran.fortran_double(v)
+        assert float(lit.replace("D", "e")) == v
+
+
+# -- longer runs (slow) -------------------------------------------------------------------------
+@pytest.mark.slow
+@pytest.mark.parametrize("key", list(PARAM_SETS))
+@pytest.mark.parametrize("units", ["SI", "mm-t-s"])
+@settings(
+    max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
+@given(case=FRIC_CASES, vseed=st.integers(0, 2**32 - 1), nsv=st.sampled_from([1, 2, 3]))
+def test_all_targets_agree_long(tmp_path_factory, key, units, case, vseed, nsv):
+    seed, nd, nstatv = case
+    params, us = PARAM_SETS[key], UNITS[units]
+    kt_spec = exp.stiffness_spec(params, us)
+    host, _ = lib_for(tmp_path_factory, "abaqus-fric", key, units)
+    run_fric(host, params, kt_spec, us, seed, nd, nstatv)
+    host, _ = lib_for(tmp_path_factory, "abaqus-vfric", key, units)
+    run_vfric(host, params, us, vseed, nsv)
+    host, _ = lib_for(tmp_path_factory, "lsdyna", key, units)
+    run_generic(host, params, kt_spec, us, seed, nd)
