@@ -136,7 +136,10 @@ def sbmf_shear_scalar(p, p_hist, tau_max, H, C1, n1, C2, n2, continuous):
     return sbmf_first_scalar(p, tau_max, H, C1, n1)
 
 
-_RO = types.Array(float64, 1, "C", readonly=True)  # coeffs frozen as a global in a host's njit
+# Inputs are typed read-only: numba converts a writable array to these safely, so read-only
+# arrays (a HistoryState's p_hist view, a host's frozen coeffs) are accepted as well.
+_RO = types.Array(float64, 1, "C", readonly=True)
+_RO2 = types.Array(float64, 2, "C", readonly=True)
 
 
 @nb.jit(
@@ -168,9 +171,7 @@ def shear_scalar(code, coeffs, p, p_hist):
     )
 
 
-_shear_array_sig = types.void(
-    int64, float64[::1], float64[::1], float64[::1], float64[::1], float64[::1]
-)
+_shear_array_sig = types.void(int64, _RO, _RO, _RO, float64[::1], float64[::1])
 
 
 # Serial and parallel array kernels are separate functions: numba's on-disk cache is keyed by
@@ -195,8 +196,8 @@ def _traction_row_sig(coeffs_type):
         coeffs_type,
         float64,
         float64,
-        float64[:, ::1],
-        float64[:, ::1],
+        _RO2,
+        _RO2,
         float64,
         float64[:, ::1],
         float64[:, :, ::1],
@@ -251,11 +252,11 @@ def traction_row(code, coeffs, p, p_hist, du, t_old, k_t, t_new, dt_ddu, dt_dp, 
 @nb.jit(
     int64(
         int64,
-        float64[::1],
+        _RO,
         float64,
         float64,
-        float64[::1],
-        float64[::1],
+        _RO,
+        _RO,
         float64,
         float64[::1],
         float64[:, ::1],
@@ -283,12 +284,12 @@ def traction_scalar(code, coeffs, p, p_hist, du, t_old, k_t, t_new, dt_ddu, dt_d
 
 _traction_array_sig = types.void(
     int64,
-    float64[::1],
-    float64[::1],
-    float64[::1],
-    float64[:, ::1],
-    float64[:, ::1],
-    float64[::1],
+    _RO,
+    _RO,
+    _RO,
+    _RO2,
+    _RO2,
+    _RO,
     float64[:, ::1],
     int8[::1],
     float64[:, :, ::1],
