@@ -39,37 +39,62 @@ _Y_SATURATED = 350.0  # tanh(y) == 1 and 2y/sinh(2y) < 1e-300 beyond
 _opts = dict(nopython=True, cache=True, nogil=True, error_model="numpy")
 
 
-@nb.jit(types.UniTuple(float64, 3)(float64, float64), **_opts)
-def smooth_min_scalar(x, n):
-    """Smooth minimum ``g(x) = tanh(x**n) ** (1/n)`` of ``x`` and 1 (Eqs. 24-25).
+_LN_Y_SMALL = math.log(1e-4)  # series of ln(tanh(y)/y) below
+_LN_Y_SATURATED = math.log(_Y_SATURATED)
 
-    Returns ``(g, g / x, dg/dx)``. With ``y = x**n``: for ``y < 1`` it is
-    evaluated as ``g = x (tanh(y)/y) ** (1/n)`` so that the small-``x`` limit
-    ``g -> x`` survives any ``n`` (``y`` may underflow to 0), and as
-    ``exp(ln tanh(y) / n)`` above; ``tanh`` and ``dg/dx = (g/x) 2y/sinh(2y)``
-    both come from one ``expm1(-2y)``. ``x <= 0`` gives ``(0, 1, 1)``, the right limits.
+
+@nb.jit(types.UniTuple(float64, 4)(float64, float64), **_opts)
+def smooth_min_log(lnx, n):
+    """Smooth minimum ``g(x) = tanh(x**n) ** (1/n)`` of ``x`` and 1 from ``ln x`` (Eqs. 24-25).
+
+    Returns ``(g, g / x, dg/dx, ln g)``. Working from ``ln x`` means that no ``x`` that
+    under- or overflows a double (a subnormal pressure times ``C/H``, or ``p_hist`` huge) is
+    ever formed: ``y = x**n = exp(n ln x)``. For ``y < 1`` it is evaluated as
+    ``g = x (tanh(y)/y) ** (1/n)`` so that the small-``x`` limit ``g -> x`` survives any ``n``
+    (``y`` may underflow to 0), and as ``exp(ln tanh(y) / n)`` above; ``tanh`` and
+    ``dg/dx = (g/x) 2y/sinh(2y)`` both come from one ``expm1(-2y)``.
+    ``ln x = +inf`` gives ``(1, 0, 0, 0)``.
     """
-    if not x > 0.0:
-        return 0.0, 1.0, 1.0
-    y = x**n
-    if y < 1e-4:
+    lny = n * lnx
+    if lny < _LN_Y_SMALL:
         # ln(tanh(y)/y) = -y^2/3 + 7 y^4/90 + O(y^6); z/sinh(z) = 1 - z^2/6 + O(z^4), z = 2y
+        y = math.exp(lny)
         y2 = y * y
-        gox = math.exp((-y2 / 3.0 + 7.0 * y2 * y2 / 90.0) / n)
-        return x * gox, gox, gox * (1.0 - 2.0 * y2 / 3.0)
-    if y > _Y_SATURATED:
-        return 1.0, 1.0 / x, 0.0
+        lngox = (-y2 / 3.0 + 7.0 * y2 * y2 / 90.0) / n
+        gox = math.exp(lngox)
+        return math.exp(lnx) * gox, gox, gox * (1.0 - 2.0 * y2 / 3.0), lnx + lngox
+    if lny > _LN_Y_SATURATED:
+        return 1.0, math.exp(-lnx), 0.0, 0.0
+    y = math.exp(lny)
     em = math.expm1(-2.0 * y)  # e - 1 with e = exp(-2y), accurate for small y
     two_e = 2.0 + em  # 1 + e
     t = -em / two_e  # tanh(y)
     s = 4.0 * y * (1.0 + em) / (-em * two_e)  # 2y / sinh(2y)
     if y < 1.0:
-        gox = math.exp(math.log(t / y) / n)
-        g = x * gox
-    else:
-        g = math.exp(math.log1p(-2.0 * (1.0 + em) / two_e) / n)
-        gox = g / x
-    return g, gox, gox * s
+        lngox = math.log(t / y) / n
+        gox = math.exp(lngox)
+        return math.exp(lnx) * gox, gox, gox * s, lnx + lngox
+    lng = math.log1p(-2.0 * (1.0 + em) / two_e) / n
+    gox = math.exp(lng - lnx)
+    return math.exp(lng), gox, gox * s, lng
+
+
+@nb.jit(float64(float64, float64), **_opts)
+def log_product(p, c):
+    """``ln(p c)`` for ``p, c > 0`` without forming an under- or overflowing product."""
+    x = p * c
+    if 1e-300 < x < 1e300:
+        return math.log(x)
+    return math.log(p) + math.log(c)
+
+
+@nb.jit(types.UniTuple(float64, 3)(float64, float64), **_opts)
+def smooth_min_scalar(x, n):
+    """:func:`smooth_min_log` from ``x``: ``(g, g / x, dg/dx)``; ``x <= 0`` gives ``(0, 1, 1)``."""
+    if not x > 0.0:
+        return 0.0, 1.0, 1.0
+    g, gox, dg, _ = smooth_min_log(math.log(x), n)
+    return g, gox, dg
 
 
 @nb.jit(types.UniTuple(float64, 2)(float64, float64, float64, float64, float64), **_opts)
@@ -77,13 +102,14 @@ def sbmf_first_scalar(p, tau_max, H, C1, n1):
     """Eq. 24: ``(tau, dtau/dp)`` with ``tau = tau_max g(p C1 / H; n1)``; 0 for ``p <= 0``."""
     if not p > 0.0:
         return 0.0, 0.0
-    x1 = p * C1 / H
-    g, gox, dg = smooth_min_scalar(x1, n1)
-    if x1 < 1.0:
-        tau = p * (tau_max * C1 / H) * gox  # full precision for tiny p
+    c1 = C1 / H
+    lnx1 = log_product(p, c1)
+    g, gox, dg, _ = smooth_min_log(lnx1, n1)
+    if lnx1 < 0.0:
+        tau = p * (tau_max * c1) * gox  # full precision for tiny p
     else:
         tau = tau_max * g
-    return min(tau, tau_max), tau_max * C1 / H * dg
+    return min(tau, tau_max), tau_max * c1 * dg
 
 
 @nb.jit(
@@ -98,29 +124,31 @@ def sbmf_reload_scalar(p, p_hist, tau_max, H, C1, n1, C2, n2, continuous):
     ``tau = tau_max a1h g(x2; n2)`` with ``a1h = alpha1(p_hist)`` and
     ``x2 = p C2 / (H a1h)``; divided by ``g(x2(p_hist); n2)`` when
     ``continuous != 0`` so that it meets Eq. 24 at ``p_hist``. ``x2`` is formed
-    from the ratio ``p / p_hist`` so that ``a1h -> 0`` cannot overflow;
-    the limit there is ``tau -> 0``.
+    in logs, so that ``a1h -> 0`` cannot overflow; the limit there is ``tau -> 0``.
+    Bounded by ``tau_max a1h`` (``p <= p_hist``) and by ``tau_max`` (``p > p_hist``, where
+    the continuous variant, extrapolated, would exceed a contact ratio of 1).
     """
-    if not p > 0.0:
+    if not (p > 0.0 and p_hist > 0.0):
         return 0.0, 0.0
-    x1h = p_hist * C1 / H
-    a1h, gox1h, _ = smooth_min_scalar(x1h, n1)
-    if x1h < 1.0:
-        x2 = (p / p_hist) * (C2 / C1) / gox1h
-        x2h = (C2 / C1) / gox1h
-    else:
-        x2 = (p * C2 / H) / a1h
-        x2h = (p_hist * C2 / H) / a1h
-    g2, gox2, dg2 = smooth_min_scalar(x2, n2)
-    scale = 1.0
+    c2 = C2 / H
+    _, _, _, lna1h = smooth_min_log(log_product(p_hist, C1 / H), n1)
+    lnx2 = log_product(p, c2) - lna1h
+    g2, gox2, dg2, lng2 = smooth_min_log(lnx2, n2)
+    lng2h = 0.0
     if continuous != 0.0:
-        g2h, _, _ = smooth_min_scalar(x2h, n2)
-        scale = 1.0 / g2h
-    if x2 < 1.0:
-        tau = p * (tau_max * C2 / H) * gox2 * scale  # alpha1(p_hist) cancels
+        _, _, _, lng2h = smooth_min_log(log_product(p_hist, c2) - lna1h, n2)
+    scale = math.exp(-lng2h)
+    if continuous != 0.0:  # in logs: g2 and g2h may both be below the smallest double
+        tau = tau_max * math.exp(lna1h + lng2 - lng2h)
+    elif lnx2 < 0.0:
+        tau = p * (tau_max * c2) * gox2  # alpha1(p_hist) cancels
     else:
-        tau = tau_max * a1h * g2 * scale
-    return min(tau, tau_max * a1h * scale), tau_max * C2 / H * dg2 * scale
+        tau = tau_max * math.exp(lna1h) * g2
+    dtau = tau_max * c2 * dg2 * scale
+    cap = tau_max * math.exp(lna1h) if p <= p_hist else tau_max
+    if tau >= cap:
+        return cap, (0.0 if p > p_hist else dtau)
+    return tau, dtau
 
 
 @nb.jit(

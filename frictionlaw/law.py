@@ -101,7 +101,8 @@ def alpha_reload(p, p_hist, params):
 
     Evaluated on the reload branch whatever ``p`` is. With
     ``params.continuous_reload`` it is divided by its value at ``p = p_hist``,
-    so that it equals ``alpha1(p_hist)`` there. ``alpha1(p_hist) -> 0`` gives 0.
+    so that it equals ``alpha1(p_hist)`` there; extrapolated to ``p > p_hist`` that form
+    would exceed 1, and it is capped at a contact ratio of 1. ``alpha1(p_hist) -> 0`` gives 0.
     """
     return evaluate(K.CODE_SBMF_RELOAD, sbmf_coeffs(params, 1.0), p, p_hist)[0]
 

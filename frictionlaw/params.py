@@ -21,7 +21,16 @@ import numpy as np
 
 from ._io import atomic_write
 
-__all__ = ["FrictionParams", "FORMAT_NAME", "FORMAT_VERSION", "check_range"]
+__all__ = [
+    "FrictionParams",
+    "FORMAT_NAME",
+    "FORMAT_VERSION",
+    "check_range",
+    "N_RANGE",
+    "C_RANGE",
+    "STRESS_RANGE",
+    "K_RANGE",
+]
 
 FORMAT_NAME = "sbmf-friction-params"
 FORMAT_VERSION = 1
@@ -38,11 +47,25 @@ _UNITS = {
     "geo_ratio": "1",
 }
 
-_N_MAX = 1e6
+#: Validated ranges. Physical values sit far inside them (n ~ 0.2-50, C ~ 0.1-100,
+#: H, sigma_y ~ 1e7-1e10 Pa); within them the law is finite for any pressure and history
+#: (``n -> 0`` or ``C1 / C2 -> inf`` would make the continuous reload branch's slope
+#: overflow a double, a stress below 1 kPa or above 10 TPa describes no solid).
+N_RANGE = (1e-3, 1e6)
+C_RANGE = (1e-6, 1e6)
+STRESS_RANGE = (1e3, 1e13)
+K_RANGE = (1e2, 1e13)
+_RANGE_NOTE = (
+    " (the validated range: physical values lie well inside it, and within it the law stays "
+    "finite for every pressure and history)"
+)
 
 
-def check_range(name, value, lo, hi, *, lo_open=False, hi_open=False):
-    """Return ``float(value)`` or raise ``ValueError`` naming ``name`` and the allowed range."""
+def check_range(name, value, lo, hi, *, lo_open=False, hi_open=False, note=""):
+    """Return ``float(value)`` or raise ``ValueError`` naming ``name`` and the allowed range.
+
+    ``note`` (e.g. why the range is what it is) is appended to the message.
+    """
     lb = "(" if lo_open else "["
     rb = ")" if hi_open else "]"
     rng = f"{lb}{lo:g}, {hi:g}{rb}"
@@ -53,7 +76,7 @@ def check_range(name, value, lo, hi, *, lo_open=False, hi_open=False):
     ok = math.isfinite(v) or (math.isinf(hi) and v == hi and not hi_open)
     ok = ok and (v > lo if lo_open else v >= lo) and (v < hi if hi_open else v <= hi)
     if not ok:
-        raise ValueError(f"{name} must be in {rng}, got {value!r}")
+        raise ValueError(f"{name} must be in {rng}, got {value!r}{note}")
     return v
 
 
@@ -66,15 +89,15 @@ class FrictionParams:
     m : float
         Tresca friction factor in ``[0, 1]``.
     sigma_y : float
-        Yield stress of the softer body in Pa, ``> 0``.
+        Yield stress of the softer body in Pa, in ``[1e3, 1e13]``.
     H : float
-        Hardness in Pa, ``> 0``.
+        Hardness in Pa, in ``[1e3, 1e13]``.
     C1, n1 : float
-        Eq. 24 parameters, ``C1 > 0``, ``0 < n1 <= 1e6``.
+        Eq. 24 parameters, ``C1`` in ``[1e-6, 1e6]``, ``n1`` in ``[1e-3, 1e6]``.
     C2, n2 : float
-        Eq. 25 parameters, ``C2 > 0``, ``0 < n2 <= 1e6``.
+        Eq. 25 parameters, same ranges as ``C1``, ``n1``.
     k : float, optional
-        Shear flow stress in Pa; defaults to ``sigma_y / 2`` as in the paper.
+        Shear flow stress in Pa, in ``[1e2, 1e13]``; defaults to ``sigma_y / 2`` as in the paper.
     continuous_reload : bool
         Use the normalised Eq. 25 that equals Eq. 24 at ``p = p_hist``
         (see :func:`frictionlaw.reload_jump`). Default ``False`` (the paper's form).
@@ -102,20 +125,12 @@ class FrictionParams:
     def __post_init__(self):
         set_ = object.__setattr__
         set_(self, "m", check_range("m", self.m, 0.0, 1.0))
-        set_(
-            self,
-            "sigma_y",
-            check_range("sigma_y", self.sigma_y, 0.0, math.inf, lo_open=True, hi_open=True),
-        )
-        set_(self, "H", check_range("H", self.H, 0.0, math.inf, lo_open=True, hi_open=True))
-        for c in ("C1", "C2"):
-            set_(
-                self, c, check_range(c, getattr(self, c), 0.0, math.inf, lo_open=True, hi_open=True)
-            )
-        for n in ("n1", "n2"):
-            set_(self, n, check_range(n, getattr(self, n), 0.0, _N_MAX, lo_open=True))
+        for name, rng in (("sigma_y", STRESS_RANGE), ("H", STRESS_RANGE)):
+            set_(self, name, check_range(name, getattr(self, name), *rng, note=_RANGE_NOTE))
+        for name, rng in (("C1", C_RANGE), ("C2", C_RANGE), ("n1", N_RANGE), ("n2", N_RANGE)):
+            set_(self, name, check_range(name, getattr(self, name), *rng, note=_RANGE_NOTE))
         k = self.sigma_y / 2.0 if self.k is None else self.k
-        set_(self, "k", check_range("k", k, 0.0, math.inf, lo_open=True, hi_open=True))
+        set_(self, "k", check_range("k", k, *K_RANGE, note=_RANGE_NOTE))
         if not isinstance(self.continuous_reload, (bool, np.bool_)):
             raise ValueError(
                 f"continuous_reload must be True or False, got {self.continuous_reload!r}"

@@ -25,6 +25,7 @@ from scipy.optimize import least_squares
 
 import frictionlaw
 from frictionlaw import FrictionParams, alpha_first, alpha_reload, reload_jump
+from frictionlaw.params import C_RANGE, N_RANGE
 
 __all__ = [
     "C_BOUNDS",
@@ -199,13 +200,19 @@ def _positive(name, v):
     return f
 
 
-def _bounds(name, b):
+def _bounds(name, b, allowed):
+    """``(lo, hi)`` with ``0 < lo < hi``, inside ``allowed`` (FrictionParams' validated range)."""
     try:
         lo, hi = (float(x) for x in b)
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be a pair (lo, hi) with 0 < lo < hi, got {b!r}") from None
     if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo < hi):
         raise ValueError(f"{name} must be a pair (lo, hi) with 0 < lo < hi < inf, got {b!r}")
+    if lo < allowed[0] or hi > allowed[1]:
+        raise ValueError(
+            f"{name} must lie within [{allowed[0]:g}, {allowed[1]:g}] (the law's validated "
+            f"range), got {b!r}"
+        )
     return lo, hi
 
 
@@ -260,9 +267,9 @@ def _curve(i, c):
 
 
 def _law(H, C1, n1, C2=1.0, n2=1.0, continuous=False):
-    """A FrictionParams for evaluating alpha (``m``, ``sigma_y`` do not enter alpha)."""
+    """A FrictionParams for evaluating alpha (``m``, ``sigma_y``, ``k`` do not enter alpha)."""
     return FrictionParams(
-        m=1.0, sigma_y=2.0, H=H, C1=C1, n1=n1, C2=C2, n2=n2, continuous_reload=continuous
+        m=1.0, sigma_y=H, k=H, H=H, C1=C1, n1=n1, C2=C2, n2=n2, continuous_reload=continuous
     )
 
 
@@ -393,7 +400,7 @@ def fit_first_loading(p, alpha, H, *, relative=False, C_bounds=C_BOUNDS, n_bound
     """
     p, alpha = _data(p, alpha)
     H = _positive("H", H)
-    cb, nb = _bounds("C_bounds", C_bounds), _bounds("n_bounds", n_bounds)
+    cb, nb = _bounds("C_bounds", C_bounds, C_RANGE), _bounds("n_bounds", n_bounds, N_RANGE)
     if p.size < 3:
         raise ValueError(f"p needs at least 3 points to fit C1 and n1, got {p.size}")
     w = _weights(alpha, relative)
@@ -443,7 +450,7 @@ def fit_reload(
     cs = [_curve(i, c) for i, c in enumerate(curves)]
     H = _positive("H", H)
     C1, n1 = _positive("C1", C1), _positive("n1", n1)
-    cb, nb = _bounds("C_bounds", C_bounds), _bounds("n_bounds", n_bounds)
+    cb, nb = _bounds("C_bounds", C_bounds, C_RANGE), _bounds("n_bounds", n_bounds, N_RANGE)
     p = np.concatenate([c.p for c in cs])
     ph = np.concatenate([np.full(c.p.size, c.p_hist) for c in cs])
     alpha = np.concatenate([c.alpha for c in cs])
@@ -459,7 +466,7 @@ def fit_reload(
     params = fit["params"]
     p_hist = np.array([c.p_hist for c in cs])
     law = _law(H, C1, n1, params["C2"], params["n2"], cont)
-    jump = np.atleast_1d(reload_jump(law, p_hist))  # m k = 1 here: the jump in alpha
+    jump = np.atleast_1d(reload_jump(law, p_hist)) / law.tau_max  # the jump in alpha
     return ReloadFit(
         **fit,
         C1=C1,

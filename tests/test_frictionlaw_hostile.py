@@ -1,14 +1,19 @@
 """Issue 12: the runtime under hostile input (read-only arrays, extremes, bad files and dtypes)."""
 
+import math
+import os
 import subprocess
 import sys
 
 import numba
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import frictionlaw as fl
 from frictionlaw import _reference as ref
+from frictionlaw.params import C_RANGE, K_RANGE, N_RANGE, STRESS_RANGE
 
 H = 800e6
 
@@ -85,3 +90,117 @@ def test_kernels_reachable_as_attribute_and_import_stays_light():
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert float(out.stdout) == 1.0
+
+
+# -- items 2-4: the law over its whole validated range ------------------------------------------
+
+
+def test_out_of_range_parameters_are_refused_with_the_reason():
+    for field, value, fragment in [
+        ("n2", 3e-4, "n2 must be in [0.001, 1e+06]"),
+        ("C1", 1e301, "C1 must be in [1e-06, 1e+06]"),
+        ("H", 1e-300, "H must be in [1000, 1e+13]"),
+    ]:
+        with pytest.raises(ValueError) as exc:
+            params(**{field: value})
+        assert fragment in str(exc.value) and "finite for every pressure" in str(exc.value)
+
+
+def test_range_corners_stay_finite_and_match_the_oracle():
+    # the issue's cases, moved to the corners of the validated range
+    P = params(n2=1e-3, continuous_reload=True)
+    tau = fl.shear_limit(2e8, 4e8, P)
+    want = ref.sbmf_shear(2e8, 4e8, P.tau_max, P.C1, P.n1, P.C2, P.n2, H, True)
+    assert np.isfinite(fl.shear_limit_dp(2e8, 4e8, P))
+    assert tau == pytest.approx(float(want), rel=1e-12)
+    P = params(C1=1e6, H=1e3, sigma_y=1e13)
+    assert fl.shear_limit(1e-300, 0.0, P) == pytest.approx(P.mu_eff * 1e-300, rel=1e-12)
+    assert fl.shear_limit_dp(1e-300, 0.0, P) == pytest.approx(P.mu_eff, rel=1e-12)
+    law = fl.SBMFLaw(P)
+    r = fl.traction_update(law, np.array([1e-300]), np.zeros((1, 2)), np.zeros((1, 2)), 1.0)
+    assert np.isfinite(r.dt_dp).all() and np.isfinite(r.dt_dslip).all()
+
+
+def test_continuous_reload_contact_ratio_stays_below_one():
+    P = params(C2=0.05, continuous_reload=True)
+    p = np.array([0.05, 0.1, 0.5, 1.0, 10.0, 100.0]) * H
+    a = fl.alpha_reload(p, 0.1 * H, P)
+    assert np.all((a >= 0) & (a <= 1.0))
+    # at and below p_hist it is Eq. 25 normalised to alpha1(p_hist), unchanged by the cap
+    assert a[1] == pytest.approx(fl.alpha_first(0.1 * H, P), rel=1e-12)
+    want = ref.alpha_reload(p, 0.1 * H, P.C1, P.n1, P.C2, P.n2, H, True)
+    np.testing.assert_allclose(a, want, rtol=1e-12)
+
+
+def test_subnormal_pressures_with_small_n_are_monotone_and_match_the_oracle():
+    P = params(n1=1e-3)
+    p = np.array([5e-324, 1e-320, 1e-310, 1e-300, 1e-200, 1e-100])
+    tau = fl.shear_limit(p, 0.0, P)
+    assert np.all(np.diff(tau) >= 0)
+    want = ref.sbmf_shear(p, 0.0, P.tau_max, P.C1, P.n1, P.C2, P.n2, H)
+    np.testing.assert_allclose(tau, want, rtol=1e-12, atol=1e-300)
+    np.testing.assert_allclose(
+        fl.alpha_first(p, P), ref.alpha_first(p, P.C1, P.n1, H), rtol=1e-12, atol=1e-300
+    )
+
+
+# -- the whole validated range, fuzzed ------------------------------------------------------------
+
+
+def _log_uniform(lo, hi):
+    """Log-uniform floats in [lo, hi] with the bounds themselves drawn often."""
+    inner = st.floats(math.log10(lo), math.log10(hi)).map(lambda e: min(max(10.0**e, lo), hi))
+    return st.one_of(st.sampled_from([lo, hi]), inner)
+
+
+PARAMS = st.builds(
+    fl.FrictionParams,
+    m=st.one_of(st.sampled_from([0.0, 1.0]), st.floats(0.0, 1.0)),
+    sigma_y=_log_uniform(*STRESS_RANGE),
+    H=_log_uniform(*STRESS_RANGE),
+    C1=_log_uniform(*C_RANGE),
+    n1=_log_uniform(*N_RANGE),
+    C2=_log_uniform(*C_RANGE),
+    n2=_log_uniform(*N_RANGE),
+    k=st.one_of(st.none(), _log_uniform(*K_RANGE)),
+    continuous_reload=st.booleans(),
+    geo_ratio=st.one_of(st.sampled_from([0.0, 10.0]), st.floats(0.0, 10.0)),
+)
+# pressures from 0 through the subnormals to the largest double (and beyond, +inf)
+SPECIAL_P = [0.0, 5e-324, 1e-320, 2.2250738585072014e-308, 1.7976931348623157e308, math.inf]
+PRESSURE = st.one_of(
+    st.sampled_from(SPECIAL_P),
+    st.floats(-323.3, 308.25).map(lambda e: 10.0**e),
+    st.floats(2.0, 14.0).map(lambda e: 10.0**e),  # where p C / H ~ 1 for most parameters
+)
+N_PTS = 16
+FUZZ_EXAMPLES = int(os.environ.get("SBMF_FUZZ_EXAMPLES", "400"))
+FUZZ_CASES = {"law": 0}
+
+
+def _close(a, b):
+    return np.allclose(a, b, rtol=1e-11, atol=1e-290)
+
+
+@settings(max_examples=FUZZ_EXAMPLES, deadline=None)
+@given(
+    P=PARAMS,
+    p=st.lists(PRESSURE, min_size=N_PTS, max_size=N_PTS),
+    ph=st.lists(PRESSURE, min_size=N_PTS, max_size=N_PTS),
+)
+def test_fuzz_law_finite_bounded_and_equal_to_the_oracle(P, p, ph):
+    p, ph = np.array(p), np.array(ph)
+    args = (P.C1, P.n1, P.C2, P.n2, P.H)
+    tau = fl.shear_limit(p, ph, P)
+    dtau = fl.shear_limit_dp(p, ph, P)
+    a1 = fl.alpha_first(p, P)
+    a2 = fl.alpha_reload(p, ph, P)
+    for v in (tau, dtau, a1, a2):
+        assert np.isfinite(v).all()
+    assert np.all((tau >= 0) & (tau <= P.tau_max)) and np.all(dtau >= 0)
+    assert np.all((a1 >= 0) & (a1 <= 1)) and np.all((a2 >= 0) & (a2 <= 1))
+    assert _close(a1, ref.alpha_first(p, P.C1, P.n1, P.H))
+    assert _close(a2, ref.alpha_reload(p, ph, *args, P.continuous_reload))
+    want = ref.sbmf_shear(p, ph, P.tau_max, P.C1, P.n1, P.C2, P.n2, P.H, P.continuous_reload)
+    assert _close(tau, want)
+    FUZZ_CASES["law"] += p.size
