@@ -182,11 +182,11 @@ def shear_scalar(code, coeffs, p, p_hist):
     if not p > 0.0:
         return 0.0, 0.0
     if code == CODE_COULOMB:
-        return coeffs[0] * p, coeffs[0]
+        return (coeffs[0] * p if coeffs[0] > 0.0 else 0.0), coeffs[0]
     if code == CODE_TRESCA:
         return coeffs[0], 0.0
     if code == CODE_CAP:
-        t = coeffs[0] * p
+        t = coeffs[0] * p if coeffs[0] > 0.0 else 0.0
         if t < coeffs[1]:
             return t, coeffs[0]
         return coeffs[1], 0.0
@@ -239,9 +239,12 @@ def traction_row(code, coeffs, p, p_hist, du, t_old, k_t, t_new, dt_ddu, dt_dp, 
     """Stick/slip return map at node ``i`` (row ``i`` of the 2-D arrays); returns the status.
 
     Trial ``t_tr = t_old + k_t du``. Open (``p <= 0``): ``t = 0``, status 0.
-    Stick (``|t_tr| <= tau``): ``t = t_tr``, tangent ``dt/ddu = k_t I``, status 1.
+    Stick (``|t_tr| <= tau``, ``tau > 0``): ``t = t_tr``, tangent ``dt/ddu = k_t I``, status 1.
     Slip: ``t = tau t_tr/|t_tr|``, tangent ``k_t tau/|t_tr| (I - n n)`` and
-    ``dt/dp = dtau/dp n``, status 2. ``p_hist`` is the committed history.
+    ``dt/dp = dtau/dp n``, status 2; with ``tau = 0`` the traction and the tangent are 0.
+    ``|t_tr|`` is a scaled norm (no under- or overflow of ``|t|^2``); a trial that overflows
+    a double is formed as ``t_tr / s`` with ``s = max(k_t, |t_old|)`` (it slips).
+    ``p_hist`` is the committed history.
     Rows are indexed in place (no per-node array views: they cost ~100 ns a node).
     """
     nd = du.shape[1]
@@ -254,20 +257,39 @@ def traction_row(code, coeffs, p, p_hist, du, t_old, k_t, t_new, dt_ddu, dt_dp, 
             t_new[i, a] = 0.0
         return STATUS_OPEN
     tau, dtau = shear_scalar(code, coeffs, p, p_hist)
-    norm2 = 0.0
+    vmax = 0.0
     for a in range(nd):
         v = t_old[i, a] + k_t * du[i, a]
         t_new[i, a] = v
-        norm2 += v * v
-    norm = math.sqrt(norm2)
-    if norm <= tau:
+        vmax = max(vmax, abs(v))
+    kscale = k_t  # k_t / s: the trial held in t_new is t_tr / s
+    if not vmax < math.inf:
+        s = k_t
+        for a in range(nd):
+            s = max(s, abs(t_old[i, a]))
+        kscale = k_t / s
+        vmax = 0.0
+        for a in range(nd):
+            v = t_old[i, a] / s + kscale * du[i, a]
+            t_new[i, a] = v
+            vmax = max(vmax, abs(v))
+    # |t_tr| = vmax r with r = |t_tr / vmax| in [1, sqrt(d)]: nothing squared under- or overflows
+    r = 0.0
+    if vmax > 0.0:
+        for a in range(nd):
+            q = t_new[i, a] / vmax
+            r += q * q
+        r = math.sqrt(r)
+    if kscale == k_t and tau > 0.0 and vmax <= tau / r:
         for a in range(nd):
             dt_ddu[i, a, a] = k_t
         return STATUS_STICK
-    # slip: radial return onto the limit circle (norm > tau >= 0, so norm > 0)
-    f = k_t * tau / norm
+    if vmax == 0.0:  # tau = 0 and no trial traction: t = 0, zero tangent
+        return STATUS_SLIP
+    # slip: radial return onto the limit circle (|t_tr| > tau >= 0)
+    f = kscale * ((tau / vmax) / r)
     for a in range(nd):
-        t_new[i, a] /= norm  # unit direction n
+        t_new[i, a] = (t_new[i, a] / vmax) / r  # unit direction n
     for a in range(nd):
         dt_dp[i, a] = dtau * t_new[i, a]
         for b in range(nd):

@@ -92,17 +92,29 @@ def sbmf_shear(p, p_hist, tau_max, C1, n1, C2, n2, H, continuous=False):
 def traction_update(tau, du, t_old, k_t):
     """Reference return map: returns ``(t_new, status)`` with 0 open, 1 stick, 2 slip.
 
-    ``tau`` is the shear limit per node (``nan`` marks an open node).
+    ``tau`` is the shear limit per node (``nan`` marks an open node). Stick needs
+    ``0 < |t_tr| <= tau``; ``|t_tr|`` by ``hypot``; a trial that overflows takes its direction
+    from ``t_old / s + (k_t / s) du``, ``s = max(k_t, |t_old|)``.
     """
     du = np.asarray(du, float)
     t_old = np.asarray(t_old, float)
-    t_tr = t_old + np.asarray(k_t, float)[:, None] * du
-    norm = np.linalg.norm(t_tr, axis=1)
+    k_t = np.asarray(k_t, float)
+    with np.errstate(over="ignore", invalid="ignore"):
+        t_tr = t_old + k_t[:, None] * du
+    over = ~np.isfinite(t_tr).all(axis=1)
+    w = t_tr.copy()
+    s = np.maximum(k_t, np.abs(t_old).max(axis=1))[over][:, None]
+    w[over] = t_old[over] / s + (k_t[over][:, None] / s) * du[over]
+    big = np.abs(w).max(axis=1)  # |t_tr| = big * unit, hypot of the row scaled by its largest
+    unit = np.hypot.reduce(np.abs(w) / np.where(big > 0, big, 1.0)[:, None], axis=1)
     open_ = np.isnan(tau)
-    stick = ~open_ & (norm <= np.nan_to_num(tau))
+    tau0 = np.nan_to_num(tau)
+    with np.errstate(divide="ignore"):
+        stick = ~open_ & ~over & (big <= tau0 / np.where(unit > 0, unit, 1.0)) & (tau0 > 0)
     slip = ~open_ & ~stick
     t_new = np.zeros_like(t_tr)
     t_new[stick] = t_tr[stick]
-    t_new[slip] = t_tr[slip] * (tau[slip] / norm[slip])[:, None]
+    turn = slip & (big > 0)
+    t_new[turn] = w[turn] / big[turn][:, None] / unit[turn][:, None] * tau0[turn][:, None]
     status = np.where(open_, 0, np.where(stick, 1, 2))
     return t_new, status

@@ -204,3 +204,121 @@ def test_fuzz_law_finite_bounded_and_equal_to_the_oracle(P, p, ph):
     want = ref.sbmf_shear(p, ph, P.tau_max, P.C1, P.n1, P.C2, P.n2, P.H, P.continuous_reload)
     assert _close(tau, want)
     FUZZ_CASES["law"] += p.size
+
+
+# -- item 5: traction_update at the extremes -----------------------------------------------------
+
+
+def _one(law, p, du, t_old, kt):
+    return fl.traction_update(law, np.array([p]), np.array([du]), np.array([t_old]), kt)
+
+
+def test_huge_trial_traction_slips_onto_the_limit():
+    law = fl.SBMFLaw(params())
+    tau = fl.shear_limit(1e8, 0.0, law.params)
+    r = _one(law, 1e8, [0.0, 0.0], [1e200, 0.0], 1e10)  # |t|^2 overflowed
+    assert r.status[0] == fl.SLIP
+    np.testing.assert_allclose(r.traction[0], [tau, 0.0], rtol=1e-15)
+    r = _one(law, 1e8, [1e10, -1e10], [0.0, 0.0], 1e300)  # k_t du overflows
+    assert r.status[0] == fl.SLIP
+    np.testing.assert_allclose(r.traction[0], [tau / 2**0.5, -tau / 2**0.5], rtol=1e-15)
+    for a in r:
+        assert np.isfinite(a).all()
+    # consistent tangent k_t tau / |t_tr| (I - n n): tiny but finite
+    assert 0 <= r.dt_dslip[0, 0, 0] < 1e-2
+
+
+def test_zero_shear_limit_gives_zero_traction_and_zero_tangent():
+    law = fl.SBMFLaw(params(m=0.0))
+    r = _one(law, 1e8, [0.0, 0.0], [0.0, 0.0], 1e10)
+    assert r.status[0] == fl.SLIP
+    assert np.all(r.traction == 0) and np.all(r.dt_dslip == 0)
+    r = _one(law, 1e8, [0.0, 0.0], [1e-170, 0.0], 1e10)  # |t|^2 underflows
+    assert r.status[0] == fl.SLIP and np.all(r.traction == 0) and np.all(r.dt_dslip == 0)
+    r = fl.traction_update(fl.Tresca(0.0, 1e8), np.ones(2), np.zeros(2), np.zeros(2), 1e10)
+    assert list(r.status) == [fl.SLIP, fl.SLIP] and np.all(r.dt_dslip == 0)
+
+
+def test_tiny_trial_traction_keeps_its_direction():
+    law = fl.Coulomb(0.1)
+    r = _one(law, 1e-300, [0.0, 0.0], [3e-170, 4e-170], 1e10)  # tau = 1e-301 < |t| = 5e-170
+    assert r.status[0] == fl.SLIP
+    np.testing.assert_allclose(r.traction[0], [0.6e-301, 0.8e-301], rtol=1e-14)
+
+
+def test_k_t_of_the_wrong_shape_is_named():
+    z = np.zeros((2, 2))
+    with pytest.raises(ValueError, match=r"k_t must be a scalar or have shape \(2,\)"):
+        fl.traction_update(fl.Coulomb(0.1), np.ones(2), z, z, np.ones(3))
+
+
+COMPONENT = st.one_of(
+    st.sampled_from([0.0, 5e-324, -1e-320, 1e-170, -1e200, 1e300, -1.7e308]),
+    st.tuples(st.sampled_from([-1.0, 1.0]), st.floats(-323.3, 308.2)).map(
+        lambda t: t[0] * 10 ** t[1]
+    ),
+)
+
+
+@settings(max_examples=FUZZ_EXAMPLES // 2, deadline=None)
+@given(
+    P=PARAMS,
+    p=st.lists(PRESSURE, min_size=N_PTS, max_size=N_PTS),
+    ph=st.lists(PRESSURE, min_size=N_PTS, max_size=N_PTS),
+    du=st.lists(COMPONENT, min_size=2 * N_PTS, max_size=2 * N_PTS),
+    t_old=st.lists(COMPONENT, min_size=2 * N_PTS, max_size=2 * N_PTS),
+    kt=st.lists(_log_uniform(1e-300, 1e300), min_size=N_PTS, max_size=N_PTS),
+    d=st.sampled_from([1, 2]),
+)
+def test_fuzz_traction_update_finite_and_equal_to_the_oracle(P, p, ph, du, t_old, kt, d):
+    p, ph, kt = np.array(p), np.array(ph), np.array(kt)
+    du = np.array(du).reshape(N_PTS, 2)[:, :d]
+    t_old = np.array(t_old).reshape(N_PTS, 2)[:, :d]
+    law = fl.SBMFLaw(P)
+    r = fl.traction_update(law, p, du, t_old, kt, fl.HistoryState(p_hist=ph))
+    for a in r:
+        assert np.isfinite(a).all()
+    tau = fl.shear_limit(p, ph, P)
+    tau_ref = np.where(p > 0, tau, np.nan)
+    t_ref, s_ref = ref.traction_update(tau_ref, du, t_old, kt)
+    mag = np.hypot.reduce(np.abs(r.traction), axis=1)
+    assert np.all(mag <= tau * (1 + 1e-12))
+    assert np.allclose(r.traction, t_ref, rtol=1e-12, atol=1e-290)
+    with np.errstate(over="ignore"):
+        norm = np.hypot.reduce(np.abs(t_old + kt[:, None] * du), axis=1)
+    tie = np.isclose(norm, tau, rtol=1e-12)
+    assert np.array_equal(r.status[~tie], s_ref[~tie])
+    FUZZ_CASES["traction"] = FUZZ_CASES.get("traction", 0) + p.size
+
+
+# -- item 6: the force adapter -------------------------------------------------------------------
+
+
+def test_force_adapter_scalar_area_out_and_overflow():
+    law = fl.SBMFLaw(params())
+    rng = np.random.default_rng(3)
+    n, area = 5, 2e-6
+    f_n = rng.uniform(0, 1, n) * H * area
+    du = rng.normal(size=(n, 2)) * 1e-6
+    f_old = rng.normal(size=(n, 2)) * 1e7 * area
+    want = fl.traction_update_force(law, f_n, np.full(n, area), du, f_old, 1e13 * area)
+    got = fl.traction_update_force(law, f_n, area, du, f_old, 1e13 * area)  # scalar area
+    for a, b in zip(want, got, strict=True):
+        np.testing.assert_array_equal(a, b)
+    # out= is filled with the forces and returned, as in traction_update
+    buf = fl.TractionResult(*(np.full_like(a, 7) for a in want))
+    again = fl.traction_update_force(law, f_n, area, du, f_old, 1e13 * area, out=buf)
+    assert again is buf
+    for a, b in zip(want, buf, strict=True):
+        np.testing.assert_array_equal(a, b)
+    # the stress-based update times the area, field by field (N, N/m, 1)
+    s = fl.traction_update(law, f_n / area, du, f_old / area, 1e13)
+    np.testing.assert_allclose(buf.traction, s.traction * area, rtol=1e-14)
+    np.testing.assert_allclose(buf.dt_dslip, s.dt_dslip * area, rtol=1e-14)
+    np.testing.assert_allclose(buf.dt_dp, s.dt_dp, rtol=1e-14)
+    # an overflowing pressure is an infinite one (the law caps it), no warning
+    r = fl.traction_update_force(law, [1e300], 1e-10, [[1.0, 0.0]], [[0.0, 0.0]], 1.0)
+    assert r.status[0] == fl.SLIP
+    np.testing.assert_allclose(r.traction[0], [law.params.tau_max * 1e-10, 0.0], rtol=1e-15)
+    with pytest.raises(ValueError, match=r"area must be a scalar or have shape \(5,\)"):
+        fl.traction_update_force(law, f_n, np.ones(3), du, f_old, 1.0)
