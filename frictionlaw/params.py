@@ -185,11 +185,15 @@ class FrictionParams:
             raise ValueError(
                 f"{source}: 'format' must be {FORMAT_NAME!r}, got {doc.get('format')!r}"
             )
-        if doc.get("version") != FORMAT_VERSION:
+        version = doc.get("version")
+        if type(version) is not int or version != FORMAT_VERSION:  # not 1.0, not true
             raise ValueError(
-                f"{source}: unsupported version {doc.get('version')!r}; this runtime reads version "
-                f"{FORMAT_VERSION}"
+                f"{source}: unsupported version {version!r}; this runtime reads version "
+                f"{FORMAT_VERSION} (an integer)"
             )
+        for key in ("units", "options", "provenance"):
+            if not isinstance(doc.get(key, {}), dict):
+                raise ValueError(f"{source}: {key!r} must be a JSON object, got {doc[key]!r}")
         units = doc.get("units", {})
         for key, unit in _UNITS.items():
             if key in units and units[key] != unit:
@@ -206,11 +210,17 @@ class FrictionParams:
         if unknown:
             raise ValueError(f"{source}: unknown parameters {sorted(unknown)}")
         opts = doc.get("options", {})
-        return cls(
-            **par,
-            continuous_reload=opts.get("continuous_reload", False),
-            provenance=doc.get("provenance", {}),
-        )
+        unknown = set(opts) - {"continuous_reload"}
+        if unknown:
+            raise ValueError(f"{source}: unknown options {sorted(unknown)}")
+        try:
+            return cls(
+                **par,
+                continuous_reload=opts.get("continuous_reload", False),
+                provenance=doc.get("provenance", {}),
+            )
+        except ValueError as exc:
+            raise ValueError(f"{source}: {exc}") from None
 
     @classmethod
     def from_json(cls, path):
@@ -220,6 +230,10 @@ class FrictionParams:
             doc = json.loads(path.read_text(encoding="utf-8"))
         except json.JSONDecodeError as exc:
             raise ValueError(f"{path}: not valid JSON ({exc})") from None
+        except UnicodeDecodeError as exc:
+            raise ValueError(f"{path}: not a UTF-8 text file ({exc})") from None
+        except RecursionError:
+            raise ValueError(f"{path}: JSON nested too deeply to be a parameter file") from None
         return cls.from_dict(doc, source=str(path))
 
 

@@ -15,6 +15,7 @@ from .law import PARALLEL_THRESHOLD, as_float_array, kernels
 __all__ = ["TractionResult", "traction_update", "traction_update_force", "OPEN", "STICK", "SLIP"]
 
 OPEN, STICK, SLIP = K.STATUS_OPEN, K.STATUS_STICK, K.STATUS_SLIP
+_P_MAX = np.finfo(np.float64).max
 
 
 class TractionResult(NamedTuple):
@@ -60,7 +61,7 @@ def traction_update(
     law : Coulomb, Tresca, CoulombCap or SBMFLaw
         The friction law.
     p : array_like, shape (n,)
-        Contact pressure (Pa); ``p <= 0`` is an open node (zero traction).
+        Contact pressure (Pa), finite; ``p <= 0`` is an open node (zero traction).
     slip_increment : array_like, shape (n,), (n, 1) or (n, 2)
         Relative tangential displacement increment (m), 1 or 2 directions.
     traction_old : array_like, same shape as ``slip_increment``
@@ -86,6 +87,8 @@ def traction_update(
     p = as_float_array("p", p)
     if p.ndim != 1:
         raise ValueError(f"p must be 1-D (one value per node), got shape {p.shape}")
+    if not np.isfinite(p).all():
+        raise ValueError("p must be finite (it becomes the node's trial p_hist)")
     n = p.size
     squeeze = np.ndim(slip_increment) == 1
     du = _as_2d("slip_increment", slip_increment, n)
@@ -172,8 +175,8 @@ def traction_update_force(
     """Force-based adapter (Abaqus/Explicit VFRIC style): forces and nodal areas in, forces out.
 
     ``p = f_n / area``, ``t_old = force_old / area`` and ``k_t = k_force / area``, then
-    :func:`traction_update`. A pressure that overflows a double is an infinite one (the law
-    caps it; Coulomb's law then sticks).
+    :func:`traction_update`. A pressure that overflows a double is taken as the largest
+    double (where every law but Coulomb's is at its cap).
 
     Parameters
     ----------
@@ -212,7 +215,7 @@ def traction_update_force(
     force_old = as_float_array("force_old", force_old)
     a_old = area[:, None] if force_old.ndim == 2 else area
     with np.errstate(over="ignore"):
-        p = f_n / area  # inf where it overflows: a valid pressure
+        p = np.minimum(f_n / area, _P_MAX)  # the largest double where it overflows
         t_old = force_old / a_old
         k_t = as_float_array("k_force", k_force) / area
     if not np.isfinite(t_old).all():

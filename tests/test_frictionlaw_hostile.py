@@ -41,6 +41,8 @@ def test_read_only_arrays_are_accepted():
     assert not state.p_hist.flags.writeable
     np.testing.assert_array_equal(fl.shear_limit(p, state.p_hist, P), want)
     np.testing.assert_array_equal(fl.shear_limit(readonly(p), state.p_hist, P), want)
+    # one node against a scalar history: a broadcast view, read-only, no FutureWarning
+    assert fl.shear_limit(p[:1], 0.0, P)[0] == fl.shear_limit(p[0], 0.0, P)
     np.testing.assert_array_equal(fl.SBMFLaw(P).shear_limit(p, state.p_hist)[0], want)
     np.testing.assert_array_equal(
         fl.shear_limit_dp(readonly(p), state.p_hist, P),
@@ -250,6 +252,8 @@ def test_k_t_of_the_wrong_shape_is_named():
     z = np.zeros((2, 2))
     with pytest.raises(ValueError, match=r"k_t must be a scalar or have shape \(2,\)"):
         fl.traction_update(fl.Coulomb(0.1), np.ones(2), z, z, np.ones(3))
+    with pytest.raises(ValueError, match="p must be finite"):  # it would enter p_hist
+        fl.traction_update(fl.Coulomb(0.1), np.array([1.0, np.inf]), z, z, 1.0)
 
 
 COMPONENT = st.one_of(
@@ -271,7 +275,8 @@ COMPONENT = st.one_of(
     d=st.sampled_from([1, 2]),
 )
 def test_fuzz_traction_update_finite_and_equal_to_the_oracle(P, p, ph, du, t_old, kt, d):
-    p, ph, kt = np.array(p), np.array(ph), np.array(kt)
+    big = np.finfo(float).max  # a host's pressures and history are finite
+    p, ph, kt = np.minimum(p, big), np.minimum(ph, big), np.array(kt)
     du = np.array(du).reshape(N_PTS, 2)[:, :d]
     t_old = np.array(t_old).reshape(N_PTS, 2)[:, :d]
     law = fl.SBMFLaw(P)
@@ -316,9 +321,145 @@ def test_force_adapter_scalar_area_out_and_overflow():
     np.testing.assert_allclose(buf.traction, s.traction * area, rtol=1e-14)
     np.testing.assert_allclose(buf.dt_dslip, s.dt_dslip * area, rtol=1e-14)
     np.testing.assert_allclose(buf.dt_dp, s.dt_dp, rtol=1e-14)
-    # an overflowing pressure is an infinite one (the law caps it), no warning
+    # an overflowing pressure is the largest double (the law is at its cap there), no warning
     r = fl.traction_update_force(law, [1e300], 1e-10, [[1.0, 0.0]], [[0.0, 0.0]], 1.0)
     assert r.status[0] == fl.SLIP
     np.testing.assert_allclose(r.traction[0], [law.params.tau_max * 1e-10, 0.0], rtol=1e-15)
     with pytest.raises(ValueError, match=r"area must be a scalar or have shape \(5,\)"):
         fl.traction_update_force(law, f_n, np.ones(3), du, f_old, 1.0)
+
+
+# -- item 7: restart and parameter files ---------------------------------------------------------
+
+
+def test_unreadable_restart_files_name_the_path(tmp_path):
+    good = fl.HistoryState(p_hist=np.linspace(0, 1e9, 50)).save(tmp_path / "good.npz")
+    blob = good.read_bytes()
+    cases = {
+        "empty.npz": b"",
+        "truncated.npz": blob[: len(blob) // 2],
+        "flipped.npz": blob[:40] + bytes([blob[40] ^ 0xFF]) + blob[41:],
+        "text.npz": b"hello, this is not a zip archive\n",
+    }
+    for i in range(0, len(blob), 7):  # every 7th byte flipped in turn
+        cases[f"flip{i}.npz"] = blob[:i] + bytes([blob[i] ^ 0x55]) + blob[i + 1 :]
+    n_err = 0
+    for name, data in cases.items():
+        f = tmp_path / name
+        f.write_bytes(data)
+        try:
+            st_ = fl.HistoryState.load(f)
+        except ValueError as exc:
+            assert str(f) in str(exc)
+            n_err += 1
+        else:  # a flip in a byte nothing reads (e.g. a timestamp) may leave a valid file
+            np.testing.assert_array_equal(st_.p_hist, np.linspace(0, 1e9, 50))
+    assert n_err >= 4
+
+
+@pytest.mark.parametrize(
+    "field, value, fragment",
+    [
+        ("version", np.array("1"), "version must be an integer"),
+        ("version", np.array(1.0), "version must be an integer"),
+        ("version", np.array(True), "version must be an integer"),
+        ("format", np.array(5), "format"),
+        ("p_hist", np.array([1.0, np.inf]), "p_hist must be finite"),
+        ("p_hist", np.array(["a"]), "p_hist must be real numbers"),
+    ],
+)
+def test_restart_file_fields_are_checked(tmp_path, field, value, fragment):
+    doc = dict(format=np.array("sbmf-friction-restart"), version=np.array(1), p_hist=np.zeros(2))
+    doc[field] = value
+    np.savez(tmp_path / "r.npz", **doc)
+    with pytest.raises(ValueError, match=fragment) as exc:
+        fl.HistoryState.load(tmp_path / "r.npz")
+    assert str(tmp_path / "r.npz") in str(exc.value)
+
+
+def test_history_state_counts_are_integers_and_agree():
+    for bad in (2.7, "3", True, np.float64(2.0)):
+        with pytest.raises(ValueError, match="n_nodes must be an integer"):
+            fl.HistoryState(bad)
+    assert fl.HistoryState(np.int64(3)).n_nodes == 3
+    with pytest.raises(ValueError, match="n_nodes = 3 disagrees with p_hist of 2 nodes"):
+        fl.HistoryState(3, p_hist=[1.0, 2.0])
+    assert fl.HistoryState(2, p_hist=[1.0, 2.0]).n_nodes == 2
+    with pytest.raises(ValueError, match="p_hist must be finite"):
+        fl.HistoryState(p_hist=[np.inf])
+    s = fl.HistoryState(2)
+    with pytest.raises(ValueError, match="n_nodes must be an integer"):
+        s.resize(1.5)
+    with pytest.raises(ValueError, match="n_new must be an integer"):
+        s.grow(0.5)
+
+
+@pytest.mark.parametrize(
+    "mutate, fragment",
+    [
+        (lambda d: d.update(version=1.0), "unsupported version 1.0"),
+        (lambda d: d.update(version=True), "unsupported version True"),
+        (lambda d: d.update(units="Pa"), "'units' must be a JSON object"),
+        (lambda d: d.update(options=[True]), "'options' must be a JSON object"),
+        (lambda d: d.update(provenance=[1]), "'provenance' must be a JSON object"),
+        (lambda d: d["options"].update(bogus=1), "unknown options"),
+    ],
+)
+def test_malformed_parameter_documents(tmp_path, mutate, fragment):
+    import json
+
+    d = json.loads(json.dumps(params().to_dict()))
+    mutate(d)
+    f = tmp_path / "p.json"
+    f.write_text(json.dumps(d))
+    with pytest.raises(ValueError, match=fragment) as exc:
+        fl.FrictionParams.from_json(f)
+    assert str(f) in str(exc.value)
+
+
+# -- item 8: non-real input ----------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "value",
+    [
+        np.array([1e8 + 1j]),
+        np.array(["1e8"]),
+        np.array([b"1e8"]),
+        np.array(["2020-01-01"], dtype="datetime64[D]"),
+        np.array([1, 2], dtype="timedelta64[s]"),
+        np.array([1e8, None]),
+        np.array([True]),
+    ],
+    ids=["complex", "str", "bytes", "datetime", "timedelta", "object", "bool"],
+)
+def test_non_real_inputs_are_refused(value):
+    P = params()
+    with pytest.raises(ValueError, match="p must be real numbers"):
+        fl.shear_limit(value, 0.0, P)
+    with pytest.raises(ValueError, match="p_hist must be real numbers"):
+        fl.shear_limit(1e8, value, P)
+    with pytest.raises(ValueError, match="p must be real numbers"):
+        fl.traction_update(fl.SBMFLaw(P), value, np.zeros(value.size), np.zeros(value.size), 1.0)
+    with pytest.raises(ValueError, match="p_hist must be real numbers"):
+        fl.HistoryState(p_hist=value)
+    assert fl.shear_limit(np.array([100_000_000]), 0, P) == fl.shear_limit(1e8, 0.0, P)
+
+
+# -- item 9: files keep the user's umask ---------------------------------------------------------
+
+
+def test_written_files_follow_the_umask(tmp_path):
+    import os
+    import stat
+
+    old = os.umask(0o027)
+    try:
+        a = params().to_json(tmp_path / "params.json")
+        b = fl.HistoryState(2).save(tmp_path / "restart.npz")
+        c = tmp_path / "plain.txt"
+        c.write_text("x")
+    finally:
+        os.umask(old)
+    modes = {stat.S_IMODE(x.stat().st_mode) for x in (a, b, c)}
+    assert modes == {0o640}
