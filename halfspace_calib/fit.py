@@ -30,6 +30,7 @@ from frictionlaw.params import C_RANGE, N_RANGE
 __all__ = [
     "C_BOUNDS",
     "N_BOUNDS",
+    "R2_MIN",
     "FitResult",
     "FirstLoadingFit",
     "ReloadFit",
@@ -43,6 +44,9 @@ __all__ = [
 C_BOUNDS = (1e-3, 1e3)
 #: default bounds of n1, n2: from a very round to a sharp corner of the smooth minimum
 N_BOUNDS = (0.2, 50.0)
+#: a fit whose R^2 is below this is degenerate: the law explains less than 90 % of the variance
+#: of alpha (calibrations reach 0.99-0.9998; constant data give 0, decreasing data < 0)
+R2_MIN = 0.9
 
 _N_GRID = (0.5, 1.0, 2.0, 4.0, 8.0, 16.0)
 _C_GRID = tuple(np.geomspace(0.25, 4.0, 9))
@@ -75,6 +79,9 @@ class FitResult:
         Parameters that ended on a bound.
     H : float
         Hardness used (Pa).
+    degenerate : str
+        ``""`` when the fit is usable, else why not: a parameter ended on its bound (the data
+        do not fix it), or ``R^2 < R2_MIN`` (the law explains too little of the data).
     """
 
     params: dict
@@ -87,11 +94,12 @@ class FitResult:
     nfev: int
     at_bound: tuple
     H: float
+    degenerate: str
 
     @property
     def converged(self):
-        """Alias of :attr:`success`."""
-        return self.success
+        """The optimiser converged and the fit is not degenerate."""
+        return self.success and not self.degenerate
 
     def summary(self):
         """JSON-ready dict of the fit quality (for the provenance)."""
@@ -103,6 +111,8 @@ class FitResult:
             "max_abs_residual": float(np.max(np.abs(self.residuals))),
             "n_points": int(self.residuals.size),
             "success": self.success,
+            "degenerate": self.degenerate,
+            "converged": self.converged,
             "message": self.message,
             "nfev": self.nfev,
             "at_bound": list(self.at_bound),
@@ -356,18 +366,35 @@ def _fit_c_n(model, p, alpha, w, H, cb, nb, names):
     lb, ub = np.array([cb[0], nb[0]]), np.array([cb[1], nb[1]])
     params, stderr, sol, at, msg = _solve(residual, start, lb, ub, names)
     res = model(params[names[0]], params[names[1]]) - alpha
+    r2 = _r_squared(res, alpha)
     return dict(
         params=params,
         stderr=stderr,
         residuals=res,
-        r_squared=_r_squared(res, alpha),
+        r_squared=r2,
         rmse=float(np.sqrt(np.mean(res**2))),
         success=bool(sol.success),
         message=msg,
         nfev=int(sol.nfev),
         at_bound=at,
         H=H,
+        degenerate=_degenerate(params, at, lb, ub, r2, alpha),
     )
+
+
+def _degenerate(params, at_bound, lb, ub, r2, alpha):
+    """Why a fit is not usable (``""`` if it is): parameters on a bound, ``R^2 < R2_MIN``."""
+    why = []
+    for i, (name, value) in enumerate(params.items()):
+        if name in at_bound:
+            bound = lb[i] if abs(value - lb[i]) <= abs(value - ub[i]) else ub[i]
+            why.append(f"{name} ended on its bound {bound:g}")
+    if not r2 >= R2_MIN:
+        if np.ptp(alpha) == 0:
+            why.append(f"R^2 = {r2:.3g} < {R2_MIN}: alpha is constant, there is nothing to fit")
+        else:
+            why.append(f"R^2 = {r2:.3g} < {R2_MIN}: the model explains too little of the data")
+    return "; ".join(why)
 
 
 def fit_first_loading(p, alpha, H, *, relative=False, C_bounds=C_BOUNDS, n_bounds=N_BOUNDS):

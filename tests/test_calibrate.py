@@ -154,3 +154,18 @@ def test_measured_surface_files_give_the_synthetic_result(tmp_path):
     finally:
         C.scene_surfaces = orig
     np.testing.assert_array_equal(got.loading[1], ref.loading[1])
+
+
+def test_degenerate_fits_are_reported_by_the_calibration(cal):
+    import dataclasses
+
+    from halfspace_calib import fit as F
+
+    assert cal.degenerate == ""
+    s = cal.summary()
+    assert s["fit_degenerate"] == {"first_loading": "", "reload": ""}
+    p, _ = cal.sweeps.loading
+    flat = F.fit_first_loading(p, np.full(p.size, 0.2), cal.scene.H)
+    bad = dataclasses.replace(cal, first=flat)
+    assert bad.degenerate.startswith("first loading: ") and "R^2 = 0 < 0.9" in bad.degenerate
+    assert bad.summary()["fit_degenerate"]["first_loading"] == flat.degenerate
