@@ -5,7 +5,9 @@ Examples
 ``fe-demo upsetting`` (SBMF law with the shipped illustrative parameters),
 ``fe-demo upsetting --law sbmf --params calibrated.json --out out/ups``,
 ``fe-demo upsetting --law all`` (every law side by side),
-``fe-demo ring`` (Tresca m in {0, 0.1, 0.2, 0.3, 0.5, 1} over the upper-bound chart),
+``fe-demo ring`` (Tresca m in {0, 0.1, 0.2, 0.3, 0.5, 1} over the upper-bound chart;
+``--m 0.3`` runs that m alone, ``--m-list 0,0.3`` sweeps those),
+An option the chosen law does not use is refused (exit 2), never silently ignored.
 ``fe-demo multistage`` (upset, unload, reload; with and without ``p_hist``).
 """
 
@@ -16,8 +18,10 @@ from pathlib import Path
 
 import numpy as np
 
+from frictionlaw import FrictionParams
+
 from .calibrated_range import range_lines
-from .laws import LAWS
+from .laws import LAW_OPTIONS, LAWS
 from .material import DC04, Material
 from .output import (
     plot_die_profile,
@@ -35,6 +39,7 @@ from .scenes import contact_profile, run_multistage, run_ring, run_upsetting
 __all__ = ["main", "build_parser"]
 
 _LAWS_ALL = (*LAWS, "all")
+_MU, _M = 0.1, 0.3  # defaults of --mu, --m where the law uses them
 
 
 def _positive_int(name):
@@ -49,8 +54,12 @@ def _positive_int(name):
 
 def _add_common(p, *, law, nr, increments, reduction, out):
     p.add_argument("--law", choices=_LAWS_ALL, default=law, help=f"friction law (default {law})")
-    p.add_argument("--mu", type=float, default=0.1, help="Coulomb coefficient (coulomb, cap)")
-    p.add_argument("--m", type=float, default=0.3, help="Tresca friction factor (tresca, cap)")
+    p.add_argument(
+        "--mu", type=float, default=None, help=f"Coulomb coefficient (coulomb, cap; default {_MU})"
+    )
+    p.add_argument(
+        "--m", type=float, default=None, help=f"Tresca friction factor (tresca, cap; default {_M})"
+    )
     p.add_argument("--tau-max", type=float, default=None, help="cap of 'cap' in Pa")
     p.add_argument(
         "--params", type=Path, default=None, help="SBMF parameter JSON (FrictionParams file)"
@@ -83,8 +92,11 @@ def build_parser():
     p.add_argument(
         "--m-list",
         type=str,
-        default=",".join(f"{m:g}" for m in CHART_M),
-        help="Tresca factors for the chart sweep (law tresca only; '' for a single run)",
+        default=None,
+        help=(
+            "Tresca factors to sweep over the chart (law tresca only); without --m or --m-list "
+            "tresca sweeps " + ",".join(f"{m:g}" for m in CHART_M)
+        ),
     )
     p.add_argument(
         "--remesh-below",
@@ -138,7 +150,12 @@ def _write_run(folder, res, title):
     if res.snapshots and len(res.snapshots) > 1:
         write_vtu_series(folder / "vtu", res.model.t, res.snapshots)
     info = dict(res.info)
-    info.update(converged=res.converged, message=res.message, wall_time_s=res.wall_time)
+    info.update(
+        converged=res.converged,
+        message=res.message,
+        stopped_at_height_reduction=res.model.height_reduction,
+        wall_time_s=res.wall_time,
+    )
     (folder / "summary.json").write_text(json.dumps(info, indent=2, default=_jd) + "\n")
 
 
@@ -215,9 +232,39 @@ def _cmd_upsetting(args):
     return 0 if ok else 1
 
 
+def _chart(reduction):
+    """Upper-bound chart curves for :data:`CHART_M`, and a note for those that end early."""
+    chart, notes = {}, []
+    for m in CHART_M:
+        red, d = ring_chart(m, reduction)
+        chart[m] = (red, d)
+        if red[-1] < reduction - 1e-9:
+            notes.append(
+                f"note: the upper-bound chart for m={m:g} ends at height reduction "
+                f"{red[-1]:.3f}, where the upper-bound hole closes (inner radius -> 0)"
+            )
+    return chart, notes
+
+
+def _m_list(args):
+    """Tresca factors to sweep: ``--m-list``, else the chart's when neither it nor ``--m``."""
+    if args.law != "tresca":
+        return []
+    if args.m_list is not None:
+        try:
+            ms = [float(s) for s in args.m_list.split(",") if s.strip()]
+        except ValueError:
+            raise ValueError(
+                f"--m-list must be comma-separated numbers, got {args.m_list!r}"
+            ) from None
+        if not ms:
+            raise ValueError("--m-list is empty: give factors, or --m for a single run")
+        return ms
+    return [] if args.m_given else list(CHART_M)
+
+
 def _cmd_ring(args):
-    m_list = [float(s) for s in args.m_list.split(",") if s.strip()] if args.law == "tresca" else []
-    chart = {m: ring_chart(m, args.reduction) for m in CHART_M}
+    m_list = _m_list(args)
     runs = []
     if m_list:
         for m in m_list:
@@ -240,6 +287,7 @@ def _cmd_ring(args):
         ok &= res.converged
         _report_run(lab, res)
     args.out.mkdir(parents=True, exist_ok=True)
+    chart, notes = _chart(args.reduction)
     plot_ring_chart(args.out / "ring_chart.png", chart, fe)
     with (args.out / "ring_chart_upper_bound.csv").open("w", encoding="utf-8") as fh:
         fh.write("m,height_reduction,inner_diameter_change\n")
@@ -247,6 +295,8 @@ def _cmd_ring(args):
             for a, b in zip(red, d, strict=True):
                 fh.write(f"{m:g},{a:.6g},{b:.6g}\n")
     print(summary_table(rows))
+    for note in notes:
+        print(note)
     print(f"output in {args.out}")
     return 0 if ok else 1
 
@@ -308,14 +358,39 @@ def _cmd_multistage(args):
     return 0 if ok else 1
 
 
+def _check_options(args):
+    """Refuse options the requested runs would not use; fill in the defaults of the rest."""
+    used = LAW_OPTIONS[args.law]
+    for name in ("mu", "m", "tau_max", "params"):
+        if getattr(args, name) is not None and name not in used:
+            flag = "--" + name.replace("_", "-")
+            raise ValueError(f"{flag} is not used by --law {args.law}")
+    if args.law == "cap" and args.tau_max is not None and args.m is not None:
+        raise ValueError("--m is not used by --law cap when --tau-max gives the cap")
+    if getattr(args, "m_list", None) is not None:
+        if args.law != "tresca":
+            raise ValueError(f"--m-list is not used by --law {args.law} (it sweeps Tresca's m)")
+        if args.m is not None:
+            raise ValueError("give --m or --m-list, not both")
+    args.m_given = args.m is not None
+    args.mu = _MU if args.mu is None else args.mu
+    args.m = _M if args.m is None else args.m
+    if args.params is not None:
+        if not args.params.exists():
+            raise ValueError(f"--params file {args.params} does not exist")
+        FrictionParams.from_json(args.params)  # unreadable files are bad input, before any run
+
+
 def main(argv=None):
     """Entry point of the ``fe-demo`` console script."""
     args = build_parser().parse_args(argv)
     if not (0.0 < args.reduction < 0.9):
         print("error: --reduction must be in (0, 0.9)", file=sys.stderr)
         return 2
-    if args.params is not None and not args.params.exists():
-        print(f"error: --params file {args.params} does not exist", file=sys.stderr)
+    try:
+        _check_options(args)
+    except (ValueError, OSError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
         return 2
     try:
         if args.scene == "upsetting":

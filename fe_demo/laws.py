@@ -18,9 +18,26 @@ from pathlib import Path
 
 from frictionlaw import LAW_NAMES, FrictionParams, law_from_name
 
-__all__ = ["LAWS", "make_law_factory", "example_params", "EXAMPLE_PARAMS_PATH"]
+__all__ = [
+    "LAWS",
+    "LAW_OPTIONS",
+    "make_law_factory",
+    "law_parameters",
+    "example_params",
+    "EXAMPLE_PARAMS_PATH",
+]
 
 LAWS = ("none", *LAW_NAMES)
+
+#: the options each law uses (``all`` runs every law, so it uses every option)
+LAW_OPTIONS = {
+    "none": (),
+    "coulomb": ("mu",),
+    "tresca": ("m",),
+    "cap": ("mu", "m", "tau_max"),
+    "sbmf": ("params",),
+    "all": ("mu", "m", "tau_max", "params"),
+}
 
 #: illustrative (not calibrated) SBMF parameter file shipped with the demo
 EXAMPLE_PARAMS_PATH = Path(__file__).with_name("data") / "sbmf_example.json"
@@ -66,3 +83,29 @@ def make_law_factory(law="tresca", *, mu=0.1, m=0.3, tau_max=None, params=None):
         )
     fixed = law_from_name(law, mu=mu, m=m, tau_max=tau_max, params=params)
     return lambda model: fixed
+
+
+def law_parameters(law, *, mu=0.1, m=0.3, tau_max=None, params=None):
+    """The parameters the law of a run uses, as a JSON-ready dict (for ``summary.json``).
+
+    ``coulomb``: ``mu``; ``tresca``: ``m``; ``cap``: ``mu`` and ``tau_max`` (Pa) or ``m``;
+    ``sbmf``: the parameter file's name and its parameters and options; ``none``: nothing.
+    """
+    if law == "coulomb":
+        return {"mu": float(mu)}
+    if law == "tresca":
+        return {"m": float(m)}
+    if law == "cap":
+        if tau_max is not None:
+            return {"mu": float(mu), "tau_max": float(tau_max)}
+        return {"mu": float(mu), "m": float(m)}
+    if law == "sbmf":
+        if params is None:
+            src, params = str(EXAMPLE_PARAMS_PATH), example_params()
+        elif isinstance(params, FrictionParams):
+            src = "FrictionParams object"
+        else:
+            src, params = str(params), FrictionParams.from_json(params)
+        doc = params.to_dict()
+        return {"params_file": src, **doc["parameters"], **doc["options"]}
+    return {}

@@ -109,7 +109,9 @@ def ring_chart(m, reduction=0.5, *, ratio=(6.0, 3.0, 2.0), n_steps=100):
     Returns
     -------
     red : ndarray
-        Height reductions, starting at 0.
+        Height reductions, starting at 0. For large ``m`` the upper-bound field closes the
+        hole (``Ri -> 0``) before ``reduction``; the curve then ends at the last step with
+        ``Ri > 0`` (``red[-1] < reduction``).
     dDi : ndarray
         ``(Di - Di0) / Di0``.
     """
@@ -132,7 +134,11 @@ def ring_chart(m, reduction=0.5, *, ratio=(6.0, 3.0, 2.0), n_steps=100):
 
     for _ in range(int(n_steps)):
         a1, b1 = rates(Ro, Ri, T)
+        if Ri + 0.5 * dT * b1 <= 0.0:
+            break  # the field closes the hole within this step: the chart ends here
         a2, b2 = rates(Ro + 0.5 * dT * a1, Ri + 0.5 * dT * b1, T - 0.5 * dT)
+        if Ri + dT * b2 <= 0.0:
+            break
         Ro, Ri, T = Ro + dT * a2, Ri + dT * b2, T - dT
         red.append(1.0 - T / T0)
         out.append(Ri / Ri0 - 1.0)

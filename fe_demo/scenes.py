@@ -14,7 +14,7 @@ import numpy as np
 from frictionlaw import OPEN, SLIP, STICK
 
 from .calibrated_range import range_columns, range_summary
-from .laws import make_law_factory
+from .laws import law_parameters, make_law_factory
 from .material import DC04
 from .mesh import cylinder_mesh, ring_mesh
 from .model import FormingModel, SolverOptions
@@ -172,8 +172,20 @@ def _drive(model, stages, law_name, mu, m, progress, snapshot_every, extra=None,
                         f"increment failed at height reduction {model.height_reduction:.4f} "
                         f"after {res.cutbacks} cut-backs: {res.message}"
                     )
+                    if res.dz != 0.0 and model.accepted is not None:
+                        # sub-steps before the failure were accepted: record where it stopped
+                        row = _record(model, law_name, mu, m)
+                        row.update(nit=res.nit, cutbacks=res.cutbacks, partial=1)
+                        row["min_quality"] = float(
+                            element_quality(model.x, model.t, block_corners(model.axi)).min()
+                        )
+                        row["remeshed"] = 0
+                        if extra is not None:
+                            row.update(extra(model))
+                        rows.append(row)
                     break
                 row = _record(model, law_name, mu, m)
+                row["partial"] = 0
                 row["nit"] = res.nit
                 row["cutbacks"] = res.cutbacks
                 row["min_quality"] = float(
@@ -224,7 +236,19 @@ def _check_inc(n):
 
 
 def _press(
-    scene, model, axi, red, n_inc, law, mu, m, progress, snapshot_every, extra, remesh_below
+    scene,
+    model,
+    axi,
+    red,
+    n_inc,
+    law,
+    mu,
+    m,
+    progress,
+    snapshot_every,
+    extra,
+    remesh_below,
+    law_params,
 ):
     """One-stage scene: press the die to ``(1 - red)`` of its height in ``n_inc`` increments."""
     t0 = time.perf_counter()
@@ -237,8 +261,7 @@ def _press(
         "scene": scene,
         "n_remesh": model.n_remesh,
         "law": law,
-        "mu": mu,
-        "m": m,
+        "law_parameters": law_params,
         "n_elements": axi.n_elements,
         "n_dof": 2 * model.n_nodes,
         "newton_iterations": model.n_newton,
@@ -276,10 +299,12 @@ def run_upsetting(
     ``flow_stress_hom`` (flow stress at ``ln(h0/h)``), ``slab_pressure`` (slab-method
     average pressure of the same law, Pa), ``max_radius``, ``top_radius`` (m),
     counts of stick/slip/open contact nodes, ``n_reload_eq25`` (nodes in contact with
-    ``p < p_hist``, i.e. on Eq. 25), ``nit``, ``cutbacks``; with a parameter file that
-    records its calibrated range, :data:`fe_demo.calibrated_range.RANGE_COLUMNS`.
-    ``info`` holds ``tangential_stiffness`` (the stick stiffness used) and
-    ``calibrated_range`` (:func:`fe_demo.calibrated_range.range_summary`).
+    ``p < p_hist``, i.e. on Eq. 25), ``nit``, ``cutbacks``, ``partial`` (1 for the last row of
+    a run that stopped on a failed increment: the sub-steps it accepted before failing); with a
+    parameter file that records its calibrated range,
+    :data:`fe_demo.calibrated_range.RANGE_COLUMNS`. ``info`` holds ``tangential_stiffness``
+    (the stick stiffness used) and ``calibrated_range``
+    (:func:`fe_demo.calibrated_range.range_summary`).
     """
     red = _check_reduction(reduction)
     n_inc = _check_inc(n_increments)
@@ -299,6 +324,7 @@ def run_upsetting(
         snapshot_every,
         None,
         remesh_below,
+        law_parameters(law, mu=mu, m=m, tau_max=tau_max, params=params),
     )
 
 
@@ -345,7 +371,19 @@ def run_ring(
         }
 
     return _press(
-        "ring", model, axi, red, n_inc, law, mu, m, progress, snapshot_every, extra, remesh_below
+        "ring",
+        model,
+        axi,
+        red,
+        n_inc,
+        law,
+        mu,
+        m,
+        progress,
+        snapshot_every,
+        extra,
+        remesh_below,
+        law_parameters(law, mu=mu, m=m, tau_max=tau_max, params=params),
     )
 
 
@@ -463,6 +501,7 @@ def run_multistage(
     info = {
         "scene": "multistage",
         "law": law,
+        "law_parameters": law_parameters(law, mu=mu, m=m, tau_max=tau_max, params=params),
         "reset_history": reset_history,
         "recontact_profile": best["profile"],
         "n_elements": axi.n_elements,

@@ -1,6 +1,7 @@
 """Runtime of the SBMF constitutive friction law (Eqs. 24-25) for FE contact nodes.
 
-Light by design: imports numpy and numba only.
+Light by design: ``import frictionlaw`` loads numpy only; the numba kernels
+(:mod:`frictionlaw.kernels`) load on first use, also when reached as ``frictionlaw.kernels``.
 """
 
 from ._range import RangeCheck, check_pressure_range
@@ -43,3 +44,12 @@ __all__ = [
     "STICK",
     "SLIP",
 ]
+
+
+def __getattr__(name):
+    """Load the numba kernel module on first access (``frictionlaw.kernels.shear_scalar``)."""
+    if name == "kernels":
+        import importlib
+
+        return importlib.import_module(".kernels", __name__)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -39,37 +39,62 @@ _Y_SATURATED = 350.0  # tanh(y) == 1 and 2y/sinh(2y) < 1e-300 beyond
 _opts = dict(nopython=True, cache=True, nogil=True, error_model="numpy")
 
 
-@nb.jit(types.UniTuple(float64, 3)(float64, float64), **_opts)
-def smooth_min_scalar(x, n):
-    """Smooth minimum ``g(x) = tanh(x**n) ** (1/n)`` of ``x`` and 1 (Eqs. 24-25).
+_LN_Y_SMALL = math.log(1e-4)  # series of ln(tanh(y)/y) below
+_LN_Y_SATURATED = math.log(_Y_SATURATED)
 
-    Returns ``(g, g / x, dg/dx)``. With ``y = x**n``: for ``y < 1`` it is
-    evaluated as ``g = x (tanh(y)/y) ** (1/n)`` so that the small-``x`` limit
-    ``g -> x`` survives any ``n`` (``y`` may underflow to 0), and as
-    ``exp(ln tanh(y) / n)`` above; ``tanh`` and ``dg/dx = (g/x) 2y/sinh(2y)``
-    both come from one ``expm1(-2y)``. ``x <= 0`` gives ``(0, 1, 1)``, the right limits.
+
+@nb.jit(types.UniTuple(float64, 4)(float64, float64), **_opts)
+def smooth_min_log(lnx, n):
+    """Smooth minimum ``g(x) = tanh(x**n) ** (1/n)`` of ``x`` and 1 from ``ln x`` (Eqs. 24-25).
+
+    Returns ``(g, g / x, dg/dx, ln g)``. Working from ``ln x`` means that no ``x`` that
+    under- or overflows a double (a subnormal pressure times ``C/H``, or ``p_hist`` huge) is
+    ever formed: ``y = x**n = exp(n ln x)``. For ``y < 1`` it is evaluated as
+    ``g = x (tanh(y)/y) ** (1/n)`` so that the small-``x`` limit ``g -> x`` survives any ``n``
+    (``y`` may underflow to 0), and as ``exp(ln tanh(y) / n)`` above; ``tanh`` and
+    ``dg/dx = (g/x) 2y/sinh(2y)`` both come from one ``expm1(-2y)``.
+    ``ln x = +inf`` gives ``(1, 0, 0, 0)``.
     """
-    if not x > 0.0:
-        return 0.0, 1.0, 1.0
-    y = x**n
-    if y < 1e-4:
+    lny = n * lnx
+    if lny < _LN_Y_SMALL:
         # ln(tanh(y)/y) = -y^2/3 + 7 y^4/90 + O(y^6); z/sinh(z) = 1 - z^2/6 + O(z^4), z = 2y
+        y = math.exp(lny)
         y2 = y * y
-        gox = math.exp((-y2 / 3.0 + 7.0 * y2 * y2 / 90.0) / n)
-        return x * gox, gox, gox * (1.0 - 2.0 * y2 / 3.0)
-    if y > _Y_SATURATED:
-        return 1.0, 1.0 / x, 0.0
+        lngox = (-y2 / 3.0 + 7.0 * y2 * y2 / 90.0) / n
+        gox = math.exp(lngox)
+        return math.exp(lnx) * gox, gox, gox * (1.0 - 2.0 * y2 / 3.0), lnx + lngox
+    if lny > _LN_Y_SATURATED:
+        return 1.0, math.exp(-lnx), 0.0, 0.0
+    y = math.exp(lny)
     em = math.expm1(-2.0 * y)  # e - 1 with e = exp(-2y), accurate for small y
     two_e = 2.0 + em  # 1 + e
     t = -em / two_e  # tanh(y)
     s = 4.0 * y * (1.0 + em) / (-em * two_e)  # 2y / sinh(2y)
     if y < 1.0:
-        gox = math.exp(math.log(t / y) / n)
-        g = x * gox
-    else:
-        g = math.exp(math.log1p(-2.0 * (1.0 + em) / two_e) / n)
-        gox = g / x
-    return g, gox, gox * s
+        lngox = math.log(t / y) / n
+        gox = math.exp(lngox)
+        return math.exp(lnx) * gox, gox, gox * s, lnx + lngox
+    lng = math.log1p(-2.0 * (1.0 + em) / two_e) / n
+    gox = math.exp(lng - lnx)
+    return math.exp(lng), gox, gox * s, lng
+
+
+@nb.jit(float64(float64, float64), **_opts)
+def log_product(p, c):
+    """``ln(p c)`` for ``p, c > 0`` without forming an under- or overflowing product."""
+    x = p * c
+    if 1e-300 < x < 1e300:
+        return math.log(x)
+    return math.log(p) + math.log(c)
+
+
+@nb.jit(types.UniTuple(float64, 3)(float64, float64), **_opts)
+def smooth_min_scalar(x, n):
+    """:func:`smooth_min_log` from ``x``: ``(g, g / x, dg/dx)``; ``x <= 0`` gives ``(0, 1, 1)``."""
+    if not x > 0.0:
+        return 0.0, 1.0, 1.0
+    g, gox, dg, _ = smooth_min_log(math.log(x), n)
+    return g, gox, dg
 
 
 @nb.jit(types.UniTuple(float64, 2)(float64, float64, float64, float64, float64), **_opts)
@@ -77,13 +102,14 @@ def sbmf_first_scalar(p, tau_max, H, C1, n1):
     """Eq. 24: ``(tau, dtau/dp)`` with ``tau = tau_max g(p C1 / H; n1)``; 0 for ``p <= 0``."""
     if not p > 0.0:
         return 0.0, 0.0
-    x1 = p * C1 / H
-    g, gox, dg = smooth_min_scalar(x1, n1)
-    if x1 < 1.0:
-        tau = p * (tau_max * C1 / H) * gox  # full precision for tiny p
+    c1 = C1 / H
+    lnx1 = log_product(p, c1)
+    g, gox, dg, _ = smooth_min_log(lnx1, n1)
+    if lnx1 < 0.0:
+        tau = p * (tau_max * c1) * gox  # full precision for tiny p
     else:
         tau = tau_max * g
-    return min(tau, tau_max), tau_max * C1 / H * dg
+    return min(tau, tau_max), tau_max * c1 * dg
 
 
 @nb.jit(
@@ -98,29 +124,31 @@ def sbmf_reload_scalar(p, p_hist, tau_max, H, C1, n1, C2, n2, continuous):
     ``tau = tau_max a1h g(x2; n2)`` with ``a1h = alpha1(p_hist)`` and
     ``x2 = p C2 / (H a1h)``; divided by ``g(x2(p_hist); n2)`` when
     ``continuous != 0`` so that it meets Eq. 24 at ``p_hist``. ``x2`` is formed
-    from the ratio ``p / p_hist`` so that ``a1h -> 0`` cannot overflow;
-    the limit there is ``tau -> 0``.
+    in logs, so that ``a1h -> 0`` cannot overflow; the limit there is ``tau -> 0``.
+    Bounded by ``tau_max a1h`` (``p <= p_hist``) and by ``tau_max`` (``p > p_hist``, where
+    the continuous variant, extrapolated, would exceed a contact ratio of 1).
     """
-    if not p > 0.0:
+    if not (p > 0.0 and p_hist > 0.0):
         return 0.0, 0.0
-    x1h = p_hist * C1 / H
-    a1h, gox1h, _ = smooth_min_scalar(x1h, n1)
-    if x1h < 1.0:
-        x2 = (p / p_hist) * (C2 / C1) / gox1h
-        x2h = (C2 / C1) / gox1h
-    else:
-        x2 = (p * C2 / H) / a1h
-        x2h = (p_hist * C2 / H) / a1h
-    g2, gox2, dg2 = smooth_min_scalar(x2, n2)
-    scale = 1.0
+    c2 = C2 / H
+    _, _, _, lna1h = smooth_min_log(log_product(p_hist, C1 / H), n1)
+    lnx2 = log_product(p, c2) - lna1h
+    g2, gox2, dg2, lng2 = smooth_min_log(lnx2, n2)
+    lng2h = 0.0
     if continuous != 0.0:
-        g2h, _, _ = smooth_min_scalar(x2h, n2)
-        scale = 1.0 / g2h
-    if x2 < 1.0:
-        tau = p * (tau_max * C2 / H) * gox2 * scale  # alpha1(p_hist) cancels
+        _, _, _, lng2h = smooth_min_log(log_product(p_hist, c2) - lna1h, n2)
+    scale = math.exp(-lng2h)
+    if continuous != 0.0:  # in logs: g2 and g2h may both be below the smallest double
+        tau = tau_max * math.exp(lna1h + lng2 - lng2h)
+    elif lnx2 < 0.0:
+        tau = p * (tau_max * c2) * gox2  # alpha1(p_hist) cancels
     else:
-        tau = tau_max * a1h * g2 * scale
-    return min(tau, tau_max * a1h * scale), tau_max * C2 / H * dg2 * scale
+        tau = tau_max * math.exp(lna1h) * g2
+    dtau = tau_max * c2 * dg2 * scale
+    cap = tau_max * math.exp(lna1h) if p <= p_hist else tau_max
+    if tau >= cap:
+        return cap, (0.0 if p > p_hist else dtau)
+    return tau, dtau
 
 
 @nb.jit(
@@ -136,7 +164,10 @@ def sbmf_shear_scalar(p, p_hist, tau_max, H, C1, n1, C2, n2, continuous):
     return sbmf_first_scalar(p, tau_max, H, C1, n1)
 
 
-_RO = types.Array(float64, 1, "C", readonly=True)  # coeffs frozen as a global in a host's njit
+# Inputs are typed read-only: numba converts a writable array to these safely, so read-only
+# arrays (a HistoryState's p_hist view, a host's frozen coeffs) are accepted as well.
+_RO = types.Array(float64, 1, "C", readonly=True)
+_RO2 = types.Array(float64, 2, "C", readonly=True)
 
 
 @nb.jit(
@@ -151,11 +182,11 @@ def shear_scalar(code, coeffs, p, p_hist):
     if not p > 0.0:
         return 0.0, 0.0
     if code == CODE_COULOMB:
-        return coeffs[0] * p, coeffs[0]
+        return (coeffs[0] * p if coeffs[0] > 0.0 else 0.0), coeffs[0]
     if code == CODE_TRESCA:
         return coeffs[0], 0.0
     if code == CODE_CAP:
-        t = coeffs[0] * p
+        t = coeffs[0] * p if coeffs[0] > 0.0 else 0.0
         if t < coeffs[1]:
             return t, coeffs[0]
         return coeffs[1], 0.0
@@ -168,9 +199,7 @@ def shear_scalar(code, coeffs, p, p_hist):
     )
 
 
-_shear_array_sig = types.void(
-    int64, float64[::1], float64[::1], float64[::1], float64[::1], float64[::1]
-)
+_shear_array_sig = types.void(int64, _RO, _RO, _RO, float64[::1], float64[::1])
 
 
 # Serial and parallel array kernels are separate functions: numba's on-disk cache is keyed by
@@ -195,8 +224,8 @@ def _traction_row_sig(coeffs_type):
         coeffs_type,
         float64,
         float64,
-        float64[:, ::1],
-        float64[:, ::1],
+        _RO2,
+        _RO2,
         float64,
         float64[:, ::1],
         float64[:, :, ::1],
@@ -210,9 +239,12 @@ def traction_row(code, coeffs, p, p_hist, du, t_old, k_t, t_new, dt_ddu, dt_dp, 
     """Stick/slip return map at node ``i`` (row ``i`` of the 2-D arrays); returns the status.
 
     Trial ``t_tr = t_old + k_t du``. Open (``p <= 0``): ``t = 0``, status 0.
-    Stick (``|t_tr| <= tau``): ``t = t_tr``, tangent ``dt/ddu = k_t I``, status 1.
+    Stick (``|t_tr| <= tau``, ``tau > 0``): ``t = t_tr``, tangent ``dt/ddu = k_t I``, status 1.
     Slip: ``t = tau t_tr/|t_tr|``, tangent ``k_t tau/|t_tr| (I - n n)`` and
-    ``dt/dp = dtau/dp n``, status 2. ``p_hist`` is the committed history.
+    ``dt/dp = dtau/dp n``, status 2; with ``tau = 0`` the traction and the tangent are 0.
+    ``|t_tr|`` is a scaled norm (no under- or overflow of ``|t|^2``); a trial that overflows
+    a double is formed as ``t_tr / s`` with ``s = max(k_t, |t_old|)`` (it slips).
+    ``p_hist`` is the committed history.
     Rows are indexed in place (no per-node array views: they cost ~100 ns a node).
     """
     nd = du.shape[1]
@@ -225,20 +257,39 @@ def traction_row(code, coeffs, p, p_hist, du, t_old, k_t, t_new, dt_ddu, dt_dp, 
             t_new[i, a] = 0.0
         return STATUS_OPEN
     tau, dtau = shear_scalar(code, coeffs, p, p_hist)
-    norm2 = 0.0
+    vmax = 0.0
     for a in range(nd):
         v = t_old[i, a] + k_t * du[i, a]
         t_new[i, a] = v
-        norm2 += v * v
-    norm = math.sqrt(norm2)
-    if norm <= tau:
+        vmax = max(vmax, abs(v))
+    kscale = k_t  # k_t / s: the trial held in t_new is t_tr / s
+    if not vmax < math.inf:
+        s = k_t
+        for a in range(nd):
+            s = max(s, abs(t_old[i, a]))
+        kscale = k_t / s
+        vmax = 0.0
+        for a in range(nd):
+            v = t_old[i, a] / s + kscale * du[i, a]
+            t_new[i, a] = v
+            vmax = max(vmax, abs(v))
+    # |t_tr| = vmax r with r = |t_tr / vmax| in [1, sqrt(d)]: nothing squared under- or overflows
+    r = 0.0
+    if vmax > 0.0:
+        for a in range(nd):
+            q = t_new[i, a] / vmax
+            r += q * q
+        r = math.sqrt(r)
+    if kscale == k_t and tau > 0.0 and vmax <= tau / r:
         for a in range(nd):
             dt_ddu[i, a, a] = k_t
         return STATUS_STICK
-    # slip: radial return onto the limit circle (norm > tau >= 0, so norm > 0)
-    f = k_t * tau / norm
+    if vmax == 0.0:  # tau = 0 and no trial traction: t = 0, zero tangent
+        return STATUS_SLIP
+    # slip: radial return onto the limit circle (|t_tr| > tau >= 0)
+    f = kscale * ((tau / vmax) / r)
     for a in range(nd):
-        t_new[i, a] /= norm  # unit direction n
+        t_new[i, a] = (t_new[i, a] / vmax) / r  # unit direction n
     for a in range(nd):
         dt_dp[i, a] = dtau * t_new[i, a]
         for b in range(nd):
@@ -251,11 +302,11 @@ def traction_row(code, coeffs, p, p_hist, du, t_old, k_t, t_new, dt_ddu, dt_dp, 
 @nb.jit(
     int64(
         int64,
-        float64[::1],
+        _RO,
         float64,
         float64,
-        float64[::1],
-        float64[::1],
+        _RO,
+        _RO,
         float64,
         float64[::1],
         float64[:, ::1],
@@ -283,12 +334,12 @@ def traction_scalar(code, coeffs, p, p_hist, du, t_old, k_t, t_new, dt_ddu, dt_d
 
 _traction_array_sig = types.void(
     int64,
-    float64[::1],
-    float64[::1],
-    float64[::1],
-    float64[:, ::1],
-    float64[:, ::1],
-    float64[::1],
+    _RO,
+    _RO,
+    _RO,
+    _RO2,
+    _RO2,
+    _RO,
     float64[:, ::1],
     int8[::1],
     float64[:, :, ::1],

@@ -7,17 +7,24 @@ that agreement between the two is evidence and not an echo.
 
 import numpy as np
 
-__all__ = ["smooth_min", "alpha_first", "alpha_reload", "sbmf_shear", "traction_update"]
+__all__ = [
+    "ln_smooth_min",
+    "smooth_min",
+    "alpha_first",
+    "alpha_reload",
+    "sbmf_shear",
+    "traction_update",
+]
 
 
-def smooth_min(x, n):
-    """``g(x) = tanh(x**n) ** (1/n)`` for ``x >= 0`` in logs; 0 where ``x <= 0``."""
-    x, n = np.broadcast_arrays(np.asarray(x, float), np.asarray(n, float))
-    out = np.zeros(x.shape)
-    pos = x > 0
-    xp, npos = x[pos], n[pos]
+def ln_smooth_min(lnx, n):
+    """``ln g`` of ``g(x) = tanh(x**n) ** (1/n)`` from ``ln x`` (any value, ``+-inf`` included).
+
+    In logs throughout, so that no under- or overflowing ``x`` or ``g`` is ever formed.
+    """
+    lnx, n = np.broadcast_arrays(np.asarray(lnx, float), np.asarray(n, float))
     with np.errstate(over="ignore", divide="ignore", invalid="ignore", under="ignore"):
-        lny = np.minimum(npos * np.log(xp), 700.0)
+        lny = np.minimum(n * lnx, 700.0)
         y = np.exp(lny)
         # ln tanh(y) = ln y + ln(tanh(y)/y); the last term by its series near 0
         small = y < 1e-3
@@ -27,27 +34,50 @@ def smooth_min(x, n):
             np.log(np.tanh(y) / np.where(small, 1.0, y)),
         )
         ln_tanh = np.where(y < 1.0, lny + ratio_log, np.log(np.tanh(y)))
-        out[pos] = np.exp(ln_tanh / npos)
+        return ln_tanh / n
+
+
+def _ln_x(p, C, H):
+    """``ln(p C / H)`` as a sum of logs (``p > 0``)."""
+    with np.errstate(divide="ignore"):
+        return np.log(p) + (np.log(C) - np.log(H))
+
+
+def smooth_min(x, n):
+    """``g(x) = tanh(x**n) ** (1/n)`` for ``x >= 0`` in logs; 0 where ``x <= 0``."""
+    x, n = np.broadcast_arrays(np.asarray(x, float), np.asarray(n, float))
+    out = np.zeros(x.shape)
+    pos = x > 0
+    with np.errstate(under="ignore"):
+        out[pos] = np.exp(ln_smooth_min(np.log(x[pos]), n[pos]))
     return out
 
 
 def alpha_first(p, C1, n1, H):
     """Eq. 24's contact ratio ``alpha1(p)``."""
-    return smooth_min(np.asarray(p, float) * C1 / H, n1)
+    p = np.asarray(p, float)
+    out = np.zeros(p.shape)
+    pos = p > 0
+    with np.errstate(under="ignore"):
+        out[pos] = np.exp(ln_smooth_min(_ln_x(p[pos], C1, H), n1))
+    return out
 
 
 def alpha_reload(p, p_hist, C1, n1, C2, n2, H, continuous=False):
-    """Eq. 25's contact ratio ``alpha2(p; p_hist)`` (optionally normalised at ``p_hist``)."""
+    """Eq. 25's contact ratio ``alpha2(p; p_hist)`` (optionally normalised at ``p_hist``).
+
+    The continuous variant, extrapolated to ``p > p_hist``, is capped at a contact ratio of 1.
+    """
     p, p_hist = np.broadcast_arrays(np.asarray(p, float), np.asarray(p_hist, float))
-    a1h = alpha_first(p_hist, C1, n1, H)
     out = np.zeros(p.shape)
-    ok = (p > 0) & (a1h > 0)
-    with np.errstate(over="ignore"):  # x2 = inf is a valid argument of smooth_min (g = 1)
-        x2 = p[ok] * C2 / (H * a1h[ok])
-        val = a1h[ok] * smooth_min(x2, n2)
-        if continuous:
-            val = val / smooth_min(p_hist[ok] * C2 / (H * a1h[ok]), n2)
-    out[ok] = val
+    ok = (p > 0) & (p_hist > 0)
+    ph = p_hist[ok]
+    ln_a1h = ln_smooth_min(_ln_x(ph, C1, H), n1)
+    ln_val = ln_a1h + ln_smooth_min(_ln_x(p[ok], C2, H) - ln_a1h, n2)
+    if continuous:
+        ln_val = ln_val - ln_smooth_min(_ln_x(ph, C2, H) - ln_a1h, n2)
+    with np.errstate(under="ignore"):
+        out[ok] = np.minimum(np.exp(ln_val), 1.0)
     return out
 
 
@@ -62,17 +92,29 @@ def sbmf_shear(p, p_hist, tau_max, C1, n1, C2, n2, H, continuous=False):
 def traction_update(tau, du, t_old, k_t):
     """Reference return map: returns ``(t_new, status)`` with 0 open, 1 stick, 2 slip.
 
-    ``tau`` is the shear limit per node (``nan`` marks an open node).
+    ``tau`` is the shear limit per node (``nan`` marks an open node). Stick needs
+    ``0 < |t_tr| <= tau``; ``|t_tr|`` by ``hypot``; a trial that overflows takes its direction
+    from ``t_old / s + (k_t / s) du``, ``s = max(k_t, |t_old|)``.
     """
     du = np.asarray(du, float)
     t_old = np.asarray(t_old, float)
-    t_tr = t_old + np.asarray(k_t, float)[:, None] * du
-    norm = np.linalg.norm(t_tr, axis=1)
+    k_t = np.asarray(k_t, float)
+    with np.errstate(over="ignore", invalid="ignore"):
+        t_tr = t_old + k_t[:, None] * du
+    over = ~np.isfinite(t_tr).all(axis=1)
+    w = t_tr.copy()
+    s = np.maximum(k_t, np.abs(t_old).max(axis=1))[over][:, None]
+    w[over] = t_old[over] / s + (k_t[over][:, None] / s) * du[over]
+    big = np.abs(w).max(axis=1)  # |t_tr| = big * unit, hypot of the row scaled by its largest
+    unit = np.hypot.reduce(np.abs(w) / np.where(big > 0, big, 1.0)[:, None], axis=1)
     open_ = np.isnan(tau)
-    stick = ~open_ & (norm <= np.nan_to_num(tau))
+    tau0 = np.nan_to_num(tau)
+    with np.errstate(divide="ignore"):
+        stick = ~open_ & ~over & (big <= tau0 / np.where(unit > 0, unit, 1.0)) & (tau0 > 0)
     slip = ~open_ & ~stick
     t_new = np.zeros_like(t_tr)
     t_new[stick] = t_tr[stick]
-    t_new[slip] = t_tr[slip] * (tau[slip] / norm[slip])[:, None]
+    turn = slip & (big > 0)
+    t_new[turn] = w[turn] / big[turn][:, None] / unit[turn][:, None] * tau0[turn][:, None]
     status = np.where(open_, 0, np.where(stick, 1, 2))
     return t_new, status

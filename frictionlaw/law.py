@@ -35,8 +35,17 @@ PARALLEL_THRESHOLD = 50_000
 
 
 def as_float_array(name, value):
-    """``value`` as a float64 array; ``ValueError`` naming ``name`` if it holds NaN."""
-    arr = np.asarray(value, dtype=np.float64)
+    """``value`` as a float64 array; ``ValueError`` naming ``name`` if it holds NaN.
+
+    Only integer and floating-point input is accepted: complex numbers, strings, bytes,
+    booleans, dates and objects are refused rather than converted.
+    """
+    arr = np.asarray(value)
+    if arr.dtype.kind not in "iuf":
+        raise ValueError(
+            f"{name} must be real numbers (integers or floats), got an array of dtype {arr.dtype}"
+        )
+    arr = arr.astype(np.float64, copy=False)
     if np.isnan(arr).any():
         raise ValueError(f"{name} must not contain NaN")
     return arr
@@ -69,6 +78,7 @@ def evaluate(code, coeffs, p, p_hist=0.0, *, parallel=None):
         raise ValueError("p_hist must be >= 0 (the largest pressure the node has carried)")
     scalar = p.ndim == 0 and p_hist.ndim == 0
     pb, hb = np.broadcast_arrays(p, p_hist)
+    pb.flags.writeable = hb.flags.writeable = False  # read-only views (the kernels only read)
     shape = pb.shape
     pf = np.ascontiguousarray(pb).reshape(-1)
     hf = np.ascontiguousarray(hb).reshape(-1)
@@ -101,7 +111,8 @@ def alpha_reload(p, p_hist, params):
 
     Evaluated on the reload branch whatever ``p`` is. With
     ``params.continuous_reload`` it is divided by its value at ``p = p_hist``,
-    so that it equals ``alpha1(p_hist)`` there. ``alpha1(p_hist) -> 0`` gives 0.
+    so that it equals ``alpha1(p_hist)`` there; extrapolated to ``p > p_hist`` that form
+    would exceed 1, and it is capped at a contact ratio of 1. ``alpha1(p_hist) -> 0`` gives 0.
     """
     return evaluate(K.CODE_SBMF_RELOAD, sbmf_coeffs(params, 1.0), p, p_hist)[0]
 

@@ -31,6 +31,10 @@ __all__ = [
     "FORMAT_VERSION",
     "K_T_FORMAT_VERSION",
     "check_range",
+    "N_RANGE",
+    "C_RANGE",
+    "STRESS_RANGE",
+    "K_RANGE",
 ]
 
 FORMAT_NAME = "sbmf-friction-params"
@@ -48,14 +52,28 @@ _UNITS = {
     "geo_ratio": "1",
 }
 
-_N_MAX = 1e6
+#: Validated ranges. Physical values sit far inside them (n ~ 0.2-50, C ~ 0.1-100,
+#: H, sigma_y ~ 1e7-1e10 Pa); within them the law is finite for any pressure and history
+#: (``n -> 0`` or ``C1 / C2 -> inf`` would make the continuous reload branch's slope
+#: overflow a double, a stress below 1 kPa or above 10 TPa describes no solid).
+N_RANGE = (1e-3, 1e6)
+C_RANGE = (1e-6, 1e6)
+STRESS_RANGE = (1e3, 1e13)
+K_RANGE = (1e2, 1e13)
+_RANGE_NOTE = (
+    " (the validated range: physical values lie well inside it, and within it the law stays "
+    "finite for every pressure and history)"
+)
 
 #: version of the optional ``tangential_stiffness`` object inside a version-1 parameter file
 K_T_FORMAT_VERSION = 1
 
 
-def check_range(name, value, lo, hi, *, lo_open=False, hi_open=False):
-    """Return ``float(value)`` or raise ``ValueError`` naming ``name`` and the allowed range."""
+def check_range(name, value, lo, hi, *, lo_open=False, hi_open=False, note=""):
+    """Return ``float(value)`` or raise ``ValueError`` naming ``name`` and the allowed range.
+
+    ``note`` (e.g. why the range is what it is) is appended to the message.
+    """
     lb = "(" if lo_open else "["
     rb = ")" if hi_open else "]"
     rng = f"{lb}{lo:g}, {hi:g}{rb}"
@@ -66,7 +84,7 @@ def check_range(name, value, lo, hi, *, lo_open=False, hi_open=False):
     ok = math.isfinite(v) or (math.isinf(hi) and v == hi and not hi_open)
     ok = ok and (v > lo if lo_open else v >= lo) and (v < hi if hi_open else v <= hi)
     if not ok:
-        raise ValueError(f"{name} must be in {rng}, got {value!r}")
+        raise ValueError(f"{name} must be in {rng}, got {value!r}{note}")
     return v
 
 
@@ -175,17 +193,18 @@ class FrictionParams:
     m : float
         Tresca friction factor in ``[0, 1]``.
     sigma_y : float
-        Yield stress of the softer body in Pa, ``> 0``.
+        Yield stress of the softer body in Pa, in ``[1e3, 1e13]``.
     H : float
-        Hardness in Pa, ``> 0``.
+        Hardness in Pa, in ``[1e3, 1e13]``.
     C1, n1 : float
-        Eq. 24 parameters, ``C1 > 0``, ``0 < n1 <= 1e6``.
+        Eq. 24 parameters, ``C1`` in ``[1e-6, 1e6]``, ``n1`` in ``[1e-3, 1e6]``.
     C2, n2 : float
-        Eq. 25 parameters, ``C2 > 0``, ``0 < n2 <= 1e6``.
+        Eq. 25 parameters, same ranges as ``C1``, ``n1``.
     k : float, optional
-        Shear flow stress in Pa (the law's ``k``); defaults to ``sigma_y / 2`` as in the paper.
-        Given explicitly, ``k / sigma_y`` must lie in ``[1/2, 2/3]`` (Tresca to twin shear,
-        von Mises ``1/sqrt(3)`` inside), else ``ValueError`` naming both values.
+        Shear flow stress in Pa (the law's ``k``), in ``[1e2, 1e13]``; defaults to
+        ``sigma_y / 2`` as in the paper. Given explicitly, ``k / sigma_y`` must lie in
+        ``[1/2, 2/3]`` (Tresca to twin shear, von Mises ``1/sqrt(3)`` inside), else
+        ``ValueError`` naming both values.
     continuous_reload : bool
         Use the normalised Eq. 25 that equals Eq. 24 at ``p = p_hist``
         (see :func:`frictionlaw.reload_jump`). Default ``False`` (the paper's form).
@@ -222,20 +241,12 @@ class FrictionParams:
     def __post_init__(self):
         set_ = object.__setattr__
         set_(self, "m", check_range("m", self.m, 0.0, 1.0))
-        set_(
-            self,
-            "sigma_y",
-            check_range("sigma_y", self.sigma_y, 0.0, math.inf, lo_open=True, hi_open=True),
-        )
-        set_(self, "H", check_range("H", self.H, 0.0, math.inf, lo_open=True, hi_open=True))
-        for c in ("C1", "C2"):
-            set_(
-                self, c, check_range(c, getattr(self, c), 0.0, math.inf, lo_open=True, hi_open=True)
-            )
-        for n in ("n1", "n2"):
-            set_(self, n, check_range(n, getattr(self, n), 0.0, _N_MAX, lo_open=True))
+        for name, rng in (("sigma_y", STRESS_RANGE), ("H", STRESS_RANGE)):
+            set_(self, name, check_range(name, getattr(self, name), *rng, note=_RANGE_NOTE))
+        for name, rng in (("C1", C_RANGE), ("C2", C_RANGE), ("n1", N_RANGE), ("n2", N_RANGE)):
+            set_(self, name, check_range(name, getattr(self, name), *rng, note=_RANGE_NOTE))
         k = self.sigma_y / 2.0 if self.k is None else self.k
-        set_(self, "k", check_range("k", k, 0.0, math.inf, lo_open=True, hi_open=True))
+        set_(self, "k", check_range("k", k, *K_RANGE, note=_RANGE_NOTE))
         check_k_against_sigma_y(self.k, self.sigma_y)
         if not isinstance(self.continuous_reload, (bool, np.bool_)):
             raise ValueError(
@@ -303,11 +314,15 @@ class FrictionParams:
             raise ValueError(
                 f"{source}: 'format' must be {FORMAT_NAME!r}, got {doc.get('format')!r}"
             )
-        if doc.get("version") != FORMAT_VERSION:
+        version = doc.get("version")
+        if type(version) is not int or version != FORMAT_VERSION:  # not 1.0, not true
             raise ValueError(
-                f"{source}: unsupported version {doc.get('version')!r}; this runtime reads version "
-                f"{FORMAT_VERSION}"
+                f"{source}: unsupported version {version!r}; this runtime reads version "
+                f"{FORMAT_VERSION} (an integer)"
             )
+        for key in ("units", "options", "provenance"):
+            if not isinstance(doc.get(key, {}), dict):
+                raise ValueError(f"{source}: {key!r} must be a JSON object, got {doc[key]!r}")
         units = doc.get("units", {})
         for key, unit in _UNITS.items():
             if key in units and units[key] != unit:
@@ -324,17 +339,22 @@ class FrictionParams:
         if unknown:
             raise ValueError(f"{source}: unknown parameters {sorted(unknown)}")
         opts = doc.get("options", {})
-        return cls(
-            **par,
-            continuous_reload=opts.get("continuous_reload", False),
-            p_range=_read_range(doc.get("calibrated_range"), source),
-            k_t=(
-                None
-                if doc.get("tangential_stiffness") is None
-                else TangentialStiffness.from_dict(doc["tangential_stiffness"], source=source)
-            ),
-            provenance=doc.get("provenance", {}),
-        )
+        unknown = set(opts) - {"continuous_reload"}
+        if unknown:
+            raise ValueError(f"{source}: unknown options {sorted(unknown)}")
+        p_range = _read_range(doc.get("calibrated_range"), source)
+        k_doc = doc.get("tangential_stiffness")
+        k_t = None if k_doc is None else TangentialStiffness.from_dict(k_doc, source=source)
+        try:
+            return cls(
+                **par,
+                continuous_reload=opts.get("continuous_reload", False),
+                p_range=p_range,
+                k_t=k_t,
+                provenance=doc.get("provenance", {}),
+            )
+        except ValueError as exc:
+            raise ValueError(f"{source}: {exc}") from None
 
     @classmethod
     def from_json(cls, path):
@@ -344,6 +364,10 @@ class FrictionParams:
             doc = json.loads(path.read_text(encoding="utf-8"))
         except json.JSONDecodeError as exc:
             raise ValueError(f"{path}: not valid JSON ({exc})") from None
+        except UnicodeDecodeError as exc:
+            raise ValueError(f"{path}: not a UTF-8 text file ({exc})") from None
+        except RecursionError:
+            raise ValueError(f"{path}: JSON nested too deeply to be a parameter file") from None
         return cls.from_dict(doc, source=str(path))
 
 

@@ -23,20 +23,22 @@ class HistoryState:
 
     Parameters
     ----------
-    n_nodes : int
-        Number of nodes (``>= 0``).
+    n_nodes : int, optional
+        Number of nodes (an integer ``>= 0``); 0 by default, or the size of ``p_hist``
+        (which it must then equal).
     p_hist : array_like, optional
-        Initial committed history (``>= 0``, no NaN); zeros by default.
+        Initial committed history (finite, ``>= 0``); zeros by default.
     """
 
-    def __init__(self, n_nodes=0, p_hist=None):
+    def __init__(self, n_nodes=None, p_hist=None):
         if p_hist is None:
-            n = int(n_nodes)
-            if n < 0:
-                raise ValueError(f"n_nodes must be >= 0, got {n_nodes!r}")
-            committed = np.zeros(n)
+            committed = np.zeros(_count("n_nodes", 0 if n_nodes is None else n_nodes))
         else:
             committed = _check_hist(p_hist).copy()
+            if n_nodes is not None and _count("n_nodes", n_nodes) != committed.size:
+                raise ValueError(
+                    f"n_nodes = {n_nodes!r} disagrees with p_hist of {committed.size} nodes"
+                )
         self._committed = committed
         self._trial = committed.copy()
 
@@ -75,6 +77,8 @@ class HistoryState:
         p = as_float_array("p", p)
         if p.shape != self._committed.shape:
             raise ValueError(f"p must have shape {self._committed.shape}, got {p.shape}")
+        if not np.isfinite(p).all():
+            raise ValueError("p must be finite")
         np.maximum(self._committed, np.where(p > 0, p, 0.0), out=self._trial)
 
     def commit(self):
@@ -87,9 +91,7 @@ class HistoryState:
 
     def resize(self, n_nodes):
         """Grow (new nodes get ``p_hist = 0``) or shrink to ``n_nodes`` nodes."""
-        n = int(n_nodes)
-        if n < 0:
-            raise ValueError(f"n_nodes must be >= 0, got {n_nodes!r}")
+        n = _count("n_nodes", n_nodes)
         old = self.n_nodes
         for name in ("_committed", "_trial"):
             arr = getattr(self, name)
@@ -99,9 +101,7 @@ class HistoryState:
 
     def grow(self, n_new):
         """Append ``n_new`` nodes (new contact) with ``p_hist = 0``; returns their indices."""
-        n_new = int(n_new)
-        if n_new < 0:
-            raise ValueError(f"n_new must be >= 0, got {n_new!r}")
+        n_new = _count("n_new", n_new)
         start = self.n_nodes
         self.resize(start + n_new)
         return np.arange(start, start + n_new)
@@ -139,27 +139,56 @@ class HistoryState:
 
     @classmethod
     def load(cls, path):
-        """Read a restart file written by :meth:`save`."""
+        """Read a restart file written by :meth:`save`.
+
+        Raises ``ValueError`` naming ``path`` for anything but such a file: unreadable,
+        truncated or damaged archives, missing fields, a format, version (an integer) or
+        ``p_hist`` (finite, ``>= 0``, 1-D) that is not what :meth:`save` writes.
+        """
         try:
-            with np.load(path, allow_pickle=False) as data:
-                fmt = str(data["format"])
-                ver = int(data["version"])
-                p_hist = np.array(data["p_hist"], dtype=np.float64)
-        except (KeyError, ValueError, OSError) as exc:
+            with open(path, "rb") as fh, np.load(fh, allow_pickle=False) as data:
+                missing = [k for k in ("format", "version", "p_hist") if k not in data.files]
+                if missing:
+                    raise ValueError(f"{path}: not a friction restart file (missing {missing})")
+                fmt, ver, p_hist = data["format"], data["version"], data["p_hist"]
+        except ValueError as exc:
+            if str(exc).startswith(f"{path}:"):
+                raise
             raise ValueError(f"{path}: not a friction restart file ({exc})") from None
-        if fmt != _RESTART_FORMAT:
-            raise ValueError(f"{path}: format {fmt!r} is not {_RESTART_FORMAT!r}")
-        if ver != _RESTART_VERSION:
+        except Exception as exc:  # zip, zlib, EOF, OS and header errors alike
             raise ValueError(
-                f"{path}: unsupported restart version {ver}, expected {_RESTART_VERSION}"
+                f"{path}: not a friction restart file or a damaged one "
+                f"({type(exc).__name__}: {exc})"
+            ) from None
+        if fmt.shape != () or fmt.dtype.kind != "U" or str(fmt) != _RESTART_FORMAT:
+            raise ValueError(f"{path}: format {fmt!r} is not {_RESTART_FORMAT!r}")
+        if ver.shape != () or ver.dtype.kind not in "iu":
+            raise ValueError(f"{path}: version must be an integer, got {ver!r}")
+        if int(ver) != _RESTART_VERSION:
+            raise ValueError(
+                f"{path}: unsupported restart version {int(ver)}, expected {_RESTART_VERSION}"
             )
-        return cls(p_hist=p_hist)
+        try:
+            return cls(p_hist=p_hist)
+        except ValueError as exc:
+            raise ValueError(f"{path}: {exc}") from None
+
+
+def _count(name, value):
+    """A node count: an integer (not a bool, not a float) ``>= 0``."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise ValueError(f"{name} must be an integer >= 0, got {value!r}")
+    if value < 0:
+        raise ValueError(f"{name} must be >= 0, got {value!r}")
+    return int(value)
 
 
 def _check_hist(p_hist):
     arr = as_float_array("p_hist", p_hist)
     if arr.ndim != 1:
         raise ValueError(f"p_hist must be 1-D, got shape {arr.shape}")
+    if not np.isfinite(arr).all():
+        raise ValueError("p_hist must be finite")
     if (arr < 0).any():
         raise ValueError("p_hist must be >= 0")
     return arr

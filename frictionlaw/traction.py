@@ -15,6 +15,7 @@ from .law import PARALLEL_THRESHOLD, as_float_array, kernels
 __all__ = ["TractionResult", "traction_update", "traction_update_force", "OPEN", "STICK", "SLIP"]
 
 OPEN, STICK, SLIP = K.STATUS_OPEN, K.STATUS_STICK, K.STATUS_SLIP
+_P_MAX = np.finfo(np.float64).max
 
 
 class TractionResult(NamedTuple):
@@ -23,13 +24,14 @@ class TractionResult(NamedTuple):
     Attributes
     ----------
     traction : ndarray, shape (n, d)
-        New tangential traction (Pa) or force (N, force adapter).
+        New tangential traction (Pa); force (N) from the force adapter.
     status : ndarray of int8, shape (n,)
         0 open, 1 stick, 2 slip.
     dt_dslip : ndarray, shape (n, d, d)
-        Consistent tangent ``d traction / d slip_increment``.
+        Consistent tangent ``d traction / d slip_increment`` (Pa/m); ``d force / d slip``
+        (N/m) from the force adapter.
     dt_dp : ndarray, shape (n, d)
-        ``d traction / d p`` (force adapter: ``d force / d f_n``).
+        ``d traction / d p`` (1); ``d force / d f_n`` (1) from the force adapter.
     """
 
     traction: np.ndarray
@@ -59,7 +61,7 @@ def traction_update(
     law : Coulomb, Tresca, CoulombCap or SBMFLaw
         The friction law.
     p : array_like, shape (n,)
-        Contact pressure (Pa); ``p <= 0`` is an open node (zero traction).
+        Contact pressure (Pa), finite; ``p <= 0`` is an open node (zero traction).
     slip_increment : array_like, shape (n,), (n, 1) or (n, 2)
         Relative tangential displacement increment (m), 1 or 2 directions.
     traction_old : array_like, same shape as ``slip_increment``
@@ -85,13 +87,18 @@ def traction_update(
     p = as_float_array("p", p)
     if p.ndim != 1:
         raise ValueError(f"p must be 1-D (one value per node), got shape {p.shape}")
+    if not np.isfinite(p).all():
+        raise ValueError("p must be finite (it becomes the node's trial p_hist)")
     n = p.size
     squeeze = np.ndim(slip_increment) == 1
     du = _as_2d("slip_increment", slip_increment, n)
     t_old = _as_2d("traction_old", traction_old, n)
     if t_old.shape != du.shape:
         raise ValueError("traction_old must have the shape of slip_increment")
-    kt = np.array(np.broadcast_to(as_float_array("k_t", k_t), (n,)), dtype=np.float64)
+    kt = as_float_array("k_t", k_t)
+    if kt.shape not in ((), (1,), (n,)):
+        raise ValueError(f"k_t must be a scalar or have shape ({n},), got shape {kt.shape}")
+    kt = np.array(np.broadcast_to(kt, (n,)), dtype=np.float64)
     if not (np.isfinite(kt).all() and (kt > 0).all()):
         raise ValueError("k_t must be finite and > 0")
     if getattr(law, "uses_history", False) and state is not None:
@@ -162,22 +169,62 @@ def _out_views(out, n, d, squeeze):
     return views
 
 
-def traction_update_force(law, f_n, area, slip_increment, force_old, k_force, state=None, **kw):
+def traction_update_force(
+    law, f_n, area, slip_increment, force_old, k_force, state=None, *, parallel=None, out=None
+):
     """Force-based adapter (Abaqus/Explicit VFRIC style): forces and nodal areas in, forces out.
 
-    ``p = f_n / area``, ``t_old = force_old / area`` and ``k_t = k_force / area``
-    (``k_force`` in N/m); the returned ``traction`` is the new tangential force
-    (N), ``dt_dslip`` is ``d force / d slip`` (N/m) and ``dt_dp`` is
-    ``d force / d f_n``.
+    ``p = f_n / area``, ``t_old = force_old / area`` and ``k_t = k_force / area``, then
+    :func:`traction_update`. A pressure that overflows a double is taken as the largest
+    double (where every law but Coulomb's is at its cap).
+
+    Parameters
+    ----------
+    f_n : array_like, shape (n,)
+        Normal contact force per node (N); ``<= 0`` is open.
+    area : float or array_like, shape (n,)
+        Nodal contact area (m^2), ``> 0``.
+    slip_increment : array_like, shape (n,), (n, 1) or (n, 2)
+        Tangential slip increment (m).
+    force_old : array_like, same shape as ``slip_increment``
+        Tangential force of the last accepted increment (N).
+    k_force : float or array_like, shape (n,)
+        Tangential penalty stiffness (N/m), ``> 0``.
+    state, parallel : optional
+        As in :func:`traction_update`.
+    out : TractionResult, optional
+        As in :func:`traction_update`: filled with this function's outputs (the forces
+        below) and returned.
+
+    Returns
+    -------
+    TractionResult
+        ``traction``: new tangential force (N); ``status``; ``dt_dslip``:
+        ``d force / d slip`` (N/m); ``dt_dp``: ``d force / d f_n`` (1).
     """
+    f_n = as_float_array("f_n", f_n)
+    if f_n.ndim != 1:
+        raise ValueError(f"f_n must be 1-D (one value per node), got shape {f_n.shape}")
+    n = f_n.size
     area = as_float_array("area", area)
+    if area.shape not in ((), (n,)):
+        raise ValueError(f"area must be a scalar or have shape ({n},), got shape {area.shape}")
     if not (np.isfinite(area).all() and (area > 0).all()):
         raise ValueError("area must be finite and > 0")
-    f_n = as_float_array("f_n", f_n)
-    p = f_n / area
-    a2 = area[:, None] if np.ndim(slip_increment) == 2 else area
-    t_old = as_float_array("force_old", force_old) / a2
-    k_t = as_float_array("k_force", k_force) / area
-    res = traction_update(law, p, slip_increment, t_old, k_t, state, **kw)
+    area = np.broadcast_to(area, (n,))
+    force_old = as_float_array("force_old", force_old)
+    a_old = area[:, None] if force_old.ndim == 2 else area
+    with np.errstate(over="ignore"):
+        p = np.minimum(f_n / area, _P_MAX)  # the largest double where it overflows
+        t_old = force_old / a_old
+        k_t = as_float_array("k_force", k_force) / area
+    if not np.isfinite(t_old).all():
+        raise ValueError("force_old / area must be finite (force_old must be finite)")
+    if not np.isfinite(k_t).all():
+        raise ValueError("k_force / area must be finite (k_force must be finite and > 0)")
+    res = traction_update(law, p, slip_increment, t_old, k_t, state, parallel=parallel, out=out)
+    a2 = area[:, None] if res.traction.ndim == 2 else area
     a3 = area[:, None, None] if res.dt_dslip.ndim == 3 else area
-    return TractionResult(res.traction * a2, res.status, res.dt_dslip * a3, res.dt_dp)
+    np.multiply(res.traction, a2, out=res.traction)
+    np.multiply(res.dt_dslip, a3, out=res.dt_dslip)
+    return res

@@ -433,6 +433,16 @@ class Calibration:
     seconds: float
     effects: dict = field(default_factory=dict)
 
+    @property
+    def degenerate(self):
+        """``""`` when both fits are usable, else why not (see ``FitResult.degenerate``)."""
+        parts = [
+            f"{name}: {fit.degenerate}"
+            for name, fit in (("first loading", self.first), ("reload", self.reload))
+            if fit.degenerate
+        ]
+        return "; ".join(parts)
+
     def summary(self):
         """JSON-ready summary (also stored in the parameter file's provenance)."""
         P = self.params
@@ -448,6 +458,10 @@ class Calibration:
             "tau_max": P.tau_max,
             "first_loading_r2": self.first.r_squared,
             "reload_r2": self.reload.r_squared,
+            "fit_degenerate": {
+                "first_loading": self.first.degenerate,
+                "reload": self.reload.degenerate,
+            },
             "max_jump_relative": float(np.max(self.reload.jump_relative))
             if self.reload.jump.size
             else 0.0,

@@ -25,10 +25,12 @@ from scipy.optimize import least_squares
 
 import frictionlaw
 from frictionlaw import FrictionParams, alpha_first, alpha_reload, reload_jump
+from frictionlaw.params import C_RANGE, N_RANGE
 
 __all__ = [
     "C_BOUNDS",
     "N_BOUNDS",
+    "R2_MIN",
     "FitResult",
     "FirstLoadingFit",
     "ReloadFit",
@@ -42,6 +44,9 @@ __all__ = [
 C_BOUNDS = (1e-3, 1e3)
 #: default bounds of n1, n2: from a very round to a sharp corner of the smooth minimum
 N_BOUNDS = (0.2, 50.0)
+#: a fit whose R^2 is below this is degenerate: the law explains less than 90 % of the variance
+#: of alpha (calibrations reach 0.99-0.9998; constant data give 0, decreasing data < 0)
+R2_MIN = 0.9
 
 _N_GRID = (0.5, 1.0, 2.0, 4.0, 8.0, 16.0)
 _C_GRID = tuple(np.geomspace(0.25, 4.0, 9))
@@ -74,6 +79,9 @@ class FitResult:
         Parameters that ended on a bound.
     H : float
         Hardness used (Pa).
+    degenerate : str
+        ``""`` when the fit is usable, else why not: a parameter ended on its bound (the data
+        do not fix it), or ``R^2 < R2_MIN`` (the law explains too little of the data).
     """
 
     params: dict
@@ -86,11 +94,12 @@ class FitResult:
     nfev: int
     at_bound: tuple
     H: float
+    degenerate: str
 
     @property
     def converged(self):
-        """Alias of :attr:`success`."""
-        return self.success
+        """The optimiser converged and the fit is not degenerate."""
+        return self.success and not self.degenerate
 
     def summary(self):
         """JSON-ready dict of the fit quality (for the provenance)."""
@@ -102,6 +111,8 @@ class FitResult:
             "max_abs_residual": float(np.max(np.abs(self.residuals))),
             "n_points": int(self.residuals.size),
             "success": self.success,
+            "degenerate": self.degenerate,
+            "converged": self.converged,
             "message": self.message,
             "nfev": self.nfev,
             "at_bound": list(self.at_bound),
@@ -199,13 +210,19 @@ def _positive(name, v):
     return f
 
 
-def _bounds(name, b):
+def _bounds(name, b, allowed):
+    """``(lo, hi)`` with ``0 < lo < hi``, inside ``allowed`` (FrictionParams' validated range)."""
     try:
         lo, hi = (float(x) for x in b)
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be a pair (lo, hi) with 0 < lo < hi, got {b!r}") from None
     if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo < hi):
         raise ValueError(f"{name} must be a pair (lo, hi) with 0 < lo < hi < inf, got {b!r}")
+    if lo < allowed[0] or hi > allowed[1]:
+        raise ValueError(
+            f"{name} must lie within [{allowed[0]:g}, {allowed[1]:g}] (the law's validated "
+            f"range), got {b!r}"
+        )
     return lo, hi
 
 
@@ -260,9 +277,9 @@ def _curve(i, c):
 
 
 def _law(H, C1, n1, C2=1.0, n2=1.0, continuous=False):
-    """A FrictionParams for evaluating alpha (``m``, ``sigma_y`` do not enter alpha)."""
+    """A FrictionParams for evaluating alpha (``m``, ``sigma_y``, ``k`` do not enter alpha)."""
     return FrictionParams(
-        m=1.0, sigma_y=2.0, H=H, C1=C1, n1=n1, C2=C2, n2=n2, continuous_reload=continuous
+        m=1.0, sigma_y=H, H=H, C1=C1, n1=n1, C2=C2, n2=n2, continuous_reload=continuous
     )
 
 
@@ -349,18 +366,35 @@ def _fit_c_n(model, p, alpha, w, H, cb, nb, names):
     lb, ub = np.array([cb[0], nb[0]]), np.array([cb[1], nb[1]])
     params, stderr, sol, at, msg = _solve(residual, start, lb, ub, names)
     res = model(params[names[0]], params[names[1]]) - alpha
+    r2 = _r_squared(res, alpha)
     return dict(
         params=params,
         stderr=stderr,
         residuals=res,
-        r_squared=_r_squared(res, alpha),
+        r_squared=r2,
         rmse=float(np.sqrt(np.mean(res**2))),
         success=bool(sol.success),
         message=msg,
         nfev=int(sol.nfev),
         at_bound=at,
         H=H,
+        degenerate=_degenerate(params, at, lb, ub, r2, alpha),
     )
+
+
+def _degenerate(params, at_bound, lb, ub, r2, alpha):
+    """Why a fit is not usable (``""`` if it is): parameters on a bound, ``R^2 < R2_MIN``."""
+    why = []
+    for i, (name, value) in enumerate(params.items()):
+        if name in at_bound:
+            bound = lb[i] if abs(value - lb[i]) <= abs(value - ub[i]) else ub[i]
+            why.append(f"{name} ended on its bound {bound:g}")
+    if not r2 >= R2_MIN:
+        if np.ptp(alpha) == 0:
+            why.append(f"R^2 = {r2:.3g} < {R2_MIN}: alpha is constant, there is nothing to fit")
+        else:
+            why.append(f"R^2 = {r2:.3g} < {R2_MIN}: the model explains too little of the data")
+    return "; ".join(why)
 
 
 def fit_first_loading(p, alpha, H, *, relative=False, C_bounds=C_BOUNDS, n_bounds=N_BOUNDS):
@@ -393,7 +427,7 @@ def fit_first_loading(p, alpha, H, *, relative=False, C_bounds=C_BOUNDS, n_bound
     """
     p, alpha = _data(p, alpha)
     H = _positive("H", H)
-    cb, nb = _bounds("C_bounds", C_bounds), _bounds("n_bounds", n_bounds)
+    cb, nb = _bounds("C_bounds", C_bounds, C_RANGE), _bounds("n_bounds", n_bounds, N_RANGE)
     if p.size < 3:
         raise ValueError(f"p needs at least 3 points to fit C1 and n1, got {p.size}")
     w = _weights(alpha, relative)
@@ -443,7 +477,7 @@ def fit_reload(
     cs = [_curve(i, c) for i, c in enumerate(curves)]
     H = _positive("H", H)
     C1, n1 = _positive("C1", C1), _positive("n1", n1)
-    cb, nb = _bounds("C_bounds", C_bounds), _bounds("n_bounds", n_bounds)
+    cb, nb = _bounds("C_bounds", C_bounds, C_RANGE), _bounds("n_bounds", n_bounds, N_RANGE)
     p = np.concatenate([c.p for c in cs])
     ph = np.concatenate([np.full(c.p.size, c.p_hist) for c in cs])
     alpha = np.concatenate([c.alpha for c in cs])
@@ -459,7 +493,7 @@ def fit_reload(
     params = fit["params"]
     p_hist = np.array([c.p_hist for c in cs])
     law = _law(H, C1, n1, params["C2"], params["n2"], cont)
-    jump = np.atleast_1d(reload_jump(law, p_hist))  # m k = 1 here: the jump in alpha
+    jump = np.atleast_1d(reload_jump(law, p_hist)) / law.tau_max  # the jump in alpha
     return ReloadFit(
         **fit,
         C1=C1,

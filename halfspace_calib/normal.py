@@ -257,7 +257,10 @@ def project_box_sum(y, target, H=None):
     piecewise linear equation ``sum(clip(y + lam, 0, H)) = target``, found by safeguarded
     Newton steps (exact once the free set stops changing) inside a bisection bracket.
     """
+    # shift by the largest element so that a tiny target next to large y is not lost to
+    # cancellation in y + lam (the projection only moves with lam)
     y = np.asarray(y, dtype=float)
+    y = y - y.max()
     n = y.size
     upper = np.inf if H is None else H
     if H is not None and not target < n * H:
@@ -274,8 +277,14 @@ def project_box_sum(y, target, H=None):
             lo = lam
         else:
             hi = lam
-        slope = np.count_nonzero((z > 0) & (z < upper))
-        step = lam + (target - S) / slope if slope else np.inf
+        free = (z > 0) & (z < upper)
+        slope = np.count_nonzero(free)
+        # the root on the current piece, formed without lam - lam cancellation
+        n_cap = np.count_nonzero(z >= upper)
+        at_cap = n_cap * upper if n_cap else 0.0
+        step = (target - at_cap - float(y[free].sum())) / slope if slope else np.inf
+        if step == lam:
+            break  # the root of this piece is lam itself: exact up to rounding
         lam = step if lo < step < hi else 0.5 * (lo + hi)
         if hi - lo <= 1e-15 * max(abs(lo), abs(hi), 1e-300):
             break
@@ -548,6 +557,13 @@ def _finish(h, p, u, g, nit, converged, res, tol, p_mean, H, periodic, vc, dA):
                 f" (the valleys hold only {100 * (1 - rest / removed):.1f} % of the removed "
                 "volume: the rest raises the whole surface evenly)"
             )
+    load_error = abs(float(p.mean()) - p_mean) / p_mean
+    if converged and not load_error <= tol:
+        converged = False
+        note += (
+            f"; the load is not carried: mean(p) = {float(p.mean()):.6g} Pa for p_mean = "
+            f"{p_mean:.6g} Pa (relative error {load_error:.1e} > tol {tol:.1e})"
+        )
     if converged:
         msg = f"converged in {nit} iterations, residual {res:.2e} < tol {tol:.1e}{note}"
     else:

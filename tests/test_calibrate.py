@@ -175,3 +175,18 @@ def test_importing_the_main_module_runs_nothing(tmp_path, monkeypatch):
     sys.modules.pop("halfspace_calib.__main__", None)
     importlib.import_module("halfspace_calib.__main__")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_degenerate_fits_are_reported_by_the_calibration(cal):
+    import dataclasses
+
+    from halfspace_calib import fit as F
+
+    assert cal.degenerate == ""
+    s = cal.summary()
+    assert s["fit_degenerate"] == {"first_loading": "", "reload": ""}
+    p, _ = cal.sweeps.loading
+    flat = F.fit_first_loading(p, np.full(p.size, 0.2), cal.scene.H)
+    bad = dataclasses.replace(cal, first=flat)
+    assert bad.degenerate.startswith("first loading: ") and "R^2 = 0 < 0.9" in bad.degenerate
+    assert bad.summary()["fit_degenerate"]["first_loading"] == flat.degenerate
