@@ -40,6 +40,7 @@ HISTORY_UNITS = {
     "n_reload_eq25": "1",
     "nit": "1",
     "cutbacks": "1",
+    "partial": "1",
     "min_quality": "1",
     "remeshed": "1",
     "inner_diameter_change": "1",

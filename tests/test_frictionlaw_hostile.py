@@ -155,19 +155,28 @@ def _log_uniform(lo, hi):
     return st.one_of(st.sampled_from([lo, hi]), inner)
 
 
-PARAMS = st.builds(
-    fl.FrictionParams,
-    m=st.one_of(st.sampled_from([0.0, 1.0]), st.floats(0.0, 1.0)),
-    sigma_y=_log_uniform(*STRESS_RANGE),
-    H=_log_uniform(*STRESS_RANGE),
-    C1=_log_uniform(*C_RANGE),
-    n1=_log_uniform(*N_RANGE),
-    C2=_log_uniform(*C_RANGE),
-    n2=_log_uniform(*N_RANGE),
-    k=st.one_of(st.none(), _log_uniform(*K_RANGE)),
-    continuous_reload=st.booleans(),
-    geo_ratio=st.one_of(st.sampled_from([0.0, 10.0]), st.floats(0.0, 10.0)),
-)
+@st.composite
+def _params(draw):
+    """A FrictionParams anywhere in the validated range; an explicit ``k`` lies in the
+    ``k / sigma_y`` band [1/2, 2/3] (which keeps it inside K_RANGE for every sigma_y)."""
+    sigma_y = draw(_log_uniform(*STRESS_RANGE))
+    ratio = draw(st.one_of(st.none(), st.sampled_from([0.5, 2.0 / 3.0]), st.floats(0.5, 2 / 3)))
+    k = None if ratio is None else min(max(ratio * sigma_y, K_RANGE[0]), K_RANGE[1])
+    return fl.FrictionParams(
+        m=draw(st.one_of(st.sampled_from([0.0, 1.0]), st.floats(0.0, 1.0))),
+        sigma_y=sigma_y,
+        H=draw(_log_uniform(*STRESS_RANGE)),
+        C1=draw(_log_uniform(*C_RANGE)),
+        n1=draw(_log_uniform(*N_RANGE)),
+        C2=draw(_log_uniform(*C_RANGE)),
+        n2=draw(_log_uniform(*N_RANGE)),
+        k=k,
+        continuous_reload=draw(st.booleans()),
+        geo_ratio=draw(st.one_of(st.sampled_from([0.0, 10.0]), st.floats(0.0, 10.0))),
+    )
+
+
+PARAMS = _params()
 # pressures from 0 through the subnormals to the largest double (and beyond, +inf)
 SPECIAL_P = [0.0, 5e-324, 1e-320, 2.2250738585072014e-308, 1.7976931348623157e308, math.inf]
 PRESSURE = st.one_of(

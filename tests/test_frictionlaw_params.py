@@ -165,13 +165,18 @@ def test_k_between_tresca_and_twin_shear_is_accepted(ratio):
     assert FrictionParams(**BASE, k=0.5 * 300e6 * (1 - 1e-12)).k < 150e6
 
 
-@pytest.mark.parametrize("k", [1.0, 0.49 * 300e6, 0.67 * 300e6, 1e12])
+@pytest.mark.parametrize("k", [1e3, 0.49 * 300e6, 0.67 * 300e6, 1e12])
 def test_k_disagreeing_with_sigma_y_is_refused_naming_both(k):
     with pytest.raises(ValueError) as exc:
         FrictionParams(**BASE, k=k)
     msg = str(exc.value)
     assert f"k = {k:g} Pa disagrees with sigma_y = 3e+08 Pa" in msg
     assert "allowed [0.5, 0.6667]" in msg and "leave k out for sigma_y/2" in msg
+
+
+def test_k_of_one_pascal_is_refused_by_the_validated_range():
+    with pytest.raises(ValueError, match=r"k must be in \[100, 1e\+13\], got 1.0"):
+        FrictionParams(**BASE, k=1.0)
 
 
 def test_editing_sigma_y_in_a_file_without_k_is_not_silent(tmp_path):
