@@ -136,8 +136,10 @@ def test_measured_surface_files_give_the_synthetic_result(tmp_path):
         workpiece_unit="um",
         tool_unit="nm",
         size=size,
+        periodic=True,  # as the in-memory reference below (files default to non-periodic)
         **kw,
     )
+    assert not Scene(workpiece=scene.workpiece, unit="um", size=size).periodic
     rw, rt = scene_surfaces(scene)
     np.testing.assert_allclose(rw.heights, wp.heights, rtol=0, atol=1e-12 * np.ptp(wp.heights))
     np.testing.assert_allclose(rt.heights, tl.heights, rtol=0, atol=1e-9 * np.ptp(tl.heights))
