@@ -21,7 +21,9 @@ Each step is recorded in a :class:`FileRecord` (the parameter file's provenance)
 
 from __future__ import annotations
 
+import functools
 import math
+import os
 from dataclasses import asdict, dataclass
 
 import numpy as np
@@ -198,12 +200,27 @@ def area_resample(surface, side, m):
 
 # ----------------------------------------------------------------------------- reading
 def _read(scene, role):
-    """Read one file: ``(Surface with holes filled, raw provenance, undefined count)``."""
+    """Read one file: ``(Surface with holes filled, steps done)``; cached per file and options."""
     path = getattr(scene, role)
     unit = getattr(scene, f"{role}_unit") or scene.unit
+    try:
+        stamp = os.stat(path).st_mtime_ns
+    except OSError:
+        stamp = None
+    return _read_cached(str(path), stamp, role, unit, scene.size, scene.max_undefined)
+
+
+@functools.lru_cache(maxsize=4)
+def _read_cached(path, stamp, role, unit, size, max_undefined):
+    """:func:`_read` for hashable arguments (the resolution check reads the files again)."""
     unit_opt = f"--{role}-unit or --unit"
     try:
-        h, dx, dy, prov = _surf.read_raw(path, unit=unit, size=scene.size)
+        try:  # size applies to the files that do not carry their own
+            h, dx, dy, prov = _surf.read_raw(path, unit=unit)
+        except ValueError as exc:
+            if size is None or "no lateral calibration" not in str(exc):
+                raise
+            h, dx, dy, prov = _surf.read_raw(path, unit=unit, size=size)
     except ValueError as exc:
         text = str(exc)
         if "unit is required" in text:
@@ -211,6 +228,8 @@ def _read(scene, role):
                 f"{path}: a plain file does not say its height unit: give {unit_opt} "
                 f"(m, mm, um, nm)"
             ) from None
+        if "contradicts" in text:
+            raise ValueError(f"{text} (the option is {unit_opt})") from None
         if "no lateral calibration" in text:
             raise ValueError(
                 f"{path}: a plain file does not say its size: give --size LX [LY] in m"
@@ -220,10 +239,10 @@ def _read(scene, role):
         raise ValueError(f"{path}: cannot read the file ({exc.strerror or exc})") from None
     bad = int(np.count_nonzero(np.isnan(h)))
     frac = bad / h.size
-    if frac > scene.max_undefined:
+    if frac > max_undefined:
         raise ValueError(
             f"{path}: {100 * frac:.1f} % of the points are undefined (not measured), more "
-            f"than --max-undefined = {100 * scene.max_undefined:g} %; fill them yourself, "
+            f"than --max-undefined = {100 * max_undefined:g} %; fill them yourself, "
             f"crop the scan, or raise --max-undefined (a fraction in [0, 1])"
         )
     steps = []
@@ -234,7 +253,7 @@ def _read(scene, role):
         )
     prov["undefined_points"] = bad
     s = _surf.Surface(h, dx, dy, provenance=prov, periodic=False)
-    return s, steps
+    return s, tuple(steps)
 
 
 def _default_grid(side, pitches, inclined):
@@ -267,7 +286,7 @@ def _check_element(path, element, pitch, grid):
         )
 
 
-def load_scene_surfaces(scene, *, grid=None):
+def load_scene_surfaces(scene, *, grid=None, check_sampling=True):
     """The scene's workpiece and tool on the solver grid and, for files, on the measured grid.
 
     Parameters
@@ -278,6 +297,9 @@ def load_scene_surfaces(scene, *, grid=None):
         :func:`_default_grid`) and ``effects`` (``"inclined"`` needs the measured grid).
     grid : int, optional
         Override the scene's grid (the resolution check runs at half of it).
+    check_sampling : bool
+        Refuse an element edge outside :data:`ELEMENT_PER_PIXEL` times the pixel pitch (off
+        for the resolution check, which coarsens on purpose).
 
     Returns
     -------
@@ -301,6 +323,13 @@ def load_scene_surfaces(scene, *, grid=None):
             "too (a synthetic map has no measured points of its own)"
         )
     read = {r: _read(scene, r) for r in roles}
+    if scene.size is not None and all(
+        s.provenance["size_source"] != "option" for s, _ in read.values()
+    ):
+        raise ValueError(
+            "--size applies to plain files without their own size; the files carry theirs "
+            f"({', '.join(str(getattr(scene, r)) for r in roles)})"
+        )
     sides = [v for s, _ in read.values() for v in s.size]
     side = min(sides)
     if scene.crop_size is not None:
@@ -326,7 +355,8 @@ def load_scene_surfaces(scene, *, grid=None):
         block = 1
     fine, records = {}, []
     for role, (s, steps) in read.items():
-        _check_element(s.provenance["path"], element, (s.dx, s.dy), n)
+        if check_sampling:
+            _check_element(s.provenance["path"], element, (s.dx, s.dy), n)
         steps = list(steps)
         lx, ly = s.size
         if not (math.isclose(lx, side, rel_tol=1e-9) and math.isclose(ly, side, rel_tol=1e-9)):

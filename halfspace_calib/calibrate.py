@@ -604,7 +604,8 @@ def resolution_check(scene, first, reload, sweeps, *, progress=False):
         scene, grid=half, effects=("normal",), resolution_check=False, workers=scene.workers
     )
     try:
-        sw = run_sweeps(coarse, progress=progress)
+        surfs = load_scene_surfaces(coarse, check_sampling=False)
+        sw = run_sweeps(coarse, progress=progress, surfaces=surfs)
         f2, r2 = _fit_sweeps(coarse, sw)
     except (RuntimeError, ValueError) as exc:
         return ResolutionCheck(
