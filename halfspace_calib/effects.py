@@ -336,10 +336,24 @@ STIFFNESS_COLUMNS = (
 )
 
 
+#: CSV header of each stiffness column, with its SI unit
+STIFFNESS_HEADERS = {
+    "p_mean": "p_mean_Pa",
+    "alpha": "alpha",
+    "q_limit": "q_limit_Pa",
+    "delta_full": "delta_full_m",
+    "delta_stick": "delta_stick_m",
+    "k_t0": "k_t0_Pa_per_m",
+    "k_eq": "k_eq_Pa_per_m",
+    "k_sec": "k_sec_Pa_per_m",
+    "converged": "converged",
+}
+
+
 def write_stiffness_csv(summary, path):
     """Write the tangential stiffness table of :func:`summarize_tangential`'s ``summary``."""
     rows = [[r[k] for k in STIFFNESS_COLUMNS] for r in summary["rows"]]
-    write_csv(path, list(STIFFNESS_COLUMNS), rows)
+    write_csv(path, [STIFFNESS_HEADERS[k] for k in STIFFNESS_COLUMNS], rows)
     return path
 
 
@@ -354,7 +368,7 @@ def write_tangential_outputs(levels, summary, out_dir):
     ]
     write_csv(
         out / "tangential.csv",
-        ["p_mean", "delta", "q_mean", "q_over_q_limit", "slip_fraction"],
+        ["p_mean_Pa", "delta_m", "q_mean_Pa", "q_over_q_limit", "slip_fraction"],
         [
             [p, d, q, q / t["q_limit"], s]
             for p, t in curves

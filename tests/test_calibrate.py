@@ -53,11 +53,11 @@ def test_fit_quality_and_parameter_file(cal, tmp_path):
     assert prov["surfaces"]["workpiece"]["source"] == "generator"
     with open(tmp_path / "loading.csv") as fh:
         rows = list(csv.DictReader(fh))
-    assert [float(r["p_mean"]) for r in rows] == list(SMALL["pressures"])
+    assert [float(r["p_mean_Pa"]) for r in rows] == list(SMALL["pressures"])
     assert float(rows[-1]["alpha"]) == pytest.approx(alpha[-1])
     with open(tmp_path / "reload.csv") as fh:
         rows = list(csv.DictReader(fh))
-    assert {"p_hist", "p_mean", "alpha"} <= set(rows[0])
+    assert {"p_hist_Pa", "p_mean_Pa", "alpha", "max_pressure_Pa"} <= set(rows[0])
     assert len(rows) == 4 * 4  # p_hist >= 100 MPa: four levels, four fractions each
     for name in (
         "alpha_first_loading.png",
@@ -68,7 +68,7 @@ def test_fit_quality_and_parameter_file(cal, tmp_path):
         assert (tmp_path / name).stat().st_size > 10_000
     # plastic flattening lowers the roughness of the unloaded workpiece (Figs. 3-4)
     with open(tmp_path / "roughness.csv") as fh:
-        rq = [float(r["Rq"]) for r in csv.DictReader(fh)]
+        rq = [float(r["Rq_m"]) for r in csv.DictReader(fh)]
     assert rq[-1] < rq[0]
 
 

@@ -301,3 +301,16 @@ def test_scene_calibration_from_a_real_file_by_api(tmp_path):
     assert cal.scene.grid == 16 and cal.scene.periodic is False
     assert cal.files[0].format == "X3PReader" and cal.resolution.half_grid == 8
     assert cal.params.provenance["grid"]["periodic"] is False
+
+
+def test_two_sizes_for_a_non_square_plain_file(tmp_path):
+    s = S.self_affine((24, 48), (24e-6, 48e-6), rq=0.5e-6, seed=4)
+    f = tmp_path / "rect.txt"
+    S.write_surface(s, f, unit="um")
+    ss = load_scene_surfaces(Scene(workpiece=str(f), tool=str(f), unit="um", size=(24e-6, 48e-6)))
+    rec = ss.files[0]
+    assert rec.native_size == (24e-6, 48e-6) and rec.pitch == (1e-6, 1e-6)
+    assert ss.grid == 24 and "24 x 24 um square" in rec.steps[0]
+    # the centred square: columns 12..35 of the file, levelled
+    ref = S.level(S.crop(s, (24, 24), (0, 12)))
+    np.testing.assert_allclose(ss.workpiece.heights, ref.heights, atol=1e-12 * np.ptp(s.heights))
