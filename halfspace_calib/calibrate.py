@@ -182,6 +182,11 @@ class Scene:
         bad = [p for p in self.pressures if not (0 < p < self.H)]
         if bad:
             raise ValueError(f"pressures must be in (0, H) = (0, {self.H:g}) Pa, got {bad}")
+        if not self.reload_levels:
+            raise ValueError(
+                f"reload_from = {self.reload_from:g} Pa is above every pressure: no reload curve "
+                "for the fit of Eq. 25; give reload_from <= max(pressures)"
+            )
         self._validate_surfaces()
         if any(not (0 < f < 1) for f in self.reload_fractions):
             raise ValueError("reload_fractions must be in (0, 1)")
