@@ -314,3 +314,34 @@ def test_two_sizes_for_a_non_square_plain_file(tmp_path):
     # the centred square: columns 12..35 of the file, levelled
     ref = S.level(S.crop(s, (24, 24), (0, 12)))
     np.testing.assert_allclose(ss.workpiece.heights, ref.heights, atol=1e-12 * np.ptp(s.heights))
+
+
+def test_cli_exit_1_for_a_failed_level_and_a_degenerate_fit(tmp_path, capsys, monkeypatch):
+    import dataclasses
+
+    import halfspace_calib.calibrate as C
+
+    base = ["--grid", "16", *FAST, "--tol", "1e-7"]
+    job = C._level_job
+
+    def failing(j):
+        if j["p_hist"] == 300e6:
+            raise FloatingPointError("injected")
+        return job(j)
+
+    monkeypatch.setattr(C, "_level_job", failing)
+    code, text, _ = _run(capsys, *base, "--out", str(tmp_path / "a"))
+    assert code == 1 and "load level 3e+08 Pa failed" in text
+    monkeypatch.setattr(C, "_level_job", job)
+    fit = C._fit.fit_first_loading
+
+    def degenerate(*a, **k):
+        return dataclasses.replace(fit(*a, **k), r_squared=0.42, at_bound=("n1",))
+
+    monkeypatch.setattr(C._fit, "fit_first_loading", degenerate)
+    code, text, _ = _run(capsys, *base, "--out", str(tmp_path / "b"))
+    assert code == 1 and "RUN FAILED" in text
+    assert "first loading (Eq. 24) fit R^2 = 0.4200 < 0.9" in text
+    assert "n1 ended on a bound" in text
+    problems = json.loads((tmp_path / "b" / "summary.json").read_text())["problems"]
+    assert len(problems) == 2
