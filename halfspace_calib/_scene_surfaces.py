@@ -92,7 +92,11 @@ class FileRecord:
     crop_size : float
         Edge of the square patch used (m).
     rq_patch : float
-        ``Rq`` of the levelled patch on the measured grid (m).
+        ``Rq`` of the levelled patch on the measured grid (m); the solver grid's when the
+        measured grid is the solver grid (no inclined effect).
+    rq_scan : float
+        ``Rq`` of the whole scan, levelled, at its own sampling (m): against ``rq_patch`` it
+        shows how much roughness the crop and the element size leave out.
     """
 
     role: str
@@ -110,6 +114,7 @@ class FileRecord:
     steps: tuple
     crop_size: float
     rq_patch: float
+    rq_scan: float
 
     def as_dict(self):
         """JSON-ready dict."""
@@ -253,6 +258,8 @@ def _read_cached(path, stamp, role, unit, size, max_undefined):
         )
     prov["undefined_points"] = bad
     s = _surf.Surface(h, dx, dy, provenance=prov, periodic=False)
+    prov["rq_scan"] = _surf.rq(_surf.level(s))
+    s = _surf.Surface(h, dx, dy, provenance=prov, periodic=False)
     return s, tuple(steps)
 
 
@@ -269,7 +276,7 @@ def _check_rq(path, role, rq):
     if not lo <= rq <= hi:
         hint = "too small" if rq < lo else "too large"
         raise ValueError(
-            f"{path}: Rq = {rq:.3g} m after levelling is {hint} for a metal surface (plausible: "
+            f"{path}: Rq = {rq:.3g} m (levelled scan) is {hint} for a metal surface (plausible: "
             f"{lo:g} .. {hi:g} m); the height unit is most likely wrong: check --{role}-unit / "
             "--unit (m, mm, um, nm) or the file"
         )
@@ -379,7 +386,7 @@ def load_scene_surfaces(scene, *, grid=None, check_sampling=True):
         r = _surf.level(r)
         steps.append("levelled: least-squares plane a + b x + c y removed over the patch")
         rq = _surf.rq(r)
-        _check_rq(s.provenance["path"], role, rq)
+        _check_rq(s.provenance["path"], role, s.provenance["rq_scan"])
         fine[role] = r
         p = s.provenance
         records.append(
@@ -399,6 +406,7 @@ def load_scene_surfaces(scene, *, grid=None, check_sampling=True):
                 steps=tuple(steps),
                 crop_size=float(side),
                 rq_patch=rq,
+                rq_scan=float(p["rq_scan"]),
             )
         )
     solver = {k: _surf.block_average(v, n) if block > 1 else v for k, v in fine.items()}

@@ -321,7 +321,9 @@ def _print_input(scene, surfaces):
             f"  {f.role}: {f.path} [{f.format}], {f.native_shape[0]} x {f.native_shape[1]} points, "
             f"{f.native_size[0] * 1e6:.4g} x {f.native_size[1] * 1e6:.4g} um, heights in "
             f"{f.unit} ({f.unit_source}), undefined {f.undefined_points} "
-            f"({100 * f.undefined_fraction:.2f} %), Rq {f.rq_patch * 1e9:.4g} nm on the patch"
+            f"({100 * f.undefined_fraction:.2f} %), Rq {f.rq_scan * 1e9:.4g} nm (levelled scan), "
+            f"{f.rq_patch * 1e9:.4g} nm on the {f.crop_size * 1e6:.4g} um patch at the grid's "
+            "elements"
         )
         for step in f.steps:
             print(f"    - {step}")
