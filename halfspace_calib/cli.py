@@ -16,6 +16,7 @@ import tempfile
 import time
 from pathlib import Path
 
+from ._scene_surfaces import MAX_DEFAULT_GRID
 from .calibrate import Scene, calibrate, load_scene, load_scene_surfaces
 from .report import write_outputs
 
@@ -84,7 +85,7 @@ def build_parser():
         "--grid",
         type=int,
         help="solver grid: N x N elements (default 128 for synthetic surfaces; for files the "
-        "scan's sampling on the common square, at most 256)",
+        f"scans' sampling on the common square, at most {MAX_DEFAULT_GRID})",
     )
     g = ap.add_argument_group("materials (Pa)")
     g.add_argument("--E-workpiece", type=float)
@@ -280,7 +281,7 @@ def main(argv=None):
     except (ValueError, ImportError, OSError) as exc:
         return _error(str(exc), 2)
     try:
-        _print_input(scene, surfaces)
+        _print_input(scene, surfaces, derived=scene.grid is None)
         cal = calibrate(scene, progress=not args.quiet, surfaces=surfaces)
         write_outputs(cal, tmp)
         _move_into_place(tmp, args.out)
@@ -314,7 +315,7 @@ def main(argv=None):
     return 0
 
 
-def _print_input(scene, surfaces):
+def _print_input(scene, surfaces, derived=False):
     """What was read and done to each file, the grid and the periodicity."""
     for f in surfaces.files:
         print(
@@ -330,8 +331,10 @@ def _print_input(scene, surfaces):
     w = surfaces.workpiece
     kind = "periodic (FFT)" if scene.periodic else "non-periodic (DC-FFT)"
     print(
-        f"  solver grid {surfaces.grid} x {surfaces.grid}, element {w.dx * 1e6:.4g} um, "
-        f"{kind}" + (", measured files default to non-periodic" if scene.from_files else "")
+        f"  solver grid {surfaces.grid} x {surfaces.grid}"
+        + (f" (from the scans' sampling, at most {MAX_DEFAULT_GRID})" if derived else "")
+        + f", element {w.dx * 1e6:.4g} um, {kind}"
+        + (", measured files default to non-periodic" if scene.from_files else "")
     )
 
 
