@@ -1,7 +1,8 @@
 """Calibration from real instrument files: two grids, both periodicities, and the resolution check.
 
-For each file in a folder of measured surfaces (default ``../shared/surfaces``, five files from
-SurfaceTopography's public test set), the file is used as workpiece and as tool (the composite
+For each file in a folder of measured surfaces (the five files ``metropro-1.dat``, ``mnt-1.mnt``,
+``x3p-2.x3p``, ``sur-3.sur``, ``matrix-3.txt`` of SurfaceTopography's public test set,
+``test/file_format_examples/``), the file is used as workpiece and as tool (the composite
 of a scan with itself), with the default scene otherwise (Table 1 materials, default pressures):
 
 - the default calibration (grid from the scan's sampling, non-periodic, with the resolution
@@ -12,7 +13,7 @@ of a scan with itself), with the default scene otherwise (Table 1 materials, def
 Writes ``benchmarks/results/measured_surfaces.csv`` and ``.md`` (the table of
 ``docs/measured_surfaces.md``) and prints the table. Run from the repository root::
 
-    python benchmarks/measured_surfaces.py [--folder ../shared/surfaces] [--max-grid 256]
+    python benchmarks/measured_surfaces.py --folder FOLDER [--max-grid 256]
 
 The sur-3 file (89 % undefined points) runs with ``max_undefined=0.95`` to show the fill; the
 default policy refuses it.
@@ -157,7 +158,7 @@ def write(rows, checks):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--folder", default="../shared/surfaces")
+    ap.add_argument("--folder", required=True, help="folder holding the five files")
     ap.add_argument("--max-grid", type=int, help="cap the default grid (quick runs)")
     a = ap.parse_args()
     rows, checks = run(a.folder, a.max_grid)
