@@ -314,6 +314,13 @@ def test_two_sizes_for_a_non_square_plain_file(tmp_path):
     # the centred square: columns 12..35 of the file, levelled
     ref = S.level(S.crop(s, (24, 24), (0, 12)))
     np.testing.assert_allclose(ss.workpiece.heights, ref.heights, atol=1e-12 * np.ptp(s.heights))
+    # a user crop: the centred 12 um of that square, still at the scan's 1 um sampling
+    ss = load_scene_surfaces(
+        Scene(workpiece=str(f), tool=str(f), unit="um", size=(24e-6, 48e-6), crop_size=12e-6)
+    )
+    assert ss.grid == 12 and ss.workpiece.size == pytest.approx((12e-6, 12e-6))
+    ref = S.level(S.crop(s, (12, 12), (6, 18)))
+    np.testing.assert_allclose(ss.workpiece.heights, ref.heights, atol=1e-12 * np.ptp(s.heights))
 
 
 def test_cli_exit_1_for_a_failed_level_and_a_degenerate_fit(tmp_path, capsys, monkeypatch):
