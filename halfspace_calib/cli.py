@@ -287,6 +287,8 @@ def main(argv=None):
         _move_into_place(tmp, args.out)
     except (RuntimeError, MemoryError) as exc:
         return _error(f"the run failed: {exc or type(exc).__name__}", 1)
+    except OSError as exc:  # writing the outputs (disk full, permissions changed meanwhile)
+        return _error(f"the outputs could not be written, {args.out} is unchanged: {exc}", 1)
     finally:
         if tmp.exists():
             shutil.rmtree(tmp, ignore_errors=True)

@@ -291,6 +291,27 @@ def test_cli_replaces_the_whole_output_set(tmp_path, capsys):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["o"]  # no temporary folder left
 
 
+def test_cli_interrupted_write_keeps_the_previous_set(tmp_path, capsys, monkeypatch):
+    import halfspace_calib.cli as cli
+
+    out = tmp_path / "o"
+    base = ["--grid", "16", "--out", str(out), *FAST, "--tol", "1e-7"]
+    assert _run(capsys, *base)[0] == 0
+    before = {p.name: p.read_bytes() for p in out.iterdir() if p.is_file()}
+    real = cli.write_outputs
+
+    def half_written(cal, where):
+        real(cal, where)
+        (where / "summary.json").unlink()
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(cli, "write_outputs", half_written)
+    code, _, err = _run(capsys, *base, "--m", "0.2")
+    assert code == 1 and "No space left" in err and "unchanged" in err
+    assert {p.name: p.read_bytes() for p in out.iterdir() if p.is_file()} == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["o"]
+
+
 def test_scene_calibration_from_a_real_file_by_api(tmp_path):
     from halfspace_calib.calibrate import calibrate
 
