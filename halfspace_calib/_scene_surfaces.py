@@ -215,7 +215,7 @@ def _read(scene, role):
     return _read_cached(str(path), stamp, role, unit, scene.size, scene.max_undefined)
 
 
-@functools.lru_cache(maxsize=4)
+@functools.lru_cache(maxsize=2)  # workpiece and tool
 def _read_cached(path, stamp, role, unit, size, max_undefined):
     """:func:`_read` for hashable arguments (the resolution check reads the files again)."""
     unit_opt = f"--{role}-unit or --unit"
