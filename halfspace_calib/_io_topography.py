@@ -11,6 +11,7 @@ spacings in m, and a dict for the provenance.
 """
 
 import hashlib
+import re
 import warnings
 from pathlib import Path
 
@@ -23,6 +24,7 @@ __all__ = [
     "unit_factor",
     "file_sha256",
     "layout_for",
+    "matrix_header",
     "load_npy",
     "load_matrix",
     "load_xyz",
@@ -70,26 +72,114 @@ def file_sha256(path):
     return h.hexdigest()
 
 
+def _is_binary(path):
+    """True if the first 4 KiB of ``path`` hold a NUL byte or are not UTF-8 text."""
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(4096)
+    except OSError:
+        return False
+    if b"\x00" in head:
+        return True
+    try:
+        head.decode("utf-8")
+    except UnicodeDecodeError as exc:  # a multi-byte character cut at the 4 KiB edge is text
+        return exc.start < len(head) - 4
+    return False
+
+
 def layout_for(path):
-    """Plain layout (``npy``, ``matrix``, ``xyz``) for ``path``'s suffix, else ``instrument``."""
-    return PLAIN_LAYOUTS.get(Path(path).suffix.lower(), "instrument")
+    """Layout of ``path``: ``npy``, ``matrix``, ``xyz`` or ``instrument``, routed by content.
+
+    ``.npy`` and ``.xyz`` go by their suffix. A file with a text-matrix suffix (``.txt``,
+    ``.csv``, ``.dat``, ``.asc``) is a matrix only if it is text: a binary file (a Zygo
+    MetroPro ``.dat``, for instance) goes to the instrument readers. Any other suffix is an
+    instrument format.
+    """
+    layout = PLAIN_LAYOUTS.get(Path(path).suffix.lower(), "instrument")
+    if layout == "matrix" and _is_binary(path):
+        return "instrument"
+    return layout
 
 
-def _check_matrix(path, arr):
+_HEADER = re.compile(r"^#\s*([A-Za-z][A-Za-z ]*?)\s*[:=]\s*(.+?)\s*$")
+
+
+def _length(path, key, text):
+    """``"10.00 um"`` -> metres; ``ValueError`` naming the header line otherwise."""
+    parts = text.split()
+    try:
+        value = float(parts[0])
+        f = UNITS[parts[1]] if len(parts) == 2 else None
+    except (ValueError, IndexError, KeyError):
+        f = None
+    if f is None or not (np.isfinite(value) and value > 0):
+        raise ValueError(
+            f"{path}: header '# {key}: {text}' is not a length > 0 with a unit of {sorted(UNITS)}"
+        )
+    return value * f
+
+
+def matrix_header(path):
+    """Units and sizes from the ``#`` header of a text matrix (as instrument exports write them).
+
+    Recognised lines (case-insensitive keys): ``# Width: 10.00 um`` (the extent along a line,
+    axis 1), ``# Height: 10.00 um`` (the extent over the lines, axis 0), ``# Value units: m``
+    (the unit of the heights). Other header lines are ignored.
+
+    Returns
+    -------
+    dict
+        ``size`` ``(Lx, Ly)`` in m if both extents are given, ``unit`` if given; else empty.
+    """
+    found = {}
+    with open(path, encoding="utf-8", errors="replace") as fh:
+        for line in fh:
+            s = line.strip()
+            if not s:
+                continue
+            if not s.startswith("#"):
+                break
+            m = _HEADER.match(s)
+            if m:
+                found[m.group(1).strip().lower()] = m.group(2)
+    out = {}
+    if "width" in found and "height" in found:
+        out["size"] = (
+            _length(path, "Height", found["height"]),
+            _length(path, "Width", found["width"]),
+        )
+    for key in ("value units", "value unit", "z unit", "unit"):
+        if key in found:
+            u = found[key].strip()
+            if u not in UNITS:
+                raise ValueError(
+                    f"{path}: header '# {key}: {u}' names an unknown unit; one of {sorted(UNITS)}"
+                )
+            out["unit"] = u
+            break
+    return out
+
+
+def _check_matrix(path, arr, allow_undefined=False):
     if arr.ndim != 2 or min(arr.shape) < 2:
         raise ValueError(
             f"{path}: expected a 2-D height matrix with at least 2 x 2 points, got shape {arr.shape}"
         )
-    bad = int(np.count_nonzero(~np.isfinite(arr)))
-    if bad:
+    if np.isinf(arr).any():
+        raise ValueError(f"{path}: holds infinite heights")
+    bad = int(np.count_nonzero(np.isnan(arr)))
+    if bad == arr.size:
+        raise ValueError(f"{path}: every height is undefined (NaN); the file holds no surface")
+    if bad and not allow_undefined:
         raise ValueError(
             f"{path}: {bad} missing or non-finite heights; fill or crop them before use"
         )
     return arr
 
 
-def load_npy(path, unit):
-    """Heights (m) from a NumPy ``.npy`` 2-D array given in ``unit``."""
+def load_npy(path, unit, allow_undefined=False):
+    """Heights (m) from a NumPy ``.npy`` 2-D array given in ``unit`` (NaN: undefined points)."""
     f = unit_factor(unit)
     try:
         arr = np.load(path, allow_pickle=False)
@@ -97,7 +187,7 @@ def load_npy(path, unit):
         raise ValueError(f"{path}: cannot read as a NumPy .npy array ({exc})") from None
     if not isinstance(arr, np.ndarray) or not np.issubdtype(arr.dtype, np.number):
         raise ValueError(f"{path}: the .npy file does not hold a numeric array")
-    arr = _check_matrix(path, np.asarray(arr, dtype=np.float64))
+    arr = _check_matrix(path, np.asarray(arr, dtype=np.float64), allow_undefined)
     return arr * f
 
 
@@ -120,14 +210,15 @@ def _loadtxt(path, what):
         raise ValueError(f"{path}: cannot read as a text {what} ({exc})") from None
 
 
-def load_matrix(path, unit):
+def load_matrix(path, unit, allow_undefined=False):
     """Heights (m) from a whitespace- or comma-separated matrix in ``unit``.
 
     Row ``i`` of the file becomes ``heights[i, :]`` (``x`` along the rows). Lines starting
-    with ``#`` are comments.
+    with ``#`` are comments (see :func:`matrix_header` for the ones that carry units and
+    sizes); ``nan`` marks an undefined point.
     """
     f = unit_factor(unit)
-    arr = _check_matrix(path, _loadtxt(path, "height matrix"))
+    arr = _check_matrix(path, _loadtxt(path, "height matrix"), allow_undefined)
     return arr * f
 
 
@@ -206,18 +297,20 @@ def import_surface_topography():
     return SurfaceTopography
 
 
-def load_instrument(path, unit=None, fill_undefined=False):
+def load_instrument(path, unit=None, fill_undefined=False, keep_undefined=False):
     """Read an instrument file through SurfaceTopography.
 
     Returns ``(heights, dx, dy, info)``; ``dx``, ``dy`` are ``None`` if the file has
     no lateral calibration. ``unit`` is used only when the file has none.
+    ``keep_undefined`` returns undefined points as NaN (the caller fills them).
     """
     st = import_surface_topography()
     caught = []
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            topo = st.read_topography(str(path))
+            reader = st.open_topography(str(path))
+            topo = reader.topography()
     except Exception as exc:  # the package raises many types for a bad file
         if type(exc).__name__ == "CannotDetectFileFormat":
             msg = "no SurfaceTopography reader recognises it: damaged or unsupported format"
@@ -239,15 +332,18 @@ def load_instrument(path, unit=None, fill_undefined=False):
                 "leave unit unset"
             )
     had_holes = bool(topo.has_undefined_data)
-    if had_holes:
+    if had_holes and not keep_undefined:
         if not fill_undefined:
             raise ValueError(
                 f"{path}: the topography has undefined (unmeasured) points; pass "
                 "fill_undefined=True to interpolate them, or crop them away"
             )
         topo = topo.interpolate_undefined_data()
-    h = np.asarray(np.ma.getdata(topo.heights()), dtype=np.float64) * f
-    _check_matrix(path, h)
+    raw = topo.heights()
+    h = np.asarray(np.ma.getdata(raw), dtype=np.float64) * f
+    if keep_undefined:
+        h = np.where(np.ma.getmaskarray(raw) | ~np.isfinite(h), np.nan, h)
+    _check_matrix(path, h, allow_undefined=keep_undefined)
     sizes = topo.physical_sizes
     if sizes is None or any(s is None for s in sizes):
         dx = dy = None
@@ -256,8 +352,9 @@ def load_instrument(path, unit=None, fill_undefined=False):
         dy = float(sizes[1]) * f / h.shape[1]
     info = {
         "reader": "SurfaceTopography " + str(getattr(st, "__version__", "?")),
+        "format": type(reader).__name__,
         "file_unit": file_unit,
-        "filled_undefined": had_holes,
+        "filled_undefined": had_holes and not keep_undefined,
     }
     if caught:
         info["reader_warnings"] = [str(w.message) for w in caught]

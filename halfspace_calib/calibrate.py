@@ -21,200 +21,45 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
-import tomllib
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
 from . import effects as _eff
 from . import fit as _fit
-from . import surfaces as _surf
+from ._scene import Scene, load_scene
+from ._scene_surfaces import SceneSurfaces, load_scene_surfaces
 from .cerruti import E_prime
 from .jobs import run_jobs
-from .normal import composite_modulus, solve_normal_pair
+from .normal import solve_normal_pair
 from .presliding import presliding_curve
 
 __all__ = [
     "Scene",
     "SweepResult",
     "Calibration",
+    "ResolutionCheck",
+    "SceneSurfaces",
     "load_scene",
+    "load_scene_surfaces",
     "scene_surfaces",
     "run_sweeps",
     "calibrate",
 ]
 
-MPa = 1e6
-DEFAULT_PRESSURES = (10e6, 25e6, 50e6, 100e6, 200e6, 300e6, 400e6, 500e6, 600e6)
-DEFAULT_RELOAD_FRACTIONS = (0.05, 0.1, 0.25, 0.5, 0.75, 0.9)
-
-
-@dataclass
-class Scene:
-    """Everything a calibration needs; every field has the paper's default (Table 1, Sec. 3.1).
-
-    Surfaces: ``workpiece`` / ``tool`` are file paths (read with
-    :func:`halfspace_calib.surfaces.read_surface`; ``unit`` (or ``workpiece_unit`` / ``tool_unit``
-    for each file) and ``size`` for plain files) or
-    ``None`` for the synthetic DC04-EDT-like sheet and tool of Table 1 (``rough_tool`` for the
-    rough tool; ``measured_n``, a multiple of ``grid``, generates them on that finer grid and
-    block-averages, so that one seed is the same physical surface at every ``grid``). Both are levelled and block-averaged to ``grid x grid`` elements.
-    Materials in Pa; ``sigma_y`` defaults to ``H / 2.8`` (Bowden and Tabor). ``m`` is Tresca's
-    factor: it does not enter the half-space model, only the parameter file (measure it, e.g. by
-    ring compression).
-
-    Effects (:mod:`halfspace_calib.effects`): ``effects`` names what is modelled besides the
-    always-on ``"normal"`` sweeps: ``"tangential"`` (pre-sliding stiffness), ``"inclined"``
-    (Eq. 23 and, if the mean ``tau_geo / tau_adh`` exceeds ``geo_threshold``, Eq. 26's
-    ``geo_ratio``), ``"sliding"`` (Sec. 3.3). With ``"inclined"`` on synthetic surfaces
-    ``measured_n`` defaults to ``4 grid``: the inclined patches are fitted on that measured grid
-    and the calibration's surfaces are block averages of the same random field.
-    """
-
-    workpiece: str | None = None
-    tool: str | None = None
-    unit: str = "um"
-    workpiece_unit: str | None = None
-    tool_unit: str | None = None
-    size: float | None = None
-    rough_tool: bool = False
-    seed_workpiece: int = 1
-    seed_tool: int = 2
-    grid: int = 128
-    measured_n: int | None = None
-    E_workpiece: float = 210e9
-    nu_workpiece: float = 0.3
-    E_tool: float = 210e9
-    nu_tool: float = 0.3
-    H: float = 800e6
-    sigma_y: float | None = None
-    m: float = 0.5
-    pressures: tuple = DEFAULT_PRESSURES
-    reload_from: float = 100e6
-    reload_fractions: tuple = DEFAULT_RELOAD_FRACTIONS
-    tol: float = 1e-8
-    periodic: bool = True
-    volume_conservation: bool = True
-    reload_surface: str = "plastic"
-    continuous_reload: bool = False
-    workers: int = 1
-    scheduler: str | None = None
-    effects: tuple = ("normal",)
-    geo_threshold: float = 0.05
-
-    def __post_init__(self):
-        self.effects = _eff.check_effects(self.effects)
-        synthetic = self.workpiece is None and self.tool is None
-        if "inclined" in self.effects and synthetic and self.measured_n is None:
-            # the inclined patches need the measured grid: calibrate on the same random field
-            self.measured_n = 4 * self.grid if isinstance(self.grid, int) else None
-        self.pressures = tuple(float(p) for p in self.pressures)
-        self.reload_fractions = tuple(float(f) for f in self.reload_fractions)
-        if self.sigma_y is None:
-            self.sigma_y = self.H / 2.8
-        self.validate()
-
-    def validate(self):
-        """Raise ``ValueError`` naming the first bad field and its allowed range."""
-        for name in ("E_workpiece", "E_tool", "H", "sigma_y"):
-            v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
-                raise ValueError(f"{name} must be a finite number > 0 (Pa), got {v!r}")
-        for name in ("nu_workpiece", "nu_tool"):
-            v = getattr(self, name)
-            if not (-1.0 < v <= 0.5):
-                raise ValueError(f"{name} must be in (-1, 0.5], got {v!r}")
-        if not (0.0 <= self.m <= 1.0):
-            raise ValueError(f"m must be in [0, 1], got {self.m!r}")
-        if not isinstance(self.grid, int) or self.grid < 8:
-            raise ValueError(f"grid must be an integer >= 8, got {self.grid!r}")
-        if len(self.pressures) < 3:
-            raise ValueError("pressures must hold at least 3 values (Pa) for the fit of C1, n1")
-        bad = [p for p in self.pressures if not (0 < p < self.H)]
-        if bad:
-            raise ValueError(f"pressures must be in (0, H) = (0, {self.H:g}) Pa, got {bad}")
-        if any(not (0 < f < 1) for f in self.reload_fractions):
-            raise ValueError("reload_fractions must be in (0, 1)")
-        if not (0 < self.tol < 1):
-            raise ValueError(f"tol must be in (0, 1), got {self.tol!r}")
-        if self.reload_surface not in ("plastic", "volume_conserving"):
-            raise ValueError("reload_surface must be 'plastic' or 'volume_conserving'")
-        if not isinstance(self.workers, int) or self.workers < 0:
-            raise ValueError(f"workers must be an integer >= 0, got {self.workers!r}")
-        self.effects = _eff.check_effects(self.effects)
-        g = self.geo_threshold
-        if not (isinstance(g, (int, float)) and math.isfinite(g) and g >= 0):
-            raise ValueError(f"geo_threshold must be a finite number >= 0 (a ratio), got {g!r}")
-        if "inclined" in self.effects and self.workpiece is None and self.tool is None:
-            mn = self.measured_n
-            if mn is not None and (not isinstance(mn, int) or mn % self.grid or mn < 2 * self.grid):
-                raise ValueError(
-                    f"measured_n must be a multiple >= 2 of grid={self.grid} for the inclined "
-                    f"effect (measured points per element), got {mn!r}"
-                )
-
-    @property
-    def E_star(self):
-        """Composite modulus, Eq. 2."""
-        return composite_modulus(self.E_workpiece, self.nu_workpiece, self.E_tool, self.nu_tool)
-
-    @property
-    def reload_levels(self):
-        """The ``p_hist`` values that get a reload curve."""
-        return tuple(p for p in self.pressures if p >= self.reload_from)
-
-    def as_dict(self):
-        """Plain dict of the settings (for the provenance)."""
-        return dataclasses.asdict(self)
-
-
-def load_scene(path, **overrides):
-    """Read a scene file (TOML, keys as the :class:`Scene` fields, SI units) and apply overrides."""
-    path = Path(path)
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except tomllib.TOMLDecodeError as exc:
-        raise ValueError(f"{path}: not a valid TOML scene file ({exc})") from None
-    data = data.get("scene", data)
-    known = {f.name for f in dataclasses.fields(Scene)}
-    unknown = set(data) - known
-    if unknown:
-        raise ValueError(f"{path}: unknown scene keys {sorted(unknown)}; known: {sorted(known)}")
-    for key in ("workpiece", "tool"):  # relative paths are relative to the scene file
-        if data.get(key) and not Path(data[key]).is_absolute():
-            data[key] = str(path.parent / data[key])
-    data.update({k: v for k, v in overrides.items() if v is not None})
-    return Scene(**data)
+#: a first-loading or reload fit with R^2 below this makes the run fail (exit code 1)
+R2_MIN = 0.9
+#: relative change between the chosen grid and half of it above which the check warns
+RESOLUTION_TOL = 0.10
 
 
 def scene_surfaces(scene):
-    """The workpiece and tool surfaces of a scene on the solver grid: ``(workpiece, tool)``."""
-    n = scene.grid
-    out = []
-    for which in ("workpiece", "tool"):
-        path = getattr(scene, which)
-        if path is None:
-            if which == "workpiece":
-                s = _surf.dc04_edt_like(n, seed=scene.seed_workpiece, measured_n=scene.measured_n)
-            else:
-                s = _surf.tool_like(
-                    n, rough=scene.rough_tool, seed=scene.seed_tool, measured_n=scene.measured_n
-                )
-        else:
-            unit = getattr(scene, f"{which}_unit") or scene.unit
-            s = _surf.read_surface(path, unit=unit, size=scene.size)
-            s = _surf.level(s)
-            if s.shape != (n, n):
-                s = _surf.block_average(s, (n, n), trim=True)
-        out.append(s)
-    wp, tl = out
-    if not np.isclose(wp.dx, tl.dx, rtol=1e-6) or not np.isclose(wp.dy, tl.dy, rtol=1e-6):
-        raise ValueError(
-            f"workpiece and tool must have the same element size, got {wp.dx:g} x {wp.dy:g} m "
-            f"and {tl.dx:g} x {tl.dy:g} m (crop them to the same physical size)"
-        )
-    return wp, tl
+    """The workpiece and tool surfaces of a scene on the solver grid: ``(workpiece, tool)``.
+
+    The solver-grid half of :func:`load_scene_surfaces` (the one loader for a scene).
+    """
+    s = load_scene_surfaces(scene)
+    return s.workpiece, s.tool
 
 
 # ----------------------------------------------------------------------------- sweeps
@@ -240,7 +85,7 @@ def _level_job(job):
         job["dx"],
         job["E_star"],
         job["p_hist"],
-        volume_conservation=True,
+        volume_conservation=job["volume_conservation"],
         **kw,
     )
     out = {"p_hist": job["p_hist"], "loading": _record(res)}
@@ -368,9 +213,15 @@ class SweepResult:
         return max(vals) if vals else 0.0
 
 
-def run_sweeps(scene, *, progress=True):
-    """Run the first-loading and reload sweeps of ``scene``; failures are recorded, not raised."""
-    wp, tl = scene_surfaces(scene)
+def run_sweeps(scene, *, progress=True, surfaces=None):
+    """Run the first-loading and reload sweeps of ``scene``; failures are recorded, not raised.
+
+    ``surfaces``: the scene's :class:`SceneSurfaces` if already loaded.
+    """
+    if surfaces is None:
+        wp, tl = scene_surfaces(scene)
+    else:
+        wp, tl = surfaces.workpiece, surfaces.tool
     E_star = scene.E_star
     tangential = None
     if "tangential" in scene.effects and scene.m > 0:
@@ -420,6 +271,139 @@ def run_sweeps(scene, *, progress=True):
     return SweepResult(levels, failed, time.perf_counter() - t0, {"workpiece": wp, "tool": tl})
 
 
+# ----------------------------------------------------------------------------- resolution
+@dataclass(frozen=True)
+class ResolutionCheck:
+    """The normal sweeps and fits again at half the grid: how much the answer moves.
+
+    Attributes
+    ----------
+    grid, half_grid : int
+        The chosen solver grid and half of it.
+    params : dict
+        ``name -> (value at grid, value at half_grid, relative change)`` for ``mu_eff``,
+        ``C1``, ``n1``, ``C2``, ``n2``.
+    alpha_change : float
+        Largest relative change of the contact ratio over the first-loading and reload points
+        both grids converged at.
+    tolerance : float
+        :data:`RESOLUTION_TOL`.
+    warning : str
+        Why the result is resolution-dependent, or ``""``.
+    seconds : float
+        Wall time of the check (sweeps and fits at ``half_grid``).
+    skipped : str
+        Why the check did not run (``""`` if it ran).
+    """
+
+    grid: int
+    half_grid: int
+    params: dict
+    alpha_change: float
+    tolerance: float
+    warning: str
+    seconds: float
+    skipped: str = ""
+
+    def as_dict(self):
+        """JSON-ready dict."""
+        return {
+            "grid": self.grid,
+            "half_grid": self.half_grid,
+            "params": {k: list(v) for k, v in self.params.items()},
+            "alpha_change": self.alpha_change,
+            "tolerance": self.tolerance,
+            "warning": self.warning,
+            "seconds": self.seconds,
+            "skipped": self.skipped,
+        }
+
+
+def _alpha_points(sweeps):
+    """``{(p_hist, p_mean): alpha}`` of every converged solve."""
+    pts = {}
+    for lv in sweeps.levels:
+        if lv["loading"]["converged"]:
+            pts[(lv["p_hist"], lv["p_hist"])] = lv["loading"]["alpha"]
+        for r in lv["reload"]:
+            if r["converged"]:
+                pts[(lv["p_hist"], r["p_mean"])] = r["alpha"]
+    return pts
+
+
+def _fit_sweeps(scene, sweeps):
+    """``(first, reload)`` fits of the sweeps; ``RuntimeError`` if too few solves converged."""
+    p, alpha = sweeps.loading
+    curves = sweeps.reload_curves()
+    if p.size < 3 or not curves:
+        raise RuntimeError(
+            f"calibration needs >= 3 converged load levels and one reload curve; got {p.size} and "
+            f"{len(curves)}. Failures: {sweeps.failed}; non-converged: "
+            + "; ".join(
+                f"{lv['p_hist']:g} Pa: {lv['loading']['message']}"
+                for lv in sweeps.levels
+                if not lv["loading"]["converged"]
+            )
+        )
+    first = _fit.fit_first_loading(p, alpha, scene.H)
+    reload = _fit.fit_reload(
+        curves, scene.H, first.C1, first.n1, continuous=scene.continuous_reload
+    )
+    return first, reload
+
+
+def resolution_check(scene, first, reload, sweeps, *, progress=False):
+    """Run the normal sweeps at ``scene.grid // 2`` and compare with the main result.
+
+    Returns
+    -------
+    ResolutionCheck
+        With ``skipped`` set if half the grid is below 8 elements or its fit fails.
+    """
+    n = scene.grid
+    half = n // 2
+    if half < 8:
+        return ResolutionCheck(n, half, {}, 0.0, RESOLUTION_TOL, "", 0.0, "grid / 2 < 8")
+    t0 = time.perf_counter()
+    coarse = dataclasses.replace(
+        scene, grid=half, effects=("normal",), resolution_check=False, workers=scene.workers
+    )
+    try:
+        surfs = load_scene_surfaces(coarse, check_sampling=False)
+        sw = run_sweeps(coarse, progress=progress, surfaces=surfs)
+        f2, r2 = _fit_sweeps(coarse, sw)
+    except (RuntimeError, ValueError) as exc:
+        return ResolutionCheck(
+            n, half, {}, 0.0, RESOLUTION_TOL, "", time.perf_counter() - t0, str(exc)
+        )
+    mu = scene.m * scene.sigma_y / 2 / scene.H  # mu_eff = m k C1 / H (geo_ratio aside)
+    vals = {
+        "mu_eff": (mu * first.C1, mu * f2.C1),
+        "C1": (first.C1, f2.C1),
+        "n1": (first.n1, f2.n1),
+        "C2": (reload.C2, r2.C2),
+        "n2": (reload.n2, r2.n2),
+    }
+    params = {k: (a, b, abs(b - a) / abs(a) if a else math.inf) for k, (a, b) in vals.items()}
+    fine, crs = _alpha_points(sweeps), _alpha_points(sw)
+    common = [k for k in fine if k in crs and fine[k] > 0]
+    da = max((abs(crs[k] - fine[k]) / fine[k] for k in common), default=0.0)
+    moved = [f"{k} {100 * v[2]:.1f} %" for k, v in params.items() if v[2] > RESOLUTION_TOL]
+    if da > RESOLUTION_TOL:
+        moved.append(f"alpha up to {100 * da:.1f} %")
+    warning = ""
+    if moved:
+        warning = (
+            f"the result depends on the resolution: from grid {n} to {half} "
+            + ", ".join(moved)
+            + f" (tolerance {100 * RESOLUTION_TOL:g} %); a finer grid (--grid) would move it "
+            "further"
+        )
+    return ResolutionCheck(
+        n, half, params, float(da), RESOLUTION_TOL, warning, time.perf_counter() - t0
+    )
+
+
 # ----------------------------------------------------------------------------- calibration
 @dataclass
 class Calibration:
@@ -432,6 +416,54 @@ class Calibration:
     scene: Scene
     seconds: float
     effects: dict = field(default_factory=dict)
+    files: tuple = ()
+    resolution: ResolutionCheck | None = None
+
+    def problems(self):
+        """Why the run failed, one sentence each (empty if it did not).
+
+        A failed or non-converged load level or solve, a fit with ``R^2 <`` :data:`R2_MIN`, a
+        fitted parameter on its bound or a fit that did not converge, and failed effect solves.
+        """
+        out = [f"load level {f['p_hist']:g} Pa failed" for f in self.sweeps.failed]
+        out += [
+            f"not converged, left out of the fit: p_hist {nc['p_hist']:g} Pa, p_mean "
+            f"{nc['p_mean']:g} Pa: {nc['message']}"
+            for nc in self.sweeps.not_converged()
+        ]
+        for name, fit in (("first loading (Eq. 24)", self.first), ("reload (Eq. 25)", self.reload)):
+            if fit.r_squared < R2_MIN:
+                out.append(
+                    f"{name} fit R^2 = {fit.r_squared:.4f} < {R2_MIN:g}: the law does not "
+                    "describe the computed curve (check units, pressures and the surfaces)"
+                )
+            if fit.at_bound:
+                out.append(
+                    f"{name} fit: {', '.join(fit.at_bound)} ended on a bound ({fit.message})"
+                )
+            elif not fit.converged:
+                out.append(f"{name} fit did not converge: {fit.message}")
+        t = self.effects.get("tangential", {})
+        if "summary" in t:
+            out += [
+                f"tangential solve at {e['p_mean']:g} Pa failed: {e['error']}"
+                for e in t["summary"]["errors"]
+            ]
+            out += [
+                f"tangential solve at {r['p_mean']:g} Pa did not converge"
+                for r in t["summary"]["rows"]
+                if not r["converged"]
+            ]
+        sl = self.effects.get("sliding", {})
+        if "study" in sl:
+            out += [
+                f"sliding at {p:g} Pa failed: {e.splitlines()[0]}"
+                for p, e in sl["study"].errors.items()
+            ]
+        inc = self.effects.get("inclined", {})
+        if "result" in inc and not inc["result"].all_converged:
+            out.append("an inclined-patch normal solve did not converge")
+        return out
 
     @property
     def degenerate(self):
@@ -472,38 +504,41 @@ class Calibration:
             "geo_ratio": P.geo_ratio,
             "effects": list(self.scene.effects),
             "effect_results": _effects_record(self.effects),
+            "grid": self.scene.grid,
+            "periodic": self.scene.periodic,
+            "files": [f.as_dict() for f in self.files],
+            "resolution_check": None if self.resolution is None else self.resolution.as_dict(),
+            "problems": self.problems(),
             "seconds": self.seconds,
         }
 
 
-def calibrate(scene=None, *, progress=True):
+def calibrate(scene=None, *, progress=True, surfaces=None):
     """Run the sweeps of ``scene`` (default: the built-in scene) and fit the law.
+
+    ``surfaces``: the scene's :class:`SceneSurfaces` if already loaded (the CLI loads them
+    first, to refuse bad input before any sweep). For files, ``scene.grid=None`` becomes the
+    loader's grid and, with ``scene.resolution_check``, the normal sweeps run again at half
+    the grid (:func:`resolution_check`).
 
     Raises ``RuntimeError`` if too few load levels converged for a fit (the sweep's
     failures are in the message).
     """
     scene = Scene() if scene is None else scene
     t0 = time.perf_counter()
-    measured = _eff.scene_measured_surfaces(scene) if "inclined" in scene.effects else None
-    sweeps = run_sweeps(scene, progress=progress)
-    p, alpha = sweeps.loading
-    curves = sweeps.reload_curves()
-    if p.size < 3 or not curves:
-        raise RuntimeError(
-            f"calibration needs >= 3 converged load levels and one reload curve; got {p.size} and "
-            f"{len(curves)}. Failures: {sweeps.failed}; non-converged: "
-            + "; ".join(
-                f"{lv['p_hist']:g} Pa: {lv['loading']['message']}"
-                for lv in sweeps.levels
-                if not lv["loading"]["converged"]
-            )
-        )
-    first = _fit.fit_first_loading(p, alpha, scene.H)
-    reload = _fit.fit_reload(
-        curves, scene.H, first.C1, first.n1, continuous=scene.continuous_reload
-    )
+    surfs = load_scene_surfaces(scene) if surfaces is None else surfaces
+    if scene.grid != surfs.grid:
+        scene = dataclasses.replace(scene, grid=surfs.grid)
+    sweeps = run_sweeps(scene, progress=progress, surfaces=surfs)
+    p, _ = sweeps.loading
+    first, reload = _fit_sweeps(scene, sweeps)
     wp, tl = sweeps.surfaces["workpiece"], sweeps.surfaces["tool"]
-    effects = _run_effects(scene, sweeps, measured, progress)
+    effects = _run_effects(scene, sweeps, surfs, progress)
+    resolution = (
+        resolution_check(scene, first, reload, sweeps, progress=progress)
+        if scene.resolution_check
+        else None
+    )
     params = _fit.make_params(
         first,
         reload,
@@ -511,7 +546,16 @@ def calibrate(scene=None, *, progress=True):
         sigma_y=scene.sigma_y,
         H=scene.H,
         surfaces={"workpiece": wp, "tool": tl},
-        grid={"shape": list(wp.shape), "dx": wp.dx, "dy": wp.dy, "periodic": scene.periodic},
+        grid={
+            "shape": list(wp.shape),
+            "dx": wp.dx,
+            "dy": wp.dy,
+            "periodic": scene.periodic,
+            "periodic_reason": "measured files: a scan is not one period of a surface, "
+            "non-periodic (DC-FFT) solve"
+            if scene.from_files and not scene.periodic
+            else ("synthetic surfaces are periodic" if scene.periodic else "chosen"),
+        },
         tolerance=scene.tol,
         pressures={
             "loading": list(scene.pressures),
@@ -539,6 +583,8 @@ def calibrate(scene=None, *, progress=True):
                 "geo_threshold": scene.geo_threshold,
             },
             "effects": _effects_record(effects),
+            "files": surfs.records(),
+            "resolution_check": None if resolution is None else resolution.as_dict(),
         },
         p_range=(float(p.min()), float(p.max())),
         k_t=_eff.stiffness_table(effects.get("tangential")),
@@ -547,10 +593,20 @@ def calibrate(scene=None, *, progress=True):
         params = params.replace(
             geo_ratio=effects["inclined"].get("decision", {}).get("geo_ratio", 0.0)
         )
-    return Calibration(params, first, reload, sweeps, scene, time.perf_counter() - t0, effects)
+    return Calibration(
+        params,
+        first,
+        reload,
+        sweeps,
+        scene,
+        time.perf_counter() - t0,
+        effects,
+        surfs.files,
+        resolution,
+    )
 
 
-def _run_effects(scene, sweeps, measured, progress):
+def _run_effects(scene, sweeps, surfs, progress):
     """Run (or collect) every effect of the scene but ``"normal"``; see :mod:`.effects`."""
     out = {}
     if "tangential" in scene.effects:
@@ -566,9 +622,10 @@ def _run_effects(scene, sweeps, measured, progress):
                 "seconds": secs,
             }
     if "inclined" in scene.effects:
+        measured = (surfs.measured_workpiece, surfs.measured_tool, surfs.block)
         out["inclined"] = _eff.run_inclined(scene, measured=measured)
     if "sliding" in scene.effects:
-        out["sliding"] = _eff.run_sliding(scene, progress=progress)
+        out["sliding"] = _eff.run_sliding(scene, progress=progress, tool=surfs.tool)
     return out
 
 

@@ -1,13 +1,27 @@
-"""``halfspace-calib``: calibrate the friction law; with no arguments, the built-in default scene."""
+"""``halfspace-calib``: calibrate the friction law; with no arguments, the built-in default scene.
+
+Exit codes: 0 success; 1 the run failed (a load level or solve failed or did not converge, a
+degenerate fit, a failed effect solve); 2 bad input (refused before any sweep, no traceback).
+Outputs are written into a temporary folder beside ``--out`` and moved into place at the end,
+replacing an earlier calibration's whole output set.
+"""
 
 from __future__ import annotations
 
 import argparse
+import os
+import shutil
 import sys
+import tempfile
 import time
+from pathlib import Path
 
-from .calibrate import Scene, calibrate, load_scene
+from ._scene_surfaces import MAX_DEFAULT_GRID
+from .calibrate import Scene, calibrate, load_scene, load_scene_surfaces
 from .report import write_outputs
+
+#: files that mark a folder as a calibration output (a rerun may replace it)
+_OUTPUT_MARKERS = ("params.json", "summary.json")
 
 
 def _floats(text):
@@ -34,17 +48,45 @@ def build_parser():
     g = ap.add_argument_group("surfaces")
     g.add_argument("--workpiece", help="workpiece topography file (default: synthetic DC04 EDT)")
     g.add_argument("--tool", help="tool topography file (default: synthetic hardened tool)")
-    g.add_argument("--unit", help="height unit of plain files: m, mm, um, nm (default um)")
+    g.add_argument(
+        "--unit",
+        help="height unit of plain files: m, mm, um, nm (instrument files and text matrices with "
+        "a '# Value units:' header carry their own)",
+    )
     g.add_argument("--workpiece-unit", help="height unit of the workpiece file (default --unit)")
     g.add_argument("--tool-unit", help="height unit of the tool file (default --unit)")
-    g.add_argument("--size", type=float, help="physical edge length of plain height matrices (m)")
+    g.add_argument(
+        "--size",
+        type=float,
+        nargs="+",
+        metavar=("LX", "LY"),
+        help="physical size of plain height matrices (m): one value (square) or two (rows, "
+        "columns)",
+    )
+    g.add_argument(
+        "--crop-size",
+        type=float,
+        help="edge of the square patch used from the files (m; default: the largest common "
+        "square of workpiece and tool)",
+    )
+    g.add_argument(
+        "--max-undefined",
+        type=float,
+        help="largest fraction of undefined (unmeasured) points filled by harmonic "
+        "interpolation; above it a file is refused (default 0.05)",
+    )
     g.add_argument(
         "--rough-tool",
         action="store_true",
         default=None,
         help="synthetic rough tool (Ra 0.240 um) instead of the smooth one",
     )
-    g.add_argument("--grid", type=int, help="solver grid: N x N elements (default 128)")
+    g.add_argument(
+        "--grid",
+        type=int,
+        help="solver grid: N x N elements (default 128 for synthetic surfaces; for files the "
+        f"scans' sampling on the common square, at most {MAX_DEFAULT_GRID})",
+    )
     g = ap.add_argument_group("materials (Pa)")
     g.add_argument("--E-workpiece", type=float)
     g.add_argument("--nu-workpiece", type=float)
@@ -64,8 +106,32 @@ def build_parser():
     )
     g.add_argument("--reload-from", type=float, help="smallest p_hist with a reload curve (Pa)")
     g.add_argument("--tol", type=float, help="solver tolerance (default 1e-8)")
-    g.add_argument("--periodic", dest="periodic", action="store_true", default=None)
-    g.add_argument("--no-periodic", dest="periodic", action="store_false")
+    g.add_argument(
+        "--periodic",
+        dest="periodic",
+        action="store_true",
+        default=None,
+        help="periodic (FFT) solve; default for synthetic surfaces",
+    )
+    g.add_argument(
+        "--no-periodic",
+        dest="periodic",
+        action="store_false",
+        help="non-periodic (DC-FFT) solve; default for measured files",
+    )
+    g.add_argument(
+        "--no-resolution-check",
+        dest="resolution_check",
+        action="store_false",
+        default=None,
+        help="skip the check at half the grid (default: on for files)",
+    )
+    g.add_argument(
+        "--resolution-check",
+        dest="resolution_check",
+        action="store_true",
+        help="run the check at half the grid also for synthetic surfaces",
+    )
     g.add_argument(
         "--no-volume-conservation", dest="volume_conservation", action="store_false", default=None
     )
@@ -114,6 +180,8 @@ def scene_from_args(args):
             "workpiece_unit",
             "tool_unit",
             "size",
+            "crop_size",
+            "max_undefined",
             "rough_tool",
             "grid",
             "E_workpiece",
@@ -128,6 +196,7 @@ def scene_from_args(args):
             "reload_from",
             "tol",
             "periodic",
+            "resolution_check",
             "volume_conservation",
             "reload_surface",
             "continuous_reload",
@@ -137,6 +206,10 @@ def scene_from_args(args):
             "geo_threshold",
         )
     }
+    if over["size"] is not None:
+        if len(over["size"]) > 2:
+            raise ValueError(f"--size takes one or two lengths (m), got {len(over['size'])}")
+        over["size"] = over["size"][0] if len(over["size"]) == 1 else tuple(over["size"])
     if args.sliding:
         from .effects import check_effects
 
@@ -148,21 +221,78 @@ def scene_from_args(args):
     if over["H"] is None and over["sigma_y"] is not None and not args.scene:
         over["H"] = 2.8 * over["sigma_y"]
     if args.scene:
-        return load_scene(args.scene, **over)
-    return Scene(**{k: v for k, v in over.items() if v is not None})
+        scene = load_scene(args.scene, **over)
+    else:
+        scene = Scene(**{k: v for k, v in over.items() if v is not None})
+    if over["geo_threshold"] is not None and "inclined" not in scene.effects:
+        raise ValueError("--geo-threshold applies to the inclined effect: add --effects inclined")
+    return scene
+
+
+def _error(msg, code):
+    print(f"halfspace-calib: error: {msg}", file=sys.stderr)
+    return code
+
+
+def _temp_out(out):
+    """A fresh temporary folder beside ``out``; ``ValueError`` if ``out`` cannot be written."""
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise ValueError(f"--out {out} exists and is not a folder")
+    if out.is_dir() and any(out.iterdir()):
+        if not any((out / m).is_file() for m in _OUTPUT_MARKERS):
+            raise ValueError(
+                f"--out {out} is a non-empty folder that holds no calibration output "
+                "(params.json); a run replaces its whole output folder, so give a new or "
+                "an earlier output folder"
+            )
+    try:
+        out.parent.mkdir(parents=True, exist_ok=True)
+        return Path(tempfile.mkdtemp(prefix=f".{out.name}.tmp-", dir=out.parent))
+    except OSError as exc:
+        raise ValueError(f"--out {out} is not writable ({exc.strerror or exc})") from None
+
+
+def _move_into_place(tmp, out):
+    """Replace ``out`` by ``tmp`` (the whole set): rename the old one aside, then delete it."""
+    out = Path(out)
+    old = None
+    if out.exists():
+        old = Path(tempfile.mkdtemp(prefix=f".{out.name}.old-", dir=out.parent))
+        os.replace(out, old / "set")
+    os.replace(tmp, out)
+    if old is not None:
+        shutil.rmtree(old, ignore_errors=True)
 
 
 def main(argv=None):
-    """Entry point of ``halfspace-calib``."""
-    args = build_parser().parse_args(argv)
+    """Entry point of ``halfspace-calib``; returns the exit code (0, 1 or 2)."""
+    try:
+        args = build_parser().parse_args(argv)
+    except SystemExit as exc:  # argparse: 2 for a bad option, 0 for --help
+        return exc.code if isinstance(exc.code, int) else 2
+    t0 = time.perf_counter()
     try:
         scene = scene_from_args(args)
-    except ValueError as exc:
-        print(f"halfspace-calib: error: {exc}", file=sys.stderr)
-        return 2
-    t0 = time.perf_counter()
-    cal = calibrate(scene, progress=not args.quiet)
-    out = write_outputs(cal, args.out)
+        surfaces = load_scene_surfaces(scene)  # every file check before any sweep
+        tmp = _temp_out(args.out)
+    except FileNotFoundError as exc:
+        return _error(str(exc) if "not found" in str(exc) else f"file not found: {exc.filename}", 2)
+    except (ValueError, ImportError, OSError) as exc:
+        return _error(str(exc), 2)
+    try:
+        _print_input(scene, surfaces, derived=scene.grid is None)
+        cal = calibrate(scene, progress=not args.quiet, surfaces=surfaces)
+        write_outputs(cal, tmp)
+        _move_into_place(tmp, args.out)
+    except (RuntimeError, MemoryError) as exc:
+        return _error(f"the run failed: {exc or type(exc).__name__}", 1)
+    except OSError as exc:  # writing the outputs (disk full, permissions changed meanwhile)
+        return _error(f"the outputs could not be written, {args.out} is unchanged: {exc}", 1)
+    finally:
+        if tmp.exists():
+            shutil.rmtree(tmp, ignore_errors=True)
+    out = Path(args.out)
     P = cal.params
     s = cal.summary()
     print(f"calibrated in {time.perf_counter() - t0:.1f} s -> {out / 'params.json'}")
@@ -177,17 +307,54 @@ def main(argv=None):
         f"plastic fraction {s['max_reload_plastic_fraction']:.4f}"
     )
     _print_effects(cal, out)
-    if cal.sweeps.failed:
-        print(
-            f"  WARNING: {len(cal.sweeps.failed)} load levels failed: "
-            + "; ".join(f"{f['p_hist']:g} Pa" for f in cal.sweeps.failed)
-        )
-    for nc in s["not_converged"]:
-        print(
-            f"  WARNING: not converged, left out of the fit: p_hist {nc['p_hist']:g} Pa, "
-            f"p_mean {nc['p_mean']:g} Pa: {nc['message']}"
-        )
+    _print_resolution(cal.resolution)
+    problems = cal.problems()
+    if problems:
+        print("  RUN FAILED (exit code 1):")
+        for p in problems:
+            print(f"    - {p}")
+        return 1
     return 0
+
+
+def _print_input(scene, surfaces, derived=False):
+    """What was read and done to each file, the grid and the periodicity."""
+    for f in surfaces.files:
+        print(
+            f"  {f.role}: {f.path} [{f.format}], {f.native_shape[0]} x {f.native_shape[1]} points, "
+            f"{f.native_size[0] * 1e6:.4g} x {f.native_size[1] * 1e6:.4g} um, heights in "
+            f"{f.unit} ({f.unit_source}), undefined {f.undefined_points} "
+            f"({100 * f.undefined_fraction:.2f} %), Rq {f.rq_scan * 1e9:.4g} nm (levelled scan), "
+            f"{f.rq_patch * 1e9:.4g} nm on the {f.crop_size * 1e6:.4g} um patch at the grid's "
+            "elements"
+        )
+        for step in f.steps:
+            print(f"    - {step}")
+    w = surfaces.workpiece
+    kind = "periodic (FFT)" if scene.periodic else "non-periodic (DC-FFT)"
+    print(
+        f"  solver grid {surfaces.grid} x {surfaces.grid}"
+        + (f" (from the scans' sampling, at most {MAX_DEFAULT_GRID})" if derived else "")
+        + f", element {w.dx * 1e6:.4g} um, {kind}"
+        + (", measured files default to non-periodic" if scene.from_files else "")
+    )
+
+
+def _print_resolution(rc):
+    if rc is None:
+        return
+    if rc.skipped:
+        print(f"  resolution check skipped: {rc.skipped}")
+        return
+    print(
+        f"  resolution check (grid {rc.grid} against {rc.half_grid}, {rc.seconds:.1f} s): "
+        + ", ".join(
+            f"{k} {a:.4g} -> {b:.4g} ({100 * d:.1f} %)" for k, (a, b, d) in rc.params.items()
+        )
+        + f"; alpha up to {100 * rc.alpha_change:.1f} %"
+    )
+    if rc.warning:
+        print(f"  WARNING: {rc.warning}")
 
 
 def _print_effects(cal, out):

@@ -25,6 +25,7 @@ record carries ``skipped`` with the reason.
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from pathlib import Path
 
@@ -32,9 +33,9 @@ import numpy as np
 
 from frictionlaw import TangentialStiffness
 
-from . import surfaces as _surf
 from ._output import pyplot, save_png, write_csv
-from .geometric import fit_geo_ratio, geometric_sweep, measured_surfaces, write_geometric_outputs
+from ._scene_surfaces import load_scene_surfaces
+from .geometric import fit_geo_ratio, geometric_sweep, write_geometric_outputs
 from .presliding import stiffness_power_law
 
 __all__ = [
@@ -86,58 +87,16 @@ def check_effects(effects):
 def scene_measured_surfaces(scene):
     """The scene's workpiece and tool as measured (fine) maps: ``(workpiece, tool, block)``.
 
-    Synthetic surfaces: :func:`halfspace_calib.geometric.measured_surfaces` on
-    ``scene.measured_n`` points a side (default ``4 scene.grid``), Table 1 ``Ra`` on the solver
-    grid. Files: read and levelled; the block is ``(nx // grid, ny // grid)`` points, the
-    remainder trimmed evenly as :func:`~halfspace_calib.calibrate.scene_surfaces` does, and at
-    least 2 a side (a plane needs measured points finer than the element), otherwise a
-    ``ValueError``.
+    From the one scene loader (:func:`halfspace_calib._scene_surfaces.load_scene_surfaces`):
+    synthetic surfaces on ``scene.measured_n`` points a side (default ``4 scene.grid``); files
+    cropped, resampled onto ``grid * block`` square points a side (``block >= 2`` measured
+    points per element edge, otherwise a ``ValueError``) and levelled, in their own units
+    (``workpiece_unit`` / ``tool_unit`` honoured).
     """
-    n = scene.grid
-    if scene.workpiece is None and scene.tool is None:
-        fine = scene.measured_n if scene.measured_n is not None else 4 * n
-        if fine % n or fine // n < 2:
-            raise ValueError(
-                f"measured_n must be a multiple >= 2 of grid={n} for the inclined "
-                f"patches, got {scene.measured_n!r}"
-            )
-        s = fine // n
-        wp, tl = measured_surfaces(
-            n,
-            s,
-            rough_tool=scene.rough_tool,
-            seed_workpiece=scene.seed_workpiece,
-            seed_tool=scene.seed_tool,
-        )
-        return wp, tl, s
-    out = []
-    for which in ("workpiece", "tool"):
-        path = getattr(scene, which)
-        if path is None:
-            raise ValueError(
-                f"the inclined effect needs both surfaces measured: give {which} as a "
-                "file too (a synthetic map has no measured points of its own)"
-            )
-        out.append(_surf.level(_surf.read_surface(path, unit=scene.unit, size=scene.size)))
-    wp, tl = out
-    if wp.shape != tl.shape:
-        raise ValueError(
-            f"workpiece {wp.shape} and tool {tl.shape} must be measured on the same grid"
-        )
-    sx, sy = wp.shape[0] // n, wp.shape[1] // n
-    if min(sx, sy) < 2:
-        raise ValueError(
-            f"the measured maps ({wp.shape}) must have at least 2 points per element "
-            f"edge on grid={n} for the inclined patches (Eqs. 19-21)"
-        )
-    return _crop_to(wp, n, sx, sy), _crop_to(tl, n, sx, sy), (sx, sy)
-
-
-def _crop_to(surface, n, sx, sy):
-    """The even trim of :func:`~halfspace_calib.surfaces.block_average` (``trim=True``)."""
-    nx, ny = surface.shape
-    mx, my = n * sx, n * sy
-    return _surf.crop(surface, (mx, my), ((nx - mx) // 2, (ny - my) // 2))
+    if "inclined" not in scene.effects:
+        scene = dataclasses.replace(scene, effects=tuple(scene.effects) + ("inclined",))
+    s = load_scene_surfaces(scene)
+    return s.measured_workpiece, s.measured_tool, s.block
 
 
 def geo_decision(result, threshold, m):
@@ -225,8 +184,10 @@ def run_inclined(scene, *, measured=None):
 
 
 # ----------------------------------------------------------------------------- sliding
-def run_sliding(scene, *, progress=True):
+def run_sliding(scene, *, progress=True, tool=None):
     """The sliding study of Sec. 3.3 with the scene's tool and materials.
+
+    ``tool``: the scene's tool on the solver grid if already loaded.
 
     Returns
     -------
@@ -234,11 +195,11 @@ def run_sliding(scene, *, progress=True):
         ``{"study": SlidingStudy, "seconds": float}`` or ``{"skipped": reason}`` when the study
         cannot run (``m = 0``, ``H`` at or below 100 MPa).
     """
-    from .calibrate import scene_surfaces
     from .sliding import SLIDING_PRESSURES, sliding_study, sliding_workpiece
 
-    _, tool = scene_surfaces(scene)
-    n = scene.grid
+    if tool is None:
+        tool = load_scene_surfaces(scene).tool
+    n = tool.shape[0]
     wp = sliding_workpiece((3 * n, n), (3 * n * tool.dx, n * tool.dy), seed=scene.seed_workpiece)
     t0 = time.perf_counter()
     try:
@@ -375,10 +336,24 @@ STIFFNESS_COLUMNS = (
 )
 
 
+#: CSV header of each stiffness column, with its SI unit
+STIFFNESS_HEADERS = {
+    "p_mean": "p_mean_Pa",
+    "alpha": "alpha",
+    "q_limit": "q_limit_Pa",
+    "delta_full": "delta_full_m",
+    "delta_stick": "delta_stick_m",
+    "k_t0": "k_t0_Pa_per_m",
+    "k_eq": "k_eq_Pa_per_m",
+    "k_sec": "k_sec_Pa_per_m",
+    "converged": "converged",
+}
+
+
 def write_stiffness_csv(summary, path):
     """Write the tangential stiffness table of :func:`summarize_tangential`'s ``summary``."""
     rows = [[r[k] for k in STIFFNESS_COLUMNS] for r in summary["rows"]]
-    write_csv(path, list(STIFFNESS_COLUMNS), rows)
+    write_csv(path, [STIFFNESS_HEADERS[k] for k in STIFFNESS_COLUMNS], rows)
     return path
 
 
@@ -393,7 +368,7 @@ def write_tangential_outputs(levels, summary, out_dir):
     ]
     write_csv(
         out / "tangential.csv",
-        ["p_mean", "delta", "q_mean", "q_over_q_limit", "slip_fraction"],
+        ["p_mean_Pa", "delta_m", "q_mean_Pa", "q_over_q_limit", "slip_fraction"],
         [
             [p, d, q, q / t["q_limit"], s]
             for p, t in curves

@@ -441,10 +441,10 @@ def geometric_study(
 # ----------------------------------------------------------------------------- output
 CSV_COLUMNS = [
     "label",
-    "p_mean",
+    "p_mean_Pa",
     "alpha",
-    "tau_adh",
-    "tau_geo",
+    "tau_adh_Pa",
+    "tau_geo_Pa",
     "ratio",
     "plastic_fraction",
     "converged",

@@ -176,9 +176,16 @@ def composite_heights(tool: np.ndarray, workpiece: np.ndarray) -> np.ndarray:
 
 
 def _validate(heights, dx, dy, E_star, p_mean, H, tol, maxiter, p_init, max_memory, periodic):
+    shape = np.shape(heights)  # before any conversion: a huge grid is refused without a copy
+    if len(shape) != 2 or min(shape) < 2:
+        raise ValueError(f"heights must be a 2-D array with at least 2 x 2 elements, got {shape}")
+    need = estimate_memory(shape, periodic)
+    if need > max_memory:
+        raise ValueError(
+            f"grid {shape} needs about {need / 2**30:.2f} GiB (periodic={periodic}), more than "
+            f"max_memory={max_memory / 2**30:.2f} GiB; coarsen the grid or raise max_memory"
+        )
     h = np.asarray(heights, dtype=float)
-    if h.ndim != 2 or min(h.shape) < 2:
-        raise ValueError(f"heights must be a 2-D array with at least 2 x 2 elements, got {h.shape}")
     if not np.all(np.isfinite(h)):
         raise ValueError("heights must be finite (no NaN or inf)")
     for name, v in (("dx", dx), ("E_star", E_star), ("p_mean", p_mean)):
@@ -204,12 +211,6 @@ def _validate(heights, dx, dy, E_star, p_mean, H, tol, maxiter, p_init, max_memo
             raise ValueError(f"p_init must have the shape of heights {h.shape}, got {p_init.shape}")
         if not np.all(np.isfinite(p_init)):
             raise ValueError("p_init must be finite")
-    need = estimate_memory(h.shape, periodic)
-    if need > max_memory:
-        raise ValueError(
-            f"grid {h.shape} needs about {need / 2**30:.2f} GiB (periodic={periodic}), more than "
-            f"max_memory={max_memory / 2**30:.2f} GiB; coarsen the grid or raise max_memory"
-        )
     return h, p_init
 
 

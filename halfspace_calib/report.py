@@ -12,33 +12,48 @@ from ._output import pyplot, save_png, write_csv
 __all__ = ["write_outputs"]
 
 
-# columns of one normal solve, in the loading and the reload table
-_SOLVE_COLUMNS = ["alpha", "converged", "nit", "residual", "max_pressure", "plastic_fraction"]
+# columns of one normal solve, in the loading and the reload table: (record key, CSV header
+# with its unit; dimensionless quantities carry none)
+_SOLVE_COLUMNS = [
+    ("alpha", "alpha"),
+    ("converged", "converged"),
+    ("nit", "nit"),
+    ("residual", "residual"),
+    ("max_pressure", "max_pressure_Pa"),
+    ("plastic_fraction", "plastic_fraction"),
+]
+_SOLVE_HEADERS = [h for _, h in _SOLVE_COLUMNS]
 
 
 def _solve_cells(rec):
     """The :data:`_SOLVE_COLUMNS` cells of a loading or reload record (``converged`` as 0/1)."""
-    return [int(rec[k]) if k == "converged" else rec[k] for k in _SOLVE_COLUMNS]
+    return [int(rec[k]) if k == "converged" else rec[k] for k, _ in _SOLVE_COLUMNS]
 
 
 def write_tables(cal, out):
-    """``loading.csv``, ``reload.csv`` and ``roughness.csv`` (SI units: Pa, m)."""
+    """``loading.csv``, ``reload.csv`` and ``roughness.csv`` (SI units in every header: Pa, m)."""
     lv = cal.sweeps.levels
     write_csv(
         out / "loading.csv",
-        ["p_mean", *_SOLVE_COLUMNS, "u0"],
+        ["p_mean_Pa", *_SOLVE_HEADERS, "u0_m"],
         [[v["p_hist"], *_solve_cells(v["loading"]), v["loading"]["u0"]] for v in lv],
     )
     write_csv(
         out / "reload.csv",
-        ["p_hist", "p_mean", *_SOLVE_COLUMNS],
+        ["p_hist_Pa", "p_mean_Pa", *_SOLVE_HEADERS],
         [[v["p_hist"], r["p_mean"], *_solve_cells(r)] for v in lv for r in v["reload"]],
     )
+    rows = _roughness_rows(cal)
+    write_csv(out / "roughness.csv", ["p_mean_Pa", "Ra_m", "Rq_m"], rows)
+
+
+def _roughness_rows(cal):
+    """``[p_mean, Ra, Rq]`` (Pa, m): the solver-grid workpiece (``p = 0``), then after each level."""
     wp = cal.sweeps.surfaces["workpiece"]
     h0 = np.asarray(wp.heights) - np.mean(wp.heights)
     rows = [[0.0, float(np.mean(np.abs(h0))), float(np.sqrt(np.mean(h0 * h0)))]]
-    rows += [[v["p_hist"], v["Ra_after"], v["Rq_after"]] for v in lv]
-    write_csv(out / "roughness.csv", ["p_mean", "Ra", "Rq"], rows)
+    rows += [[v["p_hist"], v["Ra_after"], v["Rq_after"]] for v in cal.sweeps.levels]
+    return rows
 
 
 def write_plots(cal, out):
@@ -86,13 +101,14 @@ def write_plots(cal, out):
     save_png(fig, out / "alpha_reload.png")
 
     lv = cal.sweeps.levels
+    rows = _roughness_rows(cal)
     fig, ax = plt.subplots(figsize=(6, 4.2))
-    pr = np.array([v["p_hist"] for v in lv]) / MPa
-    ax.plot(pr, [v["Ra_after"] * 1e6 for v in lv], "o-", label="Ra")
-    ax.plot(pr, [v["Rq_after"] * 1e6 for v in lv], "s-", label="Rq")
+    pr = np.array([r[0] for r in rows]) / MPa
+    ax.plot(pr, [r[1] * 1e6 for r in rows], "o-", label="Ra")
+    ax.plot(pr, [r[2] * 1e6 for r in rows], "s-", label="Rq")
     ax.set(
-        xlabel="p_mean [MPa]",
-        ylabel="roughness after unloading [um]",
+        xlabel="p_mean [MPa] (0: as measured)",
+        ylabel="roughness after unloading [um] (roughness.csv: m)",
         title="Workpiece roughness after unloading (Figs. 3-4)",
     )
     ax.grid(alpha=0.3)

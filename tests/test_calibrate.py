@@ -53,11 +53,11 @@ def test_fit_quality_and_parameter_file(cal, tmp_path):
     assert prov["surfaces"]["workpiece"]["source"] == "generator"
     with open(tmp_path / "loading.csv") as fh:
         rows = list(csv.DictReader(fh))
-    assert [float(r["p_mean"]) for r in rows] == list(SMALL["pressures"])
+    assert [float(r["p_mean_Pa"]) for r in rows] == list(SMALL["pressures"])
     assert float(rows[-1]["alpha"]) == pytest.approx(alpha[-1])
     with open(tmp_path / "reload.csv") as fh:
         rows = list(csv.DictReader(fh))
-    assert {"p_hist", "p_mean", "alpha"} <= set(rows[0])
+    assert {"p_hist_Pa", "p_mean_Pa", "alpha", "max_pressure_Pa"} <= set(rows[0])
     assert len(rows) == 4 * 4  # p_hist >= 100 MPa: four levels, four fractions each
     for name in (
         "alpha_first_loading.png",
@@ -68,7 +68,7 @@ def test_fit_quality_and_parameter_file(cal, tmp_path):
         assert (tmp_path / name).stat().st_size > 10_000
     # plastic flattening lowers the roughness of the unloaded workpiece (Figs. 3-4)
     with open(tmp_path / "roughness.csv") as fh:
-        rq = [float(r["Rq"]) for r in csv.DictReader(fh)]
+        rq = [float(r["Rq_m"]) for r in csv.DictReader(fh)]
     assert rq[-1] < rq[0]
 
 
@@ -136,8 +136,10 @@ def test_measured_surface_files_give_the_synthetic_result(tmp_path):
         workpiece_unit="um",
         tool_unit="nm",
         size=size,
+        periodic=True,  # as the in-memory reference below (files default to non-periodic)
         **kw,
     )
+    assert not Scene(workpiece=scene.workpiece, unit="um", size=size).periodic
     rw, rt = scene_surfaces(scene)
     np.testing.assert_allclose(rw.heights, wp.heights, rtol=0, atol=1e-12 * np.ptp(wp.heights))
     np.testing.assert_allclose(rt.heights, tl.heights, rtol=0, atol=1e-9 * np.ptp(tl.heights))

@@ -241,7 +241,7 @@ def test_provenance_and_outputs(cal_all, tmp_path):
     assert summ["effect_results"]["inclined"]["ratio_mean"] == inc["ratio_mean"]
     with open(tmp_path / "tangential" / "tangential_stiffness.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
-    assert float(rows[0]["k_t0"]) == pytest.approx(t["rows"][0]["k_t0"], rel=1e-15)
+    assert float(rows[0]["k_t0_Pa_per_m"]) == pytest.approx(t["rows"][0]["k_t0"], rel=1e-15)
     with open(tmp_path / "geometric" / "geometric.csv", newline="") as fh:
         assert len(list(csv.DictReader(fh))) == 4
     for f in (

@@ -348,8 +348,11 @@ def test_unreadable_and_incomplete_input(tmp_path, surf):
         S.read_surface(bad_npy, unit="um", dx=1e-6)
     nan = tmp_path / "nan.txt"
     nan.write_text("1 2\nnan 4\n")
-    with pytest.raises(ValueError, match="non-finite"):
+    with pytest.raises(ValueError, match="1 undefined"):
         S.read_surface(nan, unit="um", dx=1e-6)
+    filled = S.read_surface(nan, unit="um", dx=1e-6, fill_undefined=True)
+    # the harmonic fill of one point is the mean of its defined neighbours
+    assert filled.heights[1, 0] == pytest.approx(2.5e-6, rel=1e-12)
     with pytest.raises(FileNotFoundError, match="nothere"):
         S.read_surface(tmp_path / "nothere.npy", unit="um", dx=1e-6)
     p = S.write_surface(surf, tmp_path / "h.npy")

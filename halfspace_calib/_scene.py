@@ -1,0 +1,260 @@
+"""The calibration's scene: what a calibration needs, validated once, and its scene file (TOML).
+
+:class:`Scene` holds the surfaces (files or synthetic), materials, pressures, solver settings and
+effects; :func:`load_scene` reads a scene file. Both are re-exported by
+:mod:`halfspace_calib.calibrate`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+
+from . import effects as _eff
+from ._scene_surfaces import MAX_UNDEFINED, SYNTHETIC_GRID, check_memory
+from .normal import composite_modulus
+
+__all__ = [
+    "DEFAULT_PRESSURES",
+    "DEFAULT_RELOAD_FRACTIONS",
+    "P_FLOOR",
+    "Scene",
+    "load_scene",
+]
+
+MPa = 1e6
+DEFAULT_PRESSURES = (10e6, 25e6, 50e6, 100e6, 200e6, 300e6, 400e6, 500e6, 600e6)
+DEFAULT_RELOAD_FRACTIONS = (0.05, 0.1, 0.25, 0.5, 0.75, 0.9)
+#: smallest plausible mean pressure (Pa): below it the values were most likely typed in MPa
+P_FLOOR = 1e3
+
+
+@dataclass
+class Scene:
+    """Everything a calibration needs; every field has the paper's default (Table 1, Sec. 3.1).
+
+    Surfaces: ``workpiece`` / ``tool`` are file paths or ``None`` for the synthetic DC04-EDT-like
+    sheet and tool of Table 1 (``rough_tool`` for the rough tool; ``measured_n``, a multiple of
+    ``grid``, generates them on that finer grid and block-averages, so that one seed is the same
+    physical surface at every ``grid``). Files are prepared by
+    :func:`~halfspace_calib._scene_surfaces.load_scene_surfaces` (see docs/measured_surfaces.md):
+    instrument files bring their own units and sizes (``unit=None``); plain files need ``unit``
+    (or ``workpiece_unit`` / ``tool_unit``) and ``size`` (``L`` or ``(Lx, Ly)`` in m); undefined
+    points are filled up to the fraction ``max_undefined``; both files are cropped to the largest
+    common square (or ``crop_size``), area-averaged onto square elements and levelled.
+    ``grid=None`` means 128 for synthetic surfaces and the scan's native sampling (at most 256)
+    for files; ``periodic=None`` means periodic for synthetic surfaces and non-periodic (DC-FFT)
+    for measured ones; ``resolution_check=None`` runs the check (the normal sweeps again at half
+    the grid) for files only.
+    Materials in Pa; ``sigma_y`` defaults to ``H / 2.8`` (Bowden and Tabor). ``m`` is Tresca's
+    factor: it does not enter the half-space model, only the parameter file (measure it, e.g. by
+    ring compression).
+
+    Effects (:mod:`halfspace_calib.effects`): ``effects`` names what is modelled besides the
+    always-on ``"normal"`` sweeps: ``"tangential"`` (pre-sliding stiffness), ``"inclined"``
+    (Eq. 23 and, if the mean ``tau_geo / tau_adh`` exceeds ``geo_threshold``, Eq. 26's
+    ``geo_ratio``), ``"sliding"`` (Sec. 3.3). With ``"inclined"`` on synthetic surfaces
+    ``measured_n`` defaults to ``4 grid``: the inclined patches are fitted on that measured grid
+    and the calibration's surfaces are block averages of the same random field.
+    """
+
+    workpiece: str | None = None
+    tool: str | None = None
+    unit: str | None = None
+    workpiece_unit: str | None = None
+    tool_unit: str | None = None
+    size: float | tuple | None = None
+    crop_size: float | None = None
+    max_undefined: float = MAX_UNDEFINED
+    rough_tool: bool = False
+    seed_workpiece: int = 1
+    seed_tool: int = 2
+    grid: int | None = None
+    measured_n: int | None = None
+    E_workpiece: float = 210e9
+    nu_workpiece: float = 0.3
+    E_tool: float = 210e9
+    nu_tool: float = 0.3
+    H: float = 800e6
+    sigma_y: float | None = None
+    m: float = 0.5
+    pressures: tuple = DEFAULT_PRESSURES
+    reload_from: float = 100e6
+    reload_fractions: tuple = DEFAULT_RELOAD_FRACTIONS
+    tol: float = 1e-8
+    periodic: bool | None = None
+    resolution_check: bool | None = None
+    volume_conservation: bool = True
+    reload_surface: str = "plastic"
+    continuous_reload: bool = False
+    workers: int = 1
+    scheduler: str | None = None
+    effects: tuple = ("normal",)
+    geo_threshold: float = 0.05
+
+    @property
+    def from_files(self):
+        """True if at least one surface is a measured file."""
+        return self.workpiece is not None or self.tool is not None
+
+    def __post_init__(self):
+        self.effects = _eff.check_effects(self.effects)
+        synthetic = not self.from_files
+        if self.grid is None and synthetic:
+            self.grid = SYNTHETIC_GRID
+        if self.periodic is None:
+            self.periodic = synthetic
+        if self.resolution_check is None:
+            self.resolution_check = not synthetic
+        if isinstance(self.size, list):
+            self.size = tuple(self.size)
+        if "inclined" in self.effects and synthetic and self.measured_n is None:
+            # the inclined patches need the measured grid: calibrate on the same random field
+            self.measured_n = 4 * self.grid if isinstance(self.grid, int) else None
+        self.pressures = tuple(float(p) for p in self.pressures)
+        self.reload_fractions = tuple(float(f) for f in self.reload_fractions)
+        if self.sigma_y is None:
+            self.sigma_y = self.H / 2.8
+        self.validate()
+
+    def validate(self):
+        """Raise ``ValueError`` naming the first bad field and its allowed range."""
+        for name in ("E_workpiece", "E_tool", "H", "sigma_y"):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+                raise ValueError(f"{name} must be a finite number > 0 (Pa), got {v!r}")
+        for name in ("nu_workpiece", "nu_tool"):
+            v = getattr(self, name)
+            if not (-1.0 < v <= 0.5):
+                raise ValueError(f"{name} must be in (-1, 0.5], got {v!r}")
+        if not (0.0 <= self.m <= 1.0):
+            raise ValueError(f"m must be in [0, 1], got {self.m!r}")
+        if not (self.grid is None and self.from_files):
+            if isinstance(self.grid, bool) or not isinstance(self.grid, int) or self.grid < 8:
+                raise ValueError(f"grid must be an integer >= 8, got {self.grid!r}")
+            check_memory(self.grid, self.periodic)
+        if self.measured_n is not None and isinstance(self.measured_n, int):
+            check_memory(self.measured_n, True, "measured_n")
+        if len(self.pressures) < 3:
+            raise ValueError("pressures must hold at least 3 values (Pa) for the fit of C1, n1")
+        low = [p for p in self.pressures if 0 < p < P_FLOOR]
+        if low:
+            raise ValueError(
+                f"pressures {low} Pa are below {P_FLOOR:g} Pa, far below any forming pressure: "
+                "pressures are in Pa, most likely MPa were typed as Pa (write 10e6, not 10)"
+            )
+        bad = [p for p in self.pressures if not (0 < p < self.H)]
+        if bad:
+            raise ValueError(f"pressures must be in (0, H) = (0, {self.H:g}) Pa, got {bad}")
+        if not self.reload_levels:
+            raise ValueError(
+                f"reload_from = {self.reload_from:g} Pa is above every pressure: no reload curve "
+                "for the fit of Eq. 25; give reload_from <= max(pressures)"
+            )
+        self._validate_surfaces()
+        if any(not (0 < f < 1) for f in self.reload_fractions):
+            raise ValueError("reload_fractions must be in (0, 1)")
+        if not (0 < self.tol < 1):
+            raise ValueError(f"tol must be in (0, 1), got {self.tol!r}")
+        if self.reload_surface not in ("plastic", "volume_conserving"):
+            raise ValueError("reload_surface must be 'plastic' or 'volume_conserving'")
+        if not isinstance(self.workers, int) or self.workers < 0:
+            raise ValueError(f"workers must be an integer >= 0, got {self.workers!r}")
+        self.effects = _eff.check_effects(self.effects)
+        g = self.geo_threshold
+        if not (isinstance(g, (int, float)) and math.isfinite(g) and g >= 0):
+            raise ValueError(f"geo_threshold must be a finite number >= 0 (a ratio), got {g!r}")
+        if "inclined" in self.effects and self.workpiece is None and self.tool is None:
+            mn = self.measured_n
+            if mn is not None and (not isinstance(mn, int) or mn % self.grid or mn < 2 * self.grid):
+                raise ValueError(
+                    f"measured_n must be a multiple >= 2 of grid={self.grid} for the inclined "
+                    f"effect (measured points per element), got {mn!r}"
+                )
+
+    def _validate_surfaces(self):
+        """Options about files and synthetic surfaces: each honoured or refused."""
+        m = self.max_undefined
+        if not (isinstance(m, (int, float)) and 0 <= m <= 1):
+            raise ValueError(f"max_undefined must be a fraction in [0, 1], got {m!r}")
+        if self.crop_size is not None and not (
+            isinstance(self.crop_size, (int, float))
+            and math.isfinite(self.crop_size)
+            and self.crop_size > 0
+        ):
+            raise ValueError(f"crop_size must be a length > 0 (m), got {self.crop_size!r}")
+        if self.size is not None:
+            vals = self.size if isinstance(self.size, tuple) else (self.size,)
+            if len(vals) not in (1, 2) or not all(
+                isinstance(v, (int, float)) and math.isfinite(v) and v > 0 for v in vals
+            ):
+                raise ValueError(f"size must be one or two lengths > 0 (m), got {self.size!r}")
+        if not self.from_files:
+            given = [
+                n
+                for n in ("unit", "workpiece_unit", "tool_unit", "size", "crop_size")
+                if getattr(self, n) is not None
+            ]
+            if given:
+                raise ValueError(
+                    f"{', '.join(given)} apply to surface files only; no workpiece or tool file "
+                    "was given"
+                )
+        for role in ("workpiece", "tool"):
+            if getattr(self, role) is None and getattr(self, f"{role}_unit") is not None:
+                raise ValueError(f"{role}_unit is given but the {role} is synthetic (no file)")
+        if self.tool is not None and self.rough_tool:
+            raise ValueError("rough_tool selects the synthetic tool; a tool file was given")
+        if self.from_files and self.measured_n is not None:
+            raise ValueError(
+                "measured_n applies to synthetic surfaces; a file's measured grid is the scan"
+            )
+        if self.scheduler is not None and self.workers != 1:
+            raise ValueError(
+                "workers applies to local processes; with a Dask scheduler the cluster decides "
+                "(give one of them)"
+            )
+        if self.reload_surface == "volume_conserving" and not self.volume_conservation:
+            raise ValueError("reload_surface='volume_conserving' needs volume_conservation=True")
+
+    @property
+    def E_star(self):
+        """Composite modulus, Eq. 2."""
+        return composite_modulus(self.E_workpiece, self.nu_workpiece, self.E_tool, self.nu_tool)
+
+    @property
+    def reload_levels(self):
+        """The ``p_hist`` values that get a reload curve."""
+        return tuple(p for p in self.pressures if p >= self.reload_from)
+
+    def as_dict(self):
+        """Plain dict of the settings (for the provenance)."""
+        return dataclasses.asdict(self)
+
+
+def load_scene(path, **overrides):
+    """Read a scene file (TOML, keys as the :class:`Scene` fields, SI units) and apply overrides."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise ValueError(f"scene file not found: {path}") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ValueError(f"{path}: cannot read the scene file ({exc})") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ValueError(f"{path}: not a valid TOML scene file ({exc})") from None
+    data = data.get("scene", data)
+    known = {f.name for f in dataclasses.fields(Scene)}
+    unknown = set(data) - known
+    if unknown:
+        raise ValueError(f"{path}: unknown scene keys {sorted(unknown)}; known: {sorted(known)}")
+    for key in ("workpiece", "tool"):  # relative paths are relative to the scene file
+        if data.get(key) and not Path(data[key]).is_absolute():
+            data[key] = str(path.parent / data[key])
+    data.update({k: v for k, v in overrides.items() if v is not None})
+    return Scene(**data)

@@ -1,0 +1,458 @@
+"""One loader for a scene's surfaces: the solver grid and the measured grid from one call.
+
+:func:`load_scene_surfaces` is what the sweeps and every effect use. For measured files it
+applies the policy of ``docs/measured_surfaces.md``:
+
+1. read the file (:func:`halfspace_calib.surfaces.read_raw`): instrument files bring their own
+   height unit and lateral size; plain files need ``unit`` and ``size`` (or a text header that
+   gives them);
+2. undefined points: counted; filled with the harmonic interpolant
+   (:func:`~halfspace_calib.surfaces.fill_harmonic`) when their fraction is at most
+   ``max_undefined``, refused above;
+3. crop: both files to the largest common square (or ``crop_size``), centred on each scan;
+4. resample: the square patch is area-averaged onto square elements (exact integration of the
+   piecewise-constant pixels, :func:`area_resample`); non-square pixels end as square elements;
+5. level: the least-squares plane over the patch is removed;
+6. plausibility: ``Rq`` of each levelled patch in :data:`RQ_RANGE`, the element edge between
+   :data:`ELEMENT_PER_PIXEL` times the scan's coarser pixel pitch, the grid within memory.
+
+Each step is recorded in a :class:`FileRecord` (the parameter file's provenance).
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import os
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from . import surfaces as _surf
+from .geometric import measured_surfaces
+from .normal import estimate_memory
+
+__all__ = [
+    "MAX_UNDEFINED",
+    "RQ_RANGE",
+    "ELEMENT_PER_PIXEL",
+    "SQUARE_PIXEL_RTOL",
+    "SYNTHETIC_GRID",
+    "MAX_DEFAULT_GRID",
+    "MAX_MEMORY",
+    "FileRecord",
+    "SceneSurfaces",
+    "area_resample",
+    "check_memory",
+    "load_scene_surfaces",
+]
+
+#: default largest fraction of undefined points that is filled (above: refused)
+MAX_UNDEFINED = 0.05
+#: plausible areal Rq of a metal surface (m); outside: most likely a wrong height unit
+RQ_RANGE = (1e-9, 1e-3)
+#: allowed element edge / coarser pixel pitch of a scan: below 0.5 the solver would invent
+#: detail the scan does not hold; above 64 it averages the roughness away
+ELEMENT_PER_PIXEL = (0.5, 64.0)
+#: pixels whose pitches differ by less than this (relative) count as square
+SQUARE_PIXEL_RTOL = 0.01
+#: solver grid of synthetic scenes
+SYNTHETIC_GRID = 128
+#: largest grid the default for measured files picks (the time budget: about 1 min per
+#: calibration on one core, non-periodic, see docs/measured_surfaces.md)
+MAX_DEFAULT_GRID = 256
+#: memory limit of one normal solve (bytes), as :func:`halfspace_calib.normal.solve_normal`
+MAX_MEMORY = 8 * 2**30
+
+
+@dataclass(frozen=True)
+class FileRecord:
+    """What was read from one measured file and what was done to it (SI units).
+
+    Attributes
+    ----------
+    role : str
+        ``"workpiece"`` or ``"tool"``.
+    path, sha256, format, layout : str
+        The file, its SHA-256, the instrument format (reader) and the layout.
+    unit, unit_source : str
+        Height unit and where it came from (``"file"``, ``"file header"``, ``"option"``).
+    native_shape : tuple of int
+        Points of the scan ``(nx, ny)``.
+    native_size : tuple of float
+        Physical size of the scan ``(Lx, Ly)`` in m.
+    pitch : tuple of float
+        Pixel pitch ``(dx, dy)`` in m.
+    undefined_points : int
+        Undefined (unmeasured) points in the scan.
+    undefined_fraction : float
+        Their fraction of all points.
+    steps : tuple of str
+        What was done, in order (fill, crop, resample, level), in words.
+    crop_size : float
+        Edge of the square patch used (m).
+    rq_patch : float
+        ``Rq`` of the levelled patch on the measured grid (m); the solver grid's when the
+        measured grid is the solver grid (no inclined effect).
+    rq_scan : float
+        ``Rq`` of the whole scan, levelled, at its own sampling (m): against ``rq_patch`` it
+        shows how much roughness the crop and the element size leave out.
+    """
+
+    role: str
+    path: str
+    sha256: str
+    format: str
+    layout: str
+    unit: str
+    unit_source: str
+    native_shape: tuple
+    native_size: tuple
+    pitch: tuple
+    undefined_points: int
+    undefined_fraction: float
+    steps: tuple
+    crop_size: float
+    rq_patch: float
+    rq_scan: float
+
+    def as_dict(self):
+        """JSON-ready dict."""
+        d = asdict(self)
+        for k in ("native_shape", "native_size", "pitch", "steps"):
+            d[k] = list(d[k])
+        return d
+
+
+@dataclass(frozen=True)
+class SceneSurfaces:
+    """A scene's surfaces on the solver grid and (for measured files) on the measured grid.
+
+    ``measured_*`` are the prepared fine maps (``grid * block`` points a side) whose block
+    averages are the solver surfaces; ``None`` for synthetic surfaces unless
+    ``Scene.measured_n`` asked for them.
+    """
+
+    workpiece: object
+    tool: object
+    measured_workpiece: object
+    measured_tool: object
+    block: int
+    grid: int
+    files: tuple
+
+    def records(self):
+        """The file records as JSON-ready dicts."""
+        return [f.as_dict() for f in self.files]
+
+
+def check_memory(grid, periodic, name="grid"):
+    """``ValueError`` naming ``name`` if a ``grid x grid`` normal solve needs over :data:`MAX_MEMORY`."""
+    need = estimate_memory((grid, grid), periodic)
+    if need > MAX_MEMORY:
+        raise ValueError(
+            f"{name}={grid} needs about {need / 2**30:.1f} GiB per normal solve "
+            f"(periodic={periodic}), more than the {MAX_MEMORY / 2**30:.0f} GiB limit; "
+            "use a smaller grid"
+        )
+
+
+def _axis_average(h, pitch, start, edge, m, axis):
+    """Average the pixel columns along ``axis`` over ``m`` cells ``[start + k e, start + (k+1) e)``.
+
+    The heights are piecewise constant over pixels of width ``pitch``; the cumulative integral
+    is piecewise linear, so interpolating it at the cell edges integrates exactly.
+    """
+    h = np.moveaxis(h, axis, 0)
+    n = h.shape[0]
+    cum = np.concatenate([np.zeros((1,) + h.shape[1:]), np.cumsum(h, axis=0) * pitch])
+    t = (start + edge * np.arange(m + 1)) / pitch  # cell edges in pixel units
+    t = np.clip(t, 0.0, n)
+    i = np.minimum(np.floor(t).astype(np.int64), n - 1)
+    w = (t - i)[:, None]
+    at = cum[i] * (1 - w) + cum[i + 1] * w
+    out = np.diff(at, axis=0) / edge
+    return np.moveaxis(out, 0, axis)
+
+
+def area_resample(surface, side, m):
+    """Average ``surface`` over an ``m x m`` grid of square cells covering a centred ``side`` square.
+
+    Exact area averaging of the piecewise-constant pixels (a pixel cut by a cell edge counts
+    with the part inside): on an integer ratio it is the block average, on non-square pixels
+    it gives square elements. The result is a new :class:`~halfspace_calib.surfaces.Surface`
+    with element ``side / m``; the operation is recorded in its provenance.
+    """
+    lx, ly = surface.size
+    if side > min(lx, ly) * (1 + 1e-9):
+        raise ValueError(f"side {side:g} m exceeds the surface's size {lx:g} x {ly:g} m")
+    e = side / m
+    x0, y0 = 0.5 * (lx - side), 0.5 * (ly - side)
+    same = surface.shape == (m, m) and math.isclose(surface.dx, e, rel_tol=1e-12)
+    if same and math.isclose(surface.dy, e, rel_tol=1e-12):
+        return surface
+    h = _axis_average(surface.heights, surface.dx, x0, e, m, 0)
+    h = _axis_average(h, surface.dy, y0, e, m, 1)
+    op = {
+        "op": "area_resample",
+        "side": side,
+        "shape": [m, m],
+        "origin": [x0, y0],
+        "from_pitch": [surface.dx, surface.dy],
+    }
+    return surface.derive(h, op, dx=e, dy=e, periodic=False)
+
+
+# ----------------------------------------------------------------------------- reading
+def _read(scene, role):
+    """Read one file: ``(Surface with holes filled, steps done)``; cached per file and options."""
+    path = getattr(scene, role)
+    unit = getattr(scene, f"{role}_unit") or scene.unit
+    try:
+        stamp = os.stat(path).st_mtime_ns
+    except OSError:
+        stamp = None
+    return _read_cached(str(path), stamp, role, unit, scene.size, scene.max_undefined)
+
+
+@functools.lru_cache(maxsize=2)  # workpiece and tool
+def _read_cached(path, stamp, role, unit, size, max_undefined):
+    """:func:`_read` for hashable arguments (the resolution check reads the files again)."""
+    unit_opt = f"--{role}-unit or --unit"
+    try:
+        try:  # size applies to the files that do not carry their own
+            h, dx, dy, prov = _surf.read_raw(path, unit=unit)
+        except ValueError as exc:
+            if size is None or "no lateral calibration" not in str(exc):
+                raise
+            h, dx, dy, prov = _surf.read_raw(path, unit=unit, size=size)
+    except ValueError as exc:
+        text = str(exc)
+        if "unit is required" in text:
+            raise ValueError(
+                f"{path}: a plain file does not say its height unit: give {unit_opt} "
+                f"(m, mm, um, nm)"
+            ) from None
+        if "contradicts" in text:
+            raise ValueError(f"{text} (the option is {unit_opt})") from None
+        if "no lateral calibration" in text:
+            raise ValueError(
+                f"{path}: a plain file does not say its size: give --size LX [LY] in m"
+            ) from None
+        raise
+    except OSError as exc:
+        raise ValueError(f"{path}: cannot read the file ({exc.strerror or exc})") from None
+    bad = int(np.count_nonzero(np.isnan(h)))
+    frac = bad / h.size
+    if frac > max_undefined:
+        raise ValueError(
+            f"{path}: {100 * frac:.1f} % of the points are undefined (not measured), more "
+            f"than --max-undefined = {100 * max_undefined:g} %; fill them yourself, "
+            f"crop the scan, or raise --max-undefined (a fraction in [0, 1])"
+        )
+    steps = []
+    if bad:
+        h = _surf.fill_harmonic(h)
+        steps.append(
+            f"filled {bad} undefined points ({100 * frac:.2f} %) with the harmonic interpolant"
+        )
+    prov["undefined_points"] = bad
+    s = _surf.Surface(h, dx, dy, provenance=prov, periodic=False)
+    prov["rq_scan"] = _surf.rq(_surf.level(s))
+    s = _surf.Surface(h, dx, dy, provenance=prov, periodic=False)
+    return s, tuple(steps)
+
+
+def _default_grid(side, pitches, inclined):
+    """The scan's native sampling on the common square, at most :data:`MAX_DEFAULT_GRID`."""
+    n = int(side / max(pitches))
+    if inclined:
+        n //= 2  # two measured points per element edge for the patch planes
+    return max(8, min(n, MAX_DEFAULT_GRID))
+
+
+def _check_rq(path, role, rq):
+    lo, hi = RQ_RANGE
+    if not lo <= rq <= hi:
+        hint = "too small" if rq < lo else "too large"
+        raise ValueError(
+            f"{path}: Rq = {rq:.3g} m (levelled scan) is {hint} for a metal surface (plausible: "
+            f"{lo:g} .. {hi:g} m); the height unit is most likely wrong: check --{role}-unit / "
+            "--unit (m, mm, um, nm) or the file"
+        )
+
+
+def _check_element(path, element, pitch, grid):
+    lo, hi = ELEMENT_PER_PIXEL
+    r = element / max(pitch)
+    if not lo <= r <= hi:
+        raise ValueError(
+            f"{path}: grid={grid} gives elements of {element:.3g} m, {r:.3g} times the scan's "
+            f"pixel pitch {max(pitch):.3g} m (allowed {lo:g} .. {hi:g}); choose --grid so "
+            f"that the element is close to the scan's sampling (or check --size)"
+        )
+
+
+def load_scene_surfaces(scene, *, grid=None, check_sampling=True):
+    """The scene's workpiece and tool on the solver grid and, for files, on the measured grid.
+
+    Parameters
+    ----------
+    scene : Scene
+        Its ``workpiece``/``tool`` (paths or ``None`` for synthetic), units, ``size``,
+        ``crop_size``, ``max_undefined``, ``grid`` (``None``: derived from the scan, see
+        :func:`_default_grid`) and ``effects`` (``"inclined"`` needs the measured grid).
+    grid : int, optional
+        Override the scene's grid (the resolution check runs at half of it).
+    check_sampling : bool
+        Refuse an element edge outside :data:`ELEMENT_PER_PIXEL` times the pixel pitch (off
+        for the resolution check, which coarsens on purpose).
+
+    Returns
+    -------
+    SceneSurfaces
+
+    Raises
+    ------
+    ValueError
+        Bad input, naming the file and the option: unreadable file, missing unit or size,
+        too many undefined points, implausible roughness or element size, too much memory.
+    """
+    n = scene.grid if grid is None else grid
+    roles = [r for r in ("workpiece", "tool") if getattr(scene, r) is not None]
+    inclined = "inclined" in scene.effects
+    if not roles:
+        return _synthetic(scene, n, inclined)
+    if inclined and len(roles) == 1:
+        missing = "tool" if roles == ["workpiece"] else "workpiece"
+        raise ValueError(
+            f"the inclined effect needs both surfaces measured: give the {missing} as a file "
+            "too (a synthetic map has no measured points of its own)"
+        )
+    read = {r: _read(scene, r) for r in roles}
+    if scene.size is not None and all(
+        s.provenance["size_source"] != "option" for s, _ in read.values()
+    ):
+        raise ValueError(
+            "--size applies to plain files without their own size; the files carry theirs "
+            f"({', '.join(str(getattr(scene, r)) for r in roles)})"
+        )
+    sides = [v for s, _ in read.values() for v in s.size]
+    side = min(sides)
+    if scene.crop_size is not None:
+        if scene.crop_size > side * (1 + 1e-9):
+            raise ValueError(
+                f"--crop-size {scene.crop_size:g} m exceeds the largest common square of the "
+                f"files, {side:g} m"
+            )
+        side = float(scene.crop_size)
+    pitches = [v for s, _ in read.values() for v in (s.dx, s.dy)]
+    if n is None:
+        n = _default_grid(side, pitches, inclined)
+    check_memory(n, scene.periodic)
+    element = side / n
+    block = max(1, min(int(element / max(s.dx, s.dy) + 1e-9) for s, _ in read.values()))
+    if inclined and block < 2:
+        raise ValueError(
+            f"the inclined effect needs >= 2 measured points per element edge; grid={n} gives "
+            f"elements of {element:.3g} m on scans sampled at {max(pitches):.3g} m: use "
+            f"--grid <= {int(side / max(pitches)) // 2}"
+        )
+    if not inclined:
+        block = 1
+    fine, records = {}, []
+    for role, (s, steps) in read.items():
+        if check_sampling:
+            _check_element(s.provenance["path"], element, (s.dx, s.dy), n)
+        steps = list(steps)
+        lx, ly = s.size
+        if not (math.isclose(lx, side, rel_tol=1e-9) and math.isclose(ly, side, rel_tol=1e-9)):
+            steps.append(
+                f"cropped from {lx * 1e6:.4g} x {ly * 1e6:.4g} um to the centred "
+                f"{side * 1e6:.4g} x {side * 1e6:.4g} um square"
+            )
+        if not math.isclose(s.dx, s.dy, rel_tol=SQUARE_PIXEL_RTOL):
+            steps.append(
+                f"non-square pixels {s.dx * 1e6:.4g} x {s.dy * 1e6:.4g} um resampled to square "
+                "elements (area average)"
+            )
+        m = n * block
+        r = area_resample(s, side, m)
+        if r is not s:
+            steps.append(
+                f"area-averaged from {s.shape[0]} x {s.shape[1]} points to {m} x {m} "
+                f"({side / m * 1e6:.4g} um square elements)"
+            )
+        r = _surf.level(r)
+        steps.append("levelled: least-squares plane a + b x + c y removed over the patch")
+        rq = _surf.rq(r)
+        _check_rq(s.provenance["path"], role, s.provenance["rq_scan"])
+        fine[role] = r
+        p = s.provenance
+        records.append(
+            FileRecord(
+                role=role,
+                path=p["path"],
+                sha256=p["sha256"],
+                format=p["format"],
+                layout=p["layout"],
+                unit=str(p["unit"]),
+                unit_source=p["unit_source"],
+                native_shape=tuple(p["shape"]),
+                native_size=(float(lx), float(ly)),
+                pitch=(float(s.dx), float(s.dy)),
+                undefined_points=int(p["undefined_points"]),
+                undefined_fraction=p["undefined_points"] / (s.shape[0] * s.shape[1]),
+                steps=tuple(steps),
+                crop_size=float(side),
+                rq_patch=rq,
+                rq_scan=float(p["rq_scan"]),
+            )
+        )
+    solver = {k: _surf.block_average(v, n) if block > 1 else v for k, v in fine.items()}
+    for role in ("workpiece", "tool"):
+        if role not in solver:  # a synthetic partner on the file's patch
+            solver[role] = _synthetic_one(scene, role, n, side)
+            fine[role] = None
+    return SceneSurfaces(
+        solver["workpiece"],
+        solver["tool"],
+        fine["workpiece"] if inclined else None,
+        fine["tool"] if inclined else None,
+        block,
+        n,
+        tuple(records),
+    )
+
+
+def _synthetic_one(scene, role, n, size, measured_n=None):
+    if role == "workpiece":
+        return _surf.dc04_edt_like(n, size=size, seed=scene.seed_workpiece, measured_n=measured_n)
+    return _surf.tool_like(
+        n, rough=scene.rough_tool, size=size, seed=scene.seed_tool, measured_n=measured_n
+    )
+
+
+def _synthetic(scene, n, inclined):
+    """Both surfaces synthetic (Table 1); the measured grid of the inclined effect if asked."""
+    check_memory(n, scene.periodic)
+    wp = _synthetic_one(scene, "workpiece", n, _surf.PAPER_SIZE, scene.measured_n)
+    tl = _synthetic_one(scene, "tool", n, _surf.PAPER_SIZE, scene.measured_n)
+    mw = mt = None
+    block = 1
+    if inclined:
+        fine = scene.measured_n if scene.measured_n is not None else 4 * n
+        if fine % n or fine // n < 2:
+            raise ValueError(
+                f"measured_n must be a multiple >= 2 of grid={n} for the inclined "
+                f"patches, got {scene.measured_n!r}"
+            )
+        block = fine // n
+        mw, mt = measured_surfaces(
+            n,
+            block,
+            rough_tool=scene.rough_tool,
+            seed_workpiece=scene.seed_workpiece,
+            seed_tool=scene.seed_tool,
+        )
+    return SceneSurfaces(wp, tl, mw, mt, block, n, ())
