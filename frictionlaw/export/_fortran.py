@@ -3,17 +3,23 @@
 Every generated file is self-contained: the law core (``SBMF_SMIN``, ``SBMF_FIRST``,
 ``SBMF_RELOAD``, ``SBMF_SHEAR``, ``SBMF_KT``, ``SBMF_RMAP``) with the calibrated constants as
 double-precision ``PARAMETER`` literals, followed by the host's entry point. The core follows
-:mod:`frictionlaw._kernels` statement by statement (same branches, same operation order, ``expm1``
-and ``log1p`` from the C library through ``ISO_C_BINDING``), so that the compiled routine and the
-runtime agree to rounding.
+:mod:`frictionlaw._kernels` statement by statement (``smooth_min_log``, ``log_product``,
+``sbmf_first_scalar``, ``sbmf_reload_scalar``, ``traction_row``: same branches, same operation
+order, the law formed from logarithms, ``expm1`` and ``log1p`` from the C library through
+``ISO_C_BINDING``), so that the compiled routine and the runtime agree to rounding.
 
 State per contact point (the host keeps it only for converged increments):
 
 1. ``p_hist``: the largest pressure carried so far (required).
-2. ``G1H``: a cache of ``alpha1(p_hist)`` (``alpha1 / x1`` when ``x1 = p_hist C1 / H < 1``),
-   written whenever ``p_hist`` is; ``<= 0`` means "not known" and it is recomputed (optional).
+2. ``G1H``: a cache of ``-ln alpha1(p_hist)`` (the logarithm the kernels' Eq. 25 works from,
+   kept exactly so that the cached and the recomputed branch agree bitwise), written whenever
+   ``p_hist`` is; ``<= 0`` means "not known" and it is recomputed (optional). It is ``>= 0``
+   by construction and exactly 0 only where ``alpha1(p_hist) = 1`` to the last bit, which is
+   then simply recomputed.
 3. the status of the last call, 0 open, 1 stick, 2 slip (optional, output only).
 """
+
+import math
 
 __all__ = ["core_source", "fric_source", "vfric_source", "generic_source", "fortran_double"]
 
@@ -27,10 +33,17 @@ def fortran_double(v):
     return f"{mant}D{int(exp):+d}"
 
 
-def _params_block(c, names):
-    lines = ["      DOUBLE PRECISION " + ", ".join(names)]
+def _params_block(c, names, ratios=()):
+    """``PARAMETER`` literals of ``c[names]``, then ``ratios`` ``(name, num, den)`` as ``num/den``.
+
+    A ratio is folded by the compiler with one correctly rounded division, the value the
+    kernels form at run time (``c1 = C1 / H``).
+    """
+    lines = ["      DOUBLE PRECISION " + ", ".join([*names, *(r[0] for r in ratios)])]
     for n in names:
         lines.append(f"      PARAMETER ({n} = {fortran_double(c[n])})")
+    for name, num, den in ratios:
+        lines.append(f"      PARAMETER ({name} = {num}/{den})")
     return lines
 
 
@@ -41,50 +54,71 @@ def _check_fixed_form(text):
     return text
 
 
-_SMIN = """\
+_SMIN_TEMPLATE = """\
 C=======================================================================
-C     Smooth minimum of Eqs. 24-25: G = tanh(X**XN)**(1/XN), GOX = G/X,
-C     DG = dG/dX. Small X**XN: series, so that G -> X survives any XN;
-C     large: G = 1. X <= 0 gives (0, 1, 1).
+C     Smooth minimum of Eqs. 24-25 from XL = ln X (frictionlaw's
+C     smooth_min_log): G = tanh(Y)**(1/XN), Y = X**XN = exp(XN XL),
+C     GOX = G/X, DG = dG/dX, GL = ln G. No X that under- or overflows
+C     is formed. Y < 1D-4: series of ln(tanh(Y)/Y), so that G -> X
+C     survives any XN; Y > 350: G = 1; else one expm1(-2Y).
 C=======================================================================
-      SUBROUTINE SBMF_SMIN(X, XN, G, GOX, DG)
+      SUBROUTINE SBMF_SMIN(XL, XN, G, GOX, DG, GL)
       IMPLICIT NONE
-      DOUBLE PRECISION X, XN, G, GOX, DG
-      DOUBLE PRECISION Y, Y2, EM, TWOE, T, S
+      DOUBLE PRECISION XL, XN, G, GOX, DG, GL
+      DOUBLE PRECISION LNY, Y, Y2, LGOX, EM, TWOE, T, S
+      DOUBLE PRECISION LNYSML, LNYSAT
+      PARAMETER (LNYSML = {ln_small})
+      PARAMETER (LNYSAT = {ln_sat})
       DOUBLE PRECISION SBMF_EXPM1, SBMF_LOG1P
       EXTERNAL SBMF_EXPM1, SBMF_LOG1P
-      IF (.NOT. (X .GT. 0.0D0)) THEN
-        G = 0.0D0
-        GOX = 1.0D0
-        DG = 1.0D0
-        RETURN
-      END IF
-      Y = X**XN
-      IF (Y .LT. 1.0D-4) THEN
+      LNY = XN*XL
+      IF (LNY .LT. LNYSML) THEN
+        Y = EXP(LNY)
         Y2 = Y*Y
-        GOX = EXP((-Y2/3.0D0 + 7.0D0*Y2*Y2/90.0D0)/XN)
-        G = X*GOX
+        LGOX = (-Y2/3.0D0 + 7.0D0*Y2*Y2/90.0D0)/XN
+        GOX = EXP(LGOX)
+        G = EXP(XL)*GOX
         DG = GOX*(1.0D0 - 2.0D0*Y2/3.0D0)
+        GL = XL + LGOX
         RETURN
       END IF
-      IF (Y .GT. 350.0D0) THEN
+      IF (LNY .GT. LNYSAT) THEN
         G = 1.0D0
-        GOX = 1.0D0/X
+        GOX = EXP(-XL)
         DG = 0.0D0
+        GL = 0.0D0
         RETURN
       END IF
+      Y = EXP(LNY)
       EM = SBMF_EXPM1(-2.0D0*Y)
       TWOE = 2.0D0 + EM
       T = -EM/TWOE
       S = 4.0D0*Y*(1.0D0 + EM)/(-EM*TWOE)
       IF (Y .LT. 1.0D0) THEN
-        GOX = EXP(LOG(T/Y)/XN)
-        G = X*GOX
-      ELSE
-        G = EXP(SBMF_LOG1P(-2.0D0*(1.0D0 + EM)/TWOE)/XN)
-        GOX = G/X
+        LGOX = LOG(T/Y)/XN
+        GOX = EXP(LGOX)
+        G = EXP(XL)*GOX
+        DG = GOX*S
+        GL = XL + LGOX
+        RETURN
       END IF
+      GL = SBMF_LOG1P(-2.0D0*(1.0D0 + EM)/TWOE)/XN
+      GOX = EXP(GL - XL)
+      G = EXP(GL)
       DG = GOX*S
+      RETURN
+      END
+C
+C     ln(P C) for P, C > 0 without an under- or overflowing product.
+      DOUBLE PRECISION FUNCTION SBMF_LPROD(P, C)
+      IMPLICIT NONE
+      DOUBLE PRECISION P, C, X
+      X = P*C
+      IF (1.0D-300 .LT. X .AND. X .LT. 1.0D+300) THEN
+        SBMF_LPROD = LOG(X)
+      ELSE
+        SBMF_LPROD = LOG(P) + LOG(C)
+      END IF
       RETURN
       END
 C
@@ -120,86 +154,112 @@ C
 """
 
 
+def _smin():
+    """The smooth minimum with the kernel's branch points as exact literals."""
+    return _SMIN_TEMPLATE.format(
+        ln_small=fortran_double(math.log(1e-4)), ln_sat=fortran_double(math.log(350.0))
+    )
+
+
+_LAW_NAMES = ["TMAX", "H", "C1", "XN1", "C2", "XN2"]
+
+
 def _law(c, continuous):
     """Eqs. 24, 25 and the branch selection, with the constants of ``c`` baked in."""
-    law = ["TMAX", "H", "C1", "XN1", "C2", "XN2"]
     first = [
         "C=======================================================================",
-        "C     Eq. 24: TAU = TMAX g(P C1/H; n1), DTAU = dTAU/dP; G1 = the cache",
-        "C     value of alpha1 for p_hist = P (alpha1/x1 if x1 < 1, else alpha1).",
+        "C     Eq. 24 (frictionlaw's sbmf_first_scalar): TAU = TMAX g(P C1/H;",
+        "C     n1), DTAU = dTAU/dP; G1 = the cache value for p_hist = P,",
+        "C     -ln alpha1(P).",
         "C=======================================================================",
         "      SUBROUTINE SBMF_FIRST(P, TAU, DTAU, G1)",
         "      IMPLICIT NONE",
         "      DOUBLE PRECISION P, TAU, DTAU, G1",
-        "      DOUBLE PRECISION X1, G, GOX, DG",
-        *_params_block(c, law),
-        "      X1 = P*C1/H",
-        "      CALL SBMF_SMIN(X1, XN1, G, GOX, DG)",
-        "      IF (X1 .LT. 1.0D0) THEN",
-        "        TAU = P*(TMAX*C1/H)*GOX",
-        "        G1 = GOX",
+        "      DOUBLE PRECISION LNX1, G, GOX, DG, GL",
+        "      DOUBLE PRECISION SBMF_LPROD",
+        "      EXTERNAL SBMF_LPROD",
+        *_params_block(c, ["TMAX", "H", "C1", "XN1"], [("C1H", "C1", "H")]),
+        "      LNX1 = SBMF_LPROD(P, C1H)",
+        "      CALL SBMF_SMIN(LNX1, XN1, G, GOX, DG, GL)",
+        "      IF (LNX1 .LT. 0.0D0) THEN",
+        "        TAU = P*(TMAX*C1H)*GOX",
         "      ELSE",
         "        TAU = TMAX*G",
-        "        G1 = G",
         "      END IF",
         "      TAU = MIN(TAU, TMAX)",
-        "      DTAU = TMAX*C1/H*DG",
+        "      DTAU = TMAX*C1H*DG",
+        "      G1 = -GL",
         "      RETURN",
         "      END",
         "C",
     ]
-    cont = []
     if continuous:
-        cont = [
-            "C     continuous_reload: divide by g(x2(p_hist); n2)",
-            "      CALL SBMF_SMIN(X2H, XN2, G2H, GOX2H, DG2H)",
-            "      SCL = 1.0D0/G2H",
+        tau_lines = [
+            "C     continuous_reload: divided by g(x2(PH); n2), formed in logs",
+            "      LNX2H = SBMF_LPROD(PH, C2H) - LNA1H",
+            "      CALL SBMF_SMIN(LNX2H, XN2, G2H, GOX2H, DG2H, LG2H)",
+            "      SCL = EXP(-LG2H)",
+            "      TAU = TMAX*EXP(LNA1H + LG2 - LG2H)",
+            "      DTAU = TMAX*C2H*DG2*SCL",
         ]
+        decl = [
+            "      DOUBLE PRECISION LNX2H, G2H, GOX2H, DG2H, LG2H, SCL",
+        ]
+    else:
+        tau_lines = [
+            "      IF (LNX2 .LT. 0.0D0) THEN",
+            "C       alpha1(PH) cancels",
+            "        TAU = P*(TMAX*C2H)*GOX2",
+            "      ELSE",
+            "        TAU = TMAX*A1H*G2",
+            "      END IF",
+            "      DTAU = TMAX*C2H*DG2",
+        ]
+        decl = []
     reload = [
         "C=======================================================================",
-        "C     Eq. 25 below p_hist: TAU = TMAX a1h g(x2; n2), x2 = P C2/(H a1h),",
-        "C     a1h = alpha1(PH). G1H: cached alpha1(PH) (<= 0: recompute it).",
-        "C     x2 is formed from P/PH when x1h < 1 so that a1h -> 0 cannot",
-        "C     overflow." + (" Continuous variant (meets Eq. 24 at PH)." if continuous else ""),
+        "C     Eq. 25 below p_hist (frictionlaw's sbmf_reload_scalar):",
+        "C     TAU = TMAX a1h g(x2; n2), a1h = alpha1(PH), x2 = P C2/(H a1h),",
+        "C     all formed in logs (a1h -> 0 cannot overflow)."
+        + (" Continuous" if continuous else ""),
+        *(["C     variant: divided by g(x2(PH); n2) to meet Eq. 24 at PH."] if continuous else []),
+        "C     Cap TMAX a1h for P <= PH, TMAX above. G1H: cached -ln a1h",
+        "C     (<= 0: recompute it); G1OUT: the cache value for PH.",
         "C=======================================================================",
         "      SUBROUTINE SBMF_RELOAD(P, PH, G1H, TAU, DTAU, G1OUT)",
         "      IMPLICIT NONE",
         "      DOUBLE PRECISION P, PH, G1H, TAU, DTAU, G1OUT",
-        "      DOUBLE PRECISION X1H, A1H, GOX1H, DG1H, X2, X2H",
-        "      DOUBLE PRECISION G2, GOX2, DG2, SCL",
-        *(["      DOUBLE PRECISION G2H, GOX2H, DG2H"] if continuous else []),
-        *_params_block(c, law),
-        "      X1H = PH*C1/H",
+        "      DOUBLE PRECISION LNA1H, A1H, LNX2, G2, GOX2, DG2, LG2, CAP",
+        "      DOUBLE PRECISION G1, GOX1, DG1",
+        *decl,
+        "      DOUBLE PRECISION SBMF_LPROD",
+        "      EXTERNAL SBMF_LPROD",
+        *_params_block(c, _LAW_NAMES, [("C1H", "C1", "H"), ("C2H", "C2", "H")]),
+        "      G1OUT = G1H",
+        "      IF (.NOT. (P .GT. 0.0D0 .AND. PH .GT. 0.0D0)) THEN",
+        "        TAU = 0.0D0",
+        "        DTAU = 0.0D0",
+        "        RETURN",
+        "      END IF",
         "      IF (G1H .GT. 0.0D0) THEN",
-        "        IF (X1H .LT. 1.0D0) THEN",
-        "          GOX1H = G1H",
-        "          A1H = X1H*GOX1H",
-        "        ELSE",
-        "          A1H = G1H",
-        "          GOX1H = A1H/X1H",
-        "        END IF",
+        "        LNA1H = -G1H",
         "      ELSE",
-        "        CALL SBMF_SMIN(X1H, XN1, A1H, GOX1H, DG1H)",
+        "        CALL SBMF_SMIN(SBMF_LPROD(PH, C1H), XN1, G1, GOX1, DG1, LNA1H)",
+        "        G1OUT = -LNA1H",
         "      END IF",
-        "      IF (X1H .LT. 1.0D0) THEN",
-        "        G1OUT = GOX1H",
-        "        X2 = (P/PH)*(C2/C1)/GOX1H",
-        "        X2H = (C2/C1)/GOX1H",
+        "      LNX2 = SBMF_LPROD(P, C2H) - LNA1H",
+        "      CALL SBMF_SMIN(LNX2, XN2, G2, GOX2, DG2, LG2)",
+        "      A1H = EXP(LNA1H)",
+        *tau_lines,
+        "      IF (P .LE. PH) THEN",
+        "        CAP = TMAX*A1H",
         "      ELSE",
-        "        G1OUT = A1H",
-        "        X2 = (P*C2/H)/A1H",
-        "        X2H = (PH*C2/H)/A1H",
+        "        CAP = TMAX",
         "      END IF",
-        "      CALL SBMF_SMIN(X2, XN2, G2, GOX2, DG2)",
-        "      SCL = 1.0D0",
-        *cont,
-        "      IF (X2 .LT. 1.0D0) THEN",
-        "        TAU = P*(TMAX*C2/H)*GOX2*SCL",
-        "      ELSE",
-        "        TAU = TMAX*A1H*G2*SCL",
+        "      IF (TAU .GE. CAP) THEN",
+        "        TAU = CAP",
+        "        IF (P .GT. PH) DTAU = 0.0D0",
         "      END IF",
-        "      TAU = MIN(TAU, TMAX*A1H*SCL)",
-        "      DTAU = TMAX*C2/H*DG2*SCL",
         "      RETURN",
         "      END",
         "C",
@@ -308,40 +368,76 @@ def _kt(kt):
 
 _RMAP = """\
 C=======================================================================
-C     Stick/slip return map (frictionlaw.traction_update): trial
-C     TTR = TOLD + KT DU; stick if |TTR| <= TAU (tangent KT I), else
-C     radial return TNEW = TAU n, tangent KT TAU/|TTR| (I - n n),
-C     dTNEW/dP = DTAU n. ISTAT: 1 stick, 2 slip.
+C     Stick/slip return map (frictionlaw's traction_row): trial
+C     TTR = TOLD + KT DU; stick if TAU > 0 and |TTR| <= TAU (tangent
+C     KT I), else radial return TNEW = TAU n, tangent KT TAU/|TTR|
+C     (I - n n), dTNEW/dP = DTAU n; TAU = 0 gives TNEW = 0 and a zero
+C     tangent (slip). |TTR| = VMAX R, R = |TTR/VMAX|: nothing squared
+C     under- or overflows. A trial that overflows is formed as TTR/S,
+C     S = max(KT, |TOLD|) (it slips). ISTAT: 1 stick, 2 slip.
 C=======================================================================
       SUBROUTINE SBMF_RMAP(ND, TAU, DTAU, DU, TOLD, KT, TNEW, DTDDU,
      &                     DTDP, ISTAT)
       IMPLICIT NONE
       INTEGER ND, ISTAT, A, B
       DOUBLE PRECISION TAU, DTAU, DU(ND), TOLD(ND), KT, TNEW(ND)
-      DOUBLE PRECISION DTDDU(ND, ND), DTDP(ND), V, XNORM2, XNORM, F
+      DOUBLE PRECISION DTDDU(ND, ND), DTDP(ND), V, VMAX, S, KSC, R, Q
+      DOUBLE PRECISION F
+      LOGICAL STICK
       DO A = 1, ND
         DTDP(A) = 0.0D0
         DO B = 1, ND
           DTDDU(A, B) = 0.0D0
         END DO
       END DO
-      XNORM2 = 0.0D0
+      VMAX = 0.0D0
       DO A = 1, ND
         V = TOLD(A) + KT*DU(A)
         TNEW(A) = V
-        XNORM2 = XNORM2 + V*V
+        VMAX = MAX(VMAX, ABS(V))
       END DO
-      XNORM = SQRT(XNORM2)
-      IF (XNORM .LE. TAU) THEN
+C     KSC = KT/S: the trial held in TNEW is TTR/S
+      KSC = KT
+      IF (.NOT. (VMAX .LE. HUGE(VMAX))) THEN
+        S = KT
+        DO A = 1, ND
+          S = MAX(S, ABS(TOLD(A)))
+        END DO
+        KSC = KT/S
+        VMAX = 0.0D0
+        DO A = 1, ND
+          V = TOLD(A)/S + KSC*DU(A)
+          TNEW(A) = V
+          VMAX = MAX(VMAX, ABS(V))
+        END DO
+      END IF
+      R = 0.0D0
+      IF (VMAX .GT. 0.0D0) THEN
+        DO A = 1, ND
+          Q = TNEW(A)/VMAX
+          R = R + Q*Q
+        END DO
+        R = SQRT(R)
+      END IF
+      STICK = .FALSE.
+      IF (KSC .EQ. KT .AND. TAU .GT. 0.0D0) THEN
+C       VMAX = 0 (then R = 0) sticks: TAU/R would be +inf
+        STICK = .NOT. (VMAX .GT. 0.0D0)
+        IF (.NOT. STICK) STICK = VMAX .LE. TAU/R
+      END IF
+      IF (STICK) THEN
         DO A = 1, ND
           DTDDU(A, A) = KT
         END DO
         ISTAT = 1
         RETURN
       END IF
-      F = KT*TAU/XNORM
+      ISTAT = 2
+C     TAU = 0 and no trial traction: TNEW = 0, zero tangent
+      IF (.NOT. (VMAX .GT. 0.0D0)) RETURN
+      F = KSC*((TAU/VMAX)/R)
       DO A = 1, ND
-        TNEW(A) = TNEW(A)/XNORM
+        TNEW(A) = (TNEW(A)/VMAX)/R
       END DO
       DO A = 1, ND
         DTDP(A) = DTAU*TNEW(A)
@@ -356,7 +452,6 @@ C=======================================================================
       DO A = 1, ND
         TNEW(A) = TNEW(A)*TAU
       END DO
-      ISTAT = 2
       RETURN
       END
 C
@@ -365,7 +460,7 @@ C
 
 def core_source(constants, continuous, kt):
     """The law core: smooth minimum, Eqs. 24-25, stiffness, return map (fixed form)."""
-    lines = _SMIN.splitlines() + ["C"] + _law(constants, continuous) + _kt(kt)
+    lines = _smin().splitlines() + ["C"] + _law(constants, continuous) + _kt(kt)
     return "\n".join(lines) + "\n" + _RMAP
 
 
@@ -373,7 +468,7 @@ _FRIC = """\
 C=======================================================================
 C     Abaqus/Standard user subroutine FRIC (documented argument list).
 C     STATEV(1) = p_hist (DEPVAR >= 1), STATEV(2) = cached
-C     alpha1(p_hist) (DEPVAR >= 2, optional), STATEV(3) = status of
+C     -ln alpha1(p_hist) (DEPVAR >= 2, optional), STATEV(3) = status of
 C     the last call,
 C     0 open 1 stick 2 slip (DEPVAR >= 3, optional, output only).
 C     Abaqus passes STATEV and TAU as at the start of the increment and
@@ -462,10 +557,11 @@ _VFRIC = """\
 C=======================================================================
 C     Abaqus/Explicit user subroutine VFRIC (documented argument list).
 C     statev(1,n) = p_hist of secondary (slave) node n, statev(2,n) =
-C     cached alpha1(p_hist) (optional), statev(3,n) = last status
+C     cached -ln alpha1(p_hist) (optional), statev(3,n) = last status
 C     (optional). Explicit has no iterations: each increment commits.
 C     p = fNormal/areaSec; the force limit tau(p, p_hist) areaSec;
-C     stick when the stick force is within it, otherwise slip.
+C     stick when tau > 0 and the stick force is within it, otherwise
+C     slip (tau = 0: no force, status slip, as traction_update).
 C=======================================================================
       subroutine vfric(
 C Write only -
@@ -506,7 +602,8 @@ C
         do ia = 1, nFricDir
           fTangential(ia, k) = 0.0d0
         end do
-        p = fNormal(k)/areaSec(n)
+C       an overflowing pressure is taken as the largest double
+        p = min(fNormal(k)/areaSec(n), huge(p))
         ph = statev(1, n)
         g1h = -1.0d0
         if (nStateVar .ge. 2) g1h = statev(2, n)
@@ -515,7 +612,7 @@ C
         else
           call SBMF_SHEAR(p, ph, g1h, tlim, dtau, g1new)
           flim = tlim*areaSec(n)
-          if (fStickForce(k) .le. flim) then
+          if (tlim .gt. 0.0d0 .and. fStickForce(k) .le. flim) then
             fTangential(1, k) = -fStickForce(k)
             istat = 1
           else
@@ -536,7 +633,8 @@ C=======================================================================
 C     Host-neutral entry point, to be called from the host's friction
 C     template (see the README): one contact point per call.
 C     In:  ND (1 or 2 tangential directions), P (contact pressure),
-C          PH (committed p_hist), G1H (committed cache, or -1),
+C          PH (committed p_hist), G1H (committed cache -ln alpha1(PH),
+C          or <= 0: recompute),
 C          DU(ND) (slip increment since the last converged state),
 C          TOLD(ND) (traction of the last converged state),
 C          KHOST (the host's tangential penalty, used only when the

@@ -8,7 +8,7 @@ State per contact point (the host keeps it only for converged increments):
 | index | meaning | required |
 |---|---|---|
 | 1 | `p_hist`: the largest contact pressure the point has carried ({s}) | yes |
-| 2 | cache of `alpha1(p_hist)`, written with `p_hist` (saves the Eq. 25 branch a `g` evaluation; `<= 0` means "recompute") | no |
+| 2 | cache of `-ln alpha1(p_hist)`, written with `p_hist` (saves the Eq. 25 branch a `g` evaluation; `<= 0` means "recompute") | no |
 | 3 | status of the last call: 0 open, 1 stick, 2 slip (output only) | no |
 
 Start the analysis with all state variables zero (the host's default): `p_hist = 0` is a virgin
@@ -96,7 +96,7 @@ Input deck (no PROPERTIES: the constants are compiled in; NPROPS = 0):
     *SURFACE INTERACTION, NAME=SBMF
     *FRICTION, USER, DEPVAR=3
 
-`DEPVAR=1` is enough (`p_hist` only); 2 adds the `alpha1(p_hist)` cache; 3 the status output
+`DEPVAR=1` is enough (`p_hist` only); 2 adds the `-ln alpha1(p_hist)` cache; 3 the status output
 (request `SDV` contact output to see them).
 
 Interface relied upon (Abaqus User Subroutines Reference, FRIC): `TAU` and `STATEV` are passed in
