@@ -96,7 +96,7 @@ class RingSetup:
     inner_diameter: float = 9e-3
     height: float = 6e-3
     nr: int = 16
-    nz: int = 8
+    nz: int = 0  # 0: near-square elements, round(nr * (h/2) / wall) as in fe-demo
     sector_deg: float = 5.0
     reduction: float = 0.5
     increments: int = 50
@@ -115,7 +115,9 @@ def _check(setup):
         raise ValueError(f"m must be in [0, 1], got {setup.m!r}")
     if not 0.0 < setup.reduction < 0.9:
         raise ValueError(f"reduction must be in (0, 0.9), got {setup.reduction!r}")
-    for name in ("nr", "nz", "increments"):
+    if int(setup.nz) < 0:
+        raise ValueError(f"nz must be >= 0 (0: near-square elements), got {setup.nz!r}")
+    for name in ("nr", "increments"):
         if int(getattr(setup, name)) < 1:
             raise ValueError(f"{name} must be >= 1, got {getattr(setup, name)!r}")
     if not 0.0 < setup.sector_deg <= 30.0:
@@ -131,12 +133,23 @@ def _wedge_mesh(gf, s):
     """Hexahedral wedge: ``nr`` x 1 x ``nz`` elements over (r, theta, z)."""
     ri, ro, hh = s.inner_diameter / 2, s.outer_diameter / 2, s.height / 2
     r = np.linspace(ri, ro, s.nr + 1)
-    z = np.linspace(0.0, hh, s.nz + 1)
+    z = np.linspace(0.0, hh, _nz(s) + 1)
     mesh = gf.Mesh("cartesian Q1", r, np.array([0.0, 1.0]), z)
     p = mesh.pts()
     th = math.radians(s.sector_deg) * p[1]
     mesh.set_pts(np.vstack([p[0] * np.cos(th), p[0] * np.sin(th), p[2]]))
     return mesh, r, z
+
+
+def _nz(s):
+    """Elements over the half height; ``nz = 0`` picks near-square elements."""
+    if s.nz:
+        return int(s.nz)
+    return max(1, round(s.nr * (s.height / 2) / ((s.outer_diameter - s.inner_diameter) / 2)))
+
+
+def _h_el(s):
+    return min((s.outer_diameter - s.inner_diameter) / 2 / s.nr, s.height / 2 / _nz(s))
 
 
 @dataclass
@@ -210,7 +223,9 @@ def _build_model(gf, s, mesh, rg):
     mfp = gf.MeshFem(mesh, 1)
     mfp.set_classical_discontinuous_fem(0)
     mfksi = gf.MeshFem(mesh, 1)
-    mfksi.set_classical_discontinuous_fem(0)  # per-element multiplier: a continuous one stalls Newton
+    mfksi.set_classical_discontinuous_fem(
+        0
+    )  # per-element multiplier: a continuous one stalls Newton
     mim = gf.MeshIm(mesh, 3)
     mimd1 = gf.MeshImData(mim, -1, [1])
     mimd6 = gf.MeshImData(mim, -1, [6])
@@ -247,7 +262,7 @@ def _build_model(gf, s, mesh, rg):
     )
     md.add_finite_strain_elastoplasticity_brick(*plast_args)
     th = math.radians(s.sector_deg)
-    h_el = min((s.outer_diameter - s.inner_diameter) / 2 / s.nr, s.height / 2 / s.nz)
+    h_el = _h_el(s)
     md.add_initialized_data("n_cut", [-math.sin(th), math.cos(th), 0.0])
     md.add_linear_term(mim, f"{1e3 * mat.E / h_el!r}*(u.n_cut)*(Test_u.n_cut)", rg.cut1)
 
@@ -313,6 +328,8 @@ def _contact_terms(model, ct, u_nodes, u_start, z_die, area):
     else:
         slip = u_nodes[:, :2] - u_start[:, :2]
         res = traction_update(ct.law, p, slip, ct.t_old, ct.eps_n, ct.state)
+        if not getattr(ct.law, "uses_history", False):
+            ct.state.propose(p)  # p_hist tracked for output whatever the law
         t, status = res.traction, res.status
         force[:, :2] = -t * area[:, None]
         ktt = res.dt_dslip * area[:, None, None]
@@ -408,7 +425,9 @@ def _newton(model, ct, s, z_die, u_start_nodes, area, f_ref):
             return _Increment(False, it, "linear solve gave non-finite values")
         alpha = 1.0
         while True:
-            rhs1, terms1 = _residual(model, ct, v + alpha * dv, z_die, u_start_nodes, area, "build_rhs")
+            rhs1, terms1 = _residual(
+                model, ct, v + alpha * dv, z_die, u_start_nodes, area, "build_rhs"
+            )
             res1 = np.linalg.norm(rhs1)
             if res1 < res or alpha < 1e-2:
                 break
@@ -440,6 +459,7 @@ def run(setup, progress=False):
     """Run the ring; returns ``(converged, message, rows, info)``."""
     _check(setup)
     import getfem as gf
+
     import frictionlaw as fl
 
     gf.util_trace_level(0)
@@ -450,7 +470,7 @@ def run(setup, progress=False):
     model = _build_model(gf, s, mesh, rg)
     quads = _face_nodes(mesh, cand_faces)
     nodes = np.unique(quads)
-    h_el = min((s.outer_diameter - s.inner_diameter) / 2 / s.nr, s.height / 2 / s.nz)
+    h_el = _h_el(s)
     eps_n = s.penalty_factor * s.material.E / h_el
     ct = _Contact(nodes, quads, None, eps_n, fl.HistoryState(nodes.size), np.zeros((nodes.size, 2)))
     hh0 = s.height / 2
@@ -519,7 +539,7 @@ def run(setup, progress=False):
         "code": "GetFEM",
         "getfem_version": _getfem_version(),
         "setup": _jsonable(asdict(s)),
-        "n_hexahedra": int(s.nr * s.nz),
+        "n_hexahedra": int(s.nr * _nz(s)),
         "n_dof": int(model.n_total),
         "n_contact_candidates": int(nodes.size),
         "newton_iterations": int(n_newton),
@@ -600,7 +620,7 @@ def _parser():
     ap.add_argument("--m", type=float, default=0.3, help="Tresca friction factor")
     ap.add_argument("--params", default="", help="SBMF parameter JSON (FrictionParams file)")
     ap.add_argument("--nr", type=int, default=16, help="elements across the ring wall")
-    ap.add_argument("--nz", type=int, default=8, help="elements over h/2")
+    ap.add_argument("--nz", type=int, default=0, help="elements over h/2 (0: near-square)")
     ap.add_argument("--sector", type=float, default=5.0, help="wedge angle in degrees")
     ap.add_argument("--increments", type=int, default=50)
     ap.add_argument("--reduction", type=float, default=0.5, help="final height reduction")

@@ -1,0 +1,96 @@
+"""Ring compression (6:3:2) in GetFEM with the runtime law vs ``fe-demo ring``.
+
+Cases: Tresca m = 0.3 and the SBMF law (the parameter file ``fe-demo`` uses, or
+``--params``), on the same r-z mesh (``--nr`` across the wall, near-square
+elements) and the same 50 increments to 50 %. Writes
+benchmarks/results/getfem_ring.csv and getfem_ring.md and prints the table.
+Run: python benchmarks/bench_getfem_ring.py [--nr 16] [--params FILE]
+"""
+
+import argparse
+import csv
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from couplings.getfem.compare import (  # noqa: E402
+    at_reductions,
+    getfem_missing,
+    read_history,
+    run_getfem_ring,
+)
+from fe_demo.scenes import run_ring  # noqa: E402
+
+OUT = Path(__file__).resolve().parent / "results"
+AT = (0.3, 0.5)
+
+
+def one_case(law, m, params, nr, n_inc, work):
+    args = ["--law", law, "--m", str(m), "--nr", str(nr), "--increments", str(n_inc)]
+    if params:
+        args += ["--params", params]
+    rc, wall_g, log = run_getfem_ring(work / f"getfem_{law}", args)
+    if rc != 0:
+        raise RuntimeError(f"GetFEM ring ({law}) failed with exit {rc}:\n{log[-2000:]}")
+    hg = read_history(work / f"getfem_{law}" / "history.csv")
+    t0 = time.perf_counter()
+    res = run_ring(law, m=m, params=params or None, nr=nr, n_increments=n_inc, reduction=0.5)
+    wall_f = time.perf_counter() - t0
+    if not res.converged:
+        raise RuntimeError(f"fe-demo ring ({law}) failed: {res.message}")
+    fg, dg = at_reductions(hg, AT)
+    ff, df = at_reductions(res.history, AT)
+    rows = []
+    for a, fg_, dg_, ff_, df_ in zip(AT, fg, dg, ff, df, strict=True):
+        rows.append(
+            {
+                "case": "tresca m=0.3" if law == "tresca" else "sbmf",
+                "reduction": a,
+                "getfem_force_kN": round(fg_ / 1e3, 2),
+                "fe_demo_force_kN": round(ff_ / 1e3, 2),
+                "force_diff_pct": round(100 * (fg_ - ff_) / ff_, 2),
+                "getfem_dDi_pct": round(100 * dg_, 2),
+                "fe_demo_dDi_pct": round(100 * df_, 2),
+                "dDi_diff_pct_points": round(100 * (dg_ - df_), 2),
+                "getfem_wall_s": round(wall_g, 1),
+                "fe_demo_wall_s": round(wall_f, 1),
+                "getfem_increments": int(hg["height_reduction"].size),
+            }
+        )
+    return rows
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--nr", type=int, default=16)
+    ap.add_argument("--increments", type=int, default=50)
+    ap.add_argument("--params", default="")
+    a = ap.parse_args(argv)
+    why = getfem_missing()
+    if why:
+        print(f"skipped: {why}")
+        return 1
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for law in ("tresca", "sbmf"):
+            rows += one_case(law, 0.3, a.params, a.nr, a.increments, Path(tmp))
+            print(rows[-2], rows[-1], sep="\n", flush=True)
+    OUT.mkdir(exist_ok=True)
+    with open(OUT / "getfem_ring.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    cols = list(rows[0])
+    md = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
+    md += ["| " + " | ".join(str(r[c]) for c in cols) + " |" for r in rows]
+    text = "\n".join(md) + "\n"
+    (OUT / "getfem_ring.md").write_text(text)
+    print(text)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

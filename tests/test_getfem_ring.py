@@ -1,0 +1,67 @@
+"""Ring compression in GetFEM with the runtime law (couplings/getfem/ring.py).
+
+The coupling runs in a Python that imports GetFEM (Debian's python3-getfem), as a
+subprocess; the tests skip with the reason when that interpreter is missing.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from couplings.getfem.compare import at_reductions, getfem_missing, read_history, run_getfem_ring
+from fe_demo.scenes import run_ring
+
+_WHY = getfem_missing()
+pytestmark = pytest.mark.skipif(_WHY is not None, reason=_WHY or "")
+
+A0 = math.pi * (9e-3**2 - 4.5e-3**2)  # ring end face (m^2)
+
+
+def _swift(eps):
+    return 530e6 * (0.006 + eps) ** 0.24
+
+
+def test_frictionless_ring_is_homogeneous(tmp_path):
+    rc, _, log = run_getfem_ring(
+        tmp_path / "none",
+        ["--law", "none", "--nr", "4", "--nz", "2", "--increments", "10", "--reduction", "0.3"],
+    )
+    assert rc == 0, log
+    h = read_history(tmp_path / "none" / "history.csv")
+    assert list(h)[:3] == ["height_reduction", "force", "inner_diameter_change"]
+    assert h["height_reduction"][-1] == pytest.approx(0.3, abs=1e-12)
+    s = 1.0 - h["height_reduction"]
+    # force = flow stress at ln(h0/h) x current end area (volume conserved); elastic strain
+    # makes the plastic strain, so the force, slightly smaller
+    ratio = h["force"] / (_swift(-np.log(s)) * A0 / s)
+    assert np.all(np.abs(ratio[h["height_reduction"] > 0.05] - 1.0) < 0.01), ratio
+    # no friction: every radius grows as sqrt(h0/h)
+    assert np.abs(h["inner_diameter_change"] - (1 / np.sqrt(s) - 1)).max() < 1e-3
+    assert np.all(h["max_p_hist"] > 0)
+
+
+@pytest.mark.slow
+def test_tresca_ring_against_fe_demo(tmp_path):
+    """Small mesh (6 elements across the wall), 30 %: force within 4 % of fe-demo's, and
+    friction turns the inner-diameter growth of the frictionless ring (+19.5 %) into a
+    shrink in both codes."""
+    args = ["--law", "tresca", "--m", "0.3", "--nr", "6", "--increments", "15"]
+    rc, _, log = run_getfem_ring(tmp_path / "t", [*args, "--reduction", "0.3"])
+    assert rc == 0, log
+    hg = read_history(tmp_path / "t" / "history.csv")
+    ref = run_ring("tresca", m=0.3, nr=6, n_increments=15, reduction=0.3)
+    assert ref.converged
+    fg, dg = at_reductions(hg, [0.3])
+    ff, df = at_reductions(ref.history, [0.3])
+    assert abs(fg[0] / ff[0] - 1) < 0.04
+    assert dg[0] < 0 and df[0] < 0
+    assert np.all(np.diff(hg["max_p_hist"]) >= 0)  # monotone loading: p_hist only rises
+
+
+def test_bad_input_exit_2(tmp_path):
+    rc, _, log = run_getfem_ring(tmp_path / "bad", ["--reduction", "1.5"])
+    assert rc == 2
+    assert "reduction must be in (0, 0.9)" in log
+    assert "Traceback" not in log
+    assert not (tmp_path / "bad").exists()
