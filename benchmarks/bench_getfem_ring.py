@@ -3,18 +3,23 @@
 Cases: Tresca m = 0.3 and the SBMF law (the parameter file ``fe-demo`` uses, or
 ``--params``), on the same r-z mesh (``--nr`` across the wall, near-square
 elements) and the same 50 increments to 50 %. Writes
-benchmarks/results/getfem_ring.csv and getfem_ring.md and prints the table.
+benchmarks/results/getfem_ring.csv and getfem_ring.md (and the GetFEM runs' history.csv
+and summary.json under getfem_ring_<law>/) and prints the table.
 Run: python benchmarks/bench_getfem_ring.py [--nr 16] [--params FILE]
 """
 
 import argparse
 import csv
+import json
+import shutil
 import sys
 import tempfile
 import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+import numpy as np  # noqa: E402
 
 from couplings.getfem.compare import (  # noqa: E402
     at_reductions,
@@ -36,6 +41,11 @@ def one_case(law, m, params, nr, n_inc, work):
     if rc != 0:
         raise RuntimeError(f"GetFEM ring ({law}) failed with exit {rc}:\n{log[-2000:]}")
     hg = read_history(work / f"getfem_{law}" / "history.csv")
+    summary = json.loads((work / f"getfem_{law}" / "summary.json").read_text())
+    keep = OUT / f"getfem_ring_{law}"
+    keep.mkdir(parents=True, exist_ok=True)
+    for name in ("history.csv", "summary.json"):
+        shutil.copyfile(work / f"getfem_{law}" / name, keep / name)
     t0 = time.perf_counter()
     res = run_ring(law, m=m, params=params or None, nr=nr, n_increments=n_inc, reduction=0.5)
     wall_f = time.perf_counter() - t0
@@ -44,6 +54,7 @@ def one_case(law, m, params, nr, n_inc, work):
     fg, dg = at_reductions(hg, AT)
     ff, df = at_reductions(res.history, AT)
     rows = []
+    fg, dg, ff, df = (np.asarray(x, float).tolist() for x in (fg, dg, ff, df))
     for a, fg_, dg_, ff_, df_ in zip(AT, fg, dg, ff, df, strict=True):
         rows.append(
             {
@@ -58,6 +69,9 @@ def one_case(law, m, params, nr, n_inc, work):
                 "getfem_wall_s": round(wall_g, 1),
                 "fe_demo_wall_s": round(wall_f, 1),
                 "getfem_increments": int(hg["height_reduction"].size),
+                "getfem_newton_its": int(summary["newton_iterations"]),
+                "getfem_cutbacks": len(summary["cutback_log"]),
+                "fe_demo_newton_its": int(res.info["newton_iterations"]),
             }
         )
     return rows
