@@ -1,10 +1,11 @@
 """Ring compression (6:3:2) in GetFEM with the runtime law vs ``fe-demo ring``.
 
-Cases: Tresca m = 0.3 and the SBMF law (the parameter file ``fe-demo`` uses, or
-``--params``), on the same r-z mesh (``--nr`` across the wall, near-square
-elements) and the same 50 increments to 50 %. Writes
-benchmarks/results/getfem_ring.csv and getfem_ring.md (and the GetFEM runs' history.csv
-and summary.json under getfem_ring_<law>/) and prints the table.
+Cases: Tresca m = 0.3 and the calibrated SBMF law (``params.json`` of the default
+calibration, ``halfspace-calib``'s main job, run here first; or ``--params``), on the
+same r-z mesh (``--nr`` across the wall, near-square elements) and the same 50
+increments to 50 %. Writes benchmarks/results/getfem_ring.csv and getfem_ring.md (and
+the GetFEM runs' history.csv and summary.json under getfem_ring_<law>/) and prints the
+table.
 Run: python benchmarks/bench_getfem_ring.py [--nr 16] [--params FILE]
 """
 
@@ -31,6 +32,15 @@ from fe_demo.scenes import run_ring  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results"
 AT = (0.3, 0.5)
+
+
+def default_calibration(out):
+    """``params.json`` of the default calibration (the README's main job)."""
+    from halfspace_calib.cli import main as calib_main
+
+    if calib_main(["--out", str(out)]) != 0:
+        raise RuntimeError("the default calibration failed")
+    return out / "params.json"
 
 
 def one_case(law, m, params, nr, n_inc, work):
@@ -89,8 +99,12 @@ def main(argv=None):
         return 1
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
+        params = a.params or default_calibration(Path(tmp) / "calibration")
+        keep = OUT / "getfem_ring_sbmf"
+        keep.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(params, keep / "params.json")
         for law in ("tresca", "sbmf"):
-            rows += one_case(law, 0.3, a.params, a.nr, a.increments, Path(tmp))
+            rows += one_case(law, 0.3, str(params), a.nr, a.increments, Path(tmp))
             print(rows[-2], rows[-1], sep="\n", flush=True)
     OUT.mkdir(exist_ok=True)
     with open(OUT / "getfem_ring.csv", "w", newline="") as f:
