@@ -3,9 +3,10 @@
 Cases: Tresca m = 0.3 and the calibrated SBMF law (``params.json`` of the default
 calibration, ``halfspace-calib``'s main job, run here first; or ``--params``), on the
 same r-z mesh (``--nr`` across the wall, near-square elements) and the same 50
-increments to 50 %. Writes benchmarks/results/getfem_ring.csv and getfem_ring.md (and
-the GetFEM runs' history.csv and summary.json under getfem_ring_<law>/) and prints the
-table.
+increments to 50 %. Writes benchmarks/results/getfem_ring.csv/.md (at 30 and 50 %),
+getfem_ring_stroke.csv/.md (force and inner-diameter differences over every GetFEM
+increment beyond 5 %), the GetFEM runs' history.csv and summary.json under
+getfem_ring_<law>/, and prints the tables.
 Run: python benchmarks/bench_getfem_ring.py [--nr 16] [--params FILE]
 """
 
@@ -63,6 +64,21 @@ def one_case(law, m, params, nr, n_inc, work):
         raise RuntimeError(f"fe-demo ring ({law}) failed: {res.message}")
     fg, dg = at_reductions(hg, AT)
     ff, df = at_reductions(res.history, AT)
+    red = hg["height_reduction"]
+    fe_f, fe_d = at_reductions(res.history, list(red))
+    on = red > 0.05
+    rel = hg["force"][on] / fe_f[on] - 1
+    stroke = {
+        "case": "tresca m=0.3" if law == "tresca" else "sbmf",
+        "force_diff_median_pct": round(100 * float(np.median(rel)), 2),
+        "force_diff_min_pct": round(100 * float(rel.min()), 2),
+        "force_diff_max_pct": round(100 * float(rel.max()), 2),
+        "increments_beyond_3pct": int(np.sum(np.abs(rel) > 0.03)),
+        "increments_compared": int(on.sum()),
+        "dDi_max_abs_diff_pct_points": round(
+            100 * float(np.abs(hg["inner_diameter_change"] - fe_d).max()), 2
+        ),
+    }
     rows = []
     fg, dg, ff, df = (np.asarray(x, float).tolist() for x in (fg, dg, ff, df))
     for a, fg_, dg_, ff_, df_ in zip(AT, fg, dg, ff, df, strict=True):
@@ -84,7 +100,20 @@ def one_case(law, m, params, nr, n_inc, work):
                 "fe_demo_newton_its": int(res.info["newton_iterations"]),
             }
         )
-    return rows
+    return rows, stroke
+
+
+def write_table(stem, rows):
+    with open(OUT / f"{stem}.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    cols = list(rows[0])
+    md = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
+    md += ["| " + " | ".join(str(r[c]) for c in cols) + " |" for r in rows]
+    text = "\n".join(md) + "\n"
+    (OUT / f"{stem}.md").write_text(text)
+    print(text)
 
 
 def main(argv=None):
@@ -102,21 +131,17 @@ def main(argv=None):
         params = a.params or default_calibration(Path(tmp) / "calibration")
         keep = OUT / "getfem_ring_sbmf"
         keep.mkdir(parents=True, exist_ok=True)
-        shutil.copyfile(params, keep / "params.json")
+        if Path(params).resolve() != (keep / "params.json").resolve():
+            shutil.copyfile(params, keep / "params.json")
+        strokes = []
         for law in ("tresca", "sbmf"):
-            rows += one_case(law, 0.3, str(params), a.nr, a.increments, Path(tmp))
-            print(rows[-2], rows[-1], sep="\n", flush=True)
+            r, st = one_case(law, 0.3, str(params), a.nr, a.increments, Path(tmp))
+            rows += r
+            strokes.append(st)
+            print(*r, st, sep="\n", flush=True)
     OUT.mkdir(exist_ok=True)
-    with open(OUT / "getfem_ring.csv", "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
-    cols = list(rows[0])
-    md = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
-    md += ["| " + " | ".join(str(r[c]) for c in cols) + " |" for r in rows]
-    text = "\n".join(md) + "\n"
-    (OUT / "getfem_ring.md").write_text(text)
-    print(text)
+    write_table("getfem_ring", rows)
+    write_table("getfem_ring_stroke", strokes)
     return 0
 
 

@@ -65,6 +65,7 @@ HISTORY_COLUMNS = (
     "max_p_hist",
     "nit",
     "cutbacks",
+    "min_plastic_multiplier",
 )
 
 _EXAMPLE_PARAMS = Path(__file__).resolve().parents[2] / "fe_demo" / "data" / "sbmf_example.json"
@@ -569,6 +570,7 @@ def _row(s, model, ct, inc, u_all, z_die, hh0, inner_mid, scale, cut):
         "max_p_hist": float(ph.max()),
         "nit": inc.nit,
         "cutbacks": cut,
+        "min_plastic_multiplier": float(np.min(model.md.variable("ksi"))),
     }
 
 
