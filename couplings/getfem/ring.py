@@ -525,7 +525,7 @@ def run(setup, progress=False):
         du_prev, dz_prev = v[iu] - backup[iu], target - z_die
         z_die = target
         if cut == 0:
-            dz = min(2.0 * dz, dz0)
+            dz = max(2.0 * dz, dz0)  # both negative: grow back to at most the nominal step
         u_all = _node_disp(model, v)
         rows.append(_row(s, model, ct, inc, u_all, z_die, hh0, inner_mid, scale, cut))
         if progress:
