@@ -5,6 +5,7 @@ subprocess; the tests skip with the reason when that interpreter is missing.
 """
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -41,7 +42,7 @@ def test_frictionless_ring_is_homogeneous(tmp_path):
     assert np.all(h["max_p_hist"] > 0)
 
 
-EXAMPLE = "fe_demo/data/sbmf_example.json"
+EXAMPLE = str(Path(__file__).resolve().parents[1] / "fe_demo" / "data" / "sbmf_example.json")
 
 
 def _small(tmp_path, name, law, extra=()):
