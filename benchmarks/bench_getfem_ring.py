@@ -6,7 +6,8 @@ same r-z mesh (``--nr`` across the wall, near-square elements) and the same 50
 increments to 50 %. Writes benchmarks/results/getfem_ring.csv/.md (at 30 and 50 %),
 getfem_ring_stroke.csv/.md (force and inner-diameter differences over every GetFEM
 increment beyond 5 %), the GetFEM runs' history.csv and summary.json under
-getfem_ring_<law>/, and prints the tables.
+getfem_ring_<law>/, and prints the tables. ``--sector-study``: the wedge-angle knob only
+(getfem_ring_sector.csv/.md).
 Run: python benchmarks/bench_getfem_ring.py [--nr 16] [--params FILE]
 """
 
@@ -103,6 +104,30 @@ def one_case(law, m, params, nr, n_inc, work):
     return rows, stroke
 
 
+def sector_study(work, sectors=(2.5, 5.0, 10.0, 20.0), nr=8, n_inc=15):
+    """The wedge angle knob: Tresca m = 0.3 to 30 % on an ``nr``-wide grid."""
+    rows = []
+    for sec in sectors:
+        args = ["--law", "tresca", "--m", "0.3", "--nr", str(nr), "--increments", str(n_inc)]
+        args += ["--reduction", "0.3", "--sector", str(sec)]
+        rc, wall, log = run_getfem_ring(work / f"sector_{sec:g}", args)
+        if rc != 0:
+            raise RuntimeError(f"GetFEM ring (sector {sec}) failed with exit {rc}:\n{log[-2000:]}")
+        h = read_history(work / f"sector_{sec:g}" / "history.csv")
+        f, d = at_reductions(h, [0.3])
+        rows.append(
+            {
+                "sector_deg": sec,
+                "force_kN_at_0.3": round(float(f[0]) / 1e3, 2),
+                "dDi_pct_at_0.3": round(100 * float(d[0]), 2),
+                "increments": int(h["height_reduction"].size),
+                "wall_s": round(wall, 1),
+            }
+        )
+        print(rows[-1], flush=True)
+    return rows
+
+
 def write_table(stem, rows):
     with open(OUT / f"{stem}.csv", "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0]))
@@ -121,11 +146,21 @@ def main(argv=None):
     ap.add_argument("--nr", type=int, default=16)
     ap.add_argument("--increments", type=int, default=50)
     ap.add_argument("--params", default="")
+    ap.add_argument(
+        "--sector-study",
+        action="store_true",
+        help="only the wedge-angle table (8-wide grid, 30 %%)",
+    )
     a = ap.parse_args(argv)
     why = getfem_missing()
     if why:
         print(f"skipped: {why}")
         return 1
+    if a.sector_study:
+        OUT.mkdir(exist_ok=True)
+        with tempfile.TemporaryDirectory() as tmp:
+            write_table("getfem_ring_sector", sector_study(Path(tmp)))
+        return 0
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         params = a.params or default_calibration(Path(tmp) / "calibration")

@@ -18,7 +18,7 @@ normal displacement of the ``theta = sector`` face. The half height is modelled
 (``u_z = 0`` on the mid-plane), as in ``fe-demo ring``.
 
 ``p_hist`` lives in one ``HistoryState`` over the candidate nodes (every boundary
-node off the mid-plane and off nothing else, as in ``fe-demo``): every Newton
+node off the mid-plane and the cut faces, as in ``fe-demo``): every Newton
 iteration proposes a trial from the committed history; ``commit()`` runs only
 after the increment converged (together with GetFEM's
 ``finite_strain_elastoplasticity_next_iter``), ``rollback()`` on a cut-back, which
