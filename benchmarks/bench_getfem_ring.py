@@ -46,9 +46,8 @@ def default_calibration(out):
 
 
 def one_case(law, m, params, nr, n_inc, work):
-    args = ["--law", law, "--m", str(m), "--nr", str(nr), "--increments", str(n_inc)]
-    if params:
-        args += ["--params", params]
+    args = ["--law", law, "--nr", str(nr), "--increments", str(n_inc)]
+    args += ["--m", str(m)] if law == "tresca" else ["--params", params]
     rc, wall_g, log = run_getfem_ring(work / f"getfem_{law}", args)
     if rc != 0:
         raise RuntimeError(f"GetFEM ring ({law}) failed with exit {rc}:\n{log[-2000:]}")

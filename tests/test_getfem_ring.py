@@ -46,7 +46,8 @@ EXAMPLE = str(Path(__file__).resolve().parents[1] / "fe_demo" / "data" / "sbmf_e
 
 
 def _small(tmp_path, name, law, extra=()):
-    args = ["--law", law, "--m", "0.3", "--params", EXAMPLE, "--nr", "6", "--reduction", "0.3"]
+    args = ["--law", law, "--nr", "6", "--reduction", "0.3"]
+    args += ["--m", "0.3"] if law == "tresca" else ["--params", EXAMPLE]
     rc, _, log = run_getfem_ring(tmp_path / name, [*args, *extra])
     assert rc == 0, log
     return read_history(tmp_path / name / "history.csv"), log
@@ -82,9 +83,19 @@ def test_cutbacks_leave_no_trace(tmp_path):
     assert abs(dc[0] - df[0]) < 2e-3  # measured 1.1e-3: friction is path dependent
 
 
-def test_bad_input_exit_2(tmp_path):
-    rc, _, log = run_getfem_ring(tmp_path / "bad", ["--reduction", "1.5"])
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--reduction", "1.5"], "reduction must be in (0, 0.9)"),
+        (["--law", "sbmf", "--m", "0.3"], "--m applies to --law tresca only"),
+        (["--law", "tresca", "--params", EXAMPLE], "--params applies to --law sbmf only"),
+        (["--law", "sbmf", "--params", "missing.json"], "params: no such file"),
+        (["--nr", "0"], "nr must be >= 1"),
+    ],
+)
+def test_bad_input_exit_2(tmp_path, args, message):
+    rc, _, log = run_getfem_ring(tmp_path / "bad", args)
     assert rc == 2
-    assert "reduction must be in (0, 0.9)" in log
+    assert message in log
     assert "Traceback" not in log
     assert not (tmp_path / "bad").exists()

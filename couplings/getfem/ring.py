@@ -617,8 +617,10 @@ def _parser():
         description="Ring compression (6:3:2) in GetFEM with frictionlaw at the contact nodes",
     )
     ap.add_argument("--law", choices=("none", "tresca", "sbmf"), default="tresca")
-    ap.add_argument("--m", type=float, default=0.3, help="Tresca friction factor")
-    ap.add_argument("--params", default="", help="SBMF parameter JSON (FrictionParams file)")
+    ap.add_argument("--m", type=float, default=None, help="Tresca friction factor (default 0.3)")
+    ap.add_argument(
+        "--params", default=None, help="SBMF parameter JSON (default: fe-demo's example file)"
+    )
     ap.add_argument("--nr", type=int, default=16, help="elements across the ring wall")
     ap.add_argument("--nz", type=int, default=0, help="elements over h/2 (0: near-square)")
     ap.add_argument("--sector", type=float, default=5.0, help="wedge angle in degrees")
@@ -632,10 +634,16 @@ def _parser():
 def main(argv=None):
     """Command line; exit 0 success, 1 failed run, 2 bad input."""
     a = _parser().parse_args(argv)
+    if a.m is not None and a.law != "tresca":
+        print(f"error: --m applies to --law tresca only, not {a.law!r}", file=sys.stderr)
+        return 2
+    if a.params is not None and a.law != "sbmf":
+        print(f"error: --params applies to --law sbmf only, not {a.law!r}", file=sys.stderr)
+        return 2
     setup = RingSetup(
         law=a.law,
-        m=a.m,
-        params=a.params,
+        m=0.3 if a.m is None else a.m,
+        params=a.params or "",
         nr=a.nr,
         nz=a.nz,
         sector_deg=a.sector,
