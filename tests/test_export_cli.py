@@ -5,20 +5,11 @@ import re
 
 import numpy as np
 import pytest
+from default_params import DEFAULT
 
 import frictionlaw as fl
 import frictionlaw.export as exp
 from frictionlaw.export import _tables
-
-DEFAULT = dict(
-    m=0.5,
-    sigma_y=285714285.71428573,
-    H=800000000.0,
-    C1=1.0466452593966644,
-    n1=2.8674798599724576,
-    C2=7.443848731746356,
-    n2=0.5753816933748891,
-)
 
 
 @pytest.fixture(scope="module")

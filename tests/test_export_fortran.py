@@ -11,6 +11,7 @@ import re
 
 import numpy as np
 import pytest
+from default_params import DEFAULT
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -24,16 +25,6 @@ pytestmark = pytest.mark.skipif(
     reason="gfortran not installed (.ci/run installs it: apt-get install -y gfortran)",
 )
 
-# the default calibration's parameters (halfspace-calib defaults), as inputs
-DEFAULT = dict(
-    m=0.5,
-    sigma_y=285714285.71428573,
-    H=800000000.0,
-    C1=1.0466452593966644,
-    n1=2.8674798599724576,
-    C2=7.443848731746356,
-    n2=0.5753816933748891,
-)
 KT_TABLE = TangentialStiffness(p=(1e7, 1e8, 6e8), k_t=(2e12, 8e12, 3e13))
 PARAM_SETS = {
     "default": fl.FrictionParams(**DEFAULT),

@@ -122,33 +122,25 @@ C     ln(P C) for P, C > 0 without an under- or overflowing product.
       RETURN
       END
 C
-      DOUBLE PRECISION FUNCTION SBMF_EXPM1(Z)
+"""
+
+
+def _libm_wrapper(name):
+    """``SBMF_<NAME>(Z)``: the C library's ``name`` through ``ISO_C_BINDING`` (fixed form)."""
+    up = name.upper()
+    return f"""\
+      DOUBLE PRECISION FUNCTION SBMF_{up}(Z)
       USE, INTRINSIC :: ISO_C_BINDING
       IMPLICIT NONE
       DOUBLE PRECISION Z
       INTERFACE
-        FUNCTION C_EXPM1(A) BIND(C, NAME='expm1')
+        FUNCTION C_{up}(A) BIND(C, NAME='{name}')
           IMPORT :: C_DOUBLE
           REAL(C_DOUBLE), VALUE :: A
-          REAL(C_DOUBLE) :: C_EXPM1
-        END FUNCTION C_EXPM1
+          REAL(C_DOUBLE) :: C_{up}
+        END FUNCTION C_{up}
       END INTERFACE
-      SBMF_EXPM1 = C_EXPM1(Z)
-      RETURN
-      END
-C
-      DOUBLE PRECISION FUNCTION SBMF_LOG1P(Z)
-      USE, INTRINSIC :: ISO_C_BINDING
-      IMPLICIT NONE
-      DOUBLE PRECISION Z
-      INTERFACE
-        FUNCTION C_LOG1P(A) BIND(C, NAME='log1p')
-          IMPORT :: C_DOUBLE
-          REAL(C_DOUBLE), VALUE :: A
-          REAL(C_DOUBLE) :: C_LOG1P
-        END FUNCTION C_LOG1P
-      END INTERFACE
-      SBMF_LOG1P = C_LOG1P(Z)
+      SBMF_{up} = C_{up}(Z)
       RETURN
       END
 """
@@ -156,9 +148,10 @@ C
 
 def _smin():
     """The smooth minimum with the kernel's branch points as exact literals."""
-    return _SMIN_TEMPLATE.format(
+    smin = _SMIN_TEMPLATE.format(
         ln_small=fortran_double(math.log(1e-4)), ln_sat=fortran_double(math.log(350.0))
     )
+    return smin + _libm_wrapper("expm1") + "C\n" + _libm_wrapper("log1p")
 
 
 _LAW_NAMES = ["TMAX", "H", "C1", "XN1", "C2", "XN2"]
