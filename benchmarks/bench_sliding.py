@@ -32,14 +32,14 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from _provenance import run_record  # noqa: E402
 
-from halfspace_calib.normal import composite_modulus  # noqa: E402
-from halfspace_calib.sliding import (  # noqa: E402
+from halfspace_calib.contact.normal import composite_modulus  # noqa: E402
+from halfspace_calib.output.sliding import write_sliding_outputs  # noqa: E402
+from halfspace_calib.studies.sliding import (  # noqa: E402
     SLIDING_PRESSURES,
-    sliding_study,
     sliding_surfaces,
     sliding_sweep,
-    write_sliding_outputs,
 )
+from halfspace_calib.studies.sliding_study import sliding_study  # noqa: E402
 
 RES = Path(__file__).resolve().parent / "results"
 
@@ -179,7 +179,7 @@ def decomposition(n_pos=60):
 
 def resolution(pressures=(300e6, 600e6)):
     """Steady ratio against the element size: the same surfaces block-averaged to 3n x n."""
-    from halfspace_calib import surfaces as S
+    from halfspace_calib import topography as S
 
     wp0, _ = sliding_surfaces()
     Es = composite_modulus(210e9, 0.3, 210e9, 0.3)

@@ -25,8 +25,8 @@ import time
 import numpy as np
 from _provenance import run_record
 
-from halfspace_calib.cerruti import E_prime, shear_modulus_composite
-from halfspace_calib.tangential import _CerrutiOperator, solve_tangential, tangential_bound
+from halfspace_calib.contact.cerruti import E_prime, shear_modulus_composite
+from halfspace_calib.contact.tangential import _CerrutiOperator, solve_tangential, tangential_bound
 
 E, NU = 210e9, 0.3
 E_STAR = 1.0 / (2 * (1 - NU**2) / E)

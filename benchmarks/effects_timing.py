@@ -19,8 +19,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from _provenance import run_record
 
-from halfspace_calib.calibrate import Scene, calibrate  # noqa: E402
-from halfspace_calib.effects import write_stiffness_csv  # noqa: E402
+from halfspace_calib.output.effects import write_stiffness_csv  # noqa: E402
+from halfspace_calib.pipeline.calibration import Scene, calibrate  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results"
 

@@ -16,10 +16,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from _provenance import run_record
 
-from halfspace_calib import surfaces as S  # noqa: E402
-from halfspace_calib.cerruti import E_prime  # noqa: E402
-from halfspace_calib.normal import composite_modulus, solve_normal_pair  # noqa: E402
-from halfspace_calib.presliding import presliding_curve  # noqa: E402
+from halfspace_calib import topography as S  # noqa: E402
+from halfspace_calib.contact.cerruti import E_prime  # noqa: E402
+from halfspace_calib.contact.normal import composite_modulus, solve_normal_pair  # noqa: E402
+from halfspace_calib.studies.presliding import presliding_curve  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results" / "presliding_resolution.csv"
 

@@ -16,9 +16,9 @@ import tempfile
 import time
 from pathlib import Path
 
-from ._scene_surfaces import MAX_DEFAULT_GRID
-from .calibrate import Scene, calibrate, load_scene, load_scene_surfaces
-from .report import write_outputs
+from .output.report import write_outputs
+from .pipeline.calibration import Scene, calibrate, load_scene, load_scene_surfaces
+from .pipeline.scene_surfaces import MAX_DEFAULT_GRID
 
 #: files that mark a folder as a calibration output (a rerun may replace it)
 _OUTPUT_MARKERS = ("params.json", "summary.json")
@@ -211,7 +211,7 @@ def scene_from_args(args):
             raise ValueError(f"--size takes one or two lengths (m), got {len(over['size'])}")
         over["size"] = over["size"][0] if len(over["size"]) == 1 else tuple(over["size"])
     if args.sliding:
-        from .effects import check_effects
+        from .pipeline.effects import check_effects
 
         if over["effects"] is None:  # add to the scene file's effects, or to the default
             base = load_scene(args.scene).effects if args.scene else ("normal",)

@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 from frictionlaw import FrictionParams, alpha_first
-from halfspace_calib.calibrate import Scene, calibrate, load_scene
 from halfspace_calib.cli import main
-from halfspace_calib.report import write_outputs
+from halfspace_calib.output.report import write_outputs
+from halfspace_calib.pipeline.calibration import Scene, calibrate, load_scene
 
 SMALL = dict(
     grid=32, pressures=(25e6, 100e6, 200e6, 400e6, 600e6), reload_fractions=(0.1, 0.3, 0.6, 0.9)
@@ -105,7 +105,7 @@ def test_scene_file_and_cli(tmp_path):
 
 def test_non_converged_solves_are_reported_and_left_out():
     """A tolerance the solver cannot reach within maxiter is reported, never silently fitted."""
-    from halfspace_calib.calibrate import run_sweeps
+    from halfspace_calib.pipeline.calibration import run_sweeps
 
     sweeps = run_sweeps(Scene(**SMALL), progress=False)
     lv = sweeps.levels[2]
@@ -122,8 +122,8 @@ def test_non_converged_solves_are_reported_and_left_out():
 def test_measured_surface_files_give_the_synthetic_result(tmp_path):
     """The file path of the pipeline: levelled default surfaces written to files (two units) and
     read back give the same sweeps as the same surfaces in memory."""
-    from halfspace_calib.calibrate import run_sweeps, scene_surfaces
-    from halfspace_calib.surfaces import level, write_surface
+    from halfspace_calib.pipeline.calibration import run_sweeps, scene_surfaces
+    from halfspace_calib.topography import level, write_surface
 
     kw = dict(grid=32, pressures=(50e6, 200e6, 400e6), reload_fractions=(0.5,))
     wp, tl = (level(s) for s in scene_surfaces(Scene(**kw)))
@@ -147,7 +147,7 @@ def test_measured_surface_files_give_the_synthetic_result(tmp_path):
     got = run_sweeps(scene, progress=False)
     assert got.failed == []
     # the same surfaces in memory (through the generator path, levelled): same contact ratios
-    import halfspace_calib.calibrate as C
+    import halfspace_calib.pipeline.sweeps as C
 
     orig = C.scene_surfaces
     try:
@@ -182,7 +182,7 @@ def test_importing_the_main_module_runs_nothing(tmp_path, monkeypatch):
 def test_degenerate_fits_are_reported_by_the_calibration(cal):
     import dataclasses
 
-    from halfspace_calib import fit as F
+    from halfspace_calib.pipeline import fit as F
 
     assert cal.degenerate == ""
     s = cal.summary()

@@ -6,17 +6,17 @@ import json
 import numpy as np
 import pytest
 
-import halfspace_calib.tangential as tang
+import halfspace_calib.contact.tangential as tang
 from frictionlaw import FrictionParams, shear_limit
-from halfspace_calib import surfaces as S
-from halfspace_calib.calibrate import Scene, calibrate, load_scene
-from halfspace_calib.cerruti import E_prime
+from halfspace_calib import topography as S
 from halfspace_calib.cli import build_parser, main, scene_from_args
-from halfspace_calib.effects import EFFECTS, check_effects, geo_decision
-from halfspace_calib.geometric import GeometricResult
-from halfspace_calib.normal import composite_modulus, solve_normal_pair
-from halfspace_calib.presliding import presliding_curve, stiffness_power_law
-from halfspace_calib.report import write_outputs
+from halfspace_calib.contact.cerruti import E_prime
+from halfspace_calib.contact.normal import composite_modulus, solve_normal_pair
+from halfspace_calib.output.report import write_outputs
+from halfspace_calib.pipeline.calibration import Scene, calibrate, load_scene
+from halfspace_calib.pipeline.effects import EFFECTS, check_effects, geo_decision
+from halfspace_calib.studies.geometric import GeometricResult
+from halfspace_calib.studies.presliding import presliding_curve, stiffness_power_law
 
 SMALL = dict(
     grid=16, pressures=(50e6, 150e6, 300e6, 500e6), reload_fractions=(0.2, 0.5, 0.8), tol=1e-7
@@ -291,8 +291,8 @@ def test_m_zero_skips_with_reasons(tmp_path, capsys):
 def test_inclined_uses_the_calibration_field():
     # with the inclined patches the synthetic surfaces come from the measured grid (4 x grid), so
     # the geometric study's solver surfaces are the calibration's surfaces (same random field)
-    from halfspace_calib.calibrate import scene_surfaces
-    from halfspace_calib.effects import scene_measured_surfaces
+    from halfspace_calib.pipeline.calibration import scene_surfaces
+    from halfspace_calib.pipeline.effects import scene_measured_surfaces
 
     s = Scene(grid=16, effects=("inclined",), rough_tool=True)
     assert s.measured_n == 64 and Scene(grid=16).measured_n is None

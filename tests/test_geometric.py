@@ -5,15 +5,15 @@ import csv
 import numpy as np
 import pytest
 
-from halfspace_calib import surfaces as S
-from halfspace_calib.geometric import (
+from halfspace_calib import topography as S
+from halfspace_calib.output.geometric import write_geometric_outputs
+from halfspace_calib.studies.geometric import (
     GeometricResult,
     fit_geo_ratio,
     geometric_study,
     geometric_sweep,
-    measured_surfaces,
-    write_geometric_outputs,
 )
+from halfspace_calib.topography import measured_surfaces
 
 H, M = 800e6, 0.5
 K = H / 2.8 / 2  # k = sigma_y / 2

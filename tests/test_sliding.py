@@ -5,18 +5,17 @@ import csv
 import numpy as np
 import pytest
 
-from halfspace_calib import surfaces as S
-from halfspace_calib.normal import composite_modulus, solve_normal_pair
-from halfspace_calib.sliding import (
-    SlidingStudy,
+from halfspace_calib import topography as S
+from halfspace_calib.contact.normal import composite_modulus, solve_normal_pair
+from halfspace_calib.output.sliding import write_sliding_outputs
+from halfspace_calib.studies.sliding import (
     adhesive_work,
     deformation_work,
-    sliding_study,
     sliding_surfaces,
     sliding_sweep,
     sliding_workpiece,
-    write_sliding_outputs,
 )
+from halfspace_calib.studies.sliding_study import SlidingStudy, sliding_study
 
 E_STAR = composite_modulus(210e9, 0.3, 210e9, 0.3)
 H = 800e6

@@ -1,8 +1,8 @@
 import numpy as np
 import pytest
 
-from halfspace_calib.cerruti import E_prime, cerruti_coefficients, shear_modulus_composite
-from halfspace_calib.tangential import (
+from halfspace_calib.contact.cerruti import E_prime, cerruti_coefficients, shear_modulus_composite
+from halfspace_calib.contact.tangential import (
     _CerrutiOperator,
     solve_tangential,
     tangential_bound,

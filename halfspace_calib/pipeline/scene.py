@@ -13,9 +13,9 @@ import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
+from ..contact.normal import composite_modulus
 from . import effects as _eff
-from ._scene_surfaces import MAX_UNDEFINED, SYNTHETIC_GRID, check_memory
-from .normal import composite_modulus
+from .scene_surfaces import MAX_UNDEFINED, SYNTHETIC_GRID, check_memory
 
 __all__ = [
     "DEFAULT_PRESSURES",

@@ -28,25 +28,22 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
-from . import surfaces as _surf
-from ._output import pyplot, save_png, write_csv
+from .. import topography as _surf
+from ..contact.normal import composite_modulus, solve_normal_pair
+from ..contact.tangential import tau_adh_full_sliding
+from ..topography.synthesis import measured_surfaces
 from .inclined import tau_geo_from_surfaces
-from .normal import composite_modulus, solve_normal_pair
-from .tangential import tau_adh_full_sliding
 
 __all__ = [
     "GEO_PRESSURES",
     "GeometricResult",
     "GeometricStudy",
-    "measured_surfaces",
     "geometric_sweep",
     "geometric_study",
     "fit_geo_ratio",
-    "write_geometric_outputs",
 ]
 
 #: p_mean of Figs. 9-10: 100-600 MPa in steps of 100 MPa
@@ -135,68 +132,6 @@ class GeometricStudy:
     def summary(self):
         """JSON-ready summary of every pair."""
         return {"pairs": [r.summary() for r in self.results], "seconds": self.seconds}
-
-
-# ----------------------------------------------------------------------------- surfaces
-def _scale_to_solver_ra(fine, n, ra_target):
-    coarse = _surf.block_average(fine, n)
-    c = ra_target / _surf.ra(coarse)
-    return fine.derive(
-        fine.heights * c,
-        {"op": "scale", "factor": float(c), "reason": "Table 1 Ra on the solver grid"},
-    )
-
-
-def measured_surfaces(
-    n=128,
-    block=4,
-    *,
-    rough_tool=False,
-    seed_workpiece=1,
-    seed_tool=2,
-    size=_surf.PAPER_SIZE,
-    roughness_on="solver",
-):
-    """Synthetic measured DC04-like workpiece and tool on an ``n block`` grid: ``(workpiece, tool)``.
-
-    Parameters
-    ----------
-    n : int
-        Solver grid (elements a side), ``>= 2``.
-    block : int
-        Measured points per element edge (``s = block^2`` points per element), ``>= 2``.
-    rough_tool : bool
-        The rough tool (Table 1 ``Ra`` 0.240 um) instead of the smooth one (0.102 um).
-    seed_workpiece, seed_tool : int
-        Seeds of :func:`~halfspace_calib.surfaces.dc04_edt_like` and
-        :func:`~halfspace_calib.surfaces.tool_like`.
-    size : float
-        Edge length in m (default 2.11 mm).
-    roughness_on : {"solver", "measured"}
-        ``"solver"`` (default): the fine maps are scaled so that their block averages have the
-        Table 1 ``Ra`` (Table 1 lists the simulated surfaces); ``"measured"``: Table 1 ``Ra`` and
-        ``Rq`` on the fine maps, the solver surfaces are smoother.
-
-    Returns
-    -------
-    (Surface, Surface)
-        Fine maps of shape ``(n block, n block)``; the tool's heights positive towards the
-        workpiece (as everywhere in the package).
-    """
-    n = int(n)
-    if n < 2:
-        raise ValueError(f"n must be an integer >= 2, got {n!r}")
-    if not isinstance(block, (int, np.integer)) or block < 2:
-        raise ValueError(f"block must be an integer >= 2 (points per element edge), got {block!r}")
-    if roughness_on not in ("solver", "measured"):
-        raise ValueError(f"roughness_on must be 'solver' or 'measured', got {roughness_on!r}")
-    m = n * int(block)
-    wp = _surf.dc04_edt_like(m, size=size, seed=seed_workpiece)
-    tl = _surf.tool_like(m, rough=rough_tool, size=size, seed=seed_tool)
-    if roughness_on == "solver":
-        wp = _scale_to_solver_ra(wp, n, _surf.TABLE1["workpiece"]["Ra"])
-        tl = _scale_to_solver_ra(tl, n, _surf.TABLE1["rough_tool" if rough_tool else "tool"]["Ra"])
-    return wp, tl
 
 
 # ----------------------------------------------------------------------------- sweep
@@ -436,104 +371,3 @@ def geometric_study(
             )
         )
     return GeometricStudy(results, time.perf_counter() - t0)
-
-
-# ----------------------------------------------------------------------------- output
-CSV_COLUMNS = [
-    "label",
-    "p_mean_Pa",
-    "alpha",
-    "tau_adh_Pa",
-    "tau_geo_Pa",
-    "ratio",
-    "plastic_fraction",
-    "converged",
-]
-
-
-def write_geometric_outputs(result, out_dir):
-    """Write ``geometric.csv``, ``fig9_tau.png`` and ``fig10_ratio.png`` into ``out_dir``.
-
-    Parameters
-    ----------
-    result : GeometricResult, GeometricStudy or list of GeometricResult
-    out_dir : str or Path
-        Created if missing.
-
-    Returns
-    -------
-    pathlib.Path
-        ``out_dir``.
-    """
-    if isinstance(result, GeometricStudy):
-        results = result.results
-    elif isinstance(result, GeometricResult):
-        results = [result]
-    else:
-        results = list(result)
-    if not all(isinstance(r, GeometricResult) for r in results):
-        raise ValueError("result must be a GeometricResult, a GeometricStudy or a list of them")
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    write_csv(
-        out / "geometric.csv",
-        CSV_COLUMNS,
-        [
-            [
-                r.label,
-                repr(float(r.p_mean[i])),
-                repr(float(r.alpha[i])),
-                repr(float(r.tau_adh[i])),
-                repr(float(r.tau_geo[i])),
-                repr(float(r.ratio[i])),
-                repr(float(r.plastic_fraction[i])),
-                int(r.converged[i]),
-            ]
-            for r in results
-            for i in range(r.p_mean.size)
-        ],
-    )
-    _plots(results, out)
-    return out
-
-
-def _plots(results, out):
-    plt = pyplot()
-
-    marks = ["*", "o", "s", "^", "v", "D"]
-    fig, ax = plt.subplots(figsize=(6, 4.2))
-    for i, r in enumerate(results):
-        mk = marks[i % len(marks)]
-        ax.plot(
-            r.p_mean / 1e6, r.tau_adh / 1e6, "-" + mk, color=f"C{i}", label=f"tau_adh, {r.label}"
-        )
-        ax.plot(
-            r.p_mean / 1e6, r.tau_geo / 1e6, "--" + mk, color=f"C{i}", label=f"tau_geo, {r.label}"
-        )
-    ax.set(
-        xlabel="p_mean [MPa]",
-        ylabel="shear stress [MPa]",
-        title="Fig. 9: adhesive and geometric shear",
-    )
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=7)
-    save_png(fig, out / "fig9_tau.png")
-
-    fig, ax = plt.subplots(figsize=(6, 4.2))
-    for i, r in enumerate(results):
-        ax.plot(
-            r.p_mean / 1e6,
-            r.ratio,
-            "-" + marks[i % len(marks)],
-            color=f"C{i}",
-            label=f"{r.label} (mean {r.ratio_mean:.4f})",
-        )
-    ax.set(
-        xlabel="p_mean [MPa]",
-        ylabel="tau_geo / tau_adh",
-        title="Fig. 10: share of the geometric shear",
-    )
-    ax.set_ylim(bottom=0)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    save_png(fig, out / "fig10_ratio.png")

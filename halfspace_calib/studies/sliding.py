@@ -49,16 +49,13 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
-from . import surfaces as _surf
-from ._output import pyplot, save_png, write_csv
-from .influence import normal_operator
-from .jobs import run_jobs
-from .normal import composite_modulus, solve_normal_pair
-from .tangential import tau_adh_full_sliding
+from .. import topography as _surf
+from ..contact.influence import normal_operator
+from ..contact.normal import solve_normal_pair
+from ..contact.tangential import tau_adh_full_sliding
 
 __all__ = [
     "SLIDING_PRESSURES",
@@ -66,14 +63,11 @@ __all__ = [
     "SLIDING_SHAPE",
     "SLIDING_SIZE",
     "SlidingResult",
-    "SlidingStudy",
     "adhesive_work",
     "deformation_work",
     "sliding_surfaces",
-    "sliding_study",
     "sliding_sweep",
     "sliding_workpiece",
-    "write_sliding_outputs",
 ]
 
 #: p_mean of the sliding study (Sec. 3.3): 100-600 MPa in steps of 100 MPa
@@ -526,259 +520,3 @@ def _bar(n, progress, desc):
     from tqdm.auto import tqdm
 
     return tqdm(total=n, desc=desc, leave=False)
-
-
-# ----------------------------------------------------------------------------- study
-@dataclass
-class SlidingStudy:
-    """One :class:`SlidingResult` per pressure (``None`` where the job failed, see ``errors``)."""
-
-    pressures: tuple
-    results: list
-    errors: dict
-    seconds: float
-    settings: dict
-
-    @property
-    def ok(self):
-        """The successful sweeps."""
-        return [r for r in self.results if r is not None]
-
-    def summary(self):
-        """Steady-sliding summary per pressure (positions ``>= 1``), plus the overall maximum."""
-        rows = [r.steady for r in self.ok]
-        return {
-            "rows": rows,
-            "ratio_max": max((r["ratio_max"] for r in rows), default=float("nan")),
-            "failed_pressures": sorted(self.errors),
-            "unconverged": {r.p_mean: r.failed_positions for r in self.ok if not r.all_converged},
-            "seconds": self.seconds,
-        }
-
-
-def _sweep_job(job):
-    return sliding_sweep(
-        job["workpiece"], job["tool"], job["dx"], job["E_star"], job["p_mean"], **job["kw"]
-    )
-
-
-def sliding_study(
-    pressures=SLIDING_PRESSURES,
-    *,
-    workpiece=None,
-    tool=None,
-    dx=None,
-    E_star=None,
-    H=800e6,
-    m=0.5,
-    sigma_y=None,
-    positions=None,
-    tol=1e-8,
-    volume_conservation=True,
-    periodic=True,
-    warm_start="tool",
-    seed_workpiece=1,
-    seed_tool=2,
-    rough_tool=False,
-    workers=1,
-    scheduler=None,
-    progress=True,
-):
-    """The sliding study of Sec. 3.3: one :func:`sliding_sweep` per pressure, as independent jobs.
-
-    Parameters
-    ----------
-    pressures : sequence of float
-        ``p_mean`` values in Pa (default 100-600 MPa), each in ``(0, H)``.
-    workpiece, tool : array_like or Surface, optional
-        Default: :func:`sliding_surfaces` (384 x 128 strip of 6.33 mm x 2.11 mm, Ra 0.989 um /
-        Rq 1.201 um; 128 x 128 tool of Table 1). ``dx`` defaults to the workpiece Surface's
-        element size.
-    E_star : float, optional
-        Composite modulus in Pa; default Eq. 2 with Table 1 (210 GPa, 0.3 for both).
-    H, m, sigma_y, positions, tol, volume_conservation, periodic, warm_start
-        As in :func:`sliding_sweep`.
-    seed_workpiece, seed_tool, rough_tool
-        Settings of the default surfaces.
-    workers, scheduler, progress
-        Passed to :func:`halfspace_calib.jobs.run_jobs` (one job per pressure).
-
-    Returns
-    -------
-    SlidingStudy
-    """
-    pressures = tuple(float(p) for p in pressures)
-    if not pressures:
-        raise ValueError("pressures must hold at least one p_mean (Pa)")
-    H = _positive("H", H)
-    bad = [p for p in pressures if not (0 < p < H)]
-    if bad:
-        raise ValueError(f"pressures must be in (0, H) = (0, {H:g}) Pa, got {bad}")
-    if workpiece is None or tool is None:
-        dwp, dtl = sliding_surfaces(
-            seed_workpiece=seed_workpiece, seed_tool=seed_tool, rough_tool=rough_tool
-        )
-        workpiece = dwp if workpiece is None else workpiece
-        tool = dtl if tool is None else tool
-    if dx is None:
-        if not isinstance(workpiece, _surf.Surface):
-            raise ValueError("dx (m) is required when the workpiece is a plain array")
-        dx = workpiece.dx
-    dy = workpiece.dy if isinstance(workpiece, _surf.Surface) else None
-    for s, name in ((workpiece, "workpiece"), (tool, "tool")):
-        if isinstance(s, _surf.Surface) and not (
-            np.isclose(s.dx, dx, rtol=1e-6) and np.isclose(s.dy, dy or dx, rtol=1e-6)
-        ):
-            raise ValueError(f"{name} element size {s.dx:g} x {s.dy:g} m differs from dx={dx:g} m")
-    if E_star is None:
-        E_star = composite_modulus(210e9, 0.3, 210e9, 0.3)
-    kw = dict(
-        H=H,
-        m=m,
-        sigma_y=sigma_y,
-        positions=positions,
-        tol=tol,
-        volume_conservation=volume_conservation,
-        periodic=periodic,
-        warm_start=warm_start,
-        dy=dy,
-    )
-    wp_h, tl_h = _as_array("workpiece", workpiece), _as_array("tool", tool)
-    # validate everything once, before any job runs
-    _check_sweep(
-        wp_h, tl_h, dx, E_star, pressures[0], H, m, sigma_y, positions, tol, dy, warm_start
-    )
-    jobs = [
-        dict(workpiece=wp_h, tool=tl_h, dx=dx, E_star=E_star, p_mean=p, kw=kw) for p in pressures
-    ]
-    t0 = time.perf_counter()
-    out = run_jobs(
-        _sweep_job,
-        jobs,
-        workers=workers,
-        scheduler=scheduler,
-        progress=progress,
-        desc="sliding study",
-    )
-    results = [j.value if j.ok else None for j in out]
-    errors = {pressures[j.index]: j.error for j in out if not j.ok}
-    settings = dict(
-        kw, E_star=E_star, dx=dx, workpiece_shape=list(wp_h.shape), tool_shape=list(tl_h.shape)
-    )
-    settings["sigma_y"] = H / 2.8 if sigma_y is None else sigma_y
-    return SlidingStudy(pressures, results, errors, time.perf_counter() - t0, settings)
-
-
-# ----------------------------------------------------------------------------- output
-CSV_COLUMNS = [
-    "position",
-    "x",
-    "p_mean",
-    "u0",
-    "alpha",
-    "W_def",
-    "W_adh",
-    "ratio",
-    "separation",
-    "displaced_volume",
-    "converged",
-    "nit",
-]
-
-
-def _results_of(result):
-    if isinstance(result, SlidingResult):
-        return [result]
-    if isinstance(result, SlidingStudy):
-        return result.ok
-    raise ValueError(f"result must be a SlidingResult or SlidingStudy, got {type(result).__name__}")
-
-
-def write_sliding_outputs(result, out_dir):
-    """Write ``sliding.csv`` and the plots of Figs. 11-15 into ``out_dir``.
-
-    Parameters
-    ----------
-    result : SlidingResult or SlidingStudy
-    out_dir : str or Path
-        Created if missing.
-
-    Returns
-    -------
-    pathlib.Path
-        ``out_dir``. Files: ``sliding.csv`` (columns ``position, x, p_mean, u0, alpha, W_def,
-        W_adh, ratio, separation, displaced_volume, converged, nit``; SI units), ``sliding_summary.csv`` (steady sliding per
-        pressure), ``fig11_u0.png``, ``fig12_alpha.png``, ``fig13_W_adh.png``,
-        ``fig14_W_def.png``, ``fig15_ratio.png``.
-    """
-    results = _results_of(result)
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    write_csv(
-        out / "sliding.csv",
-        CSV_COLUMNS,
-        [
-            [
-                int(r.position[i]),
-                repr(float(r.x[i])),
-                repr(r.p_mean),
-                repr(float(r.u0[i])),
-                repr(float(r.alpha[i])),
-                repr(float(r.W_def[i])),
-                repr(float(r.W_adh[i])),
-                repr(float(r.ratio[i])),
-                repr(float(r.separation[i])),
-                repr(float(r.displaced_volume[i])),
-                int(r.converged[i]),
-                int(r.nit[i]),
-            ]
-            for r in results
-            for i in range(r.position.size)
-        ],
-    )
-    keys = [
-        "p_mean",
-        "positions",
-        "ratio_mean",
-        "ratio_max",
-        "W_def_mean",
-        "W_adh_mean",
-        "alpha_mean",
-        "first_ratio",
-        "converged",
-        "seconds",
-    ]
-    write_csv(out / "sliding_summary.csv", keys, [[r.steady[k] for k in keys] for r in results])
-    if results:
-        _plots(results, out)
-    return out
-
-
-def _plots(results, out):
-    plt = pyplot()
-
-    figs = [
-        ("fig11_u0.png", "u0", 1e6, "global approach u0 (um)", "Fig. 11", False),
-        ("fig12_alpha.png", "alpha", 1.0, "A_real / A0", "Fig. 12", False),
-        ("fig13_W_adh.png", "W_adh", 1e3, "W_adh per position (mJ)", "Fig. 13", False),
-        ("fig14_W_def.png", "W_def", 1e3, "W_def per position (mJ)", "Fig. 14", True),
-        ("fig15_ratio.png", "ratio", 1.0, "W_def / W_adh", "Fig. 15", True),
-    ]
-    for name, attr, scale, ylabel, title, log in figs:
-        fig, ax = plt.subplots(figsize=(6, 4))
-        for r in results:
-            y = getattr(r, attr) * scale
-            x = r.x * 1e3
-            if log:  # position 0 (first indentation) dwarfs the sliding values: leave it out
-                x, y = x[1:], y[1:]
-                y = np.where(y > 0, y, np.nan)
-            ax.plot(x, y, lw=1, label=f"{r.p_mean / 1e6:g} MPa")
-        if log:
-            ax.set_yscale("log")
-        if attr == "ratio":
-            ax.axhline(0.008, color="k", ls="--", lw=0.8, label="paper: 0.008")
-        ax.set_xlabel("sliding distance x (mm)")
-        ax.set_ylabel(ylabel)
-        ax.set_title(f"{title} (sliding, Sec. 3.3)")
-        ax.legend(fontsize=7)
-        save_png(fig, out / name)

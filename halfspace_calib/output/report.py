@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._output import pyplot, save_png, write_csv
+from ._files import pyplot, save_png, write_csv
 
 __all__ = ["write_outputs"]
 

@@ -28,9 +28,9 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from . import surfaces as _surf
-from .geometric import measured_surfaces
-from .normal import estimate_memory
+from .. import topography as _surf
+from ..contact.normal import estimate_memory
+from ..topography.synthesis import measured_surfaces
 
 __all__ = [
     "MAX_UNDEFINED",

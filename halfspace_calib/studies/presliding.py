@@ -30,7 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import tangential as _tang
+from ..contact import tangential as _tang
 
 __all__ = ["PRESLIDING_FRACTIONS", "PreslidingCurve", "presliding_curve", "stiffness_power_law"]
 

@@ -1,0 +1,125 @@
+"""Files of the optional effects: ``tangential/``, ``geometric/`` and ``sliding/`` folders."""
+
+from pathlib import Path
+
+import numpy as np
+
+from ._files import pyplot, save_png, write_csv
+from .geometric import write_geometric_outputs
+from .sliding import write_sliding_outputs
+
+__all__ = [
+    "STIFFNESS_COLUMNS",
+    "STIFFNESS_HEADERS",
+    "write_stiffness_csv",
+    "write_tangential_outputs",
+    "write_effect_outputs",
+]
+
+
+#: columns of the tangential stiffness table (one row per first-loading pressure)
+STIFFNESS_COLUMNS = (
+    "p_mean",
+    "alpha",
+    "q_limit",
+    "delta_full",
+    "delta_stick",
+    "k_t0",
+    "k_eq",
+    "k_sec",
+    "converged",
+)
+
+
+#: CSV header of each stiffness column, with its SI unit
+STIFFNESS_HEADERS = {
+    "p_mean": "p_mean_Pa",
+    "alpha": "alpha",
+    "q_limit": "q_limit_Pa",
+    "delta_full": "delta_full_m",
+    "delta_stick": "delta_stick_m",
+    "k_t0": "k_t0_Pa_per_m",
+    "k_eq": "k_eq_Pa_per_m",
+    "k_sec": "k_sec_Pa_per_m",
+    "converged": "converged",
+}
+
+
+def write_stiffness_csv(summary, path):
+    """Write the tangential stiffness table of :func:`summarize_tangential`'s ``summary``."""
+    rows = [[r[k] for k in STIFFNESS_COLUMNS] for r in summary["rows"]]
+    write_csv(path, [STIFFNESS_HEADERS[k] for k in STIFFNESS_COLUMNS], rows)
+    return path
+
+
+def write_tangential_outputs(levels, summary, out_dir):
+    """``tangential.csv`` (curves), ``tangential_stiffness.csv`` and two PNGs into ``out_dir``."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    curves = [
+        (lv["p_hist"], lv["tangential"])
+        for lv in levels
+        if lv.get("tangential") and "error" not in lv["tangential"]
+    ]
+    write_csv(
+        out / "tangential.csv",
+        ["p_mean_Pa", "delta_m", "q_mean_Pa", "q_over_q_limit", "slip_fraction"],
+        [
+            [p, d, q, q / t["q_limit"], s]
+            for p, t in curves
+            for d, q, s in zip(t["delta"], t["q_mean"], t["slip_fraction"], strict=True)
+        ],
+    )
+    write_stiffness_csv(summary, out / "tangential_stiffness.csv")
+    if not curves:
+        return out
+    plt = pyplot()
+
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    for i, (p, t) in enumerate(curves):
+        ax.plot(
+            np.array(t["delta"]) * 1e9,
+            np.array(t["q_mean"]) / 1e6,
+            "-o",
+            ms=3,
+            color=f"C{i % 10}",
+            label=f"{p / 1e6:g} MPa",
+        )
+    ax.set(
+        xlabel="rigid shift delta [nm]",
+        ylabel="q_mean [MPa]",
+        title="Pre-sliding: mean tangential traction (Tresca cap, Eq. 18)",
+    )
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    save_png(fig, out / "tangential_curves.png")
+
+    rows = summary["rows"]
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    p = np.array([r["p_mean"] for r in rows]) / 1e6
+    ax.loglog(p, [r["k_t0"] for r in rows], "o-", label="k_t0 (initial)")
+    ax.loglog(p, [r["k_eq"] for r in rows], "^-", label="k_eq (energy-equivalent, recommended)")
+    ax.loglog(p, [r["k_sec"] for r in rows], "s-", label="k_sec (secant to full sliding)")
+    ax.set(
+        xlabel="p_mean [MPa]",
+        ylabel="tangential stiffness [Pa/m]",
+        title="Interface tangential stiffness (penalty k_t)",
+    )
+    ax.grid(alpha=0.3, which="both")
+    ax.legend()
+    save_png(fig, out / "tangential_stiffness.png")
+    return out
+
+
+def write_effect_outputs(cal, out):
+    """Each modelled effect's CSV and PNG into ``out/tangential``, ``out/geometric``, ``out/sliding``."""
+    out = Path(out)
+    eff = cal.effects
+    if "tangential" in eff and "summary" in eff["tangential"]:
+        write_tangential_outputs(
+            cal.sweeps.levels, eff["tangential"]["summary"], out / "tangential"
+        )
+    if "inclined" in eff and "result" in eff["inclined"]:
+        write_geometric_outputs(eff["inclined"]["result"], out / "geometric")
+    if "sliding" in eff and "study" in eff["sliding"]:
+        write_sliding_outputs(eff["sliding"]["study"], out / "sliding")

@@ -1,0 +1,164 @@
+"""The sliding study of Sec. 3.3: one sliding sweep per pressure, as independent jobs.
+
+:func:`sliding_study` runs :func:`~halfspace_calib.studies.sliding.sliding_sweep` per pressure;
+:class:`SlidingStudy` summarises them (Fig. 15's ratio per pressure).
+"""
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..common.jobs import run_jobs
+from ..contact.normal import composite_modulus
+from ..topography import Surface
+from .sliding import (
+    SLIDING_PRESSURES,
+    _as_array,
+    _check_sweep,
+    _positive,
+    sliding_surfaces,
+    sliding_sweep,
+)
+
+__all__ = ["SlidingStudy", "sliding_study"]
+
+
+@dataclass
+class SlidingStudy:
+    """One :class:`SlidingResult` per pressure (``None`` where the job failed, see ``errors``)."""
+
+    pressures: tuple
+    results: list
+    errors: dict
+    seconds: float
+    settings: dict
+
+    @property
+    def ok(self):
+        """The successful sweeps."""
+        return [r for r in self.results if r is not None]
+
+    def summary(self):
+        """Steady-sliding summary per pressure (positions ``>= 1``), plus the overall maximum."""
+        rows = [r.steady for r in self.ok]
+        return {
+            "rows": rows,
+            "ratio_max": max((r["ratio_max"] for r in rows), default=float("nan")),
+            "failed_pressures": sorted(self.errors),
+            "unconverged": {r.p_mean: r.failed_positions for r in self.ok if not r.all_converged},
+            "seconds": self.seconds,
+        }
+
+
+def _sweep_job(job):
+    return sliding_sweep(
+        job["workpiece"], job["tool"], job["dx"], job["E_star"], job["p_mean"], **job["kw"]
+    )
+
+
+def sliding_study(
+    pressures=SLIDING_PRESSURES,
+    *,
+    workpiece=None,
+    tool=None,
+    dx=None,
+    E_star=None,
+    H=800e6,
+    m=0.5,
+    sigma_y=None,
+    positions=None,
+    tol=1e-8,
+    volume_conservation=True,
+    periodic=True,
+    warm_start="tool",
+    seed_workpiece=1,
+    seed_tool=2,
+    rough_tool=False,
+    workers=1,
+    scheduler=None,
+    progress=True,
+):
+    """The sliding study of Sec. 3.3: one :func:`sliding_sweep` per pressure, as independent jobs.
+
+    Parameters
+    ----------
+    pressures : sequence of float
+        ``p_mean`` values in Pa (default 100-600 MPa), each in ``(0, H)``.
+    workpiece, tool : array_like or Surface, optional
+        Default: :func:`sliding_surfaces` (384 x 128 strip of 6.33 mm x 2.11 mm, Ra 0.989 um /
+        Rq 1.201 um; 128 x 128 tool of Table 1). ``dx`` defaults to the workpiece Surface's
+        element size.
+    E_star : float, optional
+        Composite modulus in Pa; default Eq. 2 with Table 1 (210 GPa, 0.3 for both).
+    H, m, sigma_y, positions, tol, volume_conservation, periodic, warm_start
+        As in :func:`sliding_sweep`.
+    seed_workpiece, seed_tool, rough_tool
+        Settings of the default surfaces.
+    workers, scheduler, progress
+        Passed to :func:`halfspace_calib.jobs.run_jobs` (one job per pressure).
+
+    Returns
+    -------
+    SlidingStudy
+    """
+    pressures = tuple(float(p) for p in pressures)
+    if not pressures:
+        raise ValueError("pressures must hold at least one p_mean (Pa)")
+    H = _positive("H", H)
+    bad = [p for p in pressures if not (0 < p < H)]
+    if bad:
+        raise ValueError(f"pressures must be in (0, H) = (0, {H:g}) Pa, got {bad}")
+    if workpiece is None or tool is None:
+        dwp, dtl = sliding_surfaces(
+            seed_workpiece=seed_workpiece, seed_tool=seed_tool, rough_tool=rough_tool
+        )
+        workpiece = dwp if workpiece is None else workpiece
+        tool = dtl if tool is None else tool
+    if dx is None:
+        if not isinstance(workpiece, Surface):
+            raise ValueError("dx (m) is required when the workpiece is a plain array")
+        dx = workpiece.dx
+    dy = workpiece.dy if isinstance(workpiece, Surface) else None
+    for s, name in ((workpiece, "workpiece"), (tool, "tool")):
+        if isinstance(s, Surface) and not (
+            np.isclose(s.dx, dx, rtol=1e-6) and np.isclose(s.dy, dy or dx, rtol=1e-6)
+        ):
+            raise ValueError(f"{name} element size {s.dx:g} x {s.dy:g} m differs from dx={dx:g} m")
+    if E_star is None:
+        E_star = composite_modulus(210e9, 0.3, 210e9, 0.3)
+    kw = dict(
+        H=H,
+        m=m,
+        sigma_y=sigma_y,
+        positions=positions,
+        tol=tol,
+        volume_conservation=volume_conservation,
+        periodic=periodic,
+        warm_start=warm_start,
+        dy=dy,
+    )
+    wp_h, tl_h = _as_array("workpiece", workpiece), _as_array("tool", tool)
+    # validate everything once, before any job runs
+    _check_sweep(
+        wp_h, tl_h, dx, E_star, pressures[0], H, m, sigma_y, positions, tol, dy, warm_start
+    )
+    jobs = [
+        dict(workpiece=wp_h, tool=tl_h, dx=dx, E_star=E_star, p_mean=p, kw=kw) for p in pressures
+    ]
+    t0 = time.perf_counter()
+    out = run_jobs(
+        _sweep_job,
+        jobs,
+        workers=workers,
+        scheduler=scheduler,
+        progress=progress,
+        desc="sliding study",
+    )
+    results = [j.value if j.ok else None for j in out]
+    errors = {pressures[j.index]: j.error for j in out if not j.ok}
+    settings = dict(
+        kw, E_star=E_star, dx=dx, workpiece_shape=list(wp_h.shape), tool_shape=list(tl_h.shape)
+    )
+    settings["sigma_y"] = H / 2.8 if sigma_y is None else sigma_y
+    return SlidingStudy(pressures, results, errors, time.perf_counter() - t0, settings)
