@@ -30,7 +30,7 @@ def main():
     for n in (64, 128, 256):
         wp, tl = S.dc04_edt_like(n, measured_n=512), S.tool_like(n, measured_n=512)
         for p in (100e6, 400e6):
-            r = solve_normal_pair(tl.heights, wp.heights, wp.dx, es, p, H=800e6)
+            r = solve_normal_pair(wp.heights, tl.heights, wp.dx, es, p, H=800e6)
             t0 = time.perf_counter()
             c = presliding_curve(r.pressure, wp.dx, es, ep, m=0.5, sigma_y=800e6 / 2.8)
             rows.append(

@@ -71,7 +71,7 @@ def test_scene_file_and_cli_options(tmp_path):
 @pytest.fixture(scope="module")
 def loaded():
     wp, tl = S.dc04_edt_like(32), S.tool_like(32)
-    r = solve_normal_pair(tl.heights, wp.heights, wp.dx, E_STAR, 200e6, H=800e6)
+    r = solve_normal_pair(wp.heights, tl.heights, wp.dx, E_STAR, 200e6, H=800e6)
     return r, wp.dx
 
 

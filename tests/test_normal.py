@@ -283,13 +283,13 @@ def test_pair_deforms_workpiece_only():
     tool = rough_surface(n, 10, rq=0.16e-6)
     work = rough_surface(n, 11, rq=1.267e-6)
     dx = 2.11e-3 / n
-    res = solve_normal_pair(tool, work, dx, E_STAR, 300e6, H=H_DC04)
-    single = solve_normal(composite_heights(tool, work), dx, E_STAR, 300e6, H=H_DC04)
+    res = solve_normal_pair(work, tool, dx, E_STAR, 300e6, H=H_DC04)
+    single = solve_normal(composite_heights(work, tool), dx, E_STAR, 300e6, H=H_DC04)
     np.testing.assert_array_equal(res.pressure, single.pressure)
     np.testing.assert_allclose(res.deformed_workpiece + tool, res.deformed_heights, atol=1e-18)
     assert abs(res.deformed_workpiece.sum() - work.sum()) <= 1e-10 * np.sum(work - work.min())
     with pytest.raises(ValueError, match="same shape"):
-        composite_heights(tool, work[:, :-1])
+        composite_heights(work[:, :-1], tool)
 
 
 # ----------------------------------------------------------------------------- input checks

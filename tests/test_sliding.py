@@ -64,7 +64,7 @@ def test_default_surfaces_match_sec33():
 def test_first_position_equals_plain_solve(small, sweep_vc):
     wp, tl = small
     plain = solve_normal_pair(
-        tl.heights, wp.heights[:24], DX, E_STAR, 300e6, H=H, periodic=True, tol=1e-8
+        wp.heights[:24], tl.heights, DX, E_STAR, 300e6, H=H, periodic=True, tol=1e-8
     )
     r = sweep_vc
     assert r.u0[0] == pytest.approx(plain.u0, rel=1e-12, abs=1e-18)

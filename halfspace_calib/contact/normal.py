@@ -164,19 +164,19 @@ def composite_modulus(E1: float, nu1: float, E2: float, nu2: float) -> float:
     return 1.0 / inv
 
 
-def composite_heights(tool: np.ndarray, workpiece: np.ndarray) -> np.ndarray:
-    """Composite topography of two facing surfaces (Fig. 2).
+def composite_heights(workpiece: np.ndarray, tool: np.ndarray) -> np.ndarray:
+    """Composite topography of two facing surfaces (Fig. 2), workpiece first.
 
     Both height maps are measured outward from their own body (asperities point towards the
     other body) on the same grid, so that the separation at element ``k`` is
     ``const - tool_k - workpiece_k``: the composite heights are their sum.
     """
-    tool = np.asarray(tool, dtype=float)
     workpiece = np.asarray(workpiece, dtype=float)
+    tool = np.asarray(tool, dtype=float)
     if tool.shape != workpiece.shape or tool.ndim != 2:
         raise ValueError(
-            f"tool and workpiece must be 2-D arrays of the same shape, got {tool.shape} "
-            f"and {workpiece.shape}"
+            f"workpiece and tool must be 2-D arrays of the same shape, got {workpiece.shape} "
+            f"and {tool.shape}"
         )
     return tool + workpiece
 
@@ -390,16 +390,16 @@ def _finish(h, p, u, g, nit, converged, res, tol, p_mean, H, periodic, vc, dA):
 
 
 def solve_normal_pair(
-    tool, workpiece, dx: float, E_star: float, p_mean: float, **kwargs
+    workpiece, tool, dx: float, E_star: float, p_mean: float, **kwargs
 ) -> NormalResult:
-    """Normal contact of a tool and a workpiece surface (two height maps in, one gap).
+    """Normal contact of a workpiece and a tool surface (two height maps in, workpiece first).
 
     The composite gap is formed by :func:`composite_heights`; the plastic displacement and the
     volume conservation belong to the workpiece (the softer body), and the result carries
     ``deformed_workpiece``: the workpiece heights after unloading, ready for a later contact
     (reloading, a further stage, sliding). All keyword arguments go to :func:`solve_normal`.
     """
-    hc = composite_heights(tool, workpiece)
+    hc = composite_heights(workpiece, tool)
     res = solve_normal(hc, dx, E_star, p_mean, **kwargs)
     res.deformed_workpiece = np.asarray(workpiece, dtype=float) + (res.deformed_heights - hc)
     return res

@@ -210,7 +210,7 @@ def solve_tangential(
     sigma_y=None,
     mu=None,
     dy=None,
-    periodic=False,
+    periodic=True,
     method="mprgp",
     q0=None,
     tol=1e-8,
@@ -238,6 +238,8 @@ def solve_tangential(
     periodic : bool
         Periodic half-space (spectral kernel, ``delta`` relative to the mean displacement) or
         isolated finite contact (zero padding, exact discrete sum).
+        Default True, as in :func:`~halfspace_calib.contact.normal.solve_normal`: a tangential
+        solve on a normal solution uses the same boundary conditions.
     method : {"mprgp", "gauss-seidel"}
         Fast FFT-based MPRGP, or the paper's projected Gauss-Seidel (dense, small grids only).
     q0 : array_like, optional

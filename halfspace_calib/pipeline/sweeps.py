@@ -47,8 +47,8 @@ def _level_job(job):
     """One load level: first loading to ``p_hist``, then the reload curve below it."""
     kw = dict(H=job["H"], tol=job["tol"], periodic=job["periodic"], dy=job["dy"])
     res = solve_normal_pair(
-        job["tool"],
         job["workpiece"],
+        job["tool"],
         job["dx"],
         job["E_star"],
         job["p_hist"],
@@ -78,8 +78,8 @@ def _level_job(job):
         p_init = res.pressure
         for p in sorted(job["reload_pressures"], reverse=True):  # warm start from the neighbour
             r = solve_normal_pair(
-                job["tool"],
                 surface,
+                job["tool"],
                 job["dx"],
                 job["E_star"],
                 p,

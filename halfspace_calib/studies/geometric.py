@@ -32,6 +32,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import topography as _surf
+from ..contact.materials import sigma_y_from_hardness
 from ..contact.normal import composite_modulus, solve_normal_pair
 from ..contact.tangential import tau_adh_full_sliding
 from ..topography.synthesis import measured_surfaces
@@ -201,7 +202,7 @@ def geometric_sweep(
     -------
     GeometricResult
     """
-    sigma_y = H / 2.8 if sigma_y is None else sigma_y
+    sigma_y = sigma_y_from_hardness(H) if sigma_y is None else sigma_y
     pressures = _check(pressures, H, m, sigma_y, tol)
     zw, dxf, dyf = _heights("workpiece", workpiece)
     zt, dxt, dyt = _heights("tool", tool)
@@ -226,8 +227,8 @@ def geometric_sweep(
     p_init = None
     for i in order:
         r = solve_normal_pair(
-            tc.heights,
             wc.heights,
+            tc.heights,
             wc.dx,
             E_star,
             pressures[i],

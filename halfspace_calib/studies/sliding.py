@@ -54,6 +54,7 @@ import numpy as np
 
 from .. import topography as _surf
 from ..contact.influence import normal_operator
+from ..contact.materials import sigma_y_from_hardness
 from ..contact.normal import solve_normal_pair
 from ..contact.tangential import tau_adh_full_sliding
 
@@ -327,7 +328,7 @@ def _check_sweep(
         raise ValueError(f"p_mean must be in (0, H) = (0, {H:g}) Pa, got {p_mean!r}")
     if isinstance(m, bool) or not (isinstance(m, (int, float)) and 0 < m <= 1):
         raise ValueError(f"m must be in (0, 1] (W_adh = 0 at m = 0), got {m!r}")
-    sigma_y = H / 2.8 if sigma_y is None else _positive("sigma_y", sigma_y)
+    sigma_y = sigma_y_from_hardness(H) if sigma_y is None else _positive("sigma_y", sigma_y)
     if warm_start not in WARM_STARTS:
         raise ValueError(f"warm_start must be one of {WARM_STARTS}, got {warm_start!r}")
     if not (isinstance(tol, (int, float)) and 0 < tol < 1):
@@ -453,8 +454,8 @@ def sliding_sweep(
         rec["sep"][i] = float((tl + win).max())  # h_max of the composite heights
         p_init = _warm_start(p_prev, p_mean, warm_start)
         r = solve_normal_pair(
-            tl,
             win,
+            tl,
             dx,
             E_star,
             p_mean,

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..common.jobs import run_jobs
+from ..contact.materials import sigma_y_from_hardness
 from ..contact.normal import composite_modulus
 from ..topography import Surface
 from .sliding import (
@@ -160,5 +161,5 @@ def sliding_study(
     settings = dict(
         kw, E_star=E_star, dx=dx, workpiece_shape=list(wp_h.shape), tool_shape=list(tl_h.shape)
     )
-    settings["sigma_y"] = H / 2.8 if sigma_y is None else sigma_y
+    settings["sigma_y"] = sigma_y_from_hardness(H) if sigma_y is None else sigma_y
     return SlidingStudy(pressures, results, errors, time.perf_counter() - t0, settings)
