@@ -28,16 +28,14 @@ def test_sweeps_obey_the_contact_invariants(cal):
     assert np.all(alpha >= p / cal.scene.H - 1e-12)
     assert np.all(np.diff(alpha) > 0)
     for lv in cal.sweeps.levels:
-        assert lv["loading"]["converged"] and lv["loading"]["max_pressure"] <= cal.scene.H * (
-            1 + 1e-9
-        )
-        a_hist = lv["loading"]["alpha"]
-        for r in lv["reload"]:
-            assert r["converged"]
+        assert lv.loading.converged and lv.loading.max_pressure <= cal.scene.H * (1 + 1e-9)
+        a_hist = lv.loading.alpha
+        for r in lv.reload:
+            assert r.converged
             # reloading the flattened surface is elastic and has more contact area than first loading
-            assert r["plastic_fraction"] == 0.0 and r["max_pressure"] < cal.scene.H
-            assert r["alpha"] <= a_hist + 1e-12
-            assert r["alpha"] >= np.interp(r["p_mean"], p, alpha) - 1e-12
+            assert r.plastic_fraction == 0.0 and r.max_pressure < cal.scene.H
+            assert r.alpha <= a_hist + 1e-12
+            assert r.alpha >= np.interp(r.p_mean, p, alpha) - 1e-12
 
 
 def test_fit_quality_and_parameter_file(cal, tmp_path):
@@ -105,18 +103,18 @@ def test_scene_file_and_cli(tmp_path):
 
 def test_non_converged_solves_are_reported_and_left_out():
     """A tolerance the solver cannot reach within maxiter is reported, never silently fitted."""
-    from halfspace_calib.pipeline.calibration import run_sweeps
+    import dataclasses
+
+    from halfspace_calib.pipeline.sweeps import NotConverged, run_sweeps
 
     sweeps = run_sweeps(Scene(**SMALL), progress=False)
     lv = sweeps.levels[2]
-    lv["loading"] = dict(lv["loading"], converged=False, message="NOT converged (test)")
+    lv.loading = dataclasses.replace(lv.loading, converged=False, message="NOT converged (test)")
     p, _ = sweeps.loading
-    assert lv["p_hist"] not in p and p.size == 4
+    assert lv.p_hist not in p and p.size == 4
     nc = sweeps.not_converged()
-    assert nc == [
-        {"p_hist": lv["p_hist"], "p_mean": lv["p_hist"], "message": "NOT converged (test)"}
-    ]
-    assert all(c.p_hist != lv["p_hist"] for c in sweeps.reload_curves())
+    assert nc == [NotConverged(lv.p_hist, lv.p_hist, "NOT converged (test)")]
+    assert all(c.p_hist != lv.p_hist for c in sweeps.reload_curves())
 
 
 def test_measured_surface_files_give_the_synthetic_result(tmp_path):

@@ -354,7 +354,7 @@ def test_cli_exit_1_for_a_failed_level_and_a_degenerate_fit(tmp_path, capsys, mo
     job = C._level_job
 
     def failing(j):
-        if j["p_hist"] == 300e6:
+        if j.p_hist == 300e6:
             raise FloatingPointError("injected")
         return job(j)
 

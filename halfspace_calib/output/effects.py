@@ -56,18 +56,16 @@ def write_tangential_outputs(levels, summary, out_dir):
     """``tangential.csv`` (curves), ``tangential_stiffness.csv`` and two PNGs into ``out_dir``."""
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    curves = [
-        (lv["p_hist"], lv["tangential"])
-        for lv in levels
-        if lv.get("tangential") and "error" not in lv["tangential"]
-    ]
+    curves = [(lv.p_hist, lv.tangential) for lv in levels if lv.tangential is not None]
     write_csv(
         out / "tangential.csv",
         ["p_mean_Pa", "delta_m", "q_mean_Pa", "q_over_q_limit", "slip_fraction"],
         [
-            [p, d, q, q / t["q_limit"], s]
+            [p, d, q, q / t.q_limit, s]
             for p, t in curves
-            for d, q, s in zip(t["delta"], t["q_mean"], t["slip_fraction"], strict=True)
+            for d, q, s in zip(
+                t.delta.tolist(), t.q_mean.tolist(), t.slip_fraction.tolist(), strict=True
+            )
         ],
     )
     write_stiffness_csv(summary, out / "tangential_stiffness.csv")
@@ -78,8 +76,8 @@ def write_tangential_outputs(levels, summary, out_dir):
     fig, ax = plt.subplots(figsize=(6, 4.2))
     for i, (p, t) in enumerate(curves):
         ax.plot(
-            np.array(t["delta"]) * 1e9,
-            np.array(t["q_mean"]) / 1e6,
+            np.asarray(t.delta) * 1e9,
+            np.asarray(t.q_mean) / 1e6,
             "-o",
             ms=3,
             color=f"C{i % 10}",

@@ -27,7 +27,9 @@ _SOLVE_HEADERS = [h for _, h in _SOLVE_COLUMNS]
 
 def _solve_cells(rec):
     """The :data:`_SOLVE_COLUMNS` cells of a loading or reload record (``converged`` as 0/1)."""
-    return [int(rec[k]) if k == "converged" else rec[k] for k, _ in _SOLVE_COLUMNS]
+    return [
+        int(getattr(rec, k)) if k == "converged" else getattr(rec, k) for k, _ in _SOLVE_COLUMNS
+    ]
 
 
 def write_tables(cal, out):
@@ -36,12 +38,12 @@ def write_tables(cal, out):
     write_csv(
         out / "loading.csv",
         ["p_mean_Pa", *_SOLVE_HEADERS, "u0_m"],
-        [[v["p_hist"], *_solve_cells(v["loading"]), v["loading"]["u0"]] for v in lv],
+        [[v.p_hist, *_solve_cells(v.loading), v.loading.u0] for v in lv],
     )
     write_csv(
         out / "reload.csv",
         ["p_hist_Pa", "p_mean_Pa", *_SOLVE_HEADERS],
-        [[v["p_hist"], r["p_mean"], *_solve_cells(r)] for v in lv for r in v["reload"]],
+        [[v.p_hist, r.p_mean, *_solve_cells(r)] for v in lv for r in v.reload],
     )
     rows = _roughness_rows(cal)
     write_csv(out / "roughness.csv", ["p_mean_Pa", "Ra_m", "Rq_m"], rows)
@@ -52,7 +54,7 @@ def _roughness_rows(cal):
     wp = cal.sweeps.surfaces["workpiece"]
     h0 = np.asarray(wp.heights) - np.mean(wp.heights)
     rows = [[0.0, float(np.mean(np.abs(h0))), float(np.sqrt(np.mean(h0 * h0)))]]
-    rows += [[v["p_hist"], v["Ra_after"], v["Rq_after"]] for v in cal.sweeps.levels]
+    rows += [[v.p_hist, v.Ra_after, v.Rq_after] for v in cal.sweeps.levels]
     return rows
 
 
@@ -115,18 +117,18 @@ def write_plots(cal, out):
     ax.legend()
     save_png(fig, out / "roughness.png")
 
-    maps = [v for v in lv if "pressure_map" in v]
+    maps = [v for v in lv if v.pressure_map is not None]
     if maps:
         v = maps[-1]
         wp = cal.sweeps.surfaces["workpiece"]
         fig, ax = plt.subplots(figsize=(5.4, 4.6))
         ext = [0, wp.shape[1] * wp.dy * 1e3, 0, wp.shape[0] * wp.dx * 1e3]
-        im = ax.imshow(v["pressure_map"] / MPa, origin="lower", extent=ext, cmap="viridis")
+        im = ax.imshow(v.pressure_map / MPa, origin="lower", extent=ext, cmap="viridis")
         fig.colorbar(im, ax=ax, label="p [MPa]")
         ax.set(
             xlabel="y [mm]",
             ylabel="x [mm]",
-            title=f"Contact pressure at p_mean = {v['p_hist'] / MPa:.0f} MPa",
+            title=f"Contact pressure at p_mean = {v.p_hist / MPa:.0f} MPa",
         )
         save_png(fig, out / "pressure_map.png")
 

@@ -24,7 +24,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from frictionlaw import FrictionParams
+
 from . import effects as _eff
+from .fit import FirstLoadingFit, ReloadFit
 from .params import make_params
 from .resolution import ResolutionCheck, fit_sweeps, resolution_check
 from .scene import Scene, load_scene
@@ -53,9 +56,9 @@ R2_MIN = 0.9
 class Calibration:
     """Result of :func:`calibrate`: the parameters, the fits and the sweeps behind them."""
 
-    params: object
-    first: object
-    reload: object
+    params: FrictionParams
+    first: FirstLoadingFit
+    reload: ReloadFit
     sweeps: SweepResult
     scene: Scene
     seconds: float
@@ -69,10 +72,10 @@ class Calibration:
         A failed or non-converged load level or solve, a fit with ``R^2 <`` :data:`R2_MIN`, a
         fitted parameter on its bound or a fit that did not converge, and failed effect solves.
         """
-        out = [f"load level {f['p_hist']:g} Pa failed" for f in self.sweeps.failed]
+        out = [f"load level {f.p_hist:g} Pa failed" for f in self.sweeps.failed]
         out += [
-            f"not converged, left out of the fit: p_hist {nc['p_hist']:g} Pa, p_mean "
-            f"{nc['p_mean']:g} Pa: {nc['message']}"
+            f"not converged, left out of the fit: p_hist {nc.p_hist:g} Pa, p_mean "
+            f"{nc.p_mean:g} Pa: {nc.message}"
             for nc in self.sweeps.not_converged()
         ]
         for name, fit in (("first loading (Eq. 24)", self.first), ("reload (Eq. 25)", self.reload)):
@@ -141,8 +144,8 @@ class Calibration:
             "max_jump_relative": float(np.max(self.reload.jump_relative))
             if self.reload.jump.size
             else 0.0,
-            "failed_levels": self.sweeps.failed,
-            "not_converged": self.sweeps.not_converged(),
+            "failed_levels": [dataclasses.asdict(f) for f in self.sweeps.failed],
+            "not_converged": [dataclasses.asdict(nc) for nc in self.sweeps.not_converged()],
             "max_reload_pressure_over_H": self.sweeps.max_reload_pressure() / self.scene.H,
             "max_reload_plastic_fraction": self.sweeps.max_reload_plastic_fraction(),
             "geo_ratio": P.geo_ratio,
@@ -223,7 +226,7 @@ def calibrate(scene=None, *, progress=True, surfaces=None):
                 "effects": list(scene.effects),
                 "max_reload_pressure_over_H": sweeps.max_reload_pressure() / scene.H,
                 "max_reload_plastic_fraction": sweeps.max_reload_plastic_fraction(),
-                "failed_levels": sweeps.failed,
+                "failed_levels": [dataclasses.asdict(f) for f in sweeps.failed],
                 "geo_threshold": scene.geo_threshold,
             },
             "effects": _effects_record(effects),
@@ -260,7 +263,7 @@ def _run_effects(scene, sweeps, surfs, progress):
                 "tangential traction and no stiffness"
             }
         else:
-            secs = sum(lv.get("tangential", {}).get("seconds", 0.0) for lv in sweeps.levels)
+            secs = sum(lv.tangential_seconds for lv in sweeps.levels)
             out["tangential"] = {
                 "summary": _eff.summarize_tangential(sweeps.levels),
                 "seconds": secs,

@@ -225,9 +225,9 @@ def summarize_tangential(levels):
 
     Parameters
     ----------
-    levels : list of dict
-        ``SweepResult.levels`` of a sweep run with the tangential effect (each with a
-        ``"tangential"`` record).
+    levels : list of LevelResult
+        ``SweepResult.levels`` of a sweep run with the tangential effect (each with its
+        ``tangential`` curve or ``tangential_error``).
 
     Returns
     -------
@@ -240,33 +240,32 @@ def summarize_tangential(levels):
     rows, errors = [], []
     max_diff = 0.0
     for lv in levels:
-        t = lv.get("tangential")
+        if lv.tangential_error is not None:
+            errors.append({"p_mean": lv.p_hist, "error": lv.tangential_error})
+            continue
+        t = lv.tangential
         if t is None:
             continue
-        if "error" in t:
-            errors.append({"p_mean": lv["p_hist"], "error": t["error"]})
-            continue
-        alpha = lv["loading"]["alpha"]
         rows.append(
             {
-                "p_mean": lv["p_hist"],
-                "alpha": alpha,
-                "q_limit": t["q_limit"],
-                "delta_full": t["delta_full"],
-                "delta_stick": t["delta_stick"],
-                "k_t0": t["k_t0"],
-                "k_sec": t["k_sec"],
-                "k_eq": t["k_eq"],
-                "converged": t["converged"],
+                "p_mean": lv.p_hist,
+                "alpha": lv.loading.alpha,
+                "q_limit": t.q_limit,
+                "delta_full": t.delta_full,
+                "delta_stick": t.delta_stick,
+                "k_t0": t.k_t0,
+                "k_sec": t.k_sec,
+                "k_eq": t.k_eq,
+                "converged": t.converged,
             }
         )
         full = [
             q
-            for d, q in zip(t["delta"], t["q_mean"], strict=True)
-            if d >= t["delta_full"] * (1 - 1e-12)
+            for d, q in zip(t.delta.tolist(), t.q_mean.tolist(), strict=True)
+            if d >= t.delta_full * (1 - 1e-12)
         ]
         for q in full:
-            max_diff = max(max_diff, abs(q - t["q_limit"]) / t["q_limit"])
+            max_diff = max(max_diff, abs(q - t.q_limit) / t.q_limit)
     out = {"rows": rows, "errors": errors, "full_sliding_max_rel_diff": max_diff}
     ok = [r for r in rows if r["converged"]]
     if len(ok) >= 2:

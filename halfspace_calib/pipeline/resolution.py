@@ -66,11 +66,11 @@ def _alpha_points(sweeps):
     """``{(p_hist, p_mean): alpha}`` of every converged solve."""
     pts = {}
     for lv in sweeps.levels:
-        if lv["loading"]["converged"]:
-            pts[(lv["p_hist"], lv["p_hist"])] = lv["loading"]["alpha"]
-        for r in lv["reload"]:
-            if r["converged"]:
-                pts[(lv["p_hist"], r["p_mean"])] = r["alpha"]
+        if lv.loading.converged:
+            pts[(lv.p_hist, lv.p_hist)] = lv.loading.alpha
+        for r in lv.reload:
+            if r.converged:
+                pts[(lv.p_hist, r.p_mean)] = r.alpha
     return pts
 
 
@@ -83,9 +83,9 @@ def fit_sweeps(scene, sweeps):
             f"calibration needs >= 3 converged load levels and one reload curve; got {p.size} and "
             f"{len(curves)}. Failures: {sweeps.failed}; non-converged: "
             + "; ".join(
-                f"{lv['p_hist']:g} Pa: {lv['loading']['message']}"
+                f"{lv.p_hist:g} Pa: {lv.loading.message}"
                 for lv in sweeps.levels
-                if not lv["loading"]["converged"]
+                if not lv.loading.converged
             )
         )
     first = _fit.fit_first_loading(p, alpha, scene.H)
