@@ -71,7 +71,7 @@ def main():
     for r in rows:
         print(f"| {r[0]} | {r[1]:.1f} | {r[2]:.1f} | {r[1] - base:+.1f} |")
 
-    t = cals["tangential"].effects["tangential"]["summary"]
+    t = cals["tangential"].effects["tangential"].summary
     write_stiffness_csv(t, OUT / "effects_tangential.csv")
     print(
         "\n| p_mean (MPa) | alpha | tau_adh = q at full sliding (MPa) | delta_stick (nm) | "
@@ -91,7 +91,7 @@ def main():
             f"{100 * f['max_rel_error']:.0f} %"
         )
     print(f"full sliding vs shortcut: max rel. diff {t['full_sliding_max_rel_diff']:.1e}")
-    inc = cals["inclined"].effects["inclined"]["decision"]
+    inc = cals["inclined"].effects["inclined"].decision
     print(f"inclined (default scene, smooth tool): {inc['reason']}")
     print(f"recommendation: {t['recommendation']}")
 

@@ -178,7 +178,7 @@ def test_without_tangential_no_tangential_solve(monkeypatch):
     assert all(lv.tangential is None and lv.tangential_error is None for lv in cal.sweeps.levels)
     # positive control: with the effect, the patched solver is reached (and its failure recorded)
     cal = calibrate(Scene(**SMALL, effects=("tangential",)), progress=False)
-    errs = cal.effects["tangential"]["summary"]["errors"]
+    errs = cal.effects["tangential"].summary["errors"]
     assert len(errs) == 4 and "solve_tangential called" in errs[0]["error"]
 
 
@@ -192,10 +192,10 @@ def cal_all():
 def test_threshold_zero_fits_geo_ratio(cal_all):
     P = cal_all.params
     inc = cal_all.effects["inclined"]
-    d = inc["decision"]
+    d = inc.decision
     assert d["applied"] and P.geo_ratio == d["geo_ratio"] > 0
     assert P.geo_ratio == pytest.approx(d["fit"]["geo_ratio"], rel=0)
-    r = inc["result"]
+    r = inc.result
     # the fitted ratio minimises the misfit of tau_geo = geo_ratio tau_adh (LAPACK oracle)
     g_lstsq = np.linalg.lstsq(r.tau_adh[:, None], r.tau_geo, rcond=None)[0][0]
     assert P.geo_ratio == pytest.approx(g_lstsq, rel=1e-10)
@@ -212,7 +212,7 @@ def test_threshold_zero_fits_geo_ratio(cal_all):
 
 def test_high_threshold_leaves_geo_ratio_out():
     cal = calibrate(Scene(**SMALL, effects=("inclined",), geo_threshold=10.0), progress=False)
-    d = cal.effects["inclined"]["decision"]
+    d = cal.effects["inclined"].decision
     assert cal.params.geo_ratio == 0.0 and not d["applied"]
     assert f"{d['ratio_mean']:.4f} <= geo_threshold = 10" in d["reason"]
     rec = cal.params.provenance["extra"]["effects"]["inclined"]
@@ -340,7 +340,7 @@ def test_cli_all_effects(tmp_path, capsys):
 
 def test_calibrated_stiffness_and_range_reach_the_parameter_file(cal_all, tmp_path):
     P = cal_all.params
-    rows = [r for r in cal_all.effects["tangential"]["summary"]["rows"] if r["converged"]]
+    rows = [r for r in cal_all.effects["tangential"].summary["rows"] if r["converged"]]
     assert P.k_t is not None and len(P.k_t.p) == len(rows) >= 2
     np.testing.assert_array_equal(P.k_t.p, sorted(r["p_mean"] for r in rows))
     np.testing.assert_allclose(P.k_t(P.k_t.p), [r["k_eq"] for r in rows], rtol=1e-12)

@@ -5,8 +5,6 @@ from pathlib import Path
 import numpy as np
 
 from ._files import pyplot, save_png, write_csv
-from .geometric import write_geometric_outputs
-from .sliding import write_sliding_outputs
 
 __all__ = [
     "STIFFNESS_COLUMNS",
@@ -110,14 +108,9 @@ def write_tangential_outputs(levels, summary, out_dir):
 
 
 def write_effect_outputs(cal, out):
-    """Each modelled effect's CSV and PNG into ``out/tangential``, ``out/geometric``, ``out/sliding``."""
-    out = Path(out)
-    eff = cal.effects
-    if "tangential" in eff and "summary" in eff["tangential"]:
-        write_tangential_outputs(
-            cal.sweeps.levels, eff["tangential"]["summary"], out / "tangential"
-        )
-    if "inclined" in eff and "result" in eff["inclined"]:
-        write_geometric_outputs(eff["inclined"]["result"], out / "geometric")
-    if "sliding" in eff and "study" in eff["sliding"]:
-        write_sliding_outputs(eff["sliding"]["study"], out / "sliding")
+    """Each modelled effect's CSV and PNG into ``out/tangential``, ``out/geometric``, ``out/sliding``.
+
+    Through the calibration's effects registry (``cal.write_effects``), which calls the writers
+    of this package.
+    """
+    cal.write_effects(Path(out))

@@ -29,6 +29,7 @@ from frictionlaw import FrictionParams
 from . import effects as _eff
 from .fit import FirstLoadingFit, ReloadFit
 from .params import make_params
+from .registry import REGISTRY
 from .resolution import ResolutionCheck, fit_sweeps, resolution_check
 from .scene import Scene, load_scene
 from .scene_surfaces import SceneSurfaces, load_scene_surfaces
@@ -62,7 +63,7 @@ class Calibration:
     sweeps: SweepResult
     scene: Scene
     seconds: float
-    effects: dict = field(default_factory=dict)
+    effects: dict = field(default_factory=dict)  # name -> EffectOutcome
     files: tuple = ()
     resolution: ResolutionCheck | None = None
 
@@ -90,26 +91,8 @@ class Calibration:
                 )
             elif not fit.converged:
                 out.append(f"{name} fit did not converge: {fit.message}")
-        t = self.effects.get("tangential", {})
-        if "summary" in t:
-            out += [
-                f"tangential solve at {e['p_mean']:g} Pa failed: {e['error']}"
-                for e in t["summary"]["errors"]
-            ]
-            out += [
-                f"tangential solve at {r['p_mean']:g} Pa did not converge"
-                for r in t["summary"]["rows"]
-                if not r["converged"]
-            ]
-        sl = self.effects.get("sliding", {})
-        if "study" in sl:
-            out += [
-                f"sliding at {p:g} Pa failed: {e.splitlines()[0]}"
-                for p, e in sl["study"].errors.items()
-            ]
-        inc = self.effects.get("inclined", {})
-        if "result" in inc and not inc["result"].all_converged:
-            out.append("an inclined-patch normal solve did not converge")
+        for name, outcome in self.effects.items():
+            out += REGISTRY[name].problems(outcome)
         return out
 
     @property
@@ -121,6 +104,17 @@ class Calibration:
             if fit.degenerate
         ]
         return "; ".join(parts)
+
+    def write_effects(self, out):
+        """Each effect's files under ``out`` (``tangential/``, ``geometric/``, ``sliding/``)."""
+        for name, outcome in self.effects.items():
+            if outcome.skipped is None:
+                REGISTRY[name].write(outcome, self, out)
+
+    def print_effects(self, out):
+        """The command's report lines of each effect, through the registry."""
+        for name, outcome in self.effects.items():
+            REGISTRY[name].print(outcome, out)
 
     def summary(self):
         """JSON-ready summary (also stored in the parameter file's provenance)."""
@@ -237,9 +231,7 @@ def calibrate(scene=None, *, progress=True, surfaces=None):
         k_t=_eff.stiffness_table(effects.get("tangential")),
     )
     if "inclined" in effects:
-        params = params.replace(
-            geo_ratio=effects["inclined"].get("decision", {}).get("geo_ratio", 0.0)
-        )
+        params = params.replace(geo_ratio=REGISTRY["inclined"].geo_ratio(effects["inclined"]))
     return Calibration(
         params,
         first,
@@ -254,54 +246,14 @@ def calibrate(scene=None, *, progress=True, surfaces=None):
 
 
 def _run_effects(scene, sweeps, surfs, progress):
-    """Run (or collect) every effect of the scene but ``"normal"``; see :mod:`.effects`."""
-    out = {}
-    if "tangential" in scene.effects:
-        if scene.m == 0:
-            out["tangential"] = {
-                "skipped": "m = 0: the Tresca bound (Eq. 18) is zero, no "
-                "tangential traction and no stiffness"
-            }
-        else:
-            secs = sum(lv.tangential_seconds for lv in sweeps.levels)
-            out["tangential"] = {
-                "summary": _eff.summarize_tangential(sweeps.levels),
-                "seconds": secs,
-            }
-    if "inclined" in scene.effects:
-        measured = (surfs.measured_workpiece, surfs.measured_tool, surfs.block)
-        out["inclined"] = _eff.run_inclined(scene, measured=measured)
-    if "sliding" in scene.effects:
-        out["sliding"] = _eff.run_sliding(scene, progress=progress, tool=surfs.tool)
-    return out
+    """Run every effect of the scene but ``"normal"``, through :data:`.registry.REGISTRY`."""
+    return {
+        name: REGISTRY[name].run(scene, sweeps, surfs, progress)
+        for name in scene.effects
+        if name != "normal"
+    }
 
 
 def _effects_record(effects):
     """JSON-ready record of the effects' key results (provenance and ``summary.json``)."""
-    rec = {}
-    for name, e in effects.items():
-        if "skipped" in e:
-            rec[name] = {"skipped": e["skipped"]}
-        elif name == "tangential":
-            rec[name] = dict(e["summary"], seconds=e["seconds"])
-        elif name == "inclined":
-            d = e["decision"]
-            rec[name] = {
-                "geo_ratio": d["geo_ratio"],
-                "applied": d["applied"],
-                "ratio_mean": d["ratio_mean"],
-                "threshold": d["threshold"],
-                "reason": d["reason"],
-                "method": d["method"],
-                "fit": d["fit"],
-                "study": e["result"].summary(),
-                "seconds": e["seconds"],
-            }
-        elif name == "sliding":
-            st = e["study"]
-            rec[name] = dict(
-                st.summary(),
-                errors={str(k): v.splitlines()[0] for k, v in st.errors.items()},
-                seconds=e["seconds"],
-            )
-    return rec
+    return {name: REGISTRY[name].record(outcome) for name, outcome in effects.items()}

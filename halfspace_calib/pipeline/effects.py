@@ -27,11 +27,13 @@ from __future__ import annotations
 
 import dataclasses
 import time
+from dataclasses import dataclass
 
 from frictionlaw import TangentialStiffness
 
-from ..studies.geometric import fit_geo_ratio, geometric_sweep
+from ..studies.geometric import GeometricResult, fit_geo_ratio, geometric_sweep
 from ..studies.presliding import stiffness_power_law
+from ..studies.sliding_study import SlidingStudy
 from .scene_surfaces import load_scene_surfaces
 
 __all__ = [
@@ -43,6 +45,10 @@ __all__ = [
     "run_sliding",
     "summarize_tangential",
     "stiffness_table",
+    "EffectOutcome",
+    "TangentialOutcome",
+    "InclinedOutcome",
+    "SlidingOutcome",
 ]
 
 #: the effects a scene can select, in the order they run
@@ -76,6 +82,38 @@ def check_effects(effects):
         raise ValueError(f"effects must be names from {list(EFFECTS)}, got unknown {bad}")
     chosen = set(names) | {"normal"}
     return tuple(e for e in EFFECTS if e in chosen)
+
+
+# ----------------------------------------------------------------------------- outcomes
+@dataclass
+class EffectOutcome:
+    """What one effect produced. ``skipped``: why it did not run (``None`` if it ran)."""
+
+    name: str
+    skipped: str | None = None
+    seconds: float = 0.0
+
+
+@dataclass
+class TangentialOutcome(EffectOutcome):
+    """The tangential effect: ``summary`` of :func:`summarize_tangential` (stiffness table)."""
+
+    summary: dict | None = None
+
+
+@dataclass
+class InclinedOutcome(EffectOutcome):
+    """The inclined-patch effect: the sweep and the ``geo_ratio`` decision (:func:`geo_decision`)."""
+
+    result: GeometricResult | None = None
+    decision: dict | None = None
+
+
+@dataclass
+class SlidingOutcome(EffectOutcome):
+    """The sliding effect: the study of Sec. 3.3."""
+
+    study: SlidingStudy | None = None
 
 
 # ----------------------------------------------------------------------------- inclined
@@ -146,15 +184,15 @@ def run_inclined(scene, *, measured=None):
 
     Returns
     -------
-    dict
-        ``{"result": GeometricResult, "decision": dict, "seconds": float}`` or
-        ``{"skipped": reason}`` when ``m = 0``.
+    InclinedOutcome
+        With ``result`` (GeometricResult) and ``decision``, or ``skipped`` when ``m = 0``.
     """
     if scene.m == 0:
-        return {
-            "skipped": "m = 0: no adhesive shear, tau_geo / tau_adh undefined and Eq. 26 "
-            "(m [k alpha + f]) vanishes; geo_ratio = 0"
-        }
+        return InclinedOutcome(
+            "inclined",
+            skipped="m = 0: no adhesive shear, tau_geo / tau_adh undefined and Eq. 26 "
+            "(m [k alpha + f]) vanishes; geo_ratio = 0",
+        )
     t0 = time.perf_counter()
     wp, tl, s = scene_measured_surfaces(scene) if measured is None else measured
     res = geometric_sweep(
@@ -171,11 +209,12 @@ def run_inclined(scene, *, measured=None):
         volume_conservation=scene.volume_conservation,
         label="rough tool" if scene.rough_tool else "scene tool",
     )
-    return {
-        "result": res,
-        "decision": geo_decision(res, scene.geo_threshold, scene.m),
-        "seconds": time.perf_counter() - t0,
-    }
+    return InclinedOutcome(
+        "inclined",
+        seconds=time.perf_counter() - t0,
+        result=res,
+        decision=geo_decision(res, scene.geo_threshold, scene.m),
+    )
 
 
 # ----------------------------------------------------------------------------- sliding
@@ -186,9 +225,9 @@ def run_sliding(scene, *, progress=True, tool=None):
 
     Returns
     -------
-    dict
-        ``{"study": SlidingStudy, "seconds": float}`` or ``{"skipped": reason}`` when the study
-        cannot run (``m = 0``, ``H`` at or below 100 MPa).
+    SlidingOutcome
+        With ``study`` (SlidingStudy), or ``skipped`` when the study cannot run (``m = 0``,
+        ``H`` at or below 100 MPa).
     """
     from ..studies.sliding import SLIDING_PRESSURES, sliding_workpiece
     from ..studies.sliding_study import sliding_study
@@ -215,8 +254,8 @@ def run_sliding(scene, *, progress=True, tool=None):
             progress=progress,
         )
     except ValueError as exc:  # e.g. m = 0 (no adhesive work) or H below 100 MPa
-        return {"skipped": str(exc)}
-    return {"study": study, "seconds": time.perf_counter() - t0}
+        return SlidingOutcome("sliding", skipped=str(exc))
+    return SlidingOutcome("sliding", seconds=time.perf_counter() - t0, study=study)
 
 
 # ----------------------------------------------------------------------------- tangential
@@ -300,9 +339,8 @@ def stiffness_table(outcome):
 
     Parameters
     ----------
-    outcome : dict or None
-        The tangential effect's outcome (``{"summary": ...}`` from :func:`summarize_tangential`,
-        or ``{"skipped": ...}``), ``None`` when the effect did not run.
+    outcome : TangentialOutcome or None
+        The tangential effect's outcome, ``None`` when the effect did not run.
 
     Returns
     -------
@@ -310,7 +348,7 @@ def stiffness_table(outcome):
         ``k_eq`` at the pressures whose tangential solve converged (the recommended penalty),
         ``None`` if there is none.
     """
-    rows = [] if not outcome or "summary" not in outcome else outcome["summary"]["rows"]
+    rows = [] if outcome is None or outcome.summary is None else outcome.summary["rows"]
     ok = sorted((r["p_mean"], r["k_eq"]) for r in rows if r["converged"])
     if not ok:
         return None
