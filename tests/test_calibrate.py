@@ -5,10 +5,11 @@ import json
 
 import numpy as np
 import pytest
+from plotcheck import assert_png_drawn, lines
 
-from frictionlaw import FrictionParams, alpha_first
+from frictionlaw import FrictionParams, alpha_first, alpha_reload
 from halfspace_calib.cli import main
-from halfspace_calib.output.report import write_outputs
+from halfspace_calib.output.report import write_outputs, write_plots
 from halfspace_calib.pipeline.calibration import Scene, calibrate, load_scene
 
 SMALL = dict(
@@ -57,13 +58,32 @@ def test_fit_quality_and_parameter_file(cal, tmp_path):
         rows = list(csv.DictReader(fh))
     assert {"p_hist_Pa", "p_mean_Pa", "alpha", "max_pressure_Pa"} <= set(rows[0])
     assert len(rows) == 4 * 4  # p_hist >= 100 MPa: four levels, four fractions each
-    for name in (
-        "alpha_first_loading.png",
-        "alpha_reload.png",
-        "roughness.png",
-        "pressure_map.png",
-    ):
-        assert (tmp_path / name).stat().st_size > 10_000
+    # the plots show the computed data: points of the sweeps, curves of the fitted law
+    figs = write_plots(cal, tmp_path)
+    assert sorted(figs) == sorted(
+        ["alpha_first_loading.png", "alpha_reload.png", "roughness.png", "pressure_map.png"]
+    )
+    for name in figs:
+        assert_png_drawn(tmp_path / name)
+    (xp, yp), (xl, yl) = lines(figs["alpha_first_loading.png"])
+    np.testing.assert_allclose(xp * 1e6, p, rtol=1e-15)
+    np.testing.assert_array_equal(yp, alpha)
+    np.testing.assert_allclose(yl, alpha_first(xl * 1e6, P), rtol=1e-12)
+    rl = lines(figs["alpha_reload.png"])
+    curves = cal.sweeps.reload_curves()
+    assert len(rl) == 1 + 2 * len(curves)
+    for i, c in enumerate(curves):
+        (xc, yc), (xe, ye) = rl[1 + 2 * i], rl[2 + 2 * i]
+        np.testing.assert_allclose(xc * 1e6, c.p, rtol=1e-15)
+        np.testing.assert_array_equal(yc, c.alpha)
+        np.testing.assert_allclose(ye, alpha_reload(xe * 1e6, c.p_hist, P), rtol=1e-12)
+    with open(tmp_path / "roughness.csv") as fh:
+        table = [[float(v) for v in r.values()] for r in csv.DictReader(fh)]
+    (_, ra), (_, rq_line) = lines(figs["roughness.png"])
+    np.testing.assert_allclose(ra, [r[1] * 1e6 for r in table], rtol=1e-12)
+    np.testing.assert_allclose(rq_line, [r[2] * 1e6 for r in table], rtol=1e-12)
+    shown = figs["pressure_map.png"].axes[0].images[0].get_array()
+    np.testing.assert_allclose(shown, cal.sweeps.levels[-1].pressure_map / 1e6, rtol=1e-15)
     # plastic flattening lowers the roughness of the unloaded workpiece (Figs. 3-4)
     with open(tmp_path / "roughness.csv") as fh:
         rq = [float(r["Rq_m"]) for r in csv.DictReader(fh)]

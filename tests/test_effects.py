@@ -5,6 +5,7 @@ import json
 
 import numpy as np
 import pytest
+from plotcheck import assert_png_drawn, lines
 
 import halfspace_calib.contact.tangential as tang
 from frictionlaw import FrictionParams, shear_limit
@@ -12,6 +13,8 @@ from halfspace_calib import topography as S
 from halfspace_calib.cli import build_parser, main, scene_from_args
 from halfspace_calib.contact.cerruti import E_prime
 from halfspace_calib.contact.normal import composite_modulus, solve_normal_pair
+from halfspace_calib.output.effects import plot_tangential
+from halfspace_calib.output.geometric import plot_geometric
 from halfspace_calib.output.report import write_outputs
 from halfspace_calib.pipeline.calibration import Scene, calibrate, load_scene
 from halfspace_calib.pipeline.effects import EFFECTS, check_effects, geo_decision
@@ -250,7 +253,26 @@ def test_provenance_and_outputs(cal_all, tmp_path):
         "geometric/fig9_tau.png",
         "geometric/fig10_ratio.png",
     ):
-        assert (tmp_path / f).stat().st_size > 10_000
+        assert_png_drawn(tmp_path / f)
+    # what is plotted: each level's pre-sliding curve and the stiffness table
+    curves = [
+        (lv.p_hist, lv.tangential) for lv in cal_all.sweeps.levels if lv.tangential is not None
+    ]
+    figs = plot_tangential(curves, t, tmp_path / "tangential")
+    drawn = lines(figs["tangential_curves.png"])
+    assert len(drawn) == len(curves) == 4
+    for (x, y), (_, c) in zip(drawn, curves, strict=True):
+        np.testing.assert_allclose(x, c.delta * 1e9, rtol=1e-15)
+        np.testing.assert_allclose(y, c.q_mean / 1e6, rtol=1e-15)
+    (_, k0), (_, keq), (_, ksec) = lines(figs["tangential_stiffness.png"])
+    for got, key in ((k0, "k_t0"), (keq, "k_eq"), (ksec, "k_sec")):
+        np.testing.assert_array_equal(got, [r[key] for r in t["rows"]])
+    r = cal_all.effects["inclined"].result
+    figs = plot_geometric([r], tmp_path / "geometric")
+    (_, adh), (_, geo) = lines(figs["fig9_tau.png"])
+    np.testing.assert_allclose(adh, r.tau_adh / 1e6, rtol=1e-15)
+    np.testing.assert_allclose(geo, r.tau_geo / 1e6, rtol=1e-15)
+    np.testing.assert_array_equal(lines(figs["fig10_ratio.png"])[0][1], r.ratio)
     assert not (tmp_path / "sliding").exists()
 
 

@@ -4,9 +4,10 @@ import csv
 
 import numpy as np
 import pytest
+from plotcheck import assert_png_drawn, lines
 
 from halfspace_calib import topography as S
-from halfspace_calib.output.geometric import write_geometric_outputs
+from halfspace_calib.output.geometric import plot_geometric, write_geometric_outputs
 from halfspace_calib.studies.geometric import (
     GeometricResult,
     fit_geo_ratio,
@@ -95,7 +96,15 @@ def test_outputs(study, tmp_path):
     r0 = study.results[0]
     assert float(rows[0]["ratio"]) == pytest.approx(r0.ratio[0], rel=1e-15)
     for name in ("fig9_tau.png", "fig10_ratio.png"):
-        assert (out / name).stat().st_size > 10_000
+        assert_png_drawn(out / name)
+    figs = plot_geometric(study.results, tmp_path / "geo")
+    tau, ratio = lines(figs["fig9_tau.png"]), lines(figs["fig10_ratio.png"])
+    assert len(tau) == 4 and len(ratio) == 2
+    for i, r in enumerate(study.results):
+        np.testing.assert_allclose(tau[2 * i][0], r.p_mean / 1e6, rtol=1e-15)
+        np.testing.assert_allclose(tau[2 * i][1], r.tau_adh / 1e6, rtol=1e-15)
+        np.testing.assert_allclose(tau[2 * i + 1][1], r.tau_geo / 1e6, rtol=1e-15)
+        np.testing.assert_array_equal(ratio[i][1], r.ratio)
     s = study.summary()["pairs"][1]
     assert s["ratio_min"] <= s["ratio_mean"] <= s["ratio_max"]
 

@@ -4,10 +4,11 @@ import csv
 
 import numpy as np
 import pytest
+from plotcheck import assert_png_drawn, lines
 
 from halfspace_calib import topography as S
 from halfspace_calib.contact.normal import composite_modulus, solve_normal_pair
-from halfspace_calib.output.sliding import write_sliding_outputs
+from halfspace_calib.output.sliding import plot_sliding, write_sliding_outputs
 from halfspace_calib.studies.sliding import (
     adhesive_work,
     deformation_work,
@@ -240,7 +241,16 @@ def test_study_runs_one_sweep_per_pressure_and_writes_outputs(small, sweep_vc, t
     assert len(rows) == 24
     assert float(rows[5]["W_def"]) == a.W_def[5] and float(rows[12]["p_mean"]) == 150e6
     for name in ("fig11_u0", "fig12_alpha", "fig13_W_adh", "fig14_W_def", "fig15_ratio"):
-        assert (out / f"{name}.png").stat().st_size > 1000
+        assert_png_drawn(out / f"{name}.png")
+    figs = plot_sliding(st.ok, tmp_path / "sliding")
+    for r, (x, y) in zip(st.ok, lines(figs["fig12_alpha.png"]), strict=True):
+        np.testing.assert_allclose(x, r.x * 1e3, rtol=1e-15)
+        np.testing.assert_array_equal(y, r.alpha)
+    drawn = lines(figs["fig15_ratio.png"])  # positions >= 1, then the paper's 0.008 line
+    assert len(drawn) == 3 and np.all(drawn[-1][1] == 0.008)
+    for r, (x, y) in zip(st.ok, drawn[:2], strict=True):
+        np.testing.assert_allclose(x, r.x[1:] * 1e3, rtol=1e-15)
+        np.testing.assert_array_equal(y, np.where(r.ratio[1:] > 0, r.ratio[1:], np.nan))
     assert (out / "sliding_summary.csv").exists()
     one = write_sliding_outputs(a, tmp_path / "one")  # a single result writes its own rows
     with open(one / "sliding.csv", newline="") as fh:

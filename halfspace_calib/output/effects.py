@@ -11,6 +11,7 @@ __all__ = [
     "STIFFNESS_HEADERS",
     "write_stiffness_csv",
     "write_tangential_outputs",
+    "plot_tangential",
     "write_effect_outputs",
 ]
 
@@ -67,9 +68,18 @@ def write_tangential_outputs(levels, summary, out_dir):
         ],
     )
     write_stiffness_csv(summary, out / "tangential_stiffness.csv")
-    if not curves:
-        return out
+    if curves:
+        plot_tangential(curves, summary, out)
+    return out
+
+
+def plot_tangential(curves, summary, out):
+    """``tangential_curves.png`` and ``tangential_stiffness.png``: ``{file name: Figure}``.
+
+    ``curves``: ``[(p_mean, PreslidingCurve), ...]``; ``summary``: the stiffness summary.
+    """
     plt = pyplot()
+    figs = {}
 
     fig, ax = plt.subplots(figsize=(6, 4.2))
     for i, (p, t) in enumerate(curves):
@@ -88,7 +98,7 @@ def write_tangential_outputs(levels, summary, out_dir):
     )
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
-    save_png(fig, out / "tangential_curves.png")
+    figs["tangential_curves.png"] = save_png(fig, out / "tangential_curves.png")
 
     rows = summary["rows"]
     fig, ax = plt.subplots(figsize=(6, 4.2))
@@ -103,8 +113,8 @@ def write_tangential_outputs(levels, summary, out_dir):
     )
     ax.grid(alpha=0.3, which="both")
     ax.legend()
-    save_png(fig, out / "tangential_stiffness.png")
-    return out
+    figs["tangential_stiffness.png"] = save_png(fig, out / "tangential_stiffness.png")
+    return figs
 
 
 def write_effect_outputs(cal, out):

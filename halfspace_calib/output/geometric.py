@@ -5,7 +5,7 @@ from pathlib import Path
 from ..studies.geometric import GeometricResult, GeometricStudy
 from ._files import pyplot, save_png, write_csv
 
-__all__ = ["write_geometric_outputs"]
+__all__ = ["plot_geometric", "write_geometric_outputs"]
 
 CSV_COLUMNS = [
     "label",
@@ -61,12 +61,14 @@ def write_geometric_outputs(result, out_dir):
             for i in range(r.p_mean.size)
         ],
     )
-    _plots(results, out)
+    plot_geometric(results, out)
     return out
 
 
-def _plots(results, out):
+def plot_geometric(results, out):
+    """``fig9_tau.png`` and ``fig10_ratio.png`` into ``out``: ``{file name: Figure}``."""
     plt = pyplot()
+    figs = {}
 
     marks = ["*", "o", "s", "^", "v", "D"]
     fig, ax = plt.subplots(figsize=(6, 4.2))
@@ -85,7 +87,7 @@ def _plots(results, out):
     )
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
-    save_png(fig, out / "fig9_tau.png")
+    figs["fig9_tau.png"] = save_png(fig, out / "fig9_tau.png")
 
     fig, ax = plt.subplots(figsize=(6, 4.2))
     for i, r in enumerate(results):
@@ -104,4 +106,5 @@ def _plots(results, out):
     ax.set_ylim(bottom=0)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    save_png(fig, out / "fig10_ratio.png")
+    figs["fig10_ratio.png"] = save_png(fig, out / "fig10_ratio.png")
+    return figs

@@ -59,8 +59,15 @@ def _roughness_rows(cal):
 
 
 def write_plots(cal, out):
-    """PNG plots: alpha vs p with Eq. 24, reload curves with Eq. 25, Ra/Rq vs p, pressure map."""
+    """PNG plots: alpha vs p with Eq. 24, reload curves with Eq. 25, Ra/Rq vs p, pressure map.
+
+    Returns
+    -------
+    dict
+        ``{file name: matplotlib Figure}`` of the plots written.
+    """
     plt = pyplot()
+    figs = {}
 
     from frictionlaw import alpha_first, alpha_reload
 
@@ -78,7 +85,7 @@ def write_plots(cal, out):
     )
     ax.grid(alpha=0.3)
     ax.legend()
-    save_png(fig, out / "alpha_first_loading.png")
+    figs["alpha_first_loading.png"] = save_png(fig, out / "alpha_first_loading.png")
 
     fig, ax = plt.subplots(figsize=(6, 4.2))
     ax.plot(pp / MPa, alpha_first(pp, P), "k-", lw=1, label="Eq. 24 (first loading)")
@@ -100,7 +107,7 @@ def write_plots(cal, out):
     )
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
-    save_png(fig, out / "alpha_reload.png")
+    figs["alpha_reload.png"] = save_png(fig, out / "alpha_reload.png")
 
     lv = cal.sweeps.levels
     rows = _roughness_rows(cal)
@@ -115,7 +122,7 @@ def write_plots(cal, out):
     )
     ax.grid(alpha=0.3)
     ax.legend()
-    save_png(fig, out / "roughness.png")
+    figs["roughness.png"] = save_png(fig, out / "roughness.png")
 
     maps = [v for v in lv if v.pressure_map is not None]
     if maps:
@@ -130,7 +137,8 @@ def write_plots(cal, out):
             ylabel="x [mm]",
             title=f"Contact pressure at p_mean = {v.p_hist / MPa:.0f} MPa",
         )
-        save_png(fig, out / "pressure_map.png")
+        figs["pressure_map.png"] = save_png(fig, out / "pressure_map.png")
+    return figs
 
 
 def write_outputs(cal, out):

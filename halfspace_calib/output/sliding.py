@@ -8,7 +8,7 @@ from ..studies.sliding import SlidingResult
 from ..studies.sliding_study import SlidingStudy
 from ._files import pyplot, save_png, write_csv
 
-__all__ = ["write_sliding_outputs"]
+__all__ = ["plot_sliding", "write_sliding_outputs"]
 
 CSV_COLUMNS = [
     "position",
@@ -90,13 +90,14 @@ def write_sliding_outputs(result, out_dir):
     ]
     write_csv(out / "sliding_summary.csv", keys, [[r.steady[k] for k in keys] for r in results])
     if results:
-        _plots(results, out)
+        plot_sliding(results, out)
     return out
 
 
-def _plots(results, out):
+def plot_sliding(results, out):
+    """Figs. 11-15 into ``out``: ``{file name: Figure}``."""
     plt = pyplot()
-
+    made = {}
     figs = [
         ("fig11_u0.png", "u0", 1e6, "global approach u0 (um)", "Fig. 11", False),
         ("fig12_alpha.png", "alpha", 1.0, "A_real / A0", "Fig. 12", False),
@@ -121,4 +122,5 @@ def _plots(results, out):
         ax.set_ylabel(ylabel)
         ax.set_title(f"{title} (sliding, Sec. 3.3)")
         ax.legend(fontsize=7)
-        save_png(fig, out / name)
+        made[name] = save_png(fig, out / name)
+    return made
