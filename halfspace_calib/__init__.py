@@ -12,6 +12,7 @@ Sec. 2-3 of the paper: surfaces in, ``FrictionParams`` JSON out. Start with ``do
 """
 
 from .contact.influence import InfluenceOperator, love_coefficients, normal_operator
+from .contact.materials import Materials, SolverSettings, sigma_y_from_hardness
 from .contact.normal import (
     NormalResult,
     composite_heights,
@@ -42,8 +43,10 @@ from .topography import (
 __all__: list[str] = [
     "Calibration",
     "InfluenceOperator",
+    "Materials",
     "NormalResult",
     "Scene",
+    "SolverSettings",
     "Surface",
     "block_average",
     "calibrate",
@@ -61,6 +64,7 @@ __all__: list[str] = [
     "read_surface",
     "roughness",
     "self_affine",
+    "sigma_y_from_hardness",
     "sliding_study",
     "sliding_sweep",
     "solve_normal",

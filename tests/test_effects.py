@@ -12,6 +12,7 @@ from frictionlaw import FrictionParams, shear_limit
 from halfspace_calib import topography as S
 from halfspace_calib.cli import build_parser, main, scene_from_args
 from halfspace_calib.contact.cerruti import E_prime
+from halfspace_calib.contact.materials import Materials
 from halfspace_calib.contact.normal import composite_modulus, solve_normal_pair
 from halfspace_calib.output.effects import plot_tangential
 from halfspace_calib.output.geometric import plot_geometric
@@ -27,6 +28,7 @@ SMALL = dict(
 E_STAR = composite_modulus(210e9, 0.3, 210e9, 0.3)
 E_PR = E_prime(210e9, 0.3, 210e9, 0.3)
 SIGMA_Y = 800e6 / 2.8
+MAT = Materials(m=0.5, sigma_y=SIGMA_Y)  # Table 1: E_star = E_STAR, E_prime = E_PR
 
 
 # ----------------------------------------------------------------------------- selection
@@ -80,7 +82,7 @@ def loaded():
 
 def test_presliding_full_sliding_equals_the_shortcut(loaded):
     r, dx = loaded
-    c = presliding_curve(r.pressure, dx, E_STAR, E_PR, m=0.5, sigma_y=SIGMA_Y)
+    c = presliding_curve(r.pressure, dx, materials=MAT)
     assert c.converged
     shortcut = tang.tau_adh_full_sliding(r.alpha, 0.5, SIGMA_Y)
     assert c.q_limit == pytest.approx(shortcut, rel=1e-14)
@@ -107,7 +109,7 @@ def test_presliding_full_sliding_equals_the_shortcut(loaded):
 def test_presliding_linear_below_first_slip(loaded):
     # while every element sticks the response is linear: q_mean = k_t0 delta exactly
     r, dx = loaded
-    c = presliding_curve(r.pressure, dx, E_STAR, E_PR, m=0.5, sigma_y=SIGMA_Y)
+    c = presliding_curve(r.pressure, dx, materials=MAT)
     for f in (0.3, 0.9):
         d = f * c.delta_stick
         s = tang.solve_tangential(
@@ -132,11 +134,11 @@ def test_presliding_linear_below_first_slip(loaded):
 def test_presliding_bad_input(loaded):
     r, dx = loaded
     with pytest.raises(ValueError, match=r"m must be in \(0, 1\]"):
-        presliding_curve(r.pressure, dx, E_STAR, E_PR, m=0.0, sigma_y=SIGMA_Y)
+        presliding_curve(r.pressure, dx, materials=Materials(m=0.0, sigma_y=SIGMA_Y))
     with pytest.raises(ValueError, match="fractions"):
-        presliding_curve(r.pressure, dx, E_STAR, E_PR, m=0.5, sigma_y=SIGMA_Y, fractions=(0.5, 0.2))
+        presliding_curve(r.pressure, dx, materials=MAT, fractions=(0.5, 0.2))
     with pytest.raises(ValueError, match="at least one contact element"):
-        presliding_curve(np.zeros((8, 8)), dx, E_STAR, E_PR, m=0.5, sigma_y=SIGMA_Y)
+        presliding_curve(np.zeros((8, 8)), dx, materials=MAT)
 
 
 def test_stiffness_power_law_recovers_exact_power():

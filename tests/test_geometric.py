@@ -7,6 +7,7 @@ import pytest
 from plotcheck import assert_png_drawn, lines
 
 from halfspace_calib import topography as S
+from halfspace_calib.contact.materials import Materials, SolverSettings
 from halfspace_calib.output.geometric import plot_geometric, write_geometric_outputs
 from halfspace_calib.studies.geometric import (
     GeometricResult,
@@ -33,13 +34,13 @@ def test_conformal_tilted_plane_gives_tan_phi(slope):
     wp = S.Surface(_plane(n * s, dx, slope), dx, dx)
     tl = S.Surface(-_plane(n * s, dx, slope), dx, dx)  # tool heights point towards the workpiece
     p = (100e6, 400e6)
-    r = geometric_sweep(wp, tl, p, block=s, H=H, m=M)
+    r = geometric_sweep(wp, tl, p, block=s, materials=Materials(H=H, m=M))
     assert r.all_converged
     np.testing.assert_allclose(r.alpha, 1.0)
     np.testing.assert_allclose(r.tau_geo, np.array(p) * slope, rtol=1e-10)
     np.testing.assert_allclose(r.ratio, np.array(p) * slope / (M * K), rtol=1e-10)
     # sliding the other way: every patch is an exiting flank (Eq. 23 neglects them)
-    back = geometric_sweep(wp, tl, p, block=s, H=H, m=M, direction=-1)
+    back = geometric_sweep(wp, tl, p, block=s, materials=Materials(H=H, m=M), direction=-1)
     np.testing.assert_array_equal(back.tau_geo, 0.0)
 
 
@@ -50,7 +51,14 @@ def test_tilted_tool_on_flat_workpiece_elastic_rule_bisects():
     n, s, dx, slope = 16, 4, 4e-6, 0.05
     wp = S.Surface(np.zeros((n * s, n * s)), dx, dx)
     tl = S.Surface(-_plane(n * s, dx, slope), dx, dx)  # seen from the workpiece: rising in +x
-    r = geometric_sweep(wp, tl, (50e6,), block=s, H=1e12, m=M, periodic=False)
+    r = geometric_sweep(
+        wp,
+        tl,
+        (50e6,),
+        block=s,
+        materials=Materials(H=1e12, m=M),
+        solver=SolverSettings(periodic=False),
+    )
     assert r.all_converged and r.plastic_fraction[0] == 0.0 and r.alpha[0] < 1.0
     phi = np.arctan(slope)
     assert r.tau_geo[0] == pytest.approx(50e6 * np.tan(phi / 2), rel=1e-9)
@@ -70,7 +78,7 @@ def test_measured_surfaces_have_table1_ra_on_the_solver_grid():
 
 @pytest.fixture(scope="module")
 def study():
-    return geometric_study((100e6, 300e6, 600e6), n=32, block=4, tol=1e-7)
+    return geometric_study((100e6, 300e6, 600e6), n=32, block=4, solver=SolverSettings(tol=1e-7))
 
 
 def test_study_shape_smooth_below_rough(study):
@@ -148,7 +156,7 @@ def test_fit_geo_ratio_least_squares():
 def test_bad_input():
     wp, tl = measured_surfaces(8, 2)
     with pytest.raises(ValueError, match=r"m must be in \(0, 1\]"):
-        geometric_sweep(wp, tl, (1e8,), block=2, m=0.0)
+        geometric_sweep(wp, tl, (1e8,), block=2, materials=Materials(m=0.0))
     with pytest.raises(ValueError, match=r"pressures must be in \(0, H\)"):
         geometric_sweep(wp, tl, (1e8, 9e8), block=2)
     with pytest.raises(ValueError, match="block"):

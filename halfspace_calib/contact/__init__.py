@@ -5,12 +5,14 @@
 - :mod:`.normal`: the elasto-plastic normal solver (Sec. 2.1, Eqs. 2, 5-9)
 - :mod:`.tangential`: the tangential (pre-sliding) solver with the Tresca cap (Sec. 2.2)
 - :mod:`.reference`: analytic solutions (Hertz, Westergaard) the tests compare with
+- :mod:`.materials`: the :class:`Materials` and :class:`SolverSettings` records every sweep takes
 
 No files, no plots, no scene: arrays and numbers in, typed results out.
 """
 
 from .cerruti import E_prime, cerruti_coefficients, shear_modulus_composite
 from .influence import InfluenceOperator, love_coefficients, normal_operator
+from .materials import Materials, SolverSettings, sigma_y_from_hardness
 from .normal import (
     NormalResult,
     composite_heights,
@@ -24,7 +26,9 @@ from .tangential import TangentialResult, solve_tangential, tangential_bound, ta
 __all__ = [
     "E_prime",
     "InfluenceOperator",
+    "Materials",
     "NormalResult",
+    "SolverSettings",
     "TangentialResult",
     "cerruti_coefficients",
     "composite_heights",
@@ -33,6 +37,7 @@ __all__ = [
     "love_coefficients",
     "normal_operator",
     "shear_modulus_composite",
+    "sigma_y_from_hardness",
     "solve_normal",
     "solve_normal_pair",
     "solve_tangential",

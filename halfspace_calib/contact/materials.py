@@ -12,7 +12,13 @@ from dataclasses import dataclass
 from .cerruti import E_prime
 from .normal import composite_modulus
 
-__all__ = ["BOWDEN_TABOR", "Materials", "SolverSettings", "sigma_y_from_hardness"]
+__all__ = [
+    "BOWDEN_TABOR",
+    "Materials",
+    "SolverSettings",
+    "records",
+    "sigma_y_from_hardness",
+]
 
 #: Bowden and Tabor's ratio of indentation hardness to yield stress, ``H = 2.8 sigma_y``
 BOWDEN_TABOR = 2.8
@@ -115,3 +121,18 @@ class SolverSettings:
         if self.maxiter is not None:
             kw["maxiter"] = self.maxiter
         return kw
+
+
+def records(materials=None, solver=None):
+    """``(materials, solver)`` with the defaults filled in; ``ValueError`` for anything else.
+
+    ``None`` means the paper's Table 1 (:class:`Materials`) and the default
+    :class:`SolverSettings`; every sweep and study takes its inputs through this.
+    """
+    materials = Materials() if materials is None else materials
+    solver = SolverSettings() if solver is None else solver
+    if not isinstance(materials, Materials):
+        raise ValueError(f"materials must be a Materials record, got {type(materials).__name__}")
+    if not isinstance(solver, SolverSettings):
+        raise ValueError(f"solver must be a SolverSettings record, got {type(solver).__name__}")
+    return materials, solver

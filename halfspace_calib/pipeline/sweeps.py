@@ -192,19 +192,10 @@ def _level_job(job):
 
 def _tangential(out, res, job):
     """Pre-sliding curve on the loaded contact (the tangential effect); errors are recorded."""
-    mat = job.materials
     t0 = time.perf_counter()
     try:
         out.tangential = presliding_curve(
-            res.pressure,
-            job.dx,
-            mat.E_star,
-            mat.E_prime,
-            m=mat.m,
-            sigma_y=mat.sigma_y,
-            dy=job.dy,
-            periodic=job.solver.periodic,
-            tol=job.solver.tol,
+            res.pressure, job.dx, materials=job.materials, solver=job.solver, dy=job.dy
         )
     except Exception as exc:  # noqa: BLE001 - one failed curve must not lose the load level
         out.tangential_error = f"{type(exc).__name__}: {exc}"

@@ -32,8 +32,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import topography as _surf
-from ..contact.materials import sigma_y_from_hardness
-from ..contact.normal import composite_modulus, solve_normal_pair
+from ..contact.materials import records
+from ..contact.normal import solve_normal_pair
 from ..contact.tangential import tau_adh_full_sliding
 from ..topography.synthesis import measured_surfaces
 from .inclined import tau_geo_from_surfaces
@@ -166,13 +166,8 @@ def geometric_sweep(
     pressures=GEO_PRESSURES,
     *,
     block,
-    E_star=None,
-    H=800e6,
-    m=0.5,
-    sigma_y=None,
-    tol=1e-8,
-    periodic=True,
-    volume_conservation=True,
+    materials=None,
+    solver=None,
     direction=1,
     label="",
 ):
@@ -187,12 +182,11 @@ def geometric_sweep(
         ``p_mean`` values in Pa, each in ``(0, H)``; solved in ascending order with warm starts.
     block : int or (int, int)
         Measured points per element along ``x`` and ``y``.
-    E_star : float, optional
-        Composite modulus (Eq. 2) in Pa; default Table 1 (210 GPa, 0.3 for both bodies).
-    H, m, sigma_y : float
-        Hardness (Pa), Tresca factor in ``(0, 1]``, yield stress (Pa, default ``H / 2.8``).
-    tol, periodic, volume_conservation
-        Normal solver settings (:func:`halfspace_calib.normal.solve_normal`).
+    materials : Materials, optional
+        Both bodies (``E_star`` of Eq. 2), ``H``, ``sigma_y`` and the Tresca factor ``m``, here in
+        ``(0, 1]``; default Table 1 (:class:`~halfspace_calib.contact.materials.Materials`).
+    solver : SolverSettings, optional
+        ``tol``, ``periodic``, ``volume_conservation`` (and ``maxiter``) of the normal solves.
     direction : {1, -1}
         Sliding direction of the tool along ``x`` (entering flanks, Eq. 23).
     label : str
@@ -202,7 +196,8 @@ def geometric_sweep(
     -------
     GeometricResult
     """
-    sigma_y = sigma_y_from_hardness(H) if sigma_y is None else sigma_y
+    mat, sol = records(materials, solver)
+    H, m, sigma_y, tol = mat.H, mat.m, mat.sigma_y, sol.tol
     pressures = _check(pressures, H, m, sigma_y, tol)
     zw, dxf, dyf = _heights("workpiece", workpiece)
     zt, dxt, dyt = _heights("tool", tool)
@@ -217,7 +212,7 @@ def geometric_sweep(
     nx, ny = zw.shape[0] // sx, zw.shape[1] // sy
     wc = _surf.block_average(workpiece, (nx, ny))
     tc = _surf.block_average(tool, (nx, ny))
-    E_star = composite_modulus(210e9, 0.3, 210e9, 0.3) if E_star is None else float(E_star)
+    E_star = mat.E_star
     order = np.argsort(pressures)
     k = len(pressures)
     out = {key: np.zeros(k) for key in ("alpha", "tau_adh", "tau_geo", "plastic_fraction")}
@@ -233,11 +228,10 @@ def geometric_sweep(
             E_star,
             pressures[i],
             H=H,
-            tol=tol,
-            periodic=periodic,
             dy=wc.dy,
             p_init=p_init,
-            volume_conservation=volume_conservation,
+            volume_conservation=sol.volume_conservation,
+            **sol.normal_kwargs(),
         )
         p_init = r.pressure
         out["alpha"][i] = r.alpha
@@ -260,7 +254,7 @@ def geometric_sweep(
         "m": float(m),
         "sigma_y": float(sigma_y),
         "tol": tol,
-        "periodic": bool(periodic),
+        "periodic": bool(sol.periodic),
         "direction": int(direction),
         "workpiece_Ra": _surf.ra(wc),
         "workpiece_Rq": _surf.rq(wc),
@@ -320,13 +314,8 @@ def geometric_study(
     seed_workpiece=1,
     seed_tool=2,
     roughness_on="solver",
-    E_star=None,
-    H=800e6,
-    m=0.5,
-    sigma_y=None,
-    tol=1e-8,
-    periodic=True,
-    volume_conservation=True,
+    materials=None,
+    solver=None,
 ):
     """Figs. 9-10: the DC04-like workpiece against the smooth and the rough tool.
 
@@ -336,7 +325,7 @@ def geometric_study(
         ``p_mean`` in Pa (default 100-600 MPa).
     n, block, seed_workpiece, seed_tool, roughness_on
         See :func:`measured_surfaces` (default 128 elements from a 512 x 512 measurement).
-    E_star, H, m, sigma_y, tol, periodic, volume_conservation
+    materials, solver
         See :func:`geometric_sweep`.
 
     Returns
@@ -361,13 +350,8 @@ def geometric_study(
                 tl,
                 pressures,
                 block=block,
-                E_star=E_star,
-                H=H,
-                m=m,
-                sigma_y=sigma_y,
-                tol=tol,
-                periodic=periodic,
-                volume_conservation=volume_conservation,
+                materials=materials,
+                solver=solver,
                 label=label,
             )
         )

@@ -54,7 +54,7 @@ import numpy as np
 
 from .. import topography as _surf
 from ..contact.influence import normal_operator
-from ..contact.materials import sigma_y_from_hardness
+from ..contact.materials import records, sigma_y_from_hardness
 from ..contact.normal import solve_normal_pair
 from ..contact.tangential import tau_adh_full_sliding
 
@@ -374,19 +374,13 @@ def sliding_sweep(
     workpiece,
     tool,
     dx,
-    E_star,
     p_mean,
     *,
-    H,
-    m,
-    sigma_y=None,
+    materials=None,
+    solver=None,
     positions=None,
-    tol=1e-8,
-    volume_conservation=True,
-    periodic=True,
     warm_start="tool",
     dy=None,
-    maxiter=5000,
     progress=False,
 ):
     """Slide the tool window over the workpiece, one element per position (Sec. 3.3).
@@ -400,31 +394,23 @@ def sliding_sweep(
         Heights of the elastic tool window in m, ``Nt <= Nw``.
     dx : float
         Element size ``2a`` in m (the step per position); ``dy`` (``2b``) defaults to ``dx``.
-    E_star : float
-        Composite modulus (Eq. 2) in Pa.
     p_mean : float
         Mean pressure over the window in Pa, in ``(0, H)``.
-    H : float
-        Hardness of the workpiece in Pa (Eq. 8).
-    m : float
-        Tresca friction factor in ``(0, 1]``.
-    sigma_y : float, optional
-        Yield stress in Pa; default ``H / 2.8`` (Bowden and Tabor).
+    materials : Materials, optional
+        ``E_star`` (Eq. 2) of the two bodies, the workpiece's hardness ``H`` (Eq. 8) and yield
+        stress ``sigma_y``, the Tresca factor ``m`` (here in ``(0, 1]``); default Table 1
+        (:class:`~halfspace_calib.contact.materials.Materials`).
+    solver : SolverSettings, optional
+        ``tol``; ``volume_conservation`` (spread each position's displaced volume over the
+        window's out-of-contact elements); ``periodic``: the window operator, periodic (default,
+        a patch of a larger contact) or non-periodic (an isolated stamp), see the module
+        docstring; ``maxiter`` per position (``None``: 5000).
     positions : int, optional
         Number of positions, ``1 .. Nw - Nt + 1`` (default: all, 257 for 384 over 128).
-    tol : float
-        Solver tolerance (:func:`halfspace_calib.normal.solve_normal`).
-    volume_conservation : bool
-        Spread each position's displaced volume over the window's out-of-contact elements.
-    periodic : bool
-        Window operator: periodic (default, a patch of a larger contact) or non-periodic (an
-        isolated stamp); see the module docstring.
     warm_start : {"tool", "workpiece", "none"}
         Initial pressure of each position after the first: the previous field in the tool frame
         (default; fewest iterations, measured), shifted one element with the workpiece, or
         uniform (cold). The converged answer does not depend on it (the problem is convex).
-    maxiter : int
-        Solver iteration limit per position.
     progress : bool
         Show a progress bar.
 
@@ -434,8 +420,22 @@ def sliding_sweep(
         A position that does not converge is kept (its best iterate is written back and the sweep
         goes on) and reported in ``converged`` / ``message``.
     """
+    mat, sol = records(materials, solver)
+    tol, periodic, volume_conservation = sol.tol, sol.periodic, sol.volume_conservation
+    maxiter = 5000 if sol.maxiter is None else sol.maxiter
     wp, tl, dx, dy, E_star, p_mean, H, m, sigma_y, n_pos = _check_sweep(
-        workpiece, tool, dx, E_star, p_mean, H, m, sigma_y, positions, tol, dy, warm_start
+        workpiece,
+        tool,
+        dx,
+        mat.E_star,
+        p_mean,
+        mat.H,
+        mat.m,
+        mat.sigma_y,
+        positions,
+        tol,
+        dy,
+        warm_start,
     )
     t0 = time.perf_counter()
     nt = tl.shape[0]

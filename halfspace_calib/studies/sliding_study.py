@@ -10,14 +10,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..common.jobs import run_jobs
-from ..contact.materials import sigma_y_from_hardness
-from ..contact.normal import composite_modulus
+from ..contact.materials import records
 from ..topography import Surface
 from .sliding import (
     SLIDING_PRESSURES,
     _as_array,
     _check_sweep,
-    _positive,
     sliding_surfaces,
     sliding_sweep,
 )
@@ -53,9 +51,7 @@ class SlidingStudy:
 
 
 def _sweep_job(job):
-    return sliding_sweep(
-        job["workpiece"], job["tool"], job["dx"], job["E_star"], job["p_mean"], **job["kw"]
-    )
+    return sliding_sweep(job["workpiece"], job["tool"], job["dx"], job["p_mean"], **job["kw"])
 
 
 def sliding_study(
@@ -64,14 +60,9 @@ def sliding_study(
     workpiece=None,
     tool=None,
     dx=None,
-    E_star=None,
-    H=800e6,
-    m=0.5,
-    sigma_y=None,
+    materials=None,
+    solver=None,
     positions=None,
-    tol=1e-8,
-    volume_conservation=True,
-    periodic=True,
     warm_start="tool",
     seed_workpiece=1,
     seed_tool=2,
@@ -90,10 +81,8 @@ def sliding_study(
         Default: :func:`sliding_surfaces` (384 x 128 strip of 6.33 mm x 2.11 mm, Ra 0.989 um /
         Rq 1.201 um; 128 x 128 tool of Table 1). ``dx`` defaults to the workpiece Surface's
         element size.
-    E_star : float, optional
-        Composite modulus in Pa; default Eq. 2 with Table 1 (210 GPa, 0.3 for both).
-    H, m, sigma_y, positions, tol, volume_conservation, periodic, warm_start
-        As in :func:`sliding_sweep`.
+    materials, solver, positions, warm_start
+        As in :func:`~halfspace_calib.studies.sliding.sliding_sweep`.
     seed_workpiece, seed_tool, rough_tool
         Settings of the default surfaces.
     workers, scheduler, progress
@@ -103,10 +92,11 @@ def sliding_study(
     -------
     SlidingStudy
     """
+    mat, sol = records(materials, solver)
     pressures = tuple(float(p) for p in pressures)
     if not pressures:
         raise ValueError("pressures must hold at least one p_mean (Pa)")
-    H = _positive("H", H)
+    H = mat.H
     bad = [p for p in pressures if not (0 < p < H)]
     if bad:
         raise ValueError(f"pressures must be in (0, H) = (0, {H:g}) Pa, got {bad}")
@@ -126,27 +116,25 @@ def sliding_study(
             np.isclose(s.dx, dx, rtol=1e-6) and np.isclose(s.dy, dy or dx, rtol=1e-6)
         ):
             raise ValueError(f"{name} element size {s.dx:g} x {s.dy:g} m differs from dx={dx:g} m")
-    if E_star is None:
-        E_star = composite_modulus(210e9, 0.3, 210e9, 0.3)
-    kw = dict(
-        H=H,
-        m=m,
-        sigma_y=sigma_y,
-        positions=positions,
-        tol=tol,
-        volume_conservation=volume_conservation,
-        periodic=periodic,
-        warm_start=warm_start,
-        dy=dy,
-    )
+    E_star = mat.E_star
+    kw = dict(materials=mat, solver=sol, positions=positions, warm_start=warm_start, dy=dy)
     wp_h, tl_h = _as_array("workpiece", workpiece), _as_array("tool", tool)
     # validate everything once, before any job runs
     _check_sweep(
-        wp_h, tl_h, dx, E_star, pressures[0], H, m, sigma_y, positions, tol, dy, warm_start
+        wp_h,
+        tl_h,
+        dx,
+        E_star,
+        pressures[0],
+        H,
+        mat.m,
+        mat.sigma_y,
+        positions,
+        sol.tol,
+        dy,
+        warm_start,
     )
-    jobs = [
-        dict(workpiece=wp_h, tool=tl_h, dx=dx, E_star=E_star, p_mean=p, kw=kw) for p in pressures
-    ]
+    jobs = [dict(workpiece=wp_h, tool=tl_h, dx=dx, p_mean=p, kw=kw) for p in pressures]
     t0 = time.perf_counter()
     out = run_jobs(
         _sweep_job,
@@ -159,7 +147,18 @@ def sliding_study(
     results = [j.value if j.ok else None for j in out]
     errors = {pressures[j.index]: j.error for j in out if not j.ok}
     settings = dict(
-        kw, E_star=E_star, dx=dx, workpiece_shape=list(wp_h.shape), tool_shape=list(tl_h.shape)
+        H=H,
+        m=mat.m,
+        sigma_y=mat.sigma_y,
+        positions=positions,
+        tol=sol.tol,
+        volume_conservation=sol.volume_conservation,
+        periodic=sol.periodic,
+        warm_start=warm_start,
+        dy=dy,
+        E_star=E_star,
+        dx=dx,
+        workpiece_shape=list(wp_h.shape),
+        tool_shape=list(tl_h.shape),
     )
-    settings["sigma_y"] = sigma_y_from_hardness(H) if sigma_y is None else sigma_y
     return SlidingStudy(pressures, results, errors, time.perf_counter() - t0, settings)
