@@ -6,9 +6,9 @@ normal solver's knobs. :func:`sigma_y_from_hardness` is the one place of Bowden 
 ``H = 2.8 sigma_y``.
 """
 
-import math
 from dataclasses import dataclass
 
+from ..common.checks import positive, tolerance, tresca_factor
 from .cerruti import E_prime
 from .normal import composite_modulus
 
@@ -40,14 +40,7 @@ def sigma_y_from_hardness(H):
     float
         ``sigma_y`` in Pa.
     """
-    if isinstance(H, bool) or not isinstance(H, (int, float)) or not (math.isfinite(H) and H > 0):
-        raise ValueError(f"H must be a finite number > 0 (Pa), got {H!r}")
-    return H / BOWDEN_TABOR
-
-
-def _positive(name, v):
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and v > 0):
-        raise ValueError(f"{name} must be a finite number > 0 (Pa), got {v!r}")
+    return positive("H", H, "Pa") / BOWDEN_TABOR
 
 
 @dataclass(frozen=True)
@@ -69,16 +62,15 @@ class Materials:
 
     def __post_init__(self):
         for name in ("E_workpiece", "E_tool", "H"):
-            _positive(name, getattr(self, name))
+            positive(name, getattr(self, name), "Pa")
         if self.sigma_y is None:
             object.__setattr__(self, "sigma_y", sigma_y_from_hardness(self.H))
-        _positive("sigma_y", self.sigma_y)
+        positive("sigma_y", self.sigma_y, "Pa")
         for name in ("nu_workpiece", "nu_tool"):
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and -1.0 < v <= 0.5):
                 raise ValueError(f"{name} must be in (-1, 0.5], got {v!r}")
-        if not (isinstance(self.m, (int, float)) and 0.0 <= self.m <= 1.0):
-            raise ValueError(f"m must be in [0, 1], got {self.m!r}")
+        tresca_factor(self.m)
 
     @property
     def E_star(self):
@@ -106,8 +98,7 @@ class SolverSettings:
     maxiter: int | None = None
 
     def __post_init__(self):
-        if not (isinstance(self.tol, (int, float)) and 0 < self.tol < 1):
-            raise ValueError(f"tol must be in (0, 1), got {self.tol!r}")
+        tolerance(self.tol)
         for name in ("periodic", "volume_conservation"):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"{name} must be True or False, got {getattr(self, name)!r}")

@@ -60,6 +60,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..common.checks import tolerance
 from ._box_cg import (
     _pk_box_cg,
     _residual_scale,
@@ -207,8 +208,7 @@ def _validate(heights, dx, dy, E_star, p_mean, H, tol, maxiter, p_init, max_memo
                 f"p_mean must be < H (even full contact at the hardness cannot carry more), "
                 f"got p_mean={p_mean!r} Pa, H={H!r} Pa"
             )
-    if not (0 < tol < 1):
-        raise ValueError(f"tol must be in (0, 1), got {tol!r}")
+    tolerance(tol)
     if int(maxiter) < 1:
         raise ValueError(f"maxiter must be >= 1, got {maxiter!r}")
     if p_init is not None:

@@ -36,6 +36,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import optimize
 
+from ..common.checks import tolerance
 from .cerruti import _check_moduli, _check_sizes, cerruti_coefficients
 from .influence import InfluenceOperator
 
@@ -266,8 +267,7 @@ def solve_tangential(
         )
     if method not in ("mprgp", "gauss-seidel"):
         raise ValueError(f"method must be 'mprgp' or 'gauss-seidel', got {method!r}")
-    if not (np.isfinite(tol) and 0 < tol < 1):
-        raise ValueError(f"tol must lie in (0, 1), got {tol!r}")
+    tolerance(tol)
     if int(maxiter) < 1:
         raise ValueError(f"maxiter must be >= 1, got {maxiter!r}")
     g_full = tangential_bound(p, m=m, sigma_y=sigma_y, mu=mu)

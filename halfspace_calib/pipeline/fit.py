@@ -26,6 +26,8 @@ from scipy.optimize import least_squares
 from frictionlaw import FrictionParams, alpha_first, alpha_reload, reload_jump
 from frictionlaw.params import C_RANGE, N_RANGE
 
+from ..common.checks import positive
+
 __all__ = [
     "C_BOUNDS",
     "N_BOUNDS",
@@ -198,16 +200,6 @@ def _finite_or_none(v):
     return float(v) if math.isfinite(v) else None
 
 
-def _positive(name, v):
-    try:
-        f = float(v)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a finite number > 0, got {v!r}") from None
-    if not (math.isfinite(f) and f > 0):
-        raise ValueError(f"{name} must be a finite number > 0, got {v!r}")
-    return f
-
-
 def _bounds(name, b, allowed):
     """``(lo, hi)`` with ``0 < lo < hi``, inside ``allowed`` (FrictionParams' validated range)."""
     try:
@@ -262,7 +254,7 @@ def _curve(i, c):
             raise ValueError(
                 f"curves[{i}] must be a ReloadCurve, a dict or a tuple (p_hist, p, alpha)"
             ) from None
-    ph = _positive(f"curves[{i}].p_hist", ph)
+    ph = positive(f"curves[{i}].p_hist", ph)
     p, a = _data(p, a, f"curves[{i}].p", f"curves[{i}].alpha")
     if (p >= ph).any():
         raise ValueError(
@@ -424,7 +416,7 @@ def fit_first_loading(p, alpha, H, *, relative=False, C_bounds=C_BOUNDS, n_bound
         ``[0, 1]`` or bad bounds (the message names the argument).
     """
     p, alpha = _data(p, alpha)
-    H = _positive("H", H)
+    H = positive("H", H)
     cb, nb = _bounds("C_bounds", C_bounds, C_RANGE), _bounds("n_bounds", n_bounds, N_RANGE)
     if p.size < 3:
         raise ValueError(f"p needs at least 3 points to fit C1 and n1, got {p.size}")
@@ -473,8 +465,8 @@ def fit_reload(
     if len(curves) == 0:
         raise ValueError("curves must hold at least one reload curve")
     cs = [_curve(i, c) for i, c in enumerate(curves)]
-    H = _positive("H", H)
-    C1, n1 = _positive("C1", C1), _positive("n1", n1)
+    H = positive("H", H)
+    C1, n1 = positive("C1", C1), positive("n1", n1)
     cb, nb = _bounds("C_bounds", C_bounds, C_RANGE), _bounds("n_bounds", n_bounds, N_RANGE)
     p = np.concatenate([c.p for c in cs])
     ph = np.concatenate([np.full(c.p.size, c.p_hist) for c in cs])

@@ -7,7 +7,8 @@ import numpy as np
 import frictionlaw
 from frictionlaw import FrictionParams
 
-from .fit import FirstLoadingFit, ReloadFit, _positive
+from ..common.checks import positive
+from .fit import FirstLoadingFit, ReloadFit
 
 __all__ = ["make_params"]
 
@@ -133,7 +134,7 @@ def make_params(
         )
     if H is None:
         H = first.H
-    elif _positive("H", H) != first.H:
+    elif positive("H", H) != first.H:
         raise ValueError(f"H = {H!r} differs from the fits' H = {first.H!r}")
     import scipy
 

@@ -13,6 +13,7 @@ import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
+from ..common.checks import tolerance, tresca_factor
 from ..contact.materials import Materials, SolverSettings, sigma_y_from_hardness
 from ..contact.normal import composite_modulus
 from . import effects as _eff
@@ -160,8 +161,7 @@ class Scene:
             v = getattr(self, name)
             if not (-1.0 < v <= 0.5):
                 raise ValueError(f"{name} must be in (-1, 0.5], got {v!r}")
-        if not (0.0 <= self.m <= 1.0):
-            raise ValueError(f"m must be in [0, 1], got {self.m!r}")
+        tresca_factor(self.m)
         if not (self.grid is None and self.from_files):
             if isinstance(self.grid, bool) or not isinstance(self.grid, int) or self.grid < 8:
                 raise ValueError(f"grid must be an integer >= 8, got {self.grid!r}")
@@ -187,8 +187,7 @@ class Scene:
         self._validate_surfaces()
         if any(not (0 < f < 1) for f in self.reload_fractions):
             raise ValueError("reload_fractions must be in (0, 1)")
-        if not (0 < self.tol < 1):
-            raise ValueError(f"tol must be in (0, 1), got {self.tol!r}")
+        tolerance(self.tol)
         if self.reload_surface not in ("plastic", "volume_conserving"):
             raise ValueError("reload_surface must be 'plastic' or 'volume_conserving'")
         if not isinstance(self.workers, int) or self.workers < 0:

@@ -32,6 +32,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import topography as _surf
+from ..common.checks import tolerance, tresca_factor
 from ..contact.materials import records
 from ..contact.normal import solve_normal_pair
 from ..contact.tangential import tau_adh_full_sliding
@@ -151,12 +152,10 @@ def _check(pressures, H, m, sigma_y, tol):
     bad = [p for p in pressures if not (0 < p < H)]
     if bad:
         raise ValueError(f"pressures must be in (0, H) = (0, {H:g}) Pa, got {bad}")
-    if not (np.isfinite(m) and 0 < m <= 1):
-        raise ValueError(f"m must be in (0, 1] (tau_adh = 0 at m = 0: no ratio), got {m!r}")
+    tresca_factor(m, allow_zero=False, why=" (tau_adh = 0 at m = 0: no ratio)")
     if not (np.isfinite(sigma_y) and sigma_y > 0):
         raise ValueError(f"sigma_y must be a finite number > 0 (Pa), got {sigma_y!r}")
-    if not (0 < tol < 1):
-        raise ValueError(f"tol must be in (0, 1), got {tol!r}")
+    tolerance(tol)
     return pressures
 
 

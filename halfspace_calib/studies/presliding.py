@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..common.checks import tresca_factor
 from ..contact import tangential as _tang
 from ..contact.materials import records
 
@@ -148,8 +149,7 @@ def presliding_curve(
     E_star, E_prime, m, sigma_y = mat.E_star, mat.E_prime, mat.m, mat.sigma_y
     maxiter = 10000 if sol.maxiter is None else sol.maxiter
     p = np.asarray(p, dtype=float)
-    if not (np.isfinite(m) and 0 < m <= 1):
-        raise ValueError(f"m must be in (0, 1] (m = 0: no tangential traction), got {m!r}")
+    tresca_factor(m, allow_zero=False, why=" (m = 0: no tangential traction)")
     fr = np.asarray(fractions, dtype=float)
     if fr.ndim != 1 or fr.size < 2 or not np.all(fr > 0) or not np.all(np.diff(fr) > 0):
         raise ValueError(f"fractions must be >= 2 increasing positive values, got {fractions!r}")

@@ -46,13 +46,13 @@ the two are compared in ``benchmarks/bench_sliding.py`` (``docs/sliding.md``).
 
 from __future__ import annotations
 
-import math
 import time
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from .. import topography as _surf
+from ..common.checks import positive, tolerance, tresca_factor
 from ..contact.influence import normal_operator
 from ..contact.materials import records, sigma_y_from_hardness
 from ..contact.normal import solve_normal_pair
@@ -294,16 +294,6 @@ def _as_array(name, s):
     return h
 
 
-def _positive(name, v):
-    if (
-        isinstance(v, bool)
-        or not isinstance(v, (int, float, np.floating, np.integer))
-        or not (math.isfinite(v) and v > 0)
-    ):
-        raise ValueError(f"{name} must be a finite number > 0, got {v!r}")
-    return float(v)
-
-
 def _check_sweep(
     workpiece, tool, dx, E_star, p_mean, H, m, sigma_y, positions, tol, dy, warm_start="tool"
 ):
@@ -319,20 +309,18 @@ def _check_sweep(
             f"workpiece must be at least as long as the tool (axis 0), got "
             f"workpiece {wp.shape} and tool {tl.shape}"
         )
-    dx = _positive("dx", dx)
-    dy = dx if dy is None else _positive("dy", dy)
-    E_star = _positive("E_star", E_star)
-    p_mean = _positive("p_mean", p_mean)
-    H = _positive("H", H)
+    dx = positive("dx", dx)
+    dy = dx if dy is None else positive("dy", dy)
+    E_star = positive("E_star", E_star)
+    p_mean = positive("p_mean", p_mean)
+    H = positive("H", H)
     if not p_mean < H:
         raise ValueError(f"p_mean must be in (0, H) = (0, {H:g}) Pa, got {p_mean!r}")
-    if isinstance(m, bool) or not (isinstance(m, (int, float)) and 0 < m <= 1):
-        raise ValueError(f"m must be in (0, 1] (W_adh = 0 at m = 0), got {m!r}")
-    sigma_y = sigma_y_from_hardness(H) if sigma_y is None else _positive("sigma_y", sigma_y)
+    m = tresca_factor(m, allow_zero=False, why=" (W_adh = 0 at m = 0)")
+    sigma_y = sigma_y_from_hardness(H) if sigma_y is None else positive("sigma_y", sigma_y)
     if warm_start not in WARM_STARTS:
         raise ValueError(f"warm_start must be one of {WARM_STARTS}, got {warm_start!r}")
-    if not (isinstance(tol, (int, float)) and 0 < tol < 1):
-        raise ValueError(f"tol must be in (0, 1), got {tol!r}")
+    tolerance(tol)
     n_max = wp.shape[0] - tl.shape[0] + 1
     if positions is None:
         positions = n_max
