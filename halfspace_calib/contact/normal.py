@@ -276,7 +276,7 @@ def solve_normal(
         Spread the plastically removed volume evenly over the out-of-contact elements in
         ``deformed_heights`` (Pullen and Williamson; the paper's default).
     kernel : {"spectral", "love"}
-        Periodic influence kernel, see :func:`halfspace_calib.influence.normal_operator`.
+        Periodic influence kernel, see :func:`halfspace_calib.contact.influence.normal_operator`.
     operator : InfluenceOperator, optional
         A prebuilt operator (reuse across loads of a sweep); must match the grid and mode.
     refresh : int
@@ -286,7 +286,7 @@ def solve_normal(
         Precondition the CG by the inverse of the continuous Green's function,
         ``E_star |q| / 2`` (one extra FFT pair per iteration, several times fewer iterations);
         False gives the plain Polonsky-Keer iteration. Needs ``operator.inverse_spectrum``
-        (set by :func:`~halfspace_calib.influence.normal_operator`); ignored without it.
+        (set by :func:`~halfspace_calib.contact.influence.normal_operator`); ignored without it.
     single : bool
         Run the FFTs in single precision (measured speed-accuracy trade, see the docs; use with
         ``tol >= 1e-6``, enforced: roundoff limits the residual to about 1e-7). Element-wise work stays

@@ -1,6 +1,6 @@
 """Which friction effects a calibration models, how each runs, and what it reports (Sec. 2.2, 3.2-3.3).
 
-A :class:`~halfspace_calib.calibrate.Scene` names its effects (``Scene.effects``):
+A :class:`~halfspace_calib.pipeline.calibration.Scene` names its effects (``Scene.effects``):
 
 ``"normal"`` (always on)
     the normal-contact sweeps and the fit of Eqs. 24-25. Under full sliding every contact element
@@ -8,15 +8,15 @@ A :class:`~halfspace_calib.calibrate.Scene` names its effects (``Scene.effects``
 ``"tangential"``
     partial slip (pre-sliding) at every first-loading pressure on the loaded contact:
     ``q_mean(delta)`` up to full sliding and the interface's tangential stiffness, the penalty
-    ``k_t`` of :func:`frictionlaw.traction_update` (:mod:`halfspace_calib.presliding`).
+    ``k_t`` of :func:`frictionlaw.traction_update` (:mod:`halfspace_calib.studies.presliding`).
 ``"inclined"``
-    the geometric shear of inclined patches (Eqs. 19-23, :mod:`halfspace_calib.geometric`) for the
+    the geometric shear of inclined patches (Eqs. 19-23, :mod:`halfspace_calib.studies.geometric`) for the
     scene's workpiece and tool over the scene's pressures; if the mean ``tau_geo / tau_adh``
     exceeds ``Scene.geo_threshold``, Eq. 26's term is fitted into ``FrictionParams.geo_ratio``
-    (least squares of ``f(p) = geo_ratio k alpha(p)``, :func:`halfspace_calib.geometric.fit_geo_ratio`),
+    (least squares of ``f(p) = geo_ratio k alpha(p)``, :func:`halfspace_calib.studies.geometric.fit_geo_ratio`),
     otherwise ``geo_ratio`` stays 0 and the record says why.
 ``"sliding"``
-    the sliding study of Sec. 3.3 (:func:`halfspace_calib.sliding.sliding_study`), ``W_def / W_adh``
+    the sliding study of Sec. 3.3 (:func:`halfspace_calib.studies.sliding_study.sliding_study`), ``W_def / W_adh``
     at 100-600 MPa; it is reported, it does not change the parameters (the paper: below 0.008).
 
 An effect that cannot run for the scene (e.g. ``m = 0``: no adhesive shear) is skipped and its
@@ -120,7 +120,7 @@ class SlidingOutcome(EffectOutcome):
 def scene_measured_surfaces(scene):
     """The scene's workpiece and tool as measured (fine) maps: ``(workpiece, tool, block)``.
 
-    From the one scene loader (:func:`halfspace_calib._scene_surfaces.load_scene_surfaces`):
+    From the one scene loader (:func:`halfspace_calib.pipeline.scene_surfaces.load_scene_surfaces`):
     synthetic surfaces on ``scene.measured_n`` points a side (default ``4 scene.grid``); files
     cropped, resampled onto ``grid * block`` square points a side (``block >= 2`` measured
     points per element edge, otherwise a ``ValueError``) and levelled, in their own units
@@ -148,7 +148,7 @@ def geo_decision(result, threshold, m):
     -------
     dict
         ``geo_ratio`` (0 unless applied), ``applied``, ``ratio_mean``, ``threshold``, ``fit``
-        (:func:`~halfspace_calib.geometric.fit_geo_ratio`), ``method`` and ``reason``.
+        (:func:`~halfspace_calib.studies.geometric.fit_geo_ratio`), ``method`` and ``reason``.
     """
     fit = fit_geo_ratio(result)
     mean = fit["ratio_mean"]
@@ -263,7 +263,7 @@ def summarize_tangential(levels):
     dict
         ``rows`` (per pressure: ``p_mean``, ``alpha``, ``q_limit``, ``delta_full``,
         ``delta_stick``, ``k_t0``, ``k_sec``, ``k_eq``, ``converged``), ``errors``, ``k_t0_fit``,
-        ``k_sec_fit``, ``k_eq_fit`` (:func:`~halfspace_calib.presliding.stiffness_power_law`),
+        ``k_sec_fit``, ``k_eq_fit`` (:func:`~halfspace_calib.studies.presliding.stiffness_power_law`),
         ``full_sliding_max_rel_diff`` (solve against the shortcut) and ``recommendation``.
     """
     rows, errors = [], []

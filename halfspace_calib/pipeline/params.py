@@ -106,7 +106,7 @@ def make_params(
     k : float, optional
         Shear flow stress (Pa); default ``sigma_y / 2``.
     surfaces : dict, optional
-        Name -> :class:`~halfspace_calib.surfaces.Surface` (its provenance, grid and
+        Name -> :class:`~halfspace_calib.topography.Surface` (its provenance, grid and
         roughness are recorded) or a dict.
     grid, tolerance, pressures, material, extra : optional
         JSON-able records of the solver grid, solver tolerance, the pressure lists, the

@@ -2,7 +2,7 @@
 
 :class:`Scene` holds the surfaces (files or synthetic), materials, pressures, solver settings and
 effects; :func:`load_scene` reads a scene file. Both are re-exported by
-:mod:`halfspace_calib.calibrate`.
+:mod:`halfspace_calib.pipeline.calibration`.
 """
 
 from __future__ import annotations
@@ -42,7 +42,7 @@ class Scene:
     sheet and tool of Table 1 (``rough_tool`` for the rough tool; ``measured_n``, a multiple of
     ``grid``, generates them on that finer grid and block-averages, so that one seed is the same
     physical surface at every ``grid``). Files are prepared by
-    :func:`~halfspace_calib._scene_surfaces.load_scene_surfaces` (see docs/measured_surfaces.md):
+    :func:`~halfspace_calib.pipeline.scene_surfaces.load_scene_surfaces` (see docs/measured_surfaces.md):
     instrument files bring their own units and sizes (``unit=None``); plain files need ``unit``
     (or ``workpiece_unit`` / ``tool_unit``) and ``size`` (``L`` or ``(Lx, Ly)`` in m); undefined
     points are filled up to the fraction ``max_undefined``; both files are cropped to the largest
@@ -59,7 +59,7 @@ class Scene:
     factor: it does not enter the half-space model, only the parameter file (measure it, e.g. by
     ring compression).
 
-    Effects (:mod:`halfspace_calib.effects`): ``effects`` names what is modelled besides the
+    Effects (:mod:`halfspace_calib.pipeline.effects`): ``effects`` names what is modelled besides the
     always-on ``"normal"`` sweeps: ``"tangential"`` (pre-sliding stiffness), ``"inclined"``
     (Eq. 23 and, if the mean ``tau_geo / tau_adh`` exceeds ``geo_threshold``, Eq. 26's
     ``geo_ratio``), ``"sliding"`` (Sec. 3.3). With ``"inclined"`` on synthetic surfaces

@@ -3,14 +3,14 @@
 A workpiece and a tool are given as *measured* height maps, finer than the solver grid: each solver
 element is the block average of its ``s = block^2`` measured points (Sec. 3.1, "sampled down"), and
 the least-squares plane through the same points gives its inclination (Eqs. 19-21,
-:func:`halfspace_calib.inclined.fit_patch_planes`). At each mean pressure the elasto-plastic normal
+:func:`halfspace_calib.studies.inclined.fit_patch_planes`). At each mean pressure the elasto-plastic normal
 contact of the block-averaged surfaces is solved (Sec. 2.1); then
 
 - ``tau_adh = m (sigma_y / 2) alpha_rc``: the adhesive shear under full sliding, every contact
-  element at the Eq. 18 cap (no tangential solve, :func:`halfspace_calib.tangential.tau_adh_full_sliding`);
+  element at the Eq. 18 cap (no tangential solve, :func:`halfspace_calib.contact.tangential.tau_adh_full_sliding`);
 - ``tau_geo``: Eq. 23 over the entering flanks, with the paper's normal rule (elastic element:
   mean of both normals; plastic element, ``p = H``: the tool's normal),
-  :func:`halfspace_calib.inclined.tau_geo_from_surfaces`;
+  :func:`halfspace_calib.studies.inclined.tau_geo_from_surfaces`;
 - their ratio (Fig. 10).
 
 Eq. 26 reads ``tau = m [k alpha + f(p_mean, Ra)]`` with ``k = sigma_y / 2``. Adding the geometric
@@ -18,8 +18,8 @@ shear to the adhesive one, ``m k alpha + tau_geo``, gives ``f = tau_geo / m``; t
 (:class:`frictionlaw.FrictionParams`) evaluates ``f = geo_ratio k alpha(p)``, so
 :func:`fit_geo_ratio` fits ``geo_ratio`` by least squares to ``tau_geo(p) = geo_ratio tau_adh(p)``.
 
-Synthetic "measurements" (:func:`measured_surfaces`): the presets of
-:mod:`halfspace_calib.surfaces` generated on the fine grid and scaled so that the block-averaged
+Synthetic "measurements" (:func:`~halfspace_calib.topography.synthesis.measured_surfaces`): the presets of
+:mod:`halfspace_calib.topography` generated on the fine grid and scaled so that the block-averaged
 solver surface has the Table 1 ``Ra`` (the paper's Table 1 lists the roughness "of the simulated
 surfaces", i.e. after sampling down; ``roughness_on="measured"`` puts it on the fine grid instead).
 """
@@ -140,7 +140,7 @@ class GeometricStudy:
 def _heights(name, s):
     if isinstance(s, _surf.Surface):
         return np.asarray(s.heights), s.dx, s.dy
-    raise ValueError(f"{name} must be a halfspace_calib.surfaces.Surface (the measured map)")
+    raise ValueError(f"{name} must be a halfspace_calib.topography.Surface (the measured map)")
 
 
 def _check(pressures, H, m, sigma_y, tol):
@@ -323,7 +323,7 @@ def geometric_study(
     pressures : sequence of float
         ``p_mean`` in Pa (default 100-600 MPa).
     n, block, seed_workpiece, seed_tool, roughness_on
-        See :func:`measured_surfaces` (default 128 elements from a 512 x 512 measurement).
+        See :func:`~halfspace_calib.topography.synthesis.measured_surfaces` (default 128 elements from a 512 x 512 measurement).
     materials, solver
         See :func:`geometric_sweep`.
 

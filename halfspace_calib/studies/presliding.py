@@ -1,7 +1,7 @@
 """Pre-sliding: the tangential traction of a loaded rough contact against the rigid shift (Sec. 2.2).
 
 After a normal solve the tool is shifted rigidly by ``delta`` in ``+x``; the uncoupled tangential
-solve (Eq. 13 with the Tresca bound of Eq. 18, :func:`halfspace_calib.tangential.solve_tangential`)
+solve (Eq. 13 with the Tresca bound of Eq. 18, :func:`halfspace_calib.contact.tangential.solve_tangential`)
 gives the mean traction ``q_mean(delta)`` over the apparent area: linear while every contact element
 sticks, then softening as slip spreads, and equal to the full-sliding shortcut
 ``tau_adh = m (sigma_y / 2) alpha_rc`` from the shift ``delta_full = max(C g)`` on (every element at

@@ -3,7 +3,7 @@
 The tool window (``Nt x Ny`` elements, the stamp of Sec. 3.1) is moved in ``+x`` over a longer
 workpiece (``Nw x Ny``, ``Nw > Nt``) by one element ``2a`` per position. At position ``i`` the
 window covers the workpiece rows ``i .. i + Nt - 1``; the normal contact at ``p_mean`` is solved
-there (Sec. 2.1, :func:`halfspace_calib.normal.solve_normal_pair`) and the window's plastic
+there (Sec. 2.1, :func:`halfspace_calib.contact.normal.solve_normal_pair`) and the window's plastic
 deformation (and, with volume conservation, the material lifted into its valleys) is written back
 into the long workpiece before the next position. The leading row ``i + Nt - 1`` is the only row
 that no earlier position has loaded.
@@ -103,7 +103,7 @@ def deformation_work(H, displaced_volume):
 def adhesive_work(m, sigma_y, alpha, A0, step):
     """Adhesive work of one sliding position, Sec. 3.3: ``W_adh = tau_adh * A0 * 2a``.
 
-    ``tau_adh`` is :func:`~halfspace_calib.tangential.tau_adh_full_sliding`, the Tresca shear in
+    ``tau_adh`` is :func:`~halfspace_calib.contact.tangential.tau_adh_full_sliding`, the Tresca shear in
     the real contact area (Eq. 18 at the cap on every contact element, i.e. full sliding).
 
     Parameters
@@ -138,9 +138,9 @@ def sliding_workpiece(
 ):
     """Synthetic stand-in for the longer DC04 EDT sheet of Sec. 3.3 (Ra 0.989 um, Rq 1.201 um).
 
-    The spectrum of :func:`halfspace_calib.surfaces.dc04_edt_like` (self-affine, Hurst 0.8,
+    The spectrum of :func:`halfspace_calib.topography.dc04_edt_like` (self-affine, Hurst 0.8,
     100 um roll-off) on the ``6.33 mm x 2.11 mm`` strip, with Ra and Rq both matched
-    (:func:`halfspace_calib.surfaces.self_affine`). On grids too coarse for the roll-off
+    (:func:`halfspace_calib.topography.self_affine`). On grids too coarse for the roll-off
     (Nyquist wavelength ``>= 100 um``) the roll-off moves just above the Nyquist wavelength:
     band-limited white noise, as the presets do.
     """
@@ -163,7 +163,7 @@ def sliding_surfaces(
 ):
     """Default workpiece strip and tool window of Sec. 3.3: ``(workpiece, tool)`` Surfaces.
 
-    The tool is :func:`halfspace_calib.surfaces.tool_like` on a square of the strip's width
+    The tool is :func:`halfspace_calib.topography.tool_like` on a square of the strip's width
     (``tool_n`` elements a side, default the strip's ``Ny``), with the strip's element size.
     """
     wp = sliding_workpiece(shape, size, seed=seed_workpiece)

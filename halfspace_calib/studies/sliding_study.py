@@ -86,7 +86,7 @@ def sliding_study(
     seed_workpiece, seed_tool, rough_tool
         Settings of the default surfaces.
     workers, scheduler, progress
-        Passed to :func:`halfspace_calib.jobs.run_jobs` (one job per pressure).
+        Passed to :func:`halfspace_calib.common.jobs.run_jobs` (one job per pressure).
 
     Returns
     -------

@@ -212,7 +212,7 @@ def self_affine(
     h, info = _impose(_gaussian_field(shp, sz, hu, lr, ls, seed), r_a, r_q)
     prov = {
         "source": "generator",
-        "generator": "halfspace_calib.surfaces.self_affine",
+        "generator": "halfspace_calib.topography.self_affine",
         "shape": list(shp),
         "size": list(sz),
         "hurst": hu,
@@ -249,7 +249,7 @@ def _preset(name, kind, n, size, seed, measured_n, hurst, rolloff, match):
     h, info = _impose(h, target["Ra"], target["Rq"])
     prov = {
         "source": "generator",
-        "generator": "halfspace_calib.surfaces.dc04_edt_like/tool_like",
+        "generator": "halfspace_calib.topography.dc04_edt_like/tool_like",
         "preset": name,
         "match": match,
         "shape": [n, n],
@@ -336,8 +336,8 @@ def measured_surfaces(
     rough_tool : bool
         The rough tool (Table 1 ``Ra`` 0.240 um) instead of the smooth one (0.102 um).
     seed_workpiece, seed_tool : int
-        Seeds of :func:`~halfspace_calib.surfaces.dc04_edt_like` and
-        :func:`~halfspace_calib.surfaces.tool_like`.
+        Seeds of :func:`~halfspace_calib.topography.dc04_edt_like` and
+        :func:`~halfspace_calib.topography.tool_like`.
     size : float
         Edge length in m (default 2.11 mm).
     roughness_on : {"solver", "measured"}
