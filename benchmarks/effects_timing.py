@@ -39,7 +39,8 @@ def main():
         cal = calibrate(Scene(grid=args.grid, effects=eff), progress=False)
         secs = time.perf_counter() - t0
         cals[eff[-1]] = cal
-        inner = cal.effects.get(eff[-1], {}).get("seconds", 0.0) if len(eff) > 1 else 0.0
+        outcome = cal.effects.get(eff[-1])
+        inner = outcome.seconds if outcome is not None else 0.0
         rows.append(["+".join(eff), round(secs, 2), round(inner, 2)])
         print(f"{'+'.join(eff)}: {secs:.1f} s (effect itself {inner:.1f} s)", flush=True)
     base = rows[0][1]
