@@ -130,3 +130,22 @@ def test_no_module_over_600_lines():
         if (n := len(p.read_text(encoding="utf-8").splitlines())) > 600
     }
     assert long == {}
+
+
+def _third_party_roots(package):
+    """Top-level names imported anywhere in ``package`` (a folder next to ``halfspace_calib``)."""
+    roots = set()
+    for path in (ROOT.parent / package).rglob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Import):
+                roots.update(a.name.split(".")[0] for a in node.names)
+            elif isinstance(node, ast.ImportFrom) and node.module and not node.level:
+                roots.add(node.module.split(".")[0])
+    return roots
+
+
+def test_the_three_packages_import_one_way():
+    """frictionlaw imports neither other package; halfspace_calib never imports fe_demo."""
+    assert {"halfspace_calib", "fe_demo"} & _third_party_roots("frictionlaw") == set()
+    assert "fe_demo" not in _third_party_roots("halfspace_calib")
+    assert "frictionlaw" in _third_party_roots("halfspace_calib")  # the parser sees imports
