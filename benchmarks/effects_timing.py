@@ -93,7 +93,7 @@ def main():
         )
     print(f"full sliding vs shortcut: max rel. diff {t['full_sliding_max_rel_diff']:.1e}")
     inc = cals["inclined"].effects["inclined"].decision
-    print(f"inclined (default scene, smooth tool): {inc['reason']}")
+    print(f"inclined (default scene, smooth tool): {inc.reason}")
     print(f"recommendation: {t['recommendation']}")
 
 

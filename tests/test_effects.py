@@ -164,11 +164,11 @@ def test_geo_decision_both_ways():
         np.ones(3, bool),
     )
     off = geo_decision(res, 0.1, 0.5)
-    assert off["geo_ratio"] == 0.0 and not off["applied"]
-    assert "0.0800 <= geo_threshold = 0.1" in off["reason"]
+    assert off.geo_ratio == 0.0 and not off.applied
+    assert "0.0800 <= geo_threshold = 0.1" in off.reason
     on = geo_decision(res, 0.05, 0.5)
-    assert on["applied"] and on["geo_ratio"] == pytest.approx(0.08, rel=1e-14)
-    assert "0.0800 > geo_threshold = 0.05" in on["reason"]
+    assert on.applied and on.geo_ratio == pytest.approx(0.08, rel=1e-14)
+    assert "0.0800 > geo_threshold = 0.05" in on.reason
 
 
 # ----------------------------------------------------------------------------- calibration
@@ -198,8 +198,8 @@ def test_threshold_zero_fits_geo_ratio(cal_all):
     P = cal_all.params
     inc = cal_all.effects["inclined"]
     d = inc.decision
-    assert d["applied"] and P.geo_ratio == d["geo_ratio"] > 0
-    assert P.geo_ratio == pytest.approx(d["fit"]["geo_ratio"], rel=0)
+    assert d.applied and P.geo_ratio == d.geo_ratio > 0
+    assert P.geo_ratio == pytest.approx(d.fit["geo_ratio"], rel=0)
     r = inc.result
     # the fitted ratio minimises the misfit of tau_geo = geo_ratio tau_adh (LAPACK oracle)
     g_lstsq = np.linalg.lstsq(r.tau_adh[:, None], r.tau_geo, rcond=None)[0][0]
@@ -218,10 +218,10 @@ def test_threshold_zero_fits_geo_ratio(cal_all):
 def test_high_threshold_leaves_geo_ratio_out():
     cal = calibrate(Scene(**SMALL, effects=("inclined",), geo_threshold=10.0), progress=False)
     d = cal.effects["inclined"].decision
-    assert cal.params.geo_ratio == 0.0 and not d["applied"]
-    assert f"{d['ratio_mean']:.4f} <= geo_threshold = 10" in d["reason"]
+    assert cal.params.geo_ratio == 0.0 and not d.applied
+    assert f"{d.ratio_mean:.4f} <= geo_threshold = 10" in d.reason
     rec = cal.params.provenance["extra"]["effects"]["inclined"]
-    assert rec["reason"] == d["reason"] and rec["threshold"] == 10.0
+    assert rec["reason"] == d.reason and rec["threshold"] == 10.0
 
 
 def test_provenance_and_outputs(cal_all, tmp_path):

@@ -41,6 +41,7 @@ __all__ = [
     "check_effects",
     "scene_measured_surfaces",
     "run_inclined",
+    "GeoDecision",
     "geo_decision",
     "run_sliding",
     "summarize_tangential",
@@ -106,7 +107,7 @@ class InclinedOutcome(EffectOutcome):
     """The inclined-patch effect: the sweep and the ``geo_ratio`` decision (:func:`geo_decision`)."""
 
     result: GeometricResult | None = None
-    decision: dict | None = None
+    decision: GeoDecision | None = None
 
 
 @dataclass
@@ -132,6 +133,27 @@ def scene_measured_surfaces(scene):
     return s.measured_workpiece, s.measured_tool, s.block
 
 
+@dataclass(frozen=True)
+class GeoDecision:
+    """Whether Eq. 26's geometric term goes into the parameters, and why.
+
+    ``geo_ratio`` is 0 unless ``applied``; ``fit`` is :func:`fit_geo_ratio`'s record.
+    """
+
+    geo_ratio: float
+    applied: bool
+    ratio_mean: float
+    threshold: float
+    fit: dict
+    method: str
+    m: float
+    reason: str
+
+    def as_dict(self):
+        """JSON-ready record (the parameter file's provenance and ``summary.json``)."""
+        return dataclasses.asdict(self)
+
+
 def geo_decision(result, threshold, m):
     """Whether Eq. 26's geometric term goes into the parameters, and why.
 
@@ -146,7 +168,7 @@ def geo_decision(result, threshold, m):
 
     Returns
     -------
-    dict
+    GeoDecision
         ``geo_ratio`` (0 unless applied), ``applied``, ``ratio_mean``, ``threshold``, ``fit``
         (:func:`~halfspace_calib.studies.geometric.fit_geo_ratio`), ``method`` and ``reason``.
     """
@@ -164,17 +186,17 @@ def geo_decision(result, threshold, m):
             f"mean tau_geo / tau_adh = {mean:.4f} <= geo_threshold = {threshold:g}: "
             "the geometric shear is not significant, Eq. 26's term is left out (geo_ratio = 0)"
         )
-    return {
-        "geo_ratio": fit["geo_ratio"] if applied else 0.0,
-        "applied": applied,
-        "ratio_mean": mean,
-        "threshold": float(threshold),
-        "fit": fit,
-        "method": "least squares of tau_geo(p) = geo_ratio * tau_adh(p) = geo_ratio m k alpha(p) "
+    return GeoDecision(
+        geo_ratio=fit["geo_ratio"] if applied else 0.0,
+        applied=applied,
+        ratio_mean=mean,
+        threshold=float(threshold),
+        fit=fit,
+        method="least squares of tau_geo(p) = geo_ratio * tau_adh(p) = geo_ratio m k alpha(p) "
         "over the scene's pressures (alpha of the inclined-patch normal solves)",
-        "m": float(m),
-        "reason": reason,
-    }
+        m=float(m),
+        reason=reason,
+    )
 
 
 def run_inclined(scene, *, measured=None):

@@ -133,13 +133,13 @@ class Inclined(Effect):
     def _record(self, outcome):
         d = outcome.decision
         return {
-            "geo_ratio": d["geo_ratio"],
-            "applied": d["applied"],
-            "ratio_mean": d["ratio_mean"],
-            "threshold": d["threshold"],
-            "reason": d["reason"],
-            "method": d["method"],
-            "fit": d["fit"],
+            "geo_ratio": d.geo_ratio,
+            "applied": d.applied,
+            "ratio_mean": d.ratio_mean,
+            "threshold": d.threshold,
+            "reason": d.reason,
+            "method": d.method,
+            "fit": d.fit,
             "study": outcome.result.summary(),
             "seconds": outcome.seconds,
         }
@@ -156,13 +156,13 @@ class Inclined(Effect):
     def _lines(self, outcome, out):
         return [
             f"  inclined patches (Eqs. 19-23, {outcome.seconds:.1f} s) -> {out / 'geometric'}",
-            f"    {outcome.decision['reason']}",
+            f"    {outcome.decision.reason}",
         ]
 
     @staticmethod
     def geo_ratio(outcome):
         """The ``geo_ratio`` the parameters get (0 unless the decision applied it)."""
-        return 0.0 if outcome.decision is None else outcome.decision.get("geo_ratio", 0.0)
+        return 0.0 if outcome.decision is None else outcome.decision.geo_ratio
 
 
 class Sliding(Effect):
