@@ -8,7 +8,10 @@ Sec. 2-3 of the paper: surfaces in, ``FrictionParams`` JSON out. Start with ``do
 - :func:`solve_normal`, :func:`solve_normal_pair` (Sec. 2.1), :func:`solve_tangential` (Sec. 2.2)
 - surfaces: :func:`read_surface`, :func:`dc04_edt_like`, :func:`tool_like`, :func:`self_affine`
 - fits: :func:`fit_first_loading` (Eq. 24), :func:`fit_reload` (Eq. 25)
-- studies: :func:`geometric_study` (Sec. 3.2), :func:`sliding_study` (Sec. 3.3)
+- studies: :func:`geometric_study` (Sec. 3.2), :func:`sliding_study` (Sec. 3.3), each taking a
+  :class:`Materials` and a :class:`SolverSettings` record
+- subpackages, one way down: ``cli`` -> ``pipeline`` -> ``output`` -> ``studies`` ->
+  ``contact`` / ``topography`` -> ``common``
 """
 
 from .contact.influence import InfluenceOperator, love_coefficients, normal_operator
