@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..common.jobs import run_jobs
-from ..contact.materials import records
+from ..contact.materials import Materials, SolverSettings, records
 from ..topography import Surface
 from .sliding import (
     SLIDING_PRESSURES,
@@ -50,8 +50,33 @@ class SlidingStudy:
         }
 
 
+@dataclass(frozen=True)
+class _SweepJob:
+    """One pressure of the study (sent to a worker process)."""
+
+    workpiece: np.ndarray
+    tool: np.ndarray
+    dx: float
+    p_mean: float
+    materials: Materials
+    solver: SolverSettings
+    positions: int | None
+    warm_start: str
+    dy: float | None
+
+
 def _sweep_job(job):
-    return sliding_sweep(job["workpiece"], job["tool"], job["dx"], job["p_mean"], **job["kw"])
+    return sliding_sweep(
+        job.workpiece,
+        job.tool,
+        job.dx,
+        job.p_mean,
+        materials=job.materials,
+        solver=job.solver,
+        positions=job.positions,
+        warm_start=job.warm_start,
+        dy=job.dy,
+    )
 
 
 def sliding_study(
@@ -117,7 +142,6 @@ def sliding_study(
         ):
             raise ValueError(f"{name} element size {s.dx:g} x {s.dy:g} m differs from dx={dx:g} m")
     E_star = mat.E_star
-    kw = dict(materials=mat, solver=sol, positions=positions, warm_start=warm_start, dy=dy)
     wp_h, tl_h = _as_array("workpiece", workpiece), _as_array("tool", tool)
     # validate everything once, before any job runs
     _check_sweep(
@@ -134,7 +158,7 @@ def sliding_study(
         dy,
         warm_start,
     )
-    jobs = [dict(workpiece=wp_h, tool=tl_h, dx=dx, p_mean=p, kw=kw) for p in pressures]
+    jobs = [_SweepJob(wp_h, tl_h, dx, p, mat, sol, positions, warm_start, dy) for p in pressures]
     t0 = time.perf_counter()
     out = run_jobs(
         _sweep_job,
