@@ -37,8 +37,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from _provenance import run_record
 
-from halfspace_calib.influence import normal_operator  # noqa: E402
-from halfspace_calib.normal import composite_modulus, solve_normal  # noqa: E402
+from halfspace_calib.contact.influence import normal_operator  # noqa: E402
+from halfspace_calib.contact.normal import composite_modulus, solve_normal  # noqa: E402
 
 L = 2.11e-3
 E_STAR = composite_modulus(210e9, 0.3, 210e9, 0.3)

@@ -32,16 +32,22 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from _provenance import run_record  # noqa: E402
 
-from halfspace_calib.normal import composite_modulus  # noqa: E402
-from halfspace_calib.sliding import (  # noqa: E402
+from halfspace_calib.contact.materials import Materials, SolverSettings  # noqa: E402
+from halfspace_calib.output.sliding import write_sliding_outputs  # noqa: E402
+from halfspace_calib.studies.sliding import (  # noqa: E402
     SLIDING_PRESSURES,
-    sliding_study,
     sliding_surfaces,
     sliding_sweep,
-    write_sliding_outputs,
 )
+from halfspace_calib.studies.sliding_study import sliding_study  # noqa: E402
 
 RES = Path(__file__).resolve().parent / "results"
+
+
+def _solver(kw):
+    """The solver settings among a case's options (removed from ``kw``)."""
+    keys = ("tol", "periodic", "volume_conservation")
+    return SolverSettings(**{k: kw.pop(k) for k in keys if k in kw})
 
 
 def load():
@@ -50,9 +56,8 @@ def load():
 
 def knobs(n_pos=40, p_mean=600e6):
     wp, tl = sliding_surfaces()
-    Es = composite_modulus(210e9, 0.3, 210e9, 0.3)
     flat = np.zeros_like(tl.heights)
-    base = dict(H=800e6, m=0.5, positions=n_pos)
+    base = dict(materials=Materials(H=800e6, m=0.5), positions=n_pos)
     cases = [
         ("default (periodic, vc, tol 1e-8, warm tool)", tl.heights, {}),
         ("warm start shifted with the workpiece", tl.heights, dict(warm_start="workpiece")),
@@ -68,7 +73,7 @@ def knobs(n_pos=40, p_mean=600e6):
     for name, tool, kw in cases:
         l0 = load()
         t0 = time.perf_counter()
-        r = sliding_sweep(wp, tool, wp.dx, Es, p_mean, **base, **kw)
+        r = sliding_sweep(wp, tool, wp.dx, p_mean, solver=_solver(kw), **base, **kw)
         dt = time.perf_counter() - t0
         s = r.steady
         if ref is None:
@@ -151,7 +156,6 @@ def decomposition(n_pos=60):
     without volume conservation, and the tool-slope estimate 2 H / (m sigma_y) <(t_k - t_k+1)^+> / 2a.
     """
     wp, tl = sliding_surfaces()
-    Es = composite_modulus(210e9, 0.3, 210e9, 0.3)
     t = tl.heights
     slope = float(np.maximum(t[:-1] - t[1:], 0).mean() / wp.dx)
     H, m = 800e6, 0.5
@@ -165,7 +169,15 @@ def decomposition(n_pos=60):
             ("tool_no_vc", t, dict(volume_conservation=False)),
             ("flat_tool_no_vc", 0 * t, dict(volume_conservation=False)),
         ):
-            r = sliding_sweep(wp, tool, wp.dx, Es, p, H=H, m=m, positions=n_pos, **kw)
+            r = sliding_sweep(
+                wp,
+                tool,
+                wp.dx,
+                p,
+                materials=Materials(H=H, m=m),
+                positions=n_pos,
+                solver=_solver(kw),
+            )
             # steady part: the last half of the positions
             row[f"ratio_{name}"] = float(np.mean(r.ratio[n_pos // 2 :]))
             row[f"alpha_{name}"] = float(np.mean(r.alpha[n_pos // 2 :]))
@@ -179,10 +191,9 @@ def decomposition(n_pos=60):
 
 def resolution(pressures=(300e6, 600e6)):
     """Steady ratio against the element size: the same surfaces block-averaged to 3n x n."""
-    from halfspace_calib import surfaces as S
+    from halfspace_calib import topography as S
 
     wp0, _ = sliding_surfaces()
-    Es = composite_modulus(210e9, 0.3, 210e9, 0.3)
     rows = []
     for n in (32, 64, 128):
         wp = S.block_average(wp0, (3 * n, n))
@@ -201,7 +212,7 @@ def resolution(pressures=(300e6, 600e6)):
                 tool_slope=slope,
             )
             for name, tool in (("tool", t), ("flat_tool", 0 * t)):
-                r = sliding_sweep(wp, tool, wp.dx, Es, p, H=800e6, m=0.5, positions=n_pos)
+                r = sliding_sweep(wp, tool, wp.dx, p, positions=n_pos)
                 row[f"ratio_{name}"] = float(np.mean(r.ratio[n_pos // 2 :]))
             rows.append(row)
             print(" ".join(f"{k}={v:.4g}" for k, v in row.items()), flush=True)

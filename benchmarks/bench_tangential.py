@@ -25,8 +25,8 @@ import time
 import numpy as np
 from _provenance import run_record
 
-from halfspace_calib.cerruti import E_prime, shear_modulus_composite
-from halfspace_calib.tangential import _CerrutiOperator, solve_tangential, tangential_bound
+from halfspace_calib.contact.cerruti import E_prime, shear_modulus_composite
+from halfspace_calib.contact.tangential import _CerrutiOperator, solve_tangential, tangential_bound
 
 E, NU = 210e9, 0.3
 E_STAR = 1.0 / (2 * (1 - NU**2) / E)
@@ -133,11 +133,13 @@ def table_scaling(sizes, ratio=0.5):
         L2 = (n * dx) ** 2
         r, t = timed(
             lambda p=p, dx=dx, q=ratio * MU * P / L2: solve_tangential(
-                p, dx, E_STAR, E_PR, q_mean=q, mu=MU
+                p, dx, E_STAR, E_PR, q_mean=q, mu=MU, periodic=False
             )
         )
         rd, td = timed(
-            lambda p=p, dx=dx, d=r.delta: solve_tangential(p, dx, E_STAR, E_PR, delta=d, mu=MU)
+            lambda p=p, dx=dx, d=r.delta: solve_tangential(
+                p, dx, E_STAR, E_PR, delta=d, mu=MU, periodic=False
+            )
         )
         c_num = np.sqrt(r.stick.sum() * dx * dx / np.pi)
         rows.append(
@@ -162,12 +164,14 @@ def table_scaling(sizes, ratio=0.5):
 def table_tol(n, tols):
     p, dx, *_ = hertz(n)
     g = tangential_bound(p, mu=MU)
-    ref = solve_tangential(p, dx, E_STAR, E_PR, q_mean=0.5 * MU * p.mean(), mu=MU, tol=1e-12)
+    ref = solve_tangential(
+        p, dx, E_STAR, E_PR, q_mean=0.5 * MU * p.mean(), mu=MU, tol=1e-12, periodic=False
+    )
     rows = []
     for tol in tols:
         r, t = timed(
             lambda tol=tol: solve_tangential(
-                p, dx, E_STAR, E_PR, q_mean=0.5 * MU * p.mean(), mu=MU, tol=tol
+                p, dx, E_STAR, E_PR, q_mean=0.5 * MU * p.mean(), mu=MU, tol=tol, periodic=False
             )
         )
         rows.append(

@@ -20,7 +20,7 @@ import numpy as np
 from _provenance import run_record
 
 from frictionlaw import shear_limit
-from halfspace_calib.calibrate import Scene, calibrate
+from halfspace_calib.pipeline.calibration import Scene, calibrate
 
 RESULTS = Path(__file__).parent / "results"
 PROBES = [(100e6, 0.0), (300e6, 0.0), (600e6, 0.0), (100e6, 600e6)]

@@ -19,8 +19,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from _provenance import run_record
 
-from halfspace_calib.calibrate import Scene, calibrate  # noqa: E402
-from halfspace_calib.effects import write_stiffness_csv  # noqa: E402
+from halfspace_calib.output.effects import write_stiffness_csv  # noqa: E402
+from halfspace_calib.pipeline.calibration import Scene, calibrate  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results"
 
@@ -39,7 +39,8 @@ def main():
         cal = calibrate(Scene(grid=args.grid, effects=eff), progress=False)
         secs = time.perf_counter() - t0
         cals[eff[-1]] = cal
-        inner = cal.effects.get(eff[-1], {}).get("seconds", 0.0) if len(eff) > 1 else 0.0
+        outcome = cal.effects.get(eff[-1])
+        inner = outcome.seconds if outcome is not None else 0.0
         rows.append(["+".join(eff), round(secs, 2), round(inner, 2)])
         print(f"{'+'.join(eff)}: {secs:.1f} s (effect itself {inner:.1f} s)", flush=True)
     base = rows[0][1]
@@ -71,7 +72,7 @@ def main():
     for r in rows:
         print(f"| {r[0]} | {r[1]:.1f} | {r[2]:.1f} | {r[1] - base:+.1f} |")
 
-    t = cals["tangential"].effects["tangential"]["summary"]
+    t = cals["tangential"].effects["tangential"].summary
     write_stiffness_csv(t, OUT / "effects_tangential.csv")
     print(
         "\n| p_mean (MPa) | alpha | tau_adh = q at full sliding (MPa) | delta_stick (nm) | "
@@ -91,8 +92,8 @@ def main():
             f"{100 * f['max_rel_error']:.0f} %"
         )
     print(f"full sliding vs shortcut: max rel. diff {t['full_sliding_max_rel_diff']:.1e}")
-    inc = cals["inclined"].effects["inclined"]["decision"]
-    print(f"inclined (default scene, smooth tool): {inc['reason']}")
+    inc = cals["inclined"].effects["inclined"].decision
+    print(f"inclined (default scene, smooth tool): {inc.reason}")
     print(f"recommendation: {t['recommendation']}")
 
 

@@ -18,10 +18,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from _provenance import run_record  # noqa: E402
 
-from halfspace_calib.geometric import (  # noqa: E402
-    geometric_study,
-    write_geometric_outputs,
-)
+from halfspace_calib.output.geometric import write_geometric_outputs  # noqa: E402
+from halfspace_calib.studies.geometric import geometric_study  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results" / "geometric"
 

@@ -29,7 +29,7 @@ import subprocess
 import time
 from pathlib import Path
 
-from halfspace_calib.calibrate import Scene, calibrate
+from halfspace_calib.pipeline.calibration import Scene, calibrate
 
 FILES = ["metropro-1.dat", "mnt-1.mnt", "x3p-2.x3p", "sur-3.sur", "matrix-3.txt"]
 RESULTS = Path(__file__).resolve().parent / "results"
@@ -76,7 +76,7 @@ def run(folder, max_grid=None):
         extra = {"max_undefined": 0.95} if name.startswith("sur-") else {}
         base = Scene(workpiece=str(path), tool=str(path), **extra)
         if max_grid is not None:
-            from halfspace_calib._scene_surfaces import load_scene_surfaces
+            from halfspace_calib.pipeline.scene_surfaces import load_scene_surfaces
 
             g = min(load_scene_surfaces(base).grid, max_grid)
             base = dataclasses.replace(base, grid=g)

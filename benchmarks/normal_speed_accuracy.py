@@ -25,7 +25,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _provenance import run_record
 from bench_normal_peers import E_STAR, H, L, self_affine  # noqa: E402
 
-from halfspace_calib.normal import solve_normal  # noqa: E402
+from halfspace_calib.contact.normal import solve_normal  # noqa: E402
 
 RESULTS = Path(__file__).resolve().parent / "results"
 

@@ -16,23 +16,23 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from _provenance import run_record
 
-from halfspace_calib import surfaces as S  # noqa: E402
-from halfspace_calib.cerruti import E_prime  # noqa: E402
-from halfspace_calib.normal import composite_modulus, solve_normal_pair  # noqa: E402
-from halfspace_calib.presliding import presliding_curve  # noqa: E402
+from halfspace_calib import topography as S  # noqa: E402
+from halfspace_calib.contact.materials import Materials  # noqa: E402
+from halfspace_calib.contact.normal import solve_normal_pair  # noqa: E402
+from halfspace_calib.studies.presliding import presliding_curve  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results" / "presliding_resolution.csv"
 
 
 def main():
-    es, ep = composite_modulus(210e9, 0.3, 210e9, 0.3), E_prime(210e9, 0.3, 210e9, 0.3)
+    es = Materials().E_star  # Table 1
     rows = []
     for n in (64, 128, 256):
         wp, tl = S.dc04_edt_like(n, measured_n=512), S.tool_like(n, measured_n=512)
         for p in (100e6, 400e6):
-            r = solve_normal_pair(tl.heights, wp.heights, wp.dx, es, p, H=800e6)
+            r = solve_normal_pair(wp.heights, tl.heights, wp.dx, es, p, H=800e6)
             t0 = time.perf_counter()
-            c = presliding_curve(r.pressure, wp.dx, es, ep, m=0.5, sigma_y=800e6 / 2.8)
+            c = presliding_curve(r.pressure, wp.dx, materials=Materials(m=0.5))
             rows.append(
                 [
                     n,

@@ -16,9 +16,9 @@ import tempfile
 import time
 from pathlib import Path
 
-from ._scene_surfaces import MAX_DEFAULT_GRID
-from .calibrate import Scene, calibrate, load_scene, load_scene_surfaces
-from .report import write_outputs
+from .output.report import write_outputs
+from .pipeline.calibration import Scene, calibrate, load_scene, load_scene_surfaces
+from .pipeline.scene_surfaces import MAX_DEFAULT_GRID
 
 #: files that mark a folder as a calibration output (a rerun may replace it)
 _OUTPUT_MARKERS = ("params.json", "summary.json")
@@ -211,7 +211,7 @@ def scene_from_args(args):
             raise ValueError(f"--size takes one or two lengths (m), got {len(over['size'])}")
         over["size"] = over["size"][0] if len(over["size"]) == 1 else tuple(over["size"])
     if args.sliding:
-        from .effects import check_effects
+        from .pipeline.effects import check_effects
 
         if over["effects"] is None:  # add to the scene file's effects, or to the default
             base = load_scene(args.scene).effects if args.scene else ("normal",)
@@ -358,56 +358,9 @@ def _print_resolution(rc):
 
 
 def _print_effects(cal, out):
-    """One block per modelled effect besides the normal sweeps."""
-    eff = cal.effects
+    """One block per modelled effect besides the normal sweeps (through the effects registry)."""
     print(f"  effects modelled: {', '.join(cal.scene.effects)}")
-    for name in ("tangential", "inclined", "sliding"):
-        e = eff.get(name)
-        if e is None:
-            continue
-        if "skipped" in e:
-            label = {
-                "tangential": "tangential (pre-sliding)",
-                "inclined": "inclined patches",
-                "sliding": "sliding (Sec. 3.3)",
-            }[name]
-            print(f"  {label} skipped: {e['skipped']}")
-            continue
-        getattr(sys.modules[__name__], f"_print_{name}")(e, out)
-
-
-def _print_tangential(e, out):
-    s = e["summary"]
-    print(f"  tangential (pre-sliding, {e['seconds']:.1f} s) -> {out / 'tangential'}")
-    for r in s["rows"]:
-        print(
-            f"    {r['p_mean'] / 1e6:5.0f} MPa: k_t0 = {r['k_t0']:.3e}, k_eq = {r['k_eq']:.3e}, "
-            f"k_sec = {r['k_sec']:.3e} Pa/m, full sliding at {r['delta_full'] * 1e9:.1f} nm"
-            + ("" if r["converged"] else "  [NOT converged]")
-        )
-    for err in s["errors"]:
-        print(f"    WARNING: tangential at {err['p_mean']:g} Pa failed: {err['error']}")
-    print(f"    {s['recommendation']}")
-
-
-def _print_inclined(e, out):
-    d = e["decision"]
-    print(f"  inclined patches (Eqs. 19-23, {e['seconds']:.1f} s) -> {out / 'geometric'}")
-    print(f"    {d['reason']}")
-
-
-def _print_sliding(e, out):
-    study = e["study"]
-    s = study.summary()
-    print(f"  sliding (Sec. 3.3, {e['seconds']:.1f} s) -> {out / 'sliding' / 'sliding.csv'}")
-    for row in s["rows"]:
-        print(
-            f"    {row['p_mean'] / 1e6:5.0f} MPa: W_def / W_adh mean {row['ratio_mean']:.4f}, "
-            f"max {row['ratio_max']:.4f} (positions >= 1; paper: < 0.008)"
-            + ("" if row["converged"] else "  [NOT all positions converged]")
-        )
-    for p, err in study.errors.items():
-        print(f"    WARNING: sliding at {p:g} Pa failed: {err.splitlines()[0]}")
+    cal.print_effects(out)
 
 
 if __name__ == "__main__":

@@ -5,11 +5,12 @@ import json
 
 import numpy as np
 import pytest
+from plotcheck import assert_png_drawn, lines
 
-from frictionlaw import FrictionParams, alpha_first
-from halfspace_calib.calibrate import Scene, calibrate, load_scene
+from frictionlaw import FrictionParams, alpha_first, alpha_reload
 from halfspace_calib.cli import main
-from halfspace_calib.report import write_outputs
+from halfspace_calib.output.report import write_outputs, write_plots
+from halfspace_calib.pipeline.calibration import Scene, calibrate, load_scene
 
 SMALL = dict(
     grid=32, pressures=(25e6, 100e6, 200e6, 400e6, 600e6), reload_fractions=(0.1, 0.3, 0.6, 0.9)
@@ -28,16 +29,14 @@ def test_sweeps_obey_the_contact_invariants(cal):
     assert np.all(alpha >= p / cal.scene.H - 1e-12)
     assert np.all(np.diff(alpha) > 0)
     for lv in cal.sweeps.levels:
-        assert lv["loading"]["converged"] and lv["loading"]["max_pressure"] <= cal.scene.H * (
-            1 + 1e-9
-        )
-        a_hist = lv["loading"]["alpha"]
-        for r in lv["reload"]:
-            assert r["converged"]
+        assert lv.loading.converged and lv.loading.max_pressure <= cal.scene.H * (1 + 1e-9)
+        a_hist = lv.loading.alpha
+        for r in lv.reload:
+            assert r.converged
             # reloading the flattened surface is elastic and has more contact area than first loading
-            assert r["plastic_fraction"] == 0.0 and r["max_pressure"] < cal.scene.H
-            assert r["alpha"] <= a_hist + 1e-12
-            assert r["alpha"] >= np.interp(r["p_mean"], p, alpha) - 1e-12
+            assert r.plastic_fraction == 0.0 and r.max_pressure < cal.scene.H
+            assert r.alpha <= a_hist + 1e-12
+            assert r.alpha >= np.interp(r.p_mean, p, alpha) - 1e-12
 
 
 def test_fit_quality_and_parameter_file(cal, tmp_path):
@@ -59,13 +58,32 @@ def test_fit_quality_and_parameter_file(cal, tmp_path):
         rows = list(csv.DictReader(fh))
     assert {"p_hist_Pa", "p_mean_Pa", "alpha", "max_pressure_Pa"} <= set(rows[0])
     assert len(rows) == 4 * 4  # p_hist >= 100 MPa: four levels, four fractions each
-    for name in (
-        "alpha_first_loading.png",
-        "alpha_reload.png",
-        "roughness.png",
-        "pressure_map.png",
-    ):
-        assert (tmp_path / name).stat().st_size > 10_000
+    # the plots show the computed data: points of the sweeps, curves of the fitted law
+    figs = write_plots(cal, tmp_path)
+    assert sorted(figs) == sorted(
+        ["alpha_first_loading.png", "alpha_reload.png", "roughness.png", "pressure_map.png"]
+    )
+    for name in figs:
+        assert_png_drawn(tmp_path / name)
+    (xp, yp), (xl, yl) = lines(figs["alpha_first_loading.png"])
+    np.testing.assert_allclose(xp * 1e6, p, rtol=1e-15)
+    np.testing.assert_array_equal(yp, alpha)
+    np.testing.assert_allclose(yl, alpha_first(xl * 1e6, P), rtol=1e-12)
+    rl = lines(figs["alpha_reload.png"])
+    curves = cal.sweeps.reload_curves()
+    assert len(rl) == 1 + 2 * len(curves)
+    for i, c in enumerate(curves):
+        (xc, yc), (xe, ye) = rl[1 + 2 * i], rl[2 + 2 * i]
+        np.testing.assert_allclose(xc * 1e6, c.p, rtol=1e-15)
+        np.testing.assert_array_equal(yc, c.alpha)
+        np.testing.assert_allclose(ye, alpha_reload(xe * 1e6, c.p_hist, P), rtol=1e-12)
+    with open(tmp_path / "roughness.csv") as fh:
+        table = [[float(v) for v in r.values()] for r in csv.DictReader(fh)]
+    (_, ra), (_, rq_line) = lines(figs["roughness.png"])
+    np.testing.assert_allclose(ra, [r[1] * 1e6 for r in table], rtol=1e-12)
+    np.testing.assert_allclose(rq_line, [r[2] * 1e6 for r in table], rtol=1e-12)
+    shown = figs["pressure_map.png"].axes[0].images[0].get_array()
+    np.testing.assert_allclose(shown, cal.sweeps.levels[-1].pressure_map / 1e6, rtol=1e-15)
     # plastic flattening lowers the roughness of the unloaded workpiece (Figs. 3-4)
     with open(tmp_path / "roughness.csv") as fh:
         rq = [float(r["Rq_m"]) for r in csv.DictReader(fh)]
@@ -105,25 +123,25 @@ def test_scene_file_and_cli(tmp_path):
 
 def test_non_converged_solves_are_reported_and_left_out():
     """A tolerance the solver cannot reach within maxiter is reported, never silently fitted."""
-    from halfspace_calib.calibrate import run_sweeps
+    import dataclasses
+
+    from halfspace_calib.pipeline.sweeps import NotConverged, run_sweeps
 
     sweeps = run_sweeps(Scene(**SMALL), progress=False)
     lv = sweeps.levels[2]
-    lv["loading"] = dict(lv["loading"], converged=False, message="NOT converged (test)")
+    lv.loading = dataclasses.replace(lv.loading, converged=False, message="NOT converged (test)")
     p, _ = sweeps.loading
-    assert lv["p_hist"] not in p and p.size == 4
+    assert lv.p_hist not in p and p.size == 4
     nc = sweeps.not_converged()
-    assert nc == [
-        {"p_hist": lv["p_hist"], "p_mean": lv["p_hist"], "message": "NOT converged (test)"}
-    ]
-    assert all(c.p_hist != lv["p_hist"] for c in sweeps.reload_curves())
+    assert nc == [NotConverged(lv.p_hist, lv.p_hist, "NOT converged (test)")]
+    assert all(c.p_hist != lv.p_hist for c in sweeps.reload_curves())
 
 
 def test_measured_surface_files_give_the_synthetic_result(tmp_path):
     """The file path of the pipeline: levelled default surfaces written to files (two units) and
     read back give the same sweeps as the same surfaces in memory."""
-    from halfspace_calib.calibrate import run_sweeps, scene_surfaces
-    from halfspace_calib.surfaces import level, write_surface
+    from halfspace_calib.pipeline.calibration import run_sweeps, scene_surfaces
+    from halfspace_calib.topography import level, write_surface
 
     kw = dict(grid=32, pressures=(50e6, 200e6, 400e6), reload_fractions=(0.5,))
     wp, tl = (level(s) for s in scene_surfaces(Scene(**kw)))
@@ -147,7 +165,7 @@ def test_measured_surface_files_give_the_synthetic_result(tmp_path):
     got = run_sweeps(scene, progress=False)
     assert got.failed == []
     # the same surfaces in memory (through the generator path, levelled): same contact ratios
-    import halfspace_calib.calibrate as C
+    import halfspace_calib.pipeline.sweeps as C
 
     orig = C.scene_surfaces
     try:
@@ -182,7 +200,7 @@ def test_importing_the_main_module_runs_nothing(tmp_path, monkeypatch):
 def test_degenerate_fits_are_reported_by_the_calibration(cal):
     import dataclasses
 
-    from halfspace_calib import fit as F
+    from halfspace_calib.pipeline import fit as F
 
     assert cal.degenerate == ""
     s = cal.summary()
@@ -192,3 +210,24 @@ def test_degenerate_fits_are_reported_by_the_calibration(cal):
     bad = dataclasses.replace(cal, first=flat)
     assert bad.degenerate.startswith("first loading: ") and "R^2 = 0 < 0.9" in bad.degenerate
     assert bad.summary()["fit_degenerate"]["first_loading"] == flat.degenerate
+
+
+def test_volume_conservation_reaches_the_sweeps():
+    """``Scene.volume_conservation`` is honoured by the normal sweep (not hard-coded)."""
+    import dataclasses
+
+    from halfspace_calib import calibrate as calibrate_function
+    from halfspace_calib.pipeline.sweeps import run_sweeps
+
+    assert calibrate_function is calibrate  # the package exports the function, not a module
+    kw = dict(grid=16, pressures=(100e6, 300e6, 600e6), reload_fractions=(0.5,))
+    on = run_sweeps(Scene(**kw), progress=False)
+    off = run_sweeps(dataclasses.replace(Scene(**kw), volume_conservation=False), progress=False)
+    top_on, top_off = on.levels[-1], off.levels[-1]
+    assert top_off.volume_change is None and abs(top_on.volume_change) < 1e-22
+    # the lifted valleys of the volume-conserving surface leave a different roughness
+    assert top_on.Ra_after != top_off.Ra_after
+    # the loading solve is the same contact; only the solver's volume report differs
+    assert top_on.loading.alpha == top_off.loading.alpha
+    assert "valleys hold" in top_on.loading.message
+    assert "valleys" not in top_off.loading.message

@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 from scipy import integrate
 
-from halfspace_calib.cerruti import (
+from halfspace_calib.contact.cerruti import (
     E_prime,
     cerruti_coefficients,
     cerruti_point_force,

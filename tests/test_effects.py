@@ -5,18 +5,22 @@ import json
 
 import numpy as np
 import pytest
+from plotcheck import assert_png_drawn, lines
 
-import halfspace_calib.tangential as tang
+import halfspace_calib.contact.tangential as tang
 from frictionlaw import FrictionParams, shear_limit
-from halfspace_calib import surfaces as S
-from halfspace_calib.calibrate import Scene, calibrate, load_scene
-from halfspace_calib.cerruti import E_prime
+from halfspace_calib import topography as S
 from halfspace_calib.cli import build_parser, main, scene_from_args
-from halfspace_calib.effects import EFFECTS, check_effects, geo_decision
-from halfspace_calib.geometric import GeometricResult
-from halfspace_calib.normal import composite_modulus, solve_normal_pair
-from halfspace_calib.presliding import presliding_curve, stiffness_power_law
-from halfspace_calib.report import write_outputs
+from halfspace_calib.contact.cerruti import E_prime
+from halfspace_calib.contact.materials import Materials
+from halfspace_calib.contact.normal import composite_modulus, solve_normal_pair
+from halfspace_calib.output.effects import plot_tangential
+from halfspace_calib.output.geometric import plot_geometric
+from halfspace_calib.output.report import write_outputs
+from halfspace_calib.pipeline.calibration import Scene, calibrate, load_scene
+from halfspace_calib.pipeline.effects import EFFECTS, check_effects, geo_decision
+from halfspace_calib.studies.geometric import GeometricResult
+from halfspace_calib.studies.presliding import presliding_curve, stiffness_power_law
 
 SMALL = dict(
     grid=16, pressures=(50e6, 150e6, 300e6, 500e6), reload_fractions=(0.2, 0.5, 0.8), tol=1e-7
@@ -24,6 +28,7 @@ SMALL = dict(
 E_STAR = composite_modulus(210e9, 0.3, 210e9, 0.3)
 E_PR = E_prime(210e9, 0.3, 210e9, 0.3)
 SIGMA_Y = 800e6 / 2.8
+MAT = Materials(m=0.5, sigma_y=SIGMA_Y)  # Table 1: E_star = E_STAR, E_prime = E_PR
 
 
 # ----------------------------------------------------------------------------- selection
@@ -71,13 +76,13 @@ def test_scene_file_and_cli_options(tmp_path):
 @pytest.fixture(scope="module")
 def loaded():
     wp, tl = S.dc04_edt_like(32), S.tool_like(32)
-    r = solve_normal_pair(tl.heights, wp.heights, wp.dx, E_STAR, 200e6, H=800e6)
+    r = solve_normal_pair(wp.heights, tl.heights, wp.dx, E_STAR, 200e6, H=800e6)
     return r, wp.dx
 
 
 def test_presliding_full_sliding_equals_the_shortcut(loaded):
     r, dx = loaded
-    c = presliding_curve(r.pressure, dx, E_STAR, E_PR, m=0.5, sigma_y=SIGMA_Y)
+    c = presliding_curve(r.pressure, dx, materials=MAT)
     assert c.converged
     shortcut = tang.tau_adh_full_sliding(r.alpha, 0.5, SIGMA_Y)
     assert c.q_limit == pytest.approx(shortcut, rel=1e-14)
@@ -104,7 +109,7 @@ def test_presliding_full_sliding_equals_the_shortcut(loaded):
 def test_presliding_linear_below_first_slip(loaded):
     # while every element sticks the response is linear: q_mean = k_t0 delta exactly
     r, dx = loaded
-    c = presliding_curve(r.pressure, dx, E_STAR, E_PR, m=0.5, sigma_y=SIGMA_Y)
+    c = presliding_curve(r.pressure, dx, materials=MAT)
     for f in (0.3, 0.9):
         d = f * c.delta_stick
         s = tang.solve_tangential(
@@ -129,11 +134,11 @@ def test_presliding_linear_below_first_slip(loaded):
 def test_presliding_bad_input(loaded):
     r, dx = loaded
     with pytest.raises(ValueError, match=r"m must be in \(0, 1\]"):
-        presliding_curve(r.pressure, dx, E_STAR, E_PR, m=0.0, sigma_y=SIGMA_Y)
+        presliding_curve(r.pressure, dx, materials=Materials(m=0.0, sigma_y=SIGMA_Y))
     with pytest.raises(ValueError, match="fractions"):
-        presliding_curve(r.pressure, dx, E_STAR, E_PR, m=0.5, sigma_y=SIGMA_Y, fractions=(0.5, 0.2))
+        presliding_curve(r.pressure, dx, materials=MAT, fractions=(0.5, 0.2))
     with pytest.raises(ValueError, match="at least one contact element"):
-        presliding_curve(np.zeros((8, 8)), dx, E_STAR, E_PR, m=0.5, sigma_y=SIGMA_Y)
+        presliding_curve(np.zeros((8, 8)), dx, materials=MAT)
 
 
 def test_stiffness_power_law_recovers_exact_power():
@@ -159,11 +164,11 @@ def test_geo_decision_both_ways():
         np.ones(3, bool),
     )
     off = geo_decision(res, 0.1, 0.5)
-    assert off["geo_ratio"] == 0.0 and not off["applied"]
-    assert "0.0800 <= geo_threshold = 0.1" in off["reason"]
+    assert off.geo_ratio == 0.0 and not off.applied
+    assert "0.0800 <= geo_threshold = 0.1" in off.reason
     on = geo_decision(res, 0.05, 0.5)
-    assert on["applied"] and on["geo_ratio"] == pytest.approx(0.08, rel=1e-14)
-    assert "0.0800 > geo_threshold = 0.05" in on["reason"]
+    assert on.applied and on.geo_ratio == pytest.approx(0.08, rel=1e-14)
+    assert "0.0800 > geo_threshold = 0.05" in on.reason
 
 
 # ----------------------------------------------------------------------------- calibration
@@ -175,10 +180,10 @@ def test_without_tangential_no_tangential_solve(monkeypatch):
     monkeypatch.setattr(tang, "solve_tangential", _no_tangential)
     cal = calibrate(Scene(**SMALL, effects=("inclined",)), progress=False)
     assert "tangential" not in cal.effects
-    assert all("tangential" not in lv for lv in cal.sweeps.levels)
+    assert all(lv.tangential is None and lv.tangential_error is None for lv in cal.sweeps.levels)
     # positive control: with the effect, the patched solver is reached (and its failure recorded)
     cal = calibrate(Scene(**SMALL, effects=("tangential",)), progress=False)
-    errs = cal.effects["tangential"]["summary"]["errors"]
+    errs = cal.effects["tangential"].summary["errors"]
     assert len(errs) == 4 and "solve_tangential called" in errs[0]["error"]
 
 
@@ -192,10 +197,10 @@ def cal_all():
 def test_threshold_zero_fits_geo_ratio(cal_all):
     P = cal_all.params
     inc = cal_all.effects["inclined"]
-    d = inc["decision"]
-    assert d["applied"] and P.geo_ratio == d["geo_ratio"] > 0
-    assert P.geo_ratio == pytest.approx(d["fit"]["geo_ratio"], rel=0)
-    r = inc["result"]
+    d = inc.decision
+    assert d.applied and P.geo_ratio == d.geo_ratio > 0
+    assert P.geo_ratio == pytest.approx(d.fit["geo_ratio"], rel=0)
+    r = inc.result
     # the fitted ratio minimises the misfit of tau_geo = geo_ratio tau_adh (LAPACK oracle)
     g_lstsq = np.linalg.lstsq(r.tau_adh[:, None], r.tau_geo, rcond=None)[0][0]
     assert P.geo_ratio == pytest.approx(g_lstsq, rel=1e-10)
@@ -212,11 +217,11 @@ def test_threshold_zero_fits_geo_ratio(cal_all):
 
 def test_high_threshold_leaves_geo_ratio_out():
     cal = calibrate(Scene(**SMALL, effects=("inclined",), geo_threshold=10.0), progress=False)
-    d = cal.effects["inclined"]["decision"]
-    assert cal.params.geo_ratio == 0.0 and not d["applied"]
-    assert f"{d['ratio_mean']:.4f} <= geo_threshold = 10" in d["reason"]
+    d = cal.effects["inclined"].decision
+    assert cal.params.geo_ratio == 0.0 and not d.applied
+    assert f"{d.ratio_mean:.4f} <= geo_threshold = 10" in d.reason
     rec = cal.params.provenance["extra"]["effects"]["inclined"]
-    assert rec["reason"] == d["reason"] and rec["threshold"] == 10.0
+    assert rec["reason"] == d.reason and rec["threshold"] == 10.0
 
 
 def test_provenance_and_outputs(cal_all, tmp_path):
@@ -250,7 +255,26 @@ def test_provenance_and_outputs(cal_all, tmp_path):
         "geometric/fig9_tau.png",
         "geometric/fig10_ratio.png",
     ):
-        assert (tmp_path / f).stat().st_size > 10_000
+        assert_png_drawn(tmp_path / f)
+    # what is plotted: each level's pre-sliding curve and the stiffness table
+    curves = [
+        (lv.p_hist, lv.tangential) for lv in cal_all.sweeps.levels if lv.tangential is not None
+    ]
+    figs = plot_tangential(curves, t, tmp_path / "tangential")
+    drawn = lines(figs["tangential_curves.png"])
+    assert len(drawn) == len(curves) == 4
+    for (x, y), (_, c) in zip(drawn, curves, strict=True):
+        np.testing.assert_allclose(x, c.delta * 1e9, rtol=1e-15)
+        np.testing.assert_allclose(y, c.q_mean / 1e6, rtol=1e-15)
+    (_, k0), (_, keq), (_, ksec) = lines(figs["tangential_stiffness.png"])
+    for got, key in ((k0, "k_t0"), (keq, "k_eq"), (ksec, "k_sec")):
+        np.testing.assert_array_equal(got, [r[key] for r in t["rows"]])
+    r = cal_all.effects["inclined"].result
+    figs = plot_geometric([r], tmp_path / "geometric")
+    (_, adh), (_, geo) = lines(figs["fig9_tau.png"])
+    np.testing.assert_allclose(adh, r.tau_adh / 1e6, rtol=1e-15)
+    np.testing.assert_allclose(geo, r.tau_geo / 1e6, rtol=1e-15)
+    np.testing.assert_array_equal(lines(figs["fig10_ratio.png"])[0][1], r.ratio)
     assert not (tmp_path / "sliding").exists()
 
 
@@ -291,8 +315,8 @@ def test_m_zero_skips_with_reasons(tmp_path, capsys):
 def test_inclined_uses_the_calibration_field():
     # with the inclined patches the synthetic surfaces come from the measured grid (4 x grid), so
     # the geometric study's solver surfaces are the calibration's surfaces (same random field)
-    from halfspace_calib.calibrate import scene_surfaces
-    from halfspace_calib.effects import scene_measured_surfaces
+    from halfspace_calib.pipeline.calibration import scene_surfaces
+    from halfspace_calib.pipeline.effects import scene_measured_surfaces
 
     s = Scene(grid=16, effects=("inclined",), rough_tool=True)
     assert s.measured_n == 64 and Scene(grid=16).measured_n is None
@@ -340,7 +364,7 @@ def test_cli_all_effects(tmp_path, capsys):
 
 def test_calibrated_stiffness_and_range_reach_the_parameter_file(cal_all, tmp_path):
     P = cal_all.params
-    rows = [r for r in cal_all.effects["tangential"]["summary"]["rows"] if r["converged"]]
+    rows = [r for r in cal_all.effects["tangential"].summary["rows"] if r["converged"]]
     assert P.k_t is not None and len(P.k_t.p) == len(rows) >= 2
     np.testing.assert_array_equal(P.k_t.p, sorted(r["p_mean"] for r in rows))
     np.testing.assert_allclose(P.k_t(P.k_t.p), [r["k_eq"] for r in rows], rtol=1e-12)

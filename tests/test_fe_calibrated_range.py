@@ -9,7 +9,7 @@ from fe_demo.cli import main
 from fe_demo.contact import DieContact
 from fe_demo.scenes import run_multistage, run_ring, run_upsetting
 from frictionlaw import FrictionParams, SBMFLaw, TangentialStiffness
-from halfspace_calib.calibrate import Scene, calibrate
+from halfspace_calib.pipeline.calibration import Scene, calibrate
 
 SMALL = dict(nr=8, n_increments=10, reduction=0.5)
 

@@ -4,8 +4,9 @@ import numpy as np
 import pytest
 
 from frictionlaw import FrictionParams, alpha_first, alpha_reload, shear_limit
-from halfspace_calib import fit as F
-from halfspace_calib import surfaces as S
+from halfspace_calib import topography as S
+from halfspace_calib.pipeline import fit as F
+from halfspace_calib.pipeline.params import make_params
 
 H = 800e6
 TRUE = FrictionParams(m=0.5, sigma_y=H / 2.8, H=H, C1=1.6, n1=2.5, C2=2.4, n2=1.8)
@@ -227,7 +228,7 @@ def test_make_params_file_roundtrip(tmp_path):
     first = F.fit_first_loading(P, alpha_first(P, TRUE), H)
     rel = F.fit_reload(reload_curves(TRUE), H, first.C1, first.n1)
     wp = S.dc04_edt_like(32)
-    params = F.make_params(
+    params = make_params(
         first,
         rel,
         m=0.5,
@@ -259,13 +260,13 @@ def test_make_params_file_roundtrip(tmp_path):
 def test_make_params_checks():
     first = F.fit_first_loading(P, alpha_first(P, TRUE), H)
     rel = F.fit_reload(reload_curves(TRUE), H, first.C1, first.n1, continuous=True)
-    assert F.make_params(first, rel, m=0.5, sigma_y=3e8).continuous_reload
+    assert make_params(first, rel, m=0.5, sigma_y=3e8).continuous_reload
     other = F.fit_reload(reload_curves(TRUE), H, 1.0, 1.0)
     with pytest.raises(ValueError, match="refit"):
-        F.make_params(first, other, m=0.5, sigma_y=3e8)
+        make_params(first, other, m=0.5, sigma_y=3e8)
     with pytest.raises(ValueError, match="H"):
-        F.make_params(first, rel, m=0.5, sigma_y=3e8, H=900e6)
+        make_params(first, rel, m=0.5, sigma_y=3e8, H=900e6)
     with pytest.raises(ValueError, match="m must be in"):
-        F.make_params(first, rel, m=1.5, sigma_y=3e8)
+        make_params(first, rel, m=1.5, sigma_y=3e8)
     with pytest.raises(ValueError, match="material"):
-        F.make_params(first, rel, m=0.5, sigma_y=3e8, material={"E": object()})
+        make_params(first, rel, m=0.5, sigma_y=3e8, material={"E": object()})

@@ -4,16 +4,18 @@ import csv
 
 import numpy as np
 import pytest
+from plotcheck import assert_png_drawn, lines
 
-from halfspace_calib import surfaces as S
-from halfspace_calib.geometric import (
+from halfspace_calib import topography as S
+from halfspace_calib.contact.materials import Materials, SolverSettings
+from halfspace_calib.output.geometric import plot_geometric, write_geometric_outputs
+from halfspace_calib.studies.geometric import (
     GeometricResult,
     fit_geo_ratio,
     geometric_study,
     geometric_sweep,
-    measured_surfaces,
-    write_geometric_outputs,
 )
+from halfspace_calib.topography import measured_surfaces
 
 H, M = 800e6, 0.5
 K = H / 2.8 / 2  # k = sigma_y / 2
@@ -32,13 +34,13 @@ def test_conformal_tilted_plane_gives_tan_phi(slope):
     wp = S.Surface(_plane(n * s, dx, slope), dx, dx)
     tl = S.Surface(-_plane(n * s, dx, slope), dx, dx)  # tool heights point towards the workpiece
     p = (100e6, 400e6)
-    r = geometric_sweep(wp, tl, p, block=s, H=H, m=M)
+    r = geometric_sweep(wp, tl, p, block=s, materials=Materials(H=H, m=M))
     assert r.all_converged
     np.testing.assert_allclose(r.alpha, 1.0)
     np.testing.assert_allclose(r.tau_geo, np.array(p) * slope, rtol=1e-10)
     np.testing.assert_allclose(r.ratio, np.array(p) * slope / (M * K), rtol=1e-10)
     # sliding the other way: every patch is an exiting flank (Eq. 23 neglects them)
-    back = geometric_sweep(wp, tl, p, block=s, H=H, m=M, direction=-1)
+    back = geometric_sweep(wp, tl, p, block=s, materials=Materials(H=H, m=M), direction=-1)
     np.testing.assert_array_equal(back.tau_geo, 0.0)
 
 
@@ -49,7 +51,14 @@ def test_tilted_tool_on_flat_workpiece_elastic_rule_bisects():
     n, s, dx, slope = 16, 4, 4e-6, 0.05
     wp = S.Surface(np.zeros((n * s, n * s)), dx, dx)
     tl = S.Surface(-_plane(n * s, dx, slope), dx, dx)  # seen from the workpiece: rising in +x
-    r = geometric_sweep(wp, tl, (50e6,), block=s, H=1e12, m=M, periodic=False)
+    r = geometric_sweep(
+        wp,
+        tl,
+        (50e6,),
+        block=s,
+        materials=Materials(H=1e12, m=M),
+        solver=SolverSettings(periodic=False),
+    )
     assert r.all_converged and r.plastic_fraction[0] == 0.0 and r.alpha[0] < 1.0
     phi = np.arctan(slope)
     assert r.tau_geo[0] == pytest.approx(50e6 * np.tan(phi / 2), rel=1e-9)
@@ -69,7 +78,7 @@ def test_measured_surfaces_have_table1_ra_on_the_solver_grid():
 
 @pytest.fixture(scope="module")
 def study():
-    return geometric_study((100e6, 300e6, 600e6), n=32, block=4, tol=1e-7)
+    return geometric_study((100e6, 300e6, 600e6), n=32, block=4, solver=SolverSettings(tol=1e-7))
 
 
 def test_study_shape_smooth_below_rough(study):
@@ -95,7 +104,15 @@ def test_outputs(study, tmp_path):
     r0 = study.results[0]
     assert float(rows[0]["ratio"]) == pytest.approx(r0.ratio[0], rel=1e-15)
     for name in ("fig9_tau.png", "fig10_ratio.png"):
-        assert (out / name).stat().st_size > 10_000
+        assert_png_drawn(out / name)
+    figs = plot_geometric(study.results, tmp_path / "geo")
+    tau, ratio = lines(figs["fig9_tau.png"]), lines(figs["fig10_ratio.png"])
+    assert len(tau) == 4 and len(ratio) == 2
+    for i, r in enumerate(study.results):
+        np.testing.assert_allclose(tau[2 * i][0], r.p_mean / 1e6, rtol=1e-15)
+        np.testing.assert_allclose(tau[2 * i][1], r.tau_adh / 1e6, rtol=1e-15)
+        np.testing.assert_allclose(tau[2 * i + 1][1], r.tau_geo / 1e6, rtol=1e-15)
+        np.testing.assert_array_equal(ratio[i][1], r.ratio)
     s = study.summary()["pairs"][1]
     assert s["ratio_min"] <= s["ratio_mean"] <= s["ratio_max"]
 
@@ -139,7 +156,7 @@ def test_fit_geo_ratio_least_squares():
 def test_bad_input():
     wp, tl = measured_surfaces(8, 2)
     with pytest.raises(ValueError, match=r"m must be in \(0, 1\]"):
-        geometric_sweep(wp, tl, (1e8,), block=2, m=0.0)
+        geometric_sweep(wp, tl, (1e8,), block=2, materials=Materials(m=0.0))
     with pytest.raises(ValueError, match=r"pressures must be in \(0, H\)"):
         geometric_sweep(wp, tl, (1e8, 9e8), block=2)
     with pytest.raises(ValueError, match="block"):

@@ -1,7 +1,12 @@
 import numpy as np
 import pytest
 
-from halfspace_calib.inclined import contact_normals, fit_patch_planes, patch_normals, tau_geo
+from halfspace_calib.studies.inclined import (
+    contact_normals,
+    fit_patch_planes,
+    patch_normals,
+    tau_geo,
+)
 
 
 def _fine_grid(nx, ny, sx, sy, dx, dy):
@@ -165,7 +170,7 @@ def test_bad_input():
 
 
 def test_tau_geo_from_surfaces():
-    from halfspace_calib.inclined import tau_geo_from_surfaces
+    from halfspace_calib.studies.inclined import tau_geo_from_surfaces
 
     rng = np.random.default_rng(4)
     n, s, dx = 8, 4, 1e-6

@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 from scipy import integrate
 
-from halfspace_calib.influence import (
+from halfspace_calib.contact.influence import (
     InfluenceOperator,
     love_coefficients,
     normal_operator,

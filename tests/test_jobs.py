@@ -2,7 +2,7 @@ import math
 
 import pytest
 
-from halfspace_calib.jobs import run_jobs
+from halfspace_calib.common.jobs import run_jobs
 
 
 def _work(x):

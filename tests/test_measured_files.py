@@ -11,12 +11,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from halfspace_calib import surfaces as S
-from halfspace_calib._io_topography import layout_for
-from halfspace_calib._scene_surfaces import area_resample, load_scene_surfaces
-from halfspace_calib.calibrate import Scene
+from halfspace_calib import topography as S
 from halfspace_calib.cli import main
-from halfspace_calib.normal import solve_normal
+from halfspace_calib.contact.normal import solve_normal
+from halfspace_calib.pipeline.calibration import Scene
+from halfspace_calib.pipeline.scene_surfaces import area_resample, load_scene_surfaces
+from halfspace_calib.topography._formats import layout_for
 
 SHARED = Path(__file__).resolve().parents[1].parent / "shared" / "surfaces"
 FAST = ["--pressures", "20e6,100e6,300e6,500e6", "--reload-fractions", "0.25,0.5,0.8"]
@@ -123,7 +123,7 @@ def test_scene_loader_default_grid_is_the_scan_sampling():
 def test_inclined_effect_honours_per_file_units(tmp_path):
     # the same surfaces written in um and in nm: the measured grid of the inclined effect is in
     # metres for both (the effect used to re-read the files with the scene's unit)
-    from halfspace_calib.effects import scene_measured_surfaces
+    from halfspace_calib.pipeline.effects import scene_measured_surfaces
 
     wp = S.self_affine(32, 64e-6, rq=1e-6, seed=1)
     tl = S.self_affine(32, 64e-6, rq=0.2e-6, seed=2)
@@ -313,7 +313,7 @@ def test_cli_interrupted_write_keeps_the_previous_set(tmp_path, capsys, monkeypa
 
 
 def test_scene_calibration_from_a_real_file_by_api(tmp_path):
-    from halfspace_calib.calibrate import calibrate
+    from halfspace_calib.pipeline.calibration import calibrate
 
     p = _shared("x3p-2.x3p")
     q = tmp_path / "copy.x3p"
@@ -347,13 +347,14 @@ def test_two_sizes_for_a_non_square_plain_file(tmp_path):
 def test_cli_exit_1_for_a_failed_level_and_a_degenerate_fit(tmp_path, capsys, monkeypatch):
     import dataclasses
 
-    import halfspace_calib.calibrate as C
+    import halfspace_calib.pipeline.fit as F
+    import halfspace_calib.pipeline.sweeps as C
 
     base = ["--grid", "16", *FAST, "--tol", "1e-7"]
     job = C._level_job
 
     def failing(j):
-        if j["p_hist"] == 300e6:
+        if j.p_hist == 300e6:
             raise FloatingPointError("injected")
         return job(j)
 
@@ -361,12 +362,12 @@ def test_cli_exit_1_for_a_failed_level_and_a_degenerate_fit(tmp_path, capsys, mo
     code, text, _ = _run(capsys, *base, "--out", str(tmp_path / "a"))
     assert code == 1 and "load level 3e+08 Pa failed" in text
     monkeypatch.setattr(C, "_level_job", job)
-    fit = C._fit.fit_first_loading
+    fit = F.fit_first_loading
 
     def degenerate(*a, **k):
         return dataclasses.replace(fit(*a, **k), r_squared=0.42, at_bound=("n1",))
 
-    monkeypatch.setattr(C._fit, "fit_first_loading", degenerate)
+    monkeypatch.setattr(F, "fit_first_loading", degenerate)
     code, text, _ = _run(capsys, *base, "--out", str(tmp_path / "b"))
     assert code == 1 and "RUN FAILED" in text
     assert "first loading (Eq. 24) fit R^2 = 0.4200 < 0.9" in text

@@ -2,14 +2,14 @@ import numpy as np
 import pytest
 from scipy import optimize
 
-from halfspace_calib.influence import normal_operator
-from halfspace_calib.normal import (
+from halfspace_calib.contact.influence import normal_operator
+from halfspace_calib.contact.normal import (
     composite_heights,
     composite_modulus,
     solve_normal,
     solve_normal_pair,
 )
-from halfspace_calib.reference import (
+from halfspace_calib.contact.reference import (
     fourier_mode_displacement,
     hertz,
     hertz_pressure,
@@ -283,13 +283,13 @@ def test_pair_deforms_workpiece_only():
     tool = rough_surface(n, 10, rq=0.16e-6)
     work = rough_surface(n, 11, rq=1.267e-6)
     dx = 2.11e-3 / n
-    res = solve_normal_pair(tool, work, dx, E_STAR, 300e6, H=H_DC04)
-    single = solve_normal(composite_heights(tool, work), dx, E_STAR, 300e6, H=H_DC04)
+    res = solve_normal_pair(work, tool, dx, E_STAR, 300e6, H=H_DC04)
+    single = solve_normal(composite_heights(work, tool), dx, E_STAR, 300e6, H=H_DC04)
     np.testing.assert_array_equal(res.pressure, single.pressure)
     np.testing.assert_allclose(res.deformed_workpiece + tool, res.deformed_heights, atol=1e-18)
     assert abs(res.deformed_workpiece.sum() - work.sum()) <= 1e-10 * np.sum(work - work.min())
     with pytest.raises(ValueError, match="same shape"):
-        composite_heights(tool, work[:, :-1])
+        composite_heights(work[:, :-1], tool)
 
 
 # ----------------------------------------------------------------------------- input checks
@@ -327,7 +327,7 @@ def test_flat_surface_uniform_pressure():
 
 
 def test_volume_conserving_lift_water_filling():
-    from halfspace_calib.normal import volume_conserving_lift
+    from halfspace_calib.contact.normal import volume_conserving_lift
 
     gap = np.array([0.0, 1.0, 2.0, 4.0, 0.5])
     lift, rest = volume_conserving_lift(gap, 3.0)
@@ -351,7 +351,7 @@ def _kernel_data(seed, n=500):
 
 @pytest.mark.parametrize("pmax_is_inf", [False, True])
 def test_kernels_against_numpy(pmax_is_inf):
-    from halfspace_calib import _kernels as K
+    from halfspace_calib.contact import _kernels as K
 
     rng, H, p, u, h, t0 = _kernel_data(1)
     pmax = np.inf if pmax_is_inf else H
@@ -398,7 +398,7 @@ def test_kernels_against_numpy(pmax_is_inf):
 
 
 def test_project_box_sum_is_the_projection():
-    from halfspace_calib.normal import project_box_sum
+    from halfspace_calib.contact.normal import project_box_sum
 
     rng = np.random.default_rng(12)
     y = rng.standard_normal(40)

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from halfspace_calib.normal import project_box_sum, solve_normal
+from halfspace_calib.contact.normal import project_box_sum, solve_normal
 
 H = 8e8
 

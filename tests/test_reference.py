@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 from scipy import integrate
 
-from halfspace_calib.reference import (
+from halfspace_calib.contact.reference import (
     fourier_mode_displacement,
     hertz,
     hertz_pressure,

@@ -4,23 +4,25 @@ import csv
 
 import numpy as np
 import pytest
+from plotcheck import assert_png_drawn, lines
 
-from halfspace_calib import surfaces as S
-from halfspace_calib.normal import composite_modulus, solve_normal_pair
-from halfspace_calib.sliding import (
-    SlidingStudy,
+from halfspace_calib import topography as S
+from halfspace_calib.contact.materials import Materials, SolverSettings
+from halfspace_calib.contact.normal import composite_modulus, solve_normal_pair
+from halfspace_calib.output.sliding import plot_sliding, write_sliding_outputs
+from halfspace_calib.studies.sliding import (
     adhesive_work,
     deformation_work,
-    sliding_study,
     sliding_surfaces,
     sliding_sweep,
     sliding_workpiece,
-    write_sliding_outputs,
 )
+from halfspace_calib.studies.sliding_study import SlidingStudy, sliding_study
 
 E_STAR = composite_modulus(210e9, 0.3, 210e9, 0.3)
 H = 800e6
 SIGMA_Y = H / 2.8
+MAT = Materials(H=H, m=0.5)  # Table 1: E_star = E_STAR
 DX = 6.33e-3 / 384  # the paper's element size, 16.5 um
 
 
@@ -35,14 +37,20 @@ def small():
 @pytest.fixture(scope="module")
 def sweep_vc(small):
     wp, tl = small
-    return sliding_sweep(wp, tl, DX, E_STAR, 300e6, H=H, m=0.5, positions=12)
+    return sliding_sweep(wp, tl, DX, 300e6, materials=MAT, positions=12)
 
 
 @pytest.fixture(scope="module")
 def sweep_novc(small):
     wp, tl = small
     return sliding_sweep(
-        wp, tl, DX, E_STAR, 300e6, H=H, m=0.5, positions=12, volume_conservation=False
+        wp,
+        tl,
+        DX,
+        300e6,
+        materials=MAT,
+        solver=SolverSettings(volume_conservation=False),
+        positions=12,
     )
 
 
@@ -65,7 +73,7 @@ def test_default_surfaces_match_sec33():
 def test_first_position_equals_plain_solve(small, sweep_vc):
     wp, tl = small
     plain = solve_normal_pair(
-        tl.heights, wp.heights[:24], DX, E_STAR, 300e6, H=H, periodic=True, tol=1e-8
+        wp.heights[:24], tl.heights, DX, E_STAR, 300e6, H=H, periodic=True, tol=1e-8
     )
     r = sweep_vc
     assert r.u0[0] == pytest.approx(plain.u0, rel=1e-12, abs=1e-18)
@@ -113,7 +121,7 @@ def test_conservation_with_volume_conservation(sweep_vc):
 def test_flat_surfaces_give_no_deformation_work():
     wp = np.zeros((30, 12))
     tl = np.zeros((12, 12))
-    r = sliding_sweep(wp, tl, DX, E_STAR, 200e6, H=H, m=0.7, sigma_y=300e6)
+    r = sliding_sweep(wp, tl, DX, 200e6, materials=Materials(H=H, m=0.7, sigma_y=300e6))
     assert r.position.size == 19
     np.testing.assert_array_equal(r.W_def, 0.0)
     np.testing.assert_array_equal(r.alpha, 1.0)
@@ -128,7 +136,7 @@ def test_flat_workpiece_under_rough_tool_stays_elastic():
     # a smooth tool on a flat sheet: full contact with p well below H, no plastic work
     tl = S.tool_like(16, size=16 * DX, seed=5).heights * 0.05  # Rq 8 nm
     wp = np.zeros((24, 16))
-    r = sliding_sweep(wp, tl, DX, E_STAR, 300e6, H=H, m=0.5)
+    r = sliding_sweep(wp, tl, DX, 300e6, materials=MAT)
     np.testing.assert_array_equal(r.W_def, 0.0)
     np.testing.assert_array_equal(r.plastic_fraction, 0.0)
     assert np.all(r.alpha > 0.9)
@@ -143,7 +151,12 @@ def test_flattened_front_gives_work_only_from_the_new_row():
     wp[row] = 2e-6
     tl = np.zeros((nt, ny))
     r = sliding_sweep(
-        wp, tl, DX, E_STAR, 100e6, H=H, m=0.5, periodic=True, volume_conservation=False
+        wp,
+        tl,
+        DX,
+        100e6,
+        materials=MAT,
+        solver=SolverSettings(periodic=True, volume_conservation=False),
     )
     enter = row - nt + 1
     np.testing.assert_array_equal(r.W_def[:enter], 0.0)
@@ -163,10 +176,10 @@ def test_restart_on_the_flattened_sheet(small, vc):
     # a sheet whose front part is already flattened by an earlier pass: re-loading the last
     # window does no plastic work, and the sweep goes on as if it had never stopped
     wp, tl = small
-    kw = dict(H=H, m=0.5, volume_conservation=vc)
-    long = sliding_sweep(wp, tl, DX, E_STAR, 300e6, positions=14, **kw)
-    first = sliding_sweep(wp, tl, DX, E_STAR, 300e6, positions=12, **kw)
-    again = sliding_sweep(first.workpiece_final[11:], tl, DX, E_STAR, 300e6, positions=3, **kw)
+    kw = dict(materials=MAT, solver=SolverSettings(volume_conservation=vc))
+    long = sliding_sweep(wp, tl, DX, 300e6, positions=14, **kw)
+    first = sliding_sweep(wp, tl, DX, 300e6, positions=12, **kw)
+    again = sliding_sweep(first.workpiece_final[11:], tl, DX, 300e6, positions=3, **kw)
     assert again.W_def[0] < 1e-6 * long.W_def[1:].mean()
     np.testing.assert_allclose(again.W_def[1:], long.W_def[12:], rtol=1e-6)
     np.testing.assert_allclose(again.alpha[1:], long.alpha[12:], atol=1 / 576)
@@ -175,7 +188,7 @@ def test_restart_on_the_flattened_sheet(small, vc):
 def test_warm_start_does_not_change_the_answer(small, sweep_vc):
     wp, tl = small
     for mode in ("none", "workpiece"):
-        other = sliding_sweep(wp, tl, DX, E_STAR, 300e6, H=H, m=0.5, positions=12, warm_start=mode)
+        other = sliding_sweep(wp, tl, DX, 300e6, materials=MAT, positions=12, warm_start=mode)
         np.testing.assert_allclose(other.alpha, sweep_vc.alpha, atol=2 / 576)
         np.testing.assert_allclose(
             other.W_def, sweep_vc.W_def, rtol=1e-4, atol=1e-4 * sweep_vc.W_def[1:].mean()
@@ -186,7 +199,7 @@ def test_warm_start_does_not_change_the_answer(small, sweep_vc):
 def test_ratio_small_on_default_like_case(small, sweep_vc):
     wp, tl = small
     # the paper's picture: a smooth (here flat) tool, only the entering row is fresh
-    flat = sliding_sweep(wp, np.zeros_like(tl.heights), DX, E_STAR, 300e6, H=H, m=0.5, positions=12)
+    flat = sliding_sweep(wp, np.zeros_like(tl.heights), DX, 300e6, materials=MAT, positions=12)
     assert flat.steady["ratio_max"] < 0.05, flat.steady
     assert flat.steady["ratio_mean"] > 0
     # the Table 1 tool adds the ploughing of the flattened plateau by its own asperities: per
@@ -208,7 +221,9 @@ def test_ratio_small_on_default_like_case(small, sweep_vc):
 
 def test_unconverged_positions_are_reported(small):
     wp, tl = small
-    r = sliding_sweep(wp, tl, DX, E_STAR, 500e6, H=H, m=0.5, positions=3, maxiter=2)
+    r = sliding_sweep(
+        wp, tl, DX, 500e6, materials=MAT, solver=SolverSettings(maxiter=2), positions=3
+    )
     assert r.position.size == 3
     assert not r.all_converged
     assert "NOT converged" in r.message and r.failed_positions
@@ -217,7 +232,7 @@ def test_unconverged_positions_are_reported(small):
 def test_study_runs_one_sweep_per_pressure_and_writes_outputs(small, sweep_vc, tmp_path):
     wp, tl = small
     st = sliding_study(
-        (300e6, 150e6), workpiece=wp, tool=tl, E_star=E_STAR, positions=12, progress=False
+        (300e6, 150e6), workpiece=wp, tool=tl, materials=MAT, positions=12, progress=False
     )
     assert isinstance(st, SlidingStudy) and not st.errors
     a, b = st.results
@@ -241,7 +256,16 @@ def test_study_runs_one_sweep_per_pressure_and_writes_outputs(small, sweep_vc, t
     assert len(rows) == 24
     assert float(rows[5]["W_def"]) == a.W_def[5] and float(rows[12]["p_mean"]) == 150e6
     for name in ("fig11_u0", "fig12_alpha", "fig13_W_adh", "fig14_W_def", "fig15_ratio"):
-        assert (out / f"{name}.png").stat().st_size > 1000
+        assert_png_drawn(out / f"{name}.png")
+    figs = plot_sliding(st.ok, tmp_path / "sliding")
+    for r, (x, y) in zip(st.ok, lines(figs["fig12_alpha.png"]), strict=True):
+        np.testing.assert_allclose(x, r.x * 1e3, rtol=1e-15)
+        np.testing.assert_array_equal(y, r.alpha)
+    drawn = lines(figs["fig15_ratio.png"])  # positions >= 1, then the paper's 0.008 line
+    assert len(drawn) == 3 and np.all(drawn[-1][1] == 0.008)
+    for r, (x, y) in zip(st.ok, drawn[:2], strict=True):
+        np.testing.assert_allclose(x, r.x[1:] * 1e3, rtol=1e-15)
+        np.testing.assert_array_equal(y, np.where(r.ratio[1:] > 0, r.ratio[1:], np.nan))
     assert (out / "sliding_summary.csv").exists()
     one = write_sliding_outputs(a, tmp_path / "one")  # a single result writes its own rows
     with open(one / "sliding.csv", newline="") as fh:
@@ -277,15 +301,16 @@ def test_bad_input(kw, match):
         workpiece=np.zeros((40, 16)),
         tool=np.zeros((16, 16)),
         dx=DX,
-        E_star=E_STAR,
         p_mean=100e6,
         H=H,
         m=0.5,
     )
     args.update(kw)
-    pos = [args.pop(k) for k in ("workpiece", "tool", "dx", "E_star", "p_mean")]
-    with pytest.raises(ValueError, match=match):
-        sliding_sweep(*pos, **args)
+    mat = {k: args.pop(k) for k in ("H", "m", "sigma_y") if k in args}
+    sol = {k: args.pop(k) for k in ("tol",) if k in args}
+    pos = [args.pop(k) for k in ("workpiece", "tool", "dx", "p_mean")]
+    with pytest.raises(ValueError, match=match):  # the records refuse some values themselves
+        sliding_sweep(*pos, materials=Materials(**mat), solver=SolverSettings(**sol), **args)
 
 
 def test_study_bad_input():

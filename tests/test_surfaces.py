@@ -4,8 +4,9 @@ import sys
 import numpy as np
 import pytest
 
-from halfspace_calib import _io_topography as io_topo
-from halfspace_calib import surfaces as S
+from halfspace_calib import topography as S
+from halfspace_calib.topography import _formats as io_topo
+from halfspace_calib.topography import synthesis
 
 L = 1e-3
 
@@ -151,7 +152,7 @@ def test_self_affine_bad_input(kw, word):
 def test_unreachable_ratio_is_reported():
     # an equal-weight two-level field keeps Ra/Rq = 1 under any monotone map
     with pytest.raises(ValueError, match="cannot be reached"):
-        S._shape_ra_rq(np.array([[-1.0, 1.0], [1.0, -1.0]]), 0.9)
+        synthesis._shape_ra_rq(np.array([[-1.0, 1.0], [1.0, -1.0]]), 0.9)
 
 
 # -- preparation ----------------------------------------------------------------------

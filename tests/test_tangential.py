@@ -1,8 +1,8 @@
 import numpy as np
 import pytest
 
-from halfspace_calib.cerruti import E_prime, cerruti_coefficients, shear_modulus_composite
-from halfspace_calib.tangential import (
+from halfspace_calib.contact.cerruti import E_prime, cerruti_coefficients, shear_modulus_composite
+from halfspace_calib.contact.tangential import (
     _CerrutiOperator,
     solve_tangential,
     tangential_bound,
@@ -114,7 +114,7 @@ def _mindlin_case(n, ratio, mu=0.3):
     p, dx, r2, a, p0 = _hertz(n)
     L2 = (n * dx) ** 2
     P = p.sum() * dx * dx
-    res = solve_tangential(p, dx, E_STAR, E_PR, q_mean=ratio * mu * P / L2, mu=mu)
+    res = solve_tangential(p, dx, E_STAR, E_PR, q_mean=ratio * mu * P / L2, mu=mu, periodic=False)
     assert res.converged, res.message
     c_th = a * (1 - ratio) ** (1 / 3)
     c_num = np.sqrt(res.stick.sum() * dx * dx / np.pi)
@@ -149,13 +149,13 @@ def test_cattaneo_mindlin_256(ratio):
 
 def test_displacement_and_force_control_agree():
     p, dx, *_ = _hertz(64)
-    rf = solve_tangential(p, dx, E_STAR, E_PR, q_mean=-0.4 * 0.3 * p.mean(), mu=0.3)
-    rd = solve_tangential(p, dx, E_STAR, E_PR, delta=rf.delta, mu=0.3)
+    rf = solve_tangential(p, dx, E_STAR, E_PR, q_mean=-0.4 * 0.3 * p.mean(), mu=0.3, periodic=False)
+    rd = solve_tangential(p, dx, E_STAR, E_PR, delta=rf.delta, mu=0.3, periodic=False)
     assert rf.delta < 0 and rf.q_mean < 0
     assert rd.q_mean == pytest.approx(rf.q_mean, rel=1e-6)
     np.testing.assert_allclose(rd.q, rf.q, atol=1e-5 * 0.3 * p.max())
     # odd symmetry of the problem
-    rp = solve_tangential(p, dx, E_STAR, E_PR, delta=-rf.delta, mu=0.3)
+    rp = solve_tangential(p, dx, E_STAR, E_PR, delta=-rf.delta, mu=0.3, periodic=False)
     np.testing.assert_allclose(rp.q, -rd.q, atol=1e-5 * 0.3 * p.max())
 
 
@@ -163,7 +163,7 @@ def test_stick_zone_shrinks_monotonically():
     p, dx, *_ = _hertz(48)
     sticks, means = [], []
     for d in np.linspace(0.2e-7, 4e-7, 6):
-        r = solve_tangential(p, dx, E_STAR, E_PR, delta=d, mu=0.3)
+        r = solve_tangential(p, dx, E_STAR, E_PR, delta=d, mu=0.3, periodic=False)
         sticks.append(r.stick.sum())
         means.append(r.q_mean)
     assert all(s1 <= s0 for s0, s1 in zip(sticks, sticks[1:], strict=False))
@@ -212,20 +212,20 @@ def test_full_sliding_shortcut_agrees_with_solver():
     m, sy = 0.8, 250e6
     alpha = (p > 0).mean()
     tau = tau_adh_full_sliding(alpha, m, sy)
-    r = solve_tangential(p, dx, E_STAR, E_PR, delta=1e-6, m=m, sigma_y=sy)
+    r = solve_tangential(p, dx, E_STAR, E_PR, delta=1e-6, m=m, sigma_y=sy, periodic=False)
     assert r.converged and not r.stick.any()
     assert r.q_mean == pytest.approx(tau, rel=1e-12)
     # force control at the sliding limit returns full sliding
-    r2 = solve_tangential(p, dx, E_STAR, E_PR, q_mean=tau, m=m, sigma_y=sy)
+    r2 = solve_tangential(p, dx, E_STAR, E_PR, q_mean=tau, m=m, sigma_y=sy, periodic=False)
     assert r2.converged and r2.slip.sum() == (p > 0).sum()
     assert r2.q_mean == pytest.approx(tau, rel=1e-12)
     # just below the limit some element still sticks, and the mean traction is met
-    r3 = solve_tangential(p, dx, E_STAR, E_PR, q_mean=0.999 * tau, m=m, sigma_y=sy)
+    r3 = solve_tangential(p, dx, E_STAR, E_PR, q_mean=0.999 * tau, m=m, sigma_y=sy, periodic=False)
     assert r3.converged and r3.stick.any()
     assert r3.q_mean == pytest.approx(0.999 * tau, rel=1e-6)
     assert r3.delta < r2.delta * (1 + 1e-12)
     with pytest.raises(ValueError, match="sliding limit"):
-        solve_tangential(p, dx, E_STAR, E_PR, q_mean=1.01 * tau, m=m, sigma_y=sy)
+        solve_tangential(p, dx, E_STAR, E_PR, q_mean=1.01 * tau, m=m, sigma_y=sy, periodic=False)
 
 
 def test_periodic_force_control_rough():
@@ -244,16 +244,16 @@ def test_periodic_force_control_rough():
 
 def test_trivial_cases():
     p = np.zeros((8, 8))
-    r = solve_tangential(p, 1e-6, E_STAR, E_PR, delta=1e-9, mu=0.3)
+    r = solve_tangential(p, 1e-6, E_STAR, E_PR, delta=1e-9, mu=0.3, periodic=False)
     assert r.converged and not r.q.any() and not r.stick.any()
     p, dx, *_ = _hertz(16)
-    r = solve_tangential(p, dx, E_STAR, E_PR, q_mean=0.0, mu=0.3)
+    r = solve_tangential(p, dx, E_STAR, E_PR, q_mean=0.0, mu=0.3, periodic=False)
     assert r.converged and r.delta == 0 and not r.q.any()
 
 
 def test_not_converged_is_reported():
     p, dx, *_ = _hertz(64)
-    r = solve_tangential(p, dx, E_STAR, E_PR, delta=1e-7, mu=0.3, maxiter=3)
+    r = solve_tangential(p, dx, E_STAR, E_PR, delta=1e-7, mu=0.3, maxiter=3, periodic=False)
     assert not r.converged
     assert "NOT converged" in r.message
 
@@ -295,12 +295,19 @@ def test_bad_input(kwargs, match):
 
 def test_bad_pressure_and_gs_size():
     with pytest.raises(ValueError, match="p must be >= 0"):
-        solve_tangential(-np.ones((4, 4)), 1e-6, E_STAR, E_PR, delta=1e-9, mu=0.3)
+        solve_tangential(-np.ones((4, 4)), 1e-6, E_STAR, E_PR, delta=1e-9, mu=0.3, periodic=False)
     with pytest.raises(ValueError, match="2-D"):
-        solve_tangential(np.ones(4), 1e-6, E_STAR, E_PR, delta=1e-9, mu=0.3)
+        solve_tangential(np.ones(4), 1e-6, E_STAR, E_PR, delta=1e-9, mu=0.3, periodic=False)
     with pytest.raises(ValueError, match="gauss-seidel"):
         solve_tangential(
-            np.ones((100, 100)), 1e-6, E_STAR, E_PR, delta=1e-9, mu=0.3, method="gauss-seidel"
+            np.ones((100, 100)),
+            1e-6,
+            E_STAR,
+            E_PR,
+            delta=1e-9,
+            mu=0.3,
+            method="gauss-seidel",
+            periodic=False,
         )
 
 

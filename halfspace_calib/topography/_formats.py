@@ -1,4 +1,4 @@
-"""Topography file readers and writers behind :func:`halfspace_calib.surfaces.read_surface`.
+"""Topography file readers and writers behind :func:`halfspace_calib.topography.read_surface`.
 
 Plain formats are read with NumPy only; instrument formats (Keyence ``.vk4``/``.vk6``,
 ISO 25178 ``.x3p``, Digital Surf ``.sur``, Zygo ``.datx``, Sensofar ``.plu`` and the

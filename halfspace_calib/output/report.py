@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._output import pyplot, save_png, write_csv
+from ._files import pyplot, save_png, write_csv
 
 __all__ = ["write_outputs"]
 
@@ -27,7 +27,9 @@ _SOLVE_HEADERS = [h for _, h in _SOLVE_COLUMNS]
 
 def _solve_cells(rec):
     """The :data:`_SOLVE_COLUMNS` cells of a loading or reload record (``converged`` as 0/1)."""
-    return [int(rec[k]) if k == "converged" else rec[k] for k, _ in _SOLVE_COLUMNS]
+    return [
+        int(getattr(rec, k)) if k == "converged" else getattr(rec, k) for k, _ in _SOLVE_COLUMNS
+    ]
 
 
 def write_tables(cal, out):
@@ -36,12 +38,12 @@ def write_tables(cal, out):
     write_csv(
         out / "loading.csv",
         ["p_mean_Pa", *_SOLVE_HEADERS, "u0_m"],
-        [[v["p_hist"], *_solve_cells(v["loading"]), v["loading"]["u0"]] for v in lv],
+        [[v.p_hist, *_solve_cells(v.loading), v.loading.u0] for v in lv],
     )
     write_csv(
         out / "reload.csv",
         ["p_hist_Pa", "p_mean_Pa", *_SOLVE_HEADERS],
-        [[v["p_hist"], r["p_mean"], *_solve_cells(r)] for v in lv for r in v["reload"]],
+        [[v.p_hist, r.p_mean, *_solve_cells(r)] for v in lv for r in v.reload],
     )
     rows = _roughness_rows(cal)
     write_csv(out / "roughness.csv", ["p_mean_Pa", "Ra_m", "Rq_m"], rows)
@@ -52,13 +54,20 @@ def _roughness_rows(cal):
     wp = cal.sweeps.surfaces["workpiece"]
     h0 = np.asarray(wp.heights) - np.mean(wp.heights)
     rows = [[0.0, float(np.mean(np.abs(h0))), float(np.sqrt(np.mean(h0 * h0)))]]
-    rows += [[v["p_hist"], v["Ra_after"], v["Rq_after"]] for v in cal.sweeps.levels]
+    rows += [[v.p_hist, v.Ra_after, v.Rq_after] for v in cal.sweeps.levels]
     return rows
 
 
 def write_plots(cal, out):
-    """PNG plots: alpha vs p with Eq. 24, reload curves with Eq. 25, Ra/Rq vs p, pressure map."""
+    """PNG plots: alpha vs p with Eq. 24, reload curves with Eq. 25, Ra/Rq vs p, pressure map.
+
+    Returns
+    -------
+    dict
+        ``{file name: matplotlib Figure}`` of the plots written.
+    """
     plt = pyplot()
+    figs = {}
 
     from frictionlaw import alpha_first, alpha_reload
 
@@ -76,7 +85,7 @@ def write_plots(cal, out):
     )
     ax.grid(alpha=0.3)
     ax.legend()
-    save_png(fig, out / "alpha_first_loading.png")
+    figs["alpha_first_loading.png"] = save_png(fig, out / "alpha_first_loading.png")
 
     fig, ax = plt.subplots(figsize=(6, 4.2))
     ax.plot(pp / MPa, alpha_first(pp, P), "k-", lw=1, label="Eq. 24 (first loading)")
@@ -98,7 +107,7 @@ def write_plots(cal, out):
     )
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
-    save_png(fig, out / "alpha_reload.png")
+    figs["alpha_reload.png"] = save_png(fig, out / "alpha_reload.png")
 
     lv = cal.sweeps.levels
     rows = _roughness_rows(cal)
@@ -113,22 +122,23 @@ def write_plots(cal, out):
     )
     ax.grid(alpha=0.3)
     ax.legend()
-    save_png(fig, out / "roughness.png")
+    figs["roughness.png"] = save_png(fig, out / "roughness.png")
 
-    maps = [v for v in lv if "pressure_map" in v]
+    maps = [v for v in lv if v.pressure_map is not None]
     if maps:
         v = maps[-1]
         wp = cal.sweeps.surfaces["workpiece"]
         fig, ax = plt.subplots(figsize=(5.4, 4.6))
         ext = [0, wp.shape[1] * wp.dy * 1e3, 0, wp.shape[0] * wp.dx * 1e3]
-        im = ax.imshow(v["pressure_map"] / MPa, origin="lower", extent=ext, cmap="viridis")
+        im = ax.imshow(v.pressure_map / MPa, origin="lower", extent=ext, cmap="viridis")
         fig.colorbar(im, ax=ax, label="p [MPa]")
         ax.set(
             xlabel="y [mm]",
             ylabel="x [mm]",
-            title=f"Contact pressure at p_mean = {v['p_hist'] / MPa:.0f} MPa",
+            title=f"Contact pressure at p_mean = {v.p_hist / MPa:.0f} MPa",
         )
-        save_png(fig, out / "pressure_map.png")
+        figs["pressure_map.png"] = save_png(fig, out / "pressure_map.png")
+    return figs
 
 
 def write_outputs(cal, out):

@@ -23,9 +23,10 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import least_squares
 
-import frictionlaw
 from frictionlaw import FrictionParams, alpha_first, alpha_reload, reload_jump
 from frictionlaw.params import C_RANGE, N_RANGE
+
+from ..common.checks import positive
 
 __all__ = [
     "C_BOUNDS",
@@ -37,7 +38,6 @@ __all__ = [
     "ReloadCurve",
     "fit_first_loading",
     "fit_reload",
-    "make_params",
 ]
 
 #: default bounds of C1, C2 (dimensionless): C > 0, far outside any measured value
@@ -200,16 +200,6 @@ def _finite_or_none(v):
     return float(v) if math.isfinite(v) else None
 
 
-def _positive(name, v):
-    try:
-        f = float(v)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a finite number > 0, got {v!r}") from None
-    if not (math.isfinite(f) and f > 0):
-        raise ValueError(f"{name} must be a finite number > 0, got {v!r}")
-    return f
-
-
 def _bounds(name, b, allowed):
     """``(lo, hi)`` with ``0 < lo < hi``, inside ``allowed`` (FrictionParams' validated range)."""
     try:
@@ -264,7 +254,7 @@ def _curve(i, c):
             raise ValueError(
                 f"curves[{i}] must be a ReloadCurve, a dict or a tuple (p_hist, p, alpha)"
             ) from None
-    ph = _positive(f"curves[{i}].p_hist", ph)
+    ph = positive(f"curves[{i}].p_hist", ph)
     p, a = _data(p, a, f"curves[{i}].p", f"curves[{i}].alpha")
     if (p >= ph).any():
         raise ValueError(
@@ -426,7 +416,7 @@ def fit_first_loading(p, alpha, H, *, relative=False, C_bounds=C_BOUNDS, n_bound
         ``[0, 1]`` or bad bounds (the message names the argument).
     """
     p, alpha = _data(p, alpha)
-    H = _positive("H", H)
+    H = positive("H", H)
     cb, nb = _bounds("C_bounds", C_bounds, C_RANGE), _bounds("n_bounds", n_bounds, N_RANGE)
     if p.size < 3:
         raise ValueError(f"p needs at least 3 points to fit C1 and n1, got {p.size}")
@@ -475,8 +465,8 @@ def fit_reload(
     if len(curves) == 0:
         raise ValueError("curves must hold at least one reload curve")
     cs = [_curve(i, c) for i, c in enumerate(curves)]
-    H = _positive("H", H)
-    C1, n1 = _positive("C1", C1), _positive("n1", n1)
+    H = positive("H", H)
+    C1, n1 = positive("C1", C1), positive("n1", n1)
     cb, nb = _bounds("C_bounds", C_bounds, C_RANGE), _bounds("n_bounds", n_bounds, N_RANGE)
     p = np.concatenate([c.p for c in cs])
     ph = np.concatenate([np.full(c.p.size, c.p_hist) for c in cs])
@@ -501,164 +491,4 @@ def fit_reload(
         continuous=cont,
         p_hist=p_hist,
         jump=jump,
-    )
-
-
-# -- parameter file -------------------------------------------------------------------------
-
-
-def _plain(obj, where="provenance"):
-    """Deep copy of ``obj`` with NumPy and path objects as JSON types; ``ValueError`` if not."""
-    from pathlib import PurePath
-
-    if obj is None or isinstance(obj, (bool, str)):
-        return obj
-    if isinstance(obj, (int, np.integer)) and not isinstance(obj, bool):
-        return int(obj)
-    if isinstance(obj, (float, np.floating)):
-        f = float(obj)
-        return f if math.isfinite(f) else None
-    if isinstance(obj, np.bool_):
-        return bool(obj)
-    if isinstance(obj, np.ndarray):
-        return _plain(obj.tolist(), where)
-    if isinstance(obj, PurePath):
-        return str(obj)
-    if isinstance(obj, dict):
-        return {str(k): _plain(v, f"{where}.{k}") for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_plain(v, f"{where}[{i}]") for i, v in enumerate(obj)]
-    if hasattr(obj, "provenance") and hasattr(obj, "heights"):  # a Surface
-        d = dict(obj.provenance)
-        try:
-            d["roughness"] = obj.roughness().as_dict()
-        except (AttributeError, ValueError):
-            pass
-        d["grid_shape"] = list(obj.heights.shape)
-        d["dx"], d["dy"] = float(obj.dx), float(obj.dy)
-        return _plain(d, where)
-    raise ValueError(f"{where}: {type(obj).__name__} cannot be written to the JSON file")
-
-
-def _input_notes(k, p_range):
-    """The ``provenance["inputs"]`` notes: what the file's numbers are and where they came from."""
-    notes = {
-        "m": "input, not fitted: Tresca friction factor of the interface, measured separately "
-        "(e.g. ring compression); the roughness calibration cannot determine it",
-        "sigma_y": "input: yield stress of the softer body (Pa)",
-        "H": "input: hardness of the softer body (Pa), the half-space model's local pressure limit",
-        "k": (
-            "derived: sigma_y / 2 (Tresca, as in the paper); the law uses k, so change sigma_y "
-            "and k together (k / sigma_y must stay in [1/2, 2/3])"
-            if k is None
-            else "input: shear flow stress given explicitly (Pa); the law uses k, sigma_y only "
-            "bounds it (k / sigma_y in [1/2, 2/3])"
-        ),
-        "fitted": "C1, n1 (Eq. 24) and C2, n2 (Eq. 25) from the half-space contact ratios; "
-        "geo_ratio and k_t when those effects ran",
-    }
-    if p_range is not None:
-        notes["calibrated_range"] = (
-            "first-loading mean pressures the fit saw; beyond p_max the law is extrapolated "
-            "(frictionlaw.check_pressure_range counts such nodes)"
-        )
-    return notes
-
-
-def make_params(
-    first,
-    reload,
-    *,
-    m,
-    sigma_y,
-    H=None,
-    k=None,
-    surfaces=None,
-    grid=None,
-    tolerance=None,
-    pressures=None,
-    material=None,
-    extra=None,
-    p_range=None,
-    k_t=None,
-):
-    """Assemble the calibrated :class:`frictionlaw.FrictionParams` with its provenance.
-
-    Parameters
-    ----------
-    first : FirstLoadingFit
-        Result of :func:`fit_first_loading`.
-    reload : ReloadFit
-        Result of :func:`fit_reload` (its ``C1, n1`` must be ``first``'s); its
-        ``continuous`` flag becomes ``continuous_reload``.
-    m : float
-        Tresca friction factor in ``[0, 1]`` (measured, e.g. ring compression).
-    sigma_y : float
-        Yield stress of the softer body (Pa).
-    H : float, optional
-        Hardness (Pa); defaults to the fits' ``H`` and must equal it if given.
-    k : float, optional
-        Shear flow stress (Pa); default ``sigma_y / 2``.
-    surfaces : dict, optional
-        Name -> :class:`~halfspace_calib.surfaces.Surface` (its provenance, grid and
-        roughness are recorded) or a dict.
-    grid, tolerance, pressures, material, extra : optional
-        JSON-able records of the solver grid, solver tolerance, the pressure lists, the
-        material data and anything else; NumPy values are converted.
-    p_range : (float, float), optional
-        Mean contact pressures (Pa) covered by the first-loading data, ``(p_min, p_max)``.
-    k_t : frictionlaw.TangentialStiffness, optional
-        Calibrated tangential stiffness table (from the tangential effect).
-
-    Returns
-    -------
-    FrictionParams
-        With ``provenance = {"software", "surfaces", "grid", "tolerance", "pressures",
-        "material", "fit": {"first_loading", "reload"}, "inputs", ...}``; ``"inputs"`` says
-        in words which parameters are the user's inputs (``m``, ``sigma_y``, ``H``, ``k``)
-        and which the roughness calibration fitted.
-    """
-    if not isinstance(first, FirstLoadingFit):
-        raise ValueError("first must be the FirstLoadingFit returned by fit_first_loading")
-    if not isinstance(reload, ReloadFit):
-        raise ValueError("reload must be the ReloadFit returned by fit_reload")
-    if (reload.C1, reload.n1) != (first.C1, first.n1) or reload.H != first.H:
-        raise ValueError(
-            "reload was fitted with other C1, n1 or H than first: refit it with first's values"
-        )
-    if H is None:
-        H = first.H
-    elif _positive("H", H) != first.H:
-        raise ValueError(f"H = {H!r} differs from the fits' H = {first.H!r}")
-    import scipy
-
-    prov = {
-        "software": {
-            "sbmf-friction": frictionlaw.__version__,
-            "numpy": np.__version__,
-            "scipy": scipy.__version__,
-        },
-        "surfaces": _plain(surfaces or {}, "surfaces"),
-        "grid": _plain(grid, "grid"),
-        "tolerance": _plain(tolerance, "tolerance"),
-        "pressures": _plain(pressures, "pressures"),
-        "material": _plain(material, "material"),
-        "fit": {"first_loading": first.summary(), "reload": reload.summary()},
-        "inputs": _input_notes(k, p_range),
-    }
-    if extra is not None:
-        prov["extra"] = _plain(extra, "extra")
-    return FrictionParams(
-        m=m,
-        sigma_y=sigma_y,
-        H=H,
-        C1=first.C1,
-        n1=first.n1,
-        C2=reload.C2,
-        n2=reload.n2,
-        k=k,
-        continuous_reload=reload.continuous,
-        p_range=p_range,
-        k_t=k_t,
-        provenance=_plain(prov),
     )

@@ -2,7 +2,7 @@
 
 :class:`Scene` holds the surfaces (files or synthetic), materials, pressures, solver settings and
 effects; :func:`load_scene` reads a scene file. Both are re-exported by
-:mod:`halfspace_calib.calibrate`.
+:mod:`halfspace_calib.pipeline.calibration`.
 """
 
 from __future__ import annotations
@@ -13,9 +13,11 @@ import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
+from ..common.checks import tolerance, tresca_factor
+from ..contact.materials import Materials, SolverSettings, sigma_y_from_hardness
+from ..contact.normal import composite_modulus
 from . import effects as _eff
-from ._scene_surfaces import MAX_UNDEFINED, SYNTHETIC_GRID, check_memory
-from .normal import composite_modulus
+from .scene_surfaces import MAX_UNDEFINED, SYNTHETIC_GRID, check_memory
 
 __all__ = [
     "DEFAULT_PRESSURES",
@@ -32,7 +34,7 @@ DEFAULT_RELOAD_FRACTIONS = (0.05, 0.1, 0.25, 0.5, 0.75, 0.9)
 P_FLOOR = 1e3
 
 
-@dataclass
+@dataclass(frozen=True)
 class Scene:
     """Everything a calibration needs; every field has the paper's default (Table 1, Sec. 3.1).
 
@@ -40,7 +42,7 @@ class Scene:
     sheet and tool of Table 1 (``rough_tool`` for the rough tool; ``measured_n``, a multiple of
     ``grid``, generates them on that finer grid and block-averages, so that one seed is the same
     physical surface at every ``grid``). Files are prepared by
-    :func:`~halfspace_calib._scene_surfaces.load_scene_surfaces` (see docs/measured_surfaces.md):
+    :func:`~halfspace_calib.pipeline.scene_surfaces.load_scene_surfaces` (see docs/measured_surfaces.md):
     instrument files bring their own units and sizes (``unit=None``); plain files need ``unit``
     (or ``workpiece_unit`` / ``tool_unit``) and ``size`` (``L`` or ``(Lx, Ly)`` in m); undefined
     points are filled up to the fraction ``max_undefined``; both files are cropped to the largest
@@ -49,11 +51,15 @@ class Scene:
     for files; ``periodic=None`` means periodic for synthetic surfaces and non-periodic (DC-FFT)
     for measured ones; ``resolution_check=None`` runs the check (the normal sweeps again at half
     the grid) for files only.
-    Materials in Pa; ``sigma_y`` defaults to ``H / 2.8`` (Bowden and Tabor). ``m`` is Tresca's
+    Frozen and validated once, on construction: derive a changed scene with
+    :func:`dataclasses.replace` (which validates again). :attr:`materials` and :attr:`solver` give
+    the records the sweeps and studies take.
+    Materials in Pa; ``sigma_y`` defaults to ``H / 2.8`` (Bowden and Tabor,
+    :func:`~halfspace_calib.contact.materials.sigma_y_from_hardness`). ``m`` is Tresca's
     factor: it does not enter the half-space model, only the parameter file (measure it, e.g. by
     ring compression).
 
-    Effects (:mod:`halfspace_calib.effects`): ``effects`` names what is modelled besides the
+    Effects (:mod:`halfspace_calib.pipeline.effects`): ``effects`` names what is modelled besides the
     always-on ``"normal"`` sweeps: ``"tangential"`` (pre-sliding stiffness), ``"inclined"``
     (Eq. 23 and, if the mean ``tau_geo / tau_adh`` exceeds ``geo_threshold``, Eq. 26's
     ``geo_ratio``), ``"sliding"`` (Sec. 3.3). With ``"inclined"`` on synthetic surfaces
@@ -101,26 +107,51 @@ class Scene:
         return self.workpiece is not None or self.tool is not None
 
     def __post_init__(self):
-        self.effects = _eff.check_effects(self.effects)
+        def put(name, value):  # the one place a frozen Scene's fields are set: defaults resolved
+            object.__setattr__(self, name, value)
+
+        put("effects", _eff.check_effects(self.effects))
         synthetic = not self.from_files
         if self.grid is None and synthetic:
-            self.grid = SYNTHETIC_GRID
+            put("grid", SYNTHETIC_GRID)
         if self.periodic is None:
-            self.periodic = synthetic
+            put("periodic", synthetic)
         if self.resolution_check is None:
-            self.resolution_check = not synthetic
+            put("resolution_check", not synthetic)
         if isinstance(self.size, list):
-            self.size = tuple(self.size)
+            put("size", tuple(self.size))
         if "inclined" in self.effects and synthetic and self.measured_n is None:
             # the inclined patches need the measured grid: calibrate on the same random field
-            self.measured_n = 4 * self.grid if isinstance(self.grid, int) else None
-        self.pressures = tuple(float(p) for p in self.pressures)
-        self.reload_fractions = tuple(float(f) for f in self.reload_fractions)
-        if self.sigma_y is None:
-            self.sigma_y = self.H / 2.8
-        self.validate()
+            put("measured_n", 4 * self.grid if isinstance(self.grid, int) else None)
+        put("pressures", tuple(float(p) for p in self.pressures))
+        put("reload_fractions", tuple(float(f) for f in self.reload_fractions))
+        if self.sigma_y is None and isinstance(self.H, (int, float)) and self.H > 0:
+            put("sigma_y", sigma_y_from_hardness(self.H))
+        self._validate()
 
-    def validate(self):
+    @property
+    def materials(self):
+        """The bodies' :class:`~halfspace_calib.contact.materials.Materials` of this scene."""
+        return Materials(
+            E_workpiece=self.E_workpiece,
+            nu_workpiece=self.nu_workpiece,
+            E_tool=self.E_tool,
+            nu_tool=self.nu_tool,
+            H=self.H,
+            sigma_y=self.sigma_y,
+            m=self.m,
+        )
+
+    @property
+    def solver(self):
+        """The normal solver's :class:`~halfspace_calib.contact.materials.SolverSettings`."""
+        return SolverSettings(
+            tol=self.tol,
+            periodic=bool(self.periodic),
+            volume_conservation=bool(self.volume_conservation),
+        )
+
+    def _validate(self):
         """Raise ``ValueError`` naming the first bad field and its allowed range."""
         for name in ("E_workpiece", "E_tool", "H", "sigma_y"):
             v = getattr(self, name)
@@ -130,8 +161,7 @@ class Scene:
             v = getattr(self, name)
             if not (-1.0 < v <= 0.5):
                 raise ValueError(f"{name} must be in (-1, 0.5], got {v!r}")
-        if not (0.0 <= self.m <= 1.0):
-            raise ValueError(f"m must be in [0, 1], got {self.m!r}")
+        tresca_factor(self.m)
         if not (self.grid is None and self.from_files):
             if isinstance(self.grid, bool) or not isinstance(self.grid, int) or self.grid < 8:
                 raise ValueError(f"grid must be an integer >= 8, got {self.grid!r}")
@@ -157,13 +187,11 @@ class Scene:
         self._validate_surfaces()
         if any(not (0 < f < 1) for f in self.reload_fractions):
             raise ValueError("reload_fractions must be in (0, 1)")
-        if not (0 < self.tol < 1):
-            raise ValueError(f"tol must be in (0, 1), got {self.tol!r}")
+        tolerance(self.tol)
         if self.reload_surface not in ("plastic", "volume_conserving"):
             raise ValueError("reload_surface must be 'plastic' or 'volume_conserving'")
         if not isinstance(self.workers, int) or self.workers < 0:
             raise ValueError(f"workers must be an integer >= 0, got {self.workers!r}")
-        self.effects = _eff.check_effects(self.effects)
         g = self.geo_threshold
         if not (isinstance(g, (int, float)) and math.isfinite(g) and g >= 0):
             raise ValueError(f"geo_threshold must be a finite number >= 0 (a ratio), got {g!r}")

@@ -26,9 +26,14 @@ def pyplot():
 
 
 def save_png(fig, path):
-    """Lay out ``fig``, write it to ``path`` at 120 dpi and close it."""
+    """Lay out ``fig``, write it to ``path`` at 120 dpi and close it; return ``fig``.
+
+    A closed figure keeps its artists: the plot functions return their figures so that tests
+    read the plotted data back.
+    """
     import matplotlib.pyplot as plt
 
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
+    return fig

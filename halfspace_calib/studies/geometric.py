@@ -3,14 +3,14 @@
 A workpiece and a tool are given as *measured* height maps, finer than the solver grid: each solver
 element is the block average of its ``s = block^2`` measured points (Sec. 3.1, "sampled down"), and
 the least-squares plane through the same points gives its inclination (Eqs. 19-21,
-:func:`halfspace_calib.inclined.fit_patch_planes`). At each mean pressure the elasto-plastic normal
+:func:`halfspace_calib.studies.inclined.fit_patch_planes`). At each mean pressure the elasto-plastic normal
 contact of the block-averaged surfaces is solved (Sec. 2.1); then
 
 - ``tau_adh = m (sigma_y / 2) alpha_rc``: the adhesive shear under full sliding, every contact
-  element at the Eq. 18 cap (no tangential solve, :func:`halfspace_calib.tangential.tau_adh_full_sliding`);
+  element at the Eq. 18 cap (no tangential solve, :func:`halfspace_calib.contact.tangential.tau_adh_full_sliding`);
 - ``tau_geo``: Eq. 23 over the entering flanks, with the paper's normal rule (elastic element:
   mean of both normals; plastic element, ``p = H``: the tool's normal),
-  :func:`halfspace_calib.inclined.tau_geo_from_surfaces`;
+  :func:`halfspace_calib.studies.inclined.tau_geo_from_surfaces`;
 - their ratio (Fig. 10).
 
 Eq. 26 reads ``tau = m [k alpha + f(p_mean, Ra)]`` with ``k = sigma_y / 2``. Adding the geometric
@@ -18,8 +18,8 @@ shear to the adhesive one, ``m k alpha + tau_geo``, gives ``f = tau_geo / m``; t
 (:class:`frictionlaw.FrictionParams`) evaluates ``f = geo_ratio k alpha(p)``, so
 :func:`fit_geo_ratio` fits ``geo_ratio`` by least squares to ``tau_geo(p) = geo_ratio tau_adh(p)``.
 
-Synthetic "measurements" (:func:`measured_surfaces`): the presets of
-:mod:`halfspace_calib.surfaces` generated on the fine grid and scaled so that the block-averaged
+Synthetic "measurements" (:func:`~halfspace_calib.topography.synthesis.measured_surfaces`): the presets of
+:mod:`halfspace_calib.topography` generated on the fine grid and scaled so that the block-averaged
 solver surface has the Table 1 ``Ra`` (the paper's Table 1 lists the roughness "of the simulated
 surfaces", i.e. after sampling down; ``roughness_on="measured"`` puts it on the fine grid instead).
 """
@@ -28,25 +28,24 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
-from . import surfaces as _surf
-from ._output import pyplot, save_png, write_csv
+from .. import topography as _surf
+from ..common.checks import tolerance, tresca_factor
+from ..contact.materials import records
+from ..contact.normal import solve_normal_pair
+from ..contact.tangential import tau_adh_full_sliding
+from ..topography.synthesis import measured_surfaces
 from .inclined import tau_geo_from_surfaces
-from .normal import composite_modulus, solve_normal_pair
-from .tangential import tau_adh_full_sliding
 
 __all__ = [
     "GEO_PRESSURES",
     "GeometricResult",
     "GeometricStudy",
-    "measured_surfaces",
     "geometric_sweep",
     "geometric_study",
     "fit_geo_ratio",
-    "write_geometric_outputs",
 ]
 
 #: p_mean of Figs. 9-10: 100-600 MPa in steps of 100 MPa
@@ -137,73 +136,11 @@ class GeometricStudy:
         return {"pairs": [r.summary() for r in self.results], "seconds": self.seconds}
 
 
-# ----------------------------------------------------------------------------- surfaces
-def _scale_to_solver_ra(fine, n, ra_target):
-    coarse = _surf.block_average(fine, n)
-    c = ra_target / _surf.ra(coarse)
-    return fine.derive(
-        fine.heights * c,
-        {"op": "scale", "factor": float(c), "reason": "Table 1 Ra on the solver grid"},
-    )
-
-
-def measured_surfaces(
-    n=128,
-    block=4,
-    *,
-    rough_tool=False,
-    seed_workpiece=1,
-    seed_tool=2,
-    size=_surf.PAPER_SIZE,
-    roughness_on="solver",
-):
-    """Synthetic measured DC04-like workpiece and tool on an ``n block`` grid: ``(workpiece, tool)``.
-
-    Parameters
-    ----------
-    n : int
-        Solver grid (elements a side), ``>= 2``.
-    block : int
-        Measured points per element edge (``s = block^2`` points per element), ``>= 2``.
-    rough_tool : bool
-        The rough tool (Table 1 ``Ra`` 0.240 um) instead of the smooth one (0.102 um).
-    seed_workpiece, seed_tool : int
-        Seeds of :func:`~halfspace_calib.surfaces.dc04_edt_like` and
-        :func:`~halfspace_calib.surfaces.tool_like`.
-    size : float
-        Edge length in m (default 2.11 mm).
-    roughness_on : {"solver", "measured"}
-        ``"solver"`` (default): the fine maps are scaled so that their block averages have the
-        Table 1 ``Ra`` (Table 1 lists the simulated surfaces); ``"measured"``: Table 1 ``Ra`` and
-        ``Rq`` on the fine maps, the solver surfaces are smoother.
-
-    Returns
-    -------
-    (Surface, Surface)
-        Fine maps of shape ``(n block, n block)``; the tool's heights positive towards the
-        workpiece (as everywhere in the package).
-    """
-    n = int(n)
-    if n < 2:
-        raise ValueError(f"n must be an integer >= 2, got {n!r}")
-    if not isinstance(block, (int, np.integer)) or block < 2:
-        raise ValueError(f"block must be an integer >= 2 (points per element edge), got {block!r}")
-    if roughness_on not in ("solver", "measured"):
-        raise ValueError(f"roughness_on must be 'solver' or 'measured', got {roughness_on!r}")
-    m = n * int(block)
-    wp = _surf.dc04_edt_like(m, size=size, seed=seed_workpiece)
-    tl = _surf.tool_like(m, rough=rough_tool, size=size, seed=seed_tool)
-    if roughness_on == "solver":
-        wp = _scale_to_solver_ra(wp, n, _surf.TABLE1["workpiece"]["Ra"])
-        tl = _scale_to_solver_ra(tl, n, _surf.TABLE1["rough_tool" if rough_tool else "tool"]["Ra"])
-    return wp, tl
-
-
 # ----------------------------------------------------------------------------- sweep
 def _heights(name, s):
     if isinstance(s, _surf.Surface):
         return np.asarray(s.heights), s.dx, s.dy
-    raise ValueError(f"{name} must be a halfspace_calib.surfaces.Surface (the measured map)")
+    raise ValueError(f"{name} must be a halfspace_calib.topography.Surface (the measured map)")
 
 
 def _check(pressures, H, m, sigma_y, tol):
@@ -215,12 +152,10 @@ def _check(pressures, H, m, sigma_y, tol):
     bad = [p for p in pressures if not (0 < p < H)]
     if bad:
         raise ValueError(f"pressures must be in (0, H) = (0, {H:g}) Pa, got {bad}")
-    if not (np.isfinite(m) and 0 < m <= 1):
-        raise ValueError(f"m must be in (0, 1] (tau_adh = 0 at m = 0: no ratio), got {m!r}")
+    tresca_factor(m, allow_zero=False, why=" (tau_adh = 0 at m = 0: no ratio)")
     if not (np.isfinite(sigma_y) and sigma_y > 0):
         raise ValueError(f"sigma_y must be a finite number > 0 (Pa), got {sigma_y!r}")
-    if not (0 < tol < 1):
-        raise ValueError(f"tol must be in (0, 1), got {tol!r}")
+    tolerance(tol)
     return pressures
 
 
@@ -230,13 +165,8 @@ def geometric_sweep(
     pressures=GEO_PRESSURES,
     *,
     block,
-    E_star=None,
-    H=800e6,
-    m=0.5,
-    sigma_y=None,
-    tol=1e-8,
-    periodic=True,
-    volume_conservation=True,
+    materials=None,
+    solver=None,
     direction=1,
     label="",
 ):
@@ -251,12 +181,11 @@ def geometric_sweep(
         ``p_mean`` values in Pa, each in ``(0, H)``; solved in ascending order with warm starts.
     block : int or (int, int)
         Measured points per element along ``x`` and ``y``.
-    E_star : float, optional
-        Composite modulus (Eq. 2) in Pa; default Table 1 (210 GPa, 0.3 for both bodies).
-    H, m, sigma_y : float
-        Hardness (Pa), Tresca factor in ``(0, 1]``, yield stress (Pa, default ``H / 2.8``).
-    tol, periodic, volume_conservation
-        Normal solver settings (:func:`halfspace_calib.normal.solve_normal`).
+    materials : Materials, optional
+        Both bodies (``E_star`` of Eq. 2), ``H``, ``sigma_y`` and the Tresca factor ``m``, here in
+        ``(0, 1]``; default Table 1 (:class:`~halfspace_calib.contact.materials.Materials`).
+    solver : SolverSettings, optional
+        ``tol``, ``periodic``, ``volume_conservation`` (and ``maxiter``) of the normal solves.
     direction : {1, -1}
         Sliding direction of the tool along ``x`` (entering flanks, Eq. 23).
     label : str
@@ -266,7 +195,8 @@ def geometric_sweep(
     -------
     GeometricResult
     """
-    sigma_y = H / 2.8 if sigma_y is None else sigma_y
+    mat, sol = records(materials, solver)
+    H, m, sigma_y, tol = mat.H, mat.m, mat.sigma_y, sol.tol
     pressures = _check(pressures, H, m, sigma_y, tol)
     zw, dxf, dyf = _heights("workpiece", workpiece)
     zt, dxt, dyt = _heights("tool", tool)
@@ -281,7 +211,7 @@ def geometric_sweep(
     nx, ny = zw.shape[0] // sx, zw.shape[1] // sy
     wc = _surf.block_average(workpiece, (nx, ny))
     tc = _surf.block_average(tool, (nx, ny))
-    E_star = composite_modulus(210e9, 0.3, 210e9, 0.3) if E_star is None else float(E_star)
+    E_star = mat.E_star
     order = np.argsort(pressures)
     k = len(pressures)
     out = {key: np.zeros(k) for key in ("alpha", "tau_adh", "tau_geo", "plastic_fraction")}
@@ -291,17 +221,16 @@ def geometric_sweep(
     p_init = None
     for i in order:
         r = solve_normal_pair(
-            tc.heights,
             wc.heights,
+            tc.heights,
             wc.dx,
             E_star,
             pressures[i],
             H=H,
-            tol=tol,
-            periodic=periodic,
             dy=wc.dy,
             p_init=p_init,
-            volume_conservation=volume_conservation,
+            volume_conservation=sol.volume_conservation,
+            **sol.normal_kwargs(),
         )
         p_init = r.pressure
         out["alpha"][i] = r.alpha
@@ -324,7 +253,7 @@ def geometric_sweep(
         "m": float(m),
         "sigma_y": float(sigma_y),
         "tol": tol,
-        "periodic": bool(periodic),
+        "periodic": bool(sol.periodic),
         "direction": int(direction),
         "workpiece_Ra": _surf.ra(wc),
         "workpiece_Rq": _surf.rq(wc),
@@ -384,13 +313,8 @@ def geometric_study(
     seed_workpiece=1,
     seed_tool=2,
     roughness_on="solver",
-    E_star=None,
-    H=800e6,
-    m=0.5,
-    sigma_y=None,
-    tol=1e-8,
-    periodic=True,
-    volume_conservation=True,
+    materials=None,
+    solver=None,
 ):
     """Figs. 9-10: the DC04-like workpiece against the smooth and the rough tool.
 
@@ -399,8 +323,8 @@ def geometric_study(
     pressures : sequence of float
         ``p_mean`` in Pa (default 100-600 MPa).
     n, block, seed_workpiece, seed_tool, roughness_on
-        See :func:`measured_surfaces` (default 128 elements from a 512 x 512 measurement).
-    E_star, H, m, sigma_y, tol, periodic, volume_conservation
+        See :func:`~halfspace_calib.topography.synthesis.measured_surfaces` (default 128 elements from a 512 x 512 measurement).
+    materials, solver
         See :func:`geometric_sweep`.
 
     Returns
@@ -425,115 +349,9 @@ def geometric_study(
                 tl,
                 pressures,
                 block=block,
-                E_star=E_star,
-                H=H,
-                m=m,
-                sigma_y=sigma_y,
-                tol=tol,
-                periodic=periodic,
-                volume_conservation=volume_conservation,
+                materials=materials,
+                solver=solver,
                 label=label,
             )
         )
     return GeometricStudy(results, time.perf_counter() - t0)
-
-
-# ----------------------------------------------------------------------------- output
-CSV_COLUMNS = [
-    "label",
-    "p_mean_Pa",
-    "alpha",
-    "tau_adh_Pa",
-    "tau_geo_Pa",
-    "ratio",
-    "plastic_fraction",
-    "converged",
-]
-
-
-def write_geometric_outputs(result, out_dir):
-    """Write ``geometric.csv``, ``fig9_tau.png`` and ``fig10_ratio.png`` into ``out_dir``.
-
-    Parameters
-    ----------
-    result : GeometricResult, GeometricStudy or list of GeometricResult
-    out_dir : str or Path
-        Created if missing.
-
-    Returns
-    -------
-    pathlib.Path
-        ``out_dir``.
-    """
-    if isinstance(result, GeometricStudy):
-        results = result.results
-    elif isinstance(result, GeometricResult):
-        results = [result]
-    else:
-        results = list(result)
-    if not all(isinstance(r, GeometricResult) for r in results):
-        raise ValueError("result must be a GeometricResult, a GeometricStudy or a list of them")
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    write_csv(
-        out / "geometric.csv",
-        CSV_COLUMNS,
-        [
-            [
-                r.label,
-                repr(float(r.p_mean[i])),
-                repr(float(r.alpha[i])),
-                repr(float(r.tau_adh[i])),
-                repr(float(r.tau_geo[i])),
-                repr(float(r.ratio[i])),
-                repr(float(r.plastic_fraction[i])),
-                int(r.converged[i]),
-            ]
-            for r in results
-            for i in range(r.p_mean.size)
-        ],
-    )
-    _plots(results, out)
-    return out
-
-
-def _plots(results, out):
-    plt = pyplot()
-
-    marks = ["*", "o", "s", "^", "v", "D"]
-    fig, ax = plt.subplots(figsize=(6, 4.2))
-    for i, r in enumerate(results):
-        mk = marks[i % len(marks)]
-        ax.plot(
-            r.p_mean / 1e6, r.tau_adh / 1e6, "-" + mk, color=f"C{i}", label=f"tau_adh, {r.label}"
-        )
-        ax.plot(
-            r.p_mean / 1e6, r.tau_geo / 1e6, "--" + mk, color=f"C{i}", label=f"tau_geo, {r.label}"
-        )
-    ax.set(
-        xlabel="p_mean [MPa]",
-        ylabel="shear stress [MPa]",
-        title="Fig. 9: adhesive and geometric shear",
-    )
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=7)
-    save_png(fig, out / "fig9_tau.png")
-
-    fig, ax = plt.subplots(figsize=(6, 4.2))
-    for i, r in enumerate(results):
-        ax.plot(
-            r.p_mean / 1e6,
-            r.ratio,
-            "-" + marks[i % len(marks)],
-            color=f"C{i}",
-            label=f"{r.label} (mean {r.ratio_mean:.4f})",
-        )
-    ax.set(
-        xlabel="p_mean [MPa]",
-        ylabel="tau_geo / tau_adh",
-        title="Fig. 10: share of the geometric shear",
-    )
-    ax.set_ylim(bottom=0)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    save_png(fig, out / "fig10_ratio.png")

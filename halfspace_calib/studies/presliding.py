@@ -1,7 +1,7 @@
 """Pre-sliding: the tangential traction of a loaded rough contact against the rigid shift (Sec. 2.2).
 
 After a normal solve the tool is shifted rigidly by ``delta`` in ``+x``; the uncoupled tangential
-solve (Eq. 13 with the Tresca bound of Eq. 18, :func:`halfspace_calib.tangential.solve_tangential`)
+solve (Eq. 13 with the Tresca bound of Eq. 18, :func:`halfspace_calib.contact.tangential.solve_tangential`)
 gives the mean traction ``q_mean(delta)`` over the apparent area: linear while every contact element
 sticks, then softening as slip spreads, and equal to the full-sliding shortcut
 ``tau_adh = m (sigma_y / 2) alpha_rc`` from the shift ``delta_full = max(C g)`` on (every element at
@@ -30,7 +30,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import tangential as _tang
+from ..common.checks import tresca_factor
+from ..contact import tangential as _tang
+from ..contact.materials import records
 
 __all__ = ["PRESLIDING_FRACTIONS", "PreslidingCurve", "presliding_curve", "stiffness_power_law"]
 
@@ -115,16 +117,11 @@ class PreslidingCurve:
 def presliding_curve(
     p,
     dx,
-    E_star,
-    E_prime,
     *,
-    m,
-    sigma_y,
+    materials=None,
+    solver=None,
     dy=None,
-    periodic=True,
     fractions=PRESLIDING_FRACTIONS,
-    tol=1e-8,
-    maxiter=10000,
 ):
     """Tangential traction against the rigid shift up to full sliding, and the stiffness.
 
@@ -134,31 +131,31 @@ def presliding_curve(
         Contact pressure of the normal solution (Pa); needs at least one contact element.
     dx, dy : float
         Element size (m); ``dy`` defaults to ``dx``.
-    E_star, E_prime : float
-        Composite moduli of Eqs. 2 and 17 (Pa).
-    m, sigma_y : float
-        Tresca factor in ``(0, 1]`` and yield stress (Pa): the bound ``m sigma_y / 2`` (Eq. 18).
-    periodic : bool
-        Periodic half-space (the calibration's default) or an isolated patch.
+    materials : Materials, optional
+        The composite moduli ``E_star``, ``E_prime`` (Eqs. 2, 17), the Tresca factor ``m`` (here
+        in ``(0, 1]``) and ``sigma_y``: the bound ``m sigma_y / 2`` (Eq. 18); default Table 1.
+    solver : SolverSettings, optional
+        ``periodic`` (periodic half-space, the calibration's default, or an isolated patch),
+        ``tol`` and ``maxiter`` (``None``: 10000) of each tangential solve.
     fractions : sequence of float
         Shifts as fractions of ``delta_full`` (positive, increasing); values ``>= 1`` are full
         sliding and must give ``q_limit``.
-    tol, maxiter
-        Tolerance and iteration limit of each tangential solve.
 
     Returns
     -------
     PreslidingCurve
     """
+    mat, sol = records(materials, solver)
+    E_star, E_prime, m, sigma_y = mat.E_star, mat.E_prime, mat.m, mat.sigma_y
+    maxiter = 10000 if sol.maxiter is None else sol.maxiter
     p = np.asarray(p, dtype=float)
-    if not (np.isfinite(m) and 0 < m <= 1):
-        raise ValueError(f"m must be in (0, 1] (m = 0: no tangential traction), got {m!r}")
+    tresca_factor(m, allow_zero=False, why=" (m = 0: no tangential traction)")
     fr = np.asarray(fractions, dtype=float)
     if fr.ndim != 1 or fr.size < 2 or not np.all(fr > 0) or not np.all(np.diff(fr) > 0):
         raise ValueError(f"fractions must be >= 2 increasing positive values, got {fractions!r}")
     if p.ndim != 2 or not np.all(np.isfinite(p)) or not np.any(p > 0):
         raise ValueError("p must be a finite 2-D pressure map with at least one contact element")
-    kw = dict(m=m, sigma_y=sigma_y, dy=dy, periodic=periodic, tol=tol, maxiter=maxiter)
+    kw = dict(m=m, sigma_y=sigma_y, dy=dy, periodic=sol.periodic, tol=sol.tol, maxiter=maxiter)
     contact = p > 0
     n_contact = int(contact.sum())
     q_limit = float(np.mean(_tang.tangential_bound(p, m=m, sigma_y=sigma_y)))

@@ -31,6 +31,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..common.checks import positive
+
 __all__ = [
     "HertzSolution",
     "fourier_mode_displacement",
@@ -40,12 +42,6 @@ __all__ = [
     "westergaard_full_contact_pressure",
     "westergaard_pressure",
 ]
-
-
-def _pos(name, v):
-    if not (np.isfinite(v) and v > 0):
-        raise ValueError(f"{name} must be a finite number > 0, got {v!r}")
-    return float(v)
 
 
 @dataclass(frozen=True)
@@ -69,7 +65,7 @@ class HertzSolution:
 
 def hertz(F: float, R: float, E_star: float) -> HertzSolution:
     """Hertz sphere-on-flat solution for a force ``F`` (N), radius ``R`` (m), modulus ``E_star`` (Pa)."""
-    F, R, E_star = _pos("F", F), _pos("R", R), _pos("E_star", E_star)
+    F, R, E_star = positive("F", F), positive("R", R), positive("E_star", E_star)
     a = (3.0 * F * R / (4.0 * E_star)) ** (1.0 / 3.0)
     return HertzSolution(a=a, p0=3.0 * F / (2.0 * np.pi * a**2), delta=a**2 / R)
 
@@ -83,13 +79,13 @@ def hertz_pressure(r, F: float, R: float, E_star: float) -> np.ndarray:
 
 def westergaard_full_contact_pressure(g: float, lam: float, E_star: float) -> float:
     """Mean pressure ``p_star = pi E* g / lam`` beyond which the wavy surface is in full contact."""
-    return np.pi * _pos("E_star", E_star) * _pos("g", g) / _pos("lam", lam)
+    return np.pi * positive("E_star", E_star) * positive("g", g) / positive("lam", lam)
 
 
 def westergaard_contact_halfwidth(p_mean: float, g: float, lam: float, E_star: float) -> float:
     """Contact half-width ``a``: ``sin^2(pi a / lam) = p_mean / p_star`` (``lam/2`` in full contact)."""
     p_star = westergaard_full_contact_pressure(g, lam, E_star)
-    ratio = min(_pos("p_mean", p_mean) / p_star, 1.0)
+    ratio = min(positive("p_mean", p_mean) / p_star, 1.0)
     return lam / np.pi * np.arcsin(np.sqrt(ratio))
 
 
@@ -116,4 +112,4 @@ def westergaard_pressure(x, p_mean: float, g: float, lam: float, E_star: float) 
 
 def fourier_mode_displacement(p_amp: float, q: float, E_star: float) -> float:
     """Displacement amplitude ``2 p / (E* q)`` of the pressure mode ``p cos(q . x)`` (Eq. 1)."""
-    return 2.0 * float(p_amp) / (_pos("E_star", E_star) * _pos("q", q))
+    return 2.0 * float(p_amp) / (positive("E_star", E_star) * positive("q", q))

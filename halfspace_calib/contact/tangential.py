@@ -36,6 +36,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import optimize
 
+from ..common.checks import tolerance
 from .cerruti import _check_moduli, _check_sizes, cerruti_coefficients
 from .influence import InfluenceOperator
 
@@ -210,7 +211,7 @@ def solve_tangential(
     sigma_y=None,
     mu=None,
     dy=None,
-    periodic=False,
+    periodic=True,
     method="mprgp",
     q0=None,
     tol=1e-8,
@@ -238,6 +239,8 @@ def solve_tangential(
     periodic : bool
         Periodic half-space (spectral kernel, ``delta`` relative to the mean displacement) or
         isolated finite contact (zero padding, exact discrete sum).
+        Default True, as in :func:`~halfspace_calib.contact.normal.solve_normal`: a tangential
+        solve on a normal solution uses the same boundary conditions.
     method : {"mprgp", "gauss-seidel"}
         Fast FFT-based MPRGP, or the paper's projected Gauss-Seidel (dense, small grids only).
     q0 : array_like, optional
@@ -264,8 +267,7 @@ def solve_tangential(
         )
     if method not in ("mprgp", "gauss-seidel"):
         raise ValueError(f"method must be 'mprgp' or 'gauss-seidel', got {method!r}")
-    if not (np.isfinite(tol) and 0 < tol < 1):
-        raise ValueError(f"tol must lie in (0, 1), got {tol!r}")
+    tolerance(tol)
     if int(maxiter) < 1:
         raise ValueError(f"maxiter must be >= 1, got {maxiter!r}")
     g_full = tangential_bound(p, m=m, sigma_y=sigma_y, mu=mu)

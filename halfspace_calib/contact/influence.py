@@ -29,19 +29,14 @@ from collections.abc import Callable
 import numpy as np
 import scipy.fft as sfft
 
+from ..common.checks import positive
+
 __all__ = [
     "InfluenceOperator",
     "love_coefficients",
     "normal_operator",
     "periodic_spectrum_normal",
 ]
-
-
-def _check_positive(name: str, value: float) -> float:
-    value = float(value)
-    if not np.isfinite(value) or value <= 0.0:
-        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
-    return value
 
 
 def _check_shape(shape) -> tuple[int, int]:
@@ -93,9 +88,9 @@ def love_coefficients(x, y, a: float, b: float, E_star: float) -> np.ndarray:
     ``F(X, Y) = X asinh(Y/|X|) + Y asinh(X/|Y|)``, which is Love's (1929) logarithmic form
     rewritten without cancellation (the ``X ln|X|`` terms of the log form cancel pairwise).
     """
-    a = _check_positive("a", a)
-    b = _check_positive("b", b)
-    E_star = _check_positive("E_star", E_star)
+    a = positive("a", a)
+    b = positive("b", b)
+    E_star = positive("E_star", E_star)
     x = np.asarray(x, dtype=float)
     y = np.asarray(y, dtype=float)
     F = _love_primitive
@@ -199,8 +194,8 @@ class InfluenceOperator:
             Threads for ``scipy.fft`` (default: all CPUs).
         """
         nx, ny = _check_shape(shape)
-        dx = _check_positive("dx", dx)
-        dy = dx if dy is None else _check_positive("dy", dy)
+        dx = positive("dx", dx)
+        dy = dx if dy is None else positive("dy", dy)
         if periodic:
             mx, my = nx, ny
         else:
@@ -236,8 +231,8 @@ class InfluenceOperator:
         ``Lx = Nx dx``, ``Ly = Ny dy``.
         """
         nx, ny = _check_shape(shape)
-        dx = _check_positive("dx", dx)
-        dy = dx if dy is None else _check_positive("dy", dy)
+        dx = positive("dx", dx)
+        dy = dx if dy is None else positive("dy", dy)
         qx = 2.0 * np.pi * sfft.fftfreq(nx, d=dx)[:, None]
         qy = 2.0 * np.pi * sfft.rfftfreq(ny, d=dy)[None, :]
         spec = np.broadcast_to(np.asarray(spectrum_fn(qx, qy), dtype=float), (nx, ny // 2 + 1))
@@ -400,9 +395,9 @@ def normal_operator(
     workers : int, optional
         Threads for ``scipy.fft``.
     """
-    E_star = _check_positive("E_star", E_star)
-    dx = _check_positive("dx", dx)
-    dy = dx if dy is None else _check_positive("dy", dy)
+    E_star = positive("E_star", E_star)
+    dx = positive("dx", dx)
+    dy = dx if dy is None else positive("dy", dy)
     if kernel not in ("spectral", "love"):
         raise ValueError(f"kernel must be 'spectral' or 'love', got {kernel!r}")
     if periodic and kernel == "spectral":

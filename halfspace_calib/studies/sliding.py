@@ -3,7 +3,7 @@
 The tool window (``Nt x Ny`` elements, the stamp of Sec. 3.1) is moved in ``+x`` over a longer
 workpiece (``Nw x Ny``, ``Nw > Nt``) by one element ``2a`` per position. At position ``i`` the
 window covers the workpiece rows ``i .. i + Nt - 1``; the normal contact at ``p_mean`` is solved
-there (Sec. 2.1, :func:`halfspace_calib.normal.solve_normal_pair`) and the window's plastic
+there (Sec. 2.1, :func:`halfspace_calib.contact.normal.solve_normal_pair`) and the window's plastic
 deformation (and, with volume conservation, the material lifted into its valleys) is written back
 into the long workpiece before the next position. The leading row ``i + Nt - 1`` is the only row
 that no earlier position has loaded.
@@ -46,19 +46,17 @@ the two are compared in ``benchmarks/bench_sliding.py`` (``docs/sliding.md``).
 
 from __future__ import annotations
 
-import math
 import time
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
-from . import surfaces as _surf
-from ._output import pyplot, save_png, write_csv
-from .influence import normal_operator
-from .jobs import run_jobs
-from .normal import composite_modulus, solve_normal_pair
-from .tangential import tau_adh_full_sliding
+from .. import topography as _surf
+from ..common.checks import positive, tolerance, tresca_factor
+from ..contact.influence import normal_operator
+from ..contact.materials import records, sigma_y_from_hardness
+from ..contact.normal import solve_normal_pair
+from ..contact.tangential import tau_adh_full_sliding
 
 __all__ = [
     "SLIDING_PRESSURES",
@@ -66,14 +64,11 @@ __all__ = [
     "SLIDING_SHAPE",
     "SLIDING_SIZE",
     "SlidingResult",
-    "SlidingStudy",
     "adhesive_work",
     "deformation_work",
     "sliding_surfaces",
-    "sliding_study",
     "sliding_sweep",
     "sliding_workpiece",
-    "write_sliding_outputs",
 ]
 
 #: p_mean of the sliding study (Sec. 3.3): 100-600 MPa in steps of 100 MPa
@@ -108,7 +103,7 @@ def deformation_work(H, displaced_volume):
 def adhesive_work(m, sigma_y, alpha, A0, step):
     """Adhesive work of one sliding position, Sec. 3.3: ``W_adh = tau_adh * A0 * 2a``.
 
-    ``tau_adh`` is :func:`~halfspace_calib.tangential.tau_adh_full_sliding`, the Tresca shear in
+    ``tau_adh`` is :func:`~halfspace_calib.contact.tangential.tau_adh_full_sliding`, the Tresca shear in
     the real contact area (Eq. 18 at the cap on every contact element, i.e. full sliding).
 
     Parameters
@@ -143,9 +138,9 @@ def sliding_workpiece(
 ):
     """Synthetic stand-in for the longer DC04 EDT sheet of Sec. 3.3 (Ra 0.989 um, Rq 1.201 um).
 
-    The spectrum of :func:`halfspace_calib.surfaces.dc04_edt_like` (self-affine, Hurst 0.8,
+    The spectrum of :func:`halfspace_calib.topography.dc04_edt_like` (self-affine, Hurst 0.8,
     100 um roll-off) on the ``6.33 mm x 2.11 mm`` strip, with Ra and Rq both matched
-    (:func:`halfspace_calib.surfaces.self_affine`). On grids too coarse for the roll-off
+    (:func:`halfspace_calib.topography.self_affine`). On grids too coarse for the roll-off
     (Nyquist wavelength ``>= 100 um``) the roll-off moves just above the Nyquist wavelength:
     band-limited white noise, as the presets do.
     """
@@ -168,7 +163,7 @@ def sliding_surfaces(
 ):
     """Default workpiece strip and tool window of Sec. 3.3: ``(workpiece, tool)`` Surfaces.
 
-    The tool is :func:`halfspace_calib.surfaces.tool_like` on a square of the strip's width
+    The tool is :func:`halfspace_calib.topography.tool_like` on a square of the strip's width
     (``tool_n`` elements a side, default the strip's ``Ny``), with the strip's element size.
     """
     wp = sliding_workpiece(shape, size, seed=seed_workpiece)
@@ -299,16 +294,6 @@ def _as_array(name, s):
     return h
 
 
-def _positive(name, v):
-    if (
-        isinstance(v, bool)
-        or not isinstance(v, (int, float, np.floating, np.integer))
-        or not (math.isfinite(v) and v > 0)
-    ):
-        raise ValueError(f"{name} must be a finite number > 0, got {v!r}")
-    return float(v)
-
-
 def _check_sweep(
     workpiece, tool, dx, E_star, p_mean, H, m, sigma_y, positions, tol, dy, warm_start="tool"
 ):
@@ -324,20 +309,18 @@ def _check_sweep(
             f"workpiece must be at least as long as the tool (axis 0), got "
             f"workpiece {wp.shape} and tool {tl.shape}"
         )
-    dx = _positive("dx", dx)
-    dy = dx if dy is None else _positive("dy", dy)
-    E_star = _positive("E_star", E_star)
-    p_mean = _positive("p_mean", p_mean)
-    H = _positive("H", H)
+    dx = positive("dx", dx)
+    dy = dx if dy is None else positive("dy", dy)
+    E_star = positive("E_star", E_star)
+    p_mean = positive("p_mean", p_mean)
+    H = positive("H", H)
     if not p_mean < H:
         raise ValueError(f"p_mean must be in (0, H) = (0, {H:g}) Pa, got {p_mean!r}")
-    if isinstance(m, bool) or not (isinstance(m, (int, float)) and 0 < m <= 1):
-        raise ValueError(f"m must be in (0, 1] (W_adh = 0 at m = 0), got {m!r}")
-    sigma_y = H / 2.8 if sigma_y is None else _positive("sigma_y", sigma_y)
+    m = tresca_factor(m, allow_zero=False, why=" (W_adh = 0 at m = 0)")
+    sigma_y = sigma_y_from_hardness(H) if sigma_y is None else positive("sigma_y", sigma_y)
     if warm_start not in WARM_STARTS:
         raise ValueError(f"warm_start must be one of {WARM_STARTS}, got {warm_start!r}")
-    if not (isinstance(tol, (int, float)) and 0 < tol < 1):
-        raise ValueError(f"tol must be in (0, 1), got {tol!r}")
+    tolerance(tol)
     n_max = wp.shape[0] - tl.shape[0] + 1
     if positions is None:
         positions = n_max
@@ -379,19 +362,13 @@ def sliding_sweep(
     workpiece,
     tool,
     dx,
-    E_star,
     p_mean,
     *,
-    H,
-    m,
-    sigma_y=None,
+    materials=None,
+    solver=None,
     positions=None,
-    tol=1e-8,
-    volume_conservation=True,
-    periodic=True,
     warm_start="tool",
     dy=None,
-    maxiter=5000,
     progress=False,
 ):
     """Slide the tool window over the workpiece, one element per position (Sec. 3.3).
@@ -405,31 +382,23 @@ def sliding_sweep(
         Heights of the elastic tool window in m, ``Nt <= Nw``.
     dx : float
         Element size ``2a`` in m (the step per position); ``dy`` (``2b``) defaults to ``dx``.
-    E_star : float
-        Composite modulus (Eq. 2) in Pa.
     p_mean : float
         Mean pressure over the window in Pa, in ``(0, H)``.
-    H : float
-        Hardness of the workpiece in Pa (Eq. 8).
-    m : float
-        Tresca friction factor in ``(0, 1]``.
-    sigma_y : float, optional
-        Yield stress in Pa; default ``H / 2.8`` (Bowden and Tabor).
+    materials : Materials, optional
+        ``E_star`` (Eq. 2) of the two bodies, the workpiece's hardness ``H`` (Eq. 8) and yield
+        stress ``sigma_y``, the Tresca factor ``m`` (here in ``(0, 1]``); default Table 1
+        (:class:`~halfspace_calib.contact.materials.Materials`).
+    solver : SolverSettings, optional
+        ``tol``; ``volume_conservation`` (spread each position's displaced volume over the
+        window's out-of-contact elements); ``periodic``: the window operator, periodic (default,
+        a patch of a larger contact) or non-periodic (an isolated stamp), see the module
+        docstring; ``maxiter`` per position (``None``: 5000).
     positions : int, optional
         Number of positions, ``1 .. Nw - Nt + 1`` (default: all, 257 for 384 over 128).
-    tol : float
-        Solver tolerance (:func:`halfspace_calib.normal.solve_normal`).
-    volume_conservation : bool
-        Spread each position's displaced volume over the window's out-of-contact elements.
-    periodic : bool
-        Window operator: periodic (default, a patch of a larger contact) or non-periodic (an
-        isolated stamp); see the module docstring.
     warm_start : {"tool", "workpiece", "none"}
         Initial pressure of each position after the first: the previous field in the tool frame
         (default; fewest iterations, measured), shifted one element with the workpiece, or
         uniform (cold). The converged answer does not depend on it (the problem is convex).
-    maxiter : int
-        Solver iteration limit per position.
     progress : bool
         Show a progress bar.
 
@@ -439,8 +408,22 @@ def sliding_sweep(
         A position that does not converge is kept (its best iterate is written back and the sweep
         goes on) and reported in ``converged`` / ``message``.
     """
+    mat, sol = records(materials, solver)
+    tol, periodic, volume_conservation = sol.tol, sol.periodic, sol.volume_conservation
+    maxiter = 5000 if sol.maxiter is None else sol.maxiter
     wp, tl, dx, dy, E_star, p_mean, H, m, sigma_y, n_pos = _check_sweep(
-        workpiece, tool, dx, E_star, p_mean, H, m, sigma_y, positions, tol, dy, warm_start
+        workpiece,
+        tool,
+        dx,
+        mat.E_star,
+        p_mean,
+        mat.H,
+        mat.m,
+        mat.sigma_y,
+        positions,
+        tol,
+        dy,
+        warm_start,
     )
     t0 = time.perf_counter()
     nt = tl.shape[0]
@@ -459,8 +442,8 @@ def sliding_sweep(
         rec["sep"][i] = float((tl + win).max())  # h_max of the composite heights
         p_init = _warm_start(p_prev, p_mean, warm_start)
         r = solve_normal_pair(
-            tl,
             win,
+            tl,
             dx,
             E_star,
             p_mean,
@@ -526,259 +509,3 @@ def _bar(n, progress, desc):
     from tqdm.auto import tqdm
 
     return tqdm(total=n, desc=desc, leave=False)
-
-
-# ----------------------------------------------------------------------------- study
-@dataclass
-class SlidingStudy:
-    """One :class:`SlidingResult` per pressure (``None`` where the job failed, see ``errors``)."""
-
-    pressures: tuple
-    results: list
-    errors: dict
-    seconds: float
-    settings: dict
-
-    @property
-    def ok(self):
-        """The successful sweeps."""
-        return [r for r in self.results if r is not None]
-
-    def summary(self):
-        """Steady-sliding summary per pressure (positions ``>= 1``), plus the overall maximum."""
-        rows = [r.steady for r in self.ok]
-        return {
-            "rows": rows,
-            "ratio_max": max((r["ratio_max"] for r in rows), default=float("nan")),
-            "failed_pressures": sorted(self.errors),
-            "unconverged": {r.p_mean: r.failed_positions for r in self.ok if not r.all_converged},
-            "seconds": self.seconds,
-        }
-
-
-def _sweep_job(job):
-    return sliding_sweep(
-        job["workpiece"], job["tool"], job["dx"], job["E_star"], job["p_mean"], **job["kw"]
-    )
-
-
-def sliding_study(
-    pressures=SLIDING_PRESSURES,
-    *,
-    workpiece=None,
-    tool=None,
-    dx=None,
-    E_star=None,
-    H=800e6,
-    m=0.5,
-    sigma_y=None,
-    positions=None,
-    tol=1e-8,
-    volume_conservation=True,
-    periodic=True,
-    warm_start="tool",
-    seed_workpiece=1,
-    seed_tool=2,
-    rough_tool=False,
-    workers=1,
-    scheduler=None,
-    progress=True,
-):
-    """The sliding study of Sec. 3.3: one :func:`sliding_sweep` per pressure, as independent jobs.
-
-    Parameters
-    ----------
-    pressures : sequence of float
-        ``p_mean`` values in Pa (default 100-600 MPa), each in ``(0, H)``.
-    workpiece, tool : array_like or Surface, optional
-        Default: :func:`sliding_surfaces` (384 x 128 strip of 6.33 mm x 2.11 mm, Ra 0.989 um /
-        Rq 1.201 um; 128 x 128 tool of Table 1). ``dx`` defaults to the workpiece Surface's
-        element size.
-    E_star : float, optional
-        Composite modulus in Pa; default Eq. 2 with Table 1 (210 GPa, 0.3 for both).
-    H, m, sigma_y, positions, tol, volume_conservation, periodic, warm_start
-        As in :func:`sliding_sweep`.
-    seed_workpiece, seed_tool, rough_tool
-        Settings of the default surfaces.
-    workers, scheduler, progress
-        Passed to :func:`halfspace_calib.jobs.run_jobs` (one job per pressure).
-
-    Returns
-    -------
-    SlidingStudy
-    """
-    pressures = tuple(float(p) for p in pressures)
-    if not pressures:
-        raise ValueError("pressures must hold at least one p_mean (Pa)")
-    H = _positive("H", H)
-    bad = [p for p in pressures if not (0 < p < H)]
-    if bad:
-        raise ValueError(f"pressures must be in (0, H) = (0, {H:g}) Pa, got {bad}")
-    if workpiece is None or tool is None:
-        dwp, dtl = sliding_surfaces(
-            seed_workpiece=seed_workpiece, seed_tool=seed_tool, rough_tool=rough_tool
-        )
-        workpiece = dwp if workpiece is None else workpiece
-        tool = dtl if tool is None else tool
-    if dx is None:
-        if not isinstance(workpiece, _surf.Surface):
-            raise ValueError("dx (m) is required when the workpiece is a plain array")
-        dx = workpiece.dx
-    dy = workpiece.dy if isinstance(workpiece, _surf.Surface) else None
-    for s, name in ((workpiece, "workpiece"), (tool, "tool")):
-        if isinstance(s, _surf.Surface) and not (
-            np.isclose(s.dx, dx, rtol=1e-6) and np.isclose(s.dy, dy or dx, rtol=1e-6)
-        ):
-            raise ValueError(f"{name} element size {s.dx:g} x {s.dy:g} m differs from dx={dx:g} m")
-    if E_star is None:
-        E_star = composite_modulus(210e9, 0.3, 210e9, 0.3)
-    kw = dict(
-        H=H,
-        m=m,
-        sigma_y=sigma_y,
-        positions=positions,
-        tol=tol,
-        volume_conservation=volume_conservation,
-        periodic=periodic,
-        warm_start=warm_start,
-        dy=dy,
-    )
-    wp_h, tl_h = _as_array("workpiece", workpiece), _as_array("tool", tool)
-    # validate everything once, before any job runs
-    _check_sweep(
-        wp_h, tl_h, dx, E_star, pressures[0], H, m, sigma_y, positions, tol, dy, warm_start
-    )
-    jobs = [
-        dict(workpiece=wp_h, tool=tl_h, dx=dx, E_star=E_star, p_mean=p, kw=kw) for p in pressures
-    ]
-    t0 = time.perf_counter()
-    out = run_jobs(
-        _sweep_job,
-        jobs,
-        workers=workers,
-        scheduler=scheduler,
-        progress=progress,
-        desc="sliding study",
-    )
-    results = [j.value if j.ok else None for j in out]
-    errors = {pressures[j.index]: j.error for j in out if not j.ok}
-    settings = dict(
-        kw, E_star=E_star, dx=dx, workpiece_shape=list(wp_h.shape), tool_shape=list(tl_h.shape)
-    )
-    settings["sigma_y"] = H / 2.8 if sigma_y is None else sigma_y
-    return SlidingStudy(pressures, results, errors, time.perf_counter() - t0, settings)
-
-
-# ----------------------------------------------------------------------------- output
-CSV_COLUMNS = [
-    "position",
-    "x",
-    "p_mean",
-    "u0",
-    "alpha",
-    "W_def",
-    "W_adh",
-    "ratio",
-    "separation",
-    "displaced_volume",
-    "converged",
-    "nit",
-]
-
-
-def _results_of(result):
-    if isinstance(result, SlidingResult):
-        return [result]
-    if isinstance(result, SlidingStudy):
-        return result.ok
-    raise ValueError(f"result must be a SlidingResult or SlidingStudy, got {type(result).__name__}")
-
-
-def write_sliding_outputs(result, out_dir):
-    """Write ``sliding.csv`` and the plots of Figs. 11-15 into ``out_dir``.
-
-    Parameters
-    ----------
-    result : SlidingResult or SlidingStudy
-    out_dir : str or Path
-        Created if missing.
-
-    Returns
-    -------
-    pathlib.Path
-        ``out_dir``. Files: ``sliding.csv`` (columns ``position, x, p_mean, u0, alpha, W_def,
-        W_adh, ratio, separation, displaced_volume, converged, nit``; SI units), ``sliding_summary.csv`` (steady sliding per
-        pressure), ``fig11_u0.png``, ``fig12_alpha.png``, ``fig13_W_adh.png``,
-        ``fig14_W_def.png``, ``fig15_ratio.png``.
-    """
-    results = _results_of(result)
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    write_csv(
-        out / "sliding.csv",
-        CSV_COLUMNS,
-        [
-            [
-                int(r.position[i]),
-                repr(float(r.x[i])),
-                repr(r.p_mean),
-                repr(float(r.u0[i])),
-                repr(float(r.alpha[i])),
-                repr(float(r.W_def[i])),
-                repr(float(r.W_adh[i])),
-                repr(float(r.ratio[i])),
-                repr(float(r.separation[i])),
-                repr(float(r.displaced_volume[i])),
-                int(r.converged[i]),
-                int(r.nit[i]),
-            ]
-            for r in results
-            for i in range(r.position.size)
-        ],
-    )
-    keys = [
-        "p_mean",
-        "positions",
-        "ratio_mean",
-        "ratio_max",
-        "W_def_mean",
-        "W_adh_mean",
-        "alpha_mean",
-        "first_ratio",
-        "converged",
-        "seconds",
-    ]
-    write_csv(out / "sliding_summary.csv", keys, [[r.steady[k] for k in keys] for r in results])
-    if results:
-        _plots(results, out)
-    return out
-
-
-def _plots(results, out):
-    plt = pyplot()
-
-    figs = [
-        ("fig11_u0.png", "u0", 1e6, "global approach u0 (um)", "Fig. 11", False),
-        ("fig12_alpha.png", "alpha", 1.0, "A_real / A0", "Fig. 12", False),
-        ("fig13_W_adh.png", "W_adh", 1e3, "W_adh per position (mJ)", "Fig. 13", False),
-        ("fig14_W_def.png", "W_def", 1e3, "W_def per position (mJ)", "Fig. 14", True),
-        ("fig15_ratio.png", "ratio", 1.0, "W_def / W_adh", "Fig. 15", True),
-    ]
-    for name, attr, scale, ylabel, title, log in figs:
-        fig, ax = plt.subplots(figsize=(6, 4))
-        for r in results:
-            y = getattr(r, attr) * scale
-            x = r.x * 1e3
-            if log:  # position 0 (first indentation) dwarfs the sliding values: leave it out
-                x, y = x[1:], y[1:]
-                y = np.where(y > 0, y, np.nan)
-            ax.plot(x, y, lw=1, label=f"{r.p_mean / 1e6:g} MPa")
-        if log:
-            ax.set_yscale("log")
-        if attr == "ratio":
-            ax.axhline(0.008, color="k", ls="--", lw=0.8, label="paper: 0.008")
-        ax.set_xlabel("sliding distance x (mm)")
-        ax.set_ylabel(ylabel)
-        ax.set_title(f"{title} (sliding, Sec. 3.3)")
-        ax.legend(fontsize=7)
-        save_png(fig, out / name)

@@ -3,11 +3,11 @@
 :func:`load_scene_surfaces` is what the sweeps and every effect use. For measured files it
 applies the policy of ``docs/measured_surfaces.md``:
 
-1. read the file (:func:`halfspace_calib.surfaces.read_raw`): instrument files bring their own
+1. read the file (:func:`halfspace_calib.topography.read_raw`): instrument files bring their own
    height unit and lateral size; plain files need ``unit`` and ``size`` (or a text header that
    gives them);
 2. undefined points: counted; filled with the harmonic interpolant
-   (:func:`~halfspace_calib.surfaces.fill_harmonic`) when their fraction is at most
+   (:func:`~halfspace_calib.topography.fill_harmonic`) when their fraction is at most
    ``max_undefined``, refused above;
 3. crop: both files to the largest common square (or ``crop_size``), centred on each scan;
 4. resample: the square patch is area-averaged onto square elements (exact integration of the
@@ -28,9 +28,9 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from . import surfaces as _surf
-from .geometric import measured_surfaces
-from .normal import estimate_memory
+from .. import topography as _surf
+from ..contact.normal import estimate_memory
+from ..topography.synthesis import measured_surfaces
 
 __all__ = [
     "MAX_UNDEFINED",
@@ -61,7 +61,7 @@ SYNTHETIC_GRID = 128
 #: largest grid the default for measured files picks (the time budget: about 1 min per
 #: calibration on one core, non-periodic, see docs/measured_surfaces.md)
 MAX_DEFAULT_GRID = 256
-#: memory limit of one normal solve (bytes), as :func:`halfspace_calib.normal.solve_normal`
+#: memory limit of one normal solve (bytes), as :func:`halfspace_calib.contact.normal.solve_normal`
 MAX_MEMORY = 8 * 2**30
 
 
@@ -180,7 +180,7 @@ def area_resample(surface, side, m):
 
     Exact area averaging of the piecewise-constant pixels (a pixel cut by a cell edge counts
     with the part inside): on an integer ratio it is the block average, on non-square pixels
-    it gives square elements. The result is a new :class:`~halfspace_calib.surfaces.Surface`
+    it gives square elements. The result is a new :class:`~halfspace_calib.topography.Surface`
     with element ``side / m``; the operation is recorded in its provenance.
     """
     lx, ly = surface.size

@@ -1,6 +1,6 @@
 """Which friction effects a calibration models, how each runs, and what it reports (Sec. 2.2, 3.2-3.3).
 
-A :class:`~halfspace_calib.calibrate.Scene` names its effects (``Scene.effects``):
+A :class:`~halfspace_calib.pipeline.calibration.Scene` names its effects (``Scene.effects``):
 
 ``"normal"`` (always on)
     the normal-contact sweeps and the fit of Eqs. 24-25. Under full sliding every contact element
@@ -8,15 +8,15 @@ A :class:`~halfspace_calib.calibrate.Scene` names its effects (``Scene.effects``
 ``"tangential"``
     partial slip (pre-sliding) at every first-loading pressure on the loaded contact:
     ``q_mean(delta)`` up to full sliding and the interface's tangential stiffness, the penalty
-    ``k_t`` of :func:`frictionlaw.traction_update` (:mod:`halfspace_calib.presliding`).
+    ``k_t`` of :func:`frictionlaw.traction_update` (:mod:`halfspace_calib.studies.presliding`).
 ``"inclined"``
-    the geometric shear of inclined patches (Eqs. 19-23, :mod:`halfspace_calib.geometric`) for the
+    the geometric shear of inclined patches (Eqs. 19-23, :mod:`halfspace_calib.studies.geometric`) for the
     scene's workpiece and tool over the scene's pressures; if the mean ``tau_geo / tau_adh``
     exceeds ``Scene.geo_threshold``, Eq. 26's term is fitted into ``FrictionParams.geo_ratio``
-    (least squares of ``f(p) = geo_ratio k alpha(p)``, :func:`halfspace_calib.geometric.fit_geo_ratio`),
+    (least squares of ``f(p) = geo_ratio k alpha(p)``, :func:`halfspace_calib.studies.geometric.fit_geo_ratio`),
     otherwise ``geo_ratio`` stays 0 and the record says why.
 ``"sliding"``
-    the sliding study of Sec. 3.3 (:func:`halfspace_calib.sliding.sliding_study`), ``W_def / W_adh``
+    the sliding study of Sec. 3.3 (:func:`halfspace_calib.studies.sliding_study.sliding_study`), ``W_def / W_adh``
     at 100-600 MPa; it is reported, it does not change the parameters (the paper: below 0.008).
 
 An effect that cannot run for the scene (e.g. ``m = 0``: no adhesive shear) is skipped and its
@@ -27,27 +27,29 @@ from __future__ import annotations
 
 import dataclasses
 import time
-from pathlib import Path
-
-import numpy as np
+from dataclasses import dataclass
 
 from frictionlaw import TangentialStiffness
 
-from ._output import pyplot, save_png, write_csv
-from ._scene_surfaces import load_scene_surfaces
-from .geometric import fit_geo_ratio, geometric_sweep, write_geometric_outputs
-from .presliding import stiffness_power_law
+from ..studies.geometric import GeometricResult, fit_geo_ratio, geometric_sweep
+from ..studies.presliding import stiffness_power_law
+from ..studies.sliding_study import SlidingStudy
+from .scene_surfaces import load_scene_surfaces
 
 __all__ = [
     "EFFECTS",
     "check_effects",
     "scene_measured_surfaces",
     "run_inclined",
+    "GeoDecision",
     "geo_decision",
     "run_sliding",
     "summarize_tangential",
-    "write_tangential_outputs",
-    "write_effect_outputs",
+    "stiffness_table",
+    "EffectOutcome",
+    "TangentialOutcome",
+    "InclinedOutcome",
+    "SlidingOutcome",
 ]
 
 #: the effects a scene can select, in the order they run
@@ -83,11 +85,43 @@ def check_effects(effects):
     return tuple(e for e in EFFECTS if e in chosen)
 
 
+# ----------------------------------------------------------------------------- outcomes
+@dataclass
+class EffectOutcome:
+    """What one effect produced. ``skipped``: why it did not run (``None`` if it ran)."""
+
+    name: str
+    skipped: str | None = None
+    seconds: float = 0.0
+
+
+@dataclass
+class TangentialOutcome(EffectOutcome):
+    """The tangential effect: ``summary`` of :func:`summarize_tangential` (stiffness table)."""
+
+    summary: dict | None = None
+
+
+@dataclass
+class InclinedOutcome(EffectOutcome):
+    """The inclined-patch effect: the sweep and the ``geo_ratio`` decision (:func:`geo_decision`)."""
+
+    result: GeometricResult | None = None
+    decision: GeoDecision | None = None
+
+
+@dataclass
+class SlidingOutcome(EffectOutcome):
+    """The sliding effect: the study of Sec. 3.3."""
+
+    study: SlidingStudy | None = None
+
+
 # ----------------------------------------------------------------------------- inclined
 def scene_measured_surfaces(scene):
     """The scene's workpiece and tool as measured (fine) maps: ``(workpiece, tool, block)``.
 
-    From the one scene loader (:func:`halfspace_calib._scene_surfaces.load_scene_surfaces`):
+    From the one scene loader (:func:`halfspace_calib.pipeline.scene_surfaces.load_scene_surfaces`):
     synthetic surfaces on ``scene.measured_n`` points a side (default ``4 scene.grid``); files
     cropped, resampled onto ``grid * block`` square points a side (``block >= 2`` measured
     points per element edge, otherwise a ``ValueError``) and levelled, in their own units
@@ -97,6 +131,27 @@ def scene_measured_surfaces(scene):
         scene = dataclasses.replace(scene, effects=tuple(scene.effects) + ("inclined",))
     s = load_scene_surfaces(scene)
     return s.measured_workpiece, s.measured_tool, s.block
+
+
+@dataclass(frozen=True)
+class GeoDecision:
+    """Whether Eq. 26's geometric term goes into the parameters, and why.
+
+    ``geo_ratio`` is 0 unless ``applied``; ``fit`` is :func:`fit_geo_ratio`'s record.
+    """
+
+    geo_ratio: float
+    applied: bool
+    ratio_mean: float
+    threshold: float
+    fit: dict
+    method: str
+    m: float
+    reason: str
+
+    def as_dict(self):
+        """JSON-ready record (the parameter file's provenance and ``summary.json``)."""
+        return dataclasses.asdict(self)
 
 
 def geo_decision(result, threshold, m):
@@ -113,9 +168,9 @@ def geo_decision(result, threshold, m):
 
     Returns
     -------
-    dict
+    GeoDecision
         ``geo_ratio`` (0 unless applied), ``applied``, ``ratio_mean``, ``threshold``, ``fit``
-        (:func:`~halfspace_calib.geometric.fit_geo_ratio`), ``method`` and ``reason``.
+        (:func:`~halfspace_calib.studies.geometric.fit_geo_ratio`), ``method`` and ``reason``.
     """
     fit = fit_geo_ratio(result)
     mean = fit["ratio_mean"]
@@ -131,17 +186,17 @@ def geo_decision(result, threshold, m):
             f"mean tau_geo / tau_adh = {mean:.4f} <= geo_threshold = {threshold:g}: "
             "the geometric shear is not significant, Eq. 26's term is left out (geo_ratio = 0)"
         )
-    return {
-        "geo_ratio": fit["geo_ratio"] if applied else 0.0,
-        "applied": applied,
-        "ratio_mean": mean,
-        "threshold": float(threshold),
-        "fit": fit,
-        "method": "least squares of tau_geo(p) = geo_ratio * tau_adh(p) = geo_ratio m k alpha(p) "
+    return GeoDecision(
+        geo_ratio=fit["geo_ratio"] if applied else 0.0,
+        applied=applied,
+        ratio_mean=mean,
+        threshold=float(threshold),
+        fit=fit,
+        method="least squares of tau_geo(p) = geo_ratio * tau_adh(p) = geo_ratio m k alpha(p) "
         "over the scene's pressures (alpha of the inclined-patch normal solves)",
-        "m": float(m),
-        "reason": reason,
-    }
+        m=float(m),
+        reason=reason,
+    )
 
 
 def run_inclined(scene, *, measured=None):
@@ -151,15 +206,15 @@ def run_inclined(scene, *, measured=None):
 
     Returns
     -------
-    dict
-        ``{"result": GeometricResult, "decision": dict, "seconds": float}`` or
-        ``{"skipped": reason}`` when ``m = 0``.
+    InclinedOutcome
+        With ``result`` (GeometricResult) and ``decision``, or ``skipped`` when ``m = 0``.
     """
     if scene.m == 0:
-        return {
-            "skipped": "m = 0: no adhesive shear, tau_geo / tau_adh undefined and Eq. 26 "
-            "(m [k alpha + f]) vanishes; geo_ratio = 0"
-        }
+        return InclinedOutcome(
+            "inclined",
+            skipped="m = 0: no adhesive shear, tau_geo / tau_adh undefined and Eq. 26 "
+            "(m [k alpha + f]) vanishes; geo_ratio = 0",
+        )
     t0 = time.perf_counter()
     wp, tl, s = scene_measured_surfaces(scene) if measured is None else measured
     res = geometric_sweep(
@@ -167,20 +222,16 @@ def run_inclined(scene, *, measured=None):
         tl,
         scene.pressures,
         block=s,
-        E_star=scene.E_star,
-        H=scene.H,
-        m=scene.m,
-        sigma_y=scene.sigma_y,
-        tol=scene.tol,
-        periodic=scene.periodic,
-        volume_conservation=scene.volume_conservation,
+        materials=scene.materials,
+        solver=scene.solver,
         label="rough tool" if scene.rough_tool else "scene tool",
     )
-    return {
-        "result": res,
-        "decision": geo_decision(res, scene.geo_threshold, scene.m),
-        "seconds": time.perf_counter() - t0,
-    }
+    return InclinedOutcome(
+        "inclined",
+        seconds=time.perf_counter() - t0,
+        result=res,
+        decision=geo_decision(res, scene.geo_threshold, scene.m),
+    )
 
 
 # ----------------------------------------------------------------------------- sliding
@@ -191,11 +242,12 @@ def run_sliding(scene, *, progress=True, tool=None):
 
     Returns
     -------
-    dict
-        ``{"study": SlidingStudy, "seconds": float}`` or ``{"skipped": reason}`` when the study
-        cannot run (``m = 0``, ``H`` at or below 100 MPa).
+    SlidingOutcome
+        With ``study`` (SlidingStudy), or ``skipped`` when the study cannot run (``m = 0``,
+        ``H`` at or below 100 MPa).
     """
-    from .sliding import SLIDING_PRESSURES, sliding_study, sliding_workpiece
+    from ..studies.sliding import SLIDING_PRESSURES, sliding_workpiece
+    from ..studies.sliding_study import sliding_study
 
     if tool is None:
         tool = load_scene_surfaces(scene).tool
@@ -207,20 +259,15 @@ def run_sliding(scene, *, progress=True, tool=None):
             tuple(p for p in SLIDING_PRESSURES if p < scene.H),
             workpiece=wp,
             tool=tool,
-            E_star=scene.E_star,
-            H=scene.H,
-            m=scene.m,
-            sigma_y=scene.sigma_y,
-            tol=scene.tol,
-            volume_conservation=scene.volume_conservation,
-            periodic=scene.periodic,
+            materials=scene.materials,
+            solver=scene.solver,
             workers=scene.workers,
             scheduler=scene.scheduler,
             progress=progress,
         )
     except ValueError as exc:  # e.g. m = 0 (no adhesive work) or H below 100 MPa
-        return {"skipped": str(exc)}
-    return {"study": study, "seconds": time.perf_counter() - t0}
+        return SlidingOutcome("sliding", skipped=str(exc))
+    return SlidingOutcome("sliding", seconds=time.perf_counter() - t0, study=study)
 
 
 # ----------------------------------------------------------------------------- tangential
@@ -229,48 +276,47 @@ def summarize_tangential(levels):
 
     Parameters
     ----------
-    levels : list of dict
-        ``SweepResult.levels`` of a sweep run with the tangential effect (each with a
-        ``"tangential"`` record).
+    levels : list of LevelResult
+        ``SweepResult.levels`` of a sweep run with the tangential effect (each with its
+        ``tangential`` curve or ``tangential_error``).
 
     Returns
     -------
     dict
         ``rows`` (per pressure: ``p_mean``, ``alpha``, ``q_limit``, ``delta_full``,
         ``delta_stick``, ``k_t0``, ``k_sec``, ``k_eq``, ``converged``), ``errors``, ``k_t0_fit``,
-        ``k_sec_fit``, ``k_eq_fit`` (:func:`~halfspace_calib.presliding.stiffness_power_law`),
+        ``k_sec_fit``, ``k_eq_fit`` (:func:`~halfspace_calib.studies.presliding.stiffness_power_law`),
         ``full_sliding_max_rel_diff`` (solve against the shortcut) and ``recommendation``.
     """
     rows, errors = [], []
     max_diff = 0.0
     for lv in levels:
-        t = lv.get("tangential")
+        if lv.tangential_error is not None:
+            errors.append({"p_mean": lv.p_hist, "error": lv.tangential_error})
+            continue
+        t = lv.tangential
         if t is None:
             continue
-        if "error" in t:
-            errors.append({"p_mean": lv["p_hist"], "error": t["error"]})
-            continue
-        alpha = lv["loading"]["alpha"]
         rows.append(
             {
-                "p_mean": lv["p_hist"],
-                "alpha": alpha,
-                "q_limit": t["q_limit"],
-                "delta_full": t["delta_full"],
-                "delta_stick": t["delta_stick"],
-                "k_t0": t["k_t0"],
-                "k_sec": t["k_sec"],
-                "k_eq": t["k_eq"],
-                "converged": t["converged"],
+                "p_mean": lv.p_hist,
+                "alpha": lv.loading.alpha,
+                "q_limit": t.q_limit,
+                "delta_full": t.delta_full,
+                "delta_stick": t.delta_stick,
+                "k_t0": t.k_t0,
+                "k_sec": t.k_sec,
+                "k_eq": t.k_eq,
+                "converged": t.converged,
             }
         )
         full = [
             q
-            for d, q in zip(t["delta"], t["q_mean"], strict=True)
-            if d >= t["delta_full"] * (1 - 1e-12)
+            for d, q in zip(t.delta.tolist(), t.q_mean.tolist(), strict=True)
+            if d >= t.delta_full * (1 - 1e-12)
         ]
         for q in full:
-            max_diff = max(max_diff, abs(q - t["q_limit"]) / t["q_limit"])
+            max_diff = max(max_diff, abs(q - t.q_limit) / t.q_limit)
     out = {"rows": rows, "errors": errors, "full_sliding_max_rel_diff": max_diff}
     ok = [r for r in rows if r["converged"]]
     if len(ok) >= 2:
@@ -305,9 +351,8 @@ def stiffness_table(outcome):
 
     Parameters
     ----------
-    outcome : dict or None
-        The tangential effect's outcome (``{"summary": ...}`` from :func:`summarize_tangential`,
-        or ``{"skipped": ...}``), ``None`` when the effect did not run.
+    outcome : TangentialOutcome or None
+        The tangential effect's outcome, ``None`` when the effect did not run.
 
     Returns
     -------
@@ -315,118 +360,8 @@ def stiffness_table(outcome):
         ``k_eq`` at the pressures whose tangential solve converged (the recommended penalty),
         ``None`` if there is none.
     """
-    rows = [] if not outcome or "summary" not in outcome else outcome["summary"]["rows"]
+    rows = [] if outcome is None or outcome.summary is None else outcome.summary["rows"]
     ok = sorted((r["p_mean"], r["k_eq"]) for r in rows if r["converged"])
     if not ok:
         return None
     return TangentialStiffness(p=[a for a, _ in ok], k_t=[b for _, b in ok])
-
-
-#: columns of the tangential stiffness table (one row per first-loading pressure)
-STIFFNESS_COLUMNS = (
-    "p_mean",
-    "alpha",
-    "q_limit",
-    "delta_full",
-    "delta_stick",
-    "k_t0",
-    "k_eq",
-    "k_sec",
-    "converged",
-)
-
-
-#: CSV header of each stiffness column, with its SI unit
-STIFFNESS_HEADERS = {
-    "p_mean": "p_mean_Pa",
-    "alpha": "alpha",
-    "q_limit": "q_limit_Pa",
-    "delta_full": "delta_full_m",
-    "delta_stick": "delta_stick_m",
-    "k_t0": "k_t0_Pa_per_m",
-    "k_eq": "k_eq_Pa_per_m",
-    "k_sec": "k_sec_Pa_per_m",
-    "converged": "converged",
-}
-
-
-def write_stiffness_csv(summary, path):
-    """Write the tangential stiffness table of :func:`summarize_tangential`'s ``summary``."""
-    rows = [[r[k] for k in STIFFNESS_COLUMNS] for r in summary["rows"]]
-    write_csv(path, [STIFFNESS_HEADERS[k] for k in STIFFNESS_COLUMNS], rows)
-    return path
-
-
-def write_tangential_outputs(levels, summary, out_dir):
-    """``tangential.csv`` (curves), ``tangential_stiffness.csv`` and two PNGs into ``out_dir``."""
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    curves = [
-        (lv["p_hist"], lv["tangential"])
-        for lv in levels
-        if lv.get("tangential") and "error" not in lv["tangential"]
-    ]
-    write_csv(
-        out / "tangential.csv",
-        ["p_mean_Pa", "delta_m", "q_mean_Pa", "q_over_q_limit", "slip_fraction"],
-        [
-            [p, d, q, q / t["q_limit"], s]
-            for p, t in curves
-            for d, q, s in zip(t["delta"], t["q_mean"], t["slip_fraction"], strict=True)
-        ],
-    )
-    write_stiffness_csv(summary, out / "tangential_stiffness.csv")
-    if not curves:
-        return out
-    plt = pyplot()
-
-    fig, ax = plt.subplots(figsize=(6, 4.2))
-    for i, (p, t) in enumerate(curves):
-        ax.plot(
-            np.array(t["delta"]) * 1e9,
-            np.array(t["q_mean"]) / 1e6,
-            "-o",
-            ms=3,
-            color=f"C{i % 10}",
-            label=f"{p / 1e6:g} MPa",
-        )
-    ax.set(
-        xlabel="rigid shift delta [nm]",
-        ylabel="q_mean [MPa]",
-        title="Pre-sliding: mean tangential traction (Tresca cap, Eq. 18)",
-    )
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=7)
-    save_png(fig, out / "tangential_curves.png")
-
-    rows = summary["rows"]
-    fig, ax = plt.subplots(figsize=(6, 4.2))
-    p = np.array([r["p_mean"] for r in rows]) / 1e6
-    ax.loglog(p, [r["k_t0"] for r in rows], "o-", label="k_t0 (initial)")
-    ax.loglog(p, [r["k_eq"] for r in rows], "^-", label="k_eq (energy-equivalent, recommended)")
-    ax.loglog(p, [r["k_sec"] for r in rows], "s-", label="k_sec (secant to full sliding)")
-    ax.set(
-        xlabel="p_mean [MPa]",
-        ylabel="tangential stiffness [Pa/m]",
-        title="Interface tangential stiffness (penalty k_t)",
-    )
-    ax.grid(alpha=0.3, which="both")
-    ax.legend()
-    save_png(fig, out / "tangential_stiffness.png")
-    return out
-
-
-def write_effect_outputs(cal, out):
-    """Each modelled effect's CSV and PNG into ``out/tangential``, ``out/geometric``, ``out/sliding``."""
-    out = Path(out)
-    eff = cal.effects
-    if "tangential" in eff and "summary" in eff["tangential"]:
-        write_tangential_outputs(
-            cal.sweeps.levels, eff["tangential"]["summary"], out / "tangential"
-        )
-    if "inclined" in eff and "result" in eff["inclined"]:
-        write_geometric_outputs(eff["inclined"]["result"], out / "geometric")
-    if "sliding" in eff and "study" in eff["sliding"]:
-        from .sliding import write_sliding_outputs
-
-        write_sliding_outputs(eff["sliding"]["study"], out / "sliding")

@@ -1,0 +1,259 @@
+"""Calibration pipeline (Sec. 3.1 and 4): surfaces in, sweeps, fit, ``FrictionParams`` out.
+
+A :class:`Scene` holds everything a calibration needs (surfaces, materials, pressures, solver
+settings). :func:`run_sweeps` runs the first-loading and un-/reloading sweeps as independent jobs
+(one per load level ``p_hist``: load, record, then reload the deformed workpiece at pressures below
+``p_hist`` with warm starts between neighbouring pressures). :func:`calibrate` fits Eqs. 24-25 to
+the curves and returns the parameters with their provenance; :func:`write_outputs` writes the
+parameter file, CSV tables and plots.
+
+Reading of the paper for the reload surface: the plastically flattened workpiece (``h - u_pl``) is
+what is contacted again. The Pullen-Williamson volume conservation lifts every out-of-contact
+element by ``V_removed / A_out``; at high loads that lift exceeds the flattened plateau, so a
+reload on that surface is *not* elastic, against the paper's own statement that it is. The lifted
+surface is therefore used for the roughness after unloading (Figs. 3-4) and, on request
+(``reload_surface="volume_conserving"``), for the reload; the report states which one ran and the
+largest reload pressure against ``H``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from frictionlaw import FrictionParams
+
+from . import effects as _eff
+from .fit import FirstLoadingFit, ReloadFit
+from .params import make_params
+from .registry import REGISTRY
+from .resolution import ResolutionCheck, fit_sweeps, resolution_check
+from .scene import Scene, load_scene
+from .scene_surfaces import SceneSurfaces, load_scene_surfaces
+from .sweeps import SweepResult, run_sweeps, scene_surfaces
+
+__all__ = [
+    "Scene",
+    "SweepResult",
+    "Calibration",
+    "ResolutionCheck",
+    "SceneSurfaces",
+    "load_scene",
+    "load_scene_surfaces",
+    "scene_surfaces",
+    "run_sweeps",
+    "calibrate",
+]
+
+#: a first-loading or reload fit with R^2 below this makes the run fail (exit code 1)
+R2_MIN = 0.9
+
+
+# ----------------------------------------------------------------------------- calibration
+@dataclass
+class Calibration:
+    """Result of :func:`calibrate`: the parameters, the fits and the sweeps behind them."""
+
+    params: FrictionParams
+    first: FirstLoadingFit
+    reload: ReloadFit
+    sweeps: SweepResult
+    scene: Scene
+    seconds: float
+    effects: dict = field(default_factory=dict)  # name -> EffectOutcome
+    files: tuple = ()
+    resolution: ResolutionCheck | None = None
+
+    def problems(self):
+        """Why the run failed, one sentence each (empty if it did not).
+
+        A failed or non-converged load level or solve, a fit with ``R^2 <`` :data:`R2_MIN`, a
+        fitted parameter on its bound or a fit that did not converge, and failed effect solves.
+        """
+        out = [f"load level {f.p_hist:g} Pa failed" for f in self.sweeps.failed]
+        out += [
+            f"not converged, left out of the fit: p_hist {nc.p_hist:g} Pa, p_mean "
+            f"{nc.p_mean:g} Pa: {nc.message}"
+            for nc in self.sweeps.not_converged()
+        ]
+        for name, fit in (("first loading (Eq. 24)", self.first), ("reload (Eq. 25)", self.reload)):
+            if fit.r_squared < R2_MIN:
+                out.append(
+                    f"{name} fit R^2 = {fit.r_squared:.4f} < {R2_MIN:g}: the law does not "
+                    "describe the computed curve (check units, pressures and the surfaces)"
+                )
+            if fit.at_bound:
+                out.append(
+                    f"{name} fit: {', '.join(fit.at_bound)} ended on a bound ({fit.message})"
+                )
+            elif not fit.converged:
+                out.append(f"{name} fit did not converge: {fit.message}")
+        for name, outcome in self.effects.items():
+            out += REGISTRY[name].problems(outcome)
+        return out
+
+    @property
+    def degenerate(self):
+        """``""`` when both fits are usable, else why not (see ``FitResult.degenerate``)."""
+        parts = [
+            f"{name}: {fit.degenerate}"
+            for name, fit in (("first loading", self.first), ("reload", self.reload))
+            if fit.degenerate
+        ]
+        return "; ".join(parts)
+
+    def write_effects(self, out):
+        """Each effect's files under ``out`` (``tangential/``, ``geometric/``, ``sliding/``)."""
+        for name, outcome in self.effects.items():
+            if outcome.skipped is None:
+                REGISTRY[name].write(outcome, self, out)
+
+    def print_effects(self, out):
+        """The command's report lines of each effect, through the registry."""
+        for name, outcome in self.effects.items():
+            REGISTRY[name].print(outcome, out)
+
+    def summary(self):
+        """JSON-ready summary (also stored in the parameter file's provenance)."""
+        P = self.params
+        return {
+            "C1": P.C1,
+            "n1": P.n1,
+            "C2": P.C2,
+            "n2": P.n2,
+            "m": P.m,
+            "sigma_y": P.sigma_y,
+            "H": P.H,
+            "mu_eff": P.mu_eff,
+            "tau_max": P.tau_max,
+            "first_loading_r2": self.first.r_squared,
+            "reload_r2": self.reload.r_squared,
+            "fit_degenerate": {
+                "first_loading": self.first.degenerate,
+                "reload": self.reload.degenerate,
+            },
+            "max_jump_relative": float(np.max(self.reload.jump_relative))
+            if self.reload.jump.size
+            else 0.0,
+            "failed_levels": [dataclasses.asdict(f) for f in self.sweeps.failed],
+            "not_converged": [dataclasses.asdict(nc) for nc in self.sweeps.not_converged()],
+            "max_reload_pressure_over_H": self.sweeps.max_reload_pressure() / self.scene.H,
+            "max_reload_plastic_fraction": self.sweeps.max_reload_plastic_fraction(),
+            "geo_ratio": P.geo_ratio,
+            "effects": list(self.scene.effects),
+            "effect_results": _effects_record(self.effects),
+            "grid": self.scene.grid,
+            "periodic": self.scene.periodic,
+            "files": [f.as_dict() for f in self.files],
+            "resolution_check": None if self.resolution is None else self.resolution.as_dict(),
+            "problems": self.problems(),
+            "seconds": self.seconds,
+        }
+
+
+def calibrate(scene=None, *, progress=True, surfaces=None):
+    """Run the sweeps of ``scene`` (default: the built-in scene) and fit the law.
+
+    ``surfaces``: the scene's :class:`SceneSurfaces` if already loaded (the CLI loads them
+    first, to refuse bad input before any sweep). For files, ``scene.grid=None`` becomes the
+    loader's grid and, with ``scene.resolution_check``, the normal sweeps run again at half
+    the grid (:func:`resolution_check`).
+
+    Raises ``RuntimeError`` if too few load levels converged for a fit (the sweep's
+    failures are in the message).
+    """
+    scene = Scene() if scene is None else scene
+    t0 = time.perf_counter()
+    surfs = load_scene_surfaces(scene) if surfaces is None else surfaces
+    if scene.grid != surfs.grid:
+        scene = dataclasses.replace(scene, grid=surfs.grid)
+    sweeps = run_sweeps(scene, progress=progress, surfaces=surfs)
+    p, _ = sweeps.loading
+    first, reload = fit_sweeps(scene, sweeps)
+    wp, tl = sweeps.surfaces["workpiece"], sweeps.surfaces["tool"]
+    effects = _run_effects(scene, sweeps, surfs, progress)
+    resolution = (
+        resolution_check(scene, first, reload, sweeps, progress=progress)
+        if scene.resolution_check
+        else None
+    )
+    params = make_params(
+        first,
+        reload,
+        m=scene.m,
+        sigma_y=scene.sigma_y,
+        H=scene.H,
+        surfaces={"workpiece": wp, "tool": tl},
+        grid={
+            "shape": list(wp.shape),
+            "dx": wp.dx,
+            "dy": wp.dy,
+            "periodic": scene.periodic,
+            "periodic_reason": "measured files: a scan is not one period of a surface, "
+            "non-periodic (DC-FFT) solve"
+            if scene.from_files and not scene.periodic
+            else ("synthetic surfaces are periodic" if scene.periodic else "chosen"),
+        },
+        tolerance=scene.tol,
+        pressures={
+            "loading": list(scene.pressures),
+            "reload_fractions": list(scene.reload_fractions),
+            "reload_from": scene.reload_from,
+        },
+        material={
+            "E_workpiece": scene.E_workpiece,
+            "nu_workpiece": scene.nu_workpiece,
+            "E_tool": scene.E_tool,
+            "nu_tool": scene.nu_tool,
+            "E_star": scene.E_star,
+            "H": scene.H,
+            "sigma_y": scene.sigma_y,
+            "m": scene.m,
+        },
+        extra={
+            "model": {
+                "volume_conservation": scene.volume_conservation,
+                "reload_surface": scene.reload_surface,
+                "effects": list(scene.effects),
+                "max_reload_pressure_over_H": sweeps.max_reload_pressure() / scene.H,
+                "max_reload_plastic_fraction": sweeps.max_reload_plastic_fraction(),
+                "failed_levels": [dataclasses.asdict(f) for f in sweeps.failed],
+                "geo_threshold": scene.geo_threshold,
+            },
+            "effects": _effects_record(effects),
+            "files": surfs.records(),
+            "resolution_check": None if resolution is None else resolution.as_dict(),
+        },
+        p_range=(float(p.min()), float(p.max())),
+        k_t=_eff.stiffness_table(effects.get("tangential")),
+    )
+    if "inclined" in effects:
+        params = params.replace(geo_ratio=REGISTRY["inclined"].geo_ratio(effects["inclined"]))
+    return Calibration(
+        params,
+        first,
+        reload,
+        sweeps,
+        scene,
+        time.perf_counter() - t0,
+        effects,
+        surfs.files,
+        resolution,
+    )
+
+
+def _run_effects(scene, sweeps, surfs, progress):
+    """Run every effect of the scene but ``"normal"``, through :data:`.registry.REGISTRY`."""
+    return {
+        name: REGISTRY[name].run(scene, sweeps, surfs, progress)
+        for name in scene.effects
+        if name != "normal"
+    }
+
+
+def _effects_record(effects):
+    """JSON-ready record of the effects' key results (provenance and ``summary.json``)."""
+    return {name: REGISTRY[name].record(outcome) for name, outcome in effects.items()}

@@ -1,0 +1,170 @@
+"""The parameter file: :class:`frictionlaw.FrictionParams` from the fits, with the provenance."""
+
+import math
+
+import numpy as np
+
+import frictionlaw
+from frictionlaw import FrictionParams
+
+from ..common.checks import positive
+from .fit import FirstLoadingFit, ReloadFit
+
+__all__ = ["make_params"]
+
+
+def _plain(obj, where="provenance"):
+    """Deep copy of ``obj`` with NumPy and path objects as JSON types; ``ValueError`` if not."""
+    from pathlib import PurePath
+
+    if obj is None or isinstance(obj, (bool, str)):
+        return obj
+    if isinstance(obj, (int, np.integer)) and not isinstance(obj, bool):
+        return int(obj)
+    if isinstance(obj, (float, np.floating)):
+        f = float(obj)
+        return f if math.isfinite(f) else None
+    if isinstance(obj, np.bool_):
+        return bool(obj)
+    if isinstance(obj, np.ndarray):
+        return _plain(obj.tolist(), where)
+    if isinstance(obj, PurePath):
+        return str(obj)
+    if isinstance(obj, dict):
+        return {str(k): _plain(v, f"{where}.{k}") for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_plain(v, f"{where}[{i}]") for i, v in enumerate(obj)]
+    if hasattr(obj, "provenance") and hasattr(obj, "heights"):  # a Surface
+        d = dict(obj.provenance)
+        try:
+            d["roughness"] = obj.roughness().as_dict()
+        except (AttributeError, ValueError):
+            pass
+        d["grid_shape"] = list(obj.heights.shape)
+        d["dx"], d["dy"] = float(obj.dx), float(obj.dy)
+        return _plain(d, where)
+    raise ValueError(f"{where}: {type(obj).__name__} cannot be written to the JSON file")
+
+
+def _input_notes(k, p_range):
+    """The ``provenance["inputs"]`` notes: what the file's numbers are and where they came from."""
+    notes = {
+        "m": "input, not fitted: Tresca friction factor of the interface, measured separately "
+        "(e.g. ring compression); the roughness calibration cannot determine it",
+        "sigma_y": "input: yield stress of the softer body (Pa)",
+        "H": "input: hardness of the softer body (Pa), the half-space model's local pressure limit",
+        "k": (
+            "derived: sigma_y / 2 (Tresca, as in the paper); the law uses k, so change sigma_y "
+            "and k together (k / sigma_y must stay in [1/2, 2/3])"
+            if k is None
+            else "input: shear flow stress given explicitly (Pa); the law uses k, sigma_y only "
+            "bounds it (k / sigma_y in [1/2, 2/3])"
+        ),
+        "fitted": "C1, n1 (Eq. 24) and C2, n2 (Eq. 25) from the half-space contact ratios; "
+        "geo_ratio and k_t when those effects ran",
+    }
+    if p_range is not None:
+        notes["calibrated_range"] = (
+            "first-loading mean pressures the fit saw; beyond p_max the law is extrapolated "
+            "(frictionlaw.check_pressure_range counts such nodes)"
+        )
+    return notes
+
+
+def make_params(
+    first,
+    reload,
+    *,
+    m,
+    sigma_y,
+    H=None,
+    k=None,
+    surfaces=None,
+    grid=None,
+    tolerance=None,
+    pressures=None,
+    material=None,
+    extra=None,
+    p_range=None,
+    k_t=None,
+):
+    """Assemble the calibrated :class:`frictionlaw.FrictionParams` with its provenance.
+
+    Parameters
+    ----------
+    first : FirstLoadingFit
+        Result of :func:`fit_first_loading`.
+    reload : ReloadFit
+        Result of :func:`fit_reload` (its ``C1, n1`` must be ``first``'s); its
+        ``continuous`` flag becomes ``continuous_reload``.
+    m : float
+        Tresca friction factor in ``[0, 1]`` (measured, e.g. ring compression).
+    sigma_y : float
+        Yield stress of the softer body (Pa).
+    H : float, optional
+        Hardness (Pa); defaults to the fits' ``H`` and must equal it if given.
+    k : float, optional
+        Shear flow stress (Pa); default ``sigma_y / 2``.
+    surfaces : dict, optional
+        Name -> :class:`~halfspace_calib.topography.Surface` (its provenance, grid and
+        roughness are recorded) or a dict.
+    grid, tolerance, pressures, material, extra : optional
+        JSON-able records of the solver grid, solver tolerance, the pressure lists, the
+        material data and anything else; NumPy values are converted.
+    p_range : (float, float), optional
+        Mean contact pressures (Pa) covered by the first-loading data, ``(p_min, p_max)``.
+    k_t : frictionlaw.TangentialStiffness, optional
+        Calibrated tangential stiffness table (from the tangential effect).
+
+    Returns
+    -------
+    FrictionParams
+        With ``provenance = {"software", "surfaces", "grid", "tolerance", "pressures",
+        "material", "fit": {"first_loading", "reload"}, "inputs", ...}``; ``"inputs"`` says
+        in words which parameters are the user's inputs (``m``, ``sigma_y``, ``H``, ``k``)
+        and which the roughness calibration fitted.
+    """
+    if not isinstance(first, FirstLoadingFit):
+        raise ValueError("first must be the FirstLoadingFit returned by fit_first_loading")
+    if not isinstance(reload, ReloadFit):
+        raise ValueError("reload must be the ReloadFit returned by fit_reload")
+    if (reload.C1, reload.n1) != (first.C1, first.n1) or reload.H != first.H:
+        raise ValueError(
+            "reload was fitted with other C1, n1 or H than first: refit it with first's values"
+        )
+    if H is None:
+        H = first.H
+    elif positive("H", H) != first.H:
+        raise ValueError(f"H = {H!r} differs from the fits' H = {first.H!r}")
+    import scipy
+
+    prov = {
+        "software": {
+            "sbmf-friction": frictionlaw.__version__,
+            "numpy": np.__version__,
+            "scipy": scipy.__version__,
+        },
+        "surfaces": _plain(surfaces or {}, "surfaces"),
+        "grid": _plain(grid, "grid"),
+        "tolerance": _plain(tolerance, "tolerance"),
+        "pressures": _plain(pressures, "pressures"),
+        "material": _plain(material, "material"),
+        "fit": {"first_loading": first.summary(), "reload": reload.summary()},
+        "inputs": _input_notes(k, p_range),
+    }
+    if extra is not None:
+        prov["extra"] = _plain(extra, "extra")
+    return FrictionParams(
+        m=m,
+        sigma_y=sigma_y,
+        H=H,
+        C1=first.C1,
+        n1=first.n1,
+        C2=reload.C2,
+        n2=reload.n2,
+        k=k,
+        continuous_reload=reload.continuous,
+        p_range=p_range,
+        k_t=k_t,
+        provenance=_plain(prov),
+    )

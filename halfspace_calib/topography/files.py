@@ -1,0 +1,244 @@
+"""Surface files: read a measured map (plain or instrument file), fill undefined points, write one.
+
+Plain files are handled by :mod:`._formats`; instrument files go through SurfaceTopography.
+"""
+
+from pathlib import Path
+
+import numpy as np
+
+from ..common.checks import pair, positive
+from . import _formats as _io
+from .surface import Surface
+
+__all__ = ["read_surface", "read_raw", "fill_harmonic", "write_surface"]
+
+
+# -- files ----------------------------------------------------------------------------
+
+
+def read_surface(
+    path,
+    *,
+    unit=None,
+    dx=None,
+    dy=None,
+    size=None,
+    xy_unit=None,
+    layout=None,
+    fill_undefined=False,
+):
+    """Read a measured topography.
+
+    Parameters
+    ----------
+    path : path-like
+        ``.npy`` (2-D array), ``.txt``/``.csv``/``.dat``/``.asc`` (height matrix,
+        whitespace or comma separated, row ``i`` -> ``x_i``; a binary file with one of
+        these suffixes, e.g. a Zygo MetroPro ``.dat``, goes to the instrument readers),
+        ``.xyz`` (``x y z`` point list, gridded onto its regular grid), or any instrument
+        format that SurfaceTopography reads (``.vk4``, ``.vk6``, ``.x3p``, ``.sur``,
+        ``.datx``, ``.plu``, ...; needs the ``topography`` extra).
+    unit : str
+        Unit of the heights in the file: ``m``, ``mm``, ``um`` (``µm``) or ``nm``.
+        Required for plain files unless a text matrix names it in its header
+        (``# Value units: m``); for instrument files only if the file has none.
+    dx, dy : float, optional
+        Grid spacing in m (``dy`` defaults to ``dx``). Plain matrices need ``dx`` or
+        ``size`` unless a text matrix gives ``# Width:`` and ``# Height:`` in its header;
+        point lists and calibrated instrument files carry their own.
+    size : float or (float, float), optional
+        Physical size ``(Lx, Ly)`` in m instead of ``dx``, ``dy``.
+    xy_unit : str, optional
+        Unit of the ``x``, ``y`` columns of a point list (defaults to ``unit``).
+    layout : {"npy", "matrix", "xyz", "instrument"}, optional
+        Override the layout chosen from the file (:func:`._io_topography.layout_for`).
+    fill_undefined : bool
+        Fill undefined (unmeasured, NaN) points with :func:`fill_harmonic`; otherwise
+        such files are refused.
+
+    Returns
+    -------
+    Surface
+        Non-periodic, with provenance ``{"source": "file", "path", "sha256", ...}``.
+
+    Raises
+    ------
+    FileNotFoundError
+        If ``path`` does not exist.
+    ValueError
+        For a file that cannot be read in its layout, missing units or spacing, or
+        points that are not gridded.
+    ImportError
+        For an instrument format when SurfaceTopography is not installed (the
+        message names the ``topography`` extra).
+    """
+    h, fdx, fdy, prov = read_raw(
+        path, unit=unit, dx=dx, dy=dy, size=size, xy_unit=xy_unit, layout=layout
+    )
+    bad = int(np.count_nonzero(np.isnan(h)))
+    if bad:
+        if not fill_undefined:
+            raise ValueError(
+                f"{path}: the topography has {bad} undefined (unmeasured) points; pass "
+                "fill_undefined=True to interpolate them, or crop them away"
+            )
+        h = fill_harmonic(h)
+    prov["undefined_points"] = bad
+    prov["filled_undefined"] = bool(bad)
+    return Surface(h, fdx, fdy, provenance=prov, periodic=False)
+
+
+def read_raw(path, *, unit=None, dx=None, dy=None, size=None, xy_unit=None, layout=None):
+    """Heights of a topography file with undefined points kept as NaN.
+
+    The reading half of :func:`read_surface` (same parameters but ``fill_undefined``):
+    returns ``(heights, dx, dy, provenance)`` with heights in m (NaN where the instrument
+    measured nothing), spacings in m and the provenance dict (``path``, ``sha256``,
+    ``layout``, ``format``, ``unit`` and where it came from, ``shape``, ``dx``, ``dy``).
+    """
+    path = Path(path)
+    layouts = ("npy", "matrix", "xyz", "instrument")
+    if layout is not None and layout not in layouts:
+        raise ValueError(f"layout must be one of {layouts}, got {layout!r}")
+    if not path.is_file():
+        raise FileNotFoundError(f"surface file not found: {path}")
+    if layout is None:
+        layout = _io.layout_for(path)
+    if size is not None and (dx is not None or dy is not None):
+        raise ValueError("give either size or dx (and dy), not both")
+    header = _io.matrix_header(path) if layout == "matrix" else {}
+    unit_source = "option"
+    if "unit" in header:
+        if unit is not None and _io.unit_factor(unit) != _io.UNITS[header["unit"]]:
+            raise ValueError(
+                f"{path}: unit={unit!r} contradicts the file's header unit "
+                f"{header['unit']!r}; leave unit unset"
+            )
+        unit, unit_source = header["unit"], "file header"
+    if "size" in header:
+        if size is not None or dx is not None or dy is not None:
+            raise ValueError(
+                f"{path}: the file's header gives its size "
+                f"{header['size'][0]:g} x {header['size'][1]:g} m; do not pass dx, dy or size"
+            )
+        size = header["size"]
+    if layout in ("npy", "matrix"):
+        _io.unit_factor(unit)
+        if dx is None and size is None:
+            raise ValueError(f"{path}: the file has no lateral calibration; pass dx or size (m)")
+    info = {}
+    if layout == "npy":
+        h = _io.load_npy(path, unit, allow_undefined=True)
+        fdx = fdy = None
+    elif layout == "matrix":
+        h = _io.load_matrix(path, unit, allow_undefined=True)
+        fdx = fdy = None
+    elif layout == "xyz":
+        if dx is not None or dy is not None or size is not None:
+            raise ValueError("dx, dy and size come from the x, y columns of a point list")
+        h, fdx, fdy = _io.load_xyz(path, unit, xy_unit)
+    else:
+        h, fdx, fdy, info = _io.load_instrument(path, unit, keep_undefined=True)
+        if fdx is not None and (dx is not None or dy is not None or size is not None):
+            raise ValueError(
+                f"{path}: the file carries its lateral calibration; do not pass dx, dy or size"
+            )
+        if info.get("file_unit") is not None:
+            unit, unit_source = info["file_unit"], "file"
+    if fdx is None:
+        if size is not None:
+            lx, ly = pair("size", size, positive)
+            fdx, fdy = lx / h.shape[0], ly / h.shape[1]
+            size_source = "file header" if "size" in header else "option"
+        elif dx is not None:
+            fdx = positive("dx", dx)
+            fdy = fdx if dy is None else positive("dy", dy)
+            size_source = "option"
+        else:
+            raise ValueError(f"{path}: the file has no lateral calibration; pass dx or size (m)")
+    else:
+        size_source = "file"
+    prov = {
+        "source": "file",
+        "path": str(path.resolve()),
+        "sha256": _io.file_sha256(path),
+        "layout": layout,
+        "format": info.get(
+            "format", {"npy": "NumPy .npy", "matrix": "text matrix"}.get(layout, "x y z point list")
+        ),
+        "unit": unit,
+        "unit_source": unit_source,
+        "size_source": size_source,
+        "shape": list(h.shape),
+        "dx": fdx,
+        "dy": fdy,
+    }
+    prov.update({k: v for k, v in info.items() if k not in ("format", "filled_undefined")})
+    return h, fdx, fdy, prov
+
+
+def fill_harmonic(heights):
+    """Fill the NaN points of a height map with the harmonic (Laplace) interpolant.
+
+    Each undefined point gets the mean of its 4 neighbours (fewer on the border), defined
+    neighbours fixed: the discrete Laplace equation on the holes, with the measured rim
+    as boundary values (the method SurfaceTopography's ``interpolate_undefined_data``
+    uses). A plane is reproduced exactly; a hole gets no extremum of its own.
+
+    Parameters
+    ----------
+    heights : ndarray, shape (nx, ny)
+        Heights with NaN at the undefined points; at least one defined point.
+
+    Returns
+    -------
+    ndarray
+        A finite copy.
+    """
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.linalg import spsolve
+
+    h = np.array(heights, dtype=np.float64, copy=True)
+    hole = np.isnan(h)
+    n = int(hole.sum())
+    if n == 0:
+        return h
+    if n == h.size:
+        raise ValueError("every height is undefined: nothing to interpolate from")
+    idx = -np.ones(h.shape, dtype=np.int64)
+    idx[hole] = np.arange(n)
+    rows, cols, vals = [], [], []
+    diag = np.zeros(n)
+    rhs = np.zeros(n)
+    nx, ny = h.shape
+    ii, jj = np.nonzero(hole)
+    me = idx[ii, jj]
+    for di, dj in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+        ni, nj = ii + di, jj + dj
+        inside = (ni >= 0) & (ni < nx) & (nj >= 0) & (nj < ny)
+        src, ni, nj = me[inside], ni[inside], nj[inside]
+        diag[src] += 1.0
+        other = idx[ni, nj]
+        unk = other >= 0
+        rows.append(src[unk])
+        cols.append(other[unk])
+        vals.append(-np.ones(int(unk.sum())))
+        np.add.at(rhs, src[~unk], h[ni[~unk], nj[~unk]])
+    rows.append(np.arange(n))
+    cols.append(np.arange(n))
+    vals.append(diag)
+    a = coo_matrix(
+        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n)
+    ).tocsr()
+    h[hole] = spsolve(a, rhs)
+    return h
+
+
+def write_surface(surface, path, unit="um"):
+    """Write ``surface`` as ``.npy``, a text matrix (``.txt``, ``.csv``, ...) or ``.xyz``.
+
+    Heights (and, for ``.xyz``, coordinates) are written in ``unit``. Read back with
+    :func:`read_surface` and the same ``unit`` (plus ``dx``/``size`` except for ``.xyz``).
+    """
+    return _io.write_plain(surface.heights, surface.dx, surface.dy, path, unit)
