@@ -245,16 +245,16 @@ def test_study_runs_one_sweep_per_pressure_and_writes_outputs(small, sweep_vc, t
         rows = list(csv.DictReader(fh))
     assert list(rows[0])[:8] == [
         "position",
-        "x",
-        "p_mean",
-        "u0",
+        "x_m",
+        "p_mean_Pa",
+        "u0_m",
         "alpha",
-        "W_def",
-        "W_adh",
+        "W_def_J",
+        "W_adh_J",
         "ratio",
     ]
     assert len(rows) == 24
-    assert float(rows[5]["W_def"]) == a.W_def[5] and float(rows[12]["p_mean"]) == 150e6
+    assert float(rows[5]["W_def_J"]) == a.W_def[5] and float(rows[12]["p_mean_Pa"]) == 150e6
     for name in ("fig11_u0", "fig12_alpha", "fig13_W_adh", "fig14_W_def", "fig15_ratio"):
         assert_png_drawn(out / f"{name}.png")
     figs = plot_sliding(st.ok, tmp_path / "sliding")
@@ -266,7 +266,10 @@ def test_study_runs_one_sweep_per_pressure_and_writes_outputs(small, sweep_vc, t
     for r, (x, y) in zip(st.ok, drawn[:2], strict=True):
         np.testing.assert_allclose(x, r.x[1:] * 1e3, rtol=1e-15)
         np.testing.assert_array_equal(y, np.where(r.ratio[1:] > 0, r.ratio[1:], np.nan))
-    assert (out / "sliding_summary.csv").exists()
+    with open(out / "sliding_summary.csv", newline="") as fh:
+        summ_rows = list(csv.DictReader(fh))
+    assert [float(r["p_mean_Pa"]) for r in summ_rows] == [300e6, 150e6]
+    assert float(summ_rows[0]["ratio_mean"]) == a.steady["ratio_mean"]
     one = write_sliding_outputs(a, tmp_path / "one")  # a single result writes its own rows
     with open(one / "sliding.csv", newline="") as fh:
         body = list(csv.reader(fh))[1:]
@@ -350,7 +353,7 @@ def test_cli_sliding_option(tmp_path, capsys):
     with open(out / "sliding" / "sliding.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
     assert len(rows) == 6 * (48 - 16 + 1)
-    assert {float(r["p_mean"]) for r in rows} == {100e6, 200e6, 300e6, 400e6, 500e6, 600e6}
+    assert {float(r["p_mean_Pa"]) for r in rows} == {100e6, 200e6, 300e6, 400e6, 500e6, 600e6}
     assert all(float(r["ratio"]) >= 0 for r in rows)
     assert (out / "sliding" / "fig15_ratio.png").exists() and (out / "params.json").exists()
 

@@ -10,20 +10,35 @@ from ._files import pyplot, save_png, write_csv
 
 __all__ = ["plot_sliding", "write_sliding_outputs"]
 
+#: ``sliding.csv``: SI units in the names (no suffix: dimensionless or a count)
 CSV_COLUMNS = [
     "position",
-    "x",
-    "p_mean",
-    "u0",
+    "x_m",
+    "p_mean_Pa",
+    "u0_m",
     "alpha",
-    "W_def",
-    "W_adh",
+    "W_def_J",
+    "W_adh_J",
     "ratio",
-    "separation",
-    "displaced_volume",
+    "separation_m",
+    "displaced_volume_m3",
     "converged",
     "nit",
 ]
+
+#: ``sliding_summary.csv`` columns: the keys of ``SlidingResult.steady`` and their units
+SUMMARY_COLUMNS = {
+    "p_mean": "p_mean_Pa",
+    "positions": "positions",
+    "ratio_mean": "ratio_mean",
+    "ratio_max": "ratio_max",
+    "W_def_mean": "W_def_mean_J",
+    "W_adh_mean": "W_adh_mean_J",
+    "alpha_mean": "alpha_mean",
+    "first_ratio": "first_ratio",
+    "converged": "converged",
+    "seconds": "seconds_s",
+}
 
 
 def _results_of(result):
@@ -46,10 +61,10 @@ def write_sliding_outputs(result, out_dir):
     Returns
     -------
     pathlib.Path
-        ``out_dir``. Files: ``sliding.csv`` (columns ``position, x, p_mean, u0, alpha, W_def,
-        W_adh, ratio, separation, displaced_volume, converged, nit``; SI units), ``sliding_summary.csv`` (steady sliding per
-        pressure), ``fig11_u0.png``, ``fig12_alpha.png``, ``fig13_W_adh.png``,
-        ``fig14_W_def.png``, ``fig15_ratio.png``.
+        ``out_dir``. Files: ``sliding.csv`` (:data:`CSV_COLUMNS`, units in the names),
+        ``sliding_summary.csv`` (steady sliding per pressure, :data:`SUMMARY_COLUMNS`),
+        ``fig11_u0.png``, ``fig12_alpha.png``, ``fig13_W_adh.png``, ``fig14_W_def.png``,
+        ``fig15_ratio.png``.
     """
     results = _results_of(result)
     out = Path(out_dir)
@@ -76,19 +91,11 @@ def write_sliding_outputs(result, out_dir):
             for i in range(r.position.size)
         ],
     )
-    keys = [
-        "p_mean",
-        "positions",
-        "ratio_mean",
-        "ratio_max",
-        "W_def_mean",
-        "W_adh_mean",
-        "alpha_mean",
-        "first_ratio",
-        "converged",
-        "seconds",
-    ]
-    write_csv(out / "sliding_summary.csv", keys, [[r.steady[k] for k in keys] for r in results])
+    write_csv(
+        out / "sliding_summary.csv",
+        list(SUMMARY_COLUMNS.values()),
+        [[r.steady[k] for k in SUMMARY_COLUMNS] for r in results],
+    )
     if results:
         plot_sliding(results, out)
     return out
