@@ -306,13 +306,39 @@ def tool_like(n=128, *, rough=False, size=PAPER_SIZE, seed=2, measured_n=None, m
 # -- measured maps for the geometric study ---------------------------------------------
 
 
-def _scale_to_solver_ra(fine, n, ra_target):
-    coarse = block_average(fine, n)
-    c = ra_target / ra(coarse)
+def _on_solver_grid(fine, coarse):
+    """``fine`` with its block averages replaced by ``coarse``: ``fine - U(B(fine)) + U(coarse)``.
+
+    ``B`` is the block average onto ``coarse``'s grid and ``U`` its piecewise-constant inverse,
+    so ``B(result) == coarse`` exactly while every element keeps ``fine``'s points about their
+    mean (its patch plane's slopes, Eqs. 19-21, are unchanged: a constant per element moves only
+    the plane's height).
+    """
+    n = coarse.shape[0]
+    s = fine.shape[0] // n
+    mean = fine.heights.reshape(n, s, n, s).mean(axis=(1, 3))
+    step = np.repeat(np.repeat(coarse.heights - mean, s, axis=0), s, axis=1)
     return fine.derive(
+        fine.heights + step,
+        {"op": "block means set to the solver-grid surface", "solver_shape": [n, n]},
+    )
+
+
+def _measured_map(preset, n, m, ra_target, seed, size, **kw):
+    """The fine map whose block average is exactly the solver-grid surface of ``preset``.
+
+    The solver-grid surface is ``preset(n, measured_n=m)`` (the one the sweeps use); the
+    sub-element detail is ``preset(m)``'s (Table 1's height distribution on the measured grid),
+    scaled so that its block averages would carry Table 1's ``Ra``.
+    """
+    coarse = preset(n, size=size, seed=seed, measured_n=m, **kw)
+    fine = preset(m, size=size, seed=seed, **kw)
+    c = ra_target / ra(block_average(fine, n))
+    fine = fine.derive(
         fine.heights * c,
         {"op": "scale", "factor": float(c), "reason": "Table 1 Ra on the solver grid"},
     )
+    return _on_solver_grid(fine, coarse)
 
 
 def measured_surfaces(
@@ -341,9 +367,12 @@ def measured_surfaces(
     size : float
         Edge length in m (default 2.11 mm).
     roughness_on : {"solver", "measured"}
-        ``"solver"`` (default): the fine maps are scaled so that their block averages have the
-        Table 1 ``Ra`` (Table 1 lists the simulated surfaces); ``"measured"``: Table 1 ``Ra`` and
-        ``Rq`` on the fine maps, the solver surfaces are smoother.
+        ``"solver"`` (default): the block averages of the fine maps are exactly the solver-grid
+        surfaces the sweeps use (``dc04_edt_like(n, measured_n=n block)``, ``tool_like``
+        likewise, Table 1 ``Ra`` and ``Rq`` there: Table 1 lists the simulated surfaces), and
+        the points inside each element carry the measured grid's own detail, scaled as if its
+        block averages had Table 1's ``Ra``: one random field at both grids.
+        ``"measured"``: Table 1 ``Ra`` and ``Rq`` on the fine maps, the solver surfaces smoother.
 
     Returns
     -------
@@ -359,9 +388,11 @@ def measured_surfaces(
     if roughness_on not in ("solver", "measured"):
         raise ValueError(f"roughness_on must be 'solver' or 'measured', got {roughness_on!r}")
     m = n * int(block)
-    wp = dc04_edt_like(m, size=size, seed=seed_workpiece)
-    tl = tool_like(m, rough=rough_tool, size=size, seed=seed_tool)
-    if roughness_on == "solver":
-        wp = _scale_to_solver_ra(wp, n, TABLE1["workpiece"]["Ra"])
-        tl = _scale_to_solver_ra(tl, n, TABLE1["rough_tool" if rough_tool else "tool"]["Ra"])
+    if roughness_on == "measured":
+        wp = dc04_edt_like(m, size=size, seed=seed_workpiece)
+        tl = tool_like(m, rough=rough_tool, size=size, seed=seed_tool)
+    else:
+        tool_ra = TABLE1["rough_tool" if rough_tool else "tool"]["Ra"]
+        wp = _measured_map(dc04_edt_like, n, m, TABLE1["workpiece"]["Ra"], seed_workpiece, size)
+        tl = _measured_map(tool_like, n, m, tool_ra, seed_tool, size, rough=rough_tool)
     return wp, tl
