@@ -34,6 +34,10 @@ DEFAULT_RELOAD_FRACTIONS = (0.05, 0.1, 0.25, 0.5, 0.75, 0.9)
 P_FLOOR = 1e3
 
 
+#: the defaults of a scene's materials are the ``Materials`` record's (the paper's Table 1)
+_TABLE1 = Materials()
+
+
 @dataclass(frozen=True)
 class Scene:
     """Everything a calibration needs; every field has the paper's default (Table 1, Sec. 3.1).
@@ -80,13 +84,13 @@ class Scene:
     seed_tool: int = 2
     grid: int | None = None
     measured_n: int | None = None
-    E_workpiece: float = 210e9
-    nu_workpiece: float = 0.3
-    E_tool: float = 210e9
-    nu_tool: float = 0.3
-    H: float = 800e6
+    E_workpiece: float = _TABLE1.E_workpiece
+    nu_workpiece: float = _TABLE1.nu_workpiece
+    E_tool: float = _TABLE1.E_tool
+    nu_tool: float = _TABLE1.nu_tool
+    H: float = _TABLE1.H
     sigma_y: float | None = None
-    m: float = 0.5
+    m: float = _TABLE1.m
     pressures: tuple = DEFAULT_PRESSURES
     reload_from: float = 100e6
     reload_fractions: tuple = DEFAULT_RELOAD_FRACTIONS
