@@ -65,11 +65,8 @@ def unit_factor(unit, name="unit"):
 
 def file_sha256(path):
     """Hex SHA-256 of a file's bytes (recorded in the provenance)."""
-    h = hashlib.sha256()
     with open(path, "rb") as fh:
-        for chunk in iter(lambda: fh.read(1 << 20), b""):
-            h.update(chunk)
-    return h.hexdigest()
+        return hashlib.file_digest(fh, "sha256").hexdigest()
 
 
 def _is_binary(path):
