@@ -23,6 +23,7 @@ import numpy as np
 
 from ._io import atomic_write
 from ._shear_flow import check_k_against_sigma_y
+from .uncertainty import LAW_KEYS, Uncertainty
 
 __all__ = [
     "FrictionParams",
@@ -222,6 +223,10 @@ class FrictionParams:
         tangential effect); ``None`` otherwise.
     provenance : dict
         Free mapping recorded in the file (calibration inputs, fit quality).
+    uncertainty : Uncertainty, optional
+        The multi-sample calibration's bands and per-sample laws (see
+        :mod:`frictionlaw.uncertainty`); ``None`` otherwise. :meth:`edge_laws` and
+        :meth:`sample_laws` give them as parameter sets.
     """
 
     m: float
@@ -237,6 +242,7 @@ class FrictionParams:
     p_range: tuple | None = None
     k_t: TangentialStiffness | None = None
     provenance: dict = field(default_factory=dict, compare=False, hash=False, repr=False)
+    uncertainty: Uncertainty | None = field(default=None, compare=False, hash=False, repr=False)
 
     def __post_init__(self):
         set_ = object.__setattr__
@@ -261,6 +267,33 @@ class FrictionParams:
             )
         if not isinstance(self.provenance, dict):
             raise ValueError("provenance must be a dict (a JSON object)")
+        if self.uncertainty is not None and not isinstance(self.uncertainty, Uncertainty):
+            raise ValueError("uncertainty must be an Uncertainty block or None")
+
+    def _with_law(self, law):
+        return self.replace(**{k: law[k] for k in LAW_KEYS}, uncertainty=None)
+
+    def edge_laws(self):
+        """``{"lower": FrictionParams, "upper": FrictionParams}``: the band's edge laws.
+
+        Same ``m, sigma_y, H, k`` and options, ``C1, n1, C2, n2`` fitted to the lower and upper
+        edge of the uncertainty band. ``ValueError`` if the file has no uncertainty block.
+        """
+        if self.uncertainty is None:
+            raise ValueError(
+                "these parameters have no uncertainty block: calibrate from several samples "
+                "(halfspace-calib --workpiece A B C ... or --patches N)"
+            )
+        return {k: self._with_law(v) for k, v in self.uncertainty.edge_laws.items()}
+
+    def sample_laws(self):
+        """``{sample name: FrictionParams}``: every sample's own law (uncertainty block)."""
+        if self.uncertainty is None:
+            raise ValueError("these parameters have no uncertainty block (one sample)")
+        return {
+            s.name: self._with_law({k: getattr(s, k) for k in LAW_KEYS})
+            for s in self.uncertainty.samples
+        }
 
     @property
     def tau_max(self):
@@ -286,6 +319,7 @@ class FrictionParams:
         cont = d.pop("continuous_reload")
         p_range = d.pop("p_range")
         d.pop("k_t")
+        d.pop("uncertainty")
         doc = {
             "format": FORMAT_NAME,
             "version": FORMAT_VERSION,
@@ -298,6 +332,8 @@ class FrictionParams:
         if self.k_t is not None:
             doc["tangential_stiffness"] = self.k_t.to_dict()
         doc["provenance"] = prov
+        if self.uncertainty is not None:
+            doc["uncertainty"] = self.uncertainty.to_dict()
         return doc
 
     def to_json(self, path):
@@ -345,6 +381,8 @@ class FrictionParams:
         p_range = _read_range(doc.get("calibrated_range"), source)
         k_doc = doc.get("tangential_stiffness")
         k_t = None if k_doc is None else TangentialStiffness.from_dict(k_doc, source=source)
+        u_doc = doc.get("uncertainty")
+        unc = None if u_doc is None else Uncertainty.from_dict(u_doc, source=source)
         try:
             return cls(
                 **par,
@@ -352,6 +390,7 @@ class FrictionParams:
                 p_range=p_range,
                 k_t=k_t,
                 provenance=doc.get("provenance", {}),
+                uncertainty=unc,
             )
         except ValueError as exc:
             raise ValueError(f"{source}: {exc}") from None

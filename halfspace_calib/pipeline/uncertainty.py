@@ -1,0 +1,259 @@
+"""Pooled law and bootstrap bands of a calibration from several samples.
+
+Every sample (a scan, or a patch of one) gives its first-loading curve ``alpha(p)`` and its
+reload curves. The law in ``params.json`` is the *pooled* fit: Eqs. 24-25 fitted to all samples'
+points at once (:func:`pooled_fit`), i.e. the law of the population's mean curve with every
+sample weighted equally. How sure that law is, is measured by the bootstrap over samples
+(:func:`bootstrap_uncertainty`): ``n_bootstrap`` times, draw ``N`` of the ``N`` samples with
+replacement and fit the pooled law again (as a fit to all samples weighted by how often each was
+drawn); the percentile interval of those laws at ``level`` (default 90 %: 5 % and 95 %) gives
+
+* the interval of ``C1, n1, C2, n2`` and ``mu_eff``,
+* pointwise bands of ``alpha(p)`` and ``tau(p)`` on first loading and on the reload branch at
+  every reload level ``p_hist``,
+* two edge laws (``lower``, ``upper``): Eqs. 24-25 fitted to the band's lower and upper edges.
+
+That is a confidence band of the population's law (where the law of many more patches of the
+same sheet would lie), not a prediction band for one further patch: the per-sample laws, also
+recorded, show that spread. With few samples the percentile bootstrap is too narrow (it
+resamples only what it saw); the measured coverage is in ``docs/uncertainty.md``.
+
+The refits start from the pooled optimum and use scipy's ``least_squares`` (the same residuals
+as :mod:`.fit`, looser tolerances: a resample moves the optimum little), so a thousand resamples
+take seconds.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from frictionlaw import alpha_first, alpha_reload
+from frictionlaw.uncertainty import Band, Interval, SampleLaw, Uncertainty
+
+from . import fit as _fit
+
+__all__ = [
+    "BAND_LEVEL",
+    "N_BOOTSTRAP",
+    "SampleCurves",
+    "curves_of",
+    "pooled_fit",
+    "bootstrap_uncertainty",
+]
+
+#: default two-sided level of the bands
+BAND_LEVEL = 0.9
+#: default bootstrap resamples
+N_BOOTSTRAP = 400
+#: pressures per band curve
+_BAND_POINTS = 40
+
+
+@dataclass(frozen=True)
+class SampleCurves:
+    """One sample's converged curves: first loading ``(p, alpha)`` and its reload curves."""
+
+    name: str
+    p: np.ndarray
+    alpha: np.ndarray
+    reload: tuple  # of fit.ReloadCurve
+
+
+def curves_of(name, sweeps):
+    """The :class:`SampleCurves` of a sample's :class:`~.sweeps.SweepResult`."""
+    p, a = sweeps.loading
+    return SampleCurves(name, p, a, tuple(sweeps.reload_curves()))
+
+
+def pooled_fit(samples, H, *, continuous=False):
+    """``(FirstLoadingFit, ReloadFit)`` of Eqs. 24-25 to all samples' points at once."""
+    p = np.concatenate([s.p for s in samples])
+    a = np.concatenate([s.alpha for s in samples])
+    first = _fit.fit_first_loading(p, a, H)
+    curves = [c for s in samples for c in s.reload]
+    reload = _fit.fit_reload(curves, H, first.C1, first.n1, continuous=continuous)
+    return first, reload
+
+
+class _Stacked:
+    """All samples' points as flat arrays with each point's sample index (for weighted refits)."""
+
+    def __init__(self, samples):
+        self.p1 = np.concatenate([s.p for s in samples])
+        self.a1 = np.concatenate([s.alpha for s in samples])
+        self.i1 = np.concatenate([np.full(s.p.size, i) for i, s in enumerate(samples)])
+        rc = [(i, c) for i, s in enumerate(samples) for c in s.reload]
+        self.p2 = np.concatenate([c.p for _, c in rc])
+        self.h2 = np.concatenate([np.full(c.p.size, c.p_hist) for _, c in rc])
+        self.a2 = np.concatenate([c.alpha for _, c in rc])
+        self.i2 = np.concatenate([np.full(c.p.size, i) for i, c in rc])
+
+
+def _refit(model, alpha, w, x0, lb, ub):
+    """Weighted least squares in log-parameters from ``x0``: the fitted ``(C, n)``."""
+
+    def residual(x):
+        return (model(*np.exp(x)) - alpha) * w
+
+    x0 = np.clip(np.log(x0), np.log(lb) + 1e-9, np.log(ub) - 1e-9)
+    sol = least_squares(residual, x0, bounds=(np.log(lb), np.log(ub)), method="trf")
+    return np.exp(sol.x)
+
+
+def _fit_weighted(st, counts, H, continuous, start):
+    """Pooled ``C1, n1, C2, n2`` with sample ``i`` counted ``counts[i]`` times."""
+    lb = np.array([_fit.C_BOUNDS[0], _fit.N_BOUNDS[0]])
+    ub = np.array([_fit.C_BOUNDS[1], _fit.N_BOUNDS[1]])
+    w1 = np.sqrt(counts[st.i1].astype(float))
+    c1, n1 = _refit(
+        lambda c, n: alpha_first(st.p1, _fit._law(H, c, n)), st.a1, w1, start[:2], lb, ub
+    )
+    w2 = np.sqrt(counts[st.i2].astype(float))
+    c2, n2 = _refit(
+        lambda c, n: alpha_reload(st.p2, st.h2, _fit._law(H, c1, n1, c, n, continuous)),
+        st.a2,
+        w2,
+        start[2:],
+        lb,
+        ub,
+    )
+    return np.array([c1, n1, c2, n2])
+
+
+def _band_grids(samples, p_range):
+    """Pressures of the first-loading band and ``{p_hist: pressures}`` of the reload bands."""
+    lo, hi = p_range
+    grid1 = np.geomspace(lo, hi, _BAND_POINTS)
+    levels = sorted({float(c.p_hist) for s in samples for c in s.reload})
+    grid2 = {}
+    for ph in levels:
+        ps = [c.p for s in samples for c in s.reload if c.p_hist == ph]
+        pmin, pmax = min(float(p.min()) for p in ps), max(float(p.max()) for p in ps)
+        grid2[ph] = np.linspace(pmin, pmax, _BAND_POINTS // 2)
+    return grid1, grid2
+
+
+def _curves(law, grid1, grid2):
+    """``alpha`` of one law on the band grids: first loading, then each reload level."""
+    out = [alpha_first(grid1, law)]
+    out += [alpha_reload(g, ph, law) for ph, g in grid2.items()]
+    return out
+
+
+def bootstrap_uncertainty(
+    samples, central, *, level=BAND_LEVEL, n_bootstrap=N_BOOTSTRAP, seed=0, continuous=False
+):
+    """The :class:`frictionlaw.uncertainty.Uncertainty` block of a multi-sample calibration.
+
+    Parameters
+    ----------
+    samples : sequence of SampleCurves
+        At least 3 samples.
+    central : frictionlaw.FrictionParams
+        The pooled law (its ``m, sigma_y, H, k, geo_ratio`` scale ``tau``; ``p_range`` sets
+        the first-loading band's pressures).
+    level : float
+        Two-sided level in ``(0, 1)``.
+    n_bootstrap : int
+        Resamples, ``>= 50``.
+    seed : int
+        Seed of the resampling.
+    continuous : bool
+        The reload fit's variant (as the pooled fit).
+    """
+    if len(samples) < 3:
+        raise ValueError(f"a band needs at least 3 samples, got {len(samples)}")
+    if not (0.0 < level < 1.0):
+        raise ValueError(f"level must be in (0, 1), got {level!r}")
+    if not (isinstance(n_bootstrap, int) and n_bootstrap >= 50):
+        raise ValueError(f"n_bootstrap must be an integer >= 50, got {n_bootstrap!r}")
+    H = central.H
+    st = _Stacked(samples)
+    start = np.array([central.C1, central.n1, central.C2, central.n2])
+    rng = np.random.default_rng(seed)
+    n = len(samples)
+    boot = np.empty((n_bootstrap, 4))
+    for b in range(n_bootstrap):
+        counts = np.bincount(rng.integers(0, n, n), minlength=n)
+        boot[b] = _fit_weighted(st, counts, H, continuous, start)
+    q = (0.5 * (1 - level), 0.5 * (1 + level))
+    p_range = central.p_range or (float(st.p1.min()), float(st.p1.max()))
+    grid1, grid2 = _band_grids(samples, p_range)
+    curves = [
+        _curves(central.replace(C1=c1, n1=n1, C2=c2, n2=n2, uncertainty=None), grid1, grid2)
+        for c1, n1, c2, n2 in boot
+    ]
+    central_curves = _curves(central, grid1, grid2)
+    tau_scale = central.tau_max  # tau = m k (1 + geo_ratio) alpha
+    bands, edges = [], {"lower": [], "upper": []}
+    grids = [(None, grid1)] + list(grid2.items())
+    for j, (ph, g) in enumerate(grids):
+        stack = np.array([c[j] for c in curves])
+        lo, hi = np.quantile(stack, q, axis=0)
+        cen = central_curves[j]
+        lo, hi = np.minimum(lo, cen), np.maximum(hi, cen)  # the pooled law lies in its band
+        edges["lower"].append(lo)
+        edges["upper"].append(hi)
+        kind = "first" if ph is None else "reload"
+        for quantity, scale in ((f"alpha_{kind}", 1.0), (f"tau_{kind}", tau_scale)):
+            bands.append(
+                Band(
+                    quantity,
+                    ph,
+                    tuple(float(x) for x in g),
+                    tuple(float(x) for x in cen * scale),
+                    tuple(float(x) for x in lo * scale),
+                    tuple(float(x) for x in hi * scale),
+                )
+            )
+    edge_laws = {k: _edge_law(H, grid1, grid2, v, continuous) for k, v in edges.items()}
+    mu_scale = central.tau_max / H
+    params = {}
+    for i, k in enumerate(("C1", "n1", "C2", "n2")):
+        lo, hi = np.quantile(boot[:, i], q)
+        c = float(start[i])
+        params[k] = Interval(c, float(min(lo, c)), float(max(hi, c)))
+    c1 = params["C1"]
+    params["mu_eff"] = Interval(c1.central * mu_scale, c1.lower * mu_scale, c1.upper * mu_scale)
+    sample_laws = tuple(_sample_law(s, H, continuous) for s in samples)
+    return Uncertainty(
+        level=float(level),
+        method=(
+            f"bootstrap over the {n} samples (percentile, {n_bootstrap} resamples, seed {seed}): "
+            "the pooled Eq. 24-25 fit redone on each resample; bands pointwise; edge laws "
+            "fitted to the band edges; a confidence band of the population's law, not a "
+            "prediction band for one further sample (see samples)"
+        ),
+        n_bootstrap=int(n_bootstrap),
+        seed=int(seed),
+        samples=sample_laws,
+        parameters=params,
+        edge_laws=edge_laws,
+        bands=tuple(bands),
+    )
+
+
+def _edge_law(H, grid1, grid2, edge, continuous):
+    """``{C1, n1, C2, n2}`` fitted to one band edge (first loading, then the reload levels)."""
+    first = _fit.fit_first_loading(grid1, np.clip(edge[0], 0.0, 1.0), H)
+    curves = [
+        _fit.ReloadCurve(ph, g, np.clip(a, 0.0, 1.0))
+        for (ph, g), a in zip(grid2.items(), edge[1:], strict=True)
+        if g[0] > 0
+    ]
+    rel = _fit.fit_reload(curves, H, first.C1, first.n1, continuous=continuous)
+    return {"C1": first.C1, "n1": first.n1, "C2": rel.C2, "n2": rel.n2}
+
+
+def _sample_law(s, H, continuous):
+    """One sample's own fit as a :class:`SampleLaw` (``nan`` never: a failed fit raises)."""
+    first = _fit.fit_first_loading(s.p, s.alpha, H)
+    rel = _fit.fit_reload(list(s.reload), H, first.C1, first.n1, continuous=continuous)
+    vals = (first.C1, first.n1, rel.C2, rel.n2)
+    if not all(math.isfinite(v) for v in vals):  # pragma: no cover - fits return finite values
+        raise RuntimeError(f"sample {s.name}: the fit gave non-finite parameters {vals}")
+    return SampleLaw(s.name, *vals)
