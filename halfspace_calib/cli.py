@@ -46,8 +46,18 @@ def build_parser():
         "--scene", help="scene file (TOML, keys as the Scene fields); options override it"
     )
     g = ap.add_argument_group("surfaces")
-    g.add_argument("--workpiece", help="workpiece topography file (default: synthetic DC04 EDT)")
-    g.add_argument("--tool", help="tool topography file (default: synthetic hardened tool)")
+    g.add_argument(
+        "--workpiece",
+        nargs="+",
+        help="workpiece topography file(s) (default: synthetic DC04 EDT); several files: a "
+        "multi-sample calibration with a band (each against the one --tool, or paired in order)",
+    )
+    g.add_argument(
+        "--tool",
+        nargs="+",
+        help="tool topography file(s) (default: synthetic hardened tool): one for all "
+        "workpieces, or one per workpiece",
+    )
     g.add_argument(
         "--unit",
         help="height unit of plain files: m, mm, um, nm (instrument files and text matrices with "
@@ -165,8 +175,48 @@ def build_parser():
         help="same as adding 'sliding' to --effects: the sliding study of Sec. 3.3 (W_def / W_adh "
         "at 100-600 MPa on a 3x longer synthetic strip, Ra 0.989 um) into <out>/sliding/",
     )
+    g = ap.add_argument_group("several samples (docs/uncertainty.md)")
+    g.add_argument(
+        "--patches",
+        type=int,
+        help="cut every workpiece/tool pair into N non-overlapping square patches, each a sample "
+        "(default 1; synthetic surfaces: patches of one larger synthetic surface)",
+    )
+    g.add_argument(
+        "--band-level",
+        type=float,
+        help="two-sided level of the bootstrap band over the samples (default 0.9)",
+    )
+    g.add_argument(
+        "--bootstrap",
+        type=int,
+        help="bootstrap resamples of the band (default 400, at least 50)",
+    )
     ap.add_argument("--quiet", action="store_true", help="no progress bar")
     return ap
+
+
+def sample_spec(args, scene):
+    """The :class:`SampleSpec` of the options and the scene file's ``[samples]`` table."""
+    from .pipeline.samples import SampleSpec, read_samples_table
+
+    kw = read_samples_table(args.scene) if args.scene else {}
+    wps, tls = args.workpiece or [], args.tool or []
+    if len(wps) > 1 or len(tls) > 1:
+        kw["workpieces"], kw["tools"] = tuple(wps), tuple(tls)
+    elif wps or tls:  # one file on the command line replaces the scene file's lists
+        kw.pop("workpieces", None) if wps else None
+        kw.pop("tools", None) if tls else None
+    for key, opt in (("patches", "patches"), ("level", "band_level"), ("n_bootstrap", "bootstrap")):
+        if getattr(args, opt) is not None:
+            kw[key] = getattr(args, opt)
+    spec = SampleSpec(**kw)
+    if not spec.multi and (args.band_level is not None or args.bootstrap is not None):
+        raise ValueError(
+            "--band-level and --bootstrap apply to several samples: give several --workpiece "
+            "files or --patches N"
+        )
+    return spec
 
 
 def scene_from_args(args):
@@ -206,6 +256,9 @@ def scene_from_args(args):
             "geo_threshold",
         )
     }
+    for role in ("workpiece", "tool"):  # several files: the first here, all in sample_spec
+        if over[role] is not None:
+            over[role] = over[role][0]
     if over["size"] is not None:
         if len(over["size"]) > 2:
             raise ValueError(f"--size takes one or two lengths (m), got {len(over['size'])}")
@@ -274,6 +327,9 @@ def main(argv=None):
     t0 = time.perf_counter()
     try:
         scene = scene_from_args(args)
+        spec = sample_spec(args, scene)
+        if spec.multi:
+            return _main_samples(args, scene, spec, t0)
         surfaces = load_scene_surfaces(scene)  # every file check before any sweep
         tmp = _temp_out(args.out)
     except FileNotFoundError as exc:
@@ -309,6 +365,56 @@ def main(argv=None):
     _print_effects(cal, out)
     _print_resolution(cal.resolution)
     problems = cal.problems()
+    if problems:
+        print("  RUN FAILED (exit code 1):")
+        for p in problems:
+            print(f"    - {p}")
+        return 1
+    return 0
+
+
+def _main_samples(args, scene, spec, t0):
+    """A calibration from several samples (docs/uncertainty.md); returns the exit code."""
+    from .output.uncertainty import write_sample_outputs
+    from .pipeline.samples import calibrate_samples, load_samples
+
+    try:
+        samples = load_samples(scene, spec)  # every file and sample check before any sweep
+        tmp = _temp_out(args.out)
+    except FileNotFoundError as exc:
+        return _error(f"file not found: {exc.filename or exc}", 2)
+    except (ValueError, ImportError, OSError) as exc:
+        return _error(str(exc), 2)
+    try:
+        print(
+            f"  {len(samples)} samples ({spec.patches} patch(es) per pair), solver grid "
+            f"{samples[0].surfaces.grid} x {samples[0].surfaces.grid}, element "
+            f"{samples[0].surfaces.workpiece.dx * 1e6:.4g} um, non-periodic"
+        )
+        mc = calibrate_samples(scene, spec, samples=samples, progress=not args.quiet)
+        write_sample_outputs(mc, tmp)
+        _move_into_place(tmp, args.out)
+    except (RuntimeError, MemoryError) as exc:
+        return _error(f"the run failed: {exc or type(exc).__name__}", 1)
+    except OSError as exc:
+        return _error(f"the outputs could not be written, {args.out} is unchanged: {exc}", 1)
+    finally:
+        if tmp.exists():
+            shutil.rmtree(tmp, ignore_errors=True)
+    u = mc.uncertainty
+    print(
+        f"calibrated {len(mc.calibrations)} of {len(samples)} samples in "
+        f"{time.perf_counter() - t0:.1f} s -> {Path(args.out) / 'params.json'}"
+    )
+    print(f"  pooled law and {100 * u.level:g} % bootstrap band ({u.n_bootstrap} resamples):")
+    for k, v in u.parameters.items():
+        print(f"    {k} = {v.central:.4g}  [{v.lower:.4g}, {v.upper:.4g}]")
+    b = u.band("tau_first")
+    for p in (100e6, 300e6, 600e6):
+        if b.p[0] <= p <= b.p[-1]:
+            c, lo, hi = b.at(p)
+            print(f"    tau({p / 1e6:g} MPa) = {c / 1e6:.3f} MPa  [{lo / 1e6:.3f}, {hi / 1e6:.3f}]")
+    problems = mc.problems()
     if problems:
         print("  RUN FAILED (exit code 1):")
         for p in problems:

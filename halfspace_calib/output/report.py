@@ -9,7 +9,15 @@ import numpy as np
 
 from ._files import pyplot, save_png, write_csv
 
-__all__ = ["write_outputs"]
+__all__ = ["write_outputs", "REPORT_IMAGES"]
+
+#: the plots of every calibration and their captions in report.html
+REPORT_IMAGES = [
+    ("alpha_first_loading.png", "First loading: half-space model and Eq. 24"),
+    ("alpha_reload.png", "Un-/reloading curves and Eq. 25"),
+    ("roughness.png", "Workpiece roughness after unloading (Figs. 3-4)"),
+    ("pressure_map.png", "Contact pressure map at the highest load"),
+]
 
 
 # columns of one normal solve, in the loading and the reload table: (record key, CSV header
@@ -89,16 +97,18 @@ def write_plots(cal, out):
 
     fig, ax = plt.subplots(figsize=(6, 4.2))
     ax.plot(pp / MPa, alpha_first(pp, P), "k-", lw=1, label="Eq. 24 (first loading)")
-    for i, c in enumerate(cal.sweeps.reload_curves()):
-        col = f"C{i % 10}"
+    hists = sorted({c.p_hist for c in cal.sweeps.reload_curves()})  # several samples: shared
+    for c in cal.sweeps.reload_curves():
+        col = f"C{hists.index(c.p_hist) % 10}"
         ax.plot(c.p / MPa, c.alpha, "o", color=col, ms=4)
-        q = np.linspace(0, c.p_hist, 100)
+    for i, ph in enumerate(hists):
+        q = np.linspace(0, ph, 100)
         ax.plot(
             q / MPa,
-            alpha_reload(q, c.p_hist, P),
+            alpha_reload(q, ph, P),
             "-",
-            color=col,
-            label=f"Eq. 25, p_hist={c.p_hist / MPa:.0f} MPa",
+            color=f"C{i % 10}",
+            label=f"Eq. 25, p_hist={ph / MPa:.0f} MPa",
         )
     ax.set(
         xlabel="p_mean [MPa]",
@@ -155,5 +165,9 @@ def write_outputs(cal, out):
     from .effects import write_effect_outputs
 
     write_effect_outputs(cal, out)
-    (out / "summary.json").write_text(json.dumps(cal.summary(), indent=2, default=float) + "\n")
+    summary = cal.summary()  # one record for summary.json and report.html
+    (out / "summary.json").write_text(json.dumps(summary, indent=2, default=float) + "\n")
+    from .html import write_report
+
+    write_report(summary, out, REPORT_IMAGES)
     return out

@@ -67,6 +67,7 @@ __all__ = [
     "SampleSpec",
     "SampleOutcome",
     "pair_files",
+    "read_samples_table",
     "load_samples",
     "cut_patches",
     "synthetic_population",
@@ -137,6 +138,44 @@ class SampleOutcome:
     calibrations: dict  # name -> Calibration
     failed: dict  # name -> error text
     seconds: float
+
+
+def read_samples_table(path):
+    """The ``[samples]`` table of a scene file as :class:`SampleSpec` keywords (``{}`` if none).
+
+    Keys: ``workpieces``, ``tools`` (lists of paths, relative to the scene file), ``patches``,
+    ``band_level``, ``bootstrap``, ``seed``.
+    """
+    import tomllib
+
+    path = Path(path)
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        raise ValueError(f"{path}: cannot read the scene file ({exc})") from None
+    table = data.get("samples", {})
+    if not isinstance(table, dict):
+        raise ValueError(f"{path}: 'samples' must be a table ([samples])")
+    names = {
+        "workpieces": "workpieces",
+        "tools": "tools",
+        "patches": "patches",
+        "band_level": "level",
+        "bootstrap": "n_bootstrap",
+        "seed": "seed",
+    }
+    unknown = set(table) - set(names)
+    if unknown:
+        raise ValueError(
+            f"{path}: unknown [samples] keys {sorted(unknown)}; known: {sorted(names)}"
+        )
+    kw = {names[k]: v for k, v in table.items()}
+    for key in ("workpieces", "tools"):
+        if key in kw:
+            if not isinstance(kw[key], list) or not all(isinstance(x, str) for x in kw[key]):
+                raise ValueError(f"{path}: [samples] {key} must be a list of file paths")
+            kw[key] = tuple(x if Path(x).is_absolute() else str(path.parent / x) for x in kw[key])
+    return kw
 
 
 def pair_files(workpieces, tools):
@@ -215,24 +254,22 @@ def _check_scene(scene):
         )
 
 
-def _load_pair(scene, wp, tl, spec):
-    """``(surfaces on k * patch grid or the solver grid, k, patch grid)`` of one pair."""
-    one = dataclasses.replace(scene, workpiece=wp, tool=tl)
+def _load_pair(one, spec):
+    """``(surfaces on k * patch grid or the solver grid, k, patch grid)`` of one pair's scene."""
     k, _ = _layout(spec.patches)
     if spec.patches == 1:
         s = load_scene_surfaces(one)
         return s, 1, s.grid
     if not one.from_files:
-        grid = scene.grid
-        _patch_guard(grid, "--grid")
-        return synthetic_population(one, k, grid), k, grid
-    if scene.grid is None:  # the scans' sampling on one patch, at most MAX_DEFAULT_GRID
+        _patch_guard(one.grid, "--grid")
+        return synthetic_population(one, k, one.grid), k, one.grid
+    if one.grid is None:  # the scans' sampling on one patch, at most MAX_DEFAULT_GRID
         first = load_scene_surfaces(one, check_sampling=False)
         side = min(r.crop_size for r in first.files)
         pitch = max(max(r.pitch) for r in first.files)
         grid = min(int(side / k / pitch + 1e-9), MAX_DEFAULT_GRID)
     else:
-        grid = scene.grid
+        grid = one.grid
     _patch_guard(grid, f"--patches {spec.patches}")
     return load_scene_surfaces(one, grid=k * grid), k, grid
 
@@ -262,20 +299,21 @@ def load_samples(scene, spec):
         )
     many_tools = len(set(t for _, t in pairs)) > 1
     patched = spec.patches > 1
-    base = dataclasses.replace(
-        scene,
-        workpiece=None,
-        tool=None,
-        unit=scene.unit if any(wps) or any(tls) else None,
-        resolution_check=False,
-        workers=1,
-        scheduler=None,
-        periodic=False if (patched or scene.from_files or wps or tls) else scene.periodic,
-    )
     samples = []
     for wp, tl in pairs:
-        surfs, k, grid = _load_pair(base, wp, tl, spec)
-        sc = dataclasses.replace(base, workpiece=wp, tool=tl, grid=grid)
+        files = wp is not None or tl is not None
+        one = dataclasses.replace(
+            scene,
+            workpiece=wp,
+            tool=tl,
+            resolution_check=False,
+            workers=1,
+            scheduler=None,
+            periodic=False if (patched or files) else scene.periodic,
+            grid=scene.grid if (files or scene.grid is not None) else None,
+        )
+        surfs, k, grid = _load_pair(one, spec)
+        sc = dataclasses.replace(one, grid=grid)
         if not patched:
             samples.append(Sample(_name(wp, tl, many_tools), sc, surfs))
             continue
@@ -390,7 +428,8 @@ class MultiCalibration:
             },
             "edge_laws": u.edge_laws,
         }
-        s["seconds"] = dict(self.seconds)
+        s["seconds"] = self.seconds["total"]
+        s["timings"] = dict(self.seconds)
         return s
 
 

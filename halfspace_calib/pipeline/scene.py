@@ -281,6 +281,7 @@ def load_scene(path, **overrides):
     except tomllib.TOMLDecodeError as exc:
         raise ValueError(f"{path}: not a valid TOML scene file ({exc})") from None
     data = data.get("scene", data)
+    data.pop("samples", None)  # several samples: read by pipeline.samples.read_samples_table
     known = {f.name for f in dataclasses.fields(Scene)}
     unknown = set(data) - known
     if unknown:

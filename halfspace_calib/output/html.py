@@ -1,0 +1,202 @@
+"""``report.html``: one self-contained page of a calibration (images embedded, no network).
+
+Built from the same record as ``summary.json`` (the calibration's ``summary()`` dict) and the
+PNG files the writers produced, never parsed back from ``summary.json``. Every number of the
+record that the page shows carries ``data-key="<dotted path in summary.json>"`` so that a
+reader (or a test) can check the page against the file.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import math
+from pathlib import Path
+
+__all__ = ["write_report", "number_cell", "page"]
+
+_STYLE = (
+    "body{font-family:sans-serif;max-width:1000px;margin:2em auto;color:#222}"
+    "table{border-collapse:collapse;margin:0.5em 0}td,th{border:1px solid #bbb;padding:2px 8px;"
+    "text-align:right}th{background:#eee}td.t{text-align:left}.bad{color:#b00}"
+    "img{max-width:100%;border:1px solid #ddd;margin:4px 0}"
+)
+
+
+def number_cell(value, key, fmt=".6g"):
+    """A ``<td>`` with the number and its ``data-key`` (the path of the value in summary.json)."""
+    if value is None or (isinstance(value, float) and not math.isfinite(value)):
+        text = "-"
+    else:
+        text = format(value, fmt)
+    return f'<td data-key="{html.escape(key)}">{text}</td>'
+
+
+def page(title, body):
+    """A whole HTML document around ``body``."""
+    return (
+        "<!DOCTYPE html>\n<html><head><meta charset='utf-8'>"
+        f"<title>{html.escape(title)}</title><style>{_STYLE}</style></head>"
+        f"<body><h1>{html.escape(title)}</h1>\n{body}\n</body></html>\n"
+    )
+
+
+def image(path, caption):
+    """An ``<img>`` with the PNG at ``path`` embedded as base64 (empty if it does not exist)."""
+    path = Path(path)
+    if not path.is_file():
+        return ""
+    data = base64.b64encode(path.read_bytes()).decode("ascii")
+    return (
+        f"<figure><img alt='{html.escape(caption)}' src='data:image/png;base64,{data}'>"
+        f"<figcaption>{html.escape(caption)}</figcaption></figure>"
+    )
+
+
+def _list(items, cls=""):
+    if not items:
+        return "<p>none</p>"
+    c = f" class='{cls}'" if cls else ""
+    return "<ul>" + "".join(f"<li{c}>{html.escape(str(i))}</li>" for i in items) + "</ul>"
+
+
+def _params_table(s):
+    rows = [
+        ("C1", "Eq. 24", ""),
+        ("n1", "Eq. 24", ""),
+        ("C2", "Eq. 25", ""),
+        ("n2", "Eq. 25", ""),
+        ("mu_eff", "Coulomb slope m k C1 / H", ""),
+        ("tau_max", "cap m k", "Pa"),
+        ("m", "Tresca factor (input)", ""),
+        ("sigma_y", "yield stress (input)", "Pa"),
+        ("H", "hardness (input)", "Pa"),
+        ("first_loading_r2", "R^2 of Eq. 24", ""),
+        ("reload_r2", "R^2 of Eq. 25", ""),
+        ("max_jump_relative", "largest jump at p_hist / tau", ""),
+    ]
+    out = ["<table><tr><th>quantity</th><th>value</th><th>meaning</th><th>unit</th></tr>"]
+    for k, what, unit in rows:
+        out.append(
+            f"<tr><td class='t'>{k}</td>{number_cell(s.get(k), k)}<td class='t'>{what}</td>"
+            f"<td class='t'>{unit}</td></tr>"
+        )
+    out.append("</table>")
+    return "".join(out)
+
+
+def _uncertainty(s):
+    u = s.get("uncertainty")
+    if not u:
+        return ""
+    out = [
+        f"<h2>Band over {s['samples']['calibrated']} samples "
+        f"({100 * u['level']:g} % bootstrap, {u['n_bootstrap']} resamples)</h2>",
+        "<table><tr><th>quantity</th><th>pooled</th><th>lower</th><th>upper</th></tr>",
+    ]
+    for k, v in u["parameters"].items():
+        out.append(
+            f"<tr><td class='t'>{k}</td>"
+            + "".join(number_cell(v[f], f"uncertainty.parameters.{k}.{f}") for f in v)
+            + "</tr>"
+        )
+    for p, v in u["tau_first_at"].items():
+        out.append(
+            f"<tr><td class='t'>tau at {html.escape(p)} [Pa]</td>"
+            + "".join(number_cell(v[f], f"uncertainty.tau_first_at.{p}.{f}") for f in v)
+            + "</tr>"
+        )
+    out.append("</table><h3>Per-sample laws</h3><table><tr><th>sample</th>")
+    keys = ("C1", "n1", "C2", "n2")
+    out.append("".join(f"<th>{k}</th>" for k in keys) + "</tr>")
+    for i, x in enumerate(s["samples"]["per_sample"]):
+        out.append(
+            f"<tr><td class='t'>{html.escape(x['name'])}</td>"
+            + "".join(number_cell(x[k], f"samples.per_sample.{i}.{k}") for k in keys)
+            + "</tr>"
+        )
+    out.append("</table>")
+    if s["samples"]["failed"]:
+        out.append(
+            "<p class='bad'>Failed samples:</p>"
+            + _list([f"{n}: {e}" for n, e in s["samples"]["failed"].items()], "bad")
+        )
+    return "".join(out)
+
+
+def _files(s):
+    files = s.get("files") or []
+    if not files:
+        return "<p>synthetic surfaces (Table 1), no files</p>"
+    out = [
+        "<table><tr><th>sample/role</th><th>file</th><th>format</th><th>points</th>"
+        "<th>size [um]</th><th>unit</th><th>undefined</th><th>steps</th><th>sha256</th></tr>"
+    ]
+    for f in files:
+        who = f"{f.get('sample', '')} {f['role']}".strip()
+        out.append(
+            f"<tr><td class='t'>{html.escape(who)}</td><td class='t'>{html.escape(f['path'])}</td>"
+            f"<td class='t'>{html.escape(f['format'])}</td>"
+            f"<td>{f['native_shape'][0]} x {f['native_shape'][1]}</td>"
+            f"<td>{f['native_size'][0] * 1e6:.4g} x {f['native_size'][1] * 1e6:.4g}</td>"
+            f"<td class='t'>{html.escape(f['unit'])} ({html.escape(f['unit_source'])})</td>"
+            f"<td>{100 * f['undefined_fraction']:.2f} %</td>"
+            f"<td class='t'>{html.escape('; '.join(f['steps']))}</td>"
+            f"<td class='t'><code>{html.escape(f['sha256'])}</code></td></tr>"
+        )
+    out.append("</table>")
+    return "".join(out)
+
+
+def _resolution(s):
+    rc = s.get("resolution_check")
+    if rc is None:
+        why = "not run" + (
+            " (multi-sample calibration: run one sample alone for it)" if s.get("samples") else ""
+        )
+        return f"<p>{why}</p>"
+    if rc.get("skipped"):
+        return f"<p>skipped: {html.escape(rc['skipped'])}</p>"
+    out = [
+        f"<p>grid {rc['grid']} against {rc['half_grid']}</p><table><tr><th>parameter</th>"
+        "<th>grid</th><th>half grid</th><th>change</th></tr>"
+    ]
+    for k, (a, b, d) in rc["params"].items():
+        out.append(
+            f"<tr><td class='t'>{k}</td>{number_cell(a, f'resolution_check.params.{k}.0')}"
+            f"{number_cell(b, f'resolution_check.params.{k}.1')}<td>{100 * d:.2f} %</td></tr>"
+        )
+    out.append("</table>")
+    if rc.get("warning"):
+        out.append(f"<p class='bad'>{html.escape(rc['warning'])}</p>")
+    return "".join(out)
+
+
+def write_report(summary, out, images, title="Friction law calibration"):
+    """Write ``out/report.html`` from the summary record and the PNGs ``[(file, caption)]``."""
+    s = summary
+    out = Path(out)
+    warnings = []
+    rc = s.get("resolution_check") or {}
+    if rc.get("warning"):
+        warnings.append(rc["warning"])
+    body = [
+        f"<p>grid {s.get('grid')} x {s.get('grid')}, periodic: {s.get('periodic')}, "
+        f"run time {s.get('seconds', 0):.1f} s</p>",
+        "<h2>Parameters and fit quality</h2>",
+        _params_table(s),
+        _uncertainty(s),
+        "<h2>Curves</h2>",
+        "".join(image(out / f, c) for f, c in images),
+        "<h2>Resolution check</h2>",
+        _resolution(s),
+        "<h2>Files (provenance)</h2>",
+        _files(s),
+        "<h2>Warnings</h2>",
+        _list(warnings),
+        "<h2>Problems</h2>",
+        _list(s.get("problems", []), "bad"),
+    ]
+    path = out / "report.html"
+    path.write_text(page(title, "\n".join(body)), encoding="utf-8")
+    return path
