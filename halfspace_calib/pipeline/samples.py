@@ -54,6 +54,7 @@ from .sweeps import FailedLevel, SweepResult
 from .uncertainty import (
     BAND_LEVEL,
     N_BOOTSTRAP,
+    REPORT_PRESSURES,
     bootstrap_uncertainty,
     curves_of,
     pooled_fit,
@@ -326,14 +327,6 @@ def load_samples(scene, spec):
 
 def _check_consistent(samples):
     """Same element size (within :data:`ELEMENT_RTOL`) and, per role, the same height unit."""
-    dx = [s.surfaces.workpiece.dx for s in samples]
-    if max(dx) > min(dx) * (1 + ELEMENT_RTOL):
-        what = ", ".join(f"{s.name}: {s.surfaces.workpiece.dx * 1e6:.4g} um" for s in samples)
-        raise ValueError(
-            f"the samples' element sizes differ by more than {100 * ELEMENT_RTOL:g} % after "
-            f"resampling ({what}): one law needs one element size; give --grid and --crop-size "
-            "so that every file gives the same element"
-        )
     for role in ("workpiece", "tool"):
         units = {}
         for s in samples:
@@ -347,6 +340,14 @@ def _check_consistent(samples):
                 + "): samples of one law must be measured alike; convert them or calibrate "
                 "them separately"
             )
+    dx = [s.surfaces.workpiece.dx for s in samples]
+    if max(dx) > min(dx) * (1 + ELEMENT_RTOL):
+        what = ", ".join(f"{s.name}: {s.surfaces.workpiece.dx * 1e6:.4g} um" for s in samples)
+        raise ValueError(
+            f"the samples' element sizes differ by more than {100 * ELEMENT_RTOL:g} % after "
+            f"resampling ({what}): one law needs one element size; give --grid and --crop-size "
+            "so that every file gives the same element"
+        )
 
 
 def _sample_job(sample):
@@ -436,7 +437,7 @@ class MultiCalibration:
 def _report_pressures(u):
     """The pressures of the summary's ``tau`` table: 100, 300, 600 MPa within the band."""
     b = u.band("tau_first")
-    return [p for p in (100e6, 300e6, 600e6) if b.p[0] <= p <= b.p[-1]]
+    return [p for p in REPORT_PRESSURES if b.p[0] <= p <= b.p[-1]]
 
 
 def calibrate_samples(scene, spec, *, samples=None, progress=True):

@@ -38,6 +38,7 @@ from . import fit as _fit
 
 __all__ = [
     "BAND_LEVEL",
+    "REPORT_PRESSURES",
     "N_BOOTSTRAP",
     "SampleCurves",
     "curves_of",
@@ -50,7 +51,9 @@ BAND_LEVEL = 0.9
 #: default bootstrap resamples
 N_BOOTSTRAP = 400
 #: pressures per band curve
-_BAND_POINTS = 40
+_BAND_POINTS = 60
+#: pressures at which the band is reported (Pa): on the first-loading band's grid exactly
+REPORT_PRESSURES = (100e6, 300e6, 600e6)
 
 
 @dataclass(frozen=True)
@@ -127,7 +130,9 @@ def _fit_weighted(st, counts, H, continuous, start):
 def _band_grids(samples, p_range):
     """Pressures of the first-loading band and ``{p_hist: pressures}`` of the reload bands."""
     lo, hi = p_range
-    grid1 = np.geomspace(lo, hi, _BAND_POINTS)
+    ps = np.concatenate([s.p for s in samples])  # the swept pressures and the report's exactly
+    keep = [p for p in (*REPORT_PRESSURES, *ps) if lo <= p <= hi]
+    grid1 = np.unique(np.concatenate([np.geomspace(lo, hi, _BAND_POINTS), keep]))
     levels = sorted({float(c.p_hist) for s in samples for c in s.reload})
     grid2 = {}
     for ph in levels:
