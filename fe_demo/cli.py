@@ -20,6 +20,7 @@ import numpy as np
 
 from frictionlaw import FrictionParams
 
+from .band import band_laws, write_band_outputs
 from .calibrated_range import range_lines
 from .laws import LAW_OPTIONS, LAWS
 from .material import DC04, Material
@@ -76,6 +77,18 @@ def _add_common(p, *, law, nr, increments, reduction, out):
         "--vtu-every", type=int, default=5, help="VTU snapshot every N increments (0: none)"
     )
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    g = p.add_mutually_exclusive_group()
+    g.add_argument(
+        "--band",
+        action="store_true",
+        help="law sbmf with a multi-sample --params file: run the central law and the band's "
+        "two edge laws; history.csv, plot, summary.json and report.html give the band",
+    )
+    g.add_argument(
+        "--samples",
+        action="store_true",
+        help="as --band, but the central law and every sample's own law (their spread)",
+    )
 
 
 def build_parser():
@@ -372,6 +385,12 @@ def _check_options(args):
             raise ValueError(f"--m-list is not used by --law {args.law} (it sweeps Tresca's m)")
         if args.m is not None:
             raise ValueError("give --m or --m-list, not both")
+    if args.band or args.samples:
+        flag = "--band" if args.band else "--samples"
+        if args.law != "sbmf" or args.params is None:
+            raise ValueError(f"{flag} needs --law sbmf and a --params file from several samples")
+        if getattr(args, "m_list", None) is not None:
+            raise ValueError(f"--m-list is not used with {flag}")
     args.m_given = args.m is not None
     args.mu = _MU if args.mu is None else args.mu
     args.m = _M if args.m is None else args.m
@@ -379,6 +398,57 @@ def _check_options(args):
         if not args.params.exists():
             raise ValueError(f"--params file {args.params} does not exist")
         FrictionParams.from_json(args.params)  # unreadable files are bad input, before any run
+        if args.band or args.samples:
+            args.band_laws = band_laws(args.params, "band" if args.band else "samples")
+
+
+def _cmd_band(args):
+    """The scene once per law of the band (or per sample); the band's files in ``args.out``."""
+    results = {}
+    for name, law in args.band_laws:
+        kw = _common_kw(args, "sbmf")
+        kw["params"] = law
+        if args.scene == "upsetting":
+            res = run_upsetting(
+                "sbmf",
+                diameter=args.diameter,
+                height=args.height,
+                reduction=args.reduction,
+                remesh_below=args.remesh_below,
+                **kw,
+            )
+        elif args.scene == "ring":
+            res = run_ring("sbmf", reduction=args.reduction, remesh_below=args.remesh_below, **kw)
+        else:
+            res = run_multistage(
+                "sbmf", first_reduction=args.first_reduction, reduction=args.reduction, **kw
+            )
+        _write_run(args.out / name, res, f"sbmf {name}")
+        _report_run(name, res)
+        results[name] = (
+            res.history or None,
+            {
+                "converged": res.converged,
+                "message": res.message,
+                "calibrated_range": res.info.get("calibrated_range"),
+                "law": {k: getattr(law, k) for k in ("C1", "n1", "C2", "n2")},
+            },
+        )
+    keys = [("force", "N")] + ([("inner_diameter_change", "1")] if args.scene == "ring" else [])
+    level = FrictionParams.from_json(args.params).uncertainty.level
+    rec = write_band_outputs(
+        args.out, args.scene, "band" if args.band else "samples", level, results, keys
+    )
+    for key, unit in keys:
+        for red, v in rec[f"{key}_at"].items():
+            s = 1e-3 if unit == "N" else 100.0
+            u = "kN" if unit == "N" else "%"
+            print(
+                f"{key} at {red}: {v['central'] * s:.4g} {u} +- {v['plus_minus'] * s:.3g} {u} "
+                f"[{v['lower'] * s:.4g}, {v['upper'] * s:.4g}]"
+            )
+    print(f"output in {args.out}")
+    return 0 if rec["ok"] else 1
 
 
 def main(argv=None):
@@ -393,6 +463,8 @@ def main(argv=None):
         print(f"error: {exc}", file=sys.stderr)
         return 2
     try:
+        if args.band or args.samples:
+            return _cmd_band(args)
         if args.scene == "upsetting":
             return _cmd_upsetting(args)
         if args.scene == "ring":
