@@ -1,7 +1,10 @@
 """Run a sweep as a list of independent jobs: serially, on local processes, or on a Dask cluster.
 
 A failed job is captured with its error message and does not stop the others; results come back in
-job order whichever path ran them, so a sweep gives identical numbers on every path.
+job order whichever path ran them, so a sweep gives identical numbers on every path. On Dask, a
+worker that dies mid-job has its job rescheduled by the scheduler (up to its
+``distributed.scheduler.allowed-failures``); a job whose workers all died comes back failed
+(``KilledWorker``), the others' results are kept.
 """
 
 import os
@@ -94,7 +97,13 @@ def _run_dask(fn, jobs, scheduler, bar):
         futures = client.map(_call, [fn] * len(jobs), range(len(jobs)), jobs, pure=False)
         for _ in as_completed(futures):
             bar.update()
-        return client.gather(futures)
+        out = []
+        for i, f in enumerate(futures):  # _call catches the job's own errors: what reaches
+            try:  # here is the cluster's (a worker that died on every retry, a lost task)
+                out.append(f.result())
+            except Exception as exc:  # noqa: BLE001 - one lost job must not lose the others
+                out.append(JobResult(i, False, None, f"worker lost: {type(exc).__name__}: {exc}"))
+        return out
     finally:
         if own:
             client.close()
