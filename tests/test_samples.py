@@ -306,3 +306,23 @@ def test_spec_validation():
         SampleSpec(level=0.2)
     assert not SampleSpec().multi and SampleSpec(patches=2).multi
     assert dataclasses.replace(SampleSpec(), workpieces=["a", "b"]).multi
+
+
+def test_scene_file_lists_samples(tmp_path, capsys):
+    from halfspace_calib.pipeline.samples import read_samples_table
+
+    scene = tmp_path / "s.toml"
+    scene.write_text(
+        '[scene]\ngrid = 32\n[samples]\nworkpieces = ["a.npy", "/abs/b.npy"]\npatches = 2\n'
+        "band_level = 0.8\nbootstrap = 60\n"
+    )
+    kw = read_samples_table(scene)
+    assert kw["workpieces"] == (str(tmp_path / "a.npy"), "/abs/b.npy")
+    assert (kw["patches"], kw["level"], kw["n_bootstrap"]) == (2, 0.8, 60)
+    # the scene file alone makes a multi-sample run: 2 patches of a synthetic pair are too few
+    scene.write_text("[scene]\ngrid = 32\n[samples]\npatches = 2\n")
+    assert main(["--scene", str(scene), "--out", str(tmp_path / "o"), "--quiet"]) == 2
+    assert "band needs at least 3" in capsys.readouterr().err
+    scene.write_text("[scene]\ngrid = 32\n[samples]\npatchez = 4\n")
+    assert main(["--scene", str(scene), "--out", str(tmp_path / "o"), "--quiet"]) == 2
+    assert "unknown [samples] keys ['patchez']" in capsys.readouterr().err
