@@ -33,7 +33,13 @@ import numpy as np
 
 from frictionlaw import FrictionParams
 
-__all__ = ["band_laws", "combine", "write_band_outputs", "REPORT_REDUCTIONS"]
+__all__ = [
+    "band_laws",
+    "combine",
+    "write_band_outputs",
+    "write_run_report",
+    "REPORT_REDUCTIONS",
+]
 
 #: height reductions at which summary.json reports the force band (where the runs reach them)
 REPORT_REDUCTIONS = (0.25, 0.5)
@@ -231,6 +237,62 @@ def _cell(v, key):
     return f'<td data-key="{html.escape(key)}">{text}</td>'
 
 
+def figure(path, caption):
+    """A ``<figure>`` with the PNG at ``path`` embedded as base64 ("" if it does not exist)."""
+    path = Path(path)
+    if not path.is_file():
+        return ""
+    data = base64.b64encode(path.read_bytes()).decode("ascii")
+    return (
+        f"<figure><img alt='{html.escape(caption)}' src='data:image/png;base64,{data}'>"
+        f"<figcaption>{html.escape(caption)}</figcaption></figure>"
+    )
+
+
+def page(title, body):
+    """A self-contained HTML document (no network) around the ``body`` parts."""
+    return (
+        "<!DOCTYPE html>\n<html><head><meta charset='utf-8'>"
+        f"<title>{html.escape(title)}</title><style>body{{font-family:sans-serif;"
+        "max-width:1000px;margin:2em auto}td,th{border:1px solid #bbb;padding:2px 8px}"
+        "table{border-collapse:collapse}img{max-width:100%}</style></head><body>"
+        f"<h1>{html.escape(title)}</h1>\n" + "\n".join(body) + "\n</body></html>\n"
+    )
+
+
+def write_run_report(folder, info, title):
+    """``report.html`` of one ordinary run from its summary.json record ``info``.
+
+    Run status, end of run, the calibrated-range report and the run's plots (force-stroke,
+    die profile; the ring chart where the folder has one).
+    """
+    from .calibrated_range import range_lines
+
+    folder = Path(folder)
+    rows = [
+        ("converged", info.get("converged")),
+        ("stopped_at_height_reduction", info.get("stopped_at_height_reduction")),
+        ("wall_time_s", info.get("wall_time_s")),
+    ]
+    body = ["<table><tr><th>quantity</th><th>value</th></tr>"]
+    for k, v in rows:
+        cell = _cell(v, k) if isinstance(v, float) else f"<td>{html.escape(str(v))}</td>"
+        body.append(f"<tr><td>{k}</td>{cell}</tr>")
+    body.append("</table>")
+    body.append(f"<p>{html.escape(str(info.get('message', '')))}</p>")
+    body.append("<h2>Calibrated range</h2>")
+    lines = range_lines(title, info.get("calibrated_range")) or ["law without parameters"]
+    body.append("<ul>" + "".join(f"<li>{html.escape(x)}</li>" for x in lines) + "</ul>")
+    for fname, cap in (
+        ("force_stroke.png", "force against height reduction"),
+        ("die_profile.png", "pressure, shear and p_hist along the die"),
+        ("../ring_chart.png", "ring chart"),
+        ("ring_chart.png", "ring chart"),
+    ):
+        body.append(figure(folder / fname, cap))
+    (folder / "report.html").write_text(page(f"fe-demo: {title}", body), encoding="utf-8")
+
+
 def write_report(out, rec, images):
     """``report.html`` from the summary record (numbers carry their summary.json path)."""
     out = Path(out)
@@ -255,12 +317,7 @@ def write_report(out, rec, images):
                 + "</tr>"
             )
         body.append("</table>")
-    for fname, cap in images:
-        data = base64.b64encode((out / fname).read_bytes()).decode("ascii")
-        body.append(
-            f"<figure><img alt='{html.escape(cap)}' src='data:image/png;base64,{data}'>"
-            f"<figcaption>{html.escape(cap)}</figcaption></figure>"
-        )
+    body += [figure(out / fname, cap) for fname, cap in images]
     body.append(
         "<h2>Runs</h2><table><tr><th>run</th><th>converged</th><th>message</th>"
         "<th>calibrated range</th></tr>"
@@ -275,11 +332,5 @@ def write_report(out, rec, images):
         )
     body.append("</table>")
     title = f"fe-demo {rec['scene']}: the friction law's band carried to the FE result"
-    doc = (
-        "<!DOCTYPE html>\n<html><head><meta charset='utf-8'>"
-        f"<title>{html.escape(title)}</title><style>body{{font-family:sans-serif;"
-        "max-width:1000px;margin:2em auto}td,th{border:1px solid #bbb;padding:2px 8px}"
-        "table{border-collapse:collapse}img{max-width:100%}</style></head><body>"
-        f"<h1>{html.escape(title)}</h1>\n" + "\n".join(body) + "\n</body></html>\n"
-    )
+    doc = page(title, body)
     (out / "report.html").write_text(doc, encoding="utf-8")

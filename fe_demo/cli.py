@@ -20,7 +20,7 @@ import numpy as np
 
 from frictionlaw import FrictionParams
 
-from .band import band_laws, write_band_outputs
+from .band import band_laws, write_band_outputs, write_run_report
 from .calibrated_range import range_lines
 from .laws import LAW_OPTIONS, LAWS
 from .material import DC04, Material
@@ -170,6 +170,7 @@ def _write_run(folder, res, title):
         wall_time_s=res.wall_time,
     )
     (folder / "summary.json").write_text(json.dumps(info, indent=2, default=_jd) + "\n")
+    write_run_report(folder, json.loads(json.dumps(info, default=_jd)), title)
 
 
 def _jd(o):
@@ -302,6 +303,10 @@ def _cmd_ring(args):
     args.out.mkdir(parents=True, exist_ok=True)
     chart, notes = _chart(args.reduction)
     plot_ring_chart(args.out / "ring_chart.png", chart, fe)
+    for _law, _, lab in runs:  # the runs' reports again, now with the chart
+        folder = args.out / lab.replace(" ", "_").replace("=", "") if len(runs) > 1 else args.out
+        if (folder / "summary.json").is_file():
+            write_run_report(folder, json.loads((folder / "summary.json").read_text()), lab)
     with (args.out / "ring_chart_upper_bound.csv").open("w", encoding="utf-8") as fh:
         fh.write("m,height_reduction,inner_diameter_change\n")
         for m, (red, d) in chart.items():

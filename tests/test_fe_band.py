@@ -179,3 +179,16 @@ class _nothing:
 
     def __exit__(self, *a):
         return False
+
+
+def test_every_run_writes_a_report_that_agrees_with_its_summary(tmp_path):
+    out = tmp_path / "ring"
+    argv = ["ring", "--m", "0.3", "--reduction", "0.2", "--out", str(out), *TINY]
+    assert main(argv) == 0
+    s = json.loads((out / "summary.json").read_text())
+    page = _Cells()
+    page.feed((out / "report.html").read_text(encoding="utf-8"))
+    assert page.images == 3  # force-stroke, die profile, ring chart
+    assert set(page.cells) == {"stopped_at_height_reduction", "wall_time_s"}
+    for key, text in page.cells.items():
+        assert float(text) == pytest.approx(s[key], rel=1e-5)
