@@ -61,8 +61,18 @@ def write_band_plots(mc, out):
     ax.legend()
     figs["band_alpha_first.png"] = save_png(fig, out / "band_alpha_first.png")
 
-    fig, ax = plt.subplots(figsize=(6, 4.2))
+    fig, (ax, aw) = plt.subplots(
+        2, 1, figsize=(6, 5.6), sharex=True, gridspec_kw={"height_ratios": [3, 1.3]}
+    )
     _fill(ax, u.band("tau_first"), MPa, "C1", f"{lv} band")
+    bt = u.band("tau_first")
+    aw.plot(
+        np.array(bt.p) / MPa,
+        100 * (np.array(bt.upper) - np.array(bt.lower)) / np.array(bt.central),
+        "C1-",
+    )
+    aw.set(xlabel="p [MPa]", ylabel="band width / tau [%]")
+    aw.grid(alpha=0.3)
     for e, style in (("lower", ":"), ("upper", "--")):
         law = mc.params.edge_laws()[e]
         b = u.band("tau_first")
@@ -74,7 +84,7 @@ def write_band_plots(mc, out):
             lw=1,
             label=f"{e} edge law",
         )
-    ax.set(xlabel="p [MPa]", ylabel="tau [MPa]", title="Shear on first loading (Eq. 24)")
+    ax.set(ylabel="tau [MPa]", title="Shear on first loading (Eq. 24)")
     ax.grid(alpha=0.3)
     ax.legend()
     figs["band_tau_first.png"] = save_png(fig, out / "band_tau_first.png")
