@@ -400,9 +400,20 @@ class MultiCalibration:
         return self.pooled.params
 
     def problems(self):
-        """Why the run failed: failed samples by name, then the pooled calibration's problems."""
+        """Why the run failed: failed samples by name, each sample's own problems, the pooled fits'.
+
+        The pooled fits' ``R^2`` is not a criterion: it also measures the samples' spread (each
+        sample's own fit quality is).
+        """
         out = [f"sample {n} failed: {e}" for n, e in self.failed.items()]
-        return out + self.pooled.problems()
+        for n, c in self.calibrations.items():
+            out += [f"sample {n}: {p}" for p in c.problems()]
+        for name, fit in (("first loading", self.pooled.first), ("reload", self.pooled.reload)):
+            if fit.at_bound:
+                out.append(f"pooled {name} fit: {', '.join(fit.at_bound)} ended on a bound")
+            elif not fit.converged:
+                out.append(f"pooled {name} fit did not converge: {fit.message}")
+        return out
 
     def summary(self):
         """JSON-ready summary: the pooled calibration's, the samples and the band."""
