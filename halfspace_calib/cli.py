@@ -211,6 +211,15 @@ def sample_spec(args, scene):
         if getattr(args, opt) is not None:
             kw[key] = getattr(args, opt)
     spec = SampleSpec(**kw)
+    if spec.multi and args.resolution_check:
+        raise ValueError(
+            "--resolution-check does not run per sample in a multi-sample calibration: "
+            "calibrate one sample alone for it"
+        )
+    if spec.patches > 1 and args.periodic:
+        raise ValueError(
+            "--periodic: a patch is not one period of a surface, patches are non-periodic"
+        )
     if not spec.multi and (args.band_level is not None or args.bootstrap is not None):
         raise ValueError(
             "--band-level and --bootstrap apply to several samples: give several --workpiece "

@@ -199,6 +199,8 @@ FAST = ["--pressures", "25e6,100e6,300e6,600e6", "--reload-fractions", "0.25,0.5
         (["--patches", "4", "--grid", "32", "--bootstrap", "10"], "n_bootstrap"),
         (["--patches", "4", "--grid", "32", "--effects", "tangential"], "not available"),
         (["--patches", "0"], "patches must be"),
+        (["--patches", "4", "--grid", "32", "--periodic"], "patches are non-periodic"),
+        (["--patches", "4", "--grid", "32", "--resolution-check"], "calibrate one sample alone"),
     ],
 )
 def test_cli_refuses_bad_sample_input_before_any_work(argv, match, tmp_path, capsys):

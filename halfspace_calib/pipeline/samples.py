@@ -310,7 +310,7 @@ def load_samples(scene, spec):
             resolution_check=False,
             workers=1,
             scheduler=None,
-            periodic=False if (patched or files) else scene.periodic,
+            periodic=False if patched else scene.periodic,
             grid=scene.grid if (files or scene.grid is not None) else None,
         )
         surfs, k, grid = _load_pair(one, spec)
