@@ -102,7 +102,7 @@ def test_pooled_law_is_the_fit_to_all_points_and_matches_the_whole_surface(popul
             float(alpha_first(q, P.replace(C1=f.C1, n1=f.n1))), rel=2e-3
         )
     # the pooled law of the patches against one (non-periodic) calibration of the whole
-    # surface: measured within 1 % (docs/uncertainty.md); 3 % and 5 % allowed
+    # surface: measured 0.7-1.05 % (docs/uncertainty.md); 3 % and 5 % allowed
     for q in PROBES:
         assert _tau1(P, q) == pytest.approx(_tau1(whole.params, q), rel=0.03)
     ph = 600e6
