@@ -204,9 +204,11 @@ def sample_spec(args, scene):
     wps, tls = args.workpiece or [], args.tool or []
     if len(wps) > 1 or len(tls) > 1:
         kw["workpieces"], kw["tools"] = tuple(wps), tuple(tls)
-    elif wps or tls:  # one file on the command line replaces the scene file's lists
-        kw.pop("workpieces", None) if wps else None
-        kw.pop("tools", None) if tls else None
+    else:  # one file on the command line replaces the scene file's list of that role
+        if wps:
+            kw.pop("workpieces", None)
+        if tls:
+            kw.pop("tools", None)
     for key, opt in (("patches", "patches"), ("level", "band_level"), ("n_bootstrap", "bootstrap")):
         if getattr(args, opt) is not None:
             kw[key] = getattr(args, opt)

@@ -328,3 +328,24 @@ def test_scene_file_lists_samples(tmp_path, capsys):
     scene.write_text("[scene]\ngrid = 32\n[samples]\npatchez = 4\n")
     assert main(["--scene", str(scene), "--out", str(tmp_path / "o"), "--quiet"]) == 2
     assert "unknown [samples] keys ['patchez']" in capsys.readouterr().err
+
+
+def test_files_of_one_name_stay_apart_and_pair_with_one_tool(tmp_path):
+    from halfspace_calib import topography as T
+
+    paths = []
+    for sub, seed in (("a", 3), ("b", 4), ("c", 5)):
+        (tmp_path / sub).mkdir()
+        p = tmp_path / sub / "scan.npy"
+        np.save(p, T.dc04_edt_like(64, seed=seed).heights * 1e6)  # in um
+        paths.append(str(p))
+    scene = Scene(workpiece=paths[0], unit="um", size=2.11e-3, grid=32)
+    samples = load_samples(scene, SampleSpec(workpieces=paths))
+    assert [s.name for s in samples] == ["scan", "scan@2", "scan@3"]
+    assert [s.scene.workpiece for s in samples] == paths
+    # every workpiece against the one (synthetic) tool, the files' own heights
+    for s, seed in zip(samples, (3, 4, 5), strict=True):
+        assert s.surfaces.grid == 32 and s.surfaces.files[0].path == s.scene.workpiece
+        assert s.surfaces.workpiece.heights.std() > 1e-7
+    a, b = samples[0].surfaces.workpiece.heights, samples[1].surfaces.workpiece.heights
+    assert not np.allclose(a, b)

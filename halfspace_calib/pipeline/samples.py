@@ -321,6 +321,11 @@ def load_samples(scene, spec):
         _, where = _layout(spec.patches)
         for ij, ps in zip(where, cut_patches(surfs, k, where, grid), strict=True):
             samples.append(Sample(_name(wp, tl, many_tools, ij), sc, ps))
+    seen = {}
+    for i, smp in enumerate(samples):  # two files of one name in different folders
+        seen[smp.name] = seen.get(smp.name, 0) + 1
+        if seen[smp.name] > 1:
+            samples[i] = dataclasses.replace(smp, name=f"{smp.name}@{seen[smp.name]}")
     _check_consistent(samples)
     return samples
 
