@@ -344,7 +344,7 @@ def test_files_of_one_name_stay_apart_and_pair_with_one_tool(tmp_path):
     assert [s.name for s in samples] == ["scan", "scan@2", "scan@3"]
     assert [s.scene.workpiece for s in samples] == paths
     # every workpiece against the one (synthetic) tool, the files' own heights
-    for s, seed in zip(samples, (3, 4, 5), strict=True):
+    for s in samples:
         assert s.surfaces.grid == 32 and s.surfaces.files[0].path == s.scene.workpiece
         assert s.surfaces.workpiece.heights.std() > 1e-7
     a, b = samples[0].surfaces.workpiece.heights, samples[1].surfaces.workpiece.heights
