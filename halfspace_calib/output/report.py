@@ -97,19 +97,21 @@ def write_plots(cal, out):
 
     fig, ax = plt.subplots(figsize=(6, 4.2))
     ax.plot(pp / MPa, alpha_first(pp, P), "k-", lw=1, label="Eq. 24 (first loading)")
-    hists = sorted({c.p_hist for c in cal.sweeps.reload_curves()})  # several samples: shared
+    hists = []  # several samples share a p_hist: one colour and one fitted curve each
     for c in cal.sweeps.reload_curves():
+        new = c.p_hist not in hists
+        hists += [c.p_hist] if new else []
         col = f"C{hists.index(c.p_hist) % 10}"
         ax.plot(c.p / MPa, c.alpha, "o", color=col, ms=4)
-    for i, ph in enumerate(hists):
-        q = np.linspace(0, ph, 100)
-        ax.plot(
-            q / MPa,
-            alpha_reload(q, ph, P),
-            "-",
-            color=f"C{i % 10}",
-            label=f"Eq. 25, p_hist={ph / MPa:.0f} MPa",
-        )
+        if new:
+            q = np.linspace(0, c.p_hist, 100)
+            ax.plot(
+                q / MPa,
+                alpha_reload(q, c.p_hist, P),
+                "-",
+                color=col,
+                label=f"Eq. 25, p_hist={c.p_hist / MPa:.0f} MPa",
+            )
     ax.set(
         xlabel="p_mean [MPa]",
         ylabel="alpha_rc",
