@@ -18,7 +18,11 @@ from pathlib import Path
 
 from .output.report import write_outputs
 from .pipeline.calibration import Scene, calibrate, load_scene, load_scene_surfaces
-from .pipeline.scene_surfaces import MAX_DEFAULT_GRID
+from .pipeline.scene_surfaces import (
+    ELEMENTS_PER_LAMBDA_S,
+    ISO_SAMPLING_RATIO,
+    MAX_DEFAULT_GRID,
+)
 
 #: files that mark a folder as a calibration output (a rerun may replace it)
 _OUTPUT_MARKERS = ("params.json", "summary.json")
@@ -76,6 +80,20 @@ def build_parser():
         "interpolation; above it a file is refused (default 0.05)",
     )
     g.add_argument(
+        "--lambda-s",
+        type=float,
+        help="short-wavelength cut-off of the files (m): nesting index of the ISO 16610-61 "
+        "Gaussian S-filter applied after levelling, before resampling; 0: no filter (default: "
+        f"the smallest ISO 25178-3 index >= {ISO_SAMPLING_RATIO:g} pixel pitches and >= "
+        f"{ELEMENTS_PER_LAMBDA_S} elements of the square at grid {MAX_DEFAULT_GRID})",
+    )
+    g.add_argument(
+        "--lambda-c",
+        type=float,
+        help="long-wavelength cut-off of the files (m): ISO 16610-61 Gaussian L-filter, "
+        "removes waviness beyond the plane (default: none, only the plane is removed)",
+    )
+    g.add_argument(
         "--rough-tool",
         action="store_true",
         default=None,
@@ -84,8 +102,9 @@ def build_parser():
     g.add_argument(
         "--grid",
         type=int,
-        help="solver grid: N x N elements (default 128 for synthetic surfaces; for files the "
-        f"scans' sampling on the common square, at most {MAX_DEFAULT_GRID})",
+        help="solver grid: N x N elements (default 128 for synthetic surfaces; for files "
+        f"{ELEMENTS_PER_LAMBDA_S} elements per lambda_s, at most the scans' sampling on the "
+        f"common square and {MAX_DEFAULT_GRID})",
     )
     g = ap.add_argument_group("materials (Pa)")
     g.add_argument("--E-workpiece", type=float)
@@ -182,6 +201,8 @@ def scene_from_args(args):
             "size",
             "crop_size",
             "max_undefined",
+            "lambda_s",
+            "lambda_c",
             "rough_tool",
             "grid",
             "E_workpiece",
@@ -330,11 +351,29 @@ def _print_input(scene, surfaces, derived=False):
         )
         for step in f.steps:
             print(f"    - {step}")
+    if surfaces.files:
+        lam = surfaces.lambda_s
+        print(
+            "  short-wavelength cut-off "
+            + (
+                f"lambda_s = {lam * 1e6:.4g} um ({surfaces.lambda_s_source}), "
+                f"{lam / surfaces.workpiece.dx:.3g} elements per lambda_s"
+                if lam
+                else "none (lambda_s = 0: the scan's pixel and the grid set it)"
+            )
+            + (
+                f"; L-filter lambda_c = {surfaces.lambda_c * 1e6:.4g} um"
+                if surfaces.lambda_c
+                else ""
+            )
+        )
+    for note in surfaces.notes:
+        print(f"halfspace-calib: warning: {note}", file=sys.stderr)
     w = surfaces.workpiece
     kind = "periodic (FFT)" if scene.periodic else "non-periodic (DC-FFT)"
     print(
         f"  solver grid {surfaces.grid} x {surfaces.grid}"
-        + (f" (from the scans' sampling, at most {MAX_DEFAULT_GRID})" if derived else "")
+        + (" (default rule for files)" if derived else "")
         + f", element {w.dx * 1e6:.4g} um, {kind}"
         + (", measured files default to non-periodic" if scene.from_files else "")
     )

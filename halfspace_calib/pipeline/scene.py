@@ -51,8 +51,14 @@ class Scene:
     (or ``workpiece_unit`` / ``tool_unit``) and ``size`` (``L`` or ``(Lx, Ly)`` in m); undefined
     points are filled up to the fraction ``max_undefined``; both files are cropped to the largest
     common square (or ``crop_size``), area-averaged onto square elements and levelled.
-    ``grid=None`` means 128 for synthetic surfaces and the scan's native sampling (at most 256)
-    for files; ``periodic=None`` means periodic for synthetic surfaces and non-periodic (DC-FFT)
+    Files are levelled and filtered with the ISO 16610-61 Gaussian S-filter of nesting index
+    ``lambda_s`` (m; ``None``: the default of
+    :func:`~halfspace_calib.pipeline.scene_surfaces.default_lambda_s`; ``0``: no filter) and,
+    if given, the L-filter ``lambda_c`` (m) before resampling; synthetic surfaces keep their
+    generated spectrum (cut off at two elements), so both are refused for them.
+    ``grid=None`` means 128 for synthetic surfaces and, for files,
+    ``ELEMENTS_PER_LAMBDA_S`` elements per ``lambda_s`` (at most the scan's native sampling
+    and 256); ``periodic=None`` means periodic for synthetic surfaces and non-periodic (DC-FFT)
     for measured ones; ``resolution_check=None`` runs the check (the normal sweeps again at half
     the grid) for files only.
     Frozen and validated once, on construction: derive a changed scene with
@@ -79,6 +85,8 @@ class Scene:
     size: float | tuple | None = None
     crop_size: float | None = None
     max_undefined: float = MAX_UNDEFINED
+    lambda_s: float | None = None
+    lambda_c: float | None = None
     rough_tool: bool = False
     seed_workpiece: int = 1
     seed_tool: int = 2
@@ -218,6 +226,20 @@ class Scene:
             and self.crop_size > 0
         ):
             raise ValueError(f"crop_size must be a length > 0 (m), got {self.crop_size!r}")
+        for name, lo in (("lambda_s", ">= 0 (m; 0: no S-filter)"), ("lambda_c", "> 0 (m)")):
+            v = getattr(self, name)
+            if v is not None and not (
+                isinstance(v, (int, float))
+                and not isinstance(v, bool)
+                and math.isfinite(v)
+                and (v >= 0 if name == "lambda_s" else v > 0)
+            ):
+                raise ValueError(f"{name} must be a length {lo}, got {v!r}")
+        if self.lambda_s and self.lambda_c is not None and self.lambda_c <= self.lambda_s:
+            raise ValueError(
+                f"lambda_c = {self.lambda_c:g} m must exceed lambda_s = {self.lambda_s:g} m "
+                "(the L-filter keeps the wavelengths below lambda_c)"
+            )
         if self.size is not None:
             vals = self.size if isinstance(self.size, tuple) else (self.size,)
             if len(vals) not in (1, 2) or not all(
@@ -227,7 +249,15 @@ class Scene:
         if not self.from_files:
             given = [
                 n
-                for n in ("unit", "workpiece_unit", "tool_unit", "size", "crop_size")
+                for n in (
+                    "unit",
+                    "workpiece_unit",
+                    "tool_unit",
+                    "size",
+                    "crop_size",
+                    "lambda_s",
+                    "lambda_c",
+                )
                 if getattr(self, n) is not None
             ]
             if given:
