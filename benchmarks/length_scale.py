@@ -10,14 +10,16 @@ scene is the default one otherwise (Table 1 materials, 10-600 MPa, non-periodic)
    per ``lambda_s``) and at ``G / 2`` and ``G / 4`` (``--grid-factor 2`` runs ``2G, G, G/2``):
    ``mu_eff``, ``C1``, ``n1``, ``C2``, ``n2``, the contact ratio at 10 MPa and the change between
    the two finest grids.
-2. **mu_eff against lambda_s**: the default and the ISO 25178-3 nesting indices around it, each
-   at its own default grid (``16`` elements per ``lambda_s``, capped at 256: the table gives the
-   elements per ``lambda_s`` each run had).
+2. **mu_eff against lambda_s**: the default and the ISO 25178-3 nesting indices two steps
+   below and above it, each at its own default grid (``16`` elements per ``lambda_s``, at most
+   the scan's sampling and ``--max-grid``, default 256: the table gives the elements per
+   ``lambda_s`` each run had).
 
 Writes ``benchmarks/results/length_scale.csv`` and ``.md`` (the tables of
 ``docs/measured_surfaces.md``) and prints them. Run from the repository root::
 
-    python benchmarks/length_scale.py --folder FOLDER [--grid-factor 2] [--only mnt-1.mnt]
+    python benchmarks/length_scale.py --folder FOLDER [--grid-factor 2] [--max-grid 512]
+                                      [--only mnt-1.mnt ...] [--tables grid,lambda_s]
 
 ``sur-3.sur`` (89 % undefined points) runs with ``max_undefined=0.95``. Cost: about 4 min per
 grid table and 6 min per lambda_s table on one core of a loaded 2-core machine
@@ -90,14 +92,18 @@ def grid_table(folder, files, grid_factor, lambda_factor):
     return rows
 
 
-def lambda_table(folder, files):
+def lambda_table(folder, files, max_grid):
     rows = []
     for name in files:
         base = _base(folder, name)
-        lam = load_scene_surfaces(base).lambda_s
+        ss = load_scene_surfaces(base)
+        lam, rec = ss.lambda_s, ss.files[0]
+        native = int(rec.crop_size / max(rec.pitch) * (1 + 1e-9))
         i = min(range(len(ISO_NESTING_INDICES)), key=lambda j: abs(ISO_NESTING_INDICES[j] - lam))
         for j in (i - 2, i, i + 2):
-            rows.append(_run(base, name, lambda_s=ISO_NESTING_INDICES[j]))
+            v = ISO_NESTING_INDICES[j]
+            want = 8 * math.ceil(ELEMENTS_PER_LAMBDA_S * rec.crop_size / v / 8 - 1e-9)
+            rows.append(_run(base, name, lambda_s=v, grid=max(8, min(want, native, max_grid))))
     return rows
 
 
@@ -191,6 +197,12 @@ def main():
         help="lambda_s of the grid table = factor x the default (default 1)",
     )
     ap.add_argument(
+        "--max-grid",
+        type=int,
+        default=256,
+        help="largest grid of the lambda_s table (default %(default)s, as the default rule)",
+    )
+    ap.add_argument(
         "--tables",
         default="grid,lambda_s",
         help="which tables: grid, lambda_s or both (default: %(default)s)",
@@ -198,7 +210,7 @@ def main():
     a = ap.parse_args()
     which = set(a.tables.split(","))
     g = grid_table(a.folder, a.only, a.grid_factor, a.lambda_s_factor) if "grid" in which else []
-    lam = lambda_table(a.folder, a.only) if "lambda_s" in which else []
+    lam = lambda_table(a.folder, a.only, a.max_grid) if "lambda_s" in which else []
     write(g, lam)
 
 

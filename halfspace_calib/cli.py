@@ -9,6 +9,7 @@ replacing an earlier calibration's whole output set.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import os
 import shutil
 import sys
@@ -16,8 +17,10 @@ import tempfile
 import time
 from pathlib import Path
 
+from .output.hardness import hardness_table, write_hardness_fit
 from .output.report import write_outputs
 from .pipeline.calibration import Scene, calibrate, load_scene, load_scene_surfaces
+from .pipeline.hardness import fit_hardness, read_after_contact
 from .pipeline.scene_surfaces import (
     ELEMENTS_PER_LAMBDA_S,
     ISO_SAMPLING_RATIO,
@@ -113,6 +116,14 @@ def build_parser():
     g.add_argument("--nu-tool", type=float)
     g.add_argument(
         "--H", type=float, help="hardness (default 800e6; 2.8 sigma_y if only --sigma-y)"
+    )
+    g.add_argument(
+        "--after-contact",
+        metavar="FILE",
+        help="fit H to the workpiece's measured roughness after pressing (Sec. 3.1, Figs. 3-4): "
+        "a text table 'p_mean [MPa], Ra [um], Rq [um]', one row per sample, >= 2 loads, a "
+        "p_mean = 0 row for before contact; then calibrate with that H (default: no fit, H as "
+        "given); writes hardness_fit.{csv,json,md,png}",
     )
     g.add_argument("--sigma-y", type=float, help="yield stress (default H / 2.8)")
     g.add_argument("--m", type=float, help="Tresca friction factor in [0, 1] (default 0.5)")
@@ -293,9 +304,11 @@ def main(argv=None):
     except SystemExit as exc:  # argparse: 2 for a bad option, 0 for --help
         return exc.code if isinstance(exc.code, int) else 2
     t0 = time.perf_counter()
+    hfit = None
     try:
         scene = scene_from_args(args)
         surfaces = load_scene_surfaces(scene)  # every file check before any sweep
+        data = _after_contact(args, scene)
         tmp = _temp_out(args.out)
     except FileNotFoundError as exc:
         return _error(str(exc) if "not found" in str(exc) else f"file not found: {exc.filename}", 2)
@@ -303,8 +316,15 @@ def main(argv=None):
         return _error(str(exc), 2)
     try:
         _print_input(scene, surfaces, derived=scene.grid is None)
+        if data is not None:
+            try:
+                hfit, scene = _fit_hardness(args, scene, surfaces, data)
+            except ValueError as exc:
+                return _error(str(exc), 2)
         cal = calibrate(scene, progress=not args.quiet, surfaces=surfaces)
         write_outputs(cal, tmp)
+        if hfit is not None:
+            write_hardness_fit(hfit, tmp)
         _move_into_place(tmp, args.out)
     except (RuntimeError, MemoryError) as exc:
         return _error(f"the run failed: {exc or type(exc).__name__}", 1)
@@ -336,6 +356,42 @@ def main(argv=None):
             print(f"    - {p}")
         return 1
     return 0
+
+
+def _after_contact(args, scene):
+    """The measured after-contact roughness of ``--after-contact`` (``None`` without it)."""
+    if args.after_contact is None:
+        return None
+    if args.H is not None or (args.scene and _scene_gives(args, "H")):
+        raise ValueError(
+            "H is given (--H or the scene file) and --after-contact fits it: give one of them"
+        )
+    return read_after_contact(args.after_contact)
+
+
+def _fit_hardness(args, scene, surfaces, data):
+    """Fit H (Sec. 3.1) on the scene's solver surfaces; the scene calibrated with it."""
+    t0 = time.perf_counter()
+    fit = fit_hardness(surfaces.workpiece, surfaces.tool, scene.materials, scene.solver, data)
+    print(
+        f"  H fitted to the after-contact roughness in {time.perf_counter() - t0:.1f} s "
+        f"({fit.evaluations} trial H): {fit.message}"
+    )
+    print("  " + hardness_table(fit).replace("\n", "\n  ").rstrip())
+    if not fit.converged:
+        raise RuntimeError(f"the fit of H failed: {fit.message}")
+    over = {"H": fit.H, "sigma_y": args.sigma_y, "H_source": fit.data.source}
+    if args.sigma_y is None and args.scene and _scene_gives(args, "sigma_y"):
+        over["sigma_y"] = scene.sigma_y  # the scene file's own yield stress; else H / 2.8
+    return fit, dataclasses.replace(scene, **over)
+
+
+def _scene_gives(args, key):
+    """True if the scene file sets ``key`` itself."""
+    import tomllib
+
+    data = tomllib.loads(Path(args.scene).read_text(encoding="utf-8"))
+    return key in data.get("scene", data)
 
 
 def _print_input(scene, surfaces, derived=False):

@@ -37,7 +37,7 @@ def _file(tmp_path, n=96, pitch=1e-6, seed=5):
     "side, pitch", [(1.113e-3, 1.855e-6), (10e-6, 3.9e-8), (100e-6, 5e-6), (0.15, 3e-4)]
 )
 def test_default_lambda_s_is_the_smallest_iso_index_meeting_both_bounds(side, pitch):
-    lam = default_lambda_s(side, pitch)
+    lam = default_lambda_s(side, pitch, MAX_DEFAULT_GRID)
     need = max(ISO_SAMPLING_RATIO * pitch, ELEMENTS_PER_LAMBDA_S * side / MAX_DEFAULT_GRID)
     assert lam >= need * (1 - 1e-12)
     assert any(math.isclose(lam, v, rel_tol=1e-12) for v in ISO_NESTING_INDICES)
@@ -83,7 +83,7 @@ def test_l_filter_and_no_filter(tmp_path):
 def test_default_lambda_s_and_grid_for_a_file(tmp_path):
     f, _ = _file(tmp_path, n=128, pitch=0.5e-6)
     ss = load_scene_surfaces(Scene(**f))
-    assert ss.lambda_s == default_lambda_s(64e-6, 0.5e-6)
+    assert ss.lambda_s == default_lambda_s(64e-6, 0.5e-6, MAX_DEFAULT_GRID)
     assert ss.lambda_s_source.startswith("default")
     assert ss.workpiece.dx <= ss.lambda_s / ELEMENTS_PER_LAMBDA_S * (1 + 1e-9) or ss.grid == 128
     # the resolution check's half grid keeps the lambda_s (the grid is a numerical choice only)
@@ -166,6 +166,6 @@ def test_shared_matrix_file_default(tmp_path):
     if not p.is_file():
         pytest.skip(f"{p} is not there")
     ss = load_scene_surfaces(Scene(workpiece=str(p), tool=str(p)))
-    lam = default_lambda_s(10e-6, 10e-6 / 256)
+    lam = default_lambda_s(10e-6, 10e-6 / 256, MAX_DEFAULT_GRID)
     assert ss.lambda_s == lam and ss.grid == 8 * math.ceil(16 * 10e-6 / lam / 8 - 1e-9)
     assert ss.notes == ()

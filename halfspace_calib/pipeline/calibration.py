@@ -228,6 +228,7 @@ def calibrate(scene=None, *, progress=True, surfaces=None):
             "effects": _effects_record(effects),
             "files": surfs.records(),
             "length_scale": surfs.scale_record(),
+            "hardness": {"H": scene.H, "source": scene.hardness_source},
             "resolution_check": None if resolution is None else resolution.as_dict(),
         },
         p_range=(float(p.min()), float(p.max())),

@@ -69,6 +69,10 @@ class Scene:
     factor: it does not enter the half-space model, only the parameter file (measure it, e.g. by
     ring compression).
 
+    ``H_source`` says where ``H`` came from for the parameter file (``None``: Table 1's value
+    or "given"; :mod:`halfspace_calib.pipeline.hardness` sets it when H is fitted to
+    after-contact roughness).
+
     Effects (:mod:`halfspace_calib.pipeline.effects`): ``effects`` names what is modelled besides the
     always-on ``"normal"`` sweeps: ``"tangential"`` (pre-sliding stiffness), ``"inclined"``
     (Eq. 23 and, if the mean ``tau_geo / tau_adh`` exceeds ``geo_threshold``, Eq. 26's
@@ -99,6 +103,7 @@ class Scene:
     H: float = _TABLE1.H
     sigma_y: float | None = None
     m: float = _TABLE1.m
+    H_source: str | None = None
     pressures: tuple = DEFAULT_PRESSURES
     reload_from: float = 100e6
     reload_fractions: tuple = DEFAULT_RELOAD_FRACTIONS
@@ -174,6 +179,8 @@ class Scene:
             if not (-1.0 < v <= 0.5):
                 raise ValueError(f"{name} must be in (-1, 0.5], got {v!r}")
         tresca_factor(self.m)
+        if self.H_source is not None and not isinstance(self.H_source, str):
+            raise ValueError(f"H_source must be a text or None, got {self.H_source!r}")
         if not (self.grid is None and self.from_files):
             if isinstance(self.grid, bool) or not isinstance(self.grid, int) or self.grid < 8:
                 raise ValueError(f"grid must be an integer >= 8, got {self.grid!r}")
@@ -281,6 +288,15 @@ class Scene:
             )
         if self.reload_surface == "volume_conserving" and not self.volume_conservation:
             raise ValueError("reload_surface='volume_conserving' needs volume_conservation=True")
+
+    @property
+    def hardness_source(self):
+        """Where ``H`` came from, in words (the parameter file's provenance)."""
+        if self.H_source:
+            return self.H_source
+        if self.H == _TABLE1.H:
+            return "default: the paper's H = 800 MPa for DC04 (Sec. 3.1, Table 1)"
+        return "given"
 
     @property
     def E_star(self):

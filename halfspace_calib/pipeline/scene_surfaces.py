@@ -38,6 +38,14 @@ from .. import topography as _surf
 from ..contact.normal import estimate_memory
 from ..topography.filters import l_filter, s_filter
 from ..topography.synthesis import measured_surfaces
+from .length_scale import (
+    ELEMENTS_PER_LAMBDA_S,
+    ISO_NESTING_INDICES,
+    ISO_SAMPLING_RATIO,
+    MIN_ELEMENTS_PER_LAMBDA_S,
+    check_lambda_s,
+    default_lambda_s,
+)
 
 __all__ = [
     "MAX_UNDEFINED",
@@ -75,15 +83,6 @@ SYNTHETIC_GRID = 128
 MAX_DEFAULT_GRID = 256
 #: memory limit of one normal solve (bytes), as :func:`halfspace_calib.contact.normal.solve_normal`
 MAX_MEMORY = 8 * 2**30
-#: the S-filter nesting indices of ISO 25178-3 (m), from which the default ``lambda_s`` is taken
-ISO_NESTING_INDICES = tuple(float(f"{v}e{e}") for e in range(-7, -1) for v in (1, 2, 2.5, 5, 8))
-#: ISO 25178-3 pairs each S-filter nesting index with a largest sampling distance of about a
-#: third of it: the default ``lambda_s`` is at least this many pixel pitches of the scan
-ISO_SAMPLING_RATIO = 3.0
-#: elements per ``lambda_s`` of the default grid (measured, docs/measured_surfaces.md)
-ELEMENTS_PER_LAMBDA_S = 16
-#: fewest elements per ``lambda_s`` that sample the filtered surface at all (below: warned)
-MIN_ELEMENTS_PER_LAMBDA_S = 2.0
 
 
 @dataclass(frozen=True)
@@ -336,22 +335,6 @@ def _filtered_cached(path, stamp, role, unit, size, max_undefined, lambda_s, lam
     return f, tuple(steps)
 
 
-def default_lambda_s(side, pitch):
-    """The default S-filter nesting index of measured files (m), see docs/measured_surfaces.md.
-
-    The smallest of :data:`ISO_NESTING_INDICES` that is (a) at least
-    :data:`ISO_SAMPLING_RATIO` times the scans' coarser pixel pitch ``pitch`` (ISO 25178-3's
-    sampling for that nesting index: the scan resolves it) and (b) at least
-    ``ELEMENTS_PER_LAMBDA_S * side / MAX_DEFAULT_GRID`` (the default grid resolves it on the
-    ``side`` square within the time budget).
-    """
-    need = max(ISO_SAMPLING_RATIO * pitch, ELEMENTS_PER_LAMBDA_S * side / MAX_DEFAULT_GRID)
-    for v in ISO_NESTING_INDICES:
-        if v >= need * (1 - 1e-9):
-            return float(v)
-    return float(need)
-
-
 def _default_grid(side, pitches, inclined, lambda_s=None):
     """The default solver grid of measured files.
 
@@ -366,32 +349,6 @@ def _default_grid(side, pitches, inclined, lambda_s=None):
     if lambda_s:
         n = min(native, 8 * math.ceil(ELEMENTS_PER_LAMBDA_S * side / lambda_s / 8 - 1e-9))
     return max(8, min(n, MAX_DEFAULT_GRID))
-
-
-def _check_lambda_s(lambda_s, element, grid, side):
-    """The warning (a note, the run goes on) for a grid coarse for ``lambda_s``.
-
-    Below :data:`MIN_ELEMENTS_PER_LAMBDA_S` the grid does not sample the filtered surface;
-    below :data:`ELEMENTS_PER_LAMBDA_S` the contact area is not converged in the grid (measured,
-    docs/measured_surfaces.md). Not refused: the run does what was asked, and the resolution
-    check says by how much the answer moves.
-    """
-    if not lambda_s:
-        return ()
-    k = lambda_s / element
-    if k >= ELEMENTS_PER_LAMBDA_S * (1 - 1e-9):
-        return ()
-    good = 8 * math.ceil(ELEMENTS_PER_LAMBDA_S * side / lambda_s / 8)
-    what = (
-        "does not sample the filtered surface"
-        if k < MIN_ELEMENTS_PER_LAMBDA_S
-        else "leaves the contact area unconverged in the grid"
-    )
-    return (
-        f"grid {grid} has {k:.3g} elements per lambda_s = {lambda_s * 1e6:.4g} um, fewer than "
-        f"the {ELEMENTS_PER_LAMBDA_S} of the default rule: it {what}; use --grid {good} "
-        "or a larger --lambda-s",
-    )
 
 
 def _check_rq(path, role, rq):
@@ -472,7 +429,7 @@ def load_scene_surfaces(scene, *, grid=None, check_sampling=True):
     pitches = [v for s, _ in raw.values() for v in (s.dx, s.dy)]
     lam, lam_source = scene.lambda_s, "option"
     if lam is None:
-        lam = default_lambda_s(side, max(pitches))
+        lam = default_lambda_s(side, max(pitches), MAX_DEFAULT_GRID)
         lam_source = (
             f"default: smallest ISO 25178-3 nesting index >= {ISO_SAMPLING_RATIO:g} pixel "
             f"pitches and >= {ELEMENTS_PER_LAMBDA_S} elements of the {side:.4g} m square at "
@@ -485,7 +442,7 @@ def load_scene_surfaces(scene, *, grid=None, check_sampling=True):
         n = _default_grid(side, pitches, inclined, lam)
     check_memory(n, scene.periodic)
     element = side / n
-    notes = _check_lambda_s(lam, element, n, side) if check_sampling else ()
+    notes = check_lambda_s(lam, element, n, side) if check_sampling else ()
     block = max(1, min(int(element / max(s.dx, s.dy) + 1e-9) for s, _ in read.values()))
     if inclined and block < 2:
         raise ValueError(
