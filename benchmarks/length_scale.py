@@ -15,8 +15,9 @@ scene is the default one otherwise (Table 1 materials, 10-600 MPa, non-periodic)
    the scan's sampling and ``--max-grid``, default 256: the table gives the elements per
    ``lambda_s`` each run had).
 
-Writes ``benchmarks/results/length_scale.csv`` and ``.md`` (the tables of
-``docs/measured_surfaces.md``) and prints them. Run from the repository root::
+Writes ``benchmarks/results/length_scale.md`` and ``length_scale_{grid,lambda_s}.csv`` (the tables
+of ``docs/measured_surfaces.md``; ``length_scale_custom*`` for any non-default option) and prints
+them. Run from the repository root::
 
     python benchmarks/length_scale.py --folder FOLDER [--grid-factor 2] [--max-grid 512]
                                       [--only mnt-1.mnt ...] [--tables grid,lambda_s]
@@ -125,11 +126,11 @@ def _change(rows):
     return res
 
 
-def write(grid_rows, lam_rows):
+def write(grid_rows, lam_rows, name="length_scale"):
     RESULTS.mkdir(exist_ok=True)
     for tag, rows in (("grid", grid_rows), ("lambda_s", lam_rows)):
         if rows:
-            with open(RESULTS / f"length_scale_{tag}.csv", "w", newline="") as fh:
+            with open(RESULTS / f"{name}_{tag}.csv", "w", newline="") as fh:
                 w = csv.DictWriter(fh, fieldnames=list(rows[0]))
                 w.writeheader()
                 w.writerows(rows)
@@ -179,7 +180,7 @@ def write(grid_rows, lam_rows):
                 + f" | {r['seconds']:.1f} |"
             )
     text = "\n".join(lines) + "\n"
-    (RESULTS / "length_scale.md").write_text(text)
+    (RESULTS / f"{name}.md").write_text(text)
     print(text)
 
 
@@ -211,7 +212,9 @@ def main():
     which = set(a.tables.split(","))
     g = grid_table(a.folder, a.only, a.grid_factor, a.lambda_s_factor) if "grid" in which else []
     lam = lambda_table(a.folder, a.only, a.max_grid) if "lambda_s" in which else []
-    write(g, lam)
+    default = a.grid_factor == 1 and a.lambda_s_factor == 1 and a.max_grid == 256
+    name = "length_scale" if default and len(a.only) == len(FILES) else "length_scale_custom"
+    write(g, lam, name)
 
 
 if __name__ == "__main__":
