@@ -160,8 +160,8 @@ def write(grid_rows, lam_rows, name="length_scale"):
             "| file | " + " | ".join(KEYS) + " |",
             "|---|" + "---|" * len(KEYS),
         ]
-        for name, c in ch.items():
-            lines.append(f"| {name} | " + " | ".join(f"{100 * c[k]:.1f} %" for k in KEYS) + " |")
+        for fname, c in ch.items():
+            lines.append(f"| {fname} | " + " | ".join(f"{100 * c[k]:.1f} %" for k in KEYS) + " |")
         lines.append("")
     if lam_rows:
         lines += [
