@@ -9,7 +9,7 @@ error, the residual, and measured against simulated Ra/Rq are written to
 
     python benchmarks/hardness_fit.py [--fine 128] [--grid 64]
 
-About 20 s on one core.
+About 5 s on one core.
 """
 
 from __future__ import annotations
