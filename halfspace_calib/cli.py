@@ -9,6 +9,7 @@ replacing an earlier calibration's whole output set.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import os
 import shutil
 import sys
@@ -16,9 +17,15 @@ import tempfile
 import time
 from pathlib import Path
 
+from .output.hardness import hardness_table, write_hardness_fit
 from .output.report import write_outputs
 from .pipeline.calibration import Scene, calibrate, load_scene, load_scene_surfaces
-from .pipeline.scene_surfaces import MAX_DEFAULT_GRID
+from .pipeline.hardness import fit_hardness, read_after_contact
+from .pipeline.scene_surfaces import (
+    ELEMENTS_PER_LAMBDA_S,
+    ISO_SAMPLING_RATIO,
+    MAX_DEFAULT_GRID,
+)
 
 #: files that mark a folder as a calibration output (a rerun may replace it)
 _OUTPUT_MARKERS = ("params.json", "summary.json")
@@ -86,6 +93,20 @@ def build_parser():
         "interpolation; above it a file is refused (default 0.05)",
     )
     g.add_argument(
+        "--lambda-s",
+        type=float,
+        help="short-wavelength cut-off of the files (m): nesting index of the ISO 16610-61 "
+        "Gaussian S-filter applied after levelling, before resampling; 0: no filter (default: "
+        f"the smallest ISO 25178-3 index >= {ISO_SAMPLING_RATIO:g} pixel pitches and >= "
+        f"{ELEMENTS_PER_LAMBDA_S} elements of the square at grid {MAX_DEFAULT_GRID})",
+    )
+    g.add_argument(
+        "--lambda-c",
+        type=float,
+        help="long-wavelength cut-off of the files (m): ISO 16610-61 Gaussian L-filter, "
+        "removes waviness beyond the plane (default: none, only the plane is removed)",
+    )
+    g.add_argument(
         "--rough-tool",
         action="store_true",
         default=None,
@@ -94,8 +115,9 @@ def build_parser():
     g.add_argument(
         "--grid",
         type=int,
-        help="solver grid: N x N elements (default 128 for synthetic surfaces; for files the "
-        f"scans' sampling on the common square, at most {MAX_DEFAULT_GRID})",
+        help="solver grid: N x N elements (default 128 for synthetic surfaces; for files "
+        f"{ELEMENTS_PER_LAMBDA_S} elements per lambda_s, at most the scans' sampling on the "
+        f"common square and {MAX_DEFAULT_GRID})",
     )
     g = ap.add_argument_group("materials (Pa)")
     g.add_argument("--E-workpiece", type=float)
@@ -104,6 +126,14 @@ def build_parser():
     g.add_argument("--nu-tool", type=float)
     g.add_argument(
         "--H", type=float, help="hardness (default 800e6; 2.8 sigma_y if only --sigma-y)"
+    )
+    g.add_argument(
+        "--after-contact",
+        metavar="FILE",
+        help="fit H to the workpiece's measured roughness after pressing (Sec. 3.1, Figs. 3-4): "
+        "a text table 'p_mean [MPa], Ra [um], Rq [um]', one row per sample, >= 2 loads, a "
+        "p_mean = 0 row for before contact; then calibrate with that H (default: no fit, H as "
+        "given); writes hardness_fit.{csv,json,md,png}",
     )
     g.add_argument("--sigma-y", type=float, help="yield stress (default H / 2.8)")
     g.add_argument("--m", type=float, help="Tresca friction factor in [0, 1] (default 0.5)")
@@ -243,6 +273,8 @@ def scene_from_args(args):
             "size",
             "crop_size",
             "max_undefined",
+            "lambda_s",
+            "lambda_c",
             "rough_tool",
             "grid",
             "E_workpiece",
@@ -336,12 +368,19 @@ def main(argv=None):
     except SystemExit as exc:  # argparse: 2 for a bad option, 0 for --help
         return exc.code if isinstance(exc.code, int) else 2
     t0 = time.perf_counter()
+    hfit = None
     try:
         scene = scene_from_args(args)
         spec = sample_spec(args, scene)
         if spec.multi:
+            if args.after_contact is not None:
+                raise ValueError(
+                    "--after-contact fits H on one workpiece/tool pair; with several samples "
+                    "fit H first on one pair and give it as --H"
+                )
             return _main_samples(args, scene, spec, t0)
         surfaces = load_scene_surfaces(scene)  # every file check before any sweep
+        data = _after_contact(args, scene)
         tmp = _temp_out(args.out)
     except FileNotFoundError as exc:
         return _error(str(exc) if "not found" in str(exc) else f"file not found: {exc.filename}", 2)
@@ -349,8 +388,15 @@ def main(argv=None):
         return _error(str(exc), 2)
     try:
         _print_input(scene, surfaces, derived=scene.grid is None)
+        if data is not None:
+            try:
+                hfit, scene = _fit_hardness(args, scene, surfaces, data)
+            except ValueError as exc:
+                return _error(str(exc), 2)
         cal = calibrate(scene, progress=not args.quiet, surfaces=surfaces)
         write_outputs(cal, tmp)
+        if hfit is not None:
+            write_hardness_fit(hfit, tmp)
         _move_into_place(tmp, args.out)
     except (RuntimeError, MemoryError) as exc:
         return _error(f"the run failed: {exc or type(exc).__name__}", 1)
@@ -434,6 +480,42 @@ def _main_samples(args, scene, spec, t0):
     return 0
 
 
+def _after_contact(args, scene):
+    """The measured after-contact roughness of ``--after-contact`` (``None`` without it)."""
+    if args.after_contact is None:
+        return None
+    if args.H is not None or (args.scene and _scene_gives(args, "H")):
+        raise ValueError(
+            "H is given (--H or the scene file) and --after-contact fits it: give one of them"
+        )
+    return read_after_contact(args.after_contact)
+
+
+def _fit_hardness(args, scene, surfaces, data):
+    """Fit H (Sec. 3.1) on the scene's solver surfaces; the scene calibrated with it."""
+    t0 = time.perf_counter()
+    fit = fit_hardness(surfaces.workpiece, surfaces.tool, scene.materials, scene.solver, data)
+    print(
+        f"  H fitted to the after-contact roughness in {time.perf_counter() - t0:.1f} s "
+        f"({fit.evaluations} trial H): {fit.message}"
+    )
+    print("  " + hardness_table(fit).replace("\n", "\n  ").rstrip())
+    if not fit.converged:
+        raise RuntimeError(f"the fit of H failed: {fit.message}")
+    over = {"H": fit.H, "sigma_y": args.sigma_y, "H_source": fit.data.source}
+    if args.sigma_y is None and args.scene and _scene_gives(args, "sigma_y"):
+        over["sigma_y"] = scene.sigma_y  # the scene file's own yield stress; else H / 2.8
+    return fit, dataclasses.replace(scene, **over)
+
+
+def _scene_gives(args, key):
+    """True if the scene file sets ``key`` itself."""
+    import tomllib
+
+    data = tomllib.loads(Path(args.scene).read_text(encoding="utf-8"))
+    return key in data.get("scene", data)
+
+
 def _print_input(scene, surfaces, derived=False):
     """What was read and done to each file, the grid and the periodicity."""
     for f in surfaces.files:
@@ -447,11 +529,29 @@ def _print_input(scene, surfaces, derived=False):
         )
         for step in f.steps:
             print(f"    - {step}")
+    if surfaces.files:
+        lam = surfaces.lambda_s
+        print(
+            "  short-wavelength cut-off "
+            + (
+                f"lambda_s = {lam * 1e6:.4g} um ({surfaces.lambda_s_source}), "
+                f"{lam / surfaces.workpiece.dx:.3g} elements per lambda_s"
+                if lam
+                else "none (lambda_s = 0: the scan's pixel and the grid set it)"
+            )
+            + (
+                f"; L-filter lambda_c = {surfaces.lambda_c * 1e6:.4g} um"
+                if surfaces.lambda_c
+                else ""
+            )
+        )
+    for note in surfaces.notes:
+        print(f"halfspace-calib: warning: {note}", file=sys.stderr)
     w = surfaces.workpiece
     kind = "periodic (FFT)" if scene.periodic else "non-periodic (DC-FFT)"
     print(
         f"  solver grid {surfaces.grid} x {surfaces.grid}"
-        + (f" (from the scans' sampling, at most {MAX_DEFAULT_GRID})" if derived else "")
+        + (" (default rule for files)" if derived else "")
         + f", element {w.dx * 1e6:.4g} um, {kind}"
         + (", measured files default to non-periodic" if scene.from_files else "")
     )

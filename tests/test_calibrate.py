@@ -155,6 +155,7 @@ def test_measured_surface_files_give_the_synthetic_result(tmp_path):
         tool_unit="nm",
         size=size,
         periodic=True,  # as the in-memory reference below (files default to non-periodic)
+        lambda_s=0.0,  # no S-filter: the surfaces as written
         **kw,
     )
     assert not Scene(workpiece=scene.workpiece, unit="um", size=size).periodic

@@ -113,10 +113,12 @@ def test_scene_loader_reads_each_shared_file(name):
 
 
 def test_scene_loader_default_grid_is_the_scan_sampling():
-    p = _shared("matrix-3.txt")
-    ss = load_scene_surfaces(Scene(workpiece=str(p), tool=str(p)))
+    p = _shared("matrix-3.txt")  # without the S-filter: the native sampling
+    ss = load_scene_surfaces(Scene(workpiece=str(p), tool=str(p), lambda_s=0.0))
     assert ss.grid == 256 and ss.workpiece.dx == pytest.approx(10e-6 / 256)
-    ss = load_scene_surfaces(Scene(workpiece=str(p), tool=str(p), effects=("inclined",)))
+    ss = load_scene_surfaces(
+        Scene(workpiece=str(p), tool=str(p), lambda_s=0.0, effects=("inclined",))
+    )
     assert ss.grid == 128 and ss.block == 2 and ss.measured_workpiece.shape == (256, 256)
 
 
@@ -137,6 +139,7 @@ def test_inclined_effect_honours_per_file_units(tmp_path):
         size=64e-6,
         grid=16,
         effects=("inclined",),
+        lambda_s=0.0,  # the heights as written
     )
     fw, ft, block = scene_measured_surfaces(scene)
     assert block == 2 and fw.shape == ft.shape == (32, 32)
@@ -328,7 +331,8 @@ def test_two_sizes_for_a_non_square_plain_file(tmp_path):
     s = S.self_affine((24, 48), (24e-6, 48e-6), rq=0.5e-6, seed=4)
     f = tmp_path / "rect.txt"
     S.write_surface(s, f, unit="um")
-    ss = load_scene_surfaces(Scene(workpiece=str(f), tool=str(f), unit="um", size=(24e-6, 48e-6)))
+    kw = dict(workpiece=str(f), tool=str(f), unit="um", size=(24e-6, 48e-6), lambda_s=0.0)
+    ss = load_scene_surfaces(Scene(**kw))
     rec = ss.files[0]
     assert rec.native_size == (24e-6, 48e-6) and rec.pitch == (1e-6, 1e-6)
     assert ss.grid == 24 and "24 x 24 um square" in rec.steps[0]
@@ -336,9 +340,7 @@ def test_two_sizes_for_a_non_square_plain_file(tmp_path):
     ref = S.level(S.crop(s, (24, 24), (0, 12)))
     np.testing.assert_allclose(ss.workpiece.heights, ref.heights, atol=1e-12 * np.ptp(s.heights))
     # a user crop: the centred 12 um of that square, still at the scan's 1 um sampling
-    ss = load_scene_surfaces(
-        Scene(workpiece=str(f), tool=str(f), unit="um", size=(24e-6, 48e-6), crop_size=12e-6)
-    )
+    ss = load_scene_surfaces(Scene(**kw, crop_size=12e-6))
     assert ss.grid == 12 and ss.workpiece.size == pytest.approx((12e-6, 12e-6))
     ref = S.level(S.crop(s, (12, 12), (6, 18)))
     np.testing.assert_allclose(ss.workpiece.heights, ref.heights, atol=1e-12 * np.ptp(s.heights))

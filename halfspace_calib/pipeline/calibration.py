@@ -170,6 +170,8 @@ def calibrate(scene=None, *, progress=True, surfaces=None):
     surfs = load_scene_surfaces(scene) if surfaces is None else surfaces
     if scene.grid != surfs.grid:
         scene = dataclasses.replace(scene, grid=surfs.grid)
+    if scene.from_files and scene.lambda_s is None:  # the resolution check keeps this lambda_s
+        scene = dataclasses.replace(scene, lambda_s=surfs.lambda_s)
     sweeps = run_sweeps(scene, progress=progress, surfaces=surfs)
     p, _ = sweeps.loading
     first, reload = fit_sweeps(scene, sweeps)
@@ -225,6 +227,8 @@ def calibrate(scene=None, *, progress=True, surfaces=None):
             },
             "effects": _effects_record(effects),
             "files": surfs.records(),
+            "length_scale": surfs.scale_record(),
+            "hardness": {"H": scene.H, "source": scene.hardness_source},
             "resolution_check": None if resolution is None else resolution.as_dict(),
         },
         p_range=(float(p.min()), float(p.max())),

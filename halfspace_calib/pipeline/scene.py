@@ -51,8 +51,14 @@ class Scene:
     (or ``workpiece_unit`` / ``tool_unit``) and ``size`` (``L`` or ``(Lx, Ly)`` in m); undefined
     points are filled up to the fraction ``max_undefined``; both files are cropped to the largest
     common square (or ``crop_size``), area-averaged onto square elements and levelled.
-    ``grid=None`` means 128 for synthetic surfaces and the scan's native sampling (at most 256)
-    for files; ``periodic=None`` means periodic for synthetic surfaces and non-periodic (DC-FFT)
+    Files are levelled and filtered with the ISO 16610-61 Gaussian S-filter of nesting index
+    ``lambda_s`` (m; ``None``: the default of
+    :func:`~halfspace_calib.pipeline.scene_surfaces.default_lambda_s`; ``0``: no filter) and,
+    if given, the L-filter ``lambda_c`` (m) before resampling; synthetic surfaces keep their
+    generated spectrum (cut off at two elements), so both are refused for them.
+    ``grid=None`` means 128 for synthetic surfaces and, for files,
+    ``ELEMENTS_PER_LAMBDA_S`` elements per ``lambda_s`` (at most the scan's native sampling
+    and 256); ``periodic=None`` means periodic for synthetic surfaces and non-periodic (DC-FFT)
     for measured ones; ``resolution_check=None`` runs the check (the normal sweeps again at half
     the grid) for files only.
     Frozen and validated once, on construction: derive a changed scene with
@@ -62,6 +68,10 @@ class Scene:
     :func:`~halfspace_calib.contact.materials.sigma_y_from_hardness`). ``m`` is Tresca's
     factor: it does not enter the half-space model, only the parameter file (measure it, e.g. by
     ring compression).
+
+    ``H_source`` says where ``H`` came from for the parameter file (``None``: Table 1's value
+    or "given"; :mod:`halfspace_calib.pipeline.hardness` sets it when H is fitted to
+    after-contact roughness).
 
     Effects (:mod:`halfspace_calib.pipeline.effects`): ``effects`` names what is modelled besides the
     always-on ``"normal"`` sweeps: ``"tangential"`` (pre-sliding stiffness), ``"inclined"``
@@ -79,6 +89,8 @@ class Scene:
     size: float | tuple | None = None
     crop_size: float | None = None
     max_undefined: float = MAX_UNDEFINED
+    lambda_s: float | None = None
+    lambda_c: float | None = None
     rough_tool: bool = False
     seed_workpiece: int = 1
     seed_tool: int = 2
@@ -91,6 +103,7 @@ class Scene:
     H: float = _TABLE1.H
     sigma_y: float | None = None
     m: float = _TABLE1.m
+    H_source: str | None = None
     pressures: tuple = DEFAULT_PRESSURES
     reload_from: float = 100e6
     reload_fractions: tuple = DEFAULT_RELOAD_FRACTIONS
@@ -166,6 +179,8 @@ class Scene:
             if not (-1.0 < v <= 0.5):
                 raise ValueError(f"{name} must be in (-1, 0.5], got {v!r}")
         tresca_factor(self.m)
+        if self.H_source is not None and not isinstance(self.H_source, str):
+            raise ValueError(f"H_source must be a text or None, got {self.H_source!r}")
         if not (self.grid is None and self.from_files):
             if isinstance(self.grid, bool) or not isinstance(self.grid, int) or self.grid < 8:
                 raise ValueError(f"grid must be an integer >= 8, got {self.grid!r}")
@@ -218,6 +233,20 @@ class Scene:
             and self.crop_size > 0
         ):
             raise ValueError(f"crop_size must be a length > 0 (m), got {self.crop_size!r}")
+        for name, lo in (("lambda_s", ">= 0 (m; 0: no S-filter)"), ("lambda_c", "> 0 (m)")):
+            v = getattr(self, name)
+            if v is not None and not (
+                isinstance(v, (int, float))
+                and not isinstance(v, bool)
+                and math.isfinite(v)
+                and (v >= 0 if name == "lambda_s" else v > 0)
+            ):
+                raise ValueError(f"{name} must be a length {lo}, got {v!r}")
+        if self.lambda_s and self.lambda_c is not None and self.lambda_c <= self.lambda_s:
+            raise ValueError(
+                f"lambda_c = {self.lambda_c:g} m must exceed lambda_s = {self.lambda_s:g} m "
+                "(the L-filter keeps the wavelengths below lambda_c)"
+            )
         if self.size is not None:
             vals = self.size if isinstance(self.size, tuple) else (self.size,)
             if len(vals) not in (1, 2) or not all(
@@ -227,7 +256,15 @@ class Scene:
         if not self.from_files:
             given = [
                 n
-                for n in ("unit", "workpiece_unit", "tool_unit", "size", "crop_size")
+                for n in (
+                    "unit",
+                    "workpiece_unit",
+                    "tool_unit",
+                    "size",
+                    "crop_size",
+                    "lambda_s",
+                    "lambda_c",
+                )
                 if getattr(self, n) is not None
             ]
             if given:
@@ -251,6 +288,15 @@ class Scene:
             )
         if self.reload_surface == "volume_conserving" and not self.volume_conservation:
             raise ValueError("reload_surface='volume_conserving' needs volume_conservation=True")
+
+    @property
+    def hardness_source(self):
+        """Where ``H`` came from, in words (the parameter file's provenance)."""
+        if self.H_source:
+            return self.H_source
+        if self.H == _TABLE1.H:
+            return "default: the paper's H = 800 MPa for DC04 (Sec. 3.1, Table 1)"
+        return "given"
 
     @property
     def E_star(self):

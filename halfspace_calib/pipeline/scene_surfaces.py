@@ -9,12 +9,18 @@ applies the policy of ``docs/measured_surfaces.md``:
 2. undefined points: counted; filled with the harmonic interpolant
    (:func:`~halfspace_calib.topography.fill_harmonic`) when their fraction is at most
    ``max_undefined``, refused above;
-3. crop: both files to the largest common square (or ``crop_size``), centred on each scan;
-4. resample: the square patch is area-averaged onto square elements (exact integration of the
+3. filter: the scan is levelled and filtered with the ISO 16610-61 areal Gaussian S-filter of
+   nesting index ``lambda_s`` (the short-wavelength cut-off of the calibration; default
+   :func:`default_lambda_s`) and, if asked, the L-filter ``lambda_c``
+   (:mod:`halfspace_calib.topography.filters`);
+4. crop: both files to the largest common square (or ``crop_size``), centred on each scan;
+5. resample: the square patch is area-averaged onto square elements (exact integration of the
    piecewise-constant pixels, :func:`area_resample`); non-square pixels end as square elements;
-5. level: the least-squares plane over the patch is removed;
-6. plausibility: ``Rq`` of each levelled patch in :data:`RQ_RANGE`, the element edge between
-   :data:`ELEMENT_PER_PIXEL` times the scan's coarser pixel pitch, the grid within memory.
+   the default grid resolves ``lambda_s`` with :data:`ELEMENTS_PER_LAMBDA_S` elements;
+6. level: the least-squares plane over the patch is removed;
+7. plausibility: ``Rq`` of each levelled patch in :data:`RQ_RANGE`, the element edge between
+   :data:`ELEMENT_PER_PIXEL` times the scan's coarser pixel pitch, the grid within memory;
+   a grid with fewer than :data:`ELEMENTS_PER_LAMBDA_S` elements per ``lambda_s`` is warned.
 
 Each step is recorded in a :class:`FileRecord` (the parameter file's provenance).
 """
@@ -30,7 +36,16 @@ import numpy as np
 
 from .. import topography as _surf
 from ..contact.normal import estimate_memory
+from ..topography.filters import l_filter, s_filter
 from ..topography.synthesis import measured_surfaces
+from .length_scale import (
+    ELEMENTS_PER_LAMBDA_S,
+    ISO_NESTING_INDICES,
+    ISO_SAMPLING_RATIO,
+    MIN_ELEMENTS_PER_LAMBDA_S,
+    check_lambda_s,
+    default_lambda_s,
+)
 
 __all__ = [
     "MAX_UNDEFINED",
@@ -40,10 +55,15 @@ __all__ = [
     "SYNTHETIC_GRID",
     "MAX_DEFAULT_GRID",
     "MAX_MEMORY",
+    "ISO_NESTING_INDICES",
+    "ISO_SAMPLING_RATIO",
+    "ELEMENTS_PER_LAMBDA_S",
+    "MIN_ELEMENTS_PER_LAMBDA_S",
     "FileRecord",
     "SceneSurfaces",
     "area_resample",
     "check_memory",
+    "default_lambda_s",
     "load_scene_surfaces",
 ]
 
@@ -97,6 +117,9 @@ class FileRecord:
     rq_scan : float
         ``Rq`` of the whole scan, levelled, at its own sampling (m): against ``rq_patch`` it
         shows how much roughness the crop and the element size leave out.
+    rq_filtered : float
+        ``Rq`` of the whole scan, levelled and filtered (``lambda_s``, ``lambda_c``), at its
+        own sampling (m): against ``rq_scan``, the roughness below the cut-off.
     """
 
     role: str
@@ -115,6 +138,7 @@ class FileRecord:
     crop_size: float
     rq_patch: float
     rq_scan: float
+    rq_filtered: float = math.nan
 
     def as_dict(self):
         """JSON-ready dict."""
@@ -130,7 +154,9 @@ class SceneSurfaces:
 
     ``measured_*`` are the prepared fine maps (``grid * block`` points a side) whose block
     averages are the solver surfaces; ``None`` for synthetic surfaces unless
-    ``Scene.measured_n`` asked for them.
+    ``Scene.measured_n`` asked for them. ``lambda_s`` / ``lambda_c`` are the filters' nesting
+    indices applied to the files (m; ``0.0`` / ``None``: none), ``lambda_s_source`` says where
+    ``lambda_s`` came from, ``notes`` are warnings for the user (grid coarse for ``lambda_s``).
     """
 
     workpiece: object
@@ -140,10 +166,29 @@ class SceneSurfaces:
     block: int
     grid: int
     files: tuple
+    lambda_s: float | None = None
+    lambda_s_source: str = ""
+    lambda_c: float | None = None
+    notes: tuple = ()
 
     def records(self):
         """The file records as JSON-ready dicts."""
         return [f.as_dict() for f in self.files]
+
+    def scale_record(self):
+        """The calibration's length scales (params.json provenance): cut-offs, grid, element."""
+        e = float(self.workpiece.dx)
+        lam = self.lambda_s or None
+        return {
+            "lambda_s": lam,
+            "lambda_s_source": self.lambda_s_source,
+            "lambda_c": self.lambda_c,
+            "filter": "ISO 16610-61 areal Gaussian" if (lam or self.lambda_c) else None,
+            "grid": self.grid,
+            "element": e,
+            "elements_per_lambda_s": lam / e if lam else None,
+            "notes": list(self.notes),
+        }
 
 
 def check_memory(grid, periodic, name="grid"):
@@ -263,11 +308,46 @@ def _read_cached(path, stamp, role, unit, size, max_undefined):
     return s, tuple(steps)
 
 
-def _default_grid(side, pitches, inclined):
-    """The scan's native sampling on the common square, at most :data:`MAX_DEFAULT_GRID`."""
-    n = int(side / max(pitches))
+@functools.lru_cache(maxsize=4)
+def _filtered_cached(path, stamp, role, unit, size, max_undefined, lambda_s, lambda_c):
+    """The read scan levelled, then L- and S-filtered (on the whole scan, before the crop)."""
+    s, steps = _read_cached(path, stamp, role, unit, size, max_undefined)
+    if not lambda_s and lambda_c is None:
+        return s, steps
+    steps = list(steps)
+    f = _surf.level(s)
+    steps.append("levelled: least-squares plane removed over the whole scan")
+    try:
+        if lambda_c is not None:
+            f = l_filter(f, lambda_c)
+            steps.append(
+                f"L-filter (ISO 16610-61 Gaussian), lambda_c = {lambda_c * 1e6:.4g} um: "
+                "longer wavelengths removed"
+            )
+        if lambda_s:
+            f = s_filter(f, lambda_s)
+            steps.append(
+                f"S-filter (ISO 16610-61 Gaussian), lambda_s = {lambda_s * 1e6:.4g} um: "
+                "shorter wavelengths removed (50 % amplitude at lambda_s)"
+            )
+    except ValueError as exc:
+        raise ValueError(f"{path}: {exc} (--lambda-s / --lambda-c)") from None
+    return f, tuple(steps)
+
+
+def _default_grid(side, pitches, inclined, lambda_s=None):
+    """The default solver grid of measured files.
+
+    With an S-filter: :data:`ELEMENTS_PER_LAMBDA_S` elements per ``lambda_s`` (a multiple of 8),
+    at most the scans' native sampling and :data:`MAX_DEFAULT_GRID`; without one, the native
+    sampling on the common square, at most :data:`MAX_DEFAULT_GRID`.
+    """
+    native = int(side / max(pitches) * (1 + 1e-9))
     if inclined:
-        n //= 2  # two measured points per element edge for the patch planes
+        native //= 2  # two measured points per element edge for the patch planes
+    n = native
+    if lambda_s:
+        n = min(native, 8 * math.ceil(ELEMENTS_PER_LAMBDA_S * side / lambda_s / 8 - 1e-9))
     return max(8, min(n, MAX_DEFAULT_GRID))
 
 
@@ -329,15 +409,15 @@ def load_scene_surfaces(scene, *, grid=None, check_sampling=True):
             f"the inclined effect needs both surfaces measured: give the {missing} as a file "
             "too (a synthetic map has no measured points of its own)"
         )
-    read = {r: _read(scene, r) for r in roles}
+    raw = {r: _read(scene, r) for r in roles}
     if scene.size is not None and all(
-        s.provenance["size_source"] != "option" for s, _ in read.values()
+        s.provenance["size_source"] != "option" for s, _ in raw.values()
     ):
         raise ValueError(
             "--size applies to plain files without their own size; the files carry theirs "
             f"({', '.join(str(getattr(scene, r)) for r in roles)})"
         )
-    sides = [v for s, _ in read.values() for v in s.size]
+    sides = [v for s, _ in raw.values() for v in s.size]
     side = min(sides)
     if scene.crop_size is not None:
         if scene.crop_size > side * (1 + 1e-9):
@@ -346,11 +426,23 @@ def load_scene_surfaces(scene, *, grid=None, check_sampling=True):
                 f"files, {side:g} m"
             )
         side = float(scene.crop_size)
-    pitches = [v for s, _ in read.values() for v in (s.dx, s.dy)]
+    pitches = [v for s, _ in raw.values() for v in (s.dx, s.dy)]
+    lam, lam_source = scene.lambda_s, "option"
+    if lam is None:
+        lam = default_lambda_s(side, max(pitches), MAX_DEFAULT_GRID)
+        lam_source = (
+            f"default: smallest ISO 25178-3 nesting index >= {ISO_SAMPLING_RATIO:g} pixel "
+            f"pitches and >= {ELEMENTS_PER_LAMBDA_S} elements of the {side:.4g} m square at "
+            f"grid {MAX_DEFAULT_GRID}"
+        )
+    elif not lam:
+        lam, lam_source = 0.0, "option: no S-filter"
+    read = {r: _filtered(scene, r, lam) for r in roles}
     if n is None:
-        n = _default_grid(side, pitches, inclined)
+        n = _default_grid(side, pitches, inclined, lam)
     check_memory(n, scene.periodic)
     element = side / n
+    notes = check_lambda_s(lam, element, n, side) if check_sampling else ()
     block = max(1, min(int(element / max(s.dx, s.dy) + 1e-9) for s, _ in read.values()))
     if inclined and block < 2:
         raise ValueError(
@@ -387,6 +479,7 @@ def load_scene_surfaces(scene, *, grid=None, check_sampling=True):
         steps.append("levelled: least-squares plane a + b x + c y removed over the patch")
         rq = _surf.rq(r)
         _check_rq(s.provenance["path"], role, s.provenance["rq_scan"])
+        rq_filtered = _surf.rq(_surf.level(s))  # the whole scan as it is resampled
         fine[role] = r
         p = s.provenance
         records.append(
@@ -407,6 +500,7 @@ def load_scene_surfaces(scene, *, grid=None, check_sampling=True):
                 crop_size=float(side),
                 rq_patch=rq,
                 rq_scan=float(p["rq_scan"]),
+                rq_filtered=float(rq_filtered),
             )
         )
     solver = {k: _surf.block_average(v, n) if block > 1 else v for k, v in fine.items()}
@@ -422,6 +516,23 @@ def load_scene_surfaces(scene, *, grid=None, check_sampling=True):
         block,
         n,
         tuple(records),
+        lambda_s=lam,
+        lambda_s_source=lam_source,
+        lambda_c=scene.lambda_c,
+        notes=notes,
+    )
+
+
+def _filtered(scene, role, lambda_s):
+    """:func:`_read`, levelled and filtered with ``lambda_s`` and ``scene.lambda_c``."""
+    path = getattr(scene, role)
+    unit = getattr(scene, f"{role}_unit") or scene.unit
+    try:
+        stamp = os.stat(path).st_mtime_ns
+    except OSError:
+        stamp = None
+    return _filtered_cached(
+        str(path), stamp, role, unit, scene.size, scene.max_undefined, lambda_s, scene.lambda_c
     )
 
 

@@ -1,0 +1,336 @@
+"""The effective hardness H from the roughness after contact (Sec. 3.1, Figs. 3-4).
+
+The paper tunes H (800 MPa for DC04) so that the simulated ``Ra``/``Rq`` of the sheet after
+pressing at 100-600 MPa match the measured ones. :func:`fit_hardness` does that in least squares:
+for a trial H, the workpiece is pressed against the tool at each measured ``p_mean`` (first
+loading, volume-conserving plastic flattening as in Sec. 2.1), unloaded, and its ``Ra``/``Rq``
+(about the mean, as ``roughness.csv``) compared with the measured ones; H minimises the sum of
+squared relative differences over all loads and both parameters. :func:`read_after_contact`
+reads the measured values (a small text table, units in the header).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from scipy.optimize import minimize_scalar
+
+from ..contact.normal import solve_normal_pair
+
+__all__ = [
+    "AfterContact",
+    "HardnessFit",
+    "after_contact_roughness",
+    "fit_hardness",
+    "read_after_contact",
+]
+
+_PRESSURE_UNITS = {"pa": 1.0, "kpa": 1e3, "mpa": 1e6, "gpa": 1e9}
+_LENGTH_UNITS = {"m": 1.0, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "nm": 1e-9}
+#: the fitted H is searched in ``(H_LOW * max p_mean, H_HIGH * max p_mean)``
+H_LOW, H_HIGH = 1.02, 100.0
+
+
+@dataclass(frozen=True)
+class AfterContact:
+    """Measured roughness of the workpiece after pressing (SI: Pa, m).
+
+    ``p_mean``, ``Ra``, ``Rq``: one entry per measured sample (several samples per load are
+    fitted as they are); ``initial``: ``(Ra, Rq)`` before contact if the table has a
+    ``p_mean = 0`` row (their mean), else ``None``; ``source``: where the values came from.
+    """
+
+    p_mean: tuple
+    Ra: tuple
+    Rq: tuple
+    initial: tuple | None = None
+    source: str = "given"
+
+    def __post_init__(self):
+        p, ra, rq = (np.asarray(v, dtype=float) for v in (self.p_mean, self.Ra, self.Rq))
+        if not (p.ndim == ra.ndim == rq.ndim == 1 and p.size == ra.size == rq.size):
+            raise ValueError("p_mean, Ra and Rq must be 1-D sequences of one length")
+        if not (np.all(np.isfinite(p)) and np.all(p > 0)):
+            raise ValueError("p_mean must be finite and > 0 (Pa) after contact")
+        for name, v in (("Ra", ra), ("Rq", rq)):
+            if not (np.all(np.isfinite(v)) and np.all(v > 0)):
+                raise ValueError(f"{name} after contact must be finite and > 0 (m)")
+        if np.unique(p).size < 2:
+            raise ValueError(
+                f"after-contact roughness at {np.unique(p).size} load(s): the fit of H needs "
+                "at least two different p_mean"
+            )
+        if np.any(ra > rq * (1 + 1e-9)):
+            raise ValueError("Ra exceeds Rq in a row: Ra <= Rq for every surface (check columns)")
+        if self.initial is not None:
+            ra0, rq0 = self.initial
+            high = [float(q) for q, a, b in zip(p, ra, rq, strict=True) if a > ra0 or b > rq0]
+            if high:
+                raise ValueError(
+                    f"after-contact roughness above the initial (Ra {ra0:.4g} m, Rq {rq0:.4g} m)"
+                    f" at p_mean {high} Pa: pressing flattens a surface (check the rows)"
+                )
+        for k, v in (("p_mean", p), ("Ra", ra), ("Rq", rq)):
+            object.__setattr__(self, k, tuple(float(x) for x in v))
+
+
+def _unit(header, allowed, what):
+    m = re.fullmatch(r"\s*([A-Za-z_]+)\s*[\[(]\s*([^\])]+?)\s*[\])]\s*", header)
+    if not m:
+        raise ValueError(
+            f"column '{header.strip()}' gives no unit: write it as NAME [UNIT], e.g. "
+            f"'{what} [{next(iter(allowed))}]'"
+        )
+    name, unit = m.group(1), m.group(2)
+    if unit.lower() not in allowed and unit not in allowed:
+        raise ValueError(
+            f"unknown unit '{unit}' of column {name}: allowed {', '.join(sorted(set(allowed)))}"
+        )
+    return name, allowed.get(unit.lower(), allowed.get(unit))
+
+
+def read_after_contact(path):
+    """Read measured after-contact roughness: a text table with a header naming the units.
+
+    Lines starting with ``#`` are comments; the first other line is the header
+    ``p_mean [MPa], Ra [um], Rq [um]`` (pressure units Pa, kPa, MPa, GPa; lengths m, mm, um,
+    nm), then one row per sample, comma- or whitespace-separated. A ``p_mean = 0`` row is the
+    roughness before contact (checked against, not fitted).
+
+    Raises
+    ------
+    ValueError
+        Missing file, missing or unknown units, fewer than two loads, roughness above the
+        initial, non-numeric cells: the message names the file and what to fix.
+    """
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise ValueError(f"after-contact roughness file not found: {path}") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ValueError(f"{path}: cannot read the after-contact roughness ({exc})") from None
+    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
+    if not lines:
+        raise ValueError(f"{path}: no header and no rows")
+    split = (lambda s: s.split(",")) if "," in lines[0] else (lambda s: s.split())
+    heads = re.findall(r"[A-Za-z_]+\s*[\[(][^\])]*[\])]", lines[0])
+    if len(heads) != 3:
+        heads = split(lines[0])
+    if len(heads) != 3:
+        raise ValueError(f"{path}: the header must be 'p_mean [MPa], Ra [um], Rq [um]'")
+    try:
+        cols = [
+            _unit(heads[0], _PRESSURE_UNITS, "p_mean"),
+            _unit(heads[1], _LENGTH_UNITS, "Ra"),
+            _unit(heads[2], _LENGTH_UNITS, "Rq"),
+        ]
+    except ValueError as exc:
+        raise ValueError(f"{path}: {exc}") from None
+    names = [c[0].lower() for c in cols]
+    if names != ["p_mean", "ra", "rq"]:
+        raise ValueError(f"{path}: the columns must be p_mean, Ra, Rq in this order")
+    rows = []
+    for i, ln in enumerate(lines[1:], start=2):
+        cells = split(ln)
+        try:
+            vals = [float(c) * f for c, (_, f) in zip(cells, cols, strict=True)]
+        except ValueError:
+            raise ValueError(f"{path}: row {i} is not three numbers: {ln.strip()!r}") from None
+        rows.append(vals)
+    before = [r for r in rows if r[0] == 0]
+    after = [r for r in rows if r[0] != 0]
+    if not after:
+        raise ValueError(f"{path}: no row after contact (p_mean > 0)")
+    initial = None
+    if before:
+        initial = (float(np.mean([r[1] for r in before])), float(np.mean([r[2] for r in before])))
+    digest = hashlib.sha256(path.read_bytes()).hexdigest()
+    try:
+        return AfterContact(
+            tuple(r[0] for r in after),
+            tuple(r[1] for r in after),
+            tuple(r[2] for r in after),
+            initial,
+            f"fitted to {path} (sha256 {digest})",
+        )
+    except ValueError as exc:
+        raise ValueError(f"{path}: {exc}") from None
+
+
+def after_contact_roughness(workpiece, tool, materials, solver, H, pressures):
+    """``(Ra, Rq)`` arrays (m) of the unloaded workpiece after pressing at each ``p_mean``.
+
+    First loading of ``workpiece`` (softer body, hardness ``H``) against ``tool``
+    (:class:`~halfspace_calib.topography.Surface` s on one grid) with volume conservation
+    (Sec. 2.1); the roughness about the mean of the deformed workpiece, as the sweeps'
+    ``Ra_after``/``Rq_after``. ``RuntimeError`` if a solve does not converge.
+    """
+    ra, rq = [], []
+    for p in pressures:
+        res = solve_normal_pair(
+            workpiece.heights,
+            tool.heights,
+            workpiece.dx,
+            materials.E_star,
+            p,
+            H=H,
+            dy=workpiece.dy,
+            volume_conservation=True,
+            **solver.normal_kwargs(),
+        )
+        if not res.converged:
+            raise RuntimeError(f"the solve at {p:g} Pa with H = {H:g} Pa: {res.message}")
+        h = res.deformed_workpiece - res.deformed_workpiece.mean()
+        ra.append(float(np.mean(np.abs(h))))
+        rq.append(float(np.sqrt(np.mean(h * h))))
+    return np.array(ra), np.array(rq)
+
+
+@dataclass(frozen=True)
+class HardnessFit:
+    """The effective hardness fitted to after-contact roughness.
+
+    Attributes
+    ----------
+    H : float
+        Fitted hardness (Pa).
+    residual : float
+        Root mean square of the relative differences ``(sim - meas) / meas`` over every row
+        and both ``Ra`` and ``Rq``.
+    data : AfterContact
+        The measured values.
+    Ra_simulated, Rq_simulated : tuple
+        The model's values at ``H`` for each row (m).
+    Ra_initial, Rq_initial : float
+        The model workpiece's roughness before contact (m).
+    bounds : tuple
+        The searched interval of H (Pa).
+    evaluations : int
+        Trial hardnesses computed.
+    converged : bool
+        False if H ended on a bound (the data do not fix it) or the search did not converge.
+    message : str
+        What happened, in words.
+    """
+
+    H: float
+    residual: float
+    data: AfterContact
+    Ra_simulated: tuple
+    Rq_simulated: tuple
+    Ra_initial: float
+    Rq_initial: float
+    bounds: tuple
+    evaluations: int
+    converged: bool
+    message: str
+
+    def as_dict(self):
+        """JSON-ready record (params.json provenance, ``hardness_fit.json``)."""
+        return {
+            "H": self.H,
+            "source": self.data.source,
+            "residual_rms_relative": self.residual,
+            "p_mean": list(self.data.p_mean),
+            "Ra_measured": list(self.data.Ra),
+            "Rq_measured": list(self.data.Rq),
+            "Ra_simulated": list(self.Ra_simulated),
+            "Rq_simulated": list(self.Rq_simulated),
+            "initial_measured": None if self.data.initial is None else list(self.data.initial),
+            "initial_simulated": [self.Ra_initial, self.Rq_initial],
+            "bounds": list(self.bounds),
+            "evaluations": self.evaluations,
+            "converged": self.converged,
+            "message": self.message,
+        }
+
+
+def fit_hardness(workpiece, tool, materials, solver, data, *, xtol=1e-4):
+    """Fit the effective hardness H to measured after-contact ``Ra``/``Rq`` (Sec. 3.1).
+
+    Minimises ``sum_i ((Ra_sim - Ra_i) / Ra_i)^2 + ((Rq_sim - Rq_i) / Rq_i)^2`` over ``log H``
+    in ``(1.02, 100) * max(p_mean)`` (bounded Brent search; the roughness after contact grows
+    monotonically with H). ``workpiece``/``tool`` are the solver-grid surfaces of the scene
+    (same filters and grid as the calibration), ``materials`` and ``solver`` its records (the
+    materials' own H is not used).
+
+    Raises
+    ------
+    ValueError
+        After-contact roughness above the model workpiece's initial roughness (no H can
+        produce it: check the data, the surfaces or the units).
+    RuntimeError
+        A solve did not converge.
+    """
+    p = np.asarray(data.p_mean)
+    ra_m, rq_m = np.asarray(data.Ra), np.asarray(data.Rq)
+    h0 = workpiece.heights - workpiece.heights.mean()
+    ra0, rq0 = float(np.mean(np.abs(h0))), float(np.sqrt(np.mean(h0 * h0)))
+    high = sorted({float(q) for q, a, b in zip(p, ra_m, rq_m, strict=True) if a > ra0 or b > rq0})
+    if high:
+        raise ValueError(
+            f"after-contact roughness at p_mean {high} Pa is above the initial roughness of the "
+            f"model workpiece (Ra {ra0:.4g} m, Rq {rq0:.4g} m, at the calibration's grid and "
+            "lambda_s): pressing only flattens it, so no H fits; check the units, the rows and "
+            "that the data belong to this workpiece"
+        )
+    loads, inv = np.unique(p, return_inverse=True)
+    lo, hi = H_LOW * loads.max(), H_HIGH * loads.max()
+    seen = {}
+
+    def simulate(logH):
+        if logH not in seen:
+            ra, rq = after_contact_roughness(
+                workpiece, tool, materials, solver, math.exp(logH), loads
+            )
+            seen[logH] = (ra[inv], rq[inv])
+        return seen[logH]
+
+    def cost(logH):
+        ra, rq = simulate(logH)
+        return float(np.sum(((ra - ra_m) / ra_m) ** 2 + ((rq - rq_m) / rq_m) ** 2))
+
+    opt = minimize_scalar(
+        cost, bounds=(math.log(lo), math.log(hi)), method="bounded", options={"xatol": xtol}
+    )
+    H = math.exp(opt.x)
+    ra, rq = simulate(opt.x)
+    res = math.sqrt(opt.fun / (2 * p.size))
+    # above some H nothing yields: the cost is flat there, and a minimum in that flat part (as
+    # good as the purely elastic answer at the upper bound) does not fix H
+    flat = opt.x < math.log(hi) and opt.fun >= cost(math.log(hi)) * (1 - 1e-9)
+    on_bound = H < lo * 1.01 or H > hi / 1.01 or flat
+    ok = bool(opt.success) and not on_bound
+    if flat:
+        msg = (
+            f"H is not fixed by the data: the roughness after contact is as large as without "
+            f"any plastic flattening, matched equally by every H above about {H:.4g} Pa"
+        )
+    elif on_bound:
+        msg = (
+            f"H = {H:.4g} Pa ended on a bound of ({lo:.4g}, {hi:.4g}) Pa: the after-contact "
+            "roughness does not fix H (too little flattening, or more than any H gives)"
+        )
+    elif not opt.success:
+        msg = f"the search for H did not converge: {opt.message}"
+    else:
+        msg = f"H = {H:.4g} Pa, rms relative residual {res:.3g} over {p.size} rows x (Ra, Rq)"
+    return HardnessFit(
+        H=H,
+        residual=res,
+        data=data,
+        Ra_simulated=tuple(float(v) for v in ra),
+        Rq_simulated=tuple(float(v) for v in rq),
+        Ra_initial=ra0,
+        Rq_initial=rq0,
+        bounds=(lo, hi),
+        evaluations=len(seen),
+        converged=ok,
+        message=msg,
+    )
