@@ -832,8 +832,9 @@ C     -fdefault-real-8 -fdefault-double-8 -fdefault-integer-8); the
 C     law is computed in double precision.
 C     p = -FNI/AREAS (FNI < 0 in compression). Trial friction force:
 C     tangential part of FDAT(3:5) (old friction force) + STFK SFACN3
-C     (DX, DY, DZ); return map of the law on tractions (force/AREAS),
-C     as frictionlaw.traction_update_force; the new friction force is
+C     (DX, DY, DZ) (k_t = STFK SFACN3/AREAS unless the export baked in
+C     a calibrated k_t); return map of the law on tractions (force /
+C     AREAS), as frictionlaw.traction_update_force; the new force is
 C     stored in FDAT(3:5) and added to FXIS, FYIS, FZIS.
 C     UFHIST(1, ILBSV(II)) = p_hist (NHV >= 1; stored rounded down to
 C     the host REAL), UFHIST(2, .) = cache -ln alpha1(p_hist) (NHV >= 2,
@@ -868,6 +869,8 @@ C
       DOUBLE PRECISION TOLD(3), TNEW(3), DTDDU(3,3), DTDP(3)
       REAL RPH
       LOGICAL USECAC
+      DOUBLE PRECISION SBMF_KT
+      EXTERNAL SBMF_KT
 C     largest double and largest host REAL
       HD = HUGE(HD)
       HR = DBLE(HUGE(RPH))
@@ -913,6 +916,8 @@ C       tangential parts: the normal components projected out
         END DO
 C       tractions: t_old = F_old/A, k_t = STFK SFACN3/A (kept finite)
         KT = MAX(MIN((DBLE(STFK(II))*DBLE(SFACN3))/AR, HD), 0.0D0)
+C       a calibrated k_t (table or --k-t) replaces the penalty's
+        KT = SBMF_KT(P, KT)
         DO A = 1, 3
           TOLD(A) = MAX(MIN(FO(A)/AR, HD), -HD)
         END DO
