@@ -274,4 +274,3 @@ def test_usrfrc_mpp_coefficient_agrees(tmp_path_factory, key, prec, seed, nh):
     others = [w for w in re.findall(r"Warning: (.*)", warnings) if "Unused dummy argument" not in w]
     assert others == []
     assert run_mpp(host, PARAM_SETS[key], seed, nh) > 0
-
