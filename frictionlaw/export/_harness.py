@@ -199,10 +199,11 @@ subroutine h_usrfrc(n, nact, nhv, iact, ilb, fni, areas, stfk, sfac, d, rn, fdat
               niisv5, rn1, rn2, rn3, fric1, fric2, fric3, fric4, bignum, fdat, iseg, fx, fy, &
               fz, ss, tt, ilbsv, stfk, frc, numnp, npc, pld, lcf, lcf, temp, temp, temp, &
               isurf, nhvd, ufhist, neps, ufeps, sfacn3)
-  do i = 1, n
-    fxyz(1, i) = fx(i)
-    fxyz(2, i) = fy(i)
-    fxyz(3, i) = fz(i)
+  ! copy back the active nodes only: threads may share these arrays over disjoint node sets
+  do i = 1, nact
+    fxyz(1, iact(i)) = fx(iact(i))
+    fxyz(2, iact(i)) = fy(iact(i))
+    fxyz(3, iact(i)) = fz(iact(i))
   end do
 end subroutine h_usrfrc
 """
