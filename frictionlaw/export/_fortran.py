@@ -69,7 +69,8 @@ C     Smooth minimum of Eqs. 24-25 from XL = ln X (frictionlaw's
 C     smooth_min_log): G = tanh(Y)**(1/XN), Y = X**XN = exp(XN XL),
 C     GOX = G/X, DG = dG/dX, GL = ln G. No X that under- or overflows
 C     is formed. Y < 1D-4: series of ln(tanh(Y)/Y), so that G -> X
-C     survives any XN; Y > 350: G = 1; else one expm1(-2Y).
+C     survives any XN; Y > 350: G = 1; else one expm1(-2Y). G itself
+C     is formed only for XL >= 0 (X < 1 callers use GOX; G = 0 there).
 C=======================================================================
       SUBROUTINE SBMF_SMIN(XL, XN, G, GOX, DG, GL)
       IMPLICIT NONE
@@ -86,7 +87,8 @@ C=======================================================================
         Y2 = Y*Y
         LGOX = (-Y2/3.0D0 + 7.0D0*Y2*Y2/90.0D0)/XN
         GOX = EXP(LGOX)
-        G = EXP(XL)*GOX
+C       XL < 0 here: callers take G/X (G is not formed, one exp less)
+        G = 0.0D0
         DG = GOX*(1.0D0 - 2.0D0*Y2/3.0D0)
         GL = XL + LGOX
         RETURN
@@ -106,7 +108,7 @@ C=======================================================================
       IF (Y .LT. 1.0D0) THEN
         LGOX = LOG(T/Y)/XN
         GOX = EXP(LGOX)
-        G = EXP(XL)*GOX
+        G = 0.0D0
         DG = GOX*S
         GL = XL + LGOX
         RETURN
@@ -115,6 +117,41 @@ C=======================================================================
       GOX = EXP(GL - XL)
       G = EXP(GL)
       DG = GOX*S
+      RETURN
+      END
+C
+C     ln G alone (SBMF_SMIN's GL, the same statements): for
+C     alpha1(p_hist) and the continuous variant's g(x2(PH)), where G,
+C     G/X, dG/dX are not needed (one or two exps less).
+      DOUBLE PRECISION FUNCTION SBMF_SMINL(XL, XN)
+      IMPLICIT NONE
+      DOUBLE PRECISION XL, XN
+      DOUBLE PRECISION LNY, Y, Y2, EM, TWOE, T
+      DOUBLE PRECISION LNYSML, LNYSAT
+      PARAMETER (LNYSML = {ln_small})
+      PARAMETER (LNYSAT = {ln_sat})
+      DOUBLE PRECISION SBMF_EXPM1, SBMF_LOG1P
+      EXTERNAL SBMF_EXPM1, SBMF_LOG1P
+      LNY = XN*XL
+      IF (LNY .LT. LNYSML) THEN
+        Y = EXP(LNY)
+        Y2 = Y*Y
+        SBMF_SMINL = XL + (-Y2/3.0D0 + 7.0D0*Y2*Y2/90.0D0)/XN
+        RETURN
+      END IF
+      IF (LNY .GT. LNYSAT) THEN
+        SBMF_SMINL = 0.0D0
+        RETURN
+      END IF
+      Y = EXP(LNY)
+      EM = SBMF_EXPM1(-2.0D0*Y)
+      TWOE = 2.0D0 + EM
+      IF (Y .LT. 1.0D0) THEN
+        T = -EM/TWOE
+        SBMF_SMINL = XL + LOG(T/Y)/XN
+        RETURN
+      END IF
+      SBMF_SMINL = SBMF_LOG1P(-2.0D0*(1.0D0 + EM)/TWOE)/XN
       RETURN
       END
 C
@@ -199,13 +236,13 @@ def _law(c, continuous):
         tau_lines = [
             "C     continuous_reload: divided by g(x2(PH); n2), formed in logs",
             "      LNX2H = SBMF_LPROD(PH, C2H) - LNA1H",
-            "      CALL SBMF_SMIN(LNX2H, XN2, G2H, GOX2H, DG2H, LG2H)",
+            "      LG2H = SBMF_SMINL(LNX2H, XN2)",
             "      SCL = EXP(-LG2H)",
             "      TAU = TMAX*EXP(LNA1H + LG2 - LG2H)",
             "      DTAU = TMAX*C2H*DG2*SCL",
         ]
         decl = [
-            "      DOUBLE PRECISION LNX2H, G2H, GOX2H, DG2H, LG2H, SCL",
+            "      DOUBLE PRECISION LNX2H, LG2H, SCL",
         ]
     else:
         tau_lines = [
@@ -232,10 +269,9 @@ def _law(c, continuous):
         "      IMPLICIT NONE",
         "      DOUBLE PRECISION P, PH, G1H, TAU, DTAU, G1OUT",
         "      DOUBLE PRECISION LNA1H, A1H, LNX2, G2, GOX2, DG2, LG2, CAP",
-        "      DOUBLE PRECISION G1, GOX1, DG1",
         *decl,
-        "      DOUBLE PRECISION SBMF_LPROD",
-        "      EXTERNAL SBMF_LPROD",
+        "      DOUBLE PRECISION SBMF_LPROD, SBMF_SMINL",
+        "      EXTERNAL SBMF_LPROD, SBMF_SMINL",
         *_params_block(c, _LAW_NAMES, [("C1H", "C1", "H"), ("C2H", "C2", "H")]),
         "      G1OUT = G1H",
         "      IF (.NOT. (P .GT. 0.0D0 .AND. PH .GT. 0.0D0)) THEN",
@@ -246,7 +282,7 @@ def _law(c, continuous):
         "      IF (G1H .GT. 0.0D0) THEN",
         "        LNA1H = -G1H",
         "      ELSE",
-        "        CALL SBMF_SMIN(SBMF_LPROD(PH, C1H), XN1, G1, GOX1, DG1, LNA1H)",
+        "        LNA1H = SBMF_SMINL(SBMF_LPROD(PH, C1H), XN1)",
         "        G1OUT = -LNA1H",
         "      END IF",
         "      LNX2 = SBMF_LPROD(P, C2H) - LNA1H",
