@@ -159,23 +159,34 @@ SEGMENTS = ("press", "lift", "recontact", "reload")
 def multistage_agreement(gf_hist, gf_profiles, fd_hist, fd_profiles, min_force=0.01):
     """Force and die-face ``p_hist`` agreement of the two press-lift-press runs.
 
-    Force: at the die positions both runs accepted (the nominal increments; GetFEM adds
-    cut-back steps), in stages 1 and 3, where the force exceeds ``min_force`` times the
-    stage's largest (the first touch of a re-contact is a few newtons of penalty force):
-    GetFEM / fe-demo - 1. ``p_hist``: after each segment of the schedule (``SEGMENTS``),
+    Force, GetFEM / fe-demo - 1 where the force exceeds ``min_force`` times the stage's
+    largest (the first touch of a re-contact is a few newtons of penalty force): stage 1 at
+    GetFEM's die positions (fe-demo interpolated: a smooth press), stage 3 at the die
+    positions both runs accepted (the nominal increments; GetFEM adds cut-back steps), since
+    the re-contact has a kink that interpolation would blur. ``p_hist``: after each segment of the schedule (``SEGMENTS``),
     fe-demo's die-face profile interpolated over the reference radius at GetFEM's die-face
     nodes, the difference relative to the largest ``p_hist``. Returns a dict of arrays.
     """
     out = {}
-    for k in (1, 3):
-        g = gf_hist["stage"] == k
-        f = fd_hist["stage"] == k
-        sg, fg = gf_hist["stroke"][g], gf_hist["force"][g]
-        sf, ff = fd_hist["stroke"][f], fd_hist["force"][f]
-        ig, jf = np.nonzero(np.abs(sg[:, None] - sf[None, :]) <= 1e-12)
-        keep = (ff[jf] > min_force * ff.max()) & (fg[ig] > 0)
-        out[f"stroke_stage{k}"] = sg[ig][keep]
-        out[f"force_rel_stage{k}"] = fg[ig][keep] / ff[jf][keep] - 1.0
+    # stage 1: a smooth monotone press, fe-demo interpolated at GetFEM's die positions
+    g = gf_hist["stage"] == 1
+    f = fd_hist["stage"] == 1
+    sg, fg = gf_hist["stroke"][g], gf_hist["force"][g]
+    sf, ff = fd_hist["stroke"][f], fd_hist["force"][f]
+    on = (sg >= sf.min()) & (sg <= sf.max())
+    ref = np.interp(sg[on], sf, ff)
+    keep = ref > min_force * ff.max()
+    out["stroke_stage1"] = sg[on][keep]
+    out["force_rel_stage1"] = fg[on][keep] / ref[keep] - 1.0
+    # stage 3: the re-contact has a kink; only the die positions both runs accepted
+    g = gf_hist["stage"] == 3
+    f = fd_hist["stage"] == 3
+    sg, fg = gf_hist["stroke"][g], gf_hist["force"][g]
+    sf, ff = fd_hist["stroke"][f], fd_hist["force"][f]
+    ig, jf = np.nonzero(np.abs(sg[:, None] - sf[None, :]) <= 1e-12)
+    keep = (ff[jf] > min_force * ff.max()) & (fg[ig] > 0)
+    out["stroke_stage3"] = sg[ig][keep]
+    out["force_rel_stage3"] = fg[ig][keep] / ff[jf][keep] - 1.0
     for name, pg, pf in zip(SEGMENTS, gf_profiles, fd_profiles, strict=True):
         r0g = np.asarray(pg["r0"])
         phg = np.asarray(pg["p_hist"])
