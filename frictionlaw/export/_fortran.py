@@ -71,10 +71,12 @@ C     GOX = G/X, DG = dG/dX, GL = ln G. No X that under- or overflows
 C     is formed. Y < 1D-4: series of ln(tanh(Y)/Y), so that G -> X
 C     survives any XN; Y > 350: G = 1; else one expm1(-2Y). G itself
 C     is formed only for XL >= 0 (X < 1 callers use GOX; G = 0 there).
+C     X: exp(XL) when the caller formed it as a normal product (G/X is
+C     then a division instead of an exp), else 0.
 C=======================================================================
-      SUBROUTINE SBMF_SMIN(XL, XN, G, GOX, DG, GL)
+      SUBROUTINE SBMF_SMIN(XL, X, XN, G, GOX, DG, GL)
       IMPLICIT NONE
-      DOUBLE PRECISION XL, XN, G, GOX, DG, GL
+      DOUBLE PRECISION XL, X, XN, G, GOX, DG, GL
       DOUBLE PRECISION LNY, Y, Y2, LGOX, EM, TWOE, T, S
       DOUBLE PRECISION LNYSML, LNYSAT
       PARAMETER (LNYSML = {ln_small})
@@ -95,7 +97,11 @@ C       XL < 0 here: callers take G/X (G is not formed, one exp less)
       END IF
       IF (LNY .GT. LNYSAT) THEN
         G = 1.0D0
-        GOX = EXP(-XL)
+        IF (X .GT. 0.0D0) THEN
+          GOX = 1.0D0/X
+        ELSE
+          GOX = EXP(-XL)
+        END IF
         DG = 0.0D0
         GL = 0.0D0
         RETURN
@@ -114,8 +120,12 @@ C       XL < 0 here: callers take G/X (G is not formed, one exp less)
         RETURN
       END IF
       GL = SBMF_LOG1P(-2.0D0*(1.0D0 + EM)/TWOE)/XN
-      GOX = EXP(GL - XL)
       G = EXP(GL)
+      IF (X .GT. 0.0D0) THEN
+        GOX = G/X
+      ELSE
+        GOX = EXP(GL - XL)
+      END IF
       DG = GOX*S
       RETURN
       END
@@ -214,12 +224,14 @@ def _law(c, continuous):
         "      SUBROUTINE SBMF_FIRST(P, TAU, DTAU, G1)",
         "      IMPLICIT NONE",
         "      DOUBLE PRECISION P, TAU, DTAU, G1",
-        "      DOUBLE PRECISION LNX1, G, GOX, DG, GL",
+        "      DOUBLE PRECISION LNX1, X1, G, GOX, DG, GL",
         "      DOUBLE PRECISION SBMF_LPROD",
         "      EXTERNAL SBMF_LPROD",
         *_params_block(c, ["TMAX", "H", "C1", "XN1"], [("C1H", "C1", "H")]),
         "      LNX1 = SBMF_LPROD(P, C1H)",
-        "      CALL SBMF_SMIN(LNX1, XN1, G, GOX, DG, GL)",
+        "      X1 = P*C1H",
+        "      IF (.NOT. (1.0D-300 .LT. X1 .AND. X1 .LT. 1.0D+300)) X1 = 0.0D0",
+        "      CALL SBMF_SMIN(LNX1, X1, XN1, G, GOX, DG, GL)",
         "      IF (LNX1 .LT. 0.0D0) THEN",
         "        TAU = P*(TMAX*C1H)*GOX",
         "      ELSE",
@@ -268,7 +280,7 @@ def _law(c, continuous):
         "      SUBROUTINE SBMF_RELOAD(P, PH, G1H, TAU, DTAU, G1OUT)",
         "      IMPLICIT NONE",
         "      DOUBLE PRECISION P, PH, G1H, TAU, DTAU, G1OUT",
-        "      DOUBLE PRECISION LNA1H, A1H, LNX2, G2, GOX2, DG2, LG2, CAP",
+        "      DOUBLE PRECISION LNA1H, A1H, LNX2, X2, G2, GOX2, DG2, LG2, CAP",
         *decl,
         "      DOUBLE PRECISION SBMF_LPROD, SBMF_SMINL",
         "      EXTERNAL SBMF_LPROD, SBMF_SMINL",
@@ -286,8 +298,17 @@ def _law(c, continuous):
         "        G1OUT = -LNA1H",
         "      END IF",
         "      LNX2 = SBMF_LPROD(P, C2H) - LNA1H",
-        "      CALL SBMF_SMIN(LNX2, XN2, G2, GOX2, DG2, LG2)",
         "      A1H = EXP(LNA1H)",
+        "C     x2 as a product where it is a normal double (saves an exp)",
+        "      X2 = P*C2H",
+        "      IF (1.0D-300 .LT. X2 .AND. X2 .LT. 1.0D+300 .AND.",
+        "     &    A1H .GT. 1.0D-300) THEN",
+        "        X2 = X2/A1H",
+        "        IF (.NOT. (X2 .LT. 1.0D+300)) X2 = 0.0D0",
+        "      ELSE",
+        "        X2 = 0.0D0",
+        "      END IF",
+        "      CALL SBMF_SMIN(LNX2, X2, XN2, G2, GOX2, DG2, LG2)",
         *tau_lines,
         "      IF (P .LE. PH) THEN",
         "        CAP = TMAX*A1H",
