@@ -274,3 +274,21 @@ def test_usrfrc_mpp_coefficient_agrees(tmp_path_factory, key, prec, seed, nh):
     others = [w for w in re.findall(r"Warning: (.*)", warnings) if "Unused dummy argument" not in w]
     assert others == []
     assert run_mpp(host, PARAM_SETS[key], seed, nh) > 0
+
+
+def test_dp_build_without_double_8_is_refused(tmp_path):
+    """``-fdefault-real-8`` alone (DOUBLE PRECISION promoted to quad) must not compile silently:
+    the C library calls refuse a REAL(16) argument, so a wrong DP flag set is caught."""
+    import subprocess
+
+    path = tmp_path / "p.json"
+    PARAM_SETS["default"].to_json(path)
+    files, _ = exp.render("lsdyna-usrfrc", path)
+    src = tmp_path / "u.f"
+    src.write_text(files["sbmf_usrfrc_smp.f"])
+    r = subprocess.run(
+        [_harness.gfortran(), "-fdefault-real-8", "-c", str(src), "-o", str(tmp_path / "u.o")],
+        capture_output=True,
+        text=True,
+    )
+    assert r.returncode != 0 and "REAL(16)" in r.stderr
