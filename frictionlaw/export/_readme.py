@@ -12,7 +12,7 @@ State per contact point (the host keeps it only for converged increments):
 | 3 | status of the last call: 0 open, 1 stick, 2 slip (output only) | no |
 
 Start the analysis with all state variables zero (the host's default): `p_hist = 0` is a virgin
-surface. To start from a pre-loaded surface set `STATEV(1)` and leave `STATEV(2) = 0`.
+surface. To start from a pre-loaded surface set `{arr}1{end}` and leave `{arr}2{end} = 0`.
 """
 
 _LAW = """\
@@ -69,8 +69,18 @@ def _kt_text(target, kt, units):
     return text
 
 
+_STATE_ARRAY = {
+    "abaqus-vfriction": ("state(", ", j, k)"),
+    "lsdyna-usrfrc": ("UFHIST(", ", ILBSV(II))"),
+    "lsdyna-usrfrc-mpp": ("UH(", ")"),
+    "lsdyna": ("history variable ", ""),
+    "ansys-userfric": ("state variable ", ""),
+}
+
+
 def fortran_readme(target, name, params, units, kt, sha):
     """README of a Fortran target."""
+    arr = _STATE_ARRAY.get(target, ("STATEV(", ")"))
     body = {
         "abaqus-fric": _ABAQUS_FRIC,
         "abaqus-vfric": _ABAQUS_VFRIC,
@@ -91,7 +101,7 @@ def fortran_readme(target, name, params, units, kt, sha):
         + "\n\n"
         + body.format(name=name)
         + "\n"
-        + _STATE.format(s=units.stress_unit)
+        + _STATE.format(s=units.stress_unit, arr=arr[0], end=arr[1])
         + "\nTested here: compiled with gfortran -Wall and driven by a harness that emulates the "
         "host's documented calling sequence (iterations, converged increments, cut-backs) against "
         "`frictionlaw.traction_update`; no commercial solver runs in this project. See "
