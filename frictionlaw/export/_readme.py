@@ -155,8 +155,9 @@ per call; arguments documented in the file). LS-DYNA's user friction is compiled
 executable from the object files LS-DYNA ships (routine `usrfrc` in `dyn21.f`, activated with
 `*USER_INTERFACE_FRICTION` and the contact's user-friction flag; LS-DYNA Keyword User's Manual,
 Vol. I, `*USER_INTERFACE_FRICTION`, and the manual's appendix on user-defined friction).
-That argument list could not be checked from public documentation for this export, so no
-`usrfrc` wrapper is generated: call `SBMF_FRICTION` from your version's `usrfrc` template with
+For the `usrfrc` argument list of LSTC's `dyn21.f` use the drop-in targets `lsdyna-usrfrc` (SMP)
+and `lsdyna-usrfrc-mpp` (MPP) instead. This file is for a release whose template differs: call
+`SBMF_FRICTION` from it with
 
 - `P` = normal force / contact area of the segment, `ND` = 2,
 - `PH`, `G1H` = history variables 1 and 2 of the contact point (`NHSV >= 2`),
