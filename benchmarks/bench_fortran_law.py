@@ -5,7 +5,10 @@ generated target calls per contact point; gfortran -O2) on the loading branch (E
 reloading branch (Eq. 25) with and without the ``alpha1(p_hist)`` cache in the second state
 variable, against a Coulomb routine with the same entry, return map and calling loop (the floor a
 host pays for any friction law), and against ``frictionlaw.traction_update`` (numba, serial, with
-``out=`` buffers) on the same data. 2 tangential directions; best of several repeats.
+``out=`` buffers) on the same data. 2 tangential directions; best of several rounds, the
+variants timed in turn in every round, in CPU time of the calling thread (``time.thread_time``:
+the routines run in that thread; on the shared 2-core machine the wall clock also counts the
+time the thread waits for a core, which inflated every figure by up to 4x).
 
 Run: python benchmarks/bench_fortran_law.py [--nodes 200000] [--repeat 5]
 Writes benchmarks/results/fortran_law.csv and prints a table.
@@ -36,14 +39,18 @@ PARAMS = fl.FrictionParams(
 KT = 1e13
 
 
-def best(fn, repeat):
-    fn()
-    out = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
+def interleaved(calls, repeat):
+    """``{name: best CPU time}``, the variants timed in turn in every round (so that a slow
+    phase of the shared machine hits all of them, not one)."""
+    for fn in calls.values():
         fn()
-        out.append(time.perf_counter() - t0)
-    return min(out)
+    best_t = {k: float("inf") for k in calls}
+    for _ in range(repeat):
+        for k, fn in calls.items():
+            t0 = time.thread_time()
+            fn()
+            best_t[k] = min(best_t[k], time.thread_time() - t0)
+    return best_t
 
 
 def libraries(workdir, params_path):
@@ -100,25 +107,26 @@ def main(argv=None):
         for branch, (p, ph) in data.items():
             state = fl.HistoryState(n, ph)
             g1 = cache_of(sbmf, ph, n) if branch == "reloading" else np.zeros(n)
-            variants = {"fortran_sbmf": g1}
+            calls = {
+                "fortran_sbmf": lambda g=g1, p=p, ph=ph: sbmf(
+                    p, ph, g, du, t_old, KT, reps=reps, out=buf
+                ),
+                "fortran_coulomb": lambda p=p, ph=ph: coul(
+                    p, ph, -np.ones(n), du, t_old, KT, reps=reps, out=cbuf
+                ),
+            }
             if branch == "reloading":
-                variants["fortran_sbmf_nocache"] = -np.ones(n)
-            times = {}
-            for name, g in variants.items():
-                times[name] = best(
-                    lambda g=g, p=p, ph=ph: sbmf(p, ph, g, du, t_old, KT, reps=reps, out=buf),
-                    args.repeat,
-                ) / (n * reps)
-            times["fortran_coulomb"] = best(
-                lambda p=p, ph=ph: coul(p, ph, -np.ones(n), du, t_old, KT, reps=reps, out=cbuf),
-                args.repeat,
-            ) / (n * reps)
+                calls["fortran_sbmf_nocache"] = lambda p=p, ph=ph: sbmf(
+                    p, ph, -np.ones(n), du, t_old, KT, reps=reps, out=buf
+                )
 
             def numba_run(p=p, state=state):
                 for _ in range(reps):
                     fl.traction_update(law, p, du, t_old, KT, state, parallel=False, out=ref)
 
-            times["numba_serial"] = best(numba_run, args.repeat) / (n * reps)
+            calls["numba_serial"] = numba_run
+            times = interleaved(calls, args.repeat)
+            times = {k: v / (n * reps) for k, v in times.items()}
             row = {"branch": branch, "nodes": n}
             row.update({k: v * 1e9 for k, v in times.items()})
             row["sbmf_over_coulomb"] = times["fortran_sbmf"] / times["fortran_coulomb"]

@@ -7,8 +7,12 @@ increments to 50 %. Writes benchmarks/results/getfem_ring.csv/.md (at 30 and 50 
 getfem_ring_stroke.csv/.md (force and inner-diameter differences over every GetFEM
 increment beyond 5 %), the GetFEM runs' history.csv and summary.json under
 getfem_ring_<law>/, and prints the tables. ``--sector-study``: the wedge-angle knob only
-(getfem_ring_sector.csv/.md).
-Run: python benchmarks/bench_getfem_ring.py [--nr 16] [--params FILE]
+(getfem_ring_sector.csv/.md). ``--multistage``: press-lift-press only (Eq. 25 on the reload;
+``fe-demo multistage``'s schedule: 30 %, lift, 45 %, 30 increments, on the ring), GetFEM against
+fe-demo with and without ``p_hist``, with the SBMF parameter file of the ring case
+(getfem_ring_multistage.csv/.md, getfem_ring_multistage_phist.csv, the GetFEM run under
+getfem_ring_multistage/).
+Run: python benchmarks/bench_getfem_ring.py [--nr 16] [--params FILE] [--multistage]
 """
 
 import argparse
@@ -25,8 +29,11 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import numpy as np  # noqa: E402
 
 from couplings.getfem.compare import (  # noqa: E402
+    SEGMENTS,
     at_reductions,
+    fe_demo_ring_multistage,
     getfem_missing,
+    multistage_agreement,
     read_history,
     run_getfem_ring,
 )
@@ -127,6 +134,62 @@ def sector_study(work, sectors=(2.5, 5.0, 10.0, 20.0), nr=8, n_inc=15):
     return rows
 
 
+def multistage(params, nr, work, first=0.3, reduction=0.45, n_inc=30, n_unload=4):
+    """Press-lift-press in both codes; returns (summary rows, p_hist rows)."""
+    args = ["--law", "sbmf", "--params", str(params), "--nr", str(nr)]
+    args += ["--increments", str(n_inc), "--reduction", str(reduction)]
+    args += ["--first-reduction", str(first), "--unload", str(n_unload)]
+    rc, wall_g, log = run_getfem_ring(work / "ms", args)
+    if rc != 0:
+        raise RuntimeError(f"GetFEM press-lift-press failed with exit {rc}:\n{log[-2000:]}")
+    keep = OUT / "getfem_ring_multistage"
+    keep.mkdir(parents=True, exist_ok=True)
+    for name in ("history.csv", "summary.json"):
+        shutil.copyfile(work / "ms" / name, keep / name)
+    hg = read_history(work / "ms" / "history.csv")
+    info = json.loads((work / "ms" / "summary.json").read_text())
+    kw = dict(nr=nr, first_reduction=first, reduction=reduction, increments=n_inc)
+    t0 = time.perf_counter()
+    hf, pf = fe_demo_ring_multistage(params, n_unload=n_unload, **kw)
+    wall_f = time.perf_counter() - t0
+    hr, pr = fe_demo_ring_multistage(params, n_unload=n_unload, reset_history=True, **kw)
+    a = multistage_agreement(hg, info["p_hist_profiles"], hf, pf)
+    b = multistage_agreement(hg, info["p_hist_profiles"], hr, pr)
+    rows = []
+    for k, what in ((1, "first press"), (3, "re-contact + reload")):
+        for tag, res in (("fe-demo (p_hist)", a), ("fe-demo (p_hist wiped)", b)):
+            rel = res[f"force_rel_stage{k}"]
+            rows.append(
+                {
+                    "stage": what,
+                    "GetFEM against": tag,
+                    "positions": int(rel.size),
+                    "force_diff_median_pct": round(100 * float(np.median(rel)), 2),
+                    "force_diff_max_abs_pct": round(100 * float(np.abs(rel).max()), 2),
+                }
+            )
+    ph = []
+    for name in SEGMENTS:
+        d = a[f"p_hist_rel_{name}"]
+        mx = a[f"p_hist_max_{name}"]
+        ph.append(
+            {
+                "after": name,
+                "max_p_hist_getfem_MPa": round(float(mx[0]) / 1e6, 1),
+                "max_p_hist_fe_demo_MPa": round(float(mx[1]) / 1e6, 1),
+                "p_hist_diff_max_abs_pct_of_max": round(100 * float(np.abs(d).max()), 2),
+                "p_hist_diff_median_abs_pct_of_max": round(100 * float(np.median(np.abs(d))), 2),
+            }
+        )
+    n_gf, n_fd = a["n_eq25_stage3"]
+    print(
+        f"Eq. 25 nodes in stage 3: GetFEM {int(n_gf)} (2 wedge faces), fe-demo {int(n_fd)}; "
+        f"wall GetFEM {wall_g:.0f} s, fe-demo {wall_f:.1f} s; GetFEM cut-backs "
+        f"{len(info['cutback_log'])}, Newton iterations {info['newton_iterations']}"
+    )
+    return rows, ph
+
+
 def write_table(stem, rows):
     with open(OUT / f"{stem}.csv", "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0]))
@@ -150,11 +213,24 @@ def main(argv=None):
         action="store_true",
         help="only the wedge-angle table (8-wide grid, 30 %%)",
     )
+    ap.add_argument(
+        "--multistage",
+        action="store_true",
+        help="only press-lift-press (Eq. 25 on the reload), GetFEM against fe-demo",
+    )
     a = ap.parse_args(argv)
     why = getfem_missing()
     if why:
         print(f"skipped: {why}")
         return 1
+    if a.multistage:
+        OUT.mkdir(exist_ok=True)
+        params = a.params or OUT / "getfem_ring_sbmf" / "params.json"
+        with tempfile.TemporaryDirectory() as tmp:
+            rows, ph = multistage(params, a.nr, Path(tmp))
+        write_table("getfem_ring_multistage", rows)
+        write_table("getfem_ring_multistage_phist", ph)
+        return 0
     if a.sector_study:
         OUT.mkdir(exist_ok=True)
         with tempfile.TemporaryDirectory() as tmp:

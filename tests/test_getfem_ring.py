@@ -4,6 +4,7 @@ The coupling runs in a Python that imports GetFEM (Debian's python3-getfem), as 
 subprocess; the tests skip with the reason when that interpreter is missing.
 """
 
+import json
 import math
 from pathlib import Path
 
@@ -91,6 +92,8 @@ def test_cutbacks_leave_no_trace(tmp_path):
         (["--law", "tresca", "--params", EXAMPLE], "--params applies to --law sbmf only"),
         (["--law", "sbmf", "--params", "missing.json"], "params: no such file"),
         (["--nr", "0"], "nr must be >= 1"),
+        (["--reduction", "0.3", "--first-reduction", "0.3"], "first_reduction must be in [0,"),
+        (["--first-reduction", "0.2", "--unload", "0"], "n_unload must be >= 1"),
     ],
 )
 def test_bad_input_exit_2(tmp_path, args, message):
@@ -99,3 +102,46 @@ def test_bad_input_exit_2(tmp_path, args, message):
     assert message in log
     assert "Traceback" not in log
     assert not (tmp_path / "bad").exists()
+
+
+@pytest.mark.slow
+def test_press_lift_press_against_fe_demo(tmp_path):
+    """Eq. 25 inside GetFEM: press to 20 %, lift until every node opens, press again past
+    the old history to 30 % (fe-demo multistage's schedule), against fe-demo on the same
+    ring, grid and die schedule. Measured (6 x 4 grid, 15 increments): force within 0.33 %
+    (first press) and 0.81 % (re-contact and reload); die-face p_hist within 3.0 % of its
+    largest value after every segment; 14 die-face nodes on Eq. 25 in GetFEM (7 radii x the
+    2 faces of the wedge) against 7 in fe-demo."""
+    from couplings.getfem.compare import (
+        SEGMENTS,
+        fe_demo_ring_multistage,
+        multistage_agreement,
+    )
+
+    out = tmp_path / "ms"
+    args = ["--law", "sbmf", "--params", EXAMPLE, "--nr", "6", "--increments", "15"]
+    rc, _, log = run_getfem_ring(out, [*args, "--reduction", "0.3", "--first-reduction", "0.2"])
+    assert rc == 0, log
+    hg = read_history(out / "history.csv")
+    info = json.loads((out / "summary.json").read_text())
+    prof = info["p_hist_profiles"]
+    assert [int(p["stage"]) for p in prof] == [1, 2, 3, 3]
+    # the lift opens every node; p_hist survives it unchanged and never decreases
+    lift = hg["stage"] == 2
+    assert np.all(hg["force"][lift][-1:] == 0) and np.all(hg["n_stick"][lift][-1:] == 0)
+    ph = np.array([p["p_hist"] for p in prof])
+    assert np.array_equal(ph[0], ph[1])
+    assert np.all(np.diff(ph, axis=0) >= 0)
+    assert np.all(ph[3] > ph[0])  # the reload goes past the old history everywhere
+    hf, pf = fe_demo_ring_multistage(
+        EXAMPLE, nr=6, first_reduction=0.2, reduction=0.3, increments=15
+    )
+    a = multistage_agreement(hg, prof, hf, pf)
+    assert a["force_rel_stage1"].size >= 8 and a["force_rel_stage3"].size >= 6
+    assert np.abs(a["force_rel_stage1"]).max() < 0.01, a["force_rel_stage1"]
+    assert np.abs(a["force_rel_stage3"]).max() < 0.02, a["force_rel_stage3"]
+    for name in SEGMENTS:
+        assert np.abs(a[f"p_hist_rel_{name}"]).max() < 0.05, (name, a[f"p_hist_rel_{name}"])
+    # Eq. 25 is exercised in both codes during the re-contact (GetFEM: 2 nodes per radius)
+    n_gf, n_fd = a["n_eq25_stage3"]
+    assert n_fd >= 3 and n_gf >= n_fd

@@ -31,7 +31,9 @@ with ``python3-getfem python3-numba python3-scipy``) and the repository root on
     PYTHONPATH=$PWD /usr/bin/python3 couplings/getfem/ring.py --law tresca --m 0.3
 
 It writes ``history.csv`` (``height_reduction, force, inner_diameter_change`` first,
-as ``fe-demo ring``) and ``summary.json`` into ``--out``. Exit status 0 when every
+as ``fe-demo ring``; ``stage`` last) and ``summary.json`` (with the die-face ``p_hist``
+after each stage) into ``--out``. ``--first-reduction R1`` runs press-lift-press
+(``fe-demo multistage``'s schedule, :func:`schedule`): Eq. 25 acts on the reload. Exit status 0 when every
 increment converged, 1 when the run stopped on a failed increment, 2 for bad input.
 """
 
@@ -66,6 +68,7 @@ HISTORY_COLUMNS = (
     "nit",
     "cutbacks",
     "min_plastic_multiplier",
+    "stage",
 )
 
 _EXAMPLE_PARAMS = Path(__file__).resolve().parents[2] / "fe_demo" / "data" / "sbmf_example.json"
@@ -105,6 +108,9 @@ class RingSetup:
     rtol: float = 1e-6
     max_iter: int = 25
     max_cutbacks: int = 6
+    first_reduction: float = 0.0  # > 0: press to it, lift, press again (Eq. 25 on reload)
+    n_unload: int = 4
+    lift_factor: float = 3.0
     material: Material = field(default_factory=Material)
 
 
@@ -125,6 +131,13 @@ def _check(setup):
         raise ValueError(f"sector_deg must be in (0, 30], got {setup.sector_deg!r}")
     if not 0.0 < setup.inner_diameter < setup.outer_diameter:
         raise ValueError("inner_diameter must be in (0, outer_diameter)")
+    if not 0.0 <= setup.first_reduction < setup.reduction:
+        raise ValueError(
+            f"first_reduction must be in [0, reduction = {setup.reduction!r}) (0: one press), "
+            f"got {setup.first_reduction!r}"
+        )
+    if int(setup.n_unload) < 1:
+        raise ValueError(f"n_unload must be >= 1, got {setup.n_unload!r}")
     if setup.law == "sbmf" and setup.params and not Path(setup.params).is_file():
         raise ValueError(f"params: no such file {setup.params!r}")
 
@@ -478,62 +491,73 @@ def run(setup, progress=False):
     scale = 2.0 * math.pi / math.radians(s.sector_deg)
     top_area = 0.5 * math.radians(s.sector_deg) * ((s.outer_diameter / 2) ** 2 - ri**2)
     f_ref = 1e-3 * s.material.flow_stress(0.0) * top_area
-    z_end = hh0 * (1.0 - s.reduction)
-    dz0 = (z_end - hh0) / s.increments
     z_die = hh0
-    rows, log = [], []
+    rows, log, profiles = [], [], []
     ok, message = True, "converged"
     n_newton = 0
     iu = model.md.interval_of_variable("u")
     iu = slice(iu[0], iu[0] + iu[1])
-    du_prev, dz_prev = None, None
-    dz = dz0
-    while z_die > z_end + 1e-12 * hh0:
-        backup = model.md.from_variables()
-        u_start = _node_disp(model, backup)
-        area = _nodal_areas(model, ct, u_start)
-        ct.law = _law(s, hh0 / z_die)
-        cut = 0
-        while True:
-            target = max(z_die + dz, z_end)
-            if du_prev is not None and cut == 0:  # predictor: the last increment's rate
-                guess = backup.copy()
-                guess[iu] += du_prev * ((target - z_die) / dz_prev)
-                model.md.to_variables(guess)
-            inc = _newton(model, ct, s, target, u_start[ct.nodes], area, f_ref)
-            n_newton += inc.nit
-            if inc.converged:
+    for z_end, n_seg, stage in schedule(s):
+        dz0 = (z_end - z_die) / n_seg
+        sgn = -1.0 if dz0 < 0 else 1.0
+        dz = dz0
+        du_prev, dz_prev = None, None  # no predictor across a change of direction
+        while sgn * (z_end - z_die) > 1e-12 * hh0:
+            backup = model.md.from_variables()
+            u_start = _node_disp(model, backup)
+            area = _nodal_areas(model, ct, u_start)
+            ct.law = _law(s, hh0 / z_die)
+            cut = 0
+            while True:
+                target = z_die + dz
+                target = max(target, z_end) if sgn < 0 else min(target, z_end)
+                if du_prev is not None and cut == 0:  # predictor: the last increment's rate
+                    guess = backup.copy()
+                    guess[iu] += du_prev * ((target - z_die) / dz_prev)
+                    model.md.to_variables(guess)
+                inc = _newton(model, ct, s, target, u_start[ct.nodes], area, f_ref)
+                n_newton += inc.nit
+                if inc.converged:
+                    break
+                model.md.to_variables(backup)
+                ct.state.rollback()
+                cut += 1
+                log.append(f"cut-back at die z {target:.6e} m: {inc.message}")
+                if cut > s.max_cutbacks:
+                    ok = False
+                    message = (
+                        f"increment failed at height reduction {1 - z_die / hh0:.4f} "
+                        f"(stage {stage}) after {s.max_cutbacks} cut-backs: {inc.message}"
+                    )
+                    break
+                dz *= 0.5
+            if not ok:
                 break
-            model.md.to_variables(backup)
-            ct.state.rollback()
-            cut += 1
-            log.append(f"cut-back at die z {target:.6e} m: {inc.message}")
-            if cut > s.max_cutbacks:
-                ok = False
-                message = (
-                    f"increment failed at height reduction {1 - z_die / hh0:.4f} "
-                    f"after {s.max_cutbacks} cut-backs: {inc.message}"
+            model.md.finite_strain_elastoplasticity_next_iter(*model.plast_args)
+            ct.state.commit()
+            ct.t_old = np.where(inc.p[:, None] > 0, inc.t, 0.0)
+            v = model.md.from_variables()
+            du_prev, dz_prev = v[iu] - backup[iu], target - z_die
+            z_die = target
+            if cut == 0:  # grow back to at most the nominal step
+                dz = sgn * min(2.0 * abs(dz), abs(dz0))
+            u_all = _node_disp(model, v)
+            row = _row(s, model, ct, inc, u_all, z_die, hh0, inner_mid, scale, cut)
+            row["stage"] = stage
+            rows.append(row)
+            if progress:
+                print(
+                    f"stage {stage} reduction {row['height_reduction']:.3f} force "
+                    f"{row['force']:.4e} N inner {row['inner_diameter_change']:+.4f} "
+                    f"nit {inc.nit}",
+                    file=sys.stderr,
                 )
-                break
-            dz *= 0.5
         if not ok:
             break
-        model.md.finite_strain_elastoplasticity_next_iter(*model.plast_args)
-        ct.state.commit()
-        ct.t_old = np.where(inc.p[:, None] > 0, inc.t, 0.0)
-        v = model.md.from_variables()
-        du_prev, dz_prev = v[iu] - backup[iu], target - z_die
-        z_die = target
-        if cut == 0:
-            dz = max(2.0 * dz, dz0)  # both negative: grow back to at most the nominal step
-        u_all = _node_disp(model, v)
-        rows.append(_row(s, model, ct, inc, u_all, z_die, hh0, inner_mid, scale, cut))
-        if progress:
-            print(
-                f"reduction {rows[-1]['height_reduction']:.3f} force {rows[-1]['force']:.4e} N "
-                f"inner {rows[-1]['inner_diameter_change']:+.4f} nit {inc.nit}",
-                file=sys.stderr,
-            )
+        if stage == 2 and rows and rows[-1]["n_open"] < ct.nodes.size:
+            ok, message = False, "contact did not open during the lift (raise lift_factor)"
+            break
+        profiles.append(_profile(model, ct, _node_disp(model, model.md.from_variables()), rows))
     info = {
         "code": "GetFEM",
         "getfem_version": _getfem_version(),
@@ -546,8 +570,50 @@ def run(setup, progress=False):
         "wall_time_s": time.perf_counter() - t0,
         "converged": ok,
         "message": message,
+        "schedule": [[z, n, st] for z, n, st in schedule(s)],
     }
+    info["p_hist_profiles"] = profiles
     return ok, message, rows, info
+
+
+def schedule(s):
+    """Die targets ``[(z_die, n_increments, stage), ...]`` of a run (half height model).
+
+    One press: ``[(h/2 (1 - reduction), increments, 1)]``. With ``first_reduction > 0``,
+    ``fe-demo multistage``'s schedule: press to ``first_reduction`` (stage 1, the share
+    ``first_reduction / reduction`` of the increments), lift the die by ``lift_factor``
+    times the elastic springback ``sigma_f h / E`` (stage 2, ``n_unload`` increments; every
+    node must open), come back to the stage-1 position in ``2 n_unload`` increments and
+    press on to ``reduction`` (stage 3: Eq. 25 acts where ``p < p_hist``).
+    """
+    hh0 = s.height / 2
+    z_end = hh0 * (1.0 - s.reduction)
+    if not s.first_reduction:
+        return [(z_end, int(s.increments), 1)]
+    z1 = hh0 * (1.0 - s.first_reduction)
+    n1 = max(1, round(s.increments * s.first_reduction / s.reduction))
+    sf = float(s.material.flow_stress(math.log(hh0 / z1)))
+    lift = s.lift_factor * sf / s.material.E * z1
+    n3 = max(1, int(s.increments) - n1)
+    n_un = int(s.n_unload)
+    return [(z1, n1, 1), (z1 + lift, n_un, 2), (z1, 2 * n_un, 3), (z_end, n3, 3)]
+
+
+def _profile(model, ct, u_all, rows):
+    """Committed ``p_hist`` of the die-face nodes after a stage: reference and current radius."""
+    x = model.X[ct.nodes] + u_all[ct.nodes]
+    top = model.X[ct.nodes, 2] >= model.X[:, 2].max() - 1e-12
+    ph = np.asarray(ct.state.p_hist)
+    order = np.argsort(model.X[ct.nodes, 0][top])
+    r0 = np.hypot(model.X[ct.nodes, 0], model.X[ct.nodes, 1])[top][order]
+    r = np.hypot(x[:, 0], x[:, 1])[top][order]
+    return {
+        "stage": int(rows[-1]["stage"]) if rows else 0,
+        "height_reduction": float(rows[-1]["height_reduction"]) if rows else 0.0,
+        "r0": r0.tolist(),
+        "r": r.tolist(),
+        "p_hist": ph[top][order].tolist(),
+    }
 
 
 def _row(s, model, ct, inc, u_all, z_die, hh0, inner_mid, scale, cut):
@@ -626,6 +692,16 @@ def _parser():
     ap.add_argument("--sector", type=float, default=5.0, help="wedge angle in degrees")
     ap.add_argument("--increments", type=int, default=50)
     ap.add_argument("--reduction", type=float, default=0.5, help="final height reduction")
+    ap.add_argument(
+        "--first-reduction",
+        type=float,
+        default=0.0,
+        help="press-lift-press (fe-demo multistage's schedule): press to this reduction, lift "
+        "the die until every node opens, press again to --reduction (default 0: one press)",
+    )
+    ap.add_argument(
+        "--unload", type=int, default=4, help="increments of the lift (press-lift-press; default 4)"
+    )
     ap.add_argument("--out", default="getfem_out/ring", help="output folder")
     ap.add_argument("--progress", action="store_true", help="one line per increment on stderr")
     return ap
@@ -649,6 +725,8 @@ def main(argv=None):
         sector_deg=a.sector,
         increments=a.increments,
         reduction=a.reduction,
+        first_reduction=a.first_reduction,
+        n_unload=a.unload,
     )
     try:
         _check(setup)

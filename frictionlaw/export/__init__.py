@@ -5,7 +5,8 @@ self-contained sources with the constants baked in as double-precision literals,
 header (the file's sha256, the fit summary, the unit system) and a README saying how to compile
 and activate them. See ``docs/fe_codes.md``.
 
-Targets: ``abaqus-fric``, ``abaqus-vfric``, ``lsdyna``, ``ansys-userfric`` (Fortran),
+Targets: ``abaqus-fric``, ``abaqus-vfric``, ``abaqus-vfriction``, ``lsdyna-usrfrc``,
+``lsdyna-usrfrc-mpp``, ``lsdyna``, ``ansys-userfric`` (Fortran),
 ``abaqus-table``, ``lsdyna-table`` (Eq. 24 as a friction-coefficient table; no history).
 """
 
@@ -40,6 +41,9 @@ __all__ = [
 TARGETS = (
     "abaqus-fric",
     "abaqus-vfric",
+    "abaqus-vfriction",
+    "lsdyna-usrfrc",
+    "lsdyna-usrfrc-mpp",
     "lsdyna",
     "ansys-userfric",
     "abaqus-table",
@@ -201,6 +205,9 @@ def _comment(lines, marker, width):
 _FORTRAN = {
     "abaqus-fric": ("sbmf_fric.f", _fortran.fric_source),
     "abaqus-vfric": ("sbmf_vfric.f", _fortran.vfric_source),
+    "abaqus-vfriction": ("sbmf_vfriction.f", _fortran.vfriction_source),
+    "lsdyna-usrfrc": ("sbmf_usrfrc_smp.f", _fortran.usrfrc_smp_source),
+    "lsdyna-usrfrc-mpp": ("sbmf_usrfrc_mpp.f", _fortran.usrfrc_mpp_source),
     "lsdyna": ("sbmf_lsdyna.f", _fortran.generic_source),
     "ansys-userfric": ("sbmf_userfric.f", _fortran.generic_source),
 }

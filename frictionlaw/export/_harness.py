@@ -14,7 +14,25 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["gfortran", "build", "FricLib", "VfricLib", "GenericLib", "COULOMB_SOURCE"]
+__all__ = [
+    "gfortran",
+    "build",
+    "FricLib",
+    "VfricLib",
+    "VfrictionLib",
+    "UsrfrcLib",
+    "UsrfrcMppLib",
+    "GenericLib",
+    "COULOMB_SOURCE",
+    "HOST_PRECISION_FLAGS",
+]
+
+#: gfortran flags of the LS-DYNA host precisions: SP as is; DP as ifort's ``-r8 -i8`` (LSTC's
+#: user-object makefiles), i.e. default REAL, DOUBLE PRECISION and INTEGER all 8 bytes
+HOST_PRECISION_FLAGS = {
+    "SP": (),
+    "DP": ("-fdefault-real-8", "-fdefault-double-8", "-fdefault-integer-8"),
+}
 
 _ABA_PARAM = "      IMPLICIT REAL*8(A-H,O-Z)\n      PARAMETER (NPRECD=2)\n"
 _VABA_PARAM = (
@@ -112,6 +130,107 @@ subroutine h_generic(n, nd, reps, p, ph, g1h, du, told, khost, tnew, dtddu, dtdp
 end subroutine h_generic
 """
 
+_SHIM_VFRICTION = """
+subroutine h_vfriction(n, nns, nsv, fnormal, fstick, area, state, ftang) bind(c, name='h_vfriction')
+  use iso_c_binding
+  implicit none
+  integer(c_int), value :: n, nns, nsv
+  real(c_double), intent(in) :: fnormal(n), fstick(n), area(n)
+  real(c_double), intent(inout) :: state(nsv, nns, n)
+  real(c_double), intent(out) :: ftang(2, n)
+  integer :: jflags(3), jslv(nns, n), jmst(4, n)
+  double precision :: rdata(4), props(1), dslip(3, n), fprev(3, n), dcn(3, n), dcs(3, n)
+  double precision :: shs(nns, n), shm(4, n), cs(3, nns, n), cm(3, 4, n), vs(3, nns, n)
+  double precision :: vm(3, 4, n), ts(n), tm(n), fs(1, n), fm(1, n)
+  character(len=80) :: sint, sslv, smst
+  jflags = 1; rdata = 0d0; props = 0d0; dslip = 0d0; fprev = 0d0; dcn = 0d0; dcs = 0d0
+  jslv = 1; jmst = 1; shs = 1d0; shm = 0.25d0; cs = 0d0; cm = 0d0; vs = 0d0; vm = 0d0
+  ts = 0d0; tm = 0d0; fs = 0d0; fm = 0d0
+  sint = 'SBMF'; sslv = ' '; smst = ' '
+  call vfriction(ftang, state, n, n, n, nns, nns, 4, 2, 3, nsv, 0, 0, 1, jflags, rdata, &
+                 sint, sslv, smst, jslv, jmst, props, dslip, fstick, fprev, fnormal, area, &
+                 dcn, dcs, shs, shm, cs, cm, vs, vm, ts, tm, fs, fm)
+end subroutine h_vfriction
+"""
+
+# The LS-DYNA shims use the host's default REAL/INTEGER (compiled with the same precision
+# flags as the routine); the C side passes float32 or float64 arrays accordingly.
+_SHIM_USRFRC = """
+subroutine h_usrfrc(n, nact, nhv, iact, ilb, fni, areas, stfk, sfac, d, rn, fdat, fxyz, &
+                    ufhist) bind(c, name='h_usrfrc')
+  use iso_c_binding
+  implicit none
+  integer(c_int), value :: n, nact, nhv
+  integer(c_int), intent(in) :: iact(nact), ilb(n)
+  real, intent(in) :: fni(n), areas(n), stfk(n), sfac(1), d(3, n), rn(3, n)
+  real, intent(inout) :: fdat(5, n), fxyz(3, n), ufhist(max(nhv, 1), n)
+  integer :: iisv5(nact), ilbsv(n), insv(n), lsv(n), iseg(n), ix(n), npc(1), lcf(1), isurf(1)
+  integer :: nosl, ncycle, ninput, niisv5, numnp, nhvd, neps, i
+  real :: dx(n), dy(n), dz(n), rn1(n), rn2(n), rn3(n), fx(n), fy(n), fz(n), ss(n), tt(n)
+  real :: xs(n), aream(n), xx(4 * n), stfn(n), stf(n), ua(1), frc(2, n), pld(2, 1), temp(1)
+  real :: ufeps(1), time, dt2, fdt2, fric1, fric2, fric3, fric4, bignum, sfacn3
+  do i = 1, nact
+    iisv5(i) = iact(i)
+  end do
+  do i = 1, n
+    ilbsv(i) = ilb(i)
+    insv(i) = i
+    lsv(i) = i
+    ix(i) = i
+    dx(i) = d(1, i)
+    dy(i) = d(2, i)
+    dz(i) = d(3, i)
+    rn1(i) = rn(1, i)
+    rn2(i) = rn(2, i)
+    rn3(i) = rn(3, i)
+    fx(i) = fxyz(1, i)
+    fy(i) = fxyz(2, i)
+    fz(i) = fxyz(3, i)
+    ss(i) = 0.5
+    tt(i) = -0.5
+  end do
+  xs = 0.; aream = 1.; xx = 0.; stfn = 1.; stf = 1.; ua = 0.; frc = 1.; pld = 0.; temp = 0.
+  ufeps = 0.; time = 0.; dt2 = 1.e-6; fdt2 = 1.e6; fric1 = 0.1; fric2 = 0.1; fric3 = 0.
+  fric4 = 0.; bignum = 0.; npc = 1; lcf = 0; isurf = 0; iseg = 0
+  nosl = 1; ncycle = 1; ninput = 0; niisv5 = nact; numnp = n; nhvd = nhv; neps = 1
+  sfacn3 = sfac(1)
+  call usrfrc(nosl, time, ncycle, dt2, insv, areas, xs, xs, xs, lsv, ix, ix, ix, ix, aream, &
+              xx, xx, xx, stfn, stf, fni, dx, dy, dz, fdt2, ninput, ua, 'master', iisv5, &
+              niisv5, rn1, rn2, rn3, fric1, fric2, fric3, fric4, bignum, fdat, iseg, fx, fy, &
+              fz, ss, tt, ilbsv, stfk, frc, numnp, npc, pld, lcf, lcf, temp, temp, temp, &
+              isurf, nhvd, ufhist, neps, ufeps, sfacn3)
+  ! copy back the active nodes only: threads may share these arrays over disjoint node sets
+  do i = 1, nact
+    fxyz(1, iact(i)) = fx(iact(i))
+    fxyz(2, iact(i)) = fy(iact(i))
+    fxyz(3, iact(i)) = fz(iact(i))
+  end do
+end subroutine h_usrfrc
+"""
+
+_SHIM_USRFRC_MPP = """
+subroutine h_usrfrc_mpp(n, nh, prs, uh, mu) bind(c, name='h_usrfrc_mpp')
+  use iso_c_binding
+  implicit none
+  integer(c_int), value :: n, nh
+  real, intent(in) :: prs(n)
+  real, intent(inout) :: uh(max(nh, 1), n)
+  real, intent(out) :: mu(2, n)
+  integer :: i, nc, nhd, nnp(1), nosl, ictype, ncycle, lsv, insv, ix, ne
+  integer*8 :: idele8
+  real :: uc(1), ue(1), crv(1), fs, fd, z
+  nc = 0; nhd = nh; nnp = 1; nosl = 1; ictype = 4; ncycle = 1; lsv = 1; insv = 1; ix = 1
+  ne = 0; idele8 = 1; uc = 0.; ue = 0.; crv = 0.; z = 0.
+  do i = 1, n
+    call usrfrc(fs, fd, uc, nc, prs(i), z, z, uh(1, i), nhd, crv, nnp, nosl, ictype, &
+                'master', z, ncycle, z, z, z, z, z, lsv, idele8, z, z, insv, z, z, z, ix, &
+                ix, ix, ix, z, z, z, z, ue, ne)
+    mu(1, i) = fs
+    mu(2, i) = fd
+  end do
+end subroutine h_usrfrc_mpp
+"""
+
 #: plain Coulomb routine with the same entry, return map and calling cost (the benchmark floor)
 COULOMB_SOURCE = """\
       SUBROUTINE SBMF_FRICTION(ND, P, PH, G1H, DU, TOLD, KHOST, TNEW,
@@ -177,7 +296,16 @@ def build(sources, workdir, name, shim, *, flags=("-O2",)):
         warnings.append(r.stderr)
         objs.append(obj)
     shim_src = workdir / f"shim_{name}.f90"
-    shim_src.write_text({"fric": _SHIM_FRIC, "vfric": _SHIM_VFRIC, "generic": _SHIM_GENERIC}[shim])
+    shim_src.write_text(
+        {
+            "fric": _SHIM_FRIC,
+            "vfric": _SHIM_VFRIC,
+            "generic": _SHIM_GENERIC,
+            "vfriction": _SHIM_VFRICTION,
+            "usrfrc": _SHIM_USRFRC,
+            "usrfrc_mpp": _SHIM_USRFRC_MPP,
+        }[shim]
+    )
     shim_obj = workdir / f"shim_{name}.o"
     subprocess.run(
         [fc, "-fPIC", *flags, "-c", str(shim_src), "-o", str(shim_obj)], check=True, text=True
@@ -293,3 +421,92 @@ class GenericLib:
     def tangent(out):
         """``dt_ddu`` as [node, a, b] (the Fortran array is column-major per node)."""
         return out["dt_ddu"].transpose(0, 2, 1)
+
+
+class VfrictionLib:
+    """Abaqus/Explicit ``VFRICTION`` called once for a block of contact points."""
+
+    def __init__(self, lib):
+        self._fn = lib.h_vfriction
+        self._fn.restype = None
+
+    def __call__(self, f_normal, f_stick, area, state):
+        """``state`` (n, nNodState, nStates) is updated in place; returns ``fTangential`` (n, 2)."""
+        f_normal, f_stick, area = map(_f, (f_normal, f_stick, area))
+        if not (state.flags.c_contiguous and state.dtype == np.float64):
+            raise ValueError("state must be a C-contiguous float64 array")
+        n, nns, nsv = state.shape
+        ft = np.empty((n, 2))
+        self._fn(
+            ctypes.c_int(n),
+            ctypes.c_int(nns),
+            ctypes.c_int(nsv),
+            *map(_ptr, (f_normal, f_stick, area)),
+            _ptr(state),
+            _ptr(ft),
+        )
+        return ft
+
+
+def _host(a, dtype):
+    a = np.ascontiguousarray(a, dtype=dtype)
+    return a
+
+
+class UsrfrcLib:
+    """LS-DYNA SMP ``usrfrc``: one call per cycle for the active slave nodes.
+
+    ``dtype`` is the host REAL (``np.float32`` for SP, ``np.float64`` for DP builds).
+    """
+
+    def __init__(self, lib, dtype):
+        self._fn = lib.h_usrfrc
+        self._fn.restype = None
+        self.dtype = dtype
+
+    def __call__(self, active, ilbsv, fni, areas, stfk, sfacn3, d, rn, fdat, fxyz, ufhist):
+        """``fdat`` (n, 5), ``fxyz`` (n, 3), ``ufhist`` (n_hist, nhv) are updated in place.
+
+        ``active``: 0-based indices of the active slave nodes (LS-DYNA's ``iisv5``);
+        ``ilbsv``: 0-based history row of each slave node.
+        """
+        dt = self.dtype
+        for a in (fdat, fxyz, ufhist):
+            if not (a.flags.c_contiguous and a.dtype == dt):
+                raise ValueError(f"fdat, fxyz, ufhist must be C-contiguous {np.dtype(dt)}")
+        n = fdat.shape[0]
+        nhv = ufhist.shape[1]
+        iact = np.ascontiguousarray(np.asarray(active) + 1, dtype=np.int32)
+        ilb = np.ascontiguousarray(np.asarray(ilbsv) + 1, dtype=np.int32)
+        ins = [_host(v, dt) for v in (fni, areas, stfk, [sfacn3], d, rn)]
+        self._fn(
+            ctypes.c_int(n),
+            ctypes.c_int(iact.size),
+            ctypes.c_int(nhv),
+            _ptr(iact),
+            _ptr(ilb),
+            *map(_ptr, ins),
+            _ptr(fdat),
+            _ptr(fxyz),
+            _ptr(ufhist),
+        )
+
+
+class UsrfrcMppLib:
+    """LS-DYNA MPP ``usrfrc``: one call per slave node; returns ``(fstt, fdyn)`` per node."""
+
+    def __init__(self, lib, dtype):
+        self._fn = lib.h_usrfrc_mpp
+        self._fn.restype = None
+        self.dtype = dtype
+
+    def __call__(self, prs, uh):
+        """``uh`` (n, nh) of the host REAL is updated in place; returns (n, 2)."""
+        dt = self.dtype
+        if not (uh.flags.c_contiguous and uh.dtype == dt):
+            raise ValueError(f"uh must be a C-contiguous {np.dtype(dt)} array")
+        prs = _host(prs, dt)
+        n, nh = uh.shape
+        mu = np.empty((n, 2), dt)
+        self._fn(ctypes.c_int(n), ctypes.c_int(nh), _ptr(prs), _ptr(uh), _ptr(mu))
+        return mu

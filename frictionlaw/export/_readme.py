@@ -12,7 +12,7 @@ State per contact point (the host keeps it only for converged increments):
 | 3 | status of the last call: 0 open, 1 stick, 2 slip (output only) | no |
 
 Start the analysis with all state variables zero (the host's default): `p_hist = 0` is a virgin
-surface. To start from a pre-loaded surface set `STATEV(1)` and leave `STATEV(2) = 0`.
+surface. To start from a pre-loaded surface set `{arr}1{end}` and leave `{arr}2{end} = 0`.
 """
 
 _LAW = """\
@@ -41,7 +41,17 @@ def _units(units):
 
 
 def _kt_text(target, kt, units):
-    if target == "abaqus-vfric":
+    if target == "lsdyna-usrfrc-mpp":
+        return (
+            "Stick: LS-DYNA's own Coulomb return map with its contact penalty applies the "
+            "coefficient this routine returns; no stiffness is compiled in."
+        )
+    if target == "lsdyna-usrfrc" and kt.kind == "host":
+        return (
+            "Stick stiffness: LS-DYNA's contact penalty `STFK` (per slave node, as in LSTC's "
+            "sample `usrfrc`), as a traction stiffness `STFK SFACN3 / AREAS`."
+        )
+    if target in ("abaqus-vfric", "abaqus-vfriction"):
         return (
             "Stick: Abaqus/Explicit passes the stick force (the force that stops the relative "
             "motion in this increment); the routine returns it when it is within "
@@ -59,11 +69,24 @@ def _kt_text(target, kt, units):
     return text
 
 
+_STATE_ARRAY = {
+    "abaqus-vfriction": ("state(", ", j, k)"),
+    "lsdyna-usrfrc": ("UFHIST(", ", ILBSV(II))"),
+    "lsdyna-usrfrc-mpp": ("UH(", ")"),
+    "lsdyna": ("history variable ", ""),
+    "ansys-userfric": ("state variable ", ""),
+}
+
+
 def fortran_readme(target, name, params, units, kt, sha):
     """README of a Fortran target."""
+    arr = _STATE_ARRAY.get(target, ("STATEV(", ")"))
     body = {
         "abaqus-fric": _ABAQUS_FRIC,
         "abaqus-vfric": _ABAQUS_VFRIC,
+        "abaqus-vfriction": _ABAQUS_VFRICTION,
+        "lsdyna-usrfrc": _LSDYNA_USRFRC,
+        "lsdyna-usrfrc-mpp": _LSDYNA_USRFRC_MPP,
         "lsdyna": _LSDYNA,
         "ansys-userfric": _ANSYS,
     }[target]
@@ -78,7 +101,7 @@ def fortran_readme(target, name, params, units, kt, sha):
         + "\n\n"
         + body.format(name=name)
         + "\n"
-        + _STATE.format(s=units.stress_unit)
+        + _STATE.format(s=units.stress_unit, arr=arr[0], end=arr[1])
         + "\nTested here: compiled with gfortran -Wall and driven by a harness that emulates the "
         "host's documented calling sequence (iterations, converged increments, cut-backs) against "
         "`frictionlaw.traction_update`; no commercial solver runs in this project. See "
@@ -132,8 +155,9 @@ per call; arguments documented in the file). LS-DYNA's user friction is compiled
 executable from the object files LS-DYNA ships (routine `usrfrc` in `dyn21.f`, activated with
 `*USER_INTERFACE_FRICTION` and the contact's user-friction flag; LS-DYNA Keyword User's Manual,
 Vol. I, `*USER_INTERFACE_FRICTION`, and the manual's appendix on user-defined friction).
-That argument list could not be checked from public documentation for this export, so no
-`usrfrc` wrapper is generated: call `SBMF_FRICTION` from your version's `usrfrc` template with
+For the `usrfrc` argument list of LSTC's `dyn21.f` use the drop-in targets `lsdyna-usrfrc` (SMP)
+and `lsdyna-usrfrc-mpp` (MPP) instead. This file is for a release whose template differs: call
+`SBMF_FRICTION` from it with
 
 - `P` = normal force / contact area of the segment, `ND` = 2,
 - `PH`, `G1H` = history variables 1 and 2 of the contact point (`NHSV >= 2`),
@@ -141,6 +165,88 @@ That argument list could not be checked from public documentation for this expor
 
 and store `PHNEW`, `G1NEW` back into the history variables (explicit: every cycle commits).
 Add `{name}` to the user-executable build (e.g. append it to `dyn21.f`).
+"""
+
+_ABAQUS_VFRICTION = """\
+## Compile and activate (Abaqus/Explicit, general contact)
+
+    abaqus job=<job> input=<model>.inp user={name}
+
+Input deck (general contact; `VFRICTION` is the friction routine of `*CONTACT`):
+
+    *SURFACE INTERACTION, NAME=SBMF
+    *FRICTION, USER=VFRICTION, DEPVAR=3
+    *CONTACT
+    *CONTACT INCLUSIONS, ALL EXTERIOR
+    *CONTACT PROPERTY ASSIGNMENT
+     , , SBMF
+
+(or name the two surfaces on the `*CONTACT PROPERTY ASSIGNMENT` data line to use the law only
+between the sheet and a tool). `DEPVAR=1` is enough (`p_hist` only); 2 adds the cache; 3 the
+status. Check the `*FRICTION, USER=VFRICTION` spelling against your release's Keywords
+Reference (`*FRICTION`: `USER=VFRIC` for contact pairs, `USER=VFRICTION` for general contact).
+
+Interface relied upon (Abaqus User Subroutines Reference, "VFRICTION", e.g. the public 2017
+edition): blocks of `nBlock` contact points with `fNormal`, `areaCont`, `fStickForce` (the force
+that would stop the relative motion), `state(nStates, nNodState, nBlock)` with
+`nNodState = 1` for node-type secondary surfaces and more for edge-type ones; `fTangential(1)`
+must lie in `[-fStickForce, 0]`. For an edge-type point the routine takes the largest `p_hist` of
+its state nodes and raises every one of them to at least the current pressure. Explicit has no
+iterations and no cut-backs: the history is updated in every increment.
+"""
+
+_LSDYNA_USRFRC = """\
+## Compile and activate (LS-DYNA SMP, user executable)
+
+Add `{name}` to the user-object build in place of the sample `usrfrc` of `dyn21.f` (delete or
+rename the sample: only one `usrfrc` may be linked) and build with the makefile LS-DYNA ships, so
+that this file gets the same flags as `dyn21.f` (double precision: ifort `-r8 -i8`, or with
+gfortran `-fdefault-real-8 -fdefault-double-8 -fdefault-integer-8`; single precision: none).
+With OpenMP (`-qopenmp`/`-fopenmp`) the routine is safe to call from several threads (no SAVE,
+COMMON or DATA).
+
+Keyword input (LS-DYNA Keyword User's Manual Vol. I; field names to check against your
+release, they were taken from the manual's description, not from a run):
+
+- `*USER_INTERFACE_FRICTION` for the contact interface (the interface number, and the user
+  parameters: none are needed, the constants are compiled in),
+- `*CONTROL_CONTACT`, card 2, `USRFRC` = storage per contact interface for the user friction
+  routine, and the number of user friction history variables per slave node (`NHV` in the
+  routine) at least 1 (3 to also get the cache and the status),
+- a forming contact (`*CONTACT_FORMING_...`) or another type whose `areas` argument is the slave
+  node area: LSTC's sample comments say `areas` is defined for interface types 5 and 10 and for
+  forming contacts; the pressure `p = -FNI/AREAS` needs it.
+
+What the routine does per active slave node (LSTC's sample conventions): `p = -FNI/AREAS`; trial
+friction force = tangential part of `FDAT(3:5)` (the old friction force) + `STFK SFACN3 (DX, DY,
+DZ)`; the law's return map (stick within `tau(p, p_hist) AREAS`, else radial return); the new
+force is stored in `FDAT(3:5)` and added to `FXIS, FYIS, FZIS`; `ISEG` and `FDAT(1:2)` are set
+as in the sample. `UFHIST(1, ILBSV(II))` = `p_hist`, committed every cycle (explicit). `FNI >= 0`
+or `AREAS <= 0` is open: no friction, `FDAT(3:5) = 0`, history unchanged. The keyword's `FS, FD,
+DC, VC` and `FSF/VSF` are not used. In a single-precision executable `p_hist` is stored rounded
+down to single precision (so that a constant pressure stays on Eq. 24) and state 2 (the cache)
+is not used (a rounded cache would change Eq. 25 by 1e-7).
+"""
+
+_LSDYNA_USRFRC_MPP = """\
+## Compile and activate (LS-DYNA MPP, user executable)
+
+Add `{name}` to the MPP user-object build in place of the sample MPP `usrfrc` of `dyn21.F`, with
+the same flags as `dyn21.F` (see the SMP target). Keyword input as for the SMP target
+(`*USER_INTERFACE_FRICTION`, user friction history variables `NH >= 1`); to be checked against
+your release.
+
+The MPP interface is a coefficient interface: per slave node LS-DYNA passes the interface
+pressure `PRS` and the history `UH(NH)` and takes back the static and dynamic coefficients
+`FSTT, FDYN`, which it then applies in its own Coulomb return map. The routine returns
+`FSTT = FDYN = tau(p, p_hist)/p` (so the decay `DC` has no effect) and keeps `UH(1) = p_hist`.
+
+What is lost against the SMP routine: the stick stiffness is LS-DYNA's contact penalty (a
+calibrated `k_t` table cannot be used); the coefficient is formed from LS-DYNA's `PRS`, whose
+definition (segment- or node-based) the public sample does not state; the MPP sample does not
+say whether `UH` is committed once per cycle, which the routine assumes (as for explicit
+analysis); the viscous cap `VC` and `FSF` must be left at their defaults (0 and 1). The law
+itself (Eqs. 24-26 with `p_hist`) is carried exactly: `mu p = tau(p, p_hist)` at slip.
 """
 
 _ANSYS = """\

@@ -1,0 +1,274 @@
+"""Thread safety of every generated Fortran routine.
+
+Abaqus (threads), LS-DYNA SMP and ANSYS call user routines from several threads at once. Each
+Fortran target is compiled with ``-fopenmp`` (as a threaded host builds user code) and called
+concurrently from 4 OS threads (ctypes releases the GIL during the call) over disjoint node sets
+of shared arrays, many times; every result must equal the serial run bit for bit. A static check
+rejects any SAVE, COMMON, DATA, EQUIVALENCE or initialised declaration (implicitly SAVEd) in the
+generated sources: the routines keep no state of their own between calls.
+"""
+
+import re
+import threading
+
+import numpy as np
+import pytest
+from test_export_fortran import PARAM_SETS
+
+import frictionlaw.export as exp
+from frictionlaw.export import _harness
+
+pytestmark = pytest.mark.skipif(
+    _harness.gfortran() is None,
+    reason="gfortran not installed (.ci/run installs it: apt-get install -y gfortran)",
+)
+
+FORTRAN_TARGETS = [t for t in exp.TARGETS if not t.endswith("-table")]
+N_THREADS = 4
+N_REPEAT = 25
+N_NODES = 4 * 2000
+
+SHIMS = {
+    "abaqus-fric": "fric",
+    "abaqus-vfric": "vfric",
+    "abaqus-vfriction": "vfriction",
+    "lsdyna-usrfrc": "usrfrc",
+    "lsdyna-usrfrc-mpp": "usrfrc_mpp",
+    "lsdyna": "generic",
+    "ansys-userfric": "generic",
+}
+
+
+def _code_lines(text):
+    """Non-comment statements of a fixed-form source (comments: C, c, * or ! in column 1)."""
+    out = []
+    for line in text.splitlines():
+        if not line or line[0] in "Cc*!":
+            continue
+        out.append(line.split("!")[0])
+    return out
+
+
+_STATIC = [
+    (re.compile(r"^\s*SAVE\b|\bSAVE\s*$|\bSAVE\s*/", re.I), "SAVE"),
+    (re.compile(r"\bCOMMON\s*/", re.I), "COMMON"),
+    (re.compile(r"^\s*DATA\b", re.I), "DATA"),
+    (re.compile(r"\bEQUIVALENCE\b", re.I), "EQUIVALENCE"),
+    # F90 declaration with an initial value (implies SAVE), unless it is a PARAMETER
+    (re.compile(r"^(?!.*\bPARAMETER\b).*::[^=]*=(?!=)", re.I), "initialised declaration"),
+    # old-style initial value in a type declaration: REAL X /1.0/
+    (
+        re.compile(r"^\s*(INTEGER|REAL|DOUBLE\s+PRECISION|LOGICAL|CHARACTER)\b[^=]*/[^/]+/", re.I),
+        "initialised declaration",
+    ),
+    (re.compile(r"\bSAVE\b", re.I), "SAVE"),
+]
+
+
+def static_storage(text):
+    """Statements that give a local static storage: ``[(line, kind), ...]``."""
+    bad = []
+    for line in _code_lines(text):
+        for rx, kind in _STATIC:
+            if rx.search(line):
+                bad.append((line.strip(), kind))
+                break
+    return bad
+
+
+@pytest.fixture(scope="module")
+def params_file(tmp_path_factory):
+    path = tmp_path_factory.mktemp("thr") / "params.json"
+    PARAM_SETS["soft"].to_json(path)  # k_t table: PARAMETER arrays are checked too
+    return path
+
+
+@pytest.mark.parametrize("target", FORTRAN_TARGETS)
+def test_generated_sources_have_no_static_storage(params_file, target):
+    for k_t in (None, 5e12):
+        files, _ = exp.render(target, params_file, k_t=k_t)
+        for name, text in files.items():
+            if name.endswith(".f"):
+                assert static_storage(text) == [], f"{target}/{name}"
+
+
+def test_static_check_finds_static_storage():
+    """The check itself: each kind of static local is found, PARAMETERs are not."""
+    ok = (
+        "      DOUBLE PRECISION X\n      PARAMETER (X = 1.0D0)\n      INTEGER, PARAMETER :: N = 3\n"
+    )
+    assert static_storage(ok) == []
+    for bad in (
+        "      SAVE\n",
+        "      SAVE X\n",
+        "      COMMON /BLK/ X\n",
+        "      DATA X /1.0D0/\n",
+        "      INTEGER :: ICALL = 0\n",
+        "      REAL X /1.0/\n",
+        "      EQUIVALENCE (X, Y)\n",
+    ):
+        assert static_storage(ok + bad) != [], bad
+    assert static_storage("C     SAVE in a comment\n") == []
+
+
+# -- concurrent calls ---------------------------------------------------------------------------
+def _inputs(target, params, rng, n):
+    """Random host inputs (open points, Eq. 24 and 25 branches, stick and slip)."""
+    H = params.H
+    ph = np.where(rng.random(n) < 0.5, 10.0 ** rng.uniform(np.log10(H) - 2, np.log10(H) + 1, n), 0)
+    p = 10.0 ** rng.uniform(np.log10(H) - 3, np.log10(H) + 2, n)
+    p = np.where(rng.random(n) < 0.3, ph * rng.random(n), p)
+    p = np.where(rng.random(n) < 0.1, -1.0, p)
+    kt = 10.0 ** rng.uniform(11, 14, n)
+    return ph, p, kt
+
+
+def _run(target, lib, params, rng, chunks):
+    """Call ``lib`` once per chunk (disjoint node sets); returns a function doing chunk ``c``
+    and a function collecting the outputs, for shared input/outputs made here."""
+    n = N_NODES
+    ph, p, kt = _inputs(target, params, rng, n)
+    tmax = params.tau_max
+    if target == "abaqus-fric":
+        dgam = rng.normal(size=(n, 2)) * (tmax / 1e13) * 10.0 ** rng.uniform(-2, 1, (n, 1))
+        tau0 = rng.normal(size=(n, 2)) * tmax * 0.1
+        sv = np.stack([ph, np.zeros(n), np.zeros(n)], 1)
+        chr_ = 10.0 ** rng.uniform(-4, -2, n)
+        res = [None] * len(chunks)
+
+        def call(c):
+            i = chunks[c]
+            res[c] = lib(p[i], dgam[i], tau0[i], sv[i], chr_[i])
+
+        def collect():
+            return {k: np.concatenate([r[k] for r in res]) for k in res[0]}
+
+        return call, collect
+    if target in ("abaqus-vfric", "abaqus-vfriction"):
+        area = 10.0 ** rng.uniform(-8, -4, n)
+        fn = p * area
+        fst = tmax * area * 10.0 ** rng.uniform(-2, 1, n)
+        if target == "abaqus-vfric":
+            st0 = np.stack([ph, np.zeros(n), np.zeros(n)], 1)
+        else:
+            st0 = np.stack([ph, np.zeros(n), np.zeros(n)], 1)[:, None, :].repeat(2, 1)
+        st = [np.ascontiguousarray(st0[i]) for i in chunks]
+        res = [None] * len(chunks)
+
+        def call(c):
+            i = chunks[c]
+            res[c] = lib(fn[i], fst[i], area[i], st[c])
+
+        def collect():
+            return {"f": np.concatenate(res), "state": np.concatenate(st)}
+
+        return call, collect
+    if target in ("lsdyna", "ansys-userfric"):
+        du = rng.normal(size=(n, 2)) * (tmax / kt[:, None]) * 10.0 ** rng.uniform(-2, 1, (n, 1))
+        told = rng.normal(size=(n, 2)) * tmax * 0.1
+        res = [None] * len(chunks)
+
+        def call(c):
+            i = chunks[c]
+            res[c] = lib(p[i], ph[i], np.zeros(i.size), du[i], told[i], kt[i])
+
+        def collect():
+            return {k: np.concatenate([r[k] for r in res]) for k in res[0]}
+
+        return call, collect
+    dt = lib.dtype
+    if target == "lsdyna-usrfrc-mpp":
+        uh = [np.ascontiguousarray(np.stack([ph, np.zeros(n)], 1)[i].astype(dt)) for i in chunks]
+        res = [None] * len(chunks)
+
+        def call(c):
+            res[c] = lib(p[chunks[c]].astype(dt), uh[c])
+
+        def collect():
+            return {"mu": np.concatenate(res), "uh": np.concatenate(uh)}
+
+        return call, collect
+    # lsdyna-usrfrc: the threads share LS-DYNA's arrays, each with its own active slave nodes
+    area = 10.0 ** rng.uniform(-8, -4, n)
+    ilbsv = rng.permutation(n)
+    fni = (-p * area).astype(dt)
+    stfk = (kt * area).astype(dt)
+    nrm = rng.normal(size=(n, 3))
+    rn = (nrm / np.linalg.norm(nrm, axis=1, keepdims=True)).astype(dt)
+    d = rng.normal(size=(n, 3)) * (tmax / kt[:, None]) * 10.0 ** rng.uniform(-2, 1, (n, 1))
+    d = d.astype(dt)
+    fdat = np.zeros((n, 5), dt)
+    fdat[:, 2:] = (rng.normal(size=(n, 3)) * tmax * 0.1 * area[:, None]).astype(dt)
+    fxyz = rng.normal(size=(n, 3)).astype(dt)
+    uf = np.zeros((n, 3), dt)
+    uf[ilbsv, 0] = ph.astype(dt)
+    a = area.astype(dt)
+
+    def call(c):
+        lib(chunks[c], ilbsv, fni, a, stfk, 1.0, d, rn, fdat, fxyz, uf)
+
+    def collect():
+        return {"fdat": fdat.copy(), "fxyz": fxyz.copy(), "ufhist": uf.copy()}
+
+    return call, collect
+
+
+def _concurrently(calls):
+    barrier = threading.Barrier(len(calls))
+    errors = []
+
+    def work(f):
+        try:
+            barrier.wait()
+            f()
+        except BaseException as exc:  # pragma: no cover - reported below
+            errors.append(exc)
+
+    threads = [threading.Thread(target=work, args=(f,)) for f in calls]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    if errors:
+        raise errors[0]
+
+
+@pytest.mark.parametrize(
+    "target,prec",
+    [(t, "DP") for t in FORTRAN_TARGETS] + [("lsdyna-usrfrc", "SP"), ("lsdyna-usrfrc-mpp", "SP")],
+)
+def test_concurrent_calls_equal_serial(tmp_path_factory, params_file, target, prec):
+    files, _ = exp.render(target, params_file, k_t=None if target != "lsdyna" else 5e12)
+    src = {k: v for k, v in files.items() if k.endswith(".f")}
+    shim = SHIMS[target]
+    lsdyna = target.startswith("lsdyna-usrfrc")
+    flags = ("-O2", "-fopenmp", *(_harness.HOST_PRECISION_FLAGS[prec] if lsdyna else ()))
+    name = re.sub(r"[^a-z0-9]", "_", f"thr_{target}_{prec}")
+    lib, _ = _harness.build(src, tmp_path_factory.mktemp(name), name, shim, flags=flags)
+    wrap = {
+        "fric": _harness.FricLib,
+        "vfric": _harness.VfricLib,
+        "vfriction": _harness.VfrictionLib,
+        "generic": _harness.GenericLib,
+    }
+    if lsdyna:
+        host = (_harness.UsrfrcLib if shim == "usrfrc" else _harness.UsrfrcMppLib)(
+            lib, np.float32 if prec == "SP" else np.float64
+        )
+    else:
+        host = wrap[shim](lib)
+    params = PARAM_SETS["soft"]
+    order = np.random.default_rng(7).permutation(N_NODES)
+    chunks = np.array_split(order if lsdyna else np.arange(N_NODES), N_THREADS)
+    chunks = [np.sort(c) for c in chunks]
+    # serial reference: the same chunks, one after the other
+    call, collect = _run(target, host, params, np.random.default_rng(1), chunks)
+    for c in range(N_THREADS):
+        call(c)
+    serial = collect()
+    for _ in range(N_REPEAT):
+        call, collect = _run(target, host, params, np.random.default_rng(1), chunks)
+        _concurrently([lambda c=c, f=call: f(c) for c in range(N_THREADS)])
+        got = collect()
+        for k in serial:
+            assert np.array_equal(got[k], serial[k], equal_nan=False), k
