@@ -2,7 +2,7 @@
 
 Each kernel replaces several NumPy passes over the grid by one compiled loop; the FFTs stay in
 ``scipy.fft``. Every kernel has a NumPy oracle in ``tests/test_normal.py``. Arrays are flat,
-contiguous float64; ``pmax`` is the hardness cap (``inf`` for elastic contact). An element is
+contiguous float64 (inputs typed read-only, so read-only arrays are accepted); ``pmax`` is the hardness cap (``inf`` for elastic contact). An element is
 *free* when ``0 < p < pmax``.
 """
 
@@ -23,9 +23,11 @@ __all__ = [
 _F = nb.float64
 _I = nb.int64
 _A = nb.float64[::1]
+#: read-only input (a writable array converts to it; ``Surface.heights`` is read-only by design)
+_R = nb.types.Array(nb.float64, 1, "C", readonly=True)
 
 
-@nb.njit(nb.types.Tuple((_F, _I))(_A, _A, _A, _F), cache=True)
+@nb.njit(nb.types.Tuple((_F, _I))(_R, _R, _R, _F), cache=True)
 def free_gap_sum(u, h, p, pmax):
     """Sum of ``u - h`` over the free elements and their count."""
     s = 0.0
@@ -37,7 +39,7 @@ def free_gap_sum(u, h, p, pmax):
     return s, n
 
 
-@nb.njit(nb.types.Tuple((_F, _F))(_A, _A, _A, _F, _F, _A), cache=True)
+@nb.njit(nb.types.Tuple((_F, _F))(_R, _R, _R, _F, _F, _A), cache=True)
 def gap_and_residual(u, h, p, pmax, shift, g):
     """Gap ``g = u - h + shift`` written to ``g``, with its KKT violation.
 
@@ -62,7 +64,7 @@ def gap_and_residual(u, h, p, pmax, shift, g):
     return viol, G
 
 
-@nb.njit(_F(_A, _A, _A, _F, _F, _A), cache=True)
+@nb.njit(_F(_R, _R, _R, _F, _F, _A), cache=True)
 def direction(z, g, p, pmax, beta, t):
     """Load-neutral conjugate direction, in place.
 
@@ -91,7 +93,7 @@ def direction(z, g, p, pmax, beta, t):
 
 
 @nb.njit(
-    nb.types.Tuple((nb.boolean, nb.boolean, _F, _F, _I))(_A, _A, _A, _A, _F, _F, _A), cache=True
+    nb.types.Tuple((nb.boolean, nb.boolean, _F, _F, _I))(_R, _R, _R, _R, _F, _F, _A), cache=True
 )
 def step_project(p, t, g, d, tau, pmax, q):
     """Projected CG step ``q = clip(p - tau t, 0, pmax)``, releasing bound elements.
@@ -140,7 +142,7 @@ def scale_free(q, c, pmax):
             q[k] = c * qk
 
 
-@nb.njit(nb.void(_A, _A, _F, _A), cache=True)
+@nb.njit(nb.void(_R, _R, _F, _A), cache=True)
 def active_gap(g, p, pmax, out):
     """``out = g`` on free elements and on bound elements whose gap violates the bound, else 0."""
     for k in range(p.size):
@@ -152,7 +154,7 @@ def active_gap(g, p, pmax, out):
             out[k] = 0.0
 
 
-@nb.njit(_F(_A, _A, _A, _F), cache=True)
+@nb.njit(_F(_R, _R, _R, _F), cache=True)
 def dot_free(a, b, p, pmax):
     """``sum_free a b``."""
     s = 0.0
