@@ -9,6 +9,7 @@ contiguous float64 (inputs typed read-only, so read-only arrays are accepted); `
 from __future__ import annotations
 
 import numba as nb
+import numpy as np
 
 __all__ = [
     "active_gap",
@@ -16,7 +17,8 @@ __all__ = [
     "dot_free",
     "free_gap_sum",
     "gap_and_residual",
-    "scale_free",
+    "project_box_sum",
+    "restore_load",
     "step_project",
 ]
 
@@ -133,15 +135,6 @@ def step_project(p, t, g, d, tau, pmax, q):
     return released, changed, sfree, mfree, ncap
 
 
-@nb.njit(nb.void(_A, _F, _F), cache=True)
-def scale_free(q, c, pmax):
-    """Multiply the free elements of ``q`` by ``c`` in place (caller ensures ``c q < pmax``)."""
-    for k in range(q.size):
-        qk = q[k]
-        if qk > 0.0 and qk < pmax:
-            q[k] = c * qk
-
-
 @nb.njit(nb.void(_R, _R, _F, _A), cache=True)
 def active_gap(g, p, pmax, out):
     """``out = g`` on free elements and on bound elements whose gap violates the bound, else 0."""
@@ -163,3 +156,118 @@ def dot_free(a, b, p, pmax):
         if pk > 0.0 and pk < pmax:
             s += a[k] * b[k]
     return s
+
+
+@nb.njit(nb.types.Tuple((nb.boolean, _F, _I))(_A, _F, _F), cache=True)
+def restore_load(q, target, pmax):
+    """Scale the sub-cap pressures of ``q`` so that ``sum(q) = target`` with ``q <= pmax``, in place.
+
+    Elements at the cap stay there; positive ones below it are multiplied by one factor ``c``,
+    and those that would pass ``pmax`` are capped (water filling: ``c`` grows as the capped set
+    grows, so the capped set is ``{q >= pmax / c}`` of the input). Returns ``(ok, c, passes)``;
+    ``ok`` is False, and ``q`` untouched, when even the capped support cannot carry ``target``,
+    nothing below the cap is positive, or ``c`` underflows to 0. ``passes == 1``: nothing new was capped.
+    """
+    thr = pmax
+    passes = 0
+    while True:
+        passes += 1
+        ncap = 0
+        sfree = 0.0
+        mfree = 0.0
+        for k in range(q.size):
+            qk = q[k]
+            if qk >= thr:
+                ncap += 1
+            elif qk > 0.0:
+                sfree += qk
+                if qk > mfree:
+                    mfree = qk
+        rest = target - (pmax * ncap if ncap > 0 else 0.0)
+        if not (rest > 0.0 and sfree > 0.0):
+            return False, 0.0, passes
+        c = rest / sfree
+        if not c > 0.0:
+            return False, 0.0, passes  # underflow: a tiny target on a large support
+        if c * mfree < pmax:
+            break
+        thr = pmax / c  # the elements that pass the cap at this c (at least the largest one)
+    for k in range(q.size):
+        qk = q[k]
+        if qk >= thr:
+            q[k] = pmax
+        elif qk > 0.0:
+            q[k] = c * qk
+    return True, c, passes
+
+
+@nb.njit(nb.void(_R, _F, _F, _A), cache=True)
+def project_box_sum(y, target, pmax, out):
+    """Euclidean projection of ``y`` onto ``{0 <= p <= pmax, sum(p) = target}``, into ``out``.
+
+    ``out = clip(y - max(y) + lam, 0, pmax)`` with the scalar ``lam`` solving the monotone,
+    piecewise linear ``sum(clip(...)) = target`` by safeguarded Newton steps (exact once the
+    free set stops changing) inside a bisection bracket; the rounding error of the sum is put
+    on the free elements. The shift by ``max(y)`` keeps a tiny target next to large ``y`` from
+    being lost to cancellation. The caller ensures ``target < size * pmax``.
+    """
+    n = y.size
+    ymax = -np.inf
+    ymin = np.inf
+    ysum = 0.0
+    for k in range(n):
+        yk = y[k]
+        if yk > ymax:
+            ymax = yk
+        if yk < ymin:
+            ymin = yk
+    for k in range(n):
+        ysum += y[k] - ymax
+    ymin -= ymax
+    lo = 0.0  # -(max of the shifted y)
+    hi = (target / n if pmax == np.inf else pmax) - ymin
+    lam = target / n - ysum / n
+    for _ in range(200):
+        S = 0.0
+        nfree = 0
+        ncap = 0
+        yfree = 0.0
+        for k in range(n):
+            zk = (y[k] - ymax) + lam
+            if zk >= pmax:
+                S += pmax
+                ncap += 1
+            elif zk > 0.0:
+                S += zk
+                nfree += 1
+                yfree += y[k] - ymax
+        if S == target:
+            break
+        if S < target:
+            lo = lam
+        else:
+            hi = lam
+        at_cap = ncap * pmax if ncap > 0 else 0.0
+        step = (target - at_cap - yfree) / nfree if nfree > 0 else np.inf
+        if step == lam:
+            break  # the root of this piece is lam itself: exact up to rounding
+        lam = step if lo < step < hi else 0.5 * (lo + hi)
+        if hi - lo <= 1e-15 * max(abs(lo), abs(hi), 1e-300):
+            break
+    s = 0.0
+    nfree = 0
+    for k in range(n):
+        v = (y[k] - ymax) + lam
+        if v <= 0.0:
+            v = 0.0
+        elif v >= pmax:
+            v = pmax
+        else:
+            nfree += 1
+        out[k] = v
+        s += v
+    if nfree > 0:
+        d = (target - s) / nfree
+        for k in range(n):
+            if 0.0 < out[k] < pmax:
+                out[k] += d
