@@ -492,3 +492,30 @@ def test_single_precision_fft_option():
         assert s.pressure.dtype == np.float64 and s.pressure.max() <= (H or np.inf)
     with pytest.raises(ValueError, match="single"):
         solve_normal(h, tol=1e-8, single=True, **kw)
+
+
+# ----------------------------------------------------------------------------- nested iteration
+@pytest.mark.parametrize("periodic", [True, False])
+def test_nested_iteration_gives_the_same_solution(periodic):
+    """Coarse-grid initial guesses change the path, not the answer; ``nit`` is the fine work."""
+    from halfspace_calib.contact.normal import NESTED_MIN
+
+    n = 2 * NESTED_MIN
+    h = rough_surface(n, 21)
+    kw = dict(dx=2.11e-3 / n, E_star=E_STAR, H=H_DC04, periodic=periodic, tol=1e-9)
+    for p_mean, p_init in ((300e6, None), (100e6, "warm")):
+        if p_init == "warm":
+            p_init = solve_normal(h, p_mean=300e6, **kw).pressure  # a reload-like warm start
+        a = solve_normal(h, p_mean=p_mean, p_init=p_init, **kw)
+        b = solve_normal(h, p_mean=p_mean, p_init=p_init, nested=True, **kw)
+        assert a.converged and b.converged and b.residual < 1e-9
+        assert a.coarse_nit == () and len(b.coarse_nit) == 1 and b.coarse_nit[0] > 0
+        assert b.nit > 0  # the fine grid is solved, not only the coarse one
+        rel = np.linalg.norm(b.pressure - a.pressure) / np.linalg.norm(a.pressure)
+        assert rel < 1e-5
+        assert abs(b.alpha - a.alpha) <= 3 / h.size
+        assert b.pressure.mean() == pytest.approx(p_mean, rel=1e-9)
+    # grids that cannot be halved (odd side, or below NESTED_MIN) are solved directly
+    for shape in ((n - 1, n), (NESTED_MIN, NESTED_MIN)):
+        r = solve_normal(h[: shape[0], : shape[1]], p_mean=200e6, nested=True, **kw)
+        assert r.converged and r.coarse_nit == ()

@@ -137,14 +137,18 @@ def _pk_box_cg(op, h, p_mean, H, p_init, tol, maxiter, refresh, scale, precondit
         tau = gt / tKt if tKt > 0 else 0.0
         tf, gf, zf, qf = t.ravel(), g.ravel(), z.ravel(), q.ravel()
         for _ in range(_BACKTRACK + 1):
-            released, changed, *_ = _k.step_project(pf, tf, gf, zf, tau, pmax, qf)
+            _, changed, *_ = _k.step_project(pf, tf, gf, zf, tau, pmax, qf)
             ok, c, passes = _k.restore_load(qf, target, pmax)
             if ok:
                 break
             # the step emptied the support below what the cap can carry: a shorter step
             # (still a descent step along t) instead of a projection that lifts every zero
             tau *= 0.5
-        delta = 0.0 if released else 1.0
+        # the conjugacy is kept when elements leave a bound (Polonsky and Keer reset it there):
+        # on a reload the contact set shrinks by a few elements on most iterations, and the
+        # resets made those solves preconditioned steepest descent (33-47 instead of 24-28
+        # iterations at 512^2); the stall rule (FISTA) still guards against cycling
+        delta = 1.0
         if not ok:
             q, c = project_box_sum(q, target, H), None
             changed = True
