@@ -62,6 +62,7 @@ from functools import lru_cache
 import numpy as np
 
 from ..common.checks import tolerance
+from ..common.jobs import fft_threads
 from ._box_cg import (
     _pk_box_cg,
     _residual_scale,
@@ -300,7 +301,7 @@ def solve_normal(
     max_memory : float
         Refuse (``ValueError``) grids whose estimated memory exceeds this many bytes.
     workers : int, optional
-        Threads for ``scipy.fft`` (default: the CPUs this process may use).
+        Threads for ``scipy.fft`` (default: :func:`~halfspace_calib.common.jobs.fft_threads`).
     nested : bool
         Nested iteration (multilevel initial guess, Polonsky and Keer 1999): while both sides
         of the grid are even and the halved grid keeps at least ``NESTED_MIN`` elements a side,
@@ -353,8 +354,9 @@ def solve_normal(
             p_init = p_init + _prolong(coarse.pressure - _restrict(p_init))
         coarse_nit = (coarse.nit, *coarse.coarse_nit)
     if operator is None:
+        threads = fft_threads() if workers is None else int(workers)
         operator = _cached_operator(
-            h.shape, float(dx), float(E_star), float(dy_), bool(periodic), kernel, workers
+            h.shape, float(dx), float(E_star), float(dy_), bool(periodic), kernel, threads
         )
     elif operator.shape != h.shape or operator.periodic != bool(periodic):
         raise ValueError(
