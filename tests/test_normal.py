@@ -387,6 +387,10 @@ def test_kernels_against_numpy(pmax_is_inf):
     assert sfree == pytest.approx(q_ref[fq].sum(), rel=1e-12)
     assert mfree == q_ref[fq].max() and ncap == np.sum(q_ref >= pmax)
 
+    q2 = q.copy()
+    K.scale_free(q2, 0.9, pmax)
+    np.testing.assert_allclose(q2, np.where(fq, 0.9 * q, q), rtol=1e-15)
+
     # load restoration: NumPy oracle by bisection on the factor c of sum(min(c q, pmax)) = target
     n_q = np.count_nonzero(q)
     for target in (0.5 * q.sum(), 1.3 * q.sum(), 0.98 * n_q * pmax, 1.01 * n_q * pmax):

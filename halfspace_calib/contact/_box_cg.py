@@ -138,7 +138,15 @@ def _pk_box_cg(op, h, p_mean, H, p_init, tol, maxiter, refresh, scale, precondit
         tau = gt / tKt if tKt > 0 else 0.0
         tf, gf, zf, qf = t.ravel(), g.ravel(), z.ravel(), q.ravel()
         for _ in range(_BACKTRACK + 1):
-            released, changed, *_ = _k.step_project(pf, tf, gf, zf, tau, pmax, qf)
+            released, changed, s_free, m_free, n_cap = _k.step_project(
+                pf, tf, gf, zf, tau, pmax, qf
+            )
+            rest = target - (pmax * n_cap if n_cap else 0.0)
+            c = rest / s_free if (rest > 0 and s_free > 0) else 0.0
+            if c > 0 and c * m_free < pmax:  # the usual case: one scaling pass
+                _k.scale_free(qf, c, pmax)
+                ok, passes = True, 1
+                break
             ok, c, passes = _k.restore_load(qf, target, pmax)
             if ok:
                 break

@@ -19,6 +19,7 @@ __all__ = [
     "gap_and_residual",
     "project_box_sum",
     "restore_load",
+    "scale_free",
     "step_project",
 ]
 
@@ -133,6 +134,15 @@ def step_project(p, t, g, d, tau, pmax, q):
             if qk > mfree:
                 mfree = qk
     return released, changed, sfree, mfree, ncap
+
+
+@nb.njit(nb.void(_A, _F, _F), cache=True)
+def scale_free(q, c, pmax):
+    """Multiply the free elements of ``q`` by ``c`` in place (caller ensures ``c q < pmax``)."""
+    for k in range(q.size):
+        qk = q[k]
+        if qk > 0.0 and qk < pmax:
+            q[k] = c * qk
 
 
 @nb.njit(nb.void(_R, _R, _F, _A), cache=True)
