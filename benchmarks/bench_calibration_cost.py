@@ -2,7 +2,8 @@
 
 Unit: one FFT pair is the fastest ``rfft2`` + ``irfft2`` of the solver's transform size on this
 machine (scipy.fft with 1 thread or all threads, best of 9), timed in the same run as the
-calibration. Per case the table gives the wall time, that time in FFT pairs of the case's grid
+calibration (a ``--before-tree`` run is costed with the same unit). Per case the table gives
+the wall time, that time in FFT pairs of the case's grid
 (periodic: the grid; non-periodic: the zero-padded DC-FFT grid), the transforms the run actually
 made (counted, as pairs of the case's grid: other sizes, e.g. the resolution check's half grid,
 weighted by their own unit), the fine-grid CG iterations per solve (first loading and reload)
@@ -261,6 +262,11 @@ def main(argv=None):
                 check=True,
             )
             old = _finish_row(json.loads(out.stdout.strip().splitlines()[-1]), "before")
+            # the unit of this process, timed next to the new run: the child's own best pair
+            # (kept as child_unit_ms) can be far off when other jobs load the cores meanwhile
+            old["child_unit_ms"] = old["unit_ms"]
+            old["unit_ms"] = rec["unit_ms"]
+            old["cost_pairs"] = old["seconds"] / (1e-3 * rec["unit_ms"])
             rows.append(old)
             print(
                 f"{case} before: {old['seconds']:.1f} s, {old['cost_pairs']:.0f} pairs", flush=True
@@ -285,7 +291,7 @@ def main(argv=None):
     keys = (
         ["code"]
         + [c[1] for c in COLUMNS]
-        + ["counted_pairs", "grid", "periodic", "problems", "mu_eff"]
+        + ["counted_pairs", "grid", "periodic", "problems", "mu_eff", "child_unit_ms"]
     )
     tmp = RESULTS / "bench_calibration_cost.csv.tmp"
     with open(tmp, "w", newline="") as fh:
