@@ -391,10 +391,57 @@ def test_kernels_against_numpy(pmax_is_inf):
     K.scale_free(q2, 0.9, pmax)
     np.testing.assert_allclose(q2, np.where(fq, 0.9 * q, q), rtol=1e-15)
 
+    # load restoration: NumPy oracle by bisection on the factor c of sum(min(c q, pmax)) = target
+    n_q = np.count_nonzero(q)
+    for target in (0.5 * q.sum(), 1.3 * q.sum(), 0.98 * n_q * pmax, 1.01 * n_q * pmax):
+        if not np.isfinite(target):
+            continue
+        q2 = q.copy()
+        ok, c, passes = K.restore_load(q2, target, pmax)
+        capped = q >= pmax
+        n_cap, n_pos = np.count_nonzero(capped), np.count_nonzero(q > 0)
+        if pmax < np.inf and not (n_cap * pmax < target < n_pos * pmax):
+            assert not ok and np.array_equal(q2, q)  # untouched when the load cannot be carried
+            continue
+
+        def load(c, capped=capped):  # elements at the cap stay there, the others scale
+            return np.where(capped, pmax, np.minimum(c * q, pmax)).sum()
+
+        lo, hi = 0.0, 1.0
+        while load(hi) < target:
+            hi *= 2.0
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if load(mid) < target else (lo, mid)
+        ref = np.where(capped, pmax, np.minimum(hi * q, pmax))
+        assert ok and c == pytest.approx(hi, rel=1e-9)
+        np.testing.assert_allclose(q2, ref, rtol=1e-9, atol=1e-12 * (pmax if pmax < np.inf else 1))
+        assert q2.sum() == pytest.approx(target, rel=1e-12)
+        assert (passes == 1) == bool(np.all(hi * q[(q > 0) & ~capped] < pmax))
+
     ga = np.empty_like(g)
     K.active_gap(g, p, pmax, ga)
     np.testing.assert_array_equal(ga, np.where(free | rel, g, 0.0))
     assert K.dot_free(g, z, p, pmax) == pytest.approx(np.dot(g[free], z[free]), rel=1e-12)
+
+
+@pytest.mark.parametrize("H", [None, 0.5])
+def test_project_box_sum_kernel_against_numpy_bisection(H):
+    """The numba projection against an independent NumPy oracle (bisection on ``lam``)."""
+    from halfspace_calib.contact.normal import project_box_sum
+
+    rng = np.random.default_rng(7)
+    for n, target in ((40, 7.0), (300, 0.1), (300, 120.0)):
+        y = rng.standard_normal(n) * 3.0
+        if H is not None and not target < n * H:
+            continue
+        ub = np.inf if H is None else H
+        lo, hi = -y.max(), target - y.min() + (0 if H is None else H)
+        for _ in range(300):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if np.clip(y + mid, 0, ub).sum() < target else (lo, mid)
+        ref = np.clip(y + 0.5 * (lo + hi), 0, ub)
+        np.testing.assert_allclose(project_box_sum(y, target, H), ref, atol=1e-12 * max(1, target))
 
 
 def test_project_box_sum_is_the_projection():
@@ -449,3 +496,30 @@ def test_single_precision_fft_option():
         assert s.pressure.dtype == np.float64 and s.pressure.max() <= (H or np.inf)
     with pytest.raises(ValueError, match="single"):
         solve_normal(h, tol=1e-8, single=True, **kw)
+
+
+# ----------------------------------------------------------------------------- nested iteration
+@pytest.mark.parametrize("periodic", [True, False])
+def test_nested_iteration_gives_the_same_solution(periodic):
+    """Coarse-grid initial guesses change the path, not the answer; ``nit`` is the fine work."""
+    from halfspace_calib.contact.normal import NESTED_MIN
+
+    n = 2 * NESTED_MIN
+    h = rough_surface(n, 21)
+    kw = dict(dx=2.11e-3 / n, E_star=E_STAR, H=H_DC04, periodic=periodic, tol=1e-9)
+    for p_mean, p_init in ((300e6, None), (100e6, "warm")):
+        if p_init == "warm":
+            p_init = solve_normal(h, p_mean=300e6, **kw).pressure  # a reload-like warm start
+        a = solve_normal(h, p_mean=p_mean, p_init=p_init, **kw)
+        b = solve_normal(h, p_mean=p_mean, p_init=p_init, nested=True, **kw)
+        assert a.converged and b.converged and b.residual < 1e-9
+        assert a.coarse_nit == () and len(b.coarse_nit) == 1 and b.coarse_nit[0] > 0
+        assert b.nit > 0  # the fine grid is solved, not only the coarse one
+        rel = np.linalg.norm(b.pressure - a.pressure) / np.linalg.norm(a.pressure)
+        assert rel < 1e-5
+        assert abs(b.alpha - a.alpha) <= 3 / h.size
+        assert b.pressure.mean() == pytest.approx(p_mean, rel=1e-9)
+    # grids that cannot be halved (odd side, or below NESTED_MIN) are solved directly
+    for shape in ((n - 1, n), (NESTED_MIN, NESTED_MIN)):
+        r = solve_normal(h[: shape[0], : shape[1]], p_mean=200e6, nested=True, **kw)
+        assert r.converged and r.coarse_nit == ()

@@ -16,7 +16,32 @@ from typing import Any
 
 from tqdm.auto import tqdm
 
-__all__ = ["JobResult", "run_jobs"]
+__all__ = ["JobResult", "available_cpus", "fft_threads", "run_jobs"]
+
+#: FFT threads per process; set in each worker of a local process pool (``None``: the default)
+_FFT_THREADS = None
+
+
+def available_cpus():
+    """CPUs this process may run on (``os.sched_getaffinity``; ``os.cpu_count`` where missing)."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - not on Linux
+        return os.cpu_count() or 1
+
+
+def fft_threads():
+    """Threads for ``scipy.fft`` in this process: workers x FFT threads never exceed the CPUs.
+
+    In a worker of :func:`run_jobs`'s local pool: ``available_cpus() // workers`` (at least 1);
+    otherwise :func:`available_cpus`.
+    """
+    return _FFT_THREADS if _FFT_THREADS is not None else available_cpus()
+
+
+def _init_worker(threads):
+    global _FFT_THREADS
+    _FFT_THREADS = threads
 
 
 @dataclass
@@ -52,7 +77,8 @@ def run_jobs(fn, jobs, *, workers=1, scheduler=None, progress=True, desc="sweep"
         Picklable job descriptions.
     workers : int
         ``1`` runs in this process; ``> 1`` uses that many local processes;
-        ``0`` means one per CPU. Ignored when ``scheduler`` is given.
+        ``0`` means one per CPU this process may use. Ignored when ``scheduler`` is given.
+        Each local process runs ``available_cpus() // processes`` FFT threads (at least 1).
     scheduler : str or dask.distributed.Client, optional
         Address of a Dask scheduler (``"tcp://host:8786"``) or a client: the jobs run there.
     progress : bool
@@ -65,14 +91,18 @@ def run_jobs(fn, jobs, *, workers=1, scheduler=None, progress=True, desc="sweep"
     try:
         if scheduler is not None:
             return _run_dask(fn, jobs, scheduler, bar)
-        n = (os.cpu_count() or 1) if workers == 0 else workers
+        n = available_cpus() if workers == 0 else workers
         if n == 1 or len(jobs) <= 1:
             out = []
             for i, job in enumerate(jobs):
                 out.append(_call(fn, i, job))
                 bar.update()
             return out
-        with ProcessPoolExecutor(max_workers=min(n, len(jobs))) as pool:
+        n = min(n, len(jobs))
+        threads = max(1, available_cpus() // n)
+        with ProcessPoolExecutor(
+            max_workers=n, initializer=_init_worker, initargs=(threads,)
+        ) as pool:
             futures = [pool.submit(_call, fn, i, job) for i, job in enumerate(jobs)]
             out = []
             for f in futures:

@@ -23,13 +23,13 @@ the Cerruti coefficients of Eq. 16) reuses the same FFT machinery and the cached
 
 from __future__ import annotations
 
-import os
 from collections.abc import Callable
 
 import numpy as np
 import scipy.fft as sfft
 
 from ..common.checks import positive
+from ..common.jobs import fft_threads
 
 __all__ = [
     "InfluenceOperator",
@@ -157,7 +157,7 @@ class InfluenceOperator:
                 f"{(2 * self.shape[0] - 1, 2 * self.shape[1] - 1)}, got {kernel.shape}"
             )
         self.fft_shape = kernel.shape
-        self.workers = workers if workers is not None else (os.cpu_count() or 1)
+        self.workers = workers if workers is not None else fft_threads()
         self.kernel = kernel
         self.spectrum = sfft.rfft2(kernel, workers=self.workers)
         self._weights = None
@@ -191,7 +191,7 @@ class InfluenceOperator:
             Minimal-image offsets on the ``Nx x Ny`` torus when True, zero-padded linear
             convolution (DC-FFT) when False.
         workers : int, optional
-            Threads for ``scipy.fft`` (default: all CPUs).
+            Threads for ``scipy.fft`` (default: :func:`~halfspace_calib.common.jobs.fft_threads`).
         """
         nx, ny = _check_shape(shape)
         dx = positive("dx", dx)
@@ -393,7 +393,7 @@ def normal_operator(
         minimal-image offsets (a truncated periodisation: accurate at short wavelengths, the
         long-range 1/r tail beyond half a period is cut). Non-periodic mode always uses Love.
     workers : int, optional
-        Threads for ``scipy.fft``.
+        Threads for ``scipy.fft`` (default: :func:`~halfspace_calib.common.jobs.fft_threads`).
     """
     E_star = positive("E_star", E_star)
     dx = positive("dx", dx)

@@ -57,10 +57,12 @@ the RMS roughness ``std(h)`` (by ``p_mean dx / E_star`` for a flat input): dimen
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
 from ..common.checks import tolerance
+from ..common.jobs import fft_threads
 from ._box_cg import (
     _pk_box_cg,
     _residual_scale,
@@ -110,13 +112,16 @@ class NormalResult:
     removed_volume : float
         Plastically displaced volume in m^3 (``sum(u_pl) * dx * dy``).
     nit : int
-        CG iterations.
+        CG iterations on the solution's grid (with ``nested``, the fine grid only).
     converged : bool
         Whether the residual dropped below ``tol``.
     residual : float
         Dimensionless complementarity error (module docstring).
     message : str
         Human-readable outcome.
+    coarse_nit : tuple of int
+        With ``nested``: the CG iterations spent on each coarser grid, finest first (each
+        coarse iteration costs about a quarter of one on the next finer grid); ``()`` otherwise.
     """
 
     pressure: np.ndarray
@@ -136,6 +141,7 @@ class NormalResult:
     H: float | None
     periodic: bool
     deformed_workpiece: np.ndarray | None = None
+    coarse_nit: tuple = ()
 
 
 def composite_modulus(E1: float, nu1: float, E2: float, nu2: float) -> float:
@@ -247,6 +253,7 @@ def solve_normal(
     single: bool = False,
     max_memory: float = 8 * 2**30,
     workers: int | None = None,
+    nested: bool = False,
 ) -> NormalResult:
     """Solve the normal contact of a rough surface at a prescribed mean pressure (Sec. 2.1).
 
@@ -294,7 +301,17 @@ def solve_normal(
     max_memory : float
         Refuse (``ValueError``) grids whose estimated memory exceeds this many bytes.
     workers : int, optional
-        Threads for ``scipy.fft``.
+        Threads for ``scipy.fft`` (default: :func:`~halfspace_calib.common.jobs.fft_threads`).
+    nested : bool
+        Nested iteration (multilevel initial guess, Polonsky and Keer 1999): while both sides
+        of the grid are even and the halved grid keeps at least ``NESTED_MIN`` elements a side,
+        solve first on the grid coarsened by 2 x 2 block averages of the heights (elements of
+        ``2 dx x 2 dy``; ``p_init``, if given, block-averaged too), recursively, and start the
+        fine iteration from the prolongated pressure (each coarse value on its 2 x 2 fine
+        elements: the contact and plastic sets come with it; with ``p_init``, the warm start
+        plus the prolongated coarse correction). The fine solve still has to
+        reach ``tol`` on the fine grid; ``nit`` counts its iterations, ``coarse_nit`` the
+        coarse ones.
 
     Returns
     -------
@@ -306,9 +323,40 @@ def solve_normal(
     if single and tol < 1e-6:
         raise ValueError(f"tol must be >= 1e-6 with single=True (roundoff floor), got {tol!r}")
     dy_ = dx if dy is None else dy
+    coarse_nit = ()
+    nx, ny = h.shape
+    if nested and nx % 2 == 0 and ny % 2 == 0 and min(nx, ny) // 2 >= NESTED_MIN:
+        coarse = solve_normal(
+            _restrict(h),
+            2.0 * dx,
+            E_star,
+            p_mean,
+            H=H,
+            periodic=periodic,
+            tol=max(tol, NESTED_TOL),
+            dy=2.0 * dy_,
+            maxiter=maxiter,
+            p_init=None if p_init is None else _restrict(p_init),
+            volume_conservation=False,
+            kernel=kernel,
+            refresh=refresh,
+            precondition=precondition,
+            single=single and max(tol, NESTED_TOL) >= 1e-6,
+            max_memory=max_memory,
+            workers=workers,
+            nested=True,
+        )
+        if p_init is None:
+            p_init = _prolong(coarse.pressure)
+        else:
+            # coarse-grid correction of the warm start: keep its fine detail, move it as the
+            # coarse solution moved from the warm start's block averages
+            p_init = p_init + _prolong(coarse.pressure - _restrict(p_init))
+        coarse_nit = (coarse.nit, *coarse.coarse_nit)
     if operator is None:
-        operator = normal_operator(
-            h.shape, dx, E_star, dy=dy_, periodic=periodic, kernel=kernel, workers=workers
+        threads = fft_threads() if workers is None else int(workers)
+        operator = _cached_operator(
+            h.shape, float(dx), float(E_star), float(dy_), bool(periodic), kernel, threads
         )
     elif operator.shape != h.shape or operator.periodic != bool(periodic):
         raise ValueError(
@@ -327,8 +375,40 @@ def solve_normal(
         scale=_residual_scale(h, p_mean, dx, E_star),
         precondition=bool(precondition) and operator.inverse_spectrum is not None,
     )
-    return _finish(
+    out = _finish(
         h, p, u, g, nit, converged, res, tol, p_mean, H, periodic, volume_conservation, dx * dy_
+    )
+    out.coarse_nit = coarse_nit
+    return out
+
+
+#: nested iteration stops coarsening below this many elements a side
+NESTED_MIN = 64
+#: tolerance of the coarse solves of the nested iteration (the fine solve has its own ``tol``)
+NESTED_TOL = 1e-6
+
+
+def _restrict(a):
+    """2 x 2 block averages of a field with even sides (the coarse grid of the nested iteration)."""
+    nx, ny = a.shape
+    return a.reshape(nx // 2, 2, ny // 2, 2).mean(axis=(1, 3))
+
+
+def _prolong(a):
+    """Each coarse value on its 2 x 2 fine elements (piecewise constant prolongation)."""
+    return np.repeat(np.repeat(a, 2, axis=0), 2, axis=1)
+
+
+@lru_cache(maxsize=4)
+def _cached_operator(shape, dx, E_star, dy, periodic, kernel, workers):
+    """The normal operator of a grid, built once per process for the solves of a sweep.
+
+    A sweep solves the same grid dozens of times (first loading, reloads, the coarse grids of
+    the nested iteration); building the spectrum (and, non-periodic, Love's coefficients on the
+    padded grid) costs several FFT pairs each time. Four entries: a grid and its coarse levels.
+    """
+    return normal_operator(
+        shape, dx, E_star, dy=dy, periodic=periodic, kernel=kernel, workers=workers
     )
 
 

@@ -1,0 +1,38 @@
+"""The solver's speed-ups keep the calibration's answer (issue 16).
+
+Reference values: ``frictionlaw.shear_limit`` of ``calibrate(Scene(grid=g), progress=False).params``
+computed with the main branch's code at commit fbfe0e2 (before the nested iteration, the
+continuation and the backtracked CG step of issue 16), in one run of a script that called
+exactly what the test below calls. The solves converge to the same tolerance on the same grid,
+so the fitted law may move only by the tolerance's worth: at most 0.5 % (the issue's target).
+"""
+
+import pytest
+
+from frictionlaw import shear_limit
+from halfspace_calib.pipeline.calibration import Scene, calibrate
+
+#: (grid) -> shear_limit in Pa at (p, p_hist): first loading at 100, 300, 600 MPa and the
+#: reload to 100 MPa after 600 MPa; main branch, commit fbfe0e2, default Scene (tol 1e-8)
+REFERENCE = {
+    128: {
+        (100e6, 0.0): 9345037.625388704,
+        (300e6, 0.0): 28019895.993303366,
+        (600e6, 0.0): 54553580.06481122,
+        (100e6, 600e6): 37636390.17974419,
+    },
+    256: {
+        (100e6, 0.0): 9132376.325033385,
+        (300e6, 0.0): 27394533.035821393,
+        (600e6, 0.0): 54067859.86707092,
+        (100e6, 600e6): 35011627.36236187,
+    },
+}
+
+
+@pytest.mark.parametrize("grid", sorted(REFERENCE))
+def test_shear_limit_unchanged(grid):
+    cal = calibrate(Scene(grid=grid), progress=False)
+    assert not cal.problems()
+    for (p, p_hist), ref in REFERENCE[grid].items():
+        assert shear_limit(p, p_hist, cal.params) == pytest.approx(ref, rel=5e-3), (p, p_hist)
