@@ -113,7 +113,7 @@ def test_scene_file_and_cli(tmp_path):
     with pytest.raises(ValueError, match="unknown scene keys"):
         load_scene(bad)
     out = tmp_path / "out"
-    assert main(["--scene", str(scene), "--out", str(out), "--quiet", "--m", "0.4"]) == 0
+    assert main(["--scene", str(scene), "--out", str(out), "--no-progress", "--m", "0.4"]) == 0
     P = FrictionParams.from_json(out / "params.json")
     assert P.m == 0.4
     summary = json.loads((out / "summary.json").read_text())

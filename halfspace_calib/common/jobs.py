@@ -1,13 +1,14 @@
 """Run a sweep as a list of independent jobs: serially, on local processes, or on a Dask cluster.
 
 A failed job is captured with its error message and does not stop the others; results come back in
-job order whichever path ran them, so a sweep gives identical numbers on every path.
+job order whichever path ran them, so a sweep gives identical numbers on every path. The progress
+bar advances as jobs finish (in completion order), not as they are collected.
 """
 
 import os
 import time
 import traceback
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from typing import Any
 
@@ -71,11 +72,9 @@ def run_jobs(fn, jobs, *, workers=1, scheduler=None, progress=True, desc="sweep"
             return out
         with ProcessPoolExecutor(max_workers=min(n, len(jobs))) as pool:
             futures = [pool.submit(_call, fn, i, job) for i, job in enumerate(jobs)]
-            out = []
-            for f in futures:
-                out.append(f.result())
+            for _ in as_completed(futures):
                 bar.update()
-            return out
+            return [f.result() for f in futures]
     finally:
         bar.close()
 
