@@ -267,6 +267,11 @@ def _press(
         "newton_iterations": model.n_newton,
         "cutback_log": list(model.log),
         "timings": model.timings.as_dict(),
+        "linear_solver": {
+            "factorisations": model.linear.n_factor,
+            "krylov_solves": model.linear.n_krylov_solves,
+            "krylov_iterations": model.linear.n_krylov_iterations,
+        },
         "tangential_stiffness": model.contact.stiffness_record(),
         "calibrated_range": range_summary(model, hist),
     }
@@ -508,6 +513,11 @@ def run_multistage(
         "newton_iterations": model.n_newton,
         "cutback_log": list(model.log),
         "timings": model.timings.as_dict(),
+        "linear_solver": {
+            "factorisations": model.linear.n_factor,
+            "krylov_solves": model.linear.n_krylov_solves,
+            "krylov_iterations": model.linear.n_krylov_iterations,
+        },
         "tangential_stiffness": model.contact.stiffness_record(),
         "calibrated_range": range_summary(model, hist),
     }
