@@ -1,7 +1,9 @@
 """Measured surfaces end to end: the scene loader and the CLI on real instrument files.
 
-The five files in ../shared/surfaces/ come from SurfaceTopography's public test set (see its
-README); grids are kept small (16-32) so that each calibration takes about a second.
+The real files come from SurfaceTopography's public test set (see tests/data/README.md): three ship
+in tests/data/; two more (mnt-1.mnt, sur-3.sur) are read from ../shared/surfaces/ where the
+project's CI puts the full set, and their tests skip elsewhere. Grids are kept small (16-32) so
+that each calibration takes about a second.
 """
 
 import json
@@ -18,6 +20,7 @@ from halfspace_calib.pipeline.calibration import Scene
 from halfspace_calib.pipeline.scene_surfaces import area_resample, load_scene_surfaces
 from halfspace_calib.topography._formats import layout_for
 
+DATA = Path(__file__).resolve().parent / "data"
 SHARED = Path(__file__).resolve().parents[1].parent / "shared" / "surfaces"
 FAST = ["--pressures", "20e6,100e6,300e6,500e6", "--reload-fractions", "0.25,0.5,0.8"]
 FAST_KW = dict(pressures=(20e6, 100e6, 300e6, 500e6), reload_fractions=(0.25, 0.5, 0.8))
@@ -32,9 +35,12 @@ FILES = {
 
 
 def _shared(name):
-    p = SHARED / name
+    p = DATA / name if (DATA / name).is_file() else SHARED / name
     if not p.is_file():
-        pytest.skip(f"{p} is not there (the shared surfaces sit beside the project)")
+        pytest.skip(
+            f"{name} is not shipped in tests/data (size budget) and {SHARED} is not there "
+            "(the project's CI puts the full set beside the project)"
+        )
     if layout_for(p) == "instrument":
         pytest.importorskip("SurfaceTopography")
     return p
