@@ -36,7 +36,6 @@ from .calibrated_range import range_lines
 from .laws import LAW_OPTIONS, LAWS
 from .material import DC04, Material
 from .output import (
-    plot_die_profile,
     plot_force_stroke,
     plot_law_comparison,
     plot_recontact,
@@ -186,8 +185,8 @@ def _write_run(folder, res, title):
     folder.mkdir(parents=True, exist_ok=True)
     if res.history:
         write_history_csv(folder / "history.csv", res.history)
-        plot_force_stroke(folder / "force_stroke.png", [res.history], [title], title=title)
-    plot_die_profile(folder / "die_profile.png", contact_profile(res.model), title=title)
+    for name, fig in res.figures(title).items():
+        fig.savefig(folder / name, dpi=120)
     if res.snapshots and len(res.snapshots) > 1:
         write_vtu_series(folder / "vtu", res.model.t, res.snapshots)
     info = dict(res.info)

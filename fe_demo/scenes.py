@@ -57,6 +57,21 @@ class SceneResult:
     snapshots: list = field(default_factory=list)
     info: dict = field(default_factory=dict)
 
+    def figures(self, title=None):
+        """The run's figures, for a notebook (nothing written; not held by pyplot).
+
+        ``{"force_stroke.png": Figure, "die_profile.png": Figure}`` (the force-stroke plot only
+        with an accepted increment): the files ``fe-demo`` writes for a run.
+        """
+        from .output import die_profile_figure, force_stroke_figure
+
+        title = title or str(self.info.get("scene", "run"))
+        figs = {}
+        if self.history:
+            figs["force_stroke.png"] = force_stroke_figure([self.history], [title], title=title)
+        figs["die_profile.png"] = die_profile_figure(contact_profile(self.model), title=title)
+        return figs
+
 
 def contact_profile(model):
     """Die-contact data of the accepted state, sorted by radius.

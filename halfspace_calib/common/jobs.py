@@ -85,7 +85,8 @@ def _run_dask(fn, jobs, scheduler, bar):
     except ImportError:  # pragma: no cover - depends on the environment
         raise ImportError(
             "a Dask scheduler was given but dask.distributed is not installed: "
-            "pip install 'sbmf-friction[dask]'"
+            "pip install 'dask[distributed]>=2023.1' (from a clone of this project: "
+            "pip install -e '.[dask]')"
         ) from None
     own = not isinstance(scheduler, Client)
     client = Client(scheduler) if own else scheduler
