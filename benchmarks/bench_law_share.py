@@ -10,9 +10,8 @@ node) with a timer and runs
 - the GetFEM ring coupling (``couplings/getfem/ring.py``, Debian's python3-getfem, run by the
   interpreter ``couplings.getfem.compare`` picks) with the SBMF law, the first K of 50 increments;
 
-and reports the law's seconds, the Newton iterations and the law's share of the run's time
-(CPU time of the process; the timer is wall time inside it, so on a loaded machine the share is an
-upper bound). Writes benchmarks/results/law_share.csv.
+and reports the law's seconds, the Newton iterations and the law's share of the run's time (both
+CPU time of the process, so that the share does not depend on the machine's load). Writes benchmarks/results/law_share.csv.
 
 Run: python benchmarks/bench_law_share.py [K]   (default K = 10)
 """
@@ -37,9 +36,9 @@ import frictionlaw
 _real = frictionlaw.traction_update
 _t = [0.0, 0]
 def _timed(*a, **k):
-    t0 = time.perf_counter()
+    t0 = time.process_time()
     r = _real(*a, **k)
-    _t[0] += time.perf_counter() - t0
+    _t[0] += time.process_time() - t0
     _t[1] += 1
     return r
 """
