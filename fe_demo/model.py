@@ -47,7 +47,7 @@ class SolverOptions:
     penalty_factor : float
         Contact penalty ``eps_n = penalty_factor * E / h_min`` (Pa/m), also used for stick.
     reuse_factorisation : bool
-        Solve each tangent by GMRES preconditioned with the last sparse LU, refactorising only
+        Solve each tangent by iterative refinement with the last sparse LU, refactorising only
         when that misses ``linear_rtol`` (:class:`~fe_demo.linsolve.TangentSolver`); ``False``:
         a fresh LU per Newton iteration (the reference; same results to ``linear_rtol``).
     linear_rtol : float
