@@ -60,7 +60,7 @@ def test_upsetting_results_identical_to_the_fresh_factorisation():
     ls, lr = new.info["linear_solver"], ref.info["linear_solver"]
     assert lr["factorisations"] == ref.info["newton_iterations"]
     assert ls["factorisations"] + ls["krylov_solves"] == new.info["newton_iterations"]
-    assert ls["factorisations"] < lr["factorisations"]  # fewer (how many: a measured cost)
+    assert ls["factorisations"] < 0.5 * lr["factorisations"]
     # Newton stops at |R| <= 1e-6 f_int; the linear solves differ by 1e-10: far below that
     np.testing.assert_allclose(new.history["force"], ref.history["force"], rtol=1e-8)
     np.testing.assert_allclose(new.model.x, ref.model.x, rtol=0, atol=1e-12)
