@@ -7,25 +7,36 @@ Examples
 ``fe-demo upsetting --law all`` (every law side by side),
 ``fe-demo ring`` (Tresca m in {0, 0.1, 0.2, 0.3, 0.5, 1} over the upper-bound chart;
 ``--m 0.3`` runs that m alone, ``--m-list 0,0.3`` sweeps those),
-An option the chosen law does not use is refused (exit 2), never silently ignored.
 ``fe-demo multistage`` (upset, unload, reload; with and without ``p_hist``).
+An option the chosen law does not use is refused (exit 2), never silently ignored.
+
+The output folder appears whole (:class:`frictionlaw.clitools.OutputFolder`): the run writes into a
+temporary folder beside ``--out`` that replaces an earlier ``fe-demo`` output as a whole, so no
+file of a longer earlier run (``vtu/step_0005.vtu``) survives beside a new ``.pvd``. A run that
+did not converge still writes its results (up to the failure) and exits 1. The summary goes to
+stdout (hidden by ``--quiet``), warnings and errors to stderr.
 """
 
 import argparse
 import json
-import sys
 from pathlib import Path
 
 import numpy as np
 
 from frictionlaw import FrictionParams
+from frictionlaw.clitools import (
+    Console,
+    HelpFormatter,
+    OutputFolder,
+    add_common_options,
+    add_version,
+)
 
 from .band import band_laws, write_band_outputs, write_run_report
 from .calibrated_range import range_lines
 from .laws import LAW_OPTIONS, LAWS
 from .material import DC04, Material
 from .output import (
-    plot_die_profile,
     plot_force_stroke,
     plot_law_comparison,
     plot_recontact,
@@ -41,6 +52,8 @@ __all__ = ["main", "build_parser"]
 
 _LAWS_ALL = (*LAWS, "all")
 _MU, _M = 0.1, 0.3  # defaults of --mu, --m where the law uses them
+#: files that mark a folder as an earlier fe-demo output (a rerun replaces it whole)
+_OUTPUT_MARKERS = ("summary.txt", "summary.json", "*/summary.json", "*/*/summary.json")
 
 
 def _positive_int(name):
@@ -54,29 +67,50 @@ def _positive_int(name):
 
 
 def _add_common(p, *, law, nr, increments, reduction, out):
-    p.add_argument("--law", choices=_LAWS_ALL, default=law, help=f"friction law (default {law})")
+    p.add_argument("--law", choices=_LAWS_ALL, default=law, help="friction law")
     p.add_argument(
         "--mu", type=float, default=None, help=f"Coulomb coefficient (coulomb, cap; default {_MU})"
     )
     p.add_argument(
         "--m", type=float, default=None, help=f"Tresca friction factor (tresca, cap; default {_M})"
     )
-    p.add_argument("--tau-max", type=float, default=None, help="cap of 'cap' in Pa")
     p.add_argument(
-        "--params", type=Path, default=None, help="SBMF parameter JSON (FrictionParams file)"
+        "--tau-max",
+        type=float,
+        default=None,
+        help="cap of 'cap' in Pa (default: m sigma_f / sqrt(3), updated like Tresca's)",
     )
-    p.add_argument("--material", type=Path, default=None, help="material JSON (E, nu, K, eps0, n)")
-    p.add_argument("--nr", type=_positive_int("nr"), default=nr, help="elements across the radius")
-    p.add_argument("--nz", type=_positive_int("nz"), default=None, help="elements over h/2")
     p.add_argument(
-        "--increments", type=_positive_int("increments"), default=increments, help="increments"
+        "--params",
+        type=Path,
+        default=None,
+        help="SBMF parameter JSON (FrictionParams file; default: the shipped illustrative set)",
+    )
+    p.add_argument(
+        "--material",
+        type=Path,
+        default=None,
+        help="material JSON (E, nu, K, eps0, n; default: DC04)",
+    )
+    p.add_argument("--nr", type=_positive_int("nr"), default=nr, help="elements across the radius")
+    p.add_argument(
+        "--nz",
+        type=_positive_int("nz"),
+        default=None,
+        help="elements over h/2 (default: square elements from --nr)",
+    )
+    p.add_argument(
+        "--increments",
+        type=_positive_int("increments"),
+        default=increments,
+        help="load increments",
     )
     p.add_argument("--reduction", type=float, default=reduction, help="final height reduction")
     p.add_argument("--out", type=Path, default=Path(out), help="output folder")
     p.add_argument(
         "--vtu-every", type=int, default=5, help="VTU snapshot every N increments (0: none)"
     )
-    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    add_common_options(p)
     g = p.add_mutually_exclusive_group()
     g.add_argument(
         "--band",
@@ -93,14 +127,20 @@ def _add_common(p, *, law, nr, increments, reduction, out):
 
 def build_parser():
     """The argument parser of ``fe-demo``."""
-    ap = argparse.ArgumentParser(prog="fe-demo", description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(
+        prog="fe-demo",
+        description="Command-line runner for the upsetting, ring and multistage scenes.",
+        formatter_class=HelpFormatter,
+    )
+    add_version(ap)
     sub = ap.add_subparsers(dest="scene", required=True)
-    p = sub.add_parser("upsetting", help="cylinder upsetting D0=20 mm, h0=10 mm")
+    kw = {"formatter_class": HelpFormatter}
+    p = sub.add_parser("upsetting", help="cylinder upsetting D0=20 mm, h0=10 mm", **kw)
     _add_common(p, law="sbmf", nr=64, increments=50, reduction=0.5, out="fe_out/upsetting")
     p.add_argument("--remesh-below", type=float, default=0.0, help="remesh threshold (0: off)")
     p.add_argument("--diameter", type=float, default=20e-3, help="D0 in m")
     p.add_argument("--height", type=float, default=10e-3, help="h0 in m")
-    p = sub.add_parser("ring", help="ring compression 6:3:2 (OD 18, ID 9, h 6 mm)")
+    p = sub.add_parser("ring", help="ring compression 6:3:2 (OD 18, ID 9, h 6 mm)", **kw)
     _add_common(p, law="tresca", nr=16, increments=50, reduction=0.5, out="fe_out/ring")
     p.add_argument(
         "--m-list",
@@ -108,7 +148,7 @@ def build_parser():
         default=None,
         help=(
             "Tresca factors to sweep over the chart (law tresca only); without --m or --m-list "
-            "tresca sweeps " + ",".join(f"{m:g}" for m in CHART_M)
+            "tresca sweeps " + ",".join(f"{m:g}" for m in CHART_M) + " (default: none)"
         ),
     )
     p.add_argument(
@@ -117,7 +157,7 @@ def build_parser():
         default=0.3,
         help="remesh when the worst element corner sine falls below this (0: off)",
     )
-    p = sub.add_parser("multistage", help="upset, unload, reload (Eq. 25)")
+    p = sub.add_parser("multistage", help="upset, unload, reload (Eq. 25)", **kw)
     _add_common(p, law="sbmf", nr=24, increments=30, reduction=0.45, out="fe_out/multistage")
     p.add_argument("--first-reduction", type=float, default=0.3, help="reduction of stage 1")
     return ap
@@ -137,7 +177,7 @@ def _common_kw(args, law):
         "nz": args.nz,
         "n_increments": args.increments,
         "material": _material(args),
-        "progress": not args.no_progress,
+        "progress": not (args.no_progress or args.quiet),
         "snapshot_every": max(0, args.vtu_every),
     }
 
@@ -158,8 +198,8 @@ def _write_run(folder, res, title):
     folder.mkdir(parents=True, exist_ok=True)
     if res.history:
         write_history_csv(folder / "history.csv", res.history)
-        plot_force_stroke(folder / "force_stroke.png", [res.history], [title], title=title)
-    plot_die_profile(folder / "die_profile.png", contact_profile(res.model), title=title)
+    for name, fig in res.figures(title).items():
+        fig.savefig(folder / name, dpi=120)
     if res.snapshots and len(res.snapshots) > 1:
         write_vtu_series(folder / "vtu", res.model.t, res.snapshots)
     info = dict(res.info)
@@ -181,15 +221,21 @@ def _jd(o):
     return str(o)
 
 
-def _report_run(label, res):
-    """Console lines after a run: a failure, the calibrated-range check, a k_t stick stiffness."""
+def _report_run(con, label, res):
+    """Console lines after a run: a failure, the calibrated-range check, a k_t stick stiffness.
+
+    A failure and an extrapolated law are warnings (stderr); the rest is summary (stdout).
+    """
     if not res.converged:
-        print(f"[{label}] FAILED: {res.message}", file=sys.stderr)
+        con.warn(f"fe-demo: [{label}] FAILED: {res.message}")
     for line in range_lines(label, res.info.get("calibrated_range")):
-        print(line)
+        if "EXTRAPOLATED" in line:
+            con.warn(f"fe-demo: WARNING: {line}")
+        else:
+            con.result(line)
     kt = res.info.get("tangential_stiffness", {})
     if kt.get("k_t_min_Pa_per_m") is not None:
-        print(
+        con.result(
             f"[{label}] stick stiffness k_t(p) from the parameter file: "
             f"{kt['k_t_min_Pa_per_m']:.3g} .. {kt['k_t_max_Pa_per_m']:.3g} Pa/m"
         )
@@ -216,7 +262,7 @@ def _summary_row(label, res):
     }
 
 
-def _cmd_upsetting(args):
+def _cmd_upsetting(args, con):
     laws = [w for w in LAWS if w != "none"] if args.law == "all" else [args.law]
     results, rows = {}, []
     ok = True
@@ -236,13 +282,12 @@ def _cmd_upsetting(args):
         results[lab] = (res.history, contact_profile(res.model)) if res.history else None
         rows.append(_summary_row(lab, res))
         ok &= res.converged
-        _report_run(lab, res)
+        _report_run(con, lab, res)
     if len(laws) > 1:
         done = {k: v for k, v in results.items() if v is not None}
         if done:
             plot_law_comparison(args.out / "law_comparison.png", done)
-    print(summary_table(rows))
-    print(f"output in {args.out}")
+    con.result(summary_table(rows))
     return 0 if ok else 1
 
 
@@ -277,7 +322,7 @@ def _m_list(args):
     return [] if args.m_given else list(CHART_M)
 
 
-def _cmd_ring(args):
+def _cmd_ring(args, con):
     m_list = _m_list(args)
     runs = []
     if m_list:
@@ -299,27 +344,26 @@ def _cmd_ring(args):
             fe[lab] = (res.history["height_reduction"], res.history["inner_diameter_change"])
         rows.append(_summary_row(lab, res))
         ok &= res.converged
-        _report_run(lab, res)
+        _report_run(con, lab, res)
     args.out.mkdir(parents=True, exist_ok=True)
     chart, notes = _chart(args.reduction)
     plot_ring_chart(args.out / "ring_chart.png", chart, fe)
-    for _law, _, lab in runs:  # the runs' reports again, now with the chart
-        folder = args.out / lab.replace(" ", "_").replace("=", "") if len(runs) > 1 else args.out
-        if (folder / "summary.json").is_file():
-            write_run_report(folder, json.loads((folder / "summary.json").read_text()), lab)
     with (args.out / "ring_chart_upper_bound.csv").open("w", encoding="utf-8") as fh:
         fh.write("m,height_reduction,inner_diameter_change\n")
         for m, (red, d) in chart.items():
             for a, b in zip(red, d, strict=True):
                 fh.write(f"{m:g},{a:.6g},{b:.6g}\n")
-    print(summary_table(rows))
+    for _law, _, lab in runs:  # the runs' reports again, now with the chart
+        folder = args.out / lab.replace(" ", "_").replace("=", "") if len(runs) > 1 else args.out
+        if (folder / "summary.json").is_file():
+            write_run_report(folder, json.loads((folder / "summary.json").read_text()), lab)
+    con.result(summary_table(rows))
     for note in notes:
-        print(note)
-    print(f"output in {args.out}")
+        con.result(note)
     return 0 if ok else 1
 
 
-def _cmd_multistage(args):
+def _cmd_multistage(args, con):
     laws = [w for w in LAWS if w != "none"] if args.law == "all" else [args.law]
     rows, curves = [], {}
     ok = True
@@ -342,7 +386,7 @@ def _cmd_multistage(args):
             curves[lab] = res.history
         rows.append(_summary_row(lab, res))
         ok &= res.converged
-        _report_run(lab, res)
+        _report_run(con, lab, res)
     if curves:
         plot_force_stroke(
             args.out / "multistage_force.png",
@@ -362,17 +406,16 @@ def _cmd_multistage(args):
                 list(zoom),
                 title="Unload and re-contact (Eq. 25 region)",
             )
-    print(summary_table(rows))
+    con.result(summary_table(rows))
     for lab, h in curves.items():
         st = h["stage"]
         if (st == 3).any():
             n25 = h["n_reload_eq25"][st == 3]
-            print(
+            con.result(
                 f"[{lab}] reload: contact nodes below p_hist (Eq. 25 for sbmf) per increment "
                 f"max {int(n25.max())}, max |tau(p,p_hist)-tau(p,0)| = "
                 f"{h['tau_diff_eq25'][st == 3].max() / 1e6:.2f} MPa"
             )
-    print(f"output in {args.out}")
     return 0 if ok else 1
 
 
@@ -407,7 +450,7 @@ def _check_options(args):
             args.band_laws = band_laws(args.params, "band" if args.band else "samples")
 
 
-def _cmd_band(args):
+def _cmd_band(args, con):
     """The scene once per law of the band (or per sample); the band's files in ``args.out``."""
     results = {}
     for name, law in args.band_laws:
@@ -429,7 +472,7 @@ def _cmd_band(args):
                 "sbmf", first_reduction=args.first_reduction, reduction=args.reduction, **kw
             )
         _write_run(args.out / name, res, f"sbmf {name}")
-        _report_run(name, res)
+        _report_run(con, name, res)
         results[name] = (
             res.history or None,
             {
@@ -448,33 +491,51 @@ def _cmd_band(args):
         for red, v in rec[f"{key}_at"].items():
             s = 1e-3 if unit == "N" else 100.0
             u = "kN" if unit == "N" else "%"
-            print(
+            con.result(
                 f"{key} at {red}: {v['central'] * s:.4g} {u} +- {v['plus_minus'] * s:.3g} {u} "
                 f"[{v['lower'] * s:.4g}, {v['upper'] * s:.4g}]"
             )
-    print(f"output in {args.out}")
     return 0 if rec["ok"] else 1
 
 
+class _Report(Console):
+    """A :class:`Console` that also keeps the summary lines (written to ``summary.txt``)."""
+
+    def __init__(self, prog, quiet=False):
+        super().__init__(prog, quiet)
+        self.lines = []
+
+    def result(self, line=""):
+        self.lines.append(line)
+        super().result(line)
+
+
 def main(argv=None):
-    """Entry point of the ``fe-demo`` console script."""
-    args = build_parser().parse_args(argv)
+    """Entry point of the ``fe-demo`` console script; returns 0, 1 (a run failed) or 2 (bad input)."""
+    try:
+        args = build_parser().parse_args(argv)
+    except SystemExit as exc:  # argparse: 2 for a bad option, 0 for --help / --version
+        return exc.code if isinstance(exc.code, int) else 2
+    con = _Report("fe-demo", quiet=args.quiet)
     if not (0.0 < args.reduction < 0.9):
-        print("error: --reduction must be in (0, 0.9)", file=sys.stderr)
-        return 2
+        return con.error("--reduction must be in (0, 0.9)", 2)
     try:
         _check_options(args)
+        folder = OutputFolder(args.out, markers=_OUTPUT_MARKERS, what="fe-demo output")
     except (ValueError, OSError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 2
-    try:
-        if args.band or args.samples:
-            return _cmd_band(args)
-        if args.scene == "upsetting":
-            return _cmd_upsetting(args)
-        if args.scene == "ring":
-            return _cmd_ring(args)
-        return _cmd_multistage(args)
-    except ValueError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 2
+        return con.error(str(exc), 2)
+    out, args.out = args.out, folder.tmp
+    cmd = {"upsetting": _cmd_upsetting, "ring": _cmd_ring}.get(args.scene, _cmd_multistage)
+    if args.band or args.samples:
+        cmd = _cmd_band
+    with folder:
+        try:
+            code = cmd(args, con)
+            (folder.tmp / "summary.txt").write_text("\n".join(con.lines) + "\n", encoding="utf-8")
+            folder.commit()
+        except ValueError as exc:
+            return con.error(str(exc), 2)
+        except OSError as exc:  # writing the outputs (disk full, permissions changed meanwhile)
+            return con.error(f"the outputs could not be written, {out} is unchanged: {exc}", 1)
+    con.result(f"output in {out}")
+    return code

@@ -137,12 +137,23 @@ class Assembler:
         return sp.csr_matrix((data, self._indices, self._indptr), shape=(self.n_dof, self.n_dof))
 
 
+def _weighted_bt(kin):
+    """``B^T dV`` stacked over the Gauss points, (n_el, 8, nq * 4)."""
+    ne = kin.B.shape[0]
+    return (kin.B * kin.dV[..., None, None]).reshape(ne, -1, 8).transpose(0, 2, 1)
+
+
 def internal_force(kin, sigma):
-    """Element internal force vectors ``int B^T sigma dV`` (n_el, 8)."""
-    return np.einsum("eqia,eqi,eq->ea", kin.B, sigma, kin.dV)
+    """Element internal force vectors ``int B^T sigma dV`` (n_el, 8).
+
+    Batched ``matmul`` over the elements (a three-operand ``einsum`` is several times slower).
+    """
+    ne = kin.B.shape[0]
+    return np.matmul(_weighted_bt(kin), sigma.reshape(ne, -1, 1))[..., 0]
 
 
 def stiffness(kin, D):
-    """Element tangent matrices ``int B^T D B dV`` (n_el, 8, 8)."""
-    DB = np.einsum("eqij,eqjb->eqib", D, kin.B)
-    return np.einsum("eqia,eqib,eq->eab", kin.B, DB, kin.dV)
+    """Element tangent matrices ``int B^T D B dV`` (n_el, 8, 8), by batched ``matmul``."""
+    ne = kin.B.shape[0]
+    DB = np.matmul(D, kin.B)  # (ne, nq, 4, 8)
+    return np.matmul(_weighted_bt(kin), DB.reshape(ne, -1, 8))

@@ -21,10 +21,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.linalg import splu
 
 from .contact import DieContact, nodal_areas
 from .element import Assembler, internal_force, kinematics, stiffness
+from .linsolve import TangentSolver
 from .material import DC04, radial_return
 
 __all__ = ["SolverOptions", "IncrementResult", "FormingModel", "Timings"]
@@ -46,6 +46,12 @@ class SolverOptions:
         Backtracking line search on the residual norm.
     penalty_factor : float
         Contact penalty ``eps_n = penalty_factor * E / h_min`` (Pa/m), also used for stick.
+    reuse_factorisation : bool
+        Solve each tangent by iterative refinement with the last sparse LU, refactorising only
+        when that misses ``linear_rtol`` (:class:`~fe_demo.linsolve.TangentSolver`); ``False``:
+        a fresh LU per Newton iteration (the reference; same results to ``linear_rtol``).
+    linear_rtol : float
+        Relative residual of the linear solve, ``|K d - b| <= linear_rtol |b|``.
     """
 
     rtol: float = 1e-6
@@ -53,6 +59,8 @@ class SolverOptions:
     max_cutbacks: int = 6
     line_search: bool = True
     penalty_factor: float = 10.0
+    reuse_factorisation: bool = True
+    linear_rtol: float = 1e-10
 
 
 @dataclass
@@ -158,6 +166,7 @@ class FormingModel:
         self.accepted = None
         self.log = []
         self.timings = Timings()
+        self.linear = TangentSolver(self.opt.reuse_factorisation, self.opt.linear_rtol)
         self.n_newton = 0
         self.n_remesh = 0
 
@@ -276,7 +285,7 @@ class FormingModel:
             Kff = self._tangent(trial)
             t0 = time.perf_counter()
             try:
-                d = splu(Kff, permc_spec="MMD_AT_PLUS_A").solve(-R[free])
+                d = self.linear.solve(Kff, -R[free])
             except RuntimeError as exc:  # singular factor
                 return None, it, f"linear solve failed: {exc}"
             self.timings.solve += time.perf_counter() - t0

@@ -1,4 +1,8 @@
-"""Writers: history CSV, VTU time series (meshio, with a ParaView ``.pvd`` index) and PNG plots."""
+"""Writers: history CSV, VTU time series (meshio, with a ParaView ``.pvd`` index) and PNG plots.
+
+Each plot has a ``*_figure`` function that returns the matplotlib Figure (not held by pyplot, for
+notebooks) and a ``plot_*`` wrapper that writes it as PNG; ``SceneResult.figures()`` gives a run's.
+"""
 
 import csv
 import math
@@ -13,6 +17,11 @@ __all__ = [
     "csv_header",
     "write_history_csv",
     "write_vtu_series",
+    "force_stroke_figure",
+    "die_profile_figure",
+    "law_comparison_figure",
+    "ring_chart_figure",
+    "recontact_figure",
     "plot_force_stroke",
     "plot_die_profile",
     "plot_law_comparison",
@@ -137,27 +146,23 @@ def write_vtu_series(folder, t, snapshots, name="step"):
     return pvd
 
 
-def _plt():
-    import matplotlib
+def _figure(figsize, ncols=1):
+    """A new figure (not registered with pyplot, so nothing to close) and its axes."""
+    from matplotlib.figure import Figure
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
+    fig = Figure(figsize=figsize)
+    return fig, fig.subplots(1, ncols)
 
 
-def _save(plt, fig, path):
-    """Lay out, write the PNG at 120 dpi, close the figure; returns ``path``."""
-    fig.tight_layout()
+def _save(fig, path):
+    """Write the (laid-out) figure as PNG at 120 dpi; returns ``path``."""
     fig.savefig(path, dpi=120)
-    plt.close(fig)
     return path
 
 
-def plot_force_stroke(path, histories, labels, title="Cylinder upsetting"):
+def force_stroke_figure(histories, labels, title="Cylinder upsetting"):
     """Force against height reduction for one or more runs."""
-    plt = _plt()
-    fig, ax = plt.subplots(figsize=(6, 4))
+    fig, ax = _figure((6, 4))
     for h, lab in zip(histories, labels, strict=True):
         ax.plot(100 * h["height_reduction"], h["force"] / 1e3, label=lab)
     ax.set_xlabel("height reduction (%)")
@@ -165,13 +170,13 @@ def plot_force_stroke(path, histories, labels, title="Cylinder upsetting"):
     ax.set_title(title)
     ax.grid(alpha=0.3)
     ax.legend()
-    return _save(plt, fig, path)
+    fig.tight_layout()
+    return fig
 
 
-def plot_die_profile(path, profile, title="Along the die"):
+def die_profile_figure(profile, title="Along the die"):
     """Contact pressure, shear and ``p_hist`` against radius at the end of a run."""
-    plt = _plt()
-    fig, ax = plt.subplots(figsize=(6, 4))
+    fig, ax = _figure((6, 4))
     r = 1e3 * profile["r"]
     on = profile["p"] > 0
     ax.plot(r[on], profile["p"][on] / 1e6, "o-", ms=3, label="pressure p")
@@ -182,13 +187,13 @@ def plot_die_profile(path, profile, title="Along the die"):
     ax.set_title(title)
     ax.grid(alpha=0.3)
     ax.legend()
-    return _save(plt, fig, path)
+    fig.tight_layout()
+    return fig
 
 
-def plot_recontact(path, profile, title="Re-contact: friction limit with and without p_hist"):
+def recontact_figure(profile, title="Re-contact: friction limit with and without p_hist"):
     """Pressure, ``p_hist`` and the shear limit of Eq. 25 vs first loading along the die."""
-    plt = _plt()
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4))
+    fig, (a1, a2) = _figure((11, 4), 2)
     r = 1e3 * profile["r"]
     on = profile["p"] > 0
     a1.plot(r[on], profile["p"][on] / 1e6, "o-", ms=3, label="p")
@@ -208,13 +213,13 @@ def plot_recontact(path, profile, title="Re-contact: friction limit with and wit
         a.grid(alpha=0.3)
         a.legend()
     fig.suptitle(f"{title} (height reduction {100 * profile['height_reduction']:.2f} %)")
-    return _save(plt, fig, path)
+    fig.tight_layout()
+    return fig
 
 
-def plot_law_comparison(path, results, title="Friction laws side by side"):
+def law_comparison_figure(results, title="Friction laws side by side"):
     """Force-stroke curves and end-of-run die profiles of several laws."""
-    plt = _plt()
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4))
+    fig, (a1, a2) = _figure((11, 4), 2)
     for lab, (h, prof) in results.items():
         a1.plot(100 * h["height_reduction"], h["force"] / 1e3, label=lab)
         on = prof["p"] > 0
@@ -227,17 +232,17 @@ def plot_law_comparison(path, results, title="Friction laws side by side"):
         a.grid(alpha=0.3)
         a.legend()
     fig.suptitle(title)
-    return _save(plt, fig, path)
+    fig.tight_layout()
+    return fig
 
 
-def plot_ring_chart(path, chart, fe_curves=None, title="Ring compression calibration chart"):
+def ring_chart_figure(chart, fe_curves=None, title="Ring compression calibration chart"):
     """Upper-bound chart (lines) with FE results (markers) on top.
 
     ``chart``: dict ``m -> (reduction, inner_diameter_change)``;
     ``fe_curves``: dict ``label -> (reduction, inner_diameter_change)``.
     """
-    plt = _plt()
-    fig, ax = plt.subplots(figsize=(6, 4.5))
+    fig, ax = _figure((6, 4.5))
     for m, (red, dch) in chart.items():
         ax.plot(100 * red, 100 * dch, "k-", lw=0.8)
         ax.annotate(f"m={m:g}", (100 * red[-1], 100 * dch[-1]), fontsize=7)
@@ -251,7 +256,33 @@ def plot_ring_chart(path, chart, fe_curves=None, title="Ring compression calibra
     ax.grid(alpha=0.3)
     if fe_curves:
         ax.legend(fontsize=7)
-    return _save(plt, fig, path)
+    fig.tight_layout()
+    return fig
+
+
+def plot_force_stroke(path, histories, labels, title="Cylinder upsetting"):
+    """Write :func:`force_stroke_figure` as a PNG file at ``path``; returns ``path``."""
+    return _save(force_stroke_figure(histories, labels, title=title), path)
+
+
+def plot_die_profile(path, profile, title="Along the die"):
+    """Write :func:`die_profile_figure` as a PNG file at ``path``; returns ``path``."""
+    return _save(die_profile_figure(profile, title=title), path)
+
+
+def plot_recontact(path, profile, title="Re-contact: friction limit with and without p_hist"):
+    """Write :func:`recontact_figure` as a PNG file at ``path``; returns ``path``."""
+    return _save(recontact_figure(profile, title=title), path)
+
+
+def plot_law_comparison(path, results, title="Friction laws side by side"):
+    """Write :func:`law_comparison_figure` as a PNG file at ``path``; returns ``path``."""
+    return _save(law_comparison_figure(results, title=title), path)
+
+
+def plot_ring_chart(path, chart, fe_curves=None, title="Ring compression calibration chart"):
+    """Write :func:`ring_chart_figure` as a PNG file at ``path``; returns ``path``."""
+    return _save(ring_chart_figure(chart, fe_curves=fe_curves, title=title), path)
 
 
 def summary_table(rows):

@@ -57,6 +57,21 @@ class SceneResult:
     snapshots: list = field(default_factory=list)
     info: dict = field(default_factory=dict)
 
+    def figures(self, title=None):
+        """The run's figures, for a notebook (nothing written; not held by pyplot).
+
+        ``{"force_stroke.png": Figure, "die_profile.png": Figure}`` (the force-stroke plot only
+        with an accepted increment): the files ``fe-demo`` writes for a run.
+        """
+        from .output import die_profile_figure, force_stroke_figure
+
+        title = title or str(self.info.get("scene", "run"))
+        figs = {}
+        if self.history:
+            figs["force_stroke.png"] = force_stroke_figure([self.history], [title], title=title)
+        figs["die_profile.png"] = die_profile_figure(contact_profile(self.model), title=title)
+        return figs
+
 
 def contact_profile(model):
     """Die-contact data of the accepted state, sorted by radius.
@@ -267,6 +282,11 @@ def _press(
         "newton_iterations": model.n_newton,
         "cutback_log": list(model.log),
         "timings": model.timings.as_dict(),
+        "linear_solver": {
+            "factorisations": model.linear.n_factor,
+            "krylov_solves": model.linear.n_krylov_solves,
+            "krylov_iterations": model.linear.n_krylov_iterations,
+        },
         "tangential_stiffness": model.contact.stiffness_record(),
         "calibrated_range": range_summary(model, hist),
     }
@@ -508,6 +528,11 @@ def run_multistage(
         "newton_iterations": model.n_newton,
         "cutback_log": list(model.log),
         "timings": model.timings.as_dict(),
+        "linear_solver": {
+            "factorisations": model.linear.n_factor,
+            "krylov_solves": model.linear.n_krylov_solves,
+            "krylov_iterations": model.linear.n_krylov_iterations,
+        },
         "tangential_stiffness": model.contact.stiffness_record(),
         "calibrated_range": range_summary(model, hist),
     }

@@ -1,10 +1,16 @@
-"""``frictionlaw-demo``: print the law over a pressure range (first loading and a reload)."""
+"""``frictionlaw-demo``: print the law over a pressure range (first loading and a reload).
+
+Exit codes: 0 success, 2 bad input (an unreadable parameter file, a negative ``--p-hist``).
+"""
 
 import argparse
+import math
+import sys
 
 import numpy as np
 
 from . import FrictionParams, alpha_first, reload_jump, shear_limit
+from .clitools import Console, HelpFormatter, add_version
 
 
 def default_params():
@@ -12,15 +18,35 @@ def default_params():
     return FrictionParams(m=0.7, sigma_y=800e6 / 2.8, H=800e6, C1=1.0, n1=2.0, C2=2.5, n2=2.0)
 
 
-def main(argv=None):
-    """Entry point."""
-    ap = argparse.ArgumentParser(prog="frictionlaw-demo", description=__doc__)
+def build_parser():
+    """The argument parser of ``frictionlaw-demo``."""
+    ap = argparse.ArgumentParser(
+        prog="frictionlaw-demo",
+        description="Print the friction law over 0-1000 MPa: first loading (Eq. 24) and a reload "
+        "from p_hist (Eq. 25).",
+        formatter_class=HelpFormatter,
+    )
+    add_version(ap)
     ap.add_argument("--params", help="FrictionParams JSON file (default: built-in demo set)")
     ap.add_argument(
         "--p-hist", type=float, default=400e6, help="history pressure for the reload column (Pa)"
     )
-    args = ap.parse_args(argv)
-    params = FrictionParams.from_json(args.params) if args.params else default_params()
+    return ap
+
+
+def main(argv=None):
+    """Entry point; returns 0, or 2 for bad input."""
+    try:
+        args = build_parser().parse_args(argv)
+    except SystemExit as exc:  # argparse: 2 for a bad option, 0 for --help / --version
+        return exc.code if isinstance(exc.code, int) else 2
+    con = Console("frictionlaw-demo")
+    if not (math.isfinite(args.p_hist) and args.p_hist >= 0):
+        return con.error(f"--p-hist must be a finite pressure >= 0 Pa, got {args.p_hist:g}", 2)
+    try:
+        params = FrictionParams.from_json(args.params) if args.params else default_params()
+    except (OSError, ValueError, TypeError, KeyError) as exc:
+        return con.error(f"--params {args.params}: {exc}", 2)
     print(
         f"m={params.m:g} k={params.k / 1e6:.1f} MPa H={params.H / 1e6:.0f} MPa "
         f"C1={params.C1:g} n1={params.n1:g} C2={params.C2:g} n2={params.n2:g}"
@@ -37,7 +63,8 @@ def main(argv=None):
         t2 = shear_limit(p, ph, params)
         print(f"{p / 1e6:8.0f} {alpha_first(p, params):8.4f} {t1 / 1e6:15.3f} {t2 / 1e6:28.3f}")
     print(f"Eq. 25 jump at p_hist = {ph / 1e6:.0f} MPa: {reload_jump(params, ph) / 1e6:.3f} MPa")
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -24,7 +24,7 @@ from .contact.normal import (
     solve_normal_pair,
 )
 from .contact.tangential import solve_tangential, tau_adh_full_sliding
-from .output.report import write_outputs
+from .output.report import calibration_figures, write_outputs
 from .pipeline.calibration import Calibration, calibrate
 from .pipeline.fit import fit_first_loading, fit_reload
 from .pipeline.params import make_params
@@ -44,6 +44,7 @@ from .topography import (
 )
 
 __all__: list[str] = [
+    "calibration_figures",
     "Calibration",
     "InfluenceOperator",
     "Materials",

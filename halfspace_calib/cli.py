@@ -3,19 +3,26 @@
 Exit codes: 0 success; 1 the run failed (a load level or solve failed or did not converge, a
 degenerate fit, a failed effect solve); 2 bad input (refused before any sweep, no traceback).
 Outputs are written into a temporary folder beside ``--out`` and moved into place at the end,
-replacing an earlier calibration's whole output set.
+replacing an earlier calibration's whole output set (:class:`frictionlaw.clitools.OutputFolder`).
+The summary goes to stdout (hidden by ``--quiet``), warnings and errors to stderr.
 """
 
 from __future__ import annotations
 
 import argparse
 import dataclasses
-import os
-import shutil
 import sys
-import tempfile
 import time
+from dataclasses import fields
 from pathlib import Path
+
+from frictionlaw.clitools import (
+    Console,
+    HelpFormatter,
+    OutputFolder,
+    add_common_options,
+    add_version,
+)
 
 from .output.hardness import hardness_table, write_hardness_fit
 from .output.report import write_outputs
@@ -29,6 +36,8 @@ from .pipeline.scene_surfaces import (
 
 #: files that mark a folder as a calibration output (a rerun may replace it)
 _OUTPUT_MARKERS = ("params.json", "summary.json")
+#: the Scene's defaults, shown in --help
+_D = {f.name: f.default for f in fields(Scene)}
 
 
 def _floats(text):
@@ -47,10 +56,13 @@ def build_parser():
         description="Calibrate the SBMF friction law (Eqs. 24-25) from elasto-plastic half-space "
         "contact of a workpiece and a tool surface. With no arguments: the paper's Table 1 "
         "materials and roughness on synthetic surfaces at 128 x 128.",
+        formatter_class=HelpFormatter,
     )
-    ap.add_argument("--out", default="out/calibration", help="output folder (default: %(default)s)")
+    add_version(ap)
+    ap.add_argument("--out", default="out/calibration", help="output folder")
     ap.add_argument(
-        "--scene", help="scene file (TOML, keys as the Scene fields); options override it"
+        "--scene",
+        help="scene file (TOML, keys as the Scene fields); options override it (default: none)",
     )
     g = ap.add_argument_group("surfaces")
     g.add_argument(
@@ -68,7 +80,7 @@ def build_parser():
     g.add_argument(
         "--unit",
         help="height unit of plain files: m, mm, um, nm (instrument files and text matrices with "
-        "a '# Value units:' header carry their own)",
+        "a '# Value units:' header carry their own; default: none, required for plain files)",
     )
     g.add_argument("--workpiece-unit", help="height unit of the workpiece file (default --unit)")
     g.add_argument("--tool-unit", help="height unit of the tool file (default --unit)")
@@ -78,7 +90,7 @@ def build_parser():
         nargs="+",
         metavar=("LX", "LY"),
         help="physical size of plain height matrices (m): one value (square) or two (rows, "
-        "columns)",
+        "columns); default: none, required for plain matrices",
     )
     g.add_argument(
         "--crop-size",
@@ -90,7 +102,7 @@ def build_parser():
         "--max-undefined",
         type=float,
         help="largest fraction of undefined (unmeasured) points filled by harmonic "
-        "interpolation; above it a file is refused (default 0.05)",
+        f"interpolation; above it a file is refused (default {_D['max_undefined']:g})",
     )
     g.add_argument(
         "--lambda-s",
@@ -110,7 +122,7 @@ def build_parser():
         "--rough-tool",
         action="store_true",
         default=None,
-        help="synthetic rough tool (Ra 0.240 um) instead of the smooth one",
+        help="synthetic rough tool (Ra 0.240 um) instead of the smooth one (default: smooth)",
     )
     g.add_argument(
         "--grid",
@@ -120,12 +132,20 @@ def build_parser():
         f"common square and {MAX_DEFAULT_GRID})",
     )
     g = ap.add_argument_group("materials (Pa)")
-    g.add_argument("--E-workpiece", type=float)
-    g.add_argument("--nu-workpiece", type=float)
-    g.add_argument("--E-tool", type=float)
-    g.add_argument("--nu-tool", type=float)
     g.add_argument(
-        "--H", type=float, help="hardness (default 800e6; 2.8 sigma_y if only --sigma-y)"
+        "--E-workpiece",
+        type=float,
+        help=f"workpiece Young's modulus (default {_D['E_workpiece']:g})",
+    )
+    g.add_argument(
+        "--nu-workpiece",
+        type=float,
+        help=f"workpiece Poisson ratio (default {_D['nu_workpiece']:g})",
+    )
+    g.add_argument("--E-tool", type=float, help=f"tool Young's modulus (default {_D['E_tool']:g})")
+    g.add_argument("--nu-tool", type=float, help=f"tool Poisson ratio (default {_D['nu_tool']:g})")
+    g.add_argument(
+        "--H", type=float, help=f"hardness (default {_D['H']:g}; 2.8 sigma_y if only --sigma-y)"
     )
     g.add_argument(
         "--after-contact",
@@ -136,16 +156,30 @@ def build_parser():
         "given); writes hardness_fit.{csv,json,md,png}",
     )
     g.add_argument("--sigma-y", type=float, help="yield stress (default H / 2.8)")
-    g.add_argument("--m", type=float, help="Tresca friction factor in [0, 1] (default 0.5)")
+    g.add_argument(
+        "--m", type=float, help=f"Tresca friction factor in [0, 1] (default {_D['m']:g})"
+    )
     g = ap.add_argument_group("sweeps and solver")
     g.add_argument(
-        "--pressures", type=_floats, help="first-loading p_mean list in Pa, comma separated"
+        "--pressures",
+        type=_floats,
+        help="first-loading p_mean list in Pa, comma separated (default: "
+        + ",".join(f"{p:g}" for p in _D["pressures"])
+        + ")",
     )
     g.add_argument(
-        "--reload-fractions", type=_floats, help="reload pressures as fractions of p_hist"
+        "--reload-fractions",
+        type=_floats,
+        help="reload pressures as fractions of p_hist (default: "
+        + ",".join(f"{f:g}" for f in _D["reload_fractions"])
+        + ")",
     )
-    g.add_argument("--reload-from", type=float, help="smallest p_hist with a reload curve (Pa)")
-    g.add_argument("--tol", type=float, help="solver tolerance (default 1e-8)")
+    g.add_argument(
+        "--reload-from",
+        type=float,
+        help=f"smallest p_hist with a reload curve (Pa; default {_D['reload_from']:g})",
+    )
+    g.add_argument("--tol", type=float, help=f"solver tolerance (default {_D['tol']:g})")
     g.add_argument(
         "--periodic",
         dest="periodic",
@@ -173,19 +207,31 @@ def build_parser():
         help="run the check at half the grid also for synthetic surfaces",
     )
     g.add_argument(
-        "--no-volume-conservation", dest="volume_conservation", action="store_false", default=None
+        "--no-volume-conservation",
+        dest="volume_conservation",
+        action="store_false",
+        default=None,
+        help="let plastic flow lose volume (default: the flowed volume is conserved)",
     )
-    g.add_argument("--reload-surface", choices=["plastic", "volume_conserving"])
+    g.add_argument(
+        "--reload-surface",
+        choices=["plastic", "volume_conserving"],
+        help="surface the reloads start from (default: " + _D["reload_surface"] + ")",
+    )
     g.add_argument(
         "--continuous-reload",
         action="store_true",
         default=None,
-        help="fit the continuous Eq. 25 (no jump at p_hist)",
+        help="fit the continuous Eq. 25 (no jump at p_hist; default: with the jump)",
     )
     g.add_argument(
-        "--workers", type=int, help="local processes (1: in this process, 0: one per CPU)"
+        "--workers",
+        type=int,
+        help=f"local processes (1: in this process, 0: one per CPU; default {_D['workers']})",
     )
-    g.add_argument("--scheduler", help="Dask scheduler address, e.g. tcp://host:8786")
+    g.add_argument(
+        "--scheduler", help="Dask scheduler address, e.g. tcp://host:8786 (default: none)"
+    )
     g = ap.add_argument_group("effects")
     g.add_argument(
         "--effects",
@@ -197,13 +243,14 @@ def build_parser():
     g.add_argument(
         "--geo-threshold",
         type=float,
-        help="mean tau_geo / tau_adh above which Eq. 26's term is fitted (default 0.05)",
+        help=f"mean tau_geo / tau_adh above which Eq. 26's term is fitted (default {_D['geo_threshold']:g})",
     )
     g.add_argument(
         "--sliding",
         action="store_true",
         help="same as adding 'sliding' to --effects: the sliding study of Sec. 3.3 (W_def / W_adh "
-        "at 100-600 MPa on a 3x longer synthetic strip, Ra 0.989 um) into <out>/sliding/",
+        "at 100-600 MPa on a 3x longer synthetic strip, Ra 0.989 um) into <out>/sliding/ "
+        "(default: off)",
     )
     g = ap.add_argument_group("several samples (docs/uncertainty.md)")
     g.add_argument(
@@ -222,7 +269,7 @@ def build_parser():
         type=int,
         help="bootstrap resamples of the band (default 400, at least 50)",
     )
-    ap.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_common_options(ap)
     return ap
 
 
@@ -325,48 +372,13 @@ def scene_from_args(args):
     return scene
 
 
-def _error(msg, code):
-    print(f"halfspace-calib: error: {msg}", file=sys.stderr)
-    return code
-
-
-def _temp_out(out):
-    """A fresh temporary folder beside ``out``; ``ValueError`` if ``out`` cannot be written."""
-    out = Path(out)
-    if out.exists() and not out.is_dir():
-        raise ValueError(f"--out {out} exists and is not a folder")
-    if out.is_dir() and any(out.iterdir()):
-        if not any((out / m).is_file() for m in _OUTPUT_MARKERS):
-            raise ValueError(
-                f"--out {out} is a non-empty folder that holds no calibration output "
-                "(params.json); a run replaces its whole output folder, so give a new or "
-                "an earlier output folder"
-            )
-    try:
-        out.parent.mkdir(parents=True, exist_ok=True)
-        return Path(tempfile.mkdtemp(prefix=f".{out.name}.tmp-", dir=out.parent))
-    except OSError as exc:
-        raise ValueError(f"--out {out} is not writable ({exc.strerror or exc})") from None
-
-
-def _move_into_place(tmp, out):
-    """Replace ``out`` by ``tmp`` (the whole set): rename the old one aside, then delete it."""
-    out = Path(out)
-    old = None
-    if out.exists():
-        old = Path(tempfile.mkdtemp(prefix=f".{out.name}.old-", dir=out.parent))
-        os.replace(out, old / "set")
-    os.replace(tmp, out)
-    if old is not None:
-        shutil.rmtree(old, ignore_errors=True)
-
-
 def main(argv=None):
     """Entry point of ``halfspace-calib``; returns the exit code (0, 1 or 2)."""
     try:
         args = build_parser().parse_args(argv)
-    except SystemExit as exc:  # argparse: 2 for a bad option, 0 for --help
+    except SystemExit as exc:  # argparse: 2 for a bad option, 0 for --help / --version
         return exc.code if isinstance(exc.code, int) else 2
+    con = Console("halfspace-calib", quiet=args.quiet)
     t0 = time.perf_counter()
     hfit = None
     try:
@@ -381,51 +393,52 @@ def main(argv=None):
             return _main_samples(args, scene, spec, t0)
         surfaces = load_scene_surfaces(scene)  # every file check before any sweep
         data = _after_contact(args, scene)
-        tmp = _temp_out(args.out)
+        folder = OutputFolder(args.out, markers=_OUTPUT_MARKERS, what="calibration output")
     except FileNotFoundError as exc:
-        return _error(str(exc) if "not found" in str(exc) else f"file not found: {exc.filename}", 2)
+        msg = str(exc) if "not found" in str(exc) else f"file not found: {exc.filename}"
+        return con.error(msg, 2)
     except (ValueError, ImportError, OSError) as exc:
-        return _error(str(exc), 2)
-    try:
-        _print_input(scene, surfaces, derived=scene.grid is None)
-        if data is not None:
-            try:
-                hfit, scene = _fit_hardness(args, scene, surfaces, data)
-            except ValueError as exc:
-                return _error(str(exc), 2)
-        cal = calibrate(scene, progress=not args.quiet, surfaces=surfaces)
-        write_outputs(cal, tmp)
-        if hfit is not None:
-            write_hardness_fit(hfit, tmp)
-        _move_into_place(tmp, args.out)
-    except (RuntimeError, MemoryError) as exc:
-        return _error(f"the run failed: {exc or type(exc).__name__}", 1)
-    except OSError as exc:  # writing the outputs (disk full, permissions changed meanwhile)
-        return _error(f"the outputs could not be written, {args.out} is unchanged: {exc}", 1)
-    finally:
-        if tmp.exists():
-            shutil.rmtree(tmp, ignore_errors=True)
+        return con.error(str(exc), 2)
+    with folder:
+        try:
+            _print_input(con, scene, surfaces, derived=scene.grid is None)
+            if data is not None:
+                try:
+                    hfit, scene = _fit_hardness(con, args, scene, surfaces, data)
+                except ValueError as exc:
+                    return con.error(str(exc), 2)
+            progress = not (args.quiet or args.no_progress)
+            cal = calibrate(scene, progress=progress, surfaces=surfaces)
+            write_outputs(cal, folder.tmp)
+            if hfit is not None:
+                write_hardness_fit(hfit, folder.tmp)
+            folder.commit()
+        except (RuntimeError, MemoryError) as exc:
+            return con.error(f"the run failed: {exc or type(exc).__name__}", 1)
+        except OSError as exc:  # writing the outputs (disk full, permissions changed meanwhile)
+            return con.error(f"the outputs could not be written, {args.out} is unchanged: {exc}", 1)
     out = Path(args.out)
     P = cal.params
     s = cal.summary()
-    print(f"calibrated in {time.perf_counter() - t0:.1f} s -> {out / 'params.json'}")
-    print(f"  Eq. 24: C1 = {P.C1:.4g}, n1 = {P.n1:.4g}  (R^2 = {s['first_loading_r2']:.5f})")
-    print(
+    say = con.result
+    say(f"calibrated in {time.perf_counter() - t0:.1f} s -> {out / 'params.json'}")
+    say(f"  Eq. 24: C1 = {P.C1:.4g}, n1 = {P.n1:.4g}  (R^2 = {s['first_loading_r2']:.5f})")
+    say(
         f"  Eq. 25: C2 = {P.C2:.4g}, n2 = {P.n2:.4g}  (R^2 = {s['reload_r2']:.5f}, "
         f"largest jump at p_hist {100 * s['max_jump_relative']:.2f} % of tau)"
     )
-    print(f"  Coulomb slope mu_eff = {P.mu_eff:.4f}, cap m k = {P.tau_max / 1e6:.1f} MPa")
-    print(
+    say(f"  Coulomb slope mu_eff = {P.mu_eff:.4f}, cap m k = {P.tau_max / 1e6:.1f} MPa")
+    say(
         f"  reloads: largest local pressure {s['max_reload_pressure_over_H']:.3f} H, "
         f"plastic fraction {s['max_reload_plastic_fraction']:.4f}"
     )
-    _print_effects(cal, out)
-    _print_resolution(cal.resolution)
+    _print_effects(con, cal, out)
+    _print_resolution(con, cal.resolution)
     problems = cal.problems()
     if problems:
-        print("  RUN FAILED (exit code 1):")
+        con.warn("halfspace-calib: RUN FAILED (exit code 1):")
         for p in problems:
-            print(f"    - {p}")
+            con.warn(f"    - {p}")
         return 1
     return 0
 
@@ -435,47 +448,47 @@ def _main_samples(args, scene, spec, t0):
     from .output.uncertainty import write_sample_outputs
     from .pipeline.samples import calibrate_samples, load_samples
 
+    con = Console("halfspace-calib", quiet=args.quiet)
     try:
         samples = load_samples(scene, spec)  # every file and sample check before any sweep
-        tmp = _temp_out(args.out)
+        folder = OutputFolder(args.out, markers=_OUTPUT_MARKERS, what="calibration output")
     except FileNotFoundError as exc:
-        return _error(f"file not found: {exc.filename or exc}", 2)
+        return con.error(f"file not found: {exc.filename or exc}", 2)
     except (ValueError, ImportError, OSError) as exc:
-        return _error(str(exc), 2)
-    try:
-        print(
-            f"  {len(samples)} samples ({spec.patches} patch(es) per pair), solver grid "
-            f"{samples[0].surfaces.grid} x {samples[0].surfaces.grid}, element "
-            f"{samples[0].surfaces.workpiece.dx * 1e6:.4g} um, non-periodic"
-        )
-        mc = calibrate_samples(scene, spec, samples=samples, progress=not args.quiet)
-        write_sample_outputs(mc, tmp)
-        _move_into_place(tmp, args.out)
-    except (RuntimeError, MemoryError) as exc:
-        return _error(f"the run failed: {exc or type(exc).__name__}", 1)
-    except OSError as exc:
-        return _error(f"the outputs could not be written, {args.out} is unchanged: {exc}", 1)
-    finally:
-        if tmp.exists():
-            shutil.rmtree(tmp, ignore_errors=True)
+        return con.error(str(exc), 2)
+    with folder:
+        try:
+            con.result(
+                f"  {len(samples)} samples ({spec.patches} patch(es) per pair), solver grid "
+                f"{samples[0].surfaces.grid} x {samples[0].surfaces.grid}, element "
+                f"{samples[0].surfaces.workpiece.dx * 1e6:.4g} um, non-periodic"
+            )
+            progress = not (args.quiet or args.no_progress)
+            mc = calibrate_samples(scene, spec, samples=samples, progress=progress)
+            write_sample_outputs(mc, folder.tmp)
+            folder.commit()
+        except (RuntimeError, MemoryError) as exc:
+            return con.error(f"the run failed: {exc or type(exc).__name__}", 1)
+        except OSError as exc:
+            return con.error(f"the outputs could not be written, {args.out} is unchanged: {exc}", 1)
     u = mc.uncertainty
-    print(
+    con.result(
         f"calibrated {len(mc.calibrations)} of {len(samples)} samples in "
         f"{time.perf_counter() - t0:.1f} s -> {Path(args.out) / 'params.json'}"
     )
-    print(f"  pooled law and {100 * u.level:g} % bootstrap band ({u.n_bootstrap} resamples):")
+    con.result(f"  pooled law and {100 * u.level:g} % bootstrap band ({u.n_bootstrap} resamples):")
     for k, v in u.parameters.items():
-        print(f"    {k} = {v.central:.4g}  [{v.lower:.4g}, {v.upper:.4g}]")
+        con.result(f"    {k} = {v.central:.4g}  [{v.lower:.4g}, {v.upper:.4g}]")
     b = u.band("tau_first")
     for p in (100e6, 300e6, 600e6):
         if b.p[0] <= p <= b.p[-1]:
             c, lo, hi = b.at(p)
-            print(f"    tau({p / 1e6:g} MPa) = {c / 1e6:.3f} MPa  [{lo / 1e6:.3f}, {hi / 1e6:.3f}]")
+            con.result(f"    tau({p / 1e6:g} MPa) = {c / 1e6:.3f} MPa  [{lo / 1e6:.3f}, {hi / 1e6:.3f}]")
     problems = mc.problems()
     if problems:
-        print("  RUN FAILED (exit code 1):")
+        con.warn("halfspace-calib: RUN FAILED (exit code 1):")
         for p in problems:
-            print(f"    - {p}")
+            con.warn(f"    - {p}")
         return 1
     return 0
 
@@ -491,15 +504,15 @@ def _after_contact(args, scene):
     return read_after_contact(args.after_contact)
 
 
-def _fit_hardness(args, scene, surfaces, data):
+def _fit_hardness(con, args, scene, surfaces, data):
     """Fit H (Sec. 3.1) on the scene's solver surfaces; the scene calibrated with it."""
     t0 = time.perf_counter()
     fit = fit_hardness(surfaces.workpiece, surfaces.tool, scene.materials, scene.solver, data)
-    print(
+    con.result(
         f"  H fitted to the after-contact roughness in {time.perf_counter() - t0:.1f} s "
         f"({fit.evaluations} trial H): {fit.message}"
     )
-    print("  " + hardness_table(fit).replace("\n", "\n  ").rstrip())
+    con.result("  " + hardness_table(fit).replace("\n", "\n  ").rstrip())
     if not fit.converged:
         raise RuntimeError(f"the fit of H failed: {fit.message}")
     over = {"H": fit.H, "sigma_y": args.sigma_y, "H_source": fit.data.source}
@@ -516,10 +529,10 @@ def _scene_gives(args, key):
     return key in data.get("scene", data)
 
 
-def _print_input(scene, surfaces, derived=False):
+def _print_input(con, scene, surfaces, derived=False):
     """What was read and done to each file, the grid and the periodicity."""
     for f in surfaces.files:
-        print(
+        con.result(
             f"  {f.role}: {f.path} [{f.format}], {f.native_shape[0]} x {f.native_shape[1]} points, "
             f"{f.native_size[0] * 1e6:.4g} x {f.native_size[1] * 1e6:.4g} um, heights in "
             f"{f.unit} ({f.unit_source}), undefined {f.undefined_points} "
@@ -528,10 +541,10 @@ def _print_input(scene, surfaces, derived=False):
             "elements"
         )
         for step in f.steps:
-            print(f"    - {step}")
+            con.result(f"    - {step}")
     if surfaces.files:
         lam = surfaces.lambda_s
-        print(
+        con.result(
             "  short-wavelength cut-off "
             + (
                 f"lambda_s = {lam * 1e6:.4g} um ({surfaces.lambda_s_source}), "
@@ -546,10 +559,10 @@ def _print_input(scene, surfaces, derived=False):
             )
         )
     for note in surfaces.notes:
-        print(f"halfspace-calib: warning: {note}", file=sys.stderr)
+        con.warn(f"halfspace-calib: warning: {note}")
     w = surfaces.workpiece
     kind = "periodic (FFT)" if scene.periodic else "non-periodic (DC-FFT)"
-    print(
+    con.result(
         f"  solver grid {surfaces.grid} x {surfaces.grid}"
         + (" (default rule for files)" if derived else "")
         + f", element {w.dx * 1e6:.4g} um, {kind}"
@@ -557,13 +570,13 @@ def _print_input(scene, surfaces, derived=False):
     )
 
 
-def _print_resolution(rc):
+def _print_resolution(con, rc):
     if rc is None:
         return
     if rc.skipped:
-        print(f"  resolution check skipped: {rc.skipped}")
+        con.result(f"  resolution check skipped: {rc.skipped}")
         return
-    print(
+    con.result(
         f"  resolution check (grid {rc.grid} against {rc.half_grid}, {rc.seconds:.1f} s): "
         + ", ".join(
             f"{k} {a:.4g} -> {b:.4g} ({100 * d:.1f} %)" for k, (a, b, d) in rc.params.items()
@@ -571,13 +584,20 @@ def _print_resolution(rc):
         + f"; alpha up to {100 * rc.alpha_change:.1f} %"
     )
     if rc.warning:
-        print(f"  WARNING: {rc.warning}")
+        con.warn(f"halfspace-calib: WARNING: {rc.warning}")
 
 
-def _print_effects(cal, out):
-    """One block per modelled effect besides the normal sweeps (through the effects registry)."""
-    print(f"  effects modelled: {', '.join(cal.scene.effects)}")
-    cal.print_effects(out)
+def _print_effects(con, cal, out):
+    """One block per modelled effect besides the normal sweeps (through the effects registry).
+
+    The registry's ``WARNING`` lines (a failed effect solve) go to stderr, the rest to stdout.
+    """
+    con.result(f"  effects modelled: {', '.join(cal.scene.effects)}")
+    for line in cal.effect_lines(out):
+        if line.lstrip().startswith("WARNING"):
+            con.warn(f"halfspace-calib: {line.strip()}")
+        else:
+            con.result(line)
 
 
 if __name__ == "__main__":

@@ -65,6 +65,16 @@ def test_fit_quality_and_parameter_file(cal, tmp_path):
     )
     for name in figs:
         assert_png_drawn(tmp_path / name)
+    # the same figures for a notebook: nothing written, no pyplot figure left open
+    from halfspace_calib import calibration_figures
+
+    before = sorted(tmp_path.iterdir())
+    nb = calibration_figures(cal)
+    assert sorted(nb) == sorted(figs) and sorted(tmp_path.iterdir()) == before
+    assert all(f.canvas.manager is None for f in nb.values())  # not held by pyplot
+    for name in nb:
+        for got, ref in zip(lines(nb[name]), lines(figs[name]), strict=True):
+            np.testing.assert_array_equal(got[1], ref[1])
     (xp, yp), (xl, yl) = lines(figs["alpha_first_loading.png"])
     np.testing.assert_allclose(xp * 1e6, p, rtol=1e-15)
     np.testing.assert_array_equal(yp, alpha)
@@ -113,7 +123,7 @@ def test_scene_file_and_cli(tmp_path):
     with pytest.raises(ValueError, match="unknown scene keys"):
         load_scene(bad)
     out = tmp_path / "out"
-    assert main(["--scene", str(scene), "--out", str(out), "--quiet", "--m", "0.4"]) == 0
+    assert main(["--scene", str(scene), "--out", str(out), "--no-progress", "--m", "0.4"]) == 0
     P = FrictionParams.from_json(out / "params.json")
     assert P.m == 0.4
     summary = json.loads((out / "summary.json").read_text())

@@ -276,6 +276,13 @@ def test_provenance_and_outputs(cal_all, tmp_path):
     np.testing.assert_allclose(geo, r.tau_geo / 1e6, rtol=1e-15)
     np.testing.assert_array_equal(lines(figs["fig10_ratio.png"])[0][1], r.ratio)
     assert not (tmp_path / "sliding").exists()
+    # out=None: the same figures for a notebook, nothing written, not held by pyplot
+    before = sorted(tmp_path.rglob("*"))
+    nb = {**plot_tangential(curves, t, None), **plot_geometric([r], None)}
+    assert sorted(nb) == sorted([*figs, "tangential_curves.png", "tangential_stiffness.png"])
+    assert sorted(tmp_path.rglob("*")) == before
+    assert all(f.canvas.manager is None for f in nb.values())
+    np.testing.assert_array_equal(lines(nb["fig10_ratio.png"])[0][1], r.ratio)
 
 
 def test_normal_only_records_no_effects(tmp_path):
@@ -298,7 +305,7 @@ def test_m_zero_skips_with_reasons(tmp_path, capsys):
         "1e-7",
         "--out",
         str(out),
-        "--quiet",
+        "--no-progress",
         "--m",
         "0",
         "--effects",
@@ -343,7 +350,7 @@ def test_cli_all_effects(tmp_path, capsys):
         "1e-7",
         "--out",
         str(out),
-        "--quiet",
+        "--no-progress",
         "--effects",
         "tangential,inclined",
         "--geo-threshold",

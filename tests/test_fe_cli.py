@@ -100,8 +100,7 @@ def test_bad_input(tmp_path, capsys):
     assert main(["upsetting", "--params", str(tmp_path / "nope.json")]) == 2
     assert main(["upsetting", "--law", "tresca", "--m", "2", "--out", str(tmp_path)]) == 2
     assert "m must be in [0, 1]" in capsys.readouterr().err
-    with pytest.raises(SystemExit):
-        main(["upsetting", "--law", "foo"])
+    assert main(["upsetting", "--law", "foo"]) == 2  # argparse's refusal, as an exit code
     with pytest.raises(ValueError, match="law must be one of"):
         make_law_factory("foo")
     with pytest.raises(ValueError, match="mu must be"):
@@ -118,3 +117,22 @@ def test_fe_demo_never_imports_halfspace_calib():
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
+
+
+def test_run_figures_for_a_notebook(tmp_path):
+    from fe_demo.scenes import contact_profile, run_upsetting
+
+    res = run_upsetting("tresca", nr=4, n_increments=3, reduction=0.15, progress=False)
+    before = sorted(tmp_path.iterdir())
+    figs = res.figures("m=0.3")
+    assert sorted(figs) == ["die_profile.png", "force_stroke.png"]
+    assert all(f.canvas.manager is None for f in figs.values())  # not held by pyplot
+    ((x, y),) = [(ln.get_xdata(), ln.get_ydata()) for ln in figs["force_stroke.png"].axes[0].lines]
+    np.testing.assert_allclose(x, 100 * res.history["height_reduction"], rtol=1e-15)
+    np.testing.assert_allclose(y, res.history["force"] / 1e3, rtol=1e-15)
+    prof = contact_profile(res.model)
+    on = prof["p"] > 0
+    xp = figs["die_profile.png"].axes[0].lines[0].get_xdata()
+    np.testing.assert_allclose(xp, 1e3 * prof["r"][on], rtol=1e-15)
+    assert figs["force_stroke.png"].axes[0].get_title() == "m=0.3"
+    assert sorted(tmp_path.iterdir()) == before  # nothing written

@@ -1,4 +1,5 @@
 import math
+import time
 
 import pytest
 
@@ -44,3 +45,35 @@ def test_dask_local_cluster_path_agrees():
 def test_bad_workers():
     with pytest.raises(ValueError, match="workers must be an integer >= 0"):
         run_jobs(_work, JOBS, workers=-2)
+
+
+def _sleep_then_stamp(seconds):
+    time.sleep(seconds)
+    return time.monotonic()  # CLOCK_MONOTONIC: one clock for every process of the machine
+
+
+class _Bar:
+    """Stands in for tqdm: records when each ``update`` happens."""
+
+    stamps = []
+
+    def __init__(self, *a, **k):
+        type(self).stamps = []
+
+    def update(self, n=1):
+        type(self).stamps.append(time.monotonic())
+
+    def close(self):
+        pass
+
+
+def test_progress_advances_as_jobs_finish(monkeypatch):
+    """A slow first job does not hold back the bar: the fast job's tick comes before it ends."""
+    import halfspace_calib.common.jobs as J
+
+    monkeypatch.setattr(J, "tqdm", _Bar)
+    res = run_jobs(_sleep_then_stamp, [3.0, 0.0], workers=2)
+    assert [r.ok for r in res] == [True, True]
+    slow_end, fast_end = res[0].value, res[1].value
+    assert len(_Bar.stamps) == 2 and fast_end < slow_end
+    assert fast_end <= _Bar.stamps[0] < slow_end  # old behaviour: first tick after the slow job

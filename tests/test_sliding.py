@@ -344,7 +344,7 @@ def test_cli_sliding_option(tmp_path, capsys):
         "1e-7",
         "--out",
         str(out),
-        "--quiet",
+        "--no-progress",
         "--sliding",
     ]
     assert main(argv) == 0

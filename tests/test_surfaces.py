@@ -373,7 +373,9 @@ def test_instrument_format_without_extra_names_it(tmp_path, monkeypatch):
     monkeypatch.setitem(sys.modules, "SurfaceTopography", None)
     f = tmp_path / "scan.vk4"
     f.write_bytes(b"VK4_" + bytes(100))
-    with pytest.raises(ImportError, match=r"sbmf-friction\[topography\]"):
+    with pytest.raises(
+        ImportError, match=r"SurfaceTopography>=1.27.*pip install -e .\.\[topography\]"
+    ):
         S.read_surface(f)
 
 

@@ -13,15 +13,12 @@ Targets: ``abaqus-fric``, ``abaqus-vfric``, ``abaqus-vfriction``, ``lsdyna-usrfr
 import argparse
 import hashlib
 import math
-import os
-import shutil
-import sys
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from ..clitools import Console, HelpFormatter, OutputFolder, add_common_options, add_version
 from ..params import FrictionParams
 from . import _fortran, _readme, _tables
 
@@ -279,21 +276,10 @@ def export(target, params_path, out, *, units="SI", k_t=None, table_tol=1e-3, fo
     if out.exists() and not force:
         raise ValueError(f"--out {out} exists; remove it or pass --force to replace it")
     files, table = render(target, params_path, units=units, k_t=k_t, table_tol=table_tol)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
-    try:
+    with OutputFolder(out, markers=(), what="export", force=True) as folder:
         for name, text in files.items():
-            (tmp / name).write_text(text, encoding="utf-8")
-        if out.exists():
-            old = Path(tempfile.mkdtemp(prefix=f".{out.name}.old.", dir=out.parent))
-            os.replace(out, old / "x")
-            os.replace(tmp, out)
-            shutil.rmtree(old)
-        else:
-            os.replace(tmp, out)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
+            (folder.tmp / name).write_text(text, encoding="utf-8")
+        folder.commit()
     return ExportResult(out, tuple(sorted(files)), table)
 
 
@@ -301,25 +287,28 @@ def _parser():
     ap = argparse.ArgumentParser(
         prog="frictionlaw-export",
         description="Write the calibrated friction law as an FE user subroutine or friction table.",
+        formatter_class=HelpFormatter,
     )
+    add_version(ap)
     ap.add_argument("target", help="one of: " + ", ".join(TARGETS))
     ap.add_argument("--params", required=True, help="params.json from the calibration")
     ap.add_argument("--out", required=True, help="output folder (must not exist unless --force)")
-    ap.add_argument("--units", default="SI", help="SI (Pa, m) or mm-t-s (MPa, mm); default SI")
+    ap.add_argument("--units", default="SI", help="SI (Pa, m) or mm-t-s (MPa, mm)")
     ap.add_argument(
         "--k-t",
         type=float,
         default=None,
         help="constant tangential stick stiffness in Pa/m (Fortran targets; overrides the "
-        "parameter file's calibrated k_t table)",
+        "parameter file's calibrated k_t table; default: the file's table, else none)",
     )
     ap.add_argument(
         "--table-tol",
         type=float,
         default=1e-3,
-        help="table targets: max |tau_table - tau| / tau_max on first loading (default 1e-3)",
+        help="table targets: max |tau_table - tau| / tau_max on first loading",
     )
     ap.add_argument("--force", action="store_true", help="replace an existing --out folder")
+    add_common_options(ap, progress=False)
     return ap
 
 
@@ -330,6 +319,7 @@ def main(argv=None):
         args = ap.parse_args(argv)
     except SystemExit as exc:
         return int(exc.code or 0)
+    con = Console("frictionlaw-export", quiet=args.quiet)
     try:
         res = export(
             args.target,
@@ -341,14 +331,12 @@ def main(argv=None):
             force=args.force,
         )
     except (ValueError, FileNotFoundError, IsADirectoryError) as exc:
-        print(f"frictionlaw-export: error: {exc}", file=sys.stderr)
-        return 2
+        return con.error(str(exc), 2)
     except RuntimeError as exc:
-        print(f"frictionlaw-export: failed: {exc}", file=sys.stderr)
-        return 1
-    print(f"wrote {', '.join(res.files)} to {res.out}")
+        return con.error(f"the export failed: {exc}", 1)
+    con.result(f"wrote {', '.join(res.files)} to {res.out}")
     if res.table is not None:
-        print(
+        con.result(
             f"table: {len(res.table.p)} pressures, measured max |tau_table - tau| = "
             f"{res.table.max_error:.3g} tau_max (tolerance {res.table.tol:g})"
         )

@@ -5,12 +5,13 @@ job order whichever path ran them, so a sweep gives identical numbers on every p
 worker that dies mid-job has its job rescheduled by the scheduler (up to its
 ``distributed.scheduler.allowed-failures``); a job whose workers all died comes back failed
 (``KilledWorker``), the others' results are kept.
+The progress bar advances as jobs finish (in completion order), not as they are collected.
 """
 
 import os
 import time
 import traceback
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from typing import Any
 
@@ -104,11 +105,9 @@ def run_jobs(fn, jobs, *, workers=1, scheduler=None, progress=True, desc="sweep"
             max_workers=n, initializer=_init_worker, initargs=(threads,)
         ) as pool:
             futures = [pool.submit(_call, fn, i, job) for i, job in enumerate(jobs)]
-            out = []
-            for f in futures:
-                out.append(f.result())
+            for _ in as_completed(futures):
                 bar.update()
-            return out
+            return [f.result() for f in futures]
     finally:
         bar.close()
 
@@ -119,7 +118,8 @@ def _run_dask(fn, jobs, scheduler, bar):
     except ImportError:  # pragma: no cover - depends on the environment
         raise ImportError(
             "a Dask scheduler was given but dask.distributed is not installed: "
-            "pip install 'sbmf-friction[dask]'"
+            "pip install 'dask[distributed]>=2023.1' (from a clone of this project: "
+            "pip install -e '.[dask]')"
         ) from None
     own = not isinstance(scheduler, Client)
     client = Client(scheduler) if own else scheduler

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import csv
 
-__all__ = ["pyplot", "save_png", "write_csv"]
+__all__ = ["new_axes", "pyplot", "save_png", "write_csv"]
 
 
 def write_csv(path, header, rows):
@@ -25,15 +25,26 @@ def pyplot():
     return plt
 
 
+def new_axes(figsize):
+    """A new figure and its one axes, not registered with pyplot (nothing to close)."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=figsize)
+    return fig, fig.subplots()
+
+
 def save_png(fig, path):
-    """Lay out ``fig``, write it to ``path`` at 120 dpi and close it; return ``fig``.
+    """Lay out ``fig``, write it to ``path`` at 120 dpi (not with ``path=None``); return ``fig``.
 
-    A closed figure keeps its artists: the plot functions return their figures so that tests
-    read the plotted data back.
+    A figure from pyplot is closed after writing; it keeps its artists: the plot functions return
+    their figures so that tests (and notebooks) read the plotted data back.
     """
-    import matplotlib.pyplot as plt
-
     fig.tight_layout()
+    if path is None:
+        return fig
     fig.savefig(path, dpi=120)
-    plt.close(fig)
+    if fig.canvas.manager is not None:
+        import matplotlib.pyplot as plt
+
+        plt.close(fig)
     return fig

@@ -4,7 +4,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._files import pyplot, save_png, write_csv
+from ._files import new_axes, save_png, write_csv
 
 __all__ = [
     "STIFFNESS_COLUMNS",
@@ -77,11 +77,11 @@ def plot_tangential(curves, summary, out):
     """``tangential_curves.png`` and ``tangential_stiffness.png``: ``{file name: Figure}``.
 
     ``curves``: ``[(p_mean, PreslidingCurve), ...]``; ``summary``: the stiffness summary.
+    ``out=None``: the figures only (for a notebook), nothing written.
     """
-    plt = pyplot()
     figs = {}
 
-    fig, ax = plt.subplots(figsize=(6, 4.2))
+    fig, ax = new_axes((6, 4.2))
     for i, (p, t) in enumerate(curves):
         ax.plot(
             np.asarray(t.delta) * 1e9,
@@ -98,10 +98,10 @@ def plot_tangential(curves, summary, out):
     )
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
-    figs["tangential_curves.png"] = save_png(fig, out / "tangential_curves.png")
+    figs["tangential_curves.png"] = save_png(fig, _path(out, "tangential_curves.png"))
 
     rows = summary["rows"]
-    fig, ax = plt.subplots(figsize=(6, 4.2))
+    fig, ax = new_axes((6, 4.2))
     p = np.array([r["p_mean"] for r in rows]) / 1e6
     ax.loglog(p, [r["k_t0"] for r in rows], "o-", label="k_t0 (initial)")
     ax.loglog(p, [r["k_eq"] for r in rows], "^-", label="k_eq (energy-equivalent, recommended)")
@@ -113,7 +113,7 @@ def plot_tangential(curves, summary, out):
     )
     ax.grid(alpha=0.3, which="both")
     ax.legend()
-    figs["tangential_stiffness.png"] = save_png(fig, out / "tangential_stiffness.png")
+    figs["tangential_stiffness.png"] = save_png(fig, _path(out, "tangential_stiffness.png"))
     return figs
 
 
@@ -124,3 +124,8 @@ def write_effect_outputs(cal, out):
     of this package.
     """
     cal.write_effects(Path(out))
+
+
+def _path(out, name):
+    """``out / name``, or ``None`` (figures only, nothing written) for ``out=None``."""
+    return None if out is None else out / name

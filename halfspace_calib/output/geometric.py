@@ -3,7 +3,7 @@
 from pathlib import Path
 
 from ..studies.geometric import GeometricResult, GeometricStudy
-from ._files import pyplot, save_png, write_csv
+from ._files import new_axes, save_png, write_csv
 
 __all__ = ["plot_geometric", "write_geometric_outputs"]
 
@@ -66,12 +66,14 @@ def write_geometric_outputs(result, out_dir):
 
 
 def plot_geometric(results, out):
-    """``fig9_tau.png`` and ``fig10_ratio.png`` into ``out``: ``{file name: Figure}``."""
-    plt = pyplot()
+    """``fig9_tau.png`` and ``fig10_ratio.png`` into ``out``: ``{file name: Figure}``.
+
+    ``out=None``: the figures only (for a notebook), nothing written.
+    """
     figs = {}
 
     marks = ["*", "o", "s", "^", "v", "D"]
-    fig, ax = plt.subplots(figsize=(6, 4.2))
+    fig, ax = new_axes((6, 4.2))
     for i, r in enumerate(results):
         mk = marks[i % len(marks)]
         ax.plot(
@@ -87,9 +89,9 @@ def plot_geometric(results, out):
     )
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
-    figs["fig9_tau.png"] = save_png(fig, out / "fig9_tau.png")
+    figs["fig9_tau.png"] = save_png(fig, _path(out, "fig9_tau.png"))
 
-    fig, ax = plt.subplots(figsize=(6, 4.2))
+    fig, ax = new_axes((6, 4.2))
     for i, r in enumerate(results):
         ax.plot(
             r.p_mean / 1e6,
@@ -106,5 +108,10 @@ def plot_geometric(results, out):
     ax.set_ylim(bottom=0)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    figs["fig10_ratio.png"] = save_png(fig, out / "fig10_ratio.png")
+    figs["fig10_ratio.png"] = save_png(fig, _path(out, "fig10_ratio.png"))
     return figs
+
+
+def _path(out, name):
+    """``out / name``, or ``None`` (figures only, nothing written) for ``out=None``."""
+    return None if out is None else out / name

@@ -7,9 +7,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ._files import pyplot, save_png, write_csv
+from ._files import write_csv
 
-__all__ = ["write_outputs", "REPORT_IMAGES"]
+__all__ = ["REPORT_IMAGES", "calibration_figures", "write_outputs", "write_plots"]
 
 #: the plots of every calibration and their captions in report.html
 REPORT_IMAGES = [
@@ -66,15 +66,31 @@ def _roughness_rows(cal):
     return rows
 
 
-def write_plots(cal, out):
-    """PNG plots: alpha vs p with Eq. 24, reload curves with Eq. 25, Ra/Rq vs p, pressure map.
+def _axes(figsize):
+    """A new figure (not registered with pyplot) and its one axes."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=figsize)
+    return fig, fig.subplots()
+
+
+def calibration_figures(cal):
+    """The calibration's figures, for a notebook: nothing is written, pyplot is not touched.
+
+    alpha against p with Eq. 24, the reload curves with Eq. 25, Ra/Rq after unloading against p,
+    and the contact-pressure map of the highest level that kept one. :func:`write_plots` writes
+    the same figures as PNG files.
+
+    Parameters
+    ----------
+    cal : Calibration
+        The result of :func:`~halfspace_calib.pipeline.calibration.calibrate`.
 
     Returns
     -------
     dict
-        ``{file name: matplotlib Figure}`` of the plots written.
+        ``{PNG file name: matplotlib.figure.Figure}``, laid out.
     """
-    plt = pyplot()
     figs = {}
 
     from frictionlaw import alpha_first, alpha_reload
@@ -83,7 +99,7 @@ def write_plots(cal, out):
     MPa = 1e6
     p, a = cal.sweeps.loading
     pp = np.linspace(0, max(p.max() * 1.1, 1.0), 300)
-    fig, ax = plt.subplots(figsize=(6, 4.2))
+    fig, ax = _axes((6, 4.2))
     ax.plot(p / MPa, a, "o", label="half-space model")
     ax.plot(pp / MPa, alpha_first(pp, P), "-", label=f"Eq. 24: C1={P.C1:.3g}, n1={P.n1:.3g}")
     ax.set(
@@ -93,9 +109,9 @@ def write_plots(cal, out):
     )
     ax.grid(alpha=0.3)
     ax.legend()
-    figs["alpha_first_loading.png"] = save_png(fig, out / "alpha_first_loading.png")
+    figs["alpha_first_loading.png"] = fig
 
-    fig, ax = plt.subplots(figsize=(6, 4.2))
+    fig, ax = _axes((6, 4.2))
     ax.plot(pp / MPa, alpha_first(pp, P), "k-", lw=1, label="Eq. 24 (first loading)")
     hists = []  # several samples share a p_hist: one colour and one fitted curve each
     for c in cal.sweeps.reload_curves():
@@ -119,11 +135,11 @@ def write_plots(cal, out):
     )
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
-    figs["alpha_reload.png"] = save_png(fig, out / "alpha_reload.png")
+    figs["alpha_reload.png"] = fig
 
     lv = cal.sweeps.levels
     rows = _roughness_rows(cal)
-    fig, ax = plt.subplots(figsize=(6, 4.2))
+    fig, ax = _axes((6, 4.2))
     pr = np.array([r[0] for r in rows]) / MPa
     ax.plot(pr, [r[1] * 1e6 for r in rows], "o-", label="Ra")
     ax.plot(pr, [r[2] * 1e6 for r in rows], "s-", label="Rq")
@@ -134,13 +150,13 @@ def write_plots(cal, out):
     )
     ax.grid(alpha=0.3)
     ax.legend()
-    figs["roughness.png"] = save_png(fig, out / "roughness.png")
+    figs["roughness.png"] = fig
 
     maps = [v for v in lv if v.pressure_map is not None]
     if maps:
         v = maps[-1]
         wp = cal.sweeps.surfaces["workpiece"]
-        fig, ax = plt.subplots(figsize=(5.4, 4.6))
+        fig, ax = _axes((5.4, 4.6))
         ext = [0, wp.shape[1] * wp.dy * 1e3, 0, wp.shape[0] * wp.dx * 1e3]
         im = ax.imshow(v.pressure_map / MPa, origin="lower", extent=ext, cmap="viridis")
         fig.colorbar(im, ax=ax, label="p [MPa]")
@@ -149,7 +165,23 @@ def write_plots(cal, out):
             ylabel="x [mm]",
             title=f"Contact pressure at p_mean = {v.p_hist / MPa:.0f} MPa",
         )
-        figs["pressure_map.png"] = save_png(fig, out / "pressure_map.png")
+        figs["pressure_map.png"] = fig
+    for fig in figs.values():
+        fig.tight_layout()
+    return figs
+
+
+def write_plots(cal, out):
+    """Write :func:`calibration_figures` as PNG files (120 dpi) into ``out``.
+
+    Returns
+    -------
+    dict
+        ``{file name: matplotlib Figure}`` of the plots written.
+    """
+    figs = calibration_figures(cal)
+    for name, fig in figs.items():
+        fig.savefig(Path(out) / name, dpi=120)
     return figs
 
 

@@ -6,7 +6,7 @@ import numpy as np
 
 from ..studies.sliding import SlidingResult
 from ..studies.sliding_study import SlidingStudy
-from ._files import pyplot, save_png, write_csv
+from ._files import new_axes, save_png, write_csv
 
 __all__ = ["plot_sliding", "write_sliding_outputs"]
 
@@ -102,8 +102,10 @@ def write_sliding_outputs(result, out_dir):
 
 
 def plot_sliding(results, out):
-    """Figs. 11-15 into ``out``: ``{file name: Figure}``."""
-    plt = pyplot()
+    """Figs. 11-15 into ``out``: ``{file name: Figure}``.
+
+    ``out=None``: the figures only (for a notebook), nothing written.
+    """
     made = {}
     figs = [
         ("fig11_u0.png", "u0", 1e6, "global approach u0 (um)", "Fig. 11", False),
@@ -113,7 +115,7 @@ def plot_sliding(results, out):
         ("fig15_ratio.png", "ratio", 1.0, "W_def / W_adh", "Fig. 15", True),
     ]
     for name, attr, scale, ylabel, title, log in figs:
-        fig, ax = plt.subplots(figsize=(6, 4))
+        fig, ax = new_axes((6, 4))
         for r in results:
             y = getattr(r, attr) * scale
             x = r.x * 1e3
@@ -129,5 +131,5 @@ def plot_sliding(results, out):
         ax.set_ylabel(ylabel)
         ax.set_title(f"{title} (sliding, Sec. 3.3)")
         ax.legend(fontsize=7)
-        made[name] = save_png(fig, out / name)
+        made[name] = save_png(fig, None if out is None else out / name)
     return made

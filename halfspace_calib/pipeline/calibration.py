@@ -116,6 +116,10 @@ class Calibration:
         for name, outcome in self.effects.items():
             REGISTRY[name].print(outcome, out)
 
+    def effect_lines(self, out):
+        """The report lines of each effect (``print_effects`` prints them), through the registry."""
+        return [line for n, o in self.effects.items() for line in REGISTRY[n].lines(o, out)]
+
     def summary(self):
         """JSON-ready summary (also stored in the parameter file's provenance)."""
         P = self.params

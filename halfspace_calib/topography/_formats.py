@@ -48,8 +48,8 @@ PLAIN_LAYOUTS = {
 
 TOPOGRAPHY_EXTRA_HINT = (
     "instrument formats (.vk4, .vk6, .x3p, .sur, .datx, .plu, ...) need the optional "
-    "SurfaceTopography package: pip install 'sbmf-friction[topography]' "
-    "(or pip install SurfaceTopography)"
+    "SurfaceTopography package: pip install 'SurfaceTopography>=1.27' (from a clone of this "
+    "project: pip install -e '.[topography]')"
 )
 
 

@@ -1,0 +1,174 @@
+"""One set of conventions for the four command lines (frictionlaw.clitools).
+
+--version, --quiet against --no-progress, stdout/stderr, help text with every default and no RST,
+output folders that appear whole.
+"""
+
+import argparse
+import re
+from importlib import metadata
+
+import pytest
+
+from fe_demo import cli as fe_cli
+from frictionlaw import __main__ as law_demo
+from frictionlaw import export as law_export
+from frictionlaw.clitools import OutputFolder
+from halfspace_calib import cli as hs_cli
+
+MAINS = {
+    "halfspace-calib": hs_cli.main,
+    "fe-demo": fe_cli.main,
+    "frictionlaw-export": law_export.main,
+    "frictionlaw-demo": law_demo.main,
+}
+PARSERS = {
+    "halfspace-calib": hs_cli.build_parser,
+    "fe-demo": fe_cli.build_parser,
+    "frictionlaw-export": law_export._parser,
+    "frictionlaw-demo": law_demo.build_parser,
+}
+FE_FAST = ["--nr", "4", "--increments", "3", "--reduction", "0.15", "--vtu-every", "1"]
+
+
+def _all_parsers(parser):
+    """The parser and every sub-parser below it."""
+    out = [parser]
+    for a in parser._actions:
+        if isinstance(a, argparse._SubParsersAction):
+            for sub in a.choices.values():
+                out += _all_parsers(sub)
+    return out
+
+
+@pytest.mark.parametrize("prog", sorted(MAINS))
+def test_version(prog, capsys):
+    assert MAINS[prog](["--version"]) == 0
+    assert capsys.readouterr().out.strip() == f"{prog} {metadata.version('sbmf-friction')}"
+
+
+@pytest.mark.parametrize("prog", sorted(PARSERS))
+def test_every_option_has_help_with_its_default_and_no_rst(prog):
+    parsers = _all_parsers(PARSERS[prog]())
+    assert len(parsers) == (4 if prog == "fe-demo" else 1)
+    for p in parsers:
+        text = p.format_help()
+        assert "``" not in text and not re.search(r":(class|func|meth|data|attr):", text), p.prog
+        fmt = p._get_formatter()
+        for a in p._actions:
+            if not a.option_strings or isinstance(a, argparse._HelpAction):
+                continue
+            assert a.help, f"{p.prog} {a.option_strings[0]} has no help"
+            if a.nargs == 0 or a.required:  # flags: off unless given; required: no default
+                continue
+            shown = fmt._expand_help(a) if a.help else ""
+            assert "default" in shown, f"{p.prog} {a.option_strings[0]}: no default in {shown!r}"
+
+
+def test_the_help_formatter_adds_a_default_only_where_missing():
+    from frictionlaw.clitools import HelpFormatter
+
+    ap = argparse.ArgumentParser(formatter_class=HelpFormatter)
+    ap.add_argument("--a", type=float, default=2.5, help="an a")
+    ap.add_argument("--b", default=None, help="a b (default: none)")
+    ap.add_argument("--c", type=int, default=3, help="a c (default 3)")
+    ap.add_argument("--d", action="store_true", help="a flag")
+    text = " ".join(ap.format_help().split())
+    assert "an a (default: 2.5)" in text
+    assert text.count("default") == 3 and "a flag" in text
+
+
+def _fe(tmp_path, *extra, scene="upsetting"):
+    return fe_cli.main([scene, *FE_FAST, "--out", str(tmp_path), *extra])
+
+
+def test_quiet_hides_progress_and_summary_no_progress_only_progress(tmp_path, capsys):
+    assert _fe(tmp_path / "q", "--quiet") == 0
+    cap = capsys.readouterr()
+    assert cap.out == "" and cap.err == ""
+    assert (tmp_path / "q" / "history.csv").is_file()
+    assert _fe(tmp_path / "n", "--no-progress") == 0
+    cap = capsys.readouterr()
+    assert "sbmf" in cap.out and f"output in {tmp_path / 'n'}" in cap.out and cap.err == ""
+    # the summary on stdout is also the run's summary.txt
+    assert "sbmf" in (tmp_path / "n" / "summary.txt").read_text()
+
+
+def test_errors_go_to_stderr_with_exit_2(tmp_path, capsys):
+    for argv in (
+        ["upsetting", "--reduction", "2", "--out", str(tmp_path / "a")],
+        ["ring", "--law", "coulomb", "--m-list", "0.1", "--out", str(tmp_path / "b")],
+    ):
+        assert fe_cli.main(argv) == 2
+        cap = capsys.readouterr()
+        assert (
+            cap.out == "" and cap.err.startswith("fe-demo: error: ") and "Traceback" not in cap.err
+        )
+    assert law_demo.main(["--params", str(tmp_path / "missing.json")]) == 2
+    cap = capsys.readouterr()
+    assert cap.out == "" and "frictionlaw-demo: error: --params" in cap.err
+    assert law_demo.main(["--p-hist", "-1"]) == 2
+    assert "--p-hist must be" in capsys.readouterr().err
+    assert law_demo.main([]) == 0
+    assert "Eq. 25 jump" in capsys.readouterr().out
+
+
+def test_fe_demo_output_folder_appears_whole(tmp_path, capsys):
+    out = tmp_path / "ups"
+    assert fe_cli.main(["upsetting", *FE_FAST, "--increments", "5", "--out", str(out)]) == 0
+    assert sorted(p.name for p in (out / "vtu").glob("*.vtu"))[-1] == "step_0005.vtu"
+    assert _fe(out, "--increments", "2") == 0
+    vtu = sorted(p.name for p in (out / "vtu").glob("*.vtu"))
+    pvd = (out / "vtu" / "step.pvd").read_text()
+    assert vtu == ["step_0000.vtu", "step_0001.vtu", "step_0002.vtu"]  # no stale steps
+    assert pvd.count("<DataSet") == len(vtu)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["ups"]  # no temporary folder left
+    # a folder holding something else is refused before any work, and left alone
+    other = tmp_path / "other"
+    other.mkdir()
+    (other / "notes.txt").write_text("mine")
+    assert _fe(other) == 2
+    assert "holds no fe-demo output" in capsys.readouterr().err
+    assert [p.name for p in other.iterdir()] == ["notes.txt"]
+    capsys.readouterr()
+
+
+def test_fe_demo_failed_write_keeps_the_previous_output(tmp_path, capsys, monkeypatch):
+    out = tmp_path / "ups"
+    assert _fe(out) == 0
+    before = (out / "history.csv").read_bytes()
+
+    def broken(*a, **k):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(fe_cli, "write_history_csv", broken)
+    assert _fe(out, "--increments", "2") == 1
+    err = capsys.readouterr().err
+    assert "No space left" in err and "unchanged" in err and "Traceback" not in err
+    assert (out / "history.csv").read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["ups"]
+
+
+def test_output_folder_policy(tmp_path):
+    out = tmp_path / "o"
+    with OutputFolder(out, markers=("m.json",), what="thing") as f:
+        (f.tmp / "m.json").write_text("1")
+        (f.tmp / "old.txt").write_text("1")
+        f.commit()
+    with OutputFolder(out, markers=("m.json",), what="thing") as f:
+        (f.tmp / "m.json").write_text("2")
+        f.commit()
+    assert sorted(p.name for p in out.iterdir()) == ["m.json"]
+    with OutputFolder(out, markers=("m.json",), what="thing") as f:
+        (f.tmp / "m.json").write_text("3")  # no commit: discarded
+    assert (out / "m.json").read_text() == "2"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["o"]
+    (tmp_path / "x").mkdir()
+    (tmp_path / "x" / "y").write_text("")
+    with pytest.raises(ValueError, match="holds no thing"):
+        OutputFolder(tmp_path / "x", markers=("m.json",), what="thing")
+    with pytest.raises(ValueError, match="not a folder"):
+        OutputFolder(tmp_path / "x" / "y", markers=(), what="thing")
+    f = OutputFolder(tmp_path / "x", markers=(), what="thing", force=True)
+    f.commit()
+    assert list((tmp_path / "x").iterdir()) == []
