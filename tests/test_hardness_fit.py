@@ -128,7 +128,7 @@ def test_bad_tables_are_refused(tmp_path, text, match):
 
 
 def _cli(capsys, *args):
-    code = main([*args, "--quiet"])
+    code = main([*args, "--no-progress"])
     out, err = capsys.readouterr()
     return code, out, err
 

@@ -261,7 +261,7 @@ def _lookup(summary, key):
 
 def test_cli_multi_sample_run_writes_band_and_a_report_that_agrees(tmp_path, capsys):
     out = tmp_path / "c"
-    argv = ["--out", str(out), "--quiet", "--patches", "4", "--grid", "16", "--bootstrap", "60"]
+    argv = ["--out", str(out), "--no-progress", "--patches", "4", "--grid", "16", "--bootstrap", "60"]
     assert main(argv + FAST) == 0
     text = capsys.readouterr().out
     assert "pooled law and 90 % bootstrap band (60 resamples)" in text
