@@ -23,15 +23,14 @@ single samples' laws (what one further patch could give), which is wider.
 
 from __future__ import annotations
 
-import base64
 import html
 import json
-import math
 from pathlib import Path
 
 import numpy as np
 
 from frictionlaw import FrictionParams
+from frictionlaw.htmlpage import figure, number_cell, page
 
 __all__ = [
     "band_laws",
@@ -232,34 +231,6 @@ def _plots(out, band, hist, keys, mode, level):
     return images
 
 
-def _cell(v, key):
-    text = "-" if v is None or (isinstance(v, float) and not math.isfinite(v)) else f"{v:.6g}"
-    return f'<td data-key="{html.escape(key)}">{text}</td>'
-
-
-def figure(path, caption):
-    """A ``<figure>`` with the PNG at ``path`` embedded as base64 ("" if it does not exist)."""
-    path = Path(path)
-    if not path.is_file():
-        return ""
-    data = base64.b64encode(path.read_bytes()).decode("ascii")
-    return (
-        f"<figure><img alt='{html.escape(caption)}' src='data:image/png;base64,{data}'>"
-        f"<figcaption>{html.escape(caption)}</figcaption></figure>"
-    )
-
-
-def page(title, body):
-    """A self-contained HTML document (no network) around the ``body`` parts."""
-    return (
-        "<!DOCTYPE html>\n<html><head><meta charset='utf-8'>"
-        f"<title>{html.escape(title)}</title><style>body{{font-family:sans-serif;"
-        "max-width:1000px;margin:2em auto}td,th{border:1px solid #bbb;padding:2px 8px}"
-        "table{border-collapse:collapse}img{max-width:100%}</style></head><body>"
-        f"<h1>{html.escape(title)}</h1>\n" + "\n".join(body) + "\n</body></html>\n"
-    )
-
-
 def write_run_report(folder, info, title):
     """``report.html`` of one ordinary run from its summary.json record ``info``.
 
@@ -276,7 +247,7 @@ def write_run_report(folder, info, title):
     ]
     body = ["<table><tr><th>quantity</th><th>value</th></tr>"]
     for k, v in rows:
-        cell = _cell(v, k) if isinstance(v, float) else f"<td>{html.escape(str(v))}</td>"
+        cell = number_cell(v, k) if isinstance(v, float) else f"<td>{html.escape(str(v))}</td>"
         body.append(f"<tr><td>{k}</td>{cell}</tr>")
     body.append("</table>")
     body.append(f"<p>{html.escape(str(info.get('message', '')))}</p>")
@@ -311,7 +282,7 @@ def write_report(out, rec, images):
             body.append(
                 f"<tr><td>{html.escape(red)}</td>"
                 + "".join(
-                    _cell(v[f], f"{key}.{red}.{f}")
+                    number_cell(v[f], f"{key}.{red}.{f}")
                     for f in ("central", "lower", "upper", "plus_minus")
                 )
                 + "</tr>"
