@@ -393,7 +393,9 @@ def main(argv=None):
                 hfit, scene = _fit_hardness(args, scene, surfaces, data)
             except ValueError as exc:
                 return _error(str(exc), 2)
-        cal = calibrate(scene, progress=not args.quiet, surfaces=surfaces)
+        cal = calibrate(
+            scene, progress=not args.quiet, surfaces=surfaces, auto_periodic=args.periodic is None
+        )
         write_outputs(cal, tmp)
         if hfit is not None:
             write_hardness_fit(hfit, tmp)
@@ -421,6 +423,8 @@ def main(argv=None):
     )
     _print_effects(cal, out)
     _print_resolution(cal.resolution)
+    for note in cal.notes:
+        print(f"  note: {note}")
     problems = cal.problems()
     if problems:
         print("  RUN FAILED (exit code 1):")
