@@ -177,6 +177,12 @@ def build_parser():
     )
     g.add_argument("--reload-surface", choices=["plastic", "volume_conserving"])
     g.add_argument(
+        "--contact-area",
+        choices=["count", "perimeter"],
+        help="contact ratio of the fits: element count, or the count corrected with the contact "
+        "perimeter (Yastrebov et al. 2017; default: count)",
+    )
+    g.add_argument(
         "--continuous-reload",
         action="store_true",
         default=None,
@@ -292,6 +298,7 @@ def scene_from_args(args):
             "resolution_check",
             "volume_conservation",
             "reload_surface",
+            "contact_area",
             "continuous_reload",
             "workers",
             "scheduler",

@@ -94,3 +94,27 @@ def test_hertz_area_is_closer_with_the_correction_on_coarse_grids():
             cor.append(abs(corrected_contact_ratio(res.pressure, periodic=False) / exact - 1))
         assert np.mean(cor) < 0.75 * np.mean(raw), (n, raw, cor)
         assert np.mean(cor) < 0.025
+
+
+def test_scene_option_feeds_the_corrected_ratio_to_the_fits():
+    from halfspace_calib.pipeline.calibration import Scene, calibrate
+    from halfspace_calib.pipeline.sweeps import SolveRecord
+
+    with pytest.raises(ValueError, match="contact_area must be 'count' or 'perimeter'"):
+        Scene(contact_area="pixels")
+    kw = dict(grid=32, pressures=(20e6, 100e6, 300e6, 500e6), reload_fractions=(0.25, 0.5, 0.8))
+    count = calibrate(Scene(**kw), progress=False)
+    perim = calibrate(Scene(contact_area="perimeter", **kw), progress=False)
+    p, a_count = count.sweeps.loading
+    _, a_perim = perim.sweeps.loading
+    # same solves, only the estimator differs: the corrected ratio is the count minus
+    # c N_p / N > 0, so strictly smaller wherever the contact has a boundary
+    assert np.all(a_perim < a_count) and np.all(a_perim > 0.5 * a_count)
+    assert perim.params.provenance["extra"]["model"]["contact_area"] == "perimeter"
+    assert count.params.provenance["extra"]["model"]["contact_area"] == "count"
+    # the record of one solve is the estimator applied to its pressure map
+    h = np.random.default_rng(0).standard_normal((32, 32)) * 1e-6
+    res = solve_normal(h, 1e-5, E_STAR, 50e6, periodic=True)
+    rec = SolveRecord.of(res, "perimeter")
+    assert rec.alpha == corrected_contact_ratio(res.pressure, periodic=True)
+    assert SolveRecord.of(res).alpha == res.alpha

@@ -252,6 +252,7 @@ def _calibrate(scene, progress, surfaces, periodic_reason):
             "model": {
                 "volume_conservation": scene.volume_conservation,
                 "reload_surface": scene.reload_surface,
+                "contact_area": scene.contact_area,
                 "effects": list(scene.effects),
                 "max_reload_pressure_over_H": sweeps.max_reload_pressure() / scene.H,
                 "max_reload_plastic_fraction": sweeps.max_reload_plastic_fraction(),
