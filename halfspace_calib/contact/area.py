@@ -1,4 +1,4 @@
-"""Contact-area estimators from a solver's contact mask (docs/solver.md, "Contact-area estimators").
+"""Contact-area estimators from a solver's contact mask (docs/normal_contact.md, "Contact-area estimators").
 
 The solver's contact ratio counts elements with ``p > 0`` (``alpha = N_c / N``). On a grid that
 resolves the contact clusters coarsely this count carries a discretisation error proportional to

@@ -62,7 +62,7 @@ class Scene:
     for measured ones; ``resolution_check=None`` runs the check (the normal sweeps again at half
     the grid) for files only. ``contact_area``: the contact ratio the fits read, ``"count"``
     (elements with ``p > 0``, the default) or ``"perimeter"`` (the count corrected with the
-    contact perimeter, Yastrebov et al. 2017; docs/solver.md, "Contact-area estimators").
+    contact perimeter, Yastrebov et al. 2017; docs/normal_contact.md, "Contact-area estimators").
     Frozen and validated once, on construction: derive a changed scene with
     :func:`dataclasses.replace` (which validates again). :attr:`materials` and :attr:`solver` give
     the records the sweeps and studies take.
