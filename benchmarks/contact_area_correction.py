@@ -17,15 +17,23 @@ Anciaux and Molinari (2017, Tribology International 114, 161-171) subtracts
    corrected one from the corrected one at 1024 (each estimator's own convergence), averaged
    (absolute) over seeds and pressures.
 
+3. **The five shared files** (``--files FOLDER``, the scan against itself as in
+   ``benchmarks/length_scale.py``): the default calibration with the resolution check, once with
+   each estimator (``Scene(contact_area=...)``): ``mu_eff``, ``C1`` and the change of the five
+   parameters at half the grid. Writes ``contact_area_correction_files.md`` (about 4 min).
+
 Writes ``benchmarks/results/contact_area_correction.md`` and ``.csv`` and prints the tables.
-Run from the repository root: ``python benchmarks/contact_area_correction.py`` (about 2 min on
-one core of the shared 2-core machine).
+Run from the repository root: ``python benchmarks/contact_area_correction.py [--files FOLDER]``
+(about 2 min on one core of the shared 2-core machine, plus 4 min with ``--files``).
 """
 
 from __future__ import annotations
 
+import argparse
 import csv
 import math
+import time
+from pathlib import Path
 
 import numpy as np
 from _provenance import RESULTS, run_record
@@ -34,6 +42,7 @@ from halfspace_calib import topography as S
 from halfspace_calib.contact.area import contact_perimeter, corrected_contact_ratio
 from halfspace_calib.contact.normal import solve_normal
 from halfspace_calib.contact.reference import hertz
+from halfspace_calib.pipeline.calibration import calibrate
 from halfspace_calib.pipeline.scene import Scene
 
 HERTZ_GRIDS = (16, 24, 32, 48, 64, 96, 128)
@@ -157,7 +166,57 @@ def tables(h_rows, s_rows):
     return "\n".join(out) + "\n"
 
 
+FILES = ["metropro-1.dat", "mnt-1.mnt", "x3p-2.x3p", "sur-3.sur", "matrix-3.txt"]
+KEYS = ("mu_eff", "C1", "n1", "C2", "n2")
+
+
+def files_table(folder):
+    """Default calibration of each shared file with each estimator, resolution check on."""
+    lines = [
+        "| file | solve | mu_eff count / perimeter | C1 count / perimeter | change at half the "
+        "grid, count: mu_eff / C1 / n1 / C2 / n2 (%) | perimeter (%) | problems count / "
+        "perimeter | time count / perimeter (s) |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for name in FILES:
+        f = str(Path(folder) / name)
+        kw = dict(max_undefined=0.95) if name == "sur-3.sur" else {}
+        cals, secs = {}, {}
+        for est in ("count", "perimeter"):
+            t0 = time.perf_counter()
+            cals[est] = calibrate(
+                Scene(workpiece=f, tool=f, contact_area=est, **kw), progress=False
+            )
+            secs[est] = time.perf_counter() - t0
+        c, p = cals["count"], cals["perimeter"]
+
+        def change(cal):
+            d = cal.resolution.as_dict()["params"]
+            return " / ".join(f"{100 * d[k][2]:.1f}" for k in KEYS)
+
+        solve = "periodic (fallback)" if c.scene.periodic else "non-periodic"
+        lines.append(
+            f"| {name} | {solve} | {c.params.mu_eff:.4g} / {p.params.mu_eff:.4g} | "
+            f"{c.params.C1:.4g} / {p.params.C1:.4g} | {change(c)} | {change(p)} | "
+            f"{len(c.problems())} / {len(p.problems())} | {secs['count']:.1f} / "
+            f"{secs['perimeter']:.1f} |"
+        )
+        print(lines[-1], flush=True)
+    return "\n".join(lines) + "\n"
+
+
 def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--files", metavar="FOLDER", help="also run the five shared files in FOLDER")
+    args = ap.parse_args()
+    if args.files:
+        text = files_table(args.files)
+        RESULTS.mkdir(exist_ok=True)
+        (RESULTS / "contact_area_correction_files.md").write_text(
+            "# Contact-area estimators on the five shared files (default calibration)\n\n"
+            f"`python benchmarks/contact_area_correction.py --files FOLDER`\n\n{text}"
+        )
+        print(text)
     print("Hertz ...", flush=True)
     h = hertz_rows()
     print("self-affine ...", flush=True)

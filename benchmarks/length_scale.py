@@ -23,8 +23,8 @@ them. Run from the repository root::
     python benchmarks/length_scale.py --folder FOLDER [--grid-factor 2] [--max-grid 512]
                                       [--only mnt-1.mnt ...] [--tables grid,lambda_s]
 
-``sur-3.sur`` (89 % undefined points) runs with ``max_undefined=0.95``. Cost: about 6.5 min for
-both tables on one core of a loaded 2-core machine (``--grid-factor 2`` for mnt-1 and x3p-2: about
+``sur-3.sur`` (89 % undefined points) runs with ``max_undefined=0.95``. Cost: about 6-12 min for
+both tables on one core of the loaded 2-core machine, with the other jobs' load (``--grid-factor 2`` for mnt-1 and x3p-2: about
 3 min, the finest grids 93 s and 51 s).
 """
 

@@ -157,7 +157,9 @@ def build_parser():
         "--no-periodic",
         dest="periodic",
         action="store_false",
-        help="non-periodic (DC-FFT) solve; default for measured files",
+        help="non-periodic (DC-FFT) solve; default for measured files, where a nearly "
+        "conforming scan whose patch edge goes plastic is solved periodic instead, unless this "
+        "option is given",
     )
     g.add_argument(
         "--no-resolution-check",
