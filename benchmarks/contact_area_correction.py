@@ -1,7 +1,7 @@
 """Does the perimeter correction of the contact area (Yastrebov et al. 2017) converge alpha faster?
 
 The solver's contact ratio counts the elements with ``p > 0``; the correction of Yastrebov,
-Anciaux and Molinari (2017, Tribology International 114, 161-171) subtracts
+Anciaux and Molinari (2017, Tribology International, arXiv:1701.02727) subtracts
 ``(pi - 1 + ln 2) / 24`` element areas per contact/non-contact element edge
 (``halfspace_calib.contact.area.corrected_contact_ratio``). Two measurements:
 

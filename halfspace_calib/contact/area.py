@@ -4,16 +4,16 @@ The solver's contact ratio counts elements with ``p > 0`` (``alpha = N_c / N``).
 resolves the contact clusters coarsely this count carries a discretisation error proportional to
 the length of the contact boundary. Yastrebov, Anciaux and Molinari (2017, "On the accurate
 computation of the true contact-area in mechanical contact of random rough surfaces", Tribology
-International 114, 161-171, arXiv:1701.02727) correct it with that length:
+International, arXiv:1701.02727) correct it with that length:
 
     A = dx dy (N_c - c N_p),   c = (pi - 1 + ln 2) / 24 = 0.1181...
 
 with ``N_p`` the number of element edges between a contact and a non-contact element (the
-contact/non-contact interface length in element edges). The formula is taken from that paper as
-applied in public Tamaas-based code (``A_raw - (pi - 1 + ln 2) / 24 * M * dx * dx``, ``M`` the
-number of contact/non-contact switches along the rows and the columns); it is not written
-from memory. It is derived for square elements, so :func:`corrected_contact_ratio` requires
-``dx = dy``.
+contact/non-contact interface length in element edges). The formula is taken as public
+Tamaas-based code applies it "according to Yastrebov" (``A_raw - (pi - 1 + ln 2) / 24 * M * dx
+* dx``, ``M`` the number of contact/non-contact switches along the rows and the columns); it is
+not written from memory. It is derived for square elements, which is what the calibration's
+grids have (measured files are resampled onto square elements).
 
 Only the mask is needed, so the estimator works on any solver's output (``NormalResult.pressure
 > 0``) without touching the solver. Whether it helps is measured, not assumed
@@ -74,7 +74,7 @@ def corrected_contact_ratio(contact, *, periodic):
 
     ``alpha_c = (N_c - c N_p) / N`` with ``c`` = :data:`YAM_COEFFICIENT`, ``N_c`` the contact
     elements, ``N_p`` = :func:`contact_perimeter` and ``N`` all elements; clipped to ``>= 0``.
-    Square elements (``dx = dy``) are assumed, as in the paper.
+    Square elements are assumed, as in the paper.
 
     Parameters
     ----------
