@@ -27,6 +27,7 @@ import numpy as np
 from frictionlaw import FrictionParams
 
 from . import effects as _eff
+from .conformity import punch_edge_problem
 from .fit import FirstLoadingFit, ReloadFit
 from .params import make_params
 from .registry import REGISTRY
@@ -66,12 +67,15 @@ class Calibration:
     effects: dict = field(default_factory=dict)  # name -> EffectOutcome
     files: tuple = ()
     resolution: ResolutionCheck | None = None
+    notes: tuple = ()  # what calibrate() decided on its own (the periodic fallback)
 
     def problems(self):
         """Why the run failed, one sentence each (empty if it did not).
 
         A failed or non-converged load level or solve, a fit with ``R^2 <`` :data:`R2_MIN`, a
-        fitted parameter on its bound or a fit that did not converge, and failed effect solves.
+        fitted parameter on its bound or a fit that did not converge, why a reload fit failed on
+        a nearly conforming non-periodic contact (:func:`~.conformity.punch_edge_problem`), and
+        failed effect solves.
         """
         out = [f"load level {f.p_hist:g} Pa failed" for f in self.sweeps.failed]
         out += [
@@ -91,6 +95,9 @@ class Calibration:
                 )
             elif not fit.converged:
                 out.append(f"{name} fit did not converge: {fit.message}")
+        why = punch_edge_problem(self)
+        if why:
+            out.append(why)
         for name, outcome in self.effects.items():
             out += REGISTRY[name].problems(outcome)
         return out
@@ -151,6 +158,7 @@ class Calibration:
             "effect_results": _effects_record(self.effects),
             "grid": self.scene.grid,
             "periodic": self.scene.periodic,
+            "notes": list(self.notes),
             "files": [f.as_dict() for f in self.files],
             "resolution_check": None if self.resolution is None else self.resolution.as_dict(),
             "problems": self.problems(),
@@ -158,7 +166,7 @@ class Calibration:
         }
 
 
-def calibrate(scene=None, *, progress=True, surfaces=None):
+def calibrate(scene=None, *, progress=True, surfaces=None, auto_periodic=True):
     """Run the sweeps of ``scene`` (default: the built-in scene) and fit the law.
 
     ``surfaces``: the scene's :class:`SceneSurfaces` if already loaded (the CLI loads them
@@ -166,10 +174,33 @@ def calibrate(scene=None, *, progress=True, surfaces=None):
     loader's grid and, with ``scene.resolution_check``, the normal sweeps run again at half
     the grid (:func:`resolution_check`).
 
+    ``auto_periodic``: a non-periodic calibration from files whose reload fit fails because the
+    contact is nearly conforming and the patch's edge went plastic
+    (:func:`~.conformity.punch_edge_problem`) is run again periodic, and the reason is recorded
+    (``Calibration.notes``, ``params.json`` ``grid.periodic_reason``). ``False`` keeps the
+    non-periodic run and its failure (the CLI passes ``False`` for ``--no-periodic``).
+
     Raises ``RuntimeError`` if too few load levels converged for a fit (the sweep's
     failures are in the message).
     """
-    scene = Scene() if scene is None else scene
+    t0 = time.perf_counter()
+    cal = _calibrate(Scene() if scene is None else scene, progress, surfaces, None)
+    if not (auto_periodic and cal.scene.from_files and not cal.scene.periodic):
+        return cal
+    why = punch_edge_problem(cal)
+    if not why:
+        return cal
+    reason = ("solved periodic after the non-periodic run failed: " + why).split(". Rerun with")[0]
+    again = _calibrate(dataclasses.replace(cal.scene, periodic=True), progress, surfaces, reason)
+    return dataclasses.replace(
+        again,
+        seconds=time.perf_counter() - t0,
+        notes=(f"{reason}; the periodic solve joins the scan's opposite edges instead",),
+    )
+
+
+def _calibrate(scene, progress, surfaces, periodic_reason):
+    """One calibration of ``scene`` (:func:`calibrate` without the periodic fallback)."""
     t0 = time.perf_counter()
     surfs = load_scene_surfaces(scene) if surfaces is None else surfaces
     if scene.grid != surfs.grid:
@@ -198,10 +229,12 @@ def calibrate(scene=None, *, progress=True, surfaces=None):
             "dx": wp.dx,
             "dy": wp.dy,
             "periodic": scene.periodic,
-            "periodic_reason": "measured files: a scan is not one period of a surface, "
-            "non-periodic (DC-FFT) solve"
-            if scene.from_files and not scene.periodic
-            else ("synthetic surfaces are periodic" if scene.periodic else "chosen"),
+            "periodic_reason": periodic_reason
+            or (
+                "measured files: a scan is not one period of a surface, non-periodic (DC-FFT) solve"
+                if scene.from_files and not scene.periodic
+                else ("synthetic surfaces are periodic" if scene.periodic else "chosen")
+            ),
         },
         tolerance=scene.tol,
         pressures={
@@ -223,6 +256,7 @@ def calibrate(scene=None, *, progress=True, surfaces=None):
             "model": {
                 "volume_conservation": scene.volume_conservation,
                 "reload_surface": scene.reload_surface,
+                "contact_area": scene.contact_area,
                 "effects": list(scene.effects),
                 "max_reload_pressure_over_H": sweeps.max_reload_pressure() / scene.H,
                 "max_reload_plastic_fraction": sweeps.max_reload_plastic_fraction(),

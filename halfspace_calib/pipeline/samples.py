@@ -357,7 +357,8 @@ def _check_consistent(samples):
 
 def _sample_job(sample):
     """One sample's calibration (run in a worker: serial sweeps, no progress bar)."""
-    return calibrate(sample.scene, progress=False, surfaces=sample.surfaces)
+    # a patch is not one period of a surface: no periodic fallback (calibrate's auto_periodic)
+    return calibrate(sample.scene, progress=False, surfaces=sample.surfaces, auto_periodic=False)
 
 
 def run_samples(samples, *, workers=1, scheduler=None, progress=True):

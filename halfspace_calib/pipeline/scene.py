@@ -60,7 +60,9 @@ class Scene:
     ``ELEMENTS_PER_LAMBDA_S`` elements per ``lambda_s`` (at most the scan's native sampling
     and 256); ``periodic=None`` means periodic for synthetic surfaces and non-periodic (DC-FFT)
     for measured ones; ``resolution_check=None`` runs the check (the normal sweeps again at half
-    the grid) for files only.
+    the grid) for files only. ``contact_area``: the contact ratio the fits read, ``"count"``
+    (elements with ``p > 0``, the default) or ``"perimeter"`` (the count corrected with the
+    contact perimeter, Yastrebov et al. 2017; docs/normal_contact.md, "Contact-area estimators").
     Frozen and validated once, on construction: derive a changed scene with
     :func:`dataclasses.replace` (which validates again). :attr:`materials` and :attr:`solver` give
     the records the sweeps and studies take.
@@ -112,6 +114,7 @@ class Scene:
     resolution_check: bool | None = None
     volume_conservation: bool = True
     reload_surface: str = "plastic"
+    contact_area: str = "count"
     continuous_reload: bool = False
     workers: int = 1
     scheduler: str | None = None
@@ -209,6 +212,10 @@ class Scene:
         tolerance(self.tol)
         if self.reload_surface not in ("plastic", "volume_conserving"):
             raise ValueError("reload_surface must be 'plastic' or 'volume_conserving'")
+        if self.contact_area not in ("count", "perimeter"):
+            raise ValueError(
+                f"contact_area must be 'count' or 'perimeter', got {self.contact_area!r}"
+            )
         if not isinstance(self.workers, int) or self.workers < 0:
             raise ValueError(f"workers must be an integer >= 0, got {self.workers!r}")
         g = self.geo_threshold

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..common.jobs import run_jobs
+from ..contact.area import corrected_contact_ratio
 from ..contact.materials import Materials, SolverSettings
 from ..contact.normal import solve_normal_pair
 from ..studies.presliding import PreslidingCurve, presliding_curve
@@ -54,11 +55,20 @@ class SolveRecord:
     coarse_nit: tuple = ()
 
     @classmethod
-    def of(cls, res):
-        """The record of a :class:`~halfspace_calib.contact.normal.NormalResult`."""
+    def of(cls, res, contact_area="count"):
+        """The record of a :class:`~halfspace_calib.contact.normal.NormalResult`.
+
+        ``contact_area``: ``"count"`` records the solver's element count ``alpha``;
+        ``"perimeter"`` the count corrected with the contact perimeter (Yastrebov et al. 2017,
+        :func:`~halfspace_calib.contact.area.corrected_contact_ratio`).
+        """
+        if contact_area == "perimeter":
+            alpha = corrected_contact_ratio(res.pressure, periodic=res.periodic)
+        else:
+            alpha = res.alpha
         return cls(
             p_mean=float(res.p_mean),
-            alpha=float(res.alpha),
+            alpha=float(alpha),
             nit=int(res.nit),
             converged=bool(res.converged),
             residual=float(res.residual),
@@ -144,6 +154,7 @@ class _LevelJob:
     reload_pressures: tuple
     keep_map: bool
     tangential: bool
+    contact_area: str = "count"
 
 
 # ----------------------------------------------------------------------------- sweeps
@@ -162,7 +173,7 @@ def _level_job(job):
         volume_conservation=sol.volume_conservation,
         **kw,
     )
-    out = LevelResult(job.p_hist, SolveRecord.of(res))
+    out = LevelResult(job.p_hist, SolveRecord.of(res, job.contact_area))
     out.loading_seconds = time.perf_counter() - t0
     # Figs. 3-4: roughness of the unloaded workpiece (volume-conserving surface)
     deformed_vc = res.deformed_workpiece
@@ -198,7 +209,7 @@ def _level_job(job):
                 p_init=p_init,
                 **kw,
             )
-            out.reload.append(SolveRecord.of(r))
+            out.reload.append(SolveRecord.of(r, job.contact_area))
             p_init = r.pressure
             if i + 1 < len(order) and prev[0] != p:
                 w = (order[i + 1] - p) / (p - prev[0])
@@ -304,6 +315,7 @@ def run_sweeps(scene, *, progress=True, surfaces=None):
                 reload_pressures=tuple(reload),
                 keep_map=p == top,
                 tangential=tangential,
+                contact_area=scene.contact_area,
             )
         )
     t0 = time.perf_counter()

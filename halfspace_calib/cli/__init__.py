@@ -10,7 +10,6 @@ The summary goes to stdout (hidden by ``--quiet``), warnings and errors to stder
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import sys
 import time
 from dataclasses import fields
@@ -24,18 +23,18 @@ from frictionlaw.clitools import (
     add_version,
 )
 
-from .output.hardness import hardness_table, write_hardness_fit
-from .output.report import write_outputs
-from .pipeline.calibration import Scene, calibrate, load_scene, load_scene_surfaces
-from .pipeline.hardness import fit_hardness, read_after_contact
-from .pipeline.scene_surfaces import (
+from ..output.hardness import write_hardness_fit
+from ..output.report import write_outputs
+from ..pipeline.calibration import Scene, calibrate, load_scene, load_scene_surfaces
+from ..pipeline.scene_surfaces import (
     ELEMENTS_PER_LAMBDA_S,
     ISO_SAMPLING_RATIO,
     MAX_DEFAULT_GRID,
 )
+from ._paths import OUTPUT_MARKERS, after_contact, fit_h, main_samples, sample_spec
 
 #: files that mark a folder as a calibration output (a rerun may replace it)
-_OUTPUT_MARKERS = ("params.json", "summary.json")
+_OUTPUT_MARKERS = OUTPUT_MARKERS
 #: the Scene's defaults, shown in --help
 _D = {f.name: f.default for f in fields(Scene)}
 
@@ -191,7 +190,9 @@ def build_parser():
         "--no-periodic",
         dest="periodic",
         action="store_false",
-        help="non-periodic (DC-FFT) solve; default for measured files",
+        help="non-periodic (DC-FFT) solve; default for measured files, where a nearly "
+        "conforming scan whose patch edge goes plastic is solved periodic instead, unless this "
+        "option is given",
     )
     g.add_argument(
         "--no-resolution-check",
@@ -217,6 +218,12 @@ def build_parser():
         "--reload-surface",
         choices=["plastic", "volume_conserving"],
         help="surface the reloads start from (default: " + _D["reload_surface"] + ")",
+    )
+    g.add_argument(
+        "--contact-area",
+        choices=["count", "perimeter"],
+        help="contact ratio of the fits: element count, or the count corrected with the contact "
+        "perimeter (Yastrebov et al. 2017; default: count)",
     )
     g.add_argument(
         "--continuous-reload",
@@ -273,40 +280,6 @@ def build_parser():
     return ap
 
 
-def sample_spec(args, scene):
-    """The :class:`SampleSpec` of the options and the scene file's ``[samples]`` table."""
-    from .pipeline.samples import SampleSpec, read_samples_table
-
-    kw = read_samples_table(args.scene) if args.scene else {}
-    wps, tls = args.workpiece or [], args.tool or []
-    if len(wps) > 1 or len(tls) > 1:
-        kw["workpieces"], kw["tools"] = tuple(wps), tuple(tls)
-    else:  # one file on the command line replaces the scene file's list of that role
-        if wps:
-            kw.pop("workpieces", None)
-        if tls:
-            kw.pop("tools", None)
-    for key, opt in (("patches", "patches"), ("level", "band_level"), ("n_bootstrap", "bootstrap")):
-        if getattr(args, opt) is not None:
-            kw[key] = getattr(args, opt)
-    spec = SampleSpec(**kw)
-    if spec.multi and args.resolution_check:
-        raise ValueError(
-            "--resolution-check does not run per sample in a multi-sample calibration: "
-            "calibrate one sample alone for it"
-        )
-    if spec.patches > 1 and args.periodic:
-        raise ValueError(
-            "--periodic: a patch is not one period of a surface, patches are non-periodic"
-        )
-    if not spec.multi and (args.band_level is not None or args.bootstrap is not None):
-        raise ValueError(
-            "--band-level and --bootstrap apply to several samples: give several --workpiece "
-            "files or --patches N"
-        )
-    return spec
-
-
 def scene_from_args(args):
     """A :class:`Scene` from parsed arguments (scene file first, then the options)."""
     over = {
@@ -339,6 +312,7 @@ def scene_from_args(args):
             "resolution_check",
             "volume_conservation",
             "reload_surface",
+            "contact_area",
             "continuous_reload",
             "workers",
             "scheduler",
@@ -354,7 +328,7 @@ def scene_from_args(args):
             raise ValueError(f"--size takes one or two lengths (m), got {len(over['size'])}")
         over["size"] = over["size"][0] if len(over["size"]) == 1 else tuple(over["size"])
     if args.sliding:
-        from .pipeline.effects import check_effects
+        from ..pipeline.effects import check_effects
 
         if over["effects"] is None:  # add to the scene file's effects, or to the default
             base = load_scene(args.scene).effects if args.scene else ("normal",)
@@ -390,9 +364,9 @@ def main(argv=None):
                     "--after-contact fits H on one workpiece/tool pair; with several samples "
                     "fit H first on one pair and give it as --H"
                 )
-            return _main_samples(args, scene, spec, t0)
+            return main_samples(args, scene, spec, t0)
         surfaces = load_scene_surfaces(scene)  # every file check before any sweep
-        data = _after_contact(args, scene)
+        data = after_contact(args, scene)
         folder = OutputFolder(args.out, markers=_OUTPUT_MARKERS, what="calibration output")
     except FileNotFoundError as exc:
         msg = str(exc) if "not found" in str(exc) else f"file not found: {exc.filename}"
@@ -404,11 +378,16 @@ def main(argv=None):
             _print_input(con, scene, surfaces, derived=scene.grid is None)
             if data is not None:
                 try:
-                    hfit, scene = _fit_hardness(con, args, scene, surfaces, data)
+                    hfit, scene = fit_h(con, args, scene, surfaces, data)
                 except ValueError as exc:
                     return con.error(str(exc), 2)
             progress = not (args.quiet or args.no_progress)
-            cal = calibrate(scene, progress=progress, surfaces=surfaces)
+            cal = calibrate(
+                scene,
+                progress=progress,
+                surfaces=surfaces,
+                auto_periodic=args.periodic is None,
+            )
             write_outputs(cal, folder.tmp)
             if hfit is not None:
                 write_hardness_fit(hfit, folder.tmp)
@@ -434,6 +413,8 @@ def main(argv=None):
     )
     _print_effects(con, cal, out)
     _print_resolution(con, cal.resolution)
+    for note in cal.notes:  # the solve changed (periodic fallback): a warning, stderr
+        con.warn(f"halfspace-calib: note: {note}")
     problems = cal.problems()
     if problems:
         con.warn("halfspace-calib: RUN FAILED (exit code 1):")
@@ -441,92 +422,6 @@ def main(argv=None):
             con.warn(f"    - {p}")
         return 1
     return 0
-
-
-def _main_samples(args, scene, spec, t0):
-    """A calibration from several samples (docs/uncertainty.md); returns the exit code."""
-    from .output.uncertainty import write_sample_outputs
-    from .pipeline.samples import calibrate_samples, load_samples
-
-    con = Console("halfspace-calib", quiet=args.quiet)
-    try:
-        samples = load_samples(scene, spec)  # every file and sample check before any sweep
-        folder = OutputFolder(args.out, markers=_OUTPUT_MARKERS, what="calibration output")
-    except FileNotFoundError as exc:
-        return con.error(f"file not found: {exc.filename or exc}", 2)
-    except (ValueError, ImportError, OSError) as exc:
-        return con.error(str(exc), 2)
-    with folder:
-        try:
-            con.result(
-                f"  {len(samples)} samples ({spec.patches} patch(es) per pair), solver grid "
-                f"{samples[0].surfaces.grid} x {samples[0].surfaces.grid}, element "
-                f"{samples[0].surfaces.workpiece.dx * 1e6:.4g} um, non-periodic"
-            )
-            progress = not (args.quiet or args.no_progress)
-            mc = calibrate_samples(scene, spec, samples=samples, progress=progress)
-            write_sample_outputs(mc, folder.tmp)
-            folder.commit()
-        except (RuntimeError, MemoryError) as exc:
-            return con.error(f"the run failed: {exc or type(exc).__name__}", 1)
-        except OSError as exc:
-            return con.error(f"the outputs could not be written, {args.out} is unchanged: {exc}", 1)
-    u = mc.uncertainty
-    con.result(
-        f"calibrated {len(mc.calibrations)} of {len(samples)} samples in "
-        f"{time.perf_counter() - t0:.1f} s -> {Path(args.out) / 'params.json'}"
-    )
-    con.result(f"  pooled law and {100 * u.level:g} % bootstrap band ({u.n_bootstrap} resamples):")
-    for k, v in u.parameters.items():
-        con.result(f"    {k} = {v.central:.4g}  [{v.lower:.4g}, {v.upper:.4g}]")
-    b = u.band("tau_first")
-    for p in (100e6, 300e6, 600e6):
-        if b.p[0] <= p <= b.p[-1]:
-            c, lo, hi = b.at(p)
-            con.result(f"    tau({p / 1e6:g} MPa) = {c / 1e6:.3f} MPa  [{lo / 1e6:.3f}, {hi / 1e6:.3f}]")
-    problems = mc.problems()
-    if problems:
-        con.warn("halfspace-calib: RUN FAILED (exit code 1):")
-        for p in problems:
-            con.warn(f"    - {p}")
-        return 1
-    return 0
-
-
-def _after_contact(args, scene):
-    """The measured after-contact roughness of ``--after-contact`` (``None`` without it)."""
-    if args.after_contact is None:
-        return None
-    if args.H is not None or (args.scene and _scene_gives(args, "H")):
-        raise ValueError(
-            "H is given (--H or the scene file) and --after-contact fits it: give one of them"
-        )
-    return read_after_contact(args.after_contact)
-
-
-def _fit_hardness(con, args, scene, surfaces, data):
-    """Fit H (Sec. 3.1) on the scene's solver surfaces; the scene calibrated with it."""
-    t0 = time.perf_counter()
-    fit = fit_hardness(surfaces.workpiece, surfaces.tool, scene.materials, scene.solver, data)
-    con.result(
-        f"  H fitted to the after-contact roughness in {time.perf_counter() - t0:.1f} s "
-        f"({fit.evaluations} trial H): {fit.message}"
-    )
-    con.result("  " + hardness_table(fit).replace("\n", "\n  ").rstrip())
-    if not fit.converged:
-        raise RuntimeError(f"the fit of H failed: {fit.message}")
-    over = {"H": fit.H, "sigma_y": args.sigma_y, "H_source": fit.data.source}
-    if args.sigma_y is None and args.scene and _scene_gives(args, "sigma_y"):
-        over["sigma_y"] = scene.sigma_y  # the scene file's own yield stress; else H / 2.8
-    return fit, dataclasses.replace(scene, **over)
-
-
-def _scene_gives(args, key):
-    """True if the scene file sets ``key`` itself."""
-    import tomllib
-
-    data = tomllib.loads(Path(args.scene).read_text(encoding="utf-8"))
-    return key in data.get("scene", data)
 
 
 def _print_input(con, scene, surfaces, derived=False):

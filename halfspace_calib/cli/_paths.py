@@ -1,0 +1,141 @@
+"""The two calibration paths of ``halfspace-calib`` besides the plain one.
+
+Several samples with a band (``--workpiece A B C``, ``--patches N``; docs/uncertainty.md) and the
+hardness fitted to the after-contact roughness (``--after-contact``, the paper's Sec. 3.1).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from pathlib import Path
+
+from frictionlaw.clitools import Console, OutputFolder
+
+from ..output.hardness import hardness_table
+from ..pipeline.hardness import fit_hardness, read_after_contact
+
+#: files that mark a folder as a calibration output (a rerun may replace it)
+OUTPUT_MARKERS = ("params.json", "summary.json")
+
+
+def sample_spec(args, scene):
+    """The :class:`SampleSpec` of the options and the scene file's ``[samples]`` table."""
+    from ..pipeline.samples import SampleSpec, read_samples_table
+
+    kw = read_samples_table(args.scene) if args.scene else {}
+    wps, tls = args.workpiece or [], args.tool or []
+    if len(wps) > 1 or len(tls) > 1:
+        kw["workpieces"], kw["tools"] = tuple(wps), tuple(tls)
+    else:  # one file on the command line replaces the scene file's list of that role
+        if wps:
+            kw.pop("workpieces", None)
+        if tls:
+            kw.pop("tools", None)
+    for key, opt in (("patches", "patches"), ("level", "band_level"), ("n_bootstrap", "bootstrap")):
+        if getattr(args, opt) is not None:
+            kw[key] = getattr(args, opt)
+    spec = SampleSpec(**kw)
+    if spec.multi and args.resolution_check:
+        raise ValueError(
+            "--resolution-check does not run per sample in a multi-sample calibration: "
+            "calibrate one sample alone for it"
+        )
+    if spec.patches > 1 and args.periodic:
+        raise ValueError(
+            "--periodic: a patch is not one period of a surface, patches are non-periodic"
+        )
+    if not spec.multi and (args.band_level is not None or args.bootstrap is not None):
+        raise ValueError(
+            "--band-level and --bootstrap apply to several samples: give several --workpiece "
+            "files or --patches N"
+        )
+    return spec
+
+
+def main_samples(args, scene, spec, t0):
+    """A calibration from several samples (docs/uncertainty.md); returns the exit code."""
+    from ..output.uncertainty import write_sample_outputs
+    from ..pipeline.samples import calibrate_samples, load_samples
+
+    con = Console("halfspace-calib", quiet=args.quiet)
+    try:
+        samples = load_samples(scene, spec)  # every file and sample check before any sweep
+        folder = OutputFolder(args.out, markers=OUTPUT_MARKERS, what="calibration output")
+    except FileNotFoundError as exc:
+        return con.error(f"file not found: {exc.filename or exc}", 2)
+    except (ValueError, ImportError, OSError) as exc:
+        return con.error(str(exc), 2)
+    with folder:
+        try:
+            con.result(
+                f"  {len(samples)} samples ({spec.patches} patch(es) per pair), solver grid "
+                f"{samples[0].surfaces.grid} x {samples[0].surfaces.grid}, element "
+                f"{samples[0].surfaces.workpiece.dx * 1e6:.4g} um, non-periodic"
+            )
+            progress = not (args.quiet or args.no_progress)
+            mc = calibrate_samples(scene, spec, samples=samples, progress=progress)
+            write_sample_outputs(mc, folder.tmp)
+            folder.commit()
+        except (RuntimeError, MemoryError) as exc:
+            return con.error(f"the run failed: {exc or type(exc).__name__}", 1)
+        except OSError as exc:
+            return con.error(f"the outputs could not be written, {args.out} is unchanged: {exc}", 1)
+    u = mc.uncertainty
+    con.result(
+        f"calibrated {len(mc.calibrations)} of {len(samples)} samples in "
+        f"{time.perf_counter() - t0:.1f} s -> {Path(args.out) / 'params.json'}"
+    )
+    con.result(f"  pooled law and {100 * u.level:g} % bootstrap band ({u.n_bootstrap} resamples):")
+    for k, v in u.parameters.items():
+        con.result(f"    {k} = {v.central:.4g}  [{v.lower:.4g}, {v.upper:.4g}]")
+    b = u.band("tau_first")
+    for p in (100e6, 300e6, 600e6):
+        if b.p[0] <= p <= b.p[-1]:
+            c, lo, hi = b.at(p)
+            con.result(
+                f"    tau({p / 1e6:g} MPa) = {c / 1e6:.3f} MPa  [{lo / 1e6:.3f}, {hi / 1e6:.3f}]"
+            )
+    problems = mc.problems()
+    if problems:
+        con.warn("halfspace-calib: RUN FAILED (exit code 1):")
+        for p in problems:
+            con.warn(f"    - {p}")
+        return 1
+    return 0
+
+
+def after_contact(args, scene):
+    """The measured after-contact roughness of ``--after-contact`` (``None`` without it)."""
+    if args.after_contact is None:
+        return None
+    if args.H is not None or (args.scene and _scene_gives(args, "H")):
+        raise ValueError(
+            "H is given (--H or the scene file) and --after-contact fits it: give one of them"
+        )
+    return read_after_contact(args.after_contact)
+
+
+def fit_h(con, args, scene, surfaces, data):
+    """Fit H (Sec. 3.1) on the scene's solver surfaces; the scene calibrated with it."""
+    t0 = time.perf_counter()
+    fit = fit_hardness(surfaces.workpiece, surfaces.tool, scene.materials, scene.solver, data)
+    con.result(
+        f"  H fitted to the after-contact roughness in {time.perf_counter() - t0:.1f} s "
+        f"({fit.evaluations} trial H): {fit.message}"
+    )
+    con.result("  " + hardness_table(fit).replace("\n", "\n  ").rstrip())
+    if not fit.converged:
+        raise RuntimeError(f"the fit of H failed: {fit.message}")
+    over = {"H": fit.H, "sigma_y": args.sigma_y, "H_source": fit.data.source}
+    if args.sigma_y is None and args.scene and _scene_gives(args, "sigma_y"):
+        over["sigma_y"] = scene.sigma_y  # the scene file's own yield stress; else H / 2.8
+    return fit, dataclasses.replace(scene, **over)
+
+
+def _scene_gives(args, key):
+    """True if the scene file sets ``key`` itself."""
+    import tomllib
+
+    data = tomllib.loads(Path(args.scene).read_text(encoding="utf-8"))
+    return key in data.get("scene", data)
