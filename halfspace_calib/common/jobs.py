@@ -3,8 +3,9 @@
 A failed job is captured with its error message and does not stop the others; results come back in
 job order whichever path ran them, so a sweep gives identical numbers on every path. On Dask, a
 worker that dies mid-job has its job rescheduled by the scheduler (up to its
-``distributed.scheduler.allowed-failures``); a job whose workers all died comes back failed
-(``KilledWorker``), the others' results are kept.
+``distributed.scheduler.allowed-failures``); a job whose workers all died is retried once
+alone (a job that only shared a dying worker then completes), and if it kills its workers again
+it comes back failed (``KilledWorker``), the others' results kept.
 The progress bar advances as jobs finish (in completion order), not as they are collected.
 """
 
@@ -112,6 +113,14 @@ def run_jobs(fn, jobs, *, workers=1, scheduler=None, progress=True, desc="sweep"
         bar.close()
 
 
+def _dask_result(i, future):
+    """The job's result; a cluster failure (a worker that died on every retry) as a failed job."""
+    try:  # _call catches the job's own errors: what reaches here is the cluster's
+        return future.result()
+    except Exception as exc:  # noqa: BLE001 - one lost job must not lose the others
+        return JobResult(i, False, None, f"worker lost: {type(exc).__name__}: {exc}")
+
+
 def _run_dask(fn, jobs, scheduler, bar):
     try:
         from dask.distributed import Client, as_completed
@@ -127,12 +136,12 @@ def _run_dask(fn, jobs, scheduler, bar):
         futures = client.map(_call, [fn] * len(jobs), range(len(jobs)), jobs, pure=False)
         for _ in as_completed(futures):
             bar.update()
-        out = []
-        for i, f in enumerate(futures):  # _call catches the job's own errors: what reaches
-            try:  # here is the cluster's (a worker that died on every retry, a lost task)
-                out.append(f.result())
-            except Exception as exc:  # noqa: BLE001 - one lost job must not lose the others
-                out.append(JobResult(i, False, None, f"worker lost: {type(exc).__name__}: {exc}"))
+        out = [_dask_result(i, f) for i, f in enumerate(futures)]
+        # A job lost with its workers may only have shared a worker with the job that killed
+        # it (the scheduler counts every task on a dying worker as suspect): each lost job is
+        # retried once, alone, so that only a job that kills its workers itself ends failed.
+        for i in [r.index for r in out if not r.ok and r.error.startswith("worker lost")]:
+            out[i] = _dask_result(i, client.submit(_call, fn, i, jobs[i], pure=False))
         return out
     finally:
         if own:
