@@ -16,7 +16,10 @@ from typing import Any
 
 from tqdm.auto import tqdm
 
-__all__ = ["JobResult", "available_cpus", "fft_threads", "run_jobs"]
+__all__ = ["JobResult", "available_cpus", "default_workers", "fft_threads", "run_jobs"]
+
+#: most local processes chosen by default (measured: benchmarks/bench_workers.py)
+DEFAULT_MAX_WORKERS = 2
 
 #: FFT threads per process; set in each worker of a local process pool (``None``: the default)
 _FFT_THREADS = None
@@ -28,6 +31,17 @@ def available_cpus():
         return max(1, len(os.sched_getaffinity(0)))
     except AttributeError:  # pragma: no cover - not on Linux
         return os.cpu_count() or 1
+
+
+def default_workers():
+    """Local processes when none are given: ``min(2, available_cpus())``.
+
+    Measured on 2 cores (``benchmarks/bench_workers.py``, docs/normal_contact.md): two processes
+    with one FFT thread each run a calibration faster than one process with two FFT threads,
+    start-up included. Each process then has ``available_cpus() // workers`` FFT threads, so
+    processes x FFT threads never exceed the CPUs. More than 2 processes were not measured.
+    """
+    return min(DEFAULT_MAX_WORKERS, available_cpus())
 
 
 def fft_threads():
@@ -66,7 +80,7 @@ def _call(fn, index, job):
     return JobResult(index, True, value, "", time.perf_counter() - t0)
 
 
-def run_jobs(fn, jobs, *, workers=1, scheduler=None, progress=True, desc="sweep"):
+def run_jobs(fn, jobs, *, workers=None, scheduler=None, progress=True, desc="sweep"):
     """Run ``fn(job)`` for every job and return the list of :class:`JobResult` in job order.
 
     Parameters
@@ -75,9 +89,10 @@ def run_jobs(fn, jobs, *, workers=1, scheduler=None, progress=True, desc="sweep"
         A picklable (module-level) function of one job.
     jobs : sequence
         Picklable job descriptions.
-    workers : int
+    workers : int or None
         ``1`` runs in this process; ``> 1`` uses that many local processes;
-        ``0`` means one per CPU this process may use. Ignored when ``scheduler`` is given.
+        ``0`` means one per CPU this process may use; ``None``: :func:`default_workers`.
+        Ignored when ``scheduler`` is given.
         Each local process runs ``available_cpus() // processes`` FFT threads (at least 1).
     scheduler : str or dask.distributed.Client, optional
         Address of a Dask scheduler (``"tcp://host:8786"``) or a client: the jobs run there.
@@ -85,6 +100,8 @@ def run_jobs(fn, jobs, *, workers=1, scheduler=None, progress=True, desc="sweep"
         Show a progress bar.
     """
     jobs = list(jobs)
+    if workers is None:
+        workers = default_workers()
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 0:
         raise ValueError(f"workers must be an integer >= 0, got {workers!r}")
     bar = tqdm(total=len(jobs), desc=desc, disable=not progress, leave=False)
