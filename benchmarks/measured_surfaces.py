@@ -118,14 +118,14 @@ def run(folder, max_grid=None):
     return rows, checks
 
 
-def write(rows, checks):
+def write(rows, checks, commit):
     RESULTS.mkdir(exist_ok=True)
     with open(RESULTS / "measured_surfaces.csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
     head = (
-        f"commit {_commit()}, {platform.machine()} {platform.processor() or ''}, "
+        f"commit {commit}, {platform.machine()} {platform.processor() or ''}, "
         f"Python {platform.python_version()}; one process, workers=1; "
         f"load average at the end {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs\n\n"
     )
@@ -167,8 +167,9 @@ def main():
     ap.add_argument("--folder", required=True, help="folder holding the five files")
     ap.add_argument("--max-grid", type=int, help="cap the default grid (quick runs)")
     a = ap.parse_args()
+    commit = _commit()  # the code that runs, read before the run
     rows, checks = run(a.folder, a.max_grid)
-    write(rows, checks)
+    write(rows, checks, commit)
 
 
 if __name__ == "__main__":
