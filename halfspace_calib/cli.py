@@ -183,7 +183,7 @@ def build_parser():
         help="fit the continuous Eq. 25 (no jump at p_hist)",
     )
     g.add_argument(
-        "--workers", type=int, help="processes (default: min(2, CPUs); 1: this one; 0: per CPU)"
+        "--workers", type=int, help="processes (default: 2 from 362^2 FFT elements, else 1; 0: per CPU)"
     )
     g.add_argument("--scheduler", help="Dask scheduler address, e.g. tcp://host:8786")
     g = ap.add_argument_group("effects")

@@ -1,8 +1,9 @@
-"""The default of two local processes: within the CPUs, and the same answer as one process.
+"""The default processes of the sweeps: within the CPUs, and the same answer as one process.
 
 ``Scene.workers=None`` runs the load levels on ``min(2, available_cpus())`` processes, each with
-``available_cpus() // processes`` FFT threads (measured faster than one process with threaded
-FFTs on 2 cores: benchmarks/bench_workers.py). The parameters must not depend on that choice.
+``available_cpus() // processes`` FFT threads, from ``POOL_MIN_FFT_ELEMENTS`` FFT elements on
+(measured faster there than one process with threaded FFTs on 2 cores,
+benchmarks/bench_workers.py), else in this process. The parameters must not depend on it.
 """
 
 import dataclasses
@@ -11,6 +12,7 @@ import numpy as np
 import pytest
 
 from halfspace_calib.common import jobs
+from halfspace_calib.pipeline import sweeps
 from halfspace_calib.pipeline.calibration import calibrate
 from halfspace_calib.pipeline.scene import Scene
 
@@ -18,25 +20,34 @@ from halfspace_calib.pipeline.scene import Scene
 @pytest.mark.parametrize("cpus", [1, 2, 3, 8])
 def test_default_workers_never_oversubscribe(monkeypatch, cpus):
     monkeypatch.setattr(jobs.os, "sched_getaffinity", lambda pid: set(range(cpus)))
-    w = jobs.default_workers()
+    assert jobs.default_workers() == 1  # no size: this process
+    assert jobs.default_workers(jobs.POOL_MIN_FFT_ELEMENTS - 1) == 1
+    w = jobs.default_workers(jobs.POOL_MIN_FFT_ELEMENTS)
     assert w == min(2, cpus)
     threads = max(1, jobs.available_cpus() // w)
-    assert w * threads <= cpus
-    assert threads >= 1
+    assert 1 <= w * threads <= cpus
 
 
-def test_run_jobs_none_means_the_default(monkeypatch):
+@pytest.mark.parametrize(
+    "grid, periodic, expected",
+    [(256, True, 1), (362, True, 1), (363, True, 2), (176, False, 1), (184, False, 2)],
+)
+def test_sweeps_choose_processes_by_the_transform_size(monkeypatch, grid, periodic, expected):
+    """Periodic grids from 363 and non-periodic ones (padded 2x) from 182 run on 2 processes."""
     seen = {}
 
-    def fake_pool(*, max_workers, initializer, initargs):
-        seen["n"], seen["threads"] = max_workers, initargs[0]
-        raise RuntimeError("stop")  # only the pool's size is under test
+    def fake_run_jobs(fn, jobs_, *, workers, scheduler, progress, desc):
+        seen["workers"] = workers
+        raise RuntimeError("stop")  # only the choice is under test
 
-    monkeypatch.setattr(jobs, "ProcessPoolExecutor", fake_pool)
-    monkeypatch.setattr(jobs.os, "sched_getaffinity", lambda pid: {0, 1, 2, 3})
+    monkeypatch.setattr(jobs.os, "sched_getaffinity", lambda pid: {0, 1})
+    monkeypatch.setattr(sweeps, "run_jobs", fake_run_jobs)
     with pytest.raises(RuntimeError, match="stop"):
-        jobs.run_jobs(abs, [1, 2, 3], progress=False)
-    assert seen == {"n": 2, "threads": 2}
+        sweeps.run_sweeps(Scene(grid=grid, periodic=periodic), progress=False)
+    assert seen["workers"] == expected
+    with pytest.raises(RuntimeError, match="stop"):  # a given value is kept
+        sweeps.run_sweeps(Scene(grid=grid, periodic=periodic, workers=1), progress=False)
+    assert seen["workers"] == 1
 
 
 def test_scene_workers_default_and_validation():

@@ -60,10 +60,11 @@ class Scene:
     ``ELEMENTS_PER_LAMBDA_S`` elements per ``lambda_s`` (at most the scan's native sampling
     and 256); ``periodic=None`` means periodic for synthetic surfaces and non-periodic (DC-FFT)
     for measured ones; ``resolution_check=None`` runs the check (the normal sweeps again at half
-    the grid) for files only. ``workers=None`` runs the load levels (one job each) on
-    :func:`~halfspace_calib.common.jobs.default_workers` local processes (2 on a machine with 2 or
-    more CPUs, measured faster than threaded FFTs in one process; the answer is the same to the
-    last digit), ``1`` in this process, ``0`` one per CPU.
+    the grid) for files only. ``workers=None`` chooses the processes of the normal
+    sweeps by the solve's size (:func:`~halfspace_calib.common.jobs.default_workers`: 2 from
+    about 362^2 FFT elements on a machine with 2 or more CPUs, else this process with threaded
+    FFTs; the effects and samples run in this process); ``1`` in this process, ``0`` one per
+    CPU. The answer is the same to the last digit whichever runs.
     Frozen and validated once, on construction: derive a changed scene with
     :func:`dataclasses.replace` (which validates again). :attr:`materials` and :attr:`solver` give
     the records the sweeps and studies take.
