@@ -5,8 +5,8 @@ For each file in a folder of measured surfaces (the five files ``metropro-1.dat`
 ``test/file_format_examples/``), the file is used as workpiece and as tool (the composite
 of a scan with itself), with the default scene otherwise (Table 1 materials, default pressures):
 
-- the default calibration (grid from the scan's sampling, non-periodic, with the resolution
-  check): the time of the main run and of the check;
+- the default calibration (the default S-filter ``lambda_s`` and grid of each file, non-periodic,
+  with the resolution check): the time of the main run and of the check;
 - the same scene at the default grid G and at G / 2, periodic and non-periodic (without the
   check): mu_eff, C1, n1, C2, n2, the fits' R^2 and the wall time of each.
 
@@ -24,6 +24,7 @@ from __future__ import annotations
 import argparse
 import csv
 import dataclasses
+import os
 import platform
 import subprocess
 import time
@@ -51,6 +52,7 @@ def _row(name, cal, grid, periodic, seconds, kind):
         "file": name,
         "run": kind,
         "grid": grid,
+        "lambda_s_um": cal.scene.lambda_s * 1e6 if cal.scene.lambda_s else 0.0,
         "element_um": cal.sweeps.surfaces["workpiece"].dx * 1e6,
         "periodic": periodic,
         "mu_eff": P.mu_eff,
@@ -74,7 +76,8 @@ def run(folder, max_grid=None):
             print(f"skip {name}: not in {folder}")
             continue
         extra = {"max_undefined": 0.95} if name.startswith("sur-") else {}
-        base = Scene(workpiece=str(path), tool=str(path), **extra)
+        # one process (workers=1) so that the times compare with the other one-core tables
+        base = Scene(workpiece=str(path), tool=str(path), workers=1, **extra)
         if max_grid is not None:
             from halfspace_calib.pipeline.scene_surfaces import load_scene_surfaces
 
@@ -89,6 +92,7 @@ def run(folder, max_grid=None):
             {
                 "file": name,
                 "grid": g,
+                "lambda_s_um": cal.scene.lambda_s * 1e6 if cal.scene.lambda_s else 0.0,
                 "seconds_total": total,
                 "seconds_check": rc.seconds,
                 "check_share": rc.seconds / total,
@@ -114,40 +118,42 @@ def run(folder, max_grid=None):
     return rows, checks
 
 
-def write(rows, checks):
+def write(rows, checks, commit):
     RESULTS.mkdir(exist_ok=True)
     with open(RESULTS / "measured_surfaces.csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
     head = (
-        f"commit {_commit()}, {platform.machine()} {platform.processor() or ''}, "
-        f"Python {platform.python_version()}; one process, workers=1\n\n"
+        f"commit {commit}, {platform.machine()} {platform.processor() or ''}, "
+        f"Python {platform.python_version()}; one process, workers=1; "
+        f"load average at the end {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs\n\n"
     )
     lines = [
-        "| file | grid | element (um) | periodic | mu_eff | C1 | n1 | C2 | n2 | R^2 Eq. 24 / 25 "
-        "| time (s) |",
-        "|---|---|---|---|---|---|---|---|---|---|---|",
+        "| file | lambda_s (um) | grid | element (um) | periodic | mu_eff | C1 | n1 | C2 | n2 "
+        "| R^2 Eq. 24 / 25 | time (s) |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
         lines.append(
-            f"| {r['file']} | {r['grid']} | {r['element_um']:.3g} | "
+            f"| {r['file']} | {r['lambda_s_um']:.3g} | {r['grid']} | {r['element_um']:.3g} | "
             f"{'yes' if r['periodic'] else 'no (DC-FFT)'} | {r['mu_eff']:.3g} | {r['C1']:.3g} | "
             f"{r['n1']:.3g} | {r['C2']:.3g} | {r['n2']:.3g} | "
             f"{r['r2_first']:.3f} / {r['r2_reload']:.3f} | {r['seconds']:.1f} |"
         )
     lines += [
         "",
-        "Resolution check (default calibration: grid from the scan, non-periodic, check at half "
-        "the grid):",
+        "Resolution check (default calibration: default lambda_s and grid, non-periodic, "
+        "check at half the grid):",
         "",
-        "| file | grid | total (s) | check (s) | share of total | mu_eff change | "
+        "| file | lambda_s (um) | grid | total (s) | check (s) | share of total | mu_eff change | "
         "max alpha change | warning |",
-        "|---|---|---|---|---|---|---|---|",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
     for c in checks:
         lines.append(
-            f"| {c['file']} | {c['grid']} | {c['seconds_total']:.1f} | {c['seconds_check']:.1f} | "
+            f"| {c['file']} | {c['lambda_s_um']:.3g} | {c['grid']} | {c['seconds_total']:.1f} | "
+            f"{c['seconds_check']:.1f} | "
             f"{100 * c['check_share']:.0f} % | {100 * c['mu_eff_change']:.1f} % | "
             f"{100 * c['alpha_change']:.1f} % | {'yes' if c['warning'] else 'no'} |"
         )
@@ -161,8 +167,9 @@ def main():
     ap.add_argument("--folder", required=True, help="folder holding the five files")
     ap.add_argument("--max-grid", type=int, help="cap the default grid (quick runs)")
     a = ap.parse_args()
+    commit = _commit()  # the code that runs, read before the run
     rows, checks = run(a.folder, a.max_grid)
-    write(rows, checks)
+    write(rows, checks, commit)
 
 
 if __name__ == "__main__":

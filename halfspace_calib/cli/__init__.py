@@ -234,7 +234,8 @@ def build_parser():
     g.add_argument(
         "--workers",
         type=int,
-        help=f"local processes (1: in this process, 0: one per CPU; default {_D['workers']})",
+        help="local processes of the normal sweeps (1: in this process, 0: one per CPU; default: "
+        "2 from 362^2 FFT elements per solve on 2 or more CPUs, else 1)",
     )
     g.add_argument(
         "--scheduler", help="Dask scheduler address, e.g. tcp://host:8786 (default: none)"

@@ -18,7 +18,13 @@ from typing import Any
 
 from tqdm.auto import tqdm
 
-__all__ = ["JobResult", "available_cpus", "fft_threads", "run_jobs"]
+__all__ = ["JobResult", "available_cpus", "default_workers", "fft_threads", "run_jobs"]
+
+#: most local processes chosen by default (measured: benchmarks/bench_workers.py)
+DEFAULT_MAX_WORKERS = 2
+#: FFT elements of one solve from which a sweep's load levels run on processes by default
+#: (2^17, about 362^2: periodic grids from 363, non-periodic ones, padded 2x, from 182)
+POOL_MIN_FFT_ELEMENTS = 2**17
 
 #: FFT threads per process; set in each worker of a local process pool (``None``: the default)
 _FFT_THREADS = None
@@ -30,6 +36,23 @@ def available_cpus():
         return max(1, len(os.sched_getaffinity(0)))
     except AttributeError:  # pragma: no cover - not on Linux
         return os.cpu_count() or 1
+
+
+def default_workers(fft_elements=None):
+    """Local processes when none are given, for a sweep whose solves transform ``fft_elements``.
+
+    ``min(2, available_cpus())`` from :data:`POOL_MIN_FFT_ELEMENTS` FFT elements on (each process
+    then has ``available_cpus() // processes`` FFT threads: processes x FFT threads never exceed
+    the CPUs), else ``1``: one process with threaded FFTs; also ``1`` without a size (jobs that
+    were not measured). Measured on 2 cores with the CLI's wall time
+    (``benchmarks/bench_workers.py``, docs/normal_contact.md): two processes are 1.09x faster on
+    the default scene at 512^2 and on a measured file at 224^2 (FFT 448^2), and 0.88-0.98x (slower)
+    at 128^2 and 256^2, where the pool's start-up is a larger share. More than 2 processes were
+    not measured.
+    """
+    if fft_elements is None or fft_elements < POOL_MIN_FFT_ELEMENTS:
+        return 1
+    return min(DEFAULT_MAX_WORKERS, available_cpus())
 
 
 def fft_threads():
@@ -68,7 +91,7 @@ def _call(fn, index, job):
     return JobResult(index, True, value, "", time.perf_counter() - t0)
 
 
-def run_jobs(fn, jobs, *, workers=1, scheduler=None, progress=True, desc="sweep"):
+def run_jobs(fn, jobs, *, workers=None, scheduler=None, progress=True, desc="sweep"):
     """Run ``fn(job)`` for every job and return the list of :class:`JobResult` in job order.
 
     Parameters
@@ -77,9 +100,11 @@ def run_jobs(fn, jobs, *, workers=1, scheduler=None, progress=True, desc="sweep"
         A picklable (module-level) function of one job.
     jobs : sequence
         Picklable job descriptions.
-    workers : int
+    workers : int or None
         ``1`` runs in this process; ``> 1`` uses that many local processes;
-        ``0`` means one per CPU this process may use. Ignored when ``scheduler`` is given.
+        ``0`` means one per CPU this process may use; ``None``: ``1`` (callers that know the
+        solve size pass :func:`default_workers` of it).
+        Ignored when ``scheduler`` is given.
         Each local process runs ``available_cpus() // processes`` FFT threads (at least 1).
     scheduler : str or dask.distributed.Client, optional
         Address of a Dask scheduler (``"tcp://host:8786"``) or a client: the jobs run there.
@@ -87,6 +112,8 @@ def run_jobs(fn, jobs, *, workers=1, scheduler=None, progress=True, desc="sweep"
         Show a progress bar.
     """
     jobs = list(jobs)
+    if workers is None:
+        workers = 1
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 0:
         raise ValueError(f"workers must be an integer >= 0, got {workers!r}")
     bar = tqdm(total=len(jobs), desc=desc, disable=not progress, leave=False)

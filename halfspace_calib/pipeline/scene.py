@@ -63,6 +63,11 @@ class Scene:
     the grid) for files only. ``contact_area``: the contact ratio the fits read, ``"count"``
     (elements with ``p > 0``, the default) or ``"perimeter"`` (the count corrected with the
     contact perimeter, Yastrebov et al. 2017; docs/normal_contact.md, "Contact-area estimators").
+    ``workers=None`` chooses the processes of the normal
+    sweeps by the solve's size (:func:`~halfspace_calib.common.jobs.default_workers`: 2 from
+    about 362^2 FFT elements on a machine with 2 or more CPUs, else this process with threaded
+    FFTs; the effects and samples run in this process); ``1`` in this process, ``0`` one per
+    CPU. The answer is the same to the last digit whichever runs.
     Frozen and validated once, on construction: derive a changed scene with
     :func:`dataclasses.replace` (which validates again). :attr:`materials` and :attr:`solver` give
     the records the sweeps and studies take.
@@ -116,7 +121,7 @@ class Scene:
     reload_surface: str = "plastic"
     contact_area: str = "count"
     continuous_reload: bool = False
-    workers: int = 1
+    workers: int | None = None
     scheduler: str | None = None
     effects: tuple = ("normal",)
     geo_threshold: float = 0.05
@@ -216,8 +221,9 @@ class Scene:
             raise ValueError(
                 f"contact_area must be 'count' or 'perimeter', got {self.contact_area!r}"
             )
-        if not isinstance(self.workers, int) or self.workers < 0:
-            raise ValueError(f"workers must be an integer >= 0, got {self.workers!r}")
+        w = self.workers
+        if w is not None and (isinstance(w, bool) or not isinstance(w, int) or w < 0):
+            raise ValueError(f"workers must be an integer >= 0 or None (automatic), got {w!r}")
         g = self.geo_threshold
         if not (isinstance(g, (int, float)) and math.isfinite(g) and g >= 0):
             raise ValueError(f"geo_threshold must be a finite number >= 0 (a ratio), got {g!r}")
@@ -288,7 +294,7 @@ class Scene:
             raise ValueError(
                 "measured_n applies to synthetic surfaces; a file's measured grid is the scan"
             )
-        if self.scheduler is not None and self.workers != 1:
+        if self.scheduler is not None and self.workers not in (None, 1):
             raise ValueError(
                 "workers applies to local processes; with a Dask scheduler the cluster decides "
                 "(give one of them)"

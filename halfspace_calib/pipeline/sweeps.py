@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..common.jobs import run_jobs
+from ..common.jobs import default_workers, run_jobs
 from ..contact.area import corrected_contact_ratio
 from ..contact.materials import Materials, SolverSettings
 from ..contact.normal import solve_normal_pair
@@ -319,10 +319,14 @@ def run_sweeps(scene, *, progress=True, surfaces=None):
             )
         )
     t0 = time.perf_counter()
+    workers = scene.workers
+    if workers is None and scene.scheduler is None:
+        pad = 1 if solver.periodic else 2  # non-periodic: zero-padded (DC-FFT) transforms
+        workers = default_workers(wp.heights.shape[0] * wp.heights.shape[1] * pad * pad)
     results = run_jobs(
         _level_job,
         jobs,
-        workers=scene.workers,
+        workers=workers,
         scheduler=scene.scheduler,
         progress=progress,
         desc="half-space sweeps",
