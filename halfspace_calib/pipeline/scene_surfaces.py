@@ -249,15 +249,20 @@ def area_resample(surface, side, m):
 
 
 # ----------------------------------------------------------------------------- reading
-def _read(scene, role):
-    """Read one file: ``(Surface with holes filled, steps done)``; cached per file and options."""
+def _file_key(scene, role):
+    """The cache key of a role's file: ``(path, modification stamp, role, unit, size, max_undefined)``."""
     path = getattr(scene, role)
     unit = getattr(scene, f"{role}_unit") or scene.unit
     try:
         stamp = os.stat(path).st_mtime_ns
     except OSError:
         stamp = None
-    return _read_cached(str(path), stamp, role, unit, scene.size, scene.max_undefined)
+    return str(path), stamp, role, unit, scene.size, scene.max_undefined
+
+
+def _read(scene, role):
+    """Read one file: ``(Surface with holes filled, steps done)``; cached per file and options."""
+    return _read_cached(*_file_key(scene, role))
 
 
 @functools.lru_cache(maxsize=2)  # workpiece and tool
@@ -525,15 +530,7 @@ def load_scene_surfaces(scene, *, grid=None, check_sampling=True):
 
 def _filtered(scene, role, lambda_s):
     """:func:`_read`, levelled and filtered with ``lambda_s`` and ``scene.lambda_c``."""
-    path = getattr(scene, role)
-    unit = getattr(scene, f"{role}_unit") or scene.unit
-    try:
-        stamp = os.stat(path).st_mtime_ns
-    except OSError:
-        stamp = None
-    return _filtered_cached(
-        str(path), stamp, role, unit, scene.size, scene.max_undefined, lambda_s, scene.lambda_c
-    )
+    return _filtered_cached(*_file_key(scene, role), lambda_s, scene.lambda_c)
 
 
 def _synthetic_one(scene, role, n, size, measured_n=None):
