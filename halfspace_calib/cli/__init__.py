@@ -31,7 +31,7 @@ from ..pipeline.scene_surfaces import (
     ISO_SAMPLING_RATIO,
     MAX_DEFAULT_GRID,
 )
-from ._paths import OUTPUT_MARKERS, after_contact, fit_h, main_samples, sample_spec
+from ._paths import OUTPUT_MARKERS, after_contact, exit_code, fit_h, main_samples, sample_spec
 
 #: files that mark a folder as a calibration output (a rerun may replace it)
 _OUTPUT_MARKERS = OUTPUT_MARKERS
@@ -416,13 +416,7 @@ def main(argv=None):
     _print_resolution(con, cal.resolution)
     for note in cal.notes:  # the solve changed (periodic fallback): a warning, stderr
         con.warn(f"halfspace-calib: note: {note}")
-    problems = cal.problems()
-    if problems:
-        con.warn("halfspace-calib: RUN FAILED (exit code 1):")
-        for p in problems:
-            con.warn(f"    - {p}")
-        return 1
-    return 0
+    return exit_code(con, cal.problems())
 
 
 def _print_input(con, scene, surfaces, derived=False):

@@ -96,13 +96,7 @@ def main_samples(args, scene, spec, t0):
             con.result(
                 f"    tau({p / 1e6:g} MPa) = {c / 1e6:.3f} MPa  [{lo / 1e6:.3f}, {hi / 1e6:.3f}]"
             )
-    problems = mc.problems()
-    if problems:
-        con.warn("halfspace-calib: RUN FAILED (exit code 1):")
-        for p in problems:
-            con.warn(f"    - {p}")
-        return 1
-    return 0
+    return exit_code(con, mc.problems())
 
 
 def after_contact(args, scene):
@@ -139,3 +133,13 @@ def _scene_gives(args, key):
 
     data = tomllib.loads(Path(args.scene).read_text(encoding="utf-8"))
     return key in data.get("scene", data)
+
+
+def exit_code(con, problems):
+    """0, or 1 after the run's problems on stderr (``RUN FAILED``)."""
+    if problems:
+        con.warn("halfspace-calib: RUN FAILED (exit code 1):")
+        for p in problems:
+            con.warn(f"    - {p}")
+        return 1
+    return 0
