@@ -1,7 +1,7 @@
 """Measured surfaces end to end: the scene loader and the CLI on real instrument files.
 
 The real files come from SurfaceTopography's public test set (see tests/data/README.md): three ship
-in tests/data/; two more (mnt-1.mnt, sur-3.sur) are read from ../shared/surfaces/ where the
+in tests/data/; two more (mnt-1.mnt, x3p-2.x3p) are read from ../shared/surfaces/ where the
 project's CI puts the full set, and their tests skip elsewhere. Grids are kept small (16-32) so
 that each calibration takes about a second.
 """
