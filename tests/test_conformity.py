@@ -2,17 +2,16 @@
 diagnosis and the periodic fallback of calibrate() (docs/measured_surfaces.md)."""
 
 import json
-from pathlib import Path
 
 import numpy as np
 import pytest
+from realfiles import real_file
 
 from halfspace_calib.cli import main
 from halfspace_calib.contact.normal import solve_normal
 from halfspace_calib.pipeline.calibration import Scene, calibrate
 from halfspace_calib.pipeline.conformity import edge_plasticity, punch_edge_problem
 
-SHARED = Path(__file__).resolve().parents[1].parent / "shared" / "surfaces"
 FAST_KW = dict(pressures=(20e6, 100e6, 300e6, 600e6), reload_fractions=(0.1, 0.25, 0.5, 0.8))
 H = 800e6
 E_STAR = 1.2e11
@@ -60,11 +59,7 @@ def test_edge_plasticity_refuses_bad_input(p, H_, band, match):
 
 
 def _metropro():
-    p = SHARED / "metropro-1.dat"
-    if not p.is_file():
-        pytest.skip(f"{p} is not there (the shared surfaces sit beside the project)")
-    pytest.importorskip("SurfaceTopography")
-    return str(p)
+    return str(real_file("metropro-1.dat"))
 
 
 def test_nearly_conforming_scan_non_periodic_fails_with_the_reason():

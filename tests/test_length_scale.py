@@ -2,10 +2,10 @@
 
 import json
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
+from realfiles import real_file
 
 from halfspace_calib import topography as S
 from halfspace_calib.cli import main
@@ -21,7 +21,6 @@ from halfspace_calib.pipeline.scene_surfaces import (
 )
 from halfspace_calib.topography.filters import l_filter, s_filter
 
-SHARED = Path(__file__).resolve().parents[1].parent / "shared" / "surfaces"
 FAST = ["--pressures", "20e6,100e6,300e6,500e6", "--reload-fractions", "0.25,0.5,0.8"]
 
 
@@ -162,9 +161,7 @@ def test_cli_lambda_s_recorded_in_params_json(tmp_path, capsys):
 
 
 def test_shared_matrix_file_default(tmp_path):
-    p = SHARED / "matrix-3.txt"
-    if not p.is_file():
-        pytest.skip(f"{p} is not there")
+    p = real_file("matrix-3.txt")
     ss = load_scene_surfaces(Scene(workpiece=str(p), tool=str(p)))
     lam = default_lambda_s(10e-6, 10e-6 / 256, MAX_DEFAULT_GRID)
     assert ss.lambda_s == lam and ss.grid == 8 * math.ceil(16 * 10e-6 / lam / 8 - 1e-9)

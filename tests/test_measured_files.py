@@ -8,10 +8,10 @@ that each calibration takes about a second.
 
 import json
 import shutil
-from pathlib import Path
 
 import numpy as np
 import pytest
+from realfiles import real_file
 
 from halfspace_calib import topography as S
 from halfspace_calib.cli import main
@@ -20,8 +20,6 @@ from halfspace_calib.pipeline.calibration import Scene
 from halfspace_calib.pipeline.scene_surfaces import area_resample, load_scene_surfaces
 from halfspace_calib.topography._formats import layout_for
 
-DATA = Path(__file__).resolve().parent / "data"
-SHARED = Path(__file__).resolve().parents[1].parent / "shared" / "surfaces"
 FAST = ["--pressures", "20e6,100e6,300e6,500e6", "--reload-fractions", "0.25,0.5,0.8"]
 FAST_KW = dict(pressures=(20e6, 100e6, 300e6, 500e6), reload_fractions=(0.25, 0.5, 0.8))
 
@@ -35,15 +33,7 @@ FILES = {
 
 
 def _shared(name):
-    p = DATA / name if (DATA / name).is_file() else SHARED / name
-    if not p.is_file():
-        pytest.skip(
-            f"{name} is not shipped in tests/data (size budget) and {SHARED} is not there "
-            "(the project's CI puts the full set beside the project)"
-        )
-    if layout_for(p) == "instrument":
-        pytest.importorskip("SurfaceTopography")
-    return p
+    return real_file(name)
 
 
 # ----------------------------------------------------------------------------- building blocks

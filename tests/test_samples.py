@@ -10,10 +10,10 @@ import dataclasses
 import json
 import math
 from html.parser import HTMLParser
-from pathlib import Path
 
 import numpy as np
 import pytest
+from realfiles import real_file
 
 from frictionlaw import FrictionParams, alpha_first, alpha_reload
 from frictionlaw.uncertainty import UNCERTAINTY_VERSION
@@ -30,16 +30,6 @@ from halfspace_calib.pipeline.uncertainty import bootstrap_uncertainty, curves_o
 
 K, GRID = 4, 32
 PROBES = (100e6, 300e6, 600e6)
-# the shared surfaces sit beside the project (or beside the worktrees' folder)
-_ROOT = Path(__file__).resolve().parents[1]
-SHARED = next(
-    (
-        p
-        for p in (_ROOT.parent / "shared" / "surfaces", _ROOT.parents[1] / "shared" / "surfaces")
-        if p.is_dir()
-    ),
-    _ROOT.parent / "shared" / "surfaces",
-)
 
 
 @pytest.fixture(scope="module")
@@ -212,11 +202,7 @@ def test_cli_refuses_bad_sample_input_before_any_work(argv, match, tmp_path, cap
 
 
 def _shared(name):
-    p = SHARED / name
-    if not p.is_file():
-        pytest.skip(f"{p} is not there")
-    pytest.importorskip("SurfaceTopography")
-    return str(p)
+    return str(real_file(name))
 
 
 def test_cli_refuses_mixed_units_and_element_sizes(tmp_path, capsys):
@@ -261,7 +247,17 @@ def _lookup(summary, key):
 
 def test_cli_multi_sample_run_writes_band_and_a_report_that_agrees(tmp_path, capsys):
     out = tmp_path / "c"
-    argv = ["--out", str(out), "--no-progress", "--patches", "4", "--grid", "16", "--bootstrap", "60"]
+    argv = [
+        "--out",
+        str(out),
+        "--no-progress",
+        "--patches",
+        "4",
+        "--grid",
+        "16",
+        "--bootstrap",
+        "60",
+    ]
     assert main(argv + FAST) == 0
     text = capsys.readouterr().out
     assert "pooled law and 90 % bootstrap band (60 resamples)" in text
