@@ -10,7 +10,7 @@ import sys
 import numpy as np
 
 from . import FrictionParams, alpha_first, reload_jump, shear_limit
-from .clitools import Console, HelpFormatter, add_version
+from .clitools import Console, HelpFormatter, add_version, parse
 
 
 def default_params():
@@ -36,10 +36,9 @@ def build_parser():
 
 def main(argv=None):
     """Entry point; returns 0, or 2 for bad input."""
-    try:
-        args = build_parser().parse_args(argv)
-    except SystemExit as exc:  # argparse: 2 for a bad option, 0 for --help / --version
-        return exc.code if isinstance(exc.code, int) else 2
+    args, code = parse(build_parser(), argv)
+    if args is None:
+        return code
     con = Console("frictionlaw-demo")
     if not (math.isfinite(args.p_hist) and args.p_hist >= 0):
         return con.error(f"--p-hist must be a finite pressure >= 0 Pa, got {args.p_hist:g}", 2)

@@ -32,6 +32,7 @@ __all__ = [
     "HelpFormatter",
     "OutputFolder",
     "add_common_options",
+    "parse",
     "version",
 ]
 
@@ -96,6 +97,18 @@ def add_version(parser):
     parser.add_argument(
         "--version", action="version", version=f"%(prog)s {version()}", help="print the version"
     )
+
+
+def parse(parser, argv=None):
+    """``(args, None)``, or ``(None, exit code)`` where argparse exits.
+
+    argparse exits 2 for a bad option (its message already on stderr) and 0 for ``--help`` and
+    ``--version``; a command returns that code instead of raising ``SystemExit``.
+    """
+    try:
+        return parser.parse_args(argv), None
+    except SystemExit as exc:
+        return None, exc.code if isinstance(exc.code, int) else 2
 
 
 class Console:

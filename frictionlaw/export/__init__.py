@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..clitools import Console, HelpFormatter, OutputFolder, add_common_options, add_version
+from ..clitools import Console, HelpFormatter, OutputFolder, add_common_options, add_version, parse
 from ..params import FrictionParams
 from . import _fortran, _readme, _tables
 
@@ -315,10 +315,9 @@ def _parser():
 def main(argv=None):
     """Console entry point; returns 0 on success, 1 if the export failed, 2 on bad input."""
     ap = _parser()
-    try:
-        args = ap.parse_args(argv)
-    except SystemExit as exc:
-        return int(exc.code or 0)
+    args, code = parse(ap, argv)
+    if args is None:
+        return code
     con = Console("frictionlaw-export", quiet=args.quiet)
     try:
         res = export(

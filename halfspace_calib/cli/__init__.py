@@ -21,6 +21,7 @@ from frictionlaw.clitools import (
     OutputFolder,
     add_common_options,
     add_version,
+    parse,
 )
 
 from ..output.hardness import write_hardness_fit
@@ -349,10 +350,9 @@ def scene_from_args(args):
 
 def main(argv=None):
     """Entry point of ``halfspace-calib``; returns the exit code (0, 1 or 2)."""
-    try:
-        args = build_parser().parse_args(argv)
-    except SystemExit as exc:  # argparse: 2 for a bad option, 0 for --help / --version
-        return exc.code if isinstance(exc.code, int) else 2
+    args, code = parse(build_parser(), argv)
+    if args is None:
+        return code
     con = Console("halfspace-calib", quiet=args.quiet)
     t0 = time.perf_counter()
     hfit = None
