@@ -29,7 +29,6 @@ from pathlib import Path
 
 import numpy as np
 
-from frictionlaw import FrictionParams
 from frictionlaw.htmlpage import figure, number_cell, page
 
 __all__ = [
@@ -44,12 +43,12 @@ __all__ = [
 REPORT_REDUCTIONS = (0.25, 0.5)
 
 
-def band_laws(params_path, mode):
+def band_laws(P, mode, params_path):
     """``[(name, FrictionParams)]``: central first, then the edge laws or every sample's law.
 
-    ``ValueError`` (bad input) if the file has no uncertainty block.
+    ``P`` is the parameter set read from ``params_path`` (named in the message). ``ValueError``
+    (bad input) if it has no uncertainty block.
     """
-    P = FrictionParams.from_json(params_path)
     if P.uncertainty is None:
         raise ValueError(
             f"--{mode} needs a parameter file with an uncertainty block (a calibration from "

@@ -30,6 +30,7 @@ from frictionlaw.clitools import (
     OutputFolder,
     add_common_options,
     add_version,
+    parse,
 )
 
 from .band import band_laws, write_band_outputs, write_run_report
@@ -445,9 +446,10 @@ def _check_options(args):
     if args.params is not None:
         if not args.params.exists():
             raise ValueError(f"--params file {args.params} does not exist")
-        FrictionParams.from_json(args.params)  # unreadable files are bad input, before any run
+        P = FrictionParams.from_json(args.params)  # unreadable files: bad input, before any run
         if args.band or args.samples:
-            args.band_laws = band_laws(args.params, "band" if args.band else "samples")
+            args.band_laws = band_laws(P, "band" if args.band else "samples", args.params)
+            args.band_level = P.uncertainty.level
 
 
 def _cmd_band(args, con):
@@ -483,9 +485,8 @@ def _cmd_band(args, con):
             },
         )
     keys = [("force", "N")] + ([("inner_diameter_change", "1")] if args.scene == "ring" else [])
-    level = FrictionParams.from_json(args.params).uncertainty.level
     rec = write_band_outputs(
-        args.out, args.scene, "band" if args.band else "samples", level, results, keys
+        args.out, args.scene, "band" if args.band else "samples", args.band_level, results, keys
     )
     for key, unit in keys:
         for red, v in rec[f"{key}_at"].items():
@@ -512,10 +513,9 @@ class _Report(Console):
 
 def main(argv=None):
     """Entry point of the ``fe-demo`` console script; returns 0, 1 (a run failed) or 2 (bad input)."""
-    try:
-        args = build_parser().parse_args(argv)
-    except SystemExit as exc:  # argparse: 2 for a bad option, 0 for --help / --version
-        return exc.code if isinstance(exc.code, int) else 2
+    args, code = parse(build_parser(), argv)
+    if args is None:
+        return code
     con = _Report("fe-demo", quiet=args.quiet)
     if not (0.0 < args.reduction < 0.9):
         return con.error("--reduction must be in (0, 0.9)", 2)
