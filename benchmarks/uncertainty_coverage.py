@@ -59,9 +59,7 @@ def main(argv=None):
     pr = 0.5 * ph
 
     def taus(P):
-        return [P.tau_max * v for v in _alpha1(P)] + [
-            P.tau_max * float(alpha_reload(pr, ph, P))
-        ]
+        return [P.tau_max * v for v in _alpha1(P)] + [P.tau_max * float(alpha_reload(pr, ph, P))]
 
     t_truth, t_whole_tau = taus(truth), taus(whole.params)
     t_whole_p = taus(whole_p.params)
@@ -122,13 +120,13 @@ def main(argv=None):
         "|" + "---|" * len(hdr),
     ]
     lines += [
-        f"| {r[0]} | {r[1]:.3f} | {r[2]:.3f} | {r[3]:+.2f} | {r[4]:.3f} | {r[5]:.2f} | "
-        f"{r[6]:.2f} |"
+        f"| {r[0]} | {r[1]:.3f} | {r[2]:.3f} | {r[3]:+.2f} | {r[4]:.3f} | {r[5]:.2f} | {r[6]:.2f} |"
         for r in rows
     ]
     lines += [
         "",
-        f"All {a.k * a.k} patches: " + ", ".join(
+        f"All {a.k * a.k} patches: "
+        + ", ".join(
             f"{k} {v.central:.4g} [{v.lower:.4g}, {v.upper:.4g}]" for k, v in u.parameters.items()
         ),
         f"Whole surface ({a.k * a.grid}^2, non-periodic as the patches): C1 {whole.params.C1:.4g}, n1 "

@@ -15,6 +15,7 @@ from frictionlaw.htmlpage import figure, number_cell, page
 
 __all__ = ["write_report"]
 
+
 def _list(items, cls=""):
     if not items:
         return "<p>none</p>"
