@@ -27,6 +27,7 @@ from frictionlaw.clitools import (
 from ..output.hardness import write_hardness_fit
 from ..output.report import write_outputs
 from ..pipeline.calibration import Scene, calibrate, load_scene, load_scene_surfaces
+from ..pipeline.scene import PAPER_PRESSURES
 from ..pipeline.scene_surfaces import (
     ELEMENTS_PER_LAMBDA_S,
     ISO_SAMPLING_RATIO,
@@ -38,6 +39,13 @@ from ._paths import OUTPUT_MARKERS, after_contact, exit_code, fit_h, main_sample
 _OUTPUT_MARKERS = OUTPUT_MARKERS
 #: the Scene's defaults, shown in --help
 _D = {f.name: f.default for f in fields(Scene)}
+
+
+def _pressures(text):
+    """``--pressures``: a comma-separated list in Pa, or ``paper`` (the paper's 10-600 MPa)."""
+    if text.strip().lower() == "paper":
+        return PAPER_PRESSURES
+    return _floats(text)
 
 
 def _floats(text):
@@ -162,10 +170,11 @@ def build_parser():
     g = ap.add_argument_group("sweeps and solver")
     g.add_argument(
         "--pressures",
-        type=_floats,
-        help="first-loading p_mean list in Pa, comma separated (default: "
+        type=_pressures,
+        help="first-loading p_mean list in Pa, comma separated, or 'paper' for the paper's "
+        "10-600 MPa (default: "
         + ",".join(f"{p:g}" for p in _D["pressures"])
-        + ")",
+        + ", up to 0.95 H of the default H)",
     )
     g.add_argument(
         "--reload-fractions",
@@ -277,6 +286,12 @@ def build_parser():
         "--bootstrap",
         type=int,
         help="bootstrap resamples of the band (default 400, at least 50)",
+    )
+    g.add_argument(
+        "--band-method",
+        choices=("t", "percentile"),
+        help="the band from the resamples: t (pooled value -+ Student t x bootstrap standard "
+        "error, the small-sample correction) or percentile (default t)",
     )
     add_common_options(ap)
     return ap

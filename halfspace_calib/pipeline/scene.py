@@ -21,6 +21,7 @@ from .scene_surfaces import MAX_UNDEFINED, SYNTHETIC_GRID, check_memory
 
 __all__ = [
     "DEFAULT_PRESSURES",
+    "PAPER_PRESSURES",
     "DEFAULT_RELOAD_FRACTIONS",
     "P_FLOOR",
     "Scene",
@@ -28,7 +29,10 @@ __all__ = [
 ]
 
 MPa = 1e6
-DEFAULT_PRESSURES = (10e6, 25e6, 50e6, 100e6, 200e6, 300e6, 400e6, 500e6, 600e6)
+#: the paper's first-loading pressures (Sec. 3.1: up to 600 MPa = 0.75 H of DC04)
+PAPER_PRESSURES = (10e6, 25e6, 50e6, 100e6, 200e6, 300e6, 400e6, 500e6, 600e6)
+#: the default sweep
+DEFAULT_PRESSURES = PAPER_PRESSURES
 DEFAULT_RELOAD_FRACTIONS = (0.05, 0.1, 0.25, 0.5, 0.75, 0.9)
 #: smallest plausible mean pressure (Pa): below it the values were most likely typed in MPa
 P_FLOOR = 1e3
@@ -148,6 +152,13 @@ class Scene:
         if "inclined" in self.effects and synthetic and self.measured_n is None:
             # the inclined patches need the measured grid: calibrate on the same random field
             put("measured_n", 4 * self.grid if isinstance(self.grid, int) else None)
+        if isinstance(self.pressures, str):  # a scene file's pressures = "paper"
+            if self.pressures.strip().lower() != "paper":
+                raise ValueError(
+                    f"pressures must be a list of mean pressures (Pa) or 'paper' (the paper's "
+                    f"10-600 MPa), got {self.pressures!r}"
+                )
+            put("pressures", PAPER_PRESSURES)
         put("pressures", tuple(float(p) for p in self.pressures))
         put("reload_fractions", tuple(float(f) for f in self.reload_fractions))
         if self.sigma_y is None and isinstance(self.H, (int, float)) and self.H > 0:
