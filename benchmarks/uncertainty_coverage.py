@@ -70,6 +70,13 @@ def main(argv=None):
         default="default",
         help="the scene's default sweep or the paper's 10-600 MPa (default %(default)s)",
     )
+    ap.add_argument(
+        "--bound",
+        choices=("default", "none"),
+        default="default",
+        help="Eq. 24 fitted with the bound alpha1 >= p/H up to 0.99 H (the scene's default) or "
+        "without (default %(default)s)",
+    )
     ap.add_argument("--whole", action="store_true", help="also calibrate the whole surface")
     ap.add_argument("--tag", default="", help="suffix of the result files (default none)")
     a = ap.parse_args(argv)
@@ -77,7 +84,10 @@ def main(argv=None):
     from halfspace_calib.pipeline.scene import PAPER_PRESSURES
 
     kw = {"pressures": PAPER_PRESSURES} if a.pressures == "paper" else {}
+    if a.bound == "none":
+        kw["alpha_floor"] = None
     scene = Scene(grid=a.grid, **kw)
+    floor = None if scene.alpha_floor is None else scene.alpha_floor * scene.H
     t0 = time.perf_counter()
     spec = SampleSpec(patches=a.k * a.k, n_bootstrap=50, level=a.level)
     mc = calibrate_samples(scene, spec, samples=load_samples(scene, spec), progress=False)
@@ -99,9 +109,9 @@ def main(argv=None):
         t0 = time.perf_counter()
         for r in range(a.repeats):
             sub = [curves[i] for i in rng.choice(len(curves), n, replace=True)]
-            f, rl = pooled_fit(sub, truth.H)
+            f, rl = pooled_fit(sub, truth.H, alpha_floor=scene.alpha_floor)
             cen = truth.replace(C1=f.C1, n1=f.n1, C2=rl.C2, n2=rl.n2, uncertainty=None)
-            boot = bootstrap_laws(sub, cen, n_bootstrap=a.boot, seed=1000 * n + r)
+            boot = bootstrap_laws(sub, cen, n_bootstrap=a.boot, seed=1000 * n + r, floor_to=floor)
             stack = np.array(
                 [_taus(cen.replace(C1=c1, n1=n1, C2=c2, n2=n2), pr, ph) for c1, n1, c2, n2 in boot]
             )
@@ -126,7 +136,8 @@ def main(argv=None):
         wr.writerows(rows)
     lines = [
         f"# Band coverage: population {a.k * a.k} patches of {a.grid}^2 ({a.k} x 2.11 mm "
-        f"synthetic Table 1 surface, {a.pressures} pressures), draws with replacement, "
+        f"synthetic Table 1 surface, {a.pressures} pressures, bound alpha1 >= p/H: {a.bound}), "
+        "draws with replacement, "
         f"{a.repeats} draws per size, {a.boot} resamples each, nominal {100 * a.level:g} %",
         "",
         "Coverage (its standard error) and median band width (% of the pooled value):",

@@ -174,7 +174,8 @@ def build_parser():
         help="first-loading p_mean list in Pa, comma separated, or 'paper' for the paper's "
         "10-600 MPa (default: "
         + ",".join(f"{p:g}" for p in _D["pressures"])
-        + ", up to 0.95 H of the default H)",
+        + " for H = 800 MPa; for another H the paper's pressures below 0.85 H, then 0.875 H "
+        "and 0.95 H)",
     )
     g.add_argument(
         "--reload-fractions",
@@ -423,6 +424,11 @@ def main(argv=None):
         f"largest jump at p_hist {100 * s['max_jump_relative']:.2f} % of tau)"
     )
     say(f"  Coulomb slope mu_eff = {P.mu_eff:.4f}, cap m k = {P.tau_max / 1e6:.1f} MPa")
+    say(
+        f"  bound alpha >= p/H: largest violation by Eq. 24 {s['alpha_bound_violation_to_p_max']:.4f} "
+        f"up to p_max, {s['alpha_bound_violation_to_H']:.4f} up to H (alpha1(H) = "
+        f"{s['alpha1_at_H']:.4f}); R^2 given up for it {s['alpha_bound_r2_cost'] or 0:.2g}"
+    )
     say(
         f"  reloads: largest local pressure {s['max_reload_pressure_over_H']:.3f} H, "
         f"plastic fraction {s['max_reload_plastic_fraction']:.4f}"

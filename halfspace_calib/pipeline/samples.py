@@ -491,7 +491,12 @@ def calibrate_samples(scene, spec, *, samples=None, progress=True):
     cals = [run.calibrations[s.name] for s in ok]
     curves = [curves_of(s.name, c.sweeps) for s, c in zip(ok, cals, strict=True)]
     ref = cals[0]
-    first, reload = pooled_fit(curves, ref.scene.H, continuous=ref.scene.continuous_reload)
+    first, reload = pooled_fit(
+        curves,
+        ref.scene.H,
+        continuous=ref.scene.continuous_reload,
+        alpha_floor=ref.scene.alpha_floor,
+    )
     p_all = np.concatenate([c.p for c in curves])
     prov = dict(ref.params.provenance)
     prov["fit"] = {"first_loading": first.summary(), "reload": reload.summary()}
@@ -523,6 +528,7 @@ def calibrate_samples(scene, spec, *, samples=None, progress=True):
         seed=spec.seed,
         continuous=ref.scene.continuous_reload,
         method=spec.band_method,
+        floor_to=None if ref.scene.alpha_floor is None else ref.scene.alpha_floor * ref.scene.H,
     )
     t2 = time.perf_counter()
     params = central.replace(uncertainty=unc)

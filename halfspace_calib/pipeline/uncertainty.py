@@ -50,6 +50,7 @@ from frictionlaw import alpha_first, alpha_reload
 from frictionlaw.uncertainty import Band, Interval, SampleLaw, Uncertainty
 
 from . import fit as _fit
+from .alpha_bound import floor_fit, floor_violation
 
 __all__ = [
     "BAND_LEVEL",
@@ -94,11 +95,17 @@ def curves_of(name, sweeps):
     return SampleCurves(name, p, a, tuple(sweeps.reload_curves()))
 
 
-def pooled_fit(samples, H, *, continuous=False):
-    """``(FirstLoadingFit, ReloadFit)`` of Eqs. 24-25 to all samples' points at once."""
+def pooled_fit(samples, H, *, continuous=False, alpha_floor=None):
+    """``(FirstLoadingFit, ReloadFit)`` of Eqs. 24-25 to all samples' points at once.
+
+    ``alpha_floor``: Eq. 24 subject to ``alpha1(p) >= p / H`` up to ``alpha_floor H`` (as a
+    single calibration, ``Scene.alpha_floor``; ``None``: unconstrained); give the bootstrap the
+    same bound (:func:`bootstrap_uncertainty`'s ``floor_to``).
+    """
     p = np.concatenate([s.p for s in samples])
     a = np.concatenate([s.alpha for s in samples])
-    first = _fit.fit_first_loading(p, a, H)
+    floor_to = None if alpha_floor is None else alpha_floor * H
+    first = _fit.fit_first_loading(p, a, H, floor_to=floor_to)
     curves = [c for s in samples for c in s.reload]
     reload = _fit.fit_reload(curves, H, first.C1, first.n1, continuous=continuous)
     return first, reload
@@ -129,14 +136,25 @@ def _refit(model, alpha, w, x0, lb, ub):
     return np.exp(sol.x)
 
 
-def _fit_weighted(st, counts, H, continuous, start):
-    """Pooled ``C1, n1, C2, n2`` with sample ``i`` counted ``counts[i]`` times."""
+def _fit_weighted(st, counts, H, continuous, start, floor_to=None):
+    """Pooled ``C1, n1, C2, n2`` with sample ``i`` counted ``counts[i]`` times.
+
+    ``floor_to``: Eq. 24 subject to ``alpha1(p) >= p / H`` up to it (as the pooled fit).
+    """
     lb = np.array([_fit.C_BOUNDS[0], _fit.N_BOUNDS[0]])
     ub = np.array([_fit.C_BOUNDS[1], _fit.N_BOUNDS[1]])
     w1 = np.sqrt(counts[st.i1].astype(float))
-    c1, n1 = _refit(
-        lambda c, n: alpha_first(st.p1, _fit._law(H, c, n)), st.a1, w1, start[:2], lb, ub
-    )
+
+    def model1(c, n):
+        return alpha_first(st.p1, _fit._law(H, c, n))
+
+    c1, n1 = _refit(model1, st.a1, w1, start[:2], lb, ub)
+    if floor_to is not None and floor_violation(c1, n1, H, floor_to)[0] > 1e-12:
+        x0 = np.clip(np.log([c1, n1]), np.log(lb) + 1e-9, np.log(ub) - 1e-9)
+        par = floor_fit(
+            lambda x: (model1(*np.exp(x)) - st.a1) * w1, H, floor_to, x0, lb, ub, ("C1", "n1")
+        )[0]
+        c1, n1 = par["C1"], par["n1"]
     w2 = np.sqrt(counts[st.i2].astype(float))
     c2, n2 = _refit(
         lambda c, n: alpha_reload(st.p2, st.h2, _fit._law(H, c1, n1, c, n, continuous)),
@@ -220,11 +238,13 @@ def _curves(law, grid1, grid2):
     return out
 
 
-def bootstrap_laws(samples, central, *, n_bootstrap=N_BOOTSTRAP, seed=0, continuous=False):
+def bootstrap_laws(
+    samples, central, *, n_bootstrap=N_BOOTSTRAP, seed=0, continuous=False, floor_to=None
+):
     """``(n_bootstrap, 4)`` array of the pooled ``C1, n1, C2, n2`` refitted on resamples.
 
     Each resample draws ``N`` of the ``N`` samples with replacement (seeded by ``seed``); the
-    refit starts from ``central``'s parameters.
+    refit starts from ``central``'s parameters (``floor_to``: the bound of the pooled fit).
     """
     st = _Stacked(samples)
     start = np.array([central.C1, central.n1, central.C2, central.n2])
@@ -233,7 +253,7 @@ def bootstrap_laws(samples, central, *, n_bootstrap=N_BOOTSTRAP, seed=0, continu
     boot = np.empty((n_bootstrap, 4))
     for b in range(n_bootstrap):
         counts = np.bincount(rng.integers(0, n, n), minlength=n)
-        boot[b] = _fit_weighted(st, counts, central.H, continuous, start)
+        boot[b] = _fit_weighted(st, counts, central.H, continuous, start, floor_to)
     return boot
 
 
@@ -246,6 +266,7 @@ def bootstrap_uncertainty(
     seed=0,
     continuous=False,
     method=BAND_METHOD,
+    floor_to=None,
 ):
     """The :class:`frictionlaw.uncertainty.Uncertainty` block of a multi-sample calibration.
 
@@ -267,6 +288,9 @@ def bootstrap_uncertainty(
     method : str
         How the band is made from the resampled laws, one of :data:`BAND_METHODS`
         (:func:`band_limits`).
+    floor_to : float, optional
+        The bound ``alpha1(p) >= p / H`` up to ``floor_to`` (Pa) on every refit, the edge laws
+        and the per-sample laws, as on the pooled fit (``Scene.alpha_floor``).
     """
     if len(samples) < 3:
         raise ValueError(f"a band needs at least 3 samples, got {len(samples)}")
@@ -280,7 +304,12 @@ def bootstrap_uncertainty(
     start = np.array([central.C1, central.n1, central.C2, central.n2])
     n = len(samples)
     boot = bootstrap_laws(
-        samples, central, n_bootstrap=n_bootstrap, seed=seed, continuous=continuous
+        samples,
+        central,
+        n_bootstrap=n_bootstrap,
+        seed=seed,
+        continuous=continuous,
+        floor_to=floor_to,
     )
     p_range = central.p_range or (float(st.p1.min()), float(st.p1.max()))
     grid1, grid2 = _band_grids(samples, p_range)
@@ -311,7 +340,7 @@ def bootstrap_uncertainty(
                     tuple(float(x) for x in hi * scale),
                 )
             )
-    edge_laws = {k: _edge_law(H, grid1, grid2, v, continuous) for k, v in edges.items()}
+    edge_laws = {k: _edge_law(H, grid1, grid2, v, continuous, floor_to) for k, v in edges.items()}
     mu_scale = central.tau_max / H
     params = {}
     lo_p, hi_p = band_limits(np.log(boot), np.log(start), n, level, method)  # C, n > 0
@@ -319,7 +348,7 @@ def bootstrap_uncertainty(
         params[k] = Interval(float(start[i]), float(np.exp(lo_p[i])), float(np.exp(hi_p[i])))
     c1 = params["C1"]
     params["mu_eff"] = Interval(c1.central * mu_scale, c1.lower * mu_scale, c1.upper * mu_scale)
-    sample_laws = tuple(_sample_law(s, H, continuous) for s in samples)
+    sample_laws = tuple(_sample_law(s, H, continuous, floor_to) for s in samples)
     return Uncertainty(
         level=float(level),
         method=(
@@ -344,9 +373,9 @@ _METHOD_WORDS = {
 }
 
 
-def _edge_law(H, grid1, grid2, edge, continuous):
+def _edge_law(H, grid1, grid2, edge, continuous, floor_to=None):
     """``{C1, n1, C2, n2}`` fitted to one band edge (first loading, then the reload levels)."""
-    first = _fit.fit_first_loading(grid1, np.clip(edge[0], 0.0, 1.0), H)
+    first = _fit.fit_first_loading(grid1, np.clip(edge[0], 0.0, 1.0), H, floor_to=floor_to)
     curves = [
         _fit.ReloadCurve(ph, g, np.clip(a, 0.0, 1.0))
         for (ph, g), a in zip(grid2.items(), edge[1:], strict=True)
@@ -356,9 +385,9 @@ def _edge_law(H, grid1, grid2, edge, continuous):
     return {"C1": first.C1, "n1": first.n1, "C2": rel.C2, "n2": rel.n2}
 
 
-def _sample_law(s, H, continuous):
+def _sample_law(s, H, continuous, floor_to=None):
     """One sample's own fit as a :class:`SampleLaw` (``nan`` never: a failed fit raises)."""
-    first = _fit.fit_first_loading(s.p, s.alpha, H)
+    first = _fit.fit_first_loading(s.p, s.alpha, H, floor_to=floor_to)
     rel = _fit.fit_reload(list(s.reload), H, first.C1, first.n1, continuous=continuous)
     vals = (first.C1, first.n1, rel.C2, rel.n2)
     if not all(math.isfinite(v) for v in vals):  # pragma: no cover - fits return finite values
