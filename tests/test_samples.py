@@ -142,9 +142,9 @@ def test_band_coverage_over_sub_samplings(population):
     hits, n = 0, 0
     for r in range(16):
         sub = [curves[i] for i in rng.choice(len(curves), 5, replace=False)]
-        f, rl = pooled_fit(sub, truth.H)
+        f, rl = pooled_fit(sub, truth.H, alpha_floor=0.99)  # the default bound, as the truth
         cen = truth.replace(C1=f.C1, n1=f.n1, C2=rl.C2, n2=rl.n2, uncertainty=None)
-        u = bootstrap_uncertainty(sub, cen, n_bootstrap=50, seed=r)
+        u = bootstrap_uncertainty(sub, cen, n_bootstrap=50, seed=r, floor_to=0.99 * truth.H)
         for q in PROBES:
             _, lo, hi = u.band("tau_first").at(q)
             hits += lo <= _tau1(truth, q) <= hi
