@@ -105,8 +105,8 @@ def range_lines(label, rec):
     else:
         out.append(
             head + f"law EXTRAPOLATED between p_max and H: at the end {e['n_above_range']} of "
-            f"{e['n_contact']} contact nodes there (p_hist: {e['n_hist_above_range']} nodes); "
-            f"over the run at most {w['n_above_range']} nodes; {e['n_below_range']} contact "
+            f"{e['n_contact']} contact nodes there (p_hist: {_nodes(e['n_hist_above_range'])}); "
+            f"over the run at most {_nodes(w['n_above_range'])}; {e['n_below_range']} contact "
             f"nodes below p_min at the end"
         )
     if limit:
@@ -114,7 +114,12 @@ def range_lines(label, rec):
             f"[{label}] at the half-space model's limit p >= H = {rec['H_Pa'] / 1e6:g} MPa "
             f"(full contact, alpha = 1; the law gives alpha1(H) = {rec['alpha1_at_H']:.4f}): "
             f"at the end {e['n_above_H']} of {e['n_contact']} contact nodes (p up to "
-            f"{e['p_peak'] / 1e6:.0f} MPa, p_hist >= H: {e['n_hist_above_H']} nodes); over the "
-            f"run at most {w['n_above_H']} nodes"
+            f"{e['p_peak'] / 1e6:.0f} MPa, p_hist >= H: {_nodes(e['n_hist_above_H'])}); over the "
+            f"run at most {_nodes(w['n_above_H'])}"
         )
     return out
+
+
+def _nodes(k):
+    """``"1 node"``, ``"3 nodes"``."""
+    return f"{k} node" if k == 1 else f"{k} nodes"
