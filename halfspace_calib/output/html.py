@@ -62,7 +62,8 @@ def _uncertainty(s):
         return ""
     out = [
         f"<h2>Band over {s['samples']['calibrated']} samples "
-        f"({100 * u['level']:g} % bootstrap, {u['n_bootstrap']} resamples)</h2>",
+        f"({100 * u['level']:g} % bootstrap, {u['n_bootstrap']} resamples, "
+        f"{html.escape(str(u.get('band_method', 'percentile')))} band)</h2>",
         "<table><tr><th>quantity</th><th>pooled</th><th>lower</th><th>upper</th></tr>",
     ]
     for k, v in u["parameters"].items():
