@@ -6,22 +6,29 @@ accepted increment gets the columns of :data:`RANGE_COLUMNS` (from
 ``summary.json`` a ``calibrated_range`` record: the range, the worst increment (the largest
 count and peak over the run) and the last one. Laws without parameters (Coulomb, Tresca,
 cap) add nothing; an SBMF parameter set without a range says so.
+
+Nodes at ``p >= H`` are counted apart (``n_above_H``, ``n_hist_above_H``): the half-space model
+has an exact limit there (full contact, ``alpha = 1`` at ``p_mean = H``) which the law follows
+(``alpha1(H)`` in the record), so they are not an extrapolation; ``n_above_range`` (the
+EXTRAPOLATED warning) counts only the nodes between ``p_max`` and ``H``.
 """
 
 import numpy as np
 
-from frictionlaw import check_pressure_range
+from frictionlaw import alpha_first, check_pressure_range
 
 __all__ = ["RANGE_COLUMNS", "range_columns", "range_summary", "range_lines"]
 
 #: history columns (per accepted increment) when the law has a calibrated range
 RANGE_COLUMNS = (
-    "n_above_range",  # contact nodes with p > p_max
-    "n_hist_above_range",  # nodes with p_hist > p_max
+    "n_above_range",  # contact nodes with p_max < p < H (extrapolated)
+    "n_hist_above_range",  # nodes with p_max < p_hist < H
     "n_below_range",  # contact nodes with 0 < p < p_min
     "p_peak",  # largest contact pressure (Pa)
     "p_hist_peak",  # largest p_hist (Pa)
     "p_peak_over_p_max",  # p_peak / p_max
+    "n_above_H",  # contact nodes with p >= H (the half-space model's limit, full contact)
+    "n_hist_above_H",  # nodes with p_hist >= H
 )
 
 
@@ -35,7 +42,16 @@ def range_columns(model):
     c = check_pressure_range(_params(model), ev.p, model.contact.state.p_hist)
     if c is None:
         return {}
-    vals = (c.n_above, c.n_hist_above, c.n_below, c.p_peak, c.p_hist_peak, c.ratio)
+    vals = (
+        c.n_above,
+        c.n_hist_above,
+        c.n_below,
+        c.p_peak,
+        c.p_hist_peak,
+        c.ratio,
+        c.n_above_H,
+        c.n_hist_above_H,
+    )
     return dict(zip(RANGE_COLUMNS, vals, strict=True))
 
 
@@ -43,7 +59,8 @@ def range_summary(model, history):
     """The ``calibrated_range`` record of ``summary.json``.
 
     Returns ``None`` for laws without parameters, a note for a parameter set without a
-    range, else ``p_min_Pa``, ``p_max_Pa``, ``max_over_run`` and ``end`` (each the columns
+    range, else ``p_min_Pa``, ``p_max_Pa``, ``H_Pa``, ``alpha1_at_H`` (the law's contact ratio
+    at the model's limit, where the model has 1), ``max_over_run`` and ``end`` (each the columns
     of :data:`RANGE_COLUMNS`, plus ``n_contact`` at the end).
     """
     params = _params(model)
@@ -51,7 +68,12 @@ def range_summary(model, history):
         return None
     if params.p_range is None:
         return {"note": "the parameter file records no calibrated_range: not checked"}
-    out = {"p_min_Pa": params.p_range[0], "p_max_Pa": params.p_range[1]}
+    out = {
+        "p_min_Pa": params.p_range[0],
+        "p_max_Pa": params.p_range[1],
+        "H_Pa": params.H,
+        "alpha1_at_H": float(alpha_first(params.H, params)),
+    }
     if not history or RANGE_COLUMNS[0] not in history:
         return out
     out["max_over_run"] = {k: np.max(history[k]).item() for k in RANGE_COLUMNS}
@@ -72,13 +94,32 @@ def range_lines(label, rec):
         return [f"[{label}] calibrated range {lo:g}-{hi:g} MPa: no accepted increment"]
     e, w = rec["end"], rec["max_over_run"]
     head = f"[{label}] calibrated range {lo:g}-{hi:g} MPa: "
-    if w["n_above_range"] == 0 and w["n_hist_above_range"] == 0:
-        return [head + f"every contact pressure inside (peak p/p_max {w['p_peak_over_p_max']:.2f})"]
-    return [
-        head + f"law EXTRAPOLATED beyond p_max: at the end {e['n_above_range']} of "
-        f"{e['n_contact']} contact nodes above (p up to {e['p_peak'] / 1e6:.0f} MPa, "
-        f"p/p_max {e['p_peak_over_p_max']:.2f}; p_hist up to {e['p_hist_peak'] / 1e6:.0f} MPa, "
-        f"{e['n_hist_above_range']} nodes); over the run at most {w['n_above_range']} nodes "
-        f"above, p/p_max up to {w['p_peak_over_p_max']:.2f}; {e['n_below_range']} contact "
-        f"nodes below p_min at the end",
-    ]
+    out = []
+    limit = w.get("n_above_H", 0) or w.get("n_hist_above_H", 0)
+    if w["n_above_range"] == 0 and w["n_hist_above_range"] == 0 and not limit:
+        out.append(
+            head + f"every contact pressure inside (peak p/p_max {w['p_peak_over_p_max']:.2f})"
+        )
+    elif w["n_above_range"] == 0 and w["n_hist_above_range"] == 0:
+        out.append(head + "no node between p_max and H: the law is not extrapolated")
+    else:
+        out.append(
+            head + f"law EXTRAPOLATED between p_max and H: at the end {e['n_above_range']} of "
+            f"{e['n_contact']} contact nodes there (p_hist: {_nodes(e['n_hist_above_range'])}); "
+            f"over the run at most {_nodes(w['n_above_range'])}; {e['n_below_range']} contact "
+            f"nodes below p_min at the end"
+        )
+    if limit:
+        out.append(
+            f"[{label}] at the half-space model's limit p >= H = {rec['H_Pa'] / 1e6:g} MPa "
+            f"(full contact, alpha = 1; the law gives alpha1(H) = {rec['alpha1_at_H']:.4f}): "
+            f"at the end {e['n_above_H']} of {e['n_contact']} contact nodes (p up to "
+            f"{e['p_peak'] / 1e6:.0f} MPa, p_hist >= H: {_nodes(e['n_hist_above_H'])}); over the "
+            f"run at most {_nodes(w['n_above_H'])}"
+        )
+    return out
+
+
+def _nodes(k):
+    """``"1 node"``, ``"3 nodes"``."""
+    return f"{k} node" if k == 1 else f"{k} nodes"

@@ -62,6 +62,8 @@ HISTORY_UNITS = {
     "p_peak": "Pa",
     "p_hist_peak": "Pa",
     "p_peak_over_p_max": "1",
+    "n_above_H": "1",
+    "n_hist_above_H": "1",
 }
 
 

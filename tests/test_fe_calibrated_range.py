@@ -10,14 +10,19 @@ from fe_demo.contact import DieContact
 from fe_demo.scenes import run_multistage, run_ring, run_upsetting
 from frictionlaw import FrictionParams, SBMFLaw, TangentialStiffness
 from halfspace_calib.pipeline.calibration import Scene, calibrate
+from halfspace_calib.pipeline.scene import PAPER_PRESSURES
 
-SMALL = dict(nr=8, n_increments=10, reduction=0.5)
+SMALL = dict(nr=8, n_increments=10, reduction=0.6)  # 0.6: nodes at p >= H too
 
 
 @pytest.fixture(scope="module")
 def calibrated(tmp_path_factory):
-    """The default calibration (paper's pressures 10-600 MPa) on a 32^2 grid, with k_t."""
-    cal = calibrate(Scene(grid=32, effects=("normal", "tangential")), progress=False)
+    """The paper's pressures (10-600 MPa, ``--pressures paper``) on a 32^2 grid, with k_t.
+
+    The paper's range leaves nodes both between p_max and H (extrapolated) and at p >= H.
+    """
+    scene = Scene(grid=32, effects=("normal", "tangential"), pressures=PAPER_PRESSURES)
+    cal = calibrate(scene, progress=False)
     path = tmp_path_factory.mktemp("cal") / "params.json"
     cal.params.to_json(path)
     return path
@@ -48,11 +53,17 @@ def test_upsetting_reports_the_nodes_beyond_the_range(upset):
     ph = np.asarray(upset.model.contact.state.p_hist)
     end = rec["end"]
     assert end["n_contact"] == np.count_nonzero(p > 0)
-    assert end["n_above_range"] == np.count_nonzero(p > 600e6) > 0
-    assert end["n_hist_above_range"] == np.count_nonzero(ph > 600e6)
+    H = 800e6
+    # extrapolated: p_max < p < H only; the nodes at p >= H (the model's limit) apart
+    assert end["n_above_range"] == np.count_nonzero((p > 600e6) & (p < H))
+    assert end["n_above_H"] == np.count_nonzero(p >= H) > 0
+    assert end["n_hist_above_range"] == np.count_nonzero((ph > 600e6) & (ph < H))
+    assert end["n_hist_above_H"] == np.count_nonzero(ph >= H)
+    assert rec["H_Pa"] == H and 0.9 < rec["alpha1_at_H"] < 1.0
+    assert rec["max_over_run"]["n_above_range"] > 0  # some increment had extrapolated nodes
     assert end["p_peak"] == p.max() and end["p_hist_peak"] == ph.max()
     assert end["p_peak_over_p_max"] == pytest.approx(p.max() / 600e6, rel=1e-15)
-    # at 50 % reduction the friction hill goes well beyond 600 MPa at the centre
+    # at 60 % reduction the friction hill goes well beyond 600 MPa at the centre
     assert end["p_peak_over_p_max"] > 1.2
     # max over the run: the largest per-increment value of each column, >= the end
     h = upset.history
@@ -66,7 +77,7 @@ def test_upsetting_reports_the_nodes_beyond_the_range(upset):
 
 def test_cli_prints_and_writes_the_range_report(calibrated, tmp_path, capsys):
     out = tmp_path / "ups"
-    args = ["--nr", "8", "--increments", "10", "--reduction", "0.5", "--no-progress"]
+    args = ["--nr", "8", "--increments", "10", "--reduction", "0.6", "--no-progress"]
     argv = ["upsetting", "--params", str(calibrated), "--out", str(out), "--vtu-every", "0"]
     assert main([*argv, *args]) == 0
     cap = capsys.readouterr()
@@ -74,20 +85,27 @@ def test_cli_prints_and_writes_the_range_report(calibrated, tmp_path, capsys):
     summary = json.loads((out / "summary.json").read_text())
     end = summary["calibrated_range"]["end"]
     # an extrapolated law is a warning: stderr, not the summary on stdout
-    assert f"{end['n_above_range']} of {end['n_contact']} contact nodes above" in err
-    assert "EXTRAPOLATED beyond p_max" in err and "calibrated range 10-600 MPa" in err
+    w = summary["calibrated_range"]["max_over_run"]
+    assert w["n_above_range"] > 0 and end["n_above_H"] > 0
+    assert f"at the end {end['n_above_range']} of {end['n_contact']} contact nodes there" in err
+    assert "EXTRAPOLATED between p_max and H" in err and "calibrated range 10-600 MPa" in err
     assert "EXTRAPOLATED" not in text
+    # the nodes at p >= H are a result line (the model's limit), not a warning
+    assert f"at the end {end['n_above_H']} of {end['n_contact']} contact nodes (p up to" in text
+    assert "half-space model's limit p >= H = 800 MPa" in text
     assert "k_t(p) of the parameter file" in summary["tangential_stiffness"]["source"]
     assert "stick stiffness k_t(p) from the parameter file" in text
     header = (out / "history.csv").read_text().splitlines()[0].split(",")
-    assert {"n_above_range", "p_peak_Pa", "p_peak_over_p_max"} <= set(header)
+    assert {"n_above_range", "n_above_H", "p_peak_Pa", "p_peak_over_p_max"} <= set(header)
 
 
 def test_ring_and_multistage_report_the_range(calibrated):
     ring = run_ring("sbmf", params=calibrated, nr=4, n_increments=4, reduction=0.3)
     rec = ring.info["calibrated_range"]
     assert ring.converged and rec["end"]["n_contact"] > 0
-    assert rec["end"]["n_above_range"] == np.count_nonzero(ring.model.accepted.p > 600e6)
+    p = ring.model.accepted.p
+    assert rec["end"]["n_above_range"] == np.count_nonzero((p > 600e6) & (p < 800e6))
+    assert rec["end"]["n_above_H"] == np.count_nonzero(p >= 800e6)
     ms = run_multistage("sbmf", params=calibrated, nr=4, n_increments=6)
     rec = ms.info["calibrated_range"]
     assert ms.converged

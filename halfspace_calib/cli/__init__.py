@@ -27,6 +27,7 @@ from frictionlaw.clitools import (
 from ..output.hardness import write_hardness_fit
 from ..output.report import write_outputs
 from ..pipeline.calibration import Scene, calibrate, load_scene, load_scene_surfaces
+from ..pipeline.scene import PAPER_PRESSURES
 from ..pipeline.scene_surfaces import (
     ELEMENTS_PER_LAMBDA_S,
     ISO_SAMPLING_RATIO,
@@ -38,6 +39,13 @@ from ._paths import OUTPUT_MARKERS, after_contact, exit_code, fit_h, main_sample
 _OUTPUT_MARKERS = OUTPUT_MARKERS
 #: the Scene's defaults, shown in --help
 _D = {f.name: f.default for f in fields(Scene)}
+
+
+def _pressures(text):
+    """``--pressures``: a comma-separated list in Pa, or ``paper`` (the paper's 10-600 MPa)."""
+    if text.strip().lower() == "paper":
+        return PAPER_PRESSURES
+    return _floats(text)
 
 
 def _floats(text):
@@ -162,10 +170,12 @@ def build_parser():
     g = ap.add_argument_group("sweeps and solver")
     g.add_argument(
         "--pressures",
-        type=_floats,
-        help="first-loading p_mean list in Pa, comma separated (default: "
+        type=_pressures,
+        help="first-loading p_mean list in Pa, comma separated, or 'paper' for the paper's "
+        "10-600 MPa (default: "
         + ",".join(f"{p:g}" for p in _D["pressures"])
-        + ")",
+        + " for H = 800 MPa; for another H the paper's pressures below 0.85 H, then 0.875 H "
+        "and 0.95 H)",
     )
     g.add_argument(
         "--reload-fractions",
@@ -277,6 +287,12 @@ def build_parser():
         "--bootstrap",
         type=int,
         help="bootstrap resamples of the band (default 400, at least 50)",
+    )
+    g.add_argument(
+        "--band-method",
+        choices=("t", "percentile"),
+        help="the band from the resamples: t (pooled value -+ Student t x bootstrap standard "
+        "error, the small-sample correction) or percentile (default t)",
     )
     add_common_options(ap)
     return ap
@@ -408,6 +424,11 @@ def main(argv=None):
         f"largest jump at p_hist {100 * s['max_jump_relative']:.2f} % of tau)"
     )
     say(f"  Coulomb slope mu_eff = {P.mu_eff:.4f}, cap m k = {P.tau_max / 1e6:.1f} MPa")
+    say(
+        f"  bound alpha >= p/H: largest violation by Eq. 24 {s['alpha_bound_violation_to_p_max']:.4f} "
+        f"up to p_max, {s['alpha_bound_violation_to_H']:.4f} up to H (alpha1(H) = "
+        f"{s['alpha1_at_H']:.4f}); R^2 given up for it {s['alpha_bound_r2_cost'] or 0:.2g}"
+    )
     say(
         f"  reloads: largest local pressure {s['max_reload_pressure_over_H']:.3f} H, "
         f"plastic fraction {s['max_reload_plastic_fraction']:.4f}"

@@ -32,7 +32,12 @@ def sample_spec(args, scene):
             kw.pop("workpieces", None)
         if tls:
             kw.pop("tools", None)
-    for key, opt in (("patches", "patches"), ("level", "band_level"), ("n_bootstrap", "bootstrap")):
+    for key, opt in (
+        ("patches", "patches"),
+        ("level", "band_level"),
+        ("n_bootstrap", "bootstrap"),
+        ("band_method", "band_method"),
+    ):
         if getattr(args, opt) is not None:
             kw[key] = getattr(args, opt)
     spec = SampleSpec(**kw)
@@ -45,10 +50,12 @@ def sample_spec(args, scene):
         raise ValueError(
             "--periodic: a patch is not one period of a surface, patches are non-periodic"
         )
-    if not spec.multi and (args.band_level is not None or args.bootstrap is not None):
+    if not spec.multi and any(
+        getattr(args, o) is not None for o in ("band_level", "bootstrap", "band_method")
+    ):
         raise ValueError(
-            "--band-level and --bootstrap apply to several samples: give several --workpiece "
-            "files or --patches N"
+            "--band-level, --bootstrap and --band-method apply to several samples: give several "
+            "--workpiece files or --patches N"
         )
     return spec
 
@@ -86,7 +93,10 @@ def main_samples(args, scene, spec, t0):
         f"calibrated {len(mc.calibrations)} of {len(samples)} samples in "
         f"{time.perf_counter() - t0:.1f} s -> {Path(args.out) / 'params.json'}"
     )
-    con.result(f"  pooled law and {100 * u.level:g} % bootstrap band ({u.n_bootstrap} resamples):")
+    con.result(
+        f"  pooled law and {100 * u.level:g} % bootstrap band ({u.n_bootstrap} resamples, "
+        f"{mc.spec.band_method} band):"
+    )
     for k, v in u.parameters.items():
         con.result(f"    {k} = {v.central:.4g}  [{v.lower:.4g}, {v.upper:.4g}]")
     b = u.band("tau_first")

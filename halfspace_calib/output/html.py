@@ -37,6 +37,14 @@ def _params_table(s):
         ("first_loading_r2", "R^2 of Eq. 24", ""),
         ("reload_r2", "R^2 of Eq. 25", ""),
         ("max_jump_relative", "largest jump at p_hist / tau", ""),
+        (
+            "alpha_bound_violation_to_p_max",
+            "largest p/H - alpha1(p) up to p_max (bound alpha >= p/H)",
+            "",
+        ),
+        ("alpha_bound_violation_to_H", "largest p/H - alpha1(p) up to H (Eq. 24 < 1 at H)", ""),
+        ("alpha1_at_H", "alpha1(H) of Eq. 24 (the model's limit: 1)", ""),
+        ("alpha_bound_r2_cost", "R^2 given up for the bound alpha1 >= p/H", ""),
     ]
     out = ["<table><tr><th>quantity</th><th>value</th><th>meaning</th><th>unit</th></tr>"]
     for k, what, unit in rows:
@@ -54,7 +62,8 @@ def _uncertainty(s):
         return ""
     out = [
         f"<h2>Band over {s['samples']['calibrated']} samples "
-        f"({100 * u['level']:g} % bootstrap, {u['n_bootstrap']} resamples)</h2>",
+        f"({100 * u['level']:g} % bootstrap, {u['n_bootstrap']} resamples, "
+        f"{html.escape(str(u.get('band_method', 'percentile')))} band)</h2>",
         "<table><tr><th>quantity</th><th>pooled</th><th>lower</th><th>upper</th></tr>",
     ]
     for k, v in u["parameters"].items():

@@ -130,6 +130,7 @@ class Calibration:
     def summary(self):
         """JSON-ready summary (also stored in the parameter file's provenance)."""
         P = self.params
+        floor = self.first.floor_record()
         return {
             "C1": P.C1,
             "n1": P.n1,
@@ -142,6 +143,12 @@ class Calibration:
             "tau_max": P.tau_max,
             "first_loading_r2": self.first.r_squared,
             "reload_r2": self.reload.r_squared,
+            # the half-space model's exact bound alpha >= p / H against the fitted Eq. 24
+            "alpha_bound_violation_to_p_max": floor["max_violation_to_p_max"],
+            "alpha_bound_violation_to_H": floor["max_violation_to_H"],
+            "alpha1_at_H": floor["alpha1_at_H"],
+            "alpha_bound_r2_cost": floor["r_squared_cost"],
+            "alpha_floor": floor,
             "fit_degenerate": {
                 "first_loading": self.first.degenerate,
                 "reload": self.reload.degenerate,

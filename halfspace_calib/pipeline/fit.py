@@ -9,6 +9,11 @@
   ``p_hist``: the fit constrained to have no jump.
 * :func:`make_params`: the :class:`frictionlaw.FrictionParams` with the calibration's
   provenance, ready for ``to_json``.
+* :func:`floor_violation`: the largest violation of the half-space model's exact bound
+  ``alpha >= p / H`` by a fitted Eq. 24 (every local pressure is at most ``H``, so the real
+  contact area is at least ``p_mean A0 / H``). ``fit_first_loading(..., floor_to=p_top)``
+  imposes the bound on ``0 < p <= p_top``: Eq. 24 can meet it only below ``H``, since
+  ``alpha1(H) = tanh(C1**n1)**(1/n1) < 1`` for every finite ``C1, n1``.
 
 The law is evaluated by :mod:`frictionlaw` itself, so the fitted parameters mean exactly
 what the runtime will compute. Both fits are bounded nonlinear least squares
@@ -27,6 +32,7 @@ from frictionlaw import FrictionParams, alpha_first, alpha_reload, reload_jump
 from frictionlaw.params import C_RANGE, N_RANGE
 
 from ..common.checks import positive
+from .alpha_bound import bound_record, floor_fit, floor_violation
 
 __all__ = [
     "C_BOUNDS",
@@ -38,6 +44,7 @@ __all__ = [
     "ReloadCurve",
     "fit_first_loading",
     "fit_reload",
+    "floor_violation",
 ]
 
 #: default bounds of C1, C2 (dimensionless): C > 0, far outside any measured value
@@ -121,7 +128,35 @@ class FitResult:
 
 @dataclass(frozen=True)
 class FirstLoadingFit(FitResult):
-    """:class:`FitResult` of Eq. 24 with ``C1``, ``n1`` as attributes."""
+    """:class:`FitResult` of Eq. 24 with ``C1``, ``n1`` as attributes.
+
+    Attributes
+    ----------
+    floor_to : float or None
+        ``alpha1(p) >= p / H`` was imposed on ``0 < p <= floor_to`` (Pa); ``None``: not imposed.
+    floor_active : bool
+        The unconstrained optimum violated the bound, so the constrained one was taken.
+    r_squared_unconstrained : float
+        ``R^2`` of the unconstrained fit (equal to ``r_squared`` when the bound is inactive):
+        the constraint's cost is the difference.
+    p_max : float
+        The largest pressure of the data (Pa).
+    """
+
+    floor_to: float | None = None
+    floor_active: bool = False
+    r_squared_unconstrained: float = math.nan
+    p_max: float = math.nan
+
+    def floor_record(self):
+        """JSON-ready record of the bound ``alpha1 >= p / H`` (:func:`.alpha_bound.bound_record`)."""
+        return bound_record(self)
+
+    def summary(self):
+        """JSON-ready dict of the fit quality and the bound ``alpha1 >= p / H``."""
+        d = super().summary()
+        d["alpha_floor"] = self.floor_record()
+        return d
 
     @property
     def C1(self):
@@ -387,7 +422,16 @@ def _degenerate(params, at_bound, lb, ub, r2, alpha):
     return "; ".join(why)
 
 
-def fit_first_loading(p, alpha, H, *, relative=False, C_bounds=C_BOUNDS, n_bounds=N_BOUNDS):
+def fit_first_loading(
+    p,
+    alpha,
+    H,
+    *,
+    relative=False,
+    C_bounds=C_BOUNDS,
+    n_bounds=N_BOUNDS,
+    floor_to=None,
+):
     """Fit ``C1, n1`` of Eq. 24, ``alpha1(p) = tanh((p C1 / H)**n1)**(1/n1)``.
 
     Parameters
@@ -403,6 +447,12 @@ def fit_first_loading(p, alpha, H, *, relative=False, C_bounds=C_BOUNDS, n_bound
         proportional to ``alpha``; needs ``alpha > 0``) instead of absolute ones.
     C_bounds, n_bounds : (float, float)
         Bounds of ``C1`` and ``n1``.
+    floor_to : float, optional
+        Impose the half-space model's bound ``alpha1(p) >= p / H`` on ``0 < p <= floor_to``
+        (Pa, at most ``H``; at ``H`` itself Eq. 24 cannot reach 1, so a value below ``H``,
+        e.g. the data's largest pressure). If the unconstrained optimum already satisfies it,
+        that optimum is returned; else the constrained one (SLSQP), with
+        ``r_squared_unconstrained`` recording the cost.
 
     Returns
     -------
@@ -422,10 +472,51 @@ def fit_first_loading(p, alpha, H, *, relative=False, C_bounds=C_BOUNDS, n_bound
         raise ValueError(f"p needs at least 3 points to fit C1 and n1, got {p.size}")
     w = _weights(alpha, relative)
 
+    if floor_to is not None:
+        floor_to = positive("floor_to", floor_to)
+        if floor_to > H:
+            raise ValueError(f"floor_to must be <= H = {H:g} Pa, got {floor_to:g}")
+
     def model(c, n):
         return alpha_first(p, _law(H, c, n))
 
-    return FirstLoadingFit(**_fit_c_n(model, p, alpha, w, H, cb, nb, ("C1", "n1")))
+    fit = _fit_c_n(model, p, alpha, w, H, cb, nb, ("C1", "n1"))
+    r2u = fit["r_squared"]
+    p_max = float(p.max())
+    if floor_to is None:
+        return FirstLoadingFit(**fit, r_squared_unconstrained=r2u, p_max=p_max)
+    c1, n1 = fit["params"]["C1"], fit["params"]["n1"]
+    if floor_violation(c1, n1, H, floor_to)[0] <= 1e-12:
+        return FirstLoadingFit(**fit, floor_to=floor_to, r_squared_unconstrained=r2u, p_max=p_max)
+
+    def residual(x):
+        return (model(*np.exp(x)) - alpha) * w
+
+    lb, ub = np.array([cb[0], nb[0]]), np.array([cb[1], nb[1]])
+    x0 = np.clip(np.log([c1, n1]), np.log(lb) + 1e-9, np.log(ub) - 1e-9)
+    params, stderr, ok, msg, nfev = floor_fit(residual, H, floor_to, x0, lb, ub, ("C1", "n1"))
+    res = model(params["C1"], params["n1"]) - alpha
+    r2 = _r_squared(res, alpha)
+    at = tuple(
+        nm
+        for i, nm in enumerate(("C1", "n1"))
+        if np.isclose(params[nm], (lb[i], ub[i]), rtol=1e-6).any()
+    )
+    fit.update(
+        params=params,
+        stderr=stderr,
+        residuals=res,
+        r_squared=r2,
+        rmse=float(np.sqrt(np.mean(res**2))),
+        success=ok,
+        message=msg,
+        nfev=fit["nfev"] + nfev,
+        at_bound=at,
+        degenerate=_degenerate(params, at, lb, ub, r2, alpha),
+    )
+    return FirstLoadingFit(
+        **fit, floor_to=floor_to, floor_active=True, r_squared_unconstrained=r2u, p_max=p_max
+    )
 
 
 def fit_reload(

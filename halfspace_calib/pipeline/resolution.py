@@ -88,7 +88,8 @@ def fit_sweeps(scene, sweeps):
                 if not lv.loading.converged
             )
         )
-    first = _fit.fit_first_loading(p, alpha, scene.H)
+    floor_to = None if scene.alpha_floor is None else scene.alpha_floor * scene.H
+    first = _fit.fit_first_loading(p, alpha, scene.H, floor_to=floor_to)
     reload = _fit.fit_reload(
         curves, scene.H, first.C1, first.n1, continuous=scene.continuous_reload
     )

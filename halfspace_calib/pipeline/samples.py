@@ -53,9 +53,11 @@ from .scene_surfaces import MAX_DEFAULT_GRID, SceneSurfaces, _synthetic_one, loa
 from .sweeps import FailedLevel, SweepResult
 from .uncertainty import (
     BAND_LEVEL,
+    BAND_METHOD,
     N_BOOTSTRAP,
     REPORT_PRESSURES,
     bootstrap_uncertainty,
+    check_band_method,
     curves_of,
     pooled_fit,
 )
@@ -91,7 +93,9 @@ class SampleSpec:
 
     ``workpieces`` / ``tools``: file paths (empty: the scene's own ``workpiece`` / ``tool``);
     ``patches``: patches per pair (1: the whole common square); ``level``: the band's two-sided
-    level in ``(0, 1)``; ``n_bootstrap``: resamples; ``seed``: of the resampling.
+    level in ``(0, 1)``; ``n_bootstrap``: resamples; ``seed``: of the resampling;
+    ``band_method``: how the band is made from the resamples (``"t"`` or ``"percentile"``,
+    :func:`~.uncertainty.band_limits`).
     """
 
     workpieces: tuple = ()
@@ -100,6 +104,7 @@ class SampleSpec:
     level: float = BAND_LEVEL
     n_bootstrap: int = N_BOOTSTRAP
     seed: int = 0
+    band_method: str = BAND_METHOD
 
     def __post_init__(self):
         object.__setattr__(self, "workpieces", tuple(str(w) for w in self.workpieces))
@@ -115,6 +120,7 @@ class SampleSpec:
             raise ValueError(f"n_bootstrap must be an integer >= 50, got {nb!r}")
         if isinstance(self.seed, bool) or not isinstance(self.seed, int):
             raise ValueError(f"seed must be an integer, got {self.seed!r}")
+        check_band_method(self.band_method)
 
     @property
     def multi(self):
@@ -145,7 +151,7 @@ def read_samples_table(path):
     """The ``[samples]`` table of a scene file as :class:`SampleSpec` keywords (``{}`` if none).
 
     Keys: ``workpieces``, ``tools`` (lists of paths, relative to the scene file), ``patches``,
-    ``band_level``, ``bootstrap``, ``seed``.
+    ``band_level``, ``bootstrap``, ``seed``, ``band_method``.
     """
     import tomllib
 
@@ -164,6 +170,7 @@ def read_samples_table(path):
         "band_level": "level",
         "bootstrap": "n_bootstrap",
         "seed": "seed",
+        "band_method": "band_method",
     }
     unknown = set(table) - set(names)
     if unknown:
@@ -437,6 +444,7 @@ class MultiCalibration:
         s["uncertainty"] = {
             "level": u.level,
             "n_bootstrap": u.n_bootstrap,
+            "band_method": self.spec.band_method,
             "parameters": {k: v.to_dict() for k, v in u.parameters.items()},
             "tau_first_at": {
                 f"{p / 1e6:g} MPa": dict(
@@ -483,7 +491,12 @@ def calibrate_samples(scene, spec, *, samples=None, progress=True):
     cals = [run.calibrations[s.name] for s in ok]
     curves = [curves_of(s.name, c.sweeps) for s, c in zip(ok, cals, strict=True)]
     ref = cals[0]
-    first, reload = pooled_fit(curves, ref.scene.H, continuous=ref.scene.continuous_reload)
+    first, reload = pooled_fit(
+        curves,
+        ref.scene.H,
+        continuous=ref.scene.continuous_reload,
+        alpha_floor=ref.scene.alpha_floor,
+    )
     p_all = np.concatenate([c.p for c in curves])
     prov = dict(ref.params.provenance)
     prov["fit"] = {"first_loading": first.summary(), "reload": reload.summary()}
@@ -514,6 +527,8 @@ def calibrate_samples(scene, spec, *, samples=None, progress=True):
         n_bootstrap=spec.n_bootstrap,
         seed=spec.seed,
         continuous=ref.scene.continuous_reload,
+        method=spec.band_method,
+        floor_to=None if ref.scene.alpha_floor is None else ref.scene.alpha_floor * ref.scene.H,
     )
     t2 = time.perf_counter()
     params = central.replace(uncertainty=unc)

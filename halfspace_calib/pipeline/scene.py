@@ -21,15 +21,38 @@ from .scene_surfaces import MAX_UNDEFINED, SYNTHETIC_GRID, check_memory
 
 __all__ = [
     "DEFAULT_PRESSURES",
+    "PAPER_PRESSURES",
+    "ALPHA_FLOOR",
     "DEFAULT_RELOAD_FRACTIONS",
     "P_FLOOR",
+    "default_pressures",
     "Scene",
     "load_scene",
 ]
 
 MPa = 1e6
-DEFAULT_PRESSURES = (10e6, 25e6, 50e6, 100e6, 200e6, 300e6, 400e6, 500e6, 600e6)
+#: the paper's first-loading pressures (Sec. 3.1: up to 600 MPa = 0.75 H of DC04)
+PAPER_PRESSURES = (10e6, 25e6, 50e6, 100e6, 200e6, 300e6, 400e6, 500e6, 600e6)
+#: the default sweep: the paper's, extended to 0.95 H (of the default H = 800 MPa) so that the
+#: law is calibrated up to near the half-space model's exact limit (alpha = 1 at p_mean = H)
+#: instead of extrapolated from 0.75 H (issue 26); ``pressures=PAPER_PRESSURES`` (the CLI's
+#: ``--pressures paper``) keeps the paper's range
+DEFAULT_PRESSURES = PAPER_PRESSURES + (700e6, 760e6)
+
+
+def default_pressures(H):
+    """The default sweep for hardness ``H`` (Pa).
+
+    The paper's pressures below 0.85 H, then 0.875 H and 0.95 H: for the default H = 800 MPa
+    exactly :data:`DEFAULT_PRESSURES`. A scene whose pressures equal :data:`DEFAULT_PRESSURES`
+    (the default) gets this sweep for its own ``H``.
+    """
+    return tuple(p for p in PAPER_PRESSURES if p < 0.85 * H) + (0.875 * H, 0.95 * H)
+
+
 DEFAULT_RELOAD_FRACTIONS = (0.05, 0.1, 0.25, 0.5, 0.75, 0.9)
+#: the bound alpha1(p) >= p / H is imposed on the fit of Eq. 24 up to this fraction of H
+ALPHA_FLOOR = 0.99
 #: smallest plausible mean pressure (Pa): below it the values were most likely typed in MPa
 P_FLOOR = 1e3
 
@@ -76,6 +99,14 @@ class Scene:
     factor: it does not enter the half-space model, only the parameter file (measure it, e.g. by
     ring compression).
 
+    ``pressures``: the first-loading ``p_mean`` (default :data:`DEFAULT_PRESSURES`, 10-760 MPa, up
+    to 0.95 H of the default H; for another ``H`` the default follows it,
+    :func:`default_pressures`; ``"paper"`` or :data:`PAPER_PRESSURES`: the paper's 10-600 MPa).
+    ``alpha_floor``: fit Eq. 24 subject to the half-space model's exact bound
+    ``alpha1(p) >= p / H`` on ``0 < p <= alpha_floor H`` (default :data:`ALPHA_FLOOR` = 0.99;
+    Eq. 24 cannot reach 1 at ``H`` itself; ``None``: unconstrained, the fit before issue 26;
+    :func:`~halfspace_calib.pipeline.fit.fit_first_loading`'s ``floor_to``).
+
     ``H_source`` says where ``H`` came from for the parameter file (``None``: Table 1's value
     or "given"; :mod:`halfspace_calib.pipeline.hardness` sets it when H is fitted to
     after-contact roughness).
@@ -121,6 +152,7 @@ class Scene:
     reload_surface: str = "plastic"
     contact_area: str = "count"
     continuous_reload: bool = False
+    alpha_floor: float | None = ALPHA_FLOOR
     workers: int | None = None
     scheduler: str | None = None
     effects: tuple = ("normal",)
@@ -148,6 +180,15 @@ class Scene:
         if "inclined" in self.effects and synthetic and self.measured_n is None:
             # the inclined patches need the measured grid: calibrate on the same random field
             put("measured_n", 4 * self.grid if isinstance(self.grid, int) else None)
+        if self.pressures == DEFAULT_PRESSURES and isinstance(self.H, (int, float)) and self.H > 0:
+            put("pressures", default_pressures(self.H))  # the default sweep follows H
+        if isinstance(self.pressures, str):  # a scene file's pressures = "paper"
+            if self.pressures.strip().lower() != "paper":
+                raise ValueError(
+                    f"pressures must be a list of mean pressures (Pa) or 'paper' (the paper's "
+                    f"10-600 MPa), got {self.pressures!r}"
+                )
+            put("pressures", PAPER_PRESSURES)
         put("pressures", tuple(float(p) for p in self.pressures))
         put("reload_fractions", tuple(float(f) for f in self.reload_fractions))
         if self.sigma_y is None and isinstance(self.H, (int, float)) and self.H > 0:
@@ -217,6 +258,13 @@ class Scene:
         tolerance(self.tol)
         if self.reload_surface not in ("plastic", "volume_conserving"):
             raise ValueError("reload_surface must be 'plastic' or 'volume_conserving'")
+        af = self.alpha_floor
+        if af is not None and not (
+            isinstance(af, (int, float)) and not isinstance(af, bool) and 0 < af < 1
+        ):
+            raise ValueError(
+                f"alpha_floor must be a fraction of H in (0, 1) or None (no bound), got {af!r}"
+            )
         if self.contact_area not in ("count", "perimeter"):
             raise ValueError(
                 f"contact_area must be 'count' or 'perimeter', got {self.contact_area!r}"
