@@ -47,7 +47,7 @@ def main(argv=None):
     except (OSError, ValueError, TypeError, KeyError) as exc:
         return con.error(f"--params {args.params}: {exc}", 2)
     print(
-        f"m={params.m:g} k={params.k / 1e6:.1f} MPa H={params.H / 1e6:.0f} MPa "
+        f"m={params.m:g} k={(params.k or 0.0) / 1e6:.1f} MPa H={params.H / 1e6:.0f} MPa "
         f"C1={params.C1:g} n1={params.n1:g} C2={params.C2:g} n2={params.n2:g}"
     )
     print(

@@ -2,10 +2,12 @@
 
 import os
 import tempfile
+from collections.abc import Callable
 from pathlib import Path
+from typing import IO
 
 
-def atomic_write(path, write):
+def atomic_write(path: str | os.PathLike[str], write: Callable[[IO[bytes]], object]) -> Path:
     """Write a file atomically: ``write(fileobj)`` fills a temporary file that replaces ``path``.
 
     Readers see either the old file or the complete new one, never a partial write. The
@@ -28,7 +30,7 @@ def atomic_write(path, write):
     return path
 
 
-def _umask():
+def _umask() -> int:
     """The process's file-creation mask (read from /proc where possible: no race)."""
     try:
         with open("/proc/self/status", encoding="ascii") as fh:

@@ -15,10 +15,15 @@ import), a handful of array passes per call.
 """
 
 from dataclasses import dataclass, fields
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .law import as_float_array
+
+if TYPE_CHECKING:
+    from .params import FrictionParams
 
 __all__ = ["RangeCheck", "check_pressure_range"]
 
@@ -69,16 +74,16 @@ class RangeCheck:
     H: float = float("inf")
 
     @property
-    def beyond(self):
+    def beyond(self) -> bool:
         """True if any node's ``p`` or ``p_hist`` lies between ``p_max`` and ``H`` (extrapolated)."""
         return self.n_above > 0 or self.n_hist_above > 0
 
     @property
-    def at_limit(self):
+    def at_limit(self) -> bool:
         """True if any node's ``p`` or ``p_hist`` is at least ``H`` (the model's limit)."""
         return self.n_above_H > 0 or self.n_hist_above_H > 0
 
-    def worst(self, other):
+    def worst(self, other: "RangeCheck | None") -> "RangeCheck":
         """Field-wise maximum with ``other`` (same range): the worst over several increments.
 
         Counts are maxima over the evaluations, not sums (a node beyond the range in ten
@@ -92,7 +97,9 @@ class RangeCheck:
         return RangeCheck(**vals)
 
 
-def check_pressure_range(params, p, p_hist=None):
+def check_pressure_range(
+    params: "FrictionParams | None", p: ArrayLike, p_hist: ArrayLike | None = None
+) -> RangeCheck | None:
     """Check contact pressures (and histories) against the calibrated range of ``params``.
 
     Parameters
@@ -111,7 +118,7 @@ def check_pressure_range(params, p, p_hist=None):
     RangeCheck or None
     """
     rng = getattr(params, "p_range", None)
-    if rng is None:
+    if params is None or rng is None:
         return None
     p_min, p_max = rng
     p = as_float_array("p", p).ravel()

@@ -9,12 +9,22 @@ whose corner sharpens as ``n`` grows (see docs/design.md for the reading
 of the typesetting).
 """
 
+from types import ModuleType
+from typing import TYPE_CHECKING, TypeAlias
+
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from . import _codes as K
 
+if TYPE_CHECKING:
+    from .params import FrictionParams
 
-def kernels():
+#: a result of the law: a Python float for scalar input, else a float64 array
+FloatOrArray: TypeAlias = float | NDArray[np.float64]
+
+
+def kernels() -> ModuleType:
     """The numba kernel module, imported on first use so that ``import frictionlaw`` stays light."""
     from . import _kernels
 
@@ -34,7 +44,7 @@ __all__ = [
 PARALLEL_THRESHOLD = 50_000
 
 
-def as_float_array(name, value):
+def as_float_array(name: str, value: ArrayLike) -> NDArray[np.float64]:
     """``value`` as a float64 array; ``ValueError`` naming ``name`` if it holds NaN.
 
     Only integer and floating-point input is accepted: complex numbers, strings, bytes,
@@ -51,7 +61,7 @@ def as_float_array(name, value):
     return arr
 
 
-def sbmf_coeffs(params, tau_max=None):
+def sbmf_coeffs(params: "FrictionParams", tau_max: float | None = None) -> NDArray[np.float64]:
     """Kernel coefficient vector of the SBMF law (see :mod:`frictionlaw._kernels`)."""
     tm = params.tau_max if tau_max is None else tau_max
     c = np.zeros(8)
@@ -67,7 +77,14 @@ def sbmf_coeffs(params, tau_max=None):
     return c
 
 
-def evaluate(code, coeffs, p, p_hist=0.0, *, parallel=None):
+def evaluate(
+    code: int,
+    coeffs: ArrayLike,
+    p: ArrayLike,
+    p_hist: ArrayLike = 0.0,
+    *,
+    parallel: bool | None = None,
+) -> tuple[FloatOrArray, FloatOrArray]:
     """Run the array shear kernel of law ``code`` on broadcast ``p``, ``p_hist``.
 
     Returns ``(tau, dtau_dp)`` shaped like the broadcast inputs (floats for scalars).
@@ -93,7 +110,7 @@ def evaluate(code, coeffs, p, p_hist=0.0, *, parallel=None):
     return tau.reshape(shape), dtau.reshape(shape)
 
 
-def alpha_first(p, params):
+def alpha_first(p: ArrayLike, params: "FrictionParams") -> FloatOrArray:
     """Eq. 24's contact ratio: ``alpha1(p) = g(p C1 / H; n1)``, 0 for ``p <= 0``.
 
     Parameters
@@ -106,7 +123,7 @@ def alpha_first(p, params):
     return evaluate(K.CODE_SBMF, sbmf_coeffs(params, 1.0), p, 0.0)[0]
 
 
-def alpha_reload(p, p_hist, params):
+def alpha_reload(p: ArrayLike, p_hist: ArrayLike, params: "FrictionParams") -> FloatOrArray:
     """Eq. 25's contact ratio: ``alpha2 = alpha1(p_hist) g(p C2 / (H alpha1(p_hist)); n2)``.
 
     Evaluated on the reload branch whatever ``p`` is. With
@@ -117,7 +134,7 @@ def alpha_reload(p, p_hist, params):
     return evaluate(K.CODE_SBMF_RELOAD, sbmf_coeffs(params, 1.0), p, p_hist)[0]
 
 
-def shear_limit(p, p_hist, params):
+def shear_limit(p: ArrayLike, p_hist: ArrayLike, params: "FrictionParams") -> FloatOrArray:
     """Friction shear limit ``tau`` (Pa) of Eqs. 24-25.
 
     ``tau = m k alpha2(p)`` (Eq. 25) while ``p < p_hist``, else
@@ -126,12 +143,12 @@ def shear_limit(p, p_hist, params):
     return evaluate(K.CODE_SBMF, sbmf_coeffs(params), p, p_hist)[0]
 
 
-def shear_limit_dp(p, p_hist, params):
+def shear_limit_dp(p: ArrayLike, p_hist: ArrayLike, params: "FrictionParams") -> FloatOrArray:
     """Derivative ``d tau / d p`` of :func:`shear_limit` (for implicit hosts), 0 for ``p <= 0``."""
     return evaluate(K.CODE_SBMF, sbmf_coeffs(params), p, p_hist)[1]
 
 
-def reload_jump(params, p_hist):
+def reload_jump(params: "FrictionParams", p_hist: ArrayLike) -> FloatOrArray:
     """Jump of the law at ``p = p_hist``: ``tau_Eq24(p_hist) - tau_Eq25(p_hist)`` in Pa.
 
     The paper's Eq. 25 at ``p -> p_hist`` is ``m k alpha1(p_hist) g(x2h; n2)``

@@ -15,9 +15,10 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from . import _codes as K
-from .law import evaluate, sbmf_coeffs
+from .law import FloatOrArray, evaluate, sbmf_coeffs
 from .params import FrictionParams, check_range
 
 __all__ = ["Coulomb", "Tresca", "CoulombCap", "SBMFLaw", "LAW_NAMES", "law_from_name"]
@@ -28,15 +29,17 @@ class _Law:
     uses_history = False
 
     @property
-    def coeffs(self):
+    def coeffs(self) -> NDArray[np.float64]:
         raise NotImplementedError
 
-    def shear_limit(self, p, p_hist=0.0):
+    def shear_limit(
+        self, p: ArrayLike, p_hist: ArrayLike = 0.0
+    ) -> tuple[FloatOrArray, FloatOrArray]:
         """Return ``(tau, dtau_dp)`` for pressure ``p`` (Pa) and history ``p_hist``."""
         return evaluate(self.code, self.coeffs, p, p_hist)
 
 
-def _pos(name, v):
+def _pos(name: str, v: float) -> float:
     return check_range(name, v, 0.0, math.inf, hi_open=True)
 
 
@@ -47,11 +50,11 @@ class Coulomb(_Law):
     mu: float
     code = K.CODE_COULOMB
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         object.__setattr__(self, "mu", _pos("mu", self.mu))
 
     @property
-    def coeffs(self):
+    def coeffs(self) -> NDArray[np.float64]:
         return np.array([self.mu, 0, 0, 0, 0, 0, 0, 0], float)
 
 
@@ -63,12 +66,12 @@ class Tresca(_Law):
     k: float
     code = K.CODE_TRESCA
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         object.__setattr__(self, "m", check_range("m", self.m, 0.0, 1.0))
         object.__setattr__(self, "k", _pos("k", self.k))
 
     @property
-    def coeffs(self):
+    def coeffs(self) -> NDArray[np.float64]:
         return np.array([self.m * self.k, 0, 0, 0, 0, 0, 0, 0], float)
 
 
@@ -80,12 +83,12 @@ class CoulombCap(_Law):
     tau_max: float
     code = K.CODE_CAP
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         object.__setattr__(self, "mu", _pos("mu", self.mu))
         object.__setattr__(self, "tau_max", _pos("tau_max", self.tau_max))
 
     @property
-    def coeffs(self):
+    def coeffs(self) -> NDArray[np.float64]:
         return np.array([self.mu, self.tau_max, 0, 0, 0, 0, 0, 0], float)
 
 
@@ -97,15 +100,15 @@ class SBMFLaw(_Law):
     code = K.CODE_SBMF
     uses_history = True
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         if not isinstance(self.params, FrictionParams):
             raise ValueError("params must be a FrictionParams instance")
 
     @property
-    def coeffs(self):
+    def coeffs(self) -> NDArray[np.float64]:
         return sbmf_coeffs(self.params)
 
-    def coulomb_cap_equivalent(self):
+    def coulomb_cap_equivalent(self) -> "CoulombCap":
         """The Coulomb-with-cap law this one tends to for ``n1 -> inf``."""
         return CoulombCap(mu=self.params.mu_eff, tau_max=self.params.tau_max)
 
@@ -113,7 +116,15 @@ class SBMFLaw(_Law):
 LAW_NAMES = ("coulomb", "tresca", "cap", "sbmf")
 
 
-def law_from_name(name, *, mu=None, m=None, k=None, tau_max=None, params=None):
+def law_from_name(
+    name: str,
+    *,
+    mu: float | None = None,
+    m: float | None = None,
+    k: float | None = None,
+    tau_max: float | None = None,
+    params: FrictionParams | None = None,
+) -> "Coulomb | Tresca | CoulombCap | SBMFLaw":
     """Build a law from its name, the one factory of the project (CLI, FE demo, exports).
 
     Parameters
@@ -131,13 +142,13 @@ def law_from_name(name, *, mu=None, m=None, k=None, tau_max=None, params=None):
     if key not in LAW_NAMES:
         raise ValueError(f"law must be one of {LAW_NAMES}, got {name!r}")
     if key == "coulomb":
-        return Coulomb(mu)
+        return Coulomb(mu)  # type: ignore[arg-type]  # None: refused by the law, naming it
     if key == "tresca":
-        return Tresca(m, k)
+        return Tresca(m, k)  # type: ignore[arg-type]  # None: refused by the law, naming it
     if key == "cap":
         if tau_max is None:
             if m is None or k is None:
                 raise ValueError("cap needs tau_max (Pa) or both m and k to set tau_max = m k")
             tau_max = float(m) * float(k)
-        return CoulombCap(mu, tau_max)
-    return SBMFLaw(params)
+        return CoulombCap(mu, tau_max)  # type: ignore[arg-type]  # None: refused by the law, naming it
+    return SBMFLaw(params)  # type: ignore[arg-type]  # None: refused by the law, naming it

@@ -16,10 +16,13 @@ k_t : calibrated tangential interface stiffness ``k_t(p)`` (Pa/m) as a table ove
 
 import json
 import math
+import os
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
+from typing import Any, cast
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from ._io import atomic_write
 from ._shear_flow import check_k_against_sigma_y
@@ -70,7 +73,16 @@ _RANGE_NOTE = (
 K_T_FORMAT_VERSION = 1
 
 
-def check_range(name, value, lo, hi, *, lo_open=False, hi_open=False, note=""):
+def check_range(
+    name: str,
+    value: Any,
+    lo: float,
+    hi: float,
+    *,
+    lo_open: bool = False,
+    hi_open: bool = False,
+    note: str = "",
+) -> float:
     """Return ``float(value)`` or raise ``ValueError`` naming ``name`` and the allowed range.
 
     ``note`` (e.g. why the range is what it is) is appended to the message.
@@ -89,7 +101,7 @@ def check_range(name, value, lo, hi, *, lo_open=False, hi_open=False, note=""):
     return v
 
 
-def _positive_table(name, values):
+def _positive_table(name: str, values: object) -> tuple[float, ...]:
     try:
         arr = np.asarray(values, dtype=float)
     except (TypeError, ValueError):
@@ -121,7 +133,7 @@ class TangentialStiffness:
     p: tuple
     k_t: tuple
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         p = _positive_table("k_t table p", self.p)
         k = _positive_table("k_t table k_t", self.k_t)
         if len(p) != len(k):
@@ -131,7 +143,7 @@ class TangentialStiffness:
         object.__setattr__(self, "p", p)
         object.__setattr__(self, "k_t", k)
 
-    def __call__(self, p):
+    def __call__(self, p: ArrayLike) -> NDArray[np.float64]:
         """``k_t`` (Pa/m) at pressures ``p`` (Pa); ``p <= 0`` gets the lowest tabulated value."""
         p = np.asarray(p, dtype=float)
         lp = np.log(np.clip(p, self.p[0], self.p[-1]))
@@ -139,7 +151,7 @@ class TangentialStiffness:
         k = np.where(p <= self.p[0], self.k_t[0], k)
         return np.where(p >= self.p[-1], self.k_t[-1], k)
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, Any]:
         """The JSON object (with its own version and units)."""
         return {
             "version": K_T_FORMAT_VERSION,
@@ -150,7 +162,7 @@ class TangentialStiffness:
         }
 
     @classmethod
-    def from_dict(cls, doc, *, source="<dict>"):
+    def from_dict(cls, doc: object, *, source: str = "<dict>") -> "TangentialStiffness":
         """Build from :meth:`to_dict`'s object; raises ``ValueError`` if malformed."""
         where = f"{source}: tangential_stiffness"
         if not isinstance(doc, dict):
@@ -173,7 +185,7 @@ class TangentialStiffness:
             raise ValueError(f"{where}: {exc}") from None
 
 
-def _check_p_range(p_range):
+def _check_p_range(p_range: Any) -> tuple[float, float] | None:
     if p_range is None:
         return None
     try:
@@ -244,7 +256,7 @@ class FrictionParams:
     provenance: dict = field(default_factory=dict, compare=False, hash=False, repr=False)
     uncertainty: Uncertainty | None = field(default=None, compare=False, hash=False, repr=False)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         set_ = object.__setattr__
         set_(self, "m", check_range("m", self.m, 0.0, 1.0))
         for name, rng in (("sigma_y", STRESS_RANGE), ("H", STRESS_RANGE)):
@@ -270,10 +282,10 @@ class FrictionParams:
         if self.uncertainty is not None and not isinstance(self.uncertainty, Uncertainty):
             raise ValueError("uncertainty must be an Uncertainty block or None")
 
-    def _with_law(self, law):
+    def _with_law(self, law: dict[str, float]) -> "FrictionParams":
         return self.replace(**{k: law[k] for k in LAW_KEYS}, uncertainty=None)
 
-    def edge_laws(self):
+    def edge_laws(self) -> dict[str, "FrictionParams"]:
         """``{"lower": FrictionParams, "upper": FrictionParams}``: the band's edge laws.
 
         Same ``m, sigma_y, H, k`` and options, ``C1, n1, C2, n2`` fitted to the lower and upper
@@ -286,7 +298,7 @@ class FrictionParams:
             )
         return {k: self._with_law(v) for k, v in self.uncertainty.edge_laws.items()}
 
-    def sample_laws(self):
+    def sample_laws(self) -> dict[str, "FrictionParams"]:
         """``{sample name: FrictionParams}``: every sample's own law (uncertainty block)."""
         if self.uncertainty is None:
             raise ValueError("these parameters have no uncertainty block (one sample)")
@@ -296,23 +308,24 @@ class FrictionParams:
         }
 
     @property
-    def tau_max(self):
+    def tau_max(self) -> float:
         """Large-pressure limit (Pa): the Tresca cap ``m k``, times ``1 + geo_ratio`` (Eq. 26)."""
-        return self.m * self.k * (1.0 + self.geo_ratio)
+        k = cast(float, self.k)  # set to sigma_y / 2 in __post_init__ when not given
+        return self.m * k * (1.0 + self.geo_ratio)
 
     @property
-    def mu_eff(self):
+    def mu_eff(self) -> float:
         """Small-pressure Coulomb slope of Eq. 24, ``m k C1 / H`` (times ``1 + geo_ratio``)."""
         return self.tau_max * self.C1 / self.H
 
-    def replace(self, **changes):
+    def replace(self, **changes: Any) -> "FrictionParams":
         """Return a copy with ``changes`` applied (validated again)."""
         d = {f: getattr(self, f) for f in self.__dataclass_fields__}
         d.update(changes)
         return FrictionParams(**d)
 
     # -- file -----------------------------------------------------------------
-    def to_dict(self):
+    def to_dict(self) -> dict[str, Any]:
         """The JSON document as a dict."""
         d = asdict(self)
         prov = d.pop("provenance")
@@ -336,13 +349,13 @@ class FrictionParams:
             doc["uncertainty"] = self.uncertainty.to_dict()
         return doc
 
-    def to_json(self, path):
+    def to_json(self, path: str | os.PathLike[str]) -> Path:
         """Write the versioned parameter file atomically; returns the path."""
         text = json.dumps(self.to_dict(), indent=2, sort_keys=False, default=_json_default)
         return atomic_write(path, lambda fh: fh.write(text.encode("utf-8") + b"\n"))
 
     @classmethod
-    def from_dict(cls, doc, *, source="<dict>"):
+    def from_dict(cls, doc: object, *, source: str = "<dict>") -> "FrictionParams":
         """Build from a document made by :meth:`to_dict`; raises ``ValueError`` if malformed."""
         if not isinstance(doc, dict):
             raise ValueError(f"{source}: not a JSON object")
@@ -396,7 +409,7 @@ class FrictionParams:
             raise ValueError(f"{source}: {exc}") from None
 
     @classmethod
-    def from_json(cls, path):
+    def from_json(cls, path: str | os.PathLike[str]) -> "FrictionParams":
         """Read a parameter file written by :meth:`to_json`."""
         path = Path(path)
         try:
@@ -410,7 +423,7 @@ class FrictionParams:
         return cls.from_dict(doc, source=str(path))
 
 
-def _read_range(doc, source):
+def _read_range(doc: object, source: str) -> tuple[float, float] | None:
     if doc is None:
         return None
     if not isinstance(doc, dict) or doc.get("unit", "Pa") != "Pa":
@@ -423,7 +436,7 @@ def _read_range(doc, source):
         raise ValueError(f"{source}: calibrated_range: {exc}") from None
 
 
-def _json_default(obj):
+def _json_default(obj: object) -> object:
     if isinstance(obj, np.generic):
         return obj.item()
     if isinstance(obj, np.ndarray):

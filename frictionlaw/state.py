@@ -7,7 +7,12 @@ the *committed* one, so iterations never ratchet it. The host calls
 :meth:`HistoryState.rollback` on a cut-back.
 """
 
+import os
+from pathlib import Path
+from typing import IO
+
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from ._io import atomic_write
 from .law import as_float_array
@@ -30,7 +35,7 @@ class HistoryState:
         Initial committed history (finite, ``>= 0``); zeros by default.
     """
 
-    def __init__(self, n_nodes=None, p_hist=None):
+    def __init__(self, n_nodes: int | None = None, p_hist: ArrayLike | None = None) -> None:
         if p_hist is None:
             committed = np.zeros(_count("n_nodes", 0 if n_nodes is None else n_nodes))
         else:
@@ -43,36 +48,36 @@ class HistoryState:
         self._trial = committed.copy()
 
     @property
-    def n_nodes(self):
+    def n_nodes(self) -> int:
         """Number of nodes."""
         return self._committed.size
 
-    def __len__(self):
+    def __len__(self) -> int:
         return self.n_nodes
 
     @property
-    def p_hist(self):
+    def p_hist(self) -> NDArray[np.float64]:
         """Committed history (read-only view)."""
         v = self._committed.view()
         v.flags.writeable = False
         return v
 
-    def committed_array(self):
+    def committed_array(self) -> NDArray[np.float64]:
         """The committed history array itself (no copy), for kernels that only read it."""
         return self._committed
 
-    def trial_array(self):
+    def trial_array(self) -> NDArray[np.float64]:
         """The trial history array itself (no copy), for kernels that write ``max(p_hist, p)``."""
         return self._trial
 
     @property
-    def p_hist_trial(self):
+    def p_hist_trial(self) -> NDArray[np.float64]:
         """Trial history of the current increment (read-only view)."""
         v = self._trial.view()
         v.flags.writeable = False
         return v
 
-    def propose(self, p):
+    def propose(self, p: ArrayLike) -> None:
         """Set the trial history to ``max(committed, p)`` (``p <= 0`` leaves it as committed)."""
         p = as_float_array("p", p)
         if p.shape != self._committed.shape:
@@ -81,15 +86,15 @@ class HistoryState:
             raise ValueError("p must be finite")
         np.maximum(self._committed, np.where(p > 0, p, 0.0), out=self._trial)
 
-    def commit(self):
+    def commit(self) -> None:
         """Accept the increment: the trial history becomes the committed one."""
         self._committed[:] = self._trial
 
-    def rollback(self):
+    def rollback(self) -> None:
         """Discard the trial history (cut-back): back to the committed one."""
         self._trial[:] = self._committed
 
-    def resize(self, n_nodes):
+    def resize(self, n_nodes: int) -> None:
         """Grow (new nodes get ``p_hist = 0``) or shrink to ``n_nodes`` nodes."""
         n = _count("n_nodes", n_nodes)
         old = self.n_nodes
@@ -99,14 +104,14 @@ class HistoryState:
             new[: min(n, old)] = arr[: min(n, old)]
             setattr(self, name, new)
 
-    def grow(self, n_new):
+    def grow(self, n_new: int) -> NDArray[np.intp]:
         """Append ``n_new`` nodes (new contact) with ``p_hist = 0``; returns their indices."""
         n_new = _count("n_new", n_new)
         start = self.n_nodes
         self.resize(start + n_new)
         return np.arange(start, start + n_new)
 
-    def remap(self, index_map):
+    def remap(self, index_map: ArrayLike) -> None:
         """Renumber nodes: new node ``i`` takes old node ``index_map[i]``; ``-1`` means a new node.
 
         For remeshing: the host gives, for each new node, the old node it inherits
@@ -124,10 +129,10 @@ class HistoryState:
             new[keep] = arr[idx[keep]]
             setattr(self, name, new)
 
-    def save(self, path):
+    def save(self, path: str | os.PathLike[str]) -> Path:
         """Write the committed history to a restart file (``.npz``, atomic)."""
 
-        def write(fh):
+        def write(fh: IO[bytes]) -> None:
             np.savez(
                 fh,
                 format=np.array(_RESTART_FORMAT),
@@ -138,7 +143,7 @@ class HistoryState:
         return atomic_write(path, write)
 
     @classmethod
-    def load(cls, path):
+    def load(cls, path: str | os.PathLike[str]) -> "HistoryState":
         """Read a restart file written by :meth:`save`.
 
         Raises ``ValueError`` naming ``path`` for anything but such a file: unreadable,
@@ -174,7 +179,7 @@ class HistoryState:
             raise ValueError(f"{path}: {exc}") from None
 
 
-def _count(name, value):
+def _count(name: str, value: object) -> int:
     """A node count: an integer (not a bool, not a float) ``>= 0``."""
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
         raise ValueError(f"{name} must be an integer >= 0, got {value!r}")
@@ -183,7 +188,7 @@ def _count(name, value):
     return int(value)
 
 
-def _check_hist(p_hist):
+def _check_hist(p_hist: ArrayLike) -> NDArray[np.float64]:
     arr = as_float_array("p_hist", p_hist)
     if arr.ndim != 1:
         raise ValueError(f"p_hist must be 1-D, got shape {arr.shape}")

@@ -5,12 +5,20 @@ while ``|t_tr| <= tau(p, p_hist)`` (stick), otherwise returned radially onto the
 limit circle (slip). Outputs include the consistent tangent for implicit hosts.
 """
 
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple, TypeAlias
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from . import _codes as K
 from .law import PARALLEL_THRESHOLD, as_float_array, kernels
+
+if TYPE_CHECKING:
+    from .laws import Coulomb, CoulombCap, SBMFLaw, Tresca
+    from .state import HistoryState
+
+    #: the laws a traction update takes
+    Law: TypeAlias = Coulomb | Tresca | CoulombCap | SBMFLaw
 
 __all__ = ["TractionResult", "traction_update", "traction_update_force", "OPEN", "STICK", "SLIP"]
 
@@ -40,7 +48,7 @@ class TractionResult(NamedTuple):
     dt_dp: np.ndarray
 
 
-def _as_2d(name, v, n):
+def _as_2d(name: str, v: ArrayLike, n: int) -> NDArray[np.float64]:
     a = as_float_array(name, v)
     if a.ndim == 1:
         a = a[:, None]
@@ -52,8 +60,16 @@ def _as_2d(name, v, n):
 
 
 def traction_update(
-    law, p, slip_increment, traction_old, k_t, state=None, *, parallel=None, out=None
-):
+    law: "Law",
+    p: ArrayLike,
+    slip_increment: ArrayLike,
+    traction_old: ArrayLike,
+    k_t: ArrayLike,
+    state: "HistoryState | None" = None,
+    *,
+    parallel: bool | None = None,
+    out: "TractionResult | None" = None,
+) -> "TractionResult":
     """Stick/slip traction update at every contact node (stress based).
 
     Parameters
@@ -119,7 +135,7 @@ def traction_update(
         t_new, status, dt_ddu, dt_dp = _out_views(out, n, d, squeeze)
     history = state is not None and getattr(law, "uses_history", False)
     # the kernel writes the trial history max(p_hist, p) straight into the state
-    p_trial = state.trial_array() if history else np.empty(n)
+    p_trial = state.trial_array() if history and state is not None else np.empty(n)
     if parallel is None:
         parallel = n >= PARALLEL_THRESHOLD
     kern = kernels().traction_array_parallel if parallel else kernels().traction_array
@@ -144,7 +160,7 @@ def traction_update(
     return TractionResult(t_new, status, dt_ddu, dt_dp)
 
 
-def _out_views(out, n, d, squeeze):
+def _out_views(out: object, n: int, d: int, squeeze: bool) -> list[NDArray]:
     """2-D/3-D views of the caller's output arrays (which the kernel fills in place)."""
     if not isinstance(out, TractionResult):
         raise ValueError("out must be a TractionResult (e.g. the result of a previous call)")
@@ -170,8 +186,17 @@ def _out_views(out, n, d, squeeze):
 
 
 def traction_update_force(
-    law, f_n, area, slip_increment, force_old, k_force, state=None, *, parallel=None, out=None
-):
+    law: "Law",
+    f_n: ArrayLike,
+    area: ArrayLike,
+    slip_increment: ArrayLike,
+    force_old: ArrayLike,
+    k_force: ArrayLike,
+    state: "HistoryState | None" = None,
+    *,
+    parallel: bool | None = None,
+    out: "TractionResult | None" = None,
+) -> "TractionResult":
     """Force-based adapter (Abaqus/Explicit VFRIC style): forces and nodal areas in, forces out.
 
     ``p = f_n / area``, ``t_old = force_old / area`` and ``k_t = k_force / area``, then
