@@ -308,7 +308,7 @@ class InfluenceOperator:
         return np.ascontiguousarray(z, dtype=np.float64)
 
     def energy(self, p_hat: np.ndarray) -> float:
-        """Quadratic form ``p . (C p)`` from the half spectrum of ``p`` (Parseval).
+        """Quadratic form ``dot(p, C p)`` from the half spectrum of ``p`` (Parseval).
 
         For a symmetric kernel; exact in both modes because ``p`` vanishes on the padding.
         """
@@ -343,7 +343,7 @@ class InfluenceOperator:
 
     @property
     def norm(self) -> float:
-        """Bound of the operator's 2-norm: the largest ``|spectrum|`` (e.g. for a step length).
+        """Bound of the operator's 2-norm: the largest modulus of the spectrum (for a step length, say).
 
         Exact when periodic (the spectrum holds the eigenvalues of the circulant); an upper bound
         when not (the operator is a principal block of the circulant embedding on ``fft_shape``).
