@@ -54,7 +54,6 @@ __all__ = ["main", "build_parser"]
 _LAWS_ALL = (*LAWS, "all")
 _MU, _M = 0.1, 0.3  # defaults of --mu, --m where the law uses them
 #: files that mark a folder as an earlier fe-demo output (a rerun replaces it whole)
-_OUTPUT_MARKERS = ("summary.txt", "summary.json", "*/summary.json", "*/*/summary.json")
 
 
 def _positive_int(name):
@@ -521,7 +520,12 @@ def main(argv=None):
         return con.error("--reduction must be in (0, 0.9)", 2)
     try:
         _check_options(args)
-        folder = OutputFolder(args.out, markers=_OUTPUT_MARKERS, what="fe-demo output")
+        folder = OutputFolder(
+            args.out,
+            command="fe-demo",
+            what="fe-demo output",
+            inputs=(args.params, args.material),
+        )
     except (ValueError, OSError) as exc:
         return con.error(str(exc), 2)
     out, args.out = args.out, folder.tmp

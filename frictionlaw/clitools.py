@@ -10,9 +10,9 @@
 - every option's help shows its default (:class:`HelpFormatter`), and ``--help`` carries no
   reStructuredText markup;
 - output folders appear whole or not at all (:class:`OutputFolder`): a run writes into a fresh
-  hidden folder beside ``--out`` and moves it into place at the end, replacing an earlier output
-  of the same command as a whole; a non-empty folder that holds no such output is refused (exit
-  2) unless the command has an explicit ``--force``.
+  hidden folder beside ``--out`` and moves it into place at the end; it replaces only an earlier
+  output of the same command (its marker file says so) that holds nothing else; any other
+  non-empty folder, or one holding the run's input, is refused (exit 2), ``--force`` included.
 
 Exit codes: 0 success, 1 the run failed, 2 bad input (no traceback).
 """
@@ -20,6 +20,7 @@ Exit codes: 0 success, 1 the run failed, 2 bad input (no traceback).
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import shutil
 import sys
@@ -27,12 +28,16 @@ import tempfile
 from importlib import metadata
 from pathlib import Path
 
+from ._io import _umask
+
 __all__ = [
     "Console",
     "HelpFormatter",
+    "MARKER",
     "OutputFolder",
     "add_common_options",
     "parse",
+    "read_marker",
     "version",
 ]
 
@@ -141,52 +146,137 @@ class Console:
         return code
 
 
-class OutputFolder:
-    """An output folder that appears whole or not at all.
+#: the file by which a command marks a folder as its own output (JSON: command, version, files)
+MARKER = ".sbmf-output.json"
 
-    The run writes into :attr:`tmp`, a fresh hidden folder beside ``out``; :meth:`commit` moves it
-    into place, replacing an earlier output as a whole (renamed aside, then deleted), so that no
-    file of an earlier run survives beside the new ones. Leaving the ``with`` block without
-    :meth:`commit` deletes :attr:`tmp` and leaves ``out`` as it was.
+
+def _listing(folder):
+    """Every file and symlink below ``folder`` as sorted POSIX paths relative to it."""
+    folder = Path(folder)
+    found = []
+    for dirpath, dirnames, filenames in os.walk(folder):
+        base = Path(dirpath)
+        found += [(base / n).relative_to(folder).as_posix() for n in filenames]
+        found += [
+            (base / n).relative_to(folder).as_posix() for n in dirnames if (base / n).is_symlink()
+        ]
+    return sorted(found)
+
+
+def read_marker(folder):
+    """The ownership record of ``folder`` (a dict), or ``None`` where it has none or a bad one."""
+    try:
+        doc = json.loads((Path(folder) / MARKER).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    ok = (
+        isinstance(doc, dict)
+        and isinstance(doc.get("command"), str)
+        and isinstance(doc.get("files"), list)
+        and all(isinstance(f, str) for f in doc["files"])
+    )
+    return doc if ok else None
+
+
+def _some(names, n=5):
+    shown = ", ".join(names[:n])
+    return shown + (f" and {len(names) - n} more" if len(names) > n else "")
+
+
+class OutputFolder:
+    """An output folder that appears whole or not at all, replaced only by the command that wrote it.
+
+    The run writes into :attr:`tmp`, a fresh hidden folder beside ``out``; :meth:`commit` writes
+    the ownership marker (:data:`MARKER`: the command, its version and every file it wrote) and
+    moves the folder into place, replacing an earlier output as a whole (renamed aside, then
+    deleted), so that no file of an earlier run survives beside the new ones. Leaving the
+    ``with`` block without :meth:`commit` deletes :attr:`tmp` and leaves ``out`` as it was. The
+    folders get the mode any new folder gets (``0777`` less the umask).
+
+    An existing ``out`` is replaced only when it is empty, or when its marker names this command
+    and it holds nothing but the files that marker lists: another command's output, a folder
+    without a marker, a user's file beside (or below) an earlier output, and a folder holding one
+    of the run's inputs are refused, naming what is in the way.
 
     Parameters
     ----------
     out : path
         The output folder.
-    markers : sequence of str
-        Glob patterns (relative to ``out``) of files that mark ``out`` as an earlier output of the
-        same command; such a folder, an empty one or a missing one is accepted.
+    command : str
+        The command's name as the marker records it (``"fe-demo"``, ``"halfspace-calib"``, ...).
     what : str
-        What the command writes (for the refusal message), e.g. ``"calibration output"``.
+        What the command writes (for messages), e.g. ``"calibration output"``.
     force : bool
-        Accept any existing folder (a command's explicit ``--force``).
+        Needed to replace even the command's own earlier output (commands that write into other
+        programs' trees, such as ``frictionlaw-export``, replace nothing without it). It never
+        lets a run delete files the command did not write, nor its input.
+    require_force : bool
+        Whether replacing the command's own earlier output needs ``force``.
+    inputs : sequence of path
+        Files the run reads; an ``out`` that contains one of them is refused.
 
     Raises
     ------
     ValueError
-        ``out`` is a file, a non-empty folder without a marker (and not ``force``), or its
-        parent cannot be written; raised before any work.
+        ``out`` is a file or a folder the command may not replace (see above), or its parent
+        cannot be written; raised before any work.
     """
 
-    def __init__(self, out, *, markers, what, force=False):
+    def __init__(self, out, *, command, what, force=False, require_force=False, inputs=()):
         self.out = Path(out)
+        self.command = str(command)
         if self.out.exists() and not self.out.is_dir():
             raise ValueError(f"--out {self.out} exists and is not a folder")
-        if not force and self.out.is_dir() and any(self.out.iterdir()):
-            if not any(any(self.out.glob(m)) for m in markers):
+        here = self.out.resolve()
+        for path in inputs:
+            if path is None:
+                continue
+            p = Path(path).resolve()
+            if p == here or here in p.parents:
                 raise ValueError(
-                    f"--out {self.out} is a non-empty folder that holds no {what}; a run "
-                    "replaces its whole output folder, so give a new or an earlier output folder"
+                    f"--out {self.out} holds the input {path}: a run replaces its whole output "
+                    f"folder, so write to a new folder, e.g. {self.out / 'out'} or another path"
                 )
+        if self.out.is_dir() and any(self.out.iterdir()):
+            self._check_replaceable(force, require_force, what)
         try:
             self.out.parent.mkdir(parents=True, exist_ok=True)
             self.tmp = Path(tempfile.mkdtemp(prefix=f".{self.out.name}.tmp-", dir=self.out.parent))
+            os.chmod(self.tmp, 0o777 & ~_umask())  # mkdtemp makes 0700; follow the umask
         except OSError as exc:
             raise ValueError(f"--out {self.out} is not writable ({exc.strerror or exc})") from None
         self.committed = False
 
+    def _check_replaceable(self, force, require_force, what):
+        hint = "give a new folder (or a subfolder of this one) to --out"
+        marker = read_marker(self.out)
+        if marker is None:
+            names = sorted(p.name + ("/" if p.is_dir() else "") for p in self.out.iterdir())
+            raise ValueError(
+                f"--out {self.out} is a non-empty folder that holds no {what} (it holds "
+                f"{_some(names)}); a run replaces its whole output folder, so {hint}"
+            )
+        if marker["command"] != self.command:
+            raise ValueError(
+                f"--out {self.out} holds the output of {marker['command']}, not of "
+                f"{self.command}; {self.command} will not replace it: {hint}"
+            )
+        foreign = sorted(set(_listing(self.out)) - set(marker["files"]) - {MARKER})
+        if foreign:
+            raise ValueError(
+                f"--out {self.out} is an earlier {what} but also holds files {self.command} did "
+                f"not write ({_some(foreign)}); move them away or {hint}"
+            )
+        if require_force and not force:
+            raise ValueError(
+                f"--out {self.out} holds an earlier {what}; add --force to replace it, or {hint}"
+            )
+
     def commit(self):
-        """Move the finished output into place (replacing an earlier one whole)."""
+        """Mark the output as this command's and move it into place (replacing an earlier one)."""
+        files = [f for f in _listing(self.tmp) if f != MARKER]
+        record = {"command": self.command, "version": version(), "files": files}
+        (self.tmp / MARKER).write_text(json.dumps(record, indent=1) + "\n", encoding="utf-8")
         old = None
         if self.out.exists():
             old = Path(tempfile.mkdtemp(prefix=f".{self.out.name}.old-", dir=self.out.parent))

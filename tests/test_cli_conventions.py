@@ -151,24 +151,25 @@ def test_fe_demo_failed_write_keeps_the_previous_output(tmp_path, capsys, monkey
 
 def test_output_folder_policy(tmp_path):
     out = tmp_path / "o"
-    with OutputFolder(out, markers=("m.json",), what="thing") as f:
+    with OutputFolder(out, command="thing", what="thing") as f:
         (f.tmp / "m.json").write_text("1")
         (f.tmp / "old.txt").write_text("1")
         f.commit()
-    with OutputFolder(out, markers=("m.json",), what="thing") as f:
+    with OutputFolder(out, command="thing", what="thing") as f:
         (f.tmp / "m.json").write_text("2")
         f.commit()
-    assert sorted(p.name for p in out.iterdir()) == ["m.json"]
-    with OutputFolder(out, markers=("m.json",), what="thing") as f:
+    assert sorted(p.name for p in out.iterdir()) == [".sbmf-output.json", "m.json"]
+    with OutputFolder(out, command="thing", what="thing") as f:
         (f.tmp / "m.json").write_text("3")  # no commit: discarded
     assert (out / "m.json").read_text() == "2"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["o"]
     (tmp_path / "x").mkdir()
     (tmp_path / "x" / "y").write_text("")
     with pytest.raises(ValueError, match="holds no thing"):
-        OutputFolder(tmp_path / "x", markers=("m.json",), what="thing")
+        OutputFolder(tmp_path / "x", command="thing", what="thing")
     with pytest.raises(ValueError, match="not a folder"):
-        OutputFolder(tmp_path / "x" / "y", markers=(), what="thing")
-    f = OutputFolder(tmp_path / "x", markers=(), what="thing", force=True)
-    f.commit()
-    assert list((tmp_path / "x").iterdir()) == []
+        OutputFolder(tmp_path / "x" / "y", command="thing", what="thing")
+    # force never deletes a folder the command did not write
+    with pytest.raises(ValueError, match="holds no thing"):
+        OutputFolder(tmp_path / "x", command="thing", what="thing", force=True)
+    assert (tmp_path / "x" / "y").is_file()

@@ -9,6 +9,7 @@ from default_params import DEFAULT
 
 import frictionlaw as fl
 import frictionlaw.export as exp
+from frictionlaw.clitools import MARKER
 from frictionlaw.export import _tables
 
 
@@ -26,9 +27,9 @@ def test_every_target_writes_source_and_readme(tmp_path, params_file, target, un
     assert (
         exp.main([target, "--params", str(params_file), "--out", str(out), "--units", units]) == 0
     )
-    names = sorted(p.name for p in out.iterdir())
+    names = sorted(p.name for p in out.iterdir() if p.name != MARKER)
     assert "README.md" in names and len(names) == 2
-    src = next(p for p in out.iterdir() if p.name != "README.md").read_text()
+    src = next(out / n for n in names if n != "README.md").read_text()
     sha = hashlib.sha256(params_file.read_bytes()).hexdigest()
     assert sha in src and f"units: {units}" in src
     assert "fit" in src  # fit summary line (none recorded here)

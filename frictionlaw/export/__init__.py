@@ -257,8 +257,9 @@ def export(target, params_path, out, *, units="SI", k_t=None, table_tol=1e-3, fo
     params_path : path
         ``params.json`` written by the calibration (or :meth:`FrictionParams.to_json`).
     out : path
-        Output folder; it appears whole or not at all. An existing folder is an error unless
-        ``force`` (then it is replaced).
+        Output folder; it appears whole or not at all. An earlier export there is replaced only
+        with ``force``, and only if the folder holds nothing but that export; any other
+        non-empty folder, or one holding ``params_path``, is refused.
     units : {"SI", "mm-t-s"}
         Unit system of the host model (Pa, m or MPa, mm).
     k_t : float, optional
@@ -266,17 +267,27 @@ def export(target, params_path, out, *, units="SI", k_t=None, table_tol=1e-3, fo
     table_tol : float
         Table targets: bound on ``|tau_table - tau| / tau_max`` on first loading.
     force : bool
-        Replace an existing ``out``.
+        Replace an earlier export in ``out`` (never files the export did not write).
 
     Returns
     -------
     ExportResult
     """
     out = Path(out)
-    if out.exists() and not force:
-        raise ValueError(f"--out {out} exists; remove it or pass --force to replace it")
-    files, table = render(target, params_path, units=units, k_t=k_t, table_tol=table_tol)
-    with OutputFolder(out, markers=(), what="export", force=True) as folder:
+    folder = OutputFolder(
+        out,
+        command="frictionlaw-export",
+        what="export",
+        force=force,
+        require_force=True,
+        inputs=(params_path,),
+    )
+    try:
+        files, table = render(target, params_path, units=units, k_t=k_t, table_tol=table_tol)
+    except BaseException:
+        folder.discard()
+        raise
+    with folder:
         for name, text in files.items():
             (folder.tmp / name).write_text(text, encoding="utf-8")
         folder.commit()

@@ -33,10 +33,9 @@ from ..pipeline.scene_surfaces import (
     ISO_SAMPLING_RATIO,
     MAX_DEFAULT_GRID,
 )
-from ._paths import OUTPUT_MARKERS, after_contact, exit_code, fit_h, main_samples, sample_spec
+from ._paths import after_contact, exit_code, fit_h, main_samples, run_inputs, sample_spec
 
 #: files that mark a folder as a calibration output (a rerun may replace it)
-_OUTPUT_MARKERS = OUTPUT_MARKERS
 #: the Scene's defaults, shown in --help
 _D = {f.name: f.default for f in fields(Scene)}
 
@@ -384,7 +383,12 @@ def main(argv=None):
             return main_samples(args, scene, spec, t0)
         surfaces = load_scene_surfaces(scene)  # every file check before any sweep
         data = after_contact(args, scene)
-        folder = OutputFolder(args.out, markers=_OUTPUT_MARKERS, what="calibration output")
+        folder = OutputFolder(
+            args.out,
+            command="halfspace-calib",
+            what="calibration output",
+            inputs=run_inputs(args, scene),
+        )
     except FileNotFoundError as exc:
         msg = str(exc) if "not found" in str(exc) else f"file not found: {exc.filename}"
         return con.error(msg, 2)

@@ -16,7 +16,14 @@ from ..output.hardness import hardness_table
 from ..pipeline.hardness import fit_hardness, read_after_contact
 
 #: files that mark a folder as a calibration output (a rerun may replace it)
-OUTPUT_MARKERS = ("params.json", "summary.json")
+
+
+def run_inputs(args, scene=None):
+    """The files a calibration reads (its output folder may not hold any of them)."""
+    files = [args.scene, args.after_contact, *(args.workpiece or ()), *(args.tool or ())]
+    if scene is not None:
+        files += [scene.workpiece, scene.tool]
+    return tuple(f for f in files if isinstance(f, str | Path))
 
 
 def sample_spec(args, scene):
@@ -68,7 +75,12 @@ def main_samples(args, scene, spec, t0):
     con = Console("halfspace-calib", quiet=args.quiet)
     try:
         samples = load_samples(scene, spec)  # every file and sample check before any sweep
-        folder = OutputFolder(args.out, markers=OUTPUT_MARKERS, what="calibration output")
+        folder = OutputFolder(
+            args.out,
+            command="halfspace-calib",
+            what="calibration output",
+            inputs=run_inputs(args, scene),
+        )
     except FileNotFoundError as exc:
         return con.error(f"file not found: {exc.filename or exc}", 2)
     except (ValueError, ImportError, OSError) as exc:
