@@ -19,6 +19,7 @@ stdout (hidden by ``--quiet``), warnings and errors to stderr.
 
 import argparse
 import json
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -32,6 +33,7 @@ from frictionlaw.clitools import (
     add_version,
     parse,
 )
+from frictionlaw.params import fit_failure
 
 from .band import band_laws, write_band_outputs, write_run_report
 from .calibrated_range import range_lines
@@ -85,6 +87,12 @@ def _add_common(p, *, law, nr, increments, reduction, out):
         type=Path,
         default=None,
         help="SBMF parameter JSON (FrictionParams file; default: the shipped illustrative set)",
+    )
+    p.add_argument(
+        "--accept-failed-fit",
+        action="store_true",
+        help="run a --params file whose calibration failed or whose fit did not converge "
+        "(refused otherwise; a warning is printed)",
     )
     p.add_argument(
         "--material",
@@ -172,7 +180,7 @@ def _common_kw(args, law):
         "mu": args.mu,
         "m": args.m,
         "tau_max": args.tau_max,
-        "params": args.params,
+        "params": getattr(args, "params_loaded", None) or args.params,
         "nr": args.nr,
         "nz": args.nz,
         "n_increments": args.increments,
@@ -445,7 +453,12 @@ def _check_options(args):
     if args.params is not None:
         if not args.params.exists():
             raise ValueError(f"--params file {args.params} does not exist")
-        P = FrictionParams.from_json(args.params)  # unreadable files: bad input, before any run
+        # unreadable files and failed fits: bad input, before any run
+        P = FrictionParams.from_json(args.params, accept_failed=args.accept_failed_fit)
+        reason = fit_failure(json.loads(args.params.read_text(encoding="utf-8")))
+        if reason:  # accepted: the run uses the object, and says so
+            args.params_loaded = P
+            print(f"fe-demo: WARNING: {args.params}: {reason}; run as asked", file=sys.stderr)
         if args.band or args.samples:
             args.band_laws = band_laws(P, "band" if args.band else "samples", args.params)
             args.band_level = P.uncertainty.level

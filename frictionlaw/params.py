@@ -35,6 +35,7 @@ __all__ = [
     "FORMAT_VERSION",
     "K_T_FORMAT_VERSION",
     "check_range",
+    "fit_failure",
     "N_RANGE",
     "C_RANGE",
     "STRESS_RANGE",
@@ -355,10 +356,22 @@ class FrictionParams:
         return atomic_write(path, lambda fh: fh.write(text.encode("utf-8") + b"\n"))
 
     @classmethod
-    def from_dict(cls, doc: object, *, source: str = "<dict>") -> "FrictionParams":
-        """Build from a document made by :meth:`to_dict`; raises ``ValueError`` if malformed."""
+    def from_dict(
+        cls, doc: object, *, source: str = "<dict>", accept_failed: bool = False
+    ) -> "FrictionParams":
+        """Build from a document made by :meth:`to_dict`; raises ``ValueError`` if malformed.
+
+        A document whose calibration failed or whose fit did not converge (:func:`fit_failure`)
+        is refused too, naming the reason, unless ``accept_failed``.
+        """
         if not isinstance(doc, dict):
             raise ValueError(f"{source}: not a JSON object")
+        reason = fit_failure(doc)
+        if reason is not None and not accept_failed:
+            raise ValueError(
+                f"{source}: {reason}; a failed fit is no law to run: recalibrate, or accept it "
+                "knowingly (accept_failed=True; --accept-failed-fit on the command lines)"
+            )
         if doc.get("format") != FORMAT_NAME:
             raise ValueError(
                 f"{source}: 'format' must be {FORMAT_NAME!r}, got {doc.get('format')!r}"
@@ -409,8 +422,14 @@ class FrictionParams:
             raise ValueError(f"{source}: {exc}") from None
 
     @classmethod
-    def from_json(cls, path: str | os.PathLike[str]) -> "FrictionParams":
-        """Read a parameter file written by :meth:`to_json`."""
+    def from_json(
+        cls, path: str | os.PathLike[str], *, accept_failed: bool = False
+    ) -> "FrictionParams":
+        """Read a parameter file written by :meth:`to_json`.
+
+        A file from a failed calibration or with an unconverged fit is refused (``ValueError``
+        naming the reason) unless ``accept_failed`` (see :func:`fit_failure`).
+        """
         path = Path(path)
         try:
             doc = json.loads(path.read_text(encoding="utf-8"))
@@ -420,7 +439,30 @@ class FrictionParams:
             raise ValueError(f"{path}: not a UTF-8 text file ({exc})") from None
         except RecursionError:
             raise ValueError(f"{path}: JSON nested too deeply to be a parameter file") from None
-        return cls.from_dict(doc, source=str(path))
+        return cls.from_dict(doc, source=str(path), accept_failed=accept_failed)
+
+
+def fit_failure(doc: object) -> str | None:
+    """Why a parameter document is no law to run, or ``None`` when its fit is good.
+
+    Two reasons: the calibration that wrote it failed (``provenance.run.status == "failed"``,
+    written by ``halfspace-calib`` when it exits 1, with the run's problems), or the fit of Eq. 24
+    or Eq. 25 did not converge (``provenance.fit.<branch>.converged`` is false).
+    """
+    prov = doc.get("provenance") if isinstance(doc, dict) else None
+    if not isinstance(prov, dict):
+        return None
+    run = prov.get("run")
+    if isinstance(run, dict) and run.get("status") == "failed":
+        problems = "; ".join(str(p) for p in run.get("problems") or ()) or "no reason recorded"
+        return f"the calibration that wrote it failed ({problems[:400]})"
+    fit = prov.get("fit")
+    if isinstance(fit, dict):
+        for branch, eq in (("first_loading", "Eq. 24"), ("reload", "Eq. 25")):
+            rec = fit.get(branch)
+            if isinstance(rec, dict) and rec.get("converged") is False:
+                return f"its fit of {eq} ({branch}) did not converge ({rec.get('message', '')})"
+    return None
 
 
 def _read_range(doc: object, source: str) -> tuple[float, float] | None:

@@ -12,6 +12,7 @@ Targets: ``abaqus-fric``, ``abaqus-vfric``, ``abaqus-vfriction``, ``lsdyna-usrfr
 
 import argparse
 import hashlib
+import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -19,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from ..clitools import Console, HelpFormatter, OutputFolder, add_common_options, add_version, parse
-from ..params import FrictionParams
+from ..params import FrictionParams, fit_failure
 from . import _fortran, _readme, _tables
 
 __all__ = [
@@ -219,13 +220,13 @@ def _check_args(target, units, table_tol):
         raise ValueError(f"--table-tol must be in [1e-6, 0.1], got {table_tol!r}")
 
 
-def render(target, params_path, *, units="SI", k_t=None, table_tol=1e-3):
+def render(target, params_path, *, units="SI", k_t=None, table_tol=1e-3, accept_failed=False):
     """The files of ``target`` as ``{name: text}`` plus the table (or None); writes nothing."""
     _check_args(target, units, table_tol)
     if k_t is not None and target.endswith("-table"):
         raise ValueError("--k-t applies to the Fortran targets only (a table has no stiffness)")
     params_path = Path(params_path)
-    params = FrictionParams.from_json(params_path)
+    params = FrictionParams.from_json(params_path, accept_failed=accept_failed)
     sha = _sha256(params_path)
     us = UNIT_SYSTEMS[units]
     if target in _FORTRAN:
@@ -247,7 +248,17 @@ def render(target, params_path, *, units="SI", k_t=None, table_tol=1e-3):
     return {name: text, "README.md": readme}, table
 
 
-def export(target, params_path, out, *, units="SI", k_t=None, table_tol=1e-3, force=False):
+def export(
+    target,
+    params_path,
+    out,
+    *,
+    units="SI",
+    k_t=None,
+    table_tol=1e-3,
+    force=False,
+    accept_failed=False,
+):
     """Write ``target``'s files for the parameter file ``params_path`` into the folder ``out``.
 
     Parameters
@@ -268,6 +279,9 @@ def export(target, params_path, out, *, units="SI", k_t=None, table_tol=1e-3, fo
         Table targets: bound on ``|tau_table - tau| / tau_max`` on first loading.
     force : bool
         Replace an earlier export in ``out`` (never files the export did not write).
+    accept_failed : bool
+        Export a parameter file whose calibration failed or whose fit did not converge (refused
+        otherwise, :func:`frictionlaw.params.fit_failure`).
 
     Returns
     -------
@@ -283,7 +297,14 @@ def export(target, params_path, out, *, units="SI", k_t=None, table_tol=1e-3, fo
         inputs=(params_path,),
     )
     try:
-        files, table = render(target, params_path, units=units, k_t=k_t, table_tol=table_tol)
+        files, table = render(
+            target,
+            params_path,
+            units=units,
+            k_t=k_t,
+            table_tol=table_tol,
+            accept_failed=accept_failed,
+        )
     except BaseException:
         folder.discard()
         raise
@@ -292,6 +313,18 @@ def export(target, params_path, out, *, units="SI", k_t=None, table_tol=1e-3, fo
             (folder.tmp / name).write_text(text, encoding="utf-8")
         folder.commit()
     return ExportResult(out, tuple(sorted(files)), table)
+
+
+def _warn_failed(con, params_path, accepted):
+    """The warning that goes with an accepted failed fit."""
+    if not accepted:
+        return
+    try:
+        reason = fit_failure(json.loads(Path(params_path).read_text(encoding="utf-8")))
+    except (OSError, ValueError):
+        return
+    if reason:
+        con.warn(f"frictionlaw-export: WARNING: {params_path}: {reason}; exported as asked")
 
 
 def _parser():
@@ -318,7 +351,17 @@ def _parser():
         default=1e-3,
         help="table targets: max |tau_table - tau| / tau_max on first loading",
     )
-    ap.add_argument("--force", action="store_true", help="replace an existing --out folder")
+    ap.add_argument(
+        "--force",
+        action="store_true",
+        help="replace an earlier export in --out (never other files, never the --params file)",
+    )
+    ap.add_argument(
+        "--accept-failed-fit",
+        action="store_true",
+        help="export a parameter file whose calibration failed or whose fit did not converge "
+        "(refused otherwise; a warning is printed)",
+    )
     add_common_options(ap, progress=False)
     return ap
 
@@ -339,11 +382,13 @@ def main(argv=None):
             k_t=args.k_t,
             table_tol=args.table_tol,
             force=args.force,
+            accept_failed=args.accept_failed_fit,
         )
     except (ValueError, FileNotFoundError, IsADirectoryError) as exc:
         return con.error(str(exc), 2)
     except RuntimeError as exc:
         return con.error(f"the export failed: {exc}", 1)
+    _warn_failed(con, args.params, args.accept_failed_fit)
     con.result(f"wrote {', '.join(res.files)} to {res.out}")
     if res.table is not None:
         con.result(

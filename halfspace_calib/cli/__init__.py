@@ -33,7 +33,15 @@ from ..pipeline.scene_surfaces import (
     ISO_SAMPLING_RATIO,
     MAX_DEFAULT_GRID,
 )
-from ._paths import after_contact, exit_code, fit_h, main_samples, run_inputs, sample_spec
+from ._paths import (
+    after_contact,
+    exit_code,
+    fit_h,
+    main_samples,
+    mark_failed,
+    run_inputs,
+    sample_spec,
+)
 
 #: files that mark a folder as a calibration output (a rerun may replace it)
 #: the Scene's defaults, shown in --help
@@ -412,6 +420,7 @@ def main(argv=None):
             write_outputs(cal, folder.tmp)
             if hfit is not None:
                 write_hardness_fit(hfit, folder.tmp)
+            mark_failed(folder.tmp, cal.problems())
             folder.commit()
         except (RuntimeError, MemoryError) as exc:
             return con.error(f"the run failed: {exc or type(exc).__name__}", 1)

@@ -7,6 +7,7 @@ hardness fitted to the after-contact roughness (``--after-contact``, the paper's
 from __future__ import annotations
 
 import dataclasses
+import json
 import time
 from pathlib import Path
 
@@ -95,6 +96,7 @@ def main_samples(args, scene, spec, t0):
             progress = not (args.quiet or args.no_progress)
             mc = calibrate_samples(scene, spec, samples=samples, progress=progress)
             write_sample_outputs(mc, folder.tmp)
+            mark_failed(folder.tmp, mc.problems())
             folder.commit()
         except (RuntimeError, MemoryError) as exc:
             return con.error(f"the run failed: {exc or type(exc).__name__}", 1)
@@ -157,11 +159,52 @@ def _scene_gives(args, key):
     return key in data.get("scene", data)
 
 
+FAILED_PARAMS = "params.failed.json"
+
+
+def mark_failed(folder, problems):
+    """A run that fails keeps its diagnosis but no ``params.json`` a consumer would read.
+
+    The parameter file is written as ``params.failed.json`` with ``provenance.run`` = ``{"status":
+    "failed", "problems": [...]}``; ``FrictionParams.from_json`` (and so ``fe-demo`` and
+    ``frictionlaw-export``) refuse it unless told to accept a failed fit.
+    """
+    src = Path(folder) / "params.json"
+    if not problems or not src.is_file():
+        return
+    doc = json.loads(src.read_text(encoding="utf-8"))
+    doc.setdefault("provenance", {})["run"] = {
+        "status": "failed",
+        "problems": [str(p) for p in problems],
+    }
+    (Path(folder) / FAILED_PARAMS).write_text(json.dumps(doc, indent=2) + "\n", encoding="utf-8")
+    src.unlink()
+
+
+def failure_hint(problems):
+    """Likely causes of a collapsed fit, for the RUN FAILED report."""
+    text = " ".join(str(p) for p in problems).lower()
+    if not any(w in text for w in ("r^2", "fit", "converged load levels", "degenerate")):
+        return None
+    return (
+        "likely causes of a collapsed fit: a lateral --size in the wrong unit for the heights "
+        "(mm typed as m makes the surface nearly flat), a height --unit off by 1000, or "
+        "--pressures outside the contact's range (most likely MPa typed as Pa)"
+    )
+
+
 def exit_code(con, problems):
     """0, or 1 after the run's problems on stderr (``RUN FAILED``)."""
     if problems:
         con.warn("halfspace-calib: RUN FAILED (exit code 1):")
         for p in problems:
             con.warn(f"    - {p}")
+        hint = failure_hint(problems)
+        if hint:
+            con.warn(f"halfspace-calib: {hint}")
+        con.warn(
+            f"halfspace-calib: the parameters are kept as {FAILED_PARAMS} (marked failed), "
+            "not as params.json"
+        )
         return 1
     return 0

@@ -1,0 +1,100 @@
+"""A failed calibration cannot pass for a good one.
+
+A scan whose lateral size was typed in the wrong unit (2 m instead of 2 mm: the surface is
+nearly flat) makes the fit collapse: the run exits 1, names ``--size`` among the likely causes,
+and keeps its parameters only as ``params.failed.json``, marked failed. ``FrictionParams``,
+``fe-demo --params`` and ``frictionlaw-export`` refuse such a file (exit 2, the reason on
+stderr) unless ``--accept-failed-fit`` lets an expert through with a warning.
+"""
+
+import json
+
+import numpy as np
+import pytest
+
+from fe_demo.cli import main as fe_demo
+from frictionlaw import FrictionParams
+from frictionlaw.export import main as export
+from frictionlaw.params import fit_failure
+from halfspace_calib.cli import main as calib
+
+FE = ["upsetting", "--law", "sbmf", "--nr", "4", "--increments", "2", "--vtu-every", "0"]
+
+
+@pytest.fixture(scope="module")
+def failed_run(tmp_path_factory):
+    base = tmp_path_factory.mktemp("failed")
+    heights = np.random.default_rng(1).normal(0.0, 1e-6, (64, 64))
+    np.save(base / "scan.npy", heights)
+    out = base / "calibration"
+    scan = str(base / "scan.npy")
+    argv = ["--workpiece", scan, "--tool", scan, "--size", "2", "--unit", "m"]
+    rc = calib([*argv, "--grid", "32", "--quiet", "--out", str(out)])
+    return rc, out
+
+
+def test_collapsed_fit_exits_1_and_keeps_no_params_json(failed_run, capsys):
+    rc, out = failed_run
+    assert rc == 1
+    assert not (out / "params.json").exists()
+    doc = json.loads((out / "params.failed.json").read_text())
+    assert doc["provenance"]["run"]["status"] == "failed"
+    assert any("R^2" in p for p in doc["provenance"]["run"]["problems"])
+    assert "the calibration that wrote it failed" in fit_failure(doc)
+
+
+def test_failure_message_names_the_likely_causes(tmp_path, capsys):
+    heights = np.random.default_rng(2).normal(0.0, 1e-6, (64, 64))
+    np.save(tmp_path / "s.npy", heights)
+    s = str(tmp_path / "s.npy")
+    rc = calib(["--workpiece", s, "--tool", s, "--size", "2", "--unit", "m", "--grid", "32",
+                "--quiet", "--out", str(tmp_path / "o")])  # fmt: skip
+    err = capsys.readouterr().err
+    assert rc == 1 and "RUN FAILED" in err
+    assert "--size" in err and "--unit" in err and "--pressures" in err
+    assert "params.failed.json" in err and "Traceback" not in err
+
+
+def test_frictionparams_refuses_a_failed_fit(failed_run):
+    _, out = failed_run
+    path = out / "params.failed.json"
+    with pytest.raises(ValueError, match="calibration that wrote it failed"):
+        FrictionParams.from_json(path)
+    assert FrictionParams.from_json(path, accept_failed=True).m > 0
+
+
+def test_frictionparams_refuses_an_unconverged_fit():
+    good = FrictionParams(m=0.5, sigma_y=286e6, H=800e6, C1=1.0, n1=3.0, C2=7.0, n2=0.6)
+    doc = good.to_dict()
+    doc["provenance"] = {"fit": {"reload": {"converged": False, "message": "maxiter"}}}
+    with pytest.raises(ValueError, match=r"fit of Eq. 25 \(reload\) did not converge"):
+        FrictionParams.from_dict(doc)
+    doc["provenance"]["fit"]["reload"]["converged"] = True
+    assert FrictionParams.from_dict(doc) == good
+
+
+def test_fe_demo_refuses_then_accepts_with_a_warning(failed_run, tmp_path, capsys):
+    _, out = failed_run
+    params = str(out / "params.failed.json")
+    assert fe_demo([*FE, "--params", params, "--quiet", "--out", str(tmp_path / "a")]) == 2
+    err = capsys.readouterr().err
+    assert "failed" in err and "--accept-failed-fit" in err and "Traceback" not in err
+    assert not (tmp_path / "a").exists()
+    rc = fe_demo(
+        [*FE, "--params", params, "--accept-failed-fit", "--quiet", "--out", str(tmp_path / "b")]
+    )
+    assert rc in (0, 1)  # the run itself may or may not converge with a collapsed law
+    assert "WARNING" in capsys.readouterr().err
+
+
+def test_export_refuses_then_accepts_with_a_warning(failed_run, tmp_path, capsys):
+    _, out = failed_run
+    params = str(out / "params.failed.json")
+    assert export(["abaqus-fric", "--params", params, "--out", str(tmp_path / "a")]) == 2
+    err = capsys.readouterr().err
+    assert "calibration that wrote it failed" in err and "Traceback" not in err
+    rc = export(
+        ["abaqus-fric", "--params", params, "--out", str(tmp_path / "b"), "--accept-failed-fit"]
+    )
+    assert rc == 0
+    assert "WARNING" in capsys.readouterr().err
