@@ -244,6 +244,9 @@ def write_run_report(folder, info, title):
         ("stopped_at_height_reduction", info.get("stopped_at_height_reduction")),
         ("wall_time_s", info.get("wall_time_s")),
     ]
+    if "inner_diameter_change" in info:  # a ring test's measured quantities, at the end
+        rows.insert(2, ("inner_diameter_change", info["inner_diameter_change"]))
+        rows.insert(3, ("inner_diameter_min_change", info["inner_diameter_min_change"]))
     body = ["<table><tr><th>quantity</th><th>value</th></tr>"]
     for k, v in rows:
         cell = number_cell(v, k) if isinstance(v, float) else f"<td>{html.escape(str(v))}</td>"

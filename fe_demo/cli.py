@@ -69,7 +69,13 @@ def _positive_int(name):
 
 
 def _add_common(p, *, law, nr, increments, reduction, out):
-    p.add_argument("--law", choices=_LAWS_ALL, default=law, help="friction law")
+    p.add_argument(
+        "--law",
+        choices=_LAWS_ALL,
+        default=None,
+        help=f"friction law (default: {law}; sbmf when --params is given)",
+    )
+    p.set_defaults(default_law=law)
     p.add_argument(
         "--mu", type=float, default=None, help=f"Coulomb coefficient (coulomb, cap; default {_MU})"
     )
@@ -217,6 +223,10 @@ def _write_run(folder, res, title):
         stopped_at_height_reduction=res.model.height_reduction,
         wall_time_s=res.wall_time,
     )
+    h = res.history
+    if h and "inner_diameter_change" in h:  # a ring: what a ring test measures, at the end
+        info["inner_diameter_change"] = float(h["inner_diameter_change"][-1])
+        info["inner_diameter_min_change"] = float(h["inner_diameter_min_change"][-1])
     (folder / "summary.json").write_text(json.dumps(info, indent=2, default=_jd) + "\n")
     write_run_report(folder, json.loads(json.dumps(info, default=_jd)), title)
 
@@ -350,7 +360,16 @@ def _cmd_ring(args, con):
         _write_run(folder, res, lab)
         if res.history:
             fe[lab] = (res.history["height_reduction"], res.history["inner_diameter_change"])
-        rows.append(_summary_row(lab, res))
+        row = _summary_row(lab, res)
+        h = res.history
+        d_in = 100.0 * float(h["inner_diameter_change"][-1]) if h else 0.0
+        # the inner-diameter change (%) is what a ring test measures: beside the force
+        keys = list(row)
+        at = keys.index("force_kN") + 1
+        row = (
+            {k: row[k] for k in keys[:at]} | {"ID_change_%": d_in} | {k: row[k] for k in keys[at:]}
+        )
+        rows.append(row)
         ok &= res.converged
         _report_run(con, lab, res)
     args.out.mkdir(parents=True, exist_ok=True)
@@ -429,11 +448,14 @@ def _cmd_multistage(args, con):
 
 def _check_options(args):
     """Refuse options the requested runs would not use; fill in the defaults of the rest."""
+    if args.law is None:  # a parameter file is only used by the law that reads it
+        args.law = "sbmf" if args.params is not None else args.default_law
     used = LAW_OPTIONS[args.law]
     for name in ("mu", "m", "tau_max", "params"):
         if getattr(args, name) is not None and name not in used:
             flag = "--" + name.replace("_", "-")
-            raise ValueError(f"{flag} is not used by --law {args.law}")
+            hint = " (add --law sbmf to run the parameter file's law)" if name == "params" else ""
+            raise ValueError(f"{flag} is not used by --law {args.law}{hint}")
     if args.law == "cap" and args.tau_max is not None and args.m is not None:
         raise ValueError("--m is not used by --law cap when --tau-max gives the cap")
     if getattr(args, "m_list", None) is not None:

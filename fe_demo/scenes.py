@@ -294,7 +294,7 @@ def _press(
 
 
 def run_upsetting(
-    law="tresca",
+    law="sbmf",
     *,
     mu=0.1,
     m=0.3,
@@ -313,6 +313,10 @@ def run_upsetting(
     remesh_below=0.0,
 ):
     """Cylinder upsetting between flat dies (``remesh_below`` as in :func:`run_ring`).
+
+    The default law is the one ``fe-demo upsetting`` runs: ``sbmf`` with ``params`` (the shipped
+    illustrative parameters when ``params`` is None); ``fe-demo ring`` and :func:`run_ring`
+    default to ``tresca`` (the ring chart's law), ``multistage`` to ``sbmf``.
 
     History columns: ``height_reduction`` (fraction of h0), ``stroke`` (m), ``force``
     (N), ``contact_radius`` (m), ``avg_pressure`` (force over contact area, Pa),

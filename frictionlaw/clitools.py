@@ -111,9 +111,23 @@ def parse(parser, argv=None):
     ``--version``; a command returns that code instead of raising ``SystemExit``.
     """
     try:
-        return parser.parse_args(argv), None
+        args, extra = parser.parse_known_args(argv)
+        if extra:  # a typo in a subcommand's option: that subcommand's usage, not the top level's
+            _subparser(parser, args).error(f"unrecognized arguments: {' '.join(extra)}")
+        return args, None
     except SystemExit as exc:
         return None, exc.code if isinstance(exc.code, int) else 2
+
+
+def _subparser(parser, args):
+    """The subcommand parser ``args`` came through, or ``parser`` itself."""
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            chosen = getattr(args, action.dest, None) if action.dest != argparse.SUPPRESS else None
+            if chosen is None:  # unnamed dest: find the subcommand by the parsed defaults
+                return parser
+            return action.choices.get(chosen, parser)
+    return parser
 
 
 class Console:
@@ -134,7 +148,11 @@ class Console:
     def result(self, line=""):
         """A line of the summary (stdout; hidden by ``--quiet``)."""
         if not self.quiet:
-            print(line, file=sys.stdout)
+            try:
+                print(line, file=sys.stdout, flush=True)
+            except BrokenPipeError:  # the reader went away (``| head``): stop writing, no traceback
+                sys.stdout = open(os.devnull, "w")  # noqa: SIM115
+                self.quiet = True
 
     def warn(self, line):
         """A warning (stderr, always)."""

@@ -38,6 +38,14 @@ class _Law:
         """Return ``(tau, dtau_dp)`` for pressure ``p`` (Pa) and history ``p_hist``."""
         return evaluate(self.code, self.coeffs, p, p_hist)
 
+    def __call__(self, p: ArrayLike, p_hist: ArrayLike = 0.0) -> FloatOrArray:
+        """The shear limit ``tau`` (Pa) at pressure ``p`` and history ``p_hist`` (broadcasting).
+
+        ``law(p, p_hist)`` equals ``shear_limit(p, p_hist, params)`` for an :class:`SBMFLaw`;
+        :meth:`shear_limit` also gives ``dtau/dp``.
+        """
+        return self.shear_limit(p, p_hist)[0]
+
 
 def _pos(name: str, v: float) -> float:
     return check_range(name, v, 0.0, math.inf, hi_open=True)

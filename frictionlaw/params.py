@@ -385,7 +385,12 @@ class FrictionParams:
         for key in ("units", "options", "provenance"):
             if not isinstance(doc.get(key, {}), dict):
                 raise ValueError(f"{source}: {key!r} must be a JSON object, got {doc[key]!r}")
-        units = doc.get("units", {})
+        if "units" not in doc:
+            raise ValueError(
+                f"{source}: no 'units' block: a parameter file states its units "
+                f"({dict(_UNITS)}); add it, or rewrite the file with FrictionParams.to_json"
+            )
+        units = doc["units"]
         for key, unit in _UNITS.items():
             if key in units and units[key] != unit:
                 raise ValueError(

@@ -69,6 +69,17 @@ class Calibration:
     resolution: ResolutionCheck | None = None
     notes: tuple = ()  # what calibrate() decided on its own (the periodic fallback)
 
+    def __repr__(self):
+        """One line a notebook can show: the law, the fit quality, the sweep and the time."""
+        P = self.params
+        levels = len(self.sweeps.levels)
+        state = "FAILED" if self.problems() else "ok"
+        return (
+            f"Calibration({state}: C1={P.C1:.4g}, n1={P.n1:.4g}, C2={P.C2:.4g}, n2={P.n2:.4g}, "
+            f"mu_eff={P.mu_eff:.4g}, R2={self.first.r_squared:.4f}/{self.reload.r_squared:.4f}, "
+            f"{levels} load levels on {self.scene.grid}^2, {self.seconds:.1f} s)"
+        )
+
     def problems(self):
         """Why the run failed, one sentence each (empty if it did not).
 

@@ -236,6 +236,11 @@ class Scene:
             check_memory(self.grid, self.periodic)
         if self.measured_n is not None and isinstance(self.measured_n, int):
             check_memory(self.measured_n, True, "measured_n")
+        if self.H < 1e6:
+            raise ValueError(
+                f"H = {self.H:g} Pa is below 1 MPa, far below any metal's hardness: H is in Pa, "
+                f"most likely MPa were typed as Pa (write {self.H:g}e6, not {self.H:g})"
+            )
         if len(self.pressures) < 3:
             raise ValueError("pressures must hold at least 3 values (Pa) for the fit of C1, n1")
         low = [p for p in self.pressures if 0 < p < P_FLOOR]
