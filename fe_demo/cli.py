@@ -31,6 +31,7 @@ from frictionlaw.clitools import (
     OutputFolder,
     add_common_options,
     add_version,
+    interruptible,
     parse,
 )
 from frictionlaw.params import fit_failure
@@ -545,8 +546,9 @@ class _Report(Console):
         super().result(line)
 
 
+@interruptible("fe-demo", "the FE run")
 def main(argv=None):
-    """Entry point of the ``fe-demo`` console script; returns 0, 1 (a run failed) or 2 (bad input)."""
+    """Entry point of ``fe-demo``: 0, 1 (a run failed), 2 (bad input), 130/143 (interrupted)."""
     args, code = parse(build_parser(), argv)
     if args is None:
         return code

@@ -20,11 +20,14 @@ Exit codes: 0 success, 1 the run failed, 2 bad input (no traceback).
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import os
 import shutil
+import signal
 import sys
 import tempfile
+import threading
 from importlib import metadata
 from pathlib import Path
 
@@ -32,6 +35,8 @@ from ._io import _umask
 
 __all__ = [
     "Console",
+    "Interrupted",
+    "interruptible",
     "HelpFormatter",
     "MARKER",
     "OutputFolder",
@@ -95,6 +100,53 @@ def add_common_options(parser, *, quiet=True, progress=True):
         parser.add_argument(
             "--no-progress", action="store_true", help="hide the progress bar, keep the summary"
         )
+
+
+class Interrupted(BaseException):
+    """SIGTERM (or another handled signal) turned into an exception, like KeyboardInterrupt."""
+
+    def __init__(self, signum):
+        super().__init__(signum)
+        self.signum = signum
+
+
+def _raise_interrupted(signum, frame):
+    raise Interrupted(signum)
+
+
+def interruptible(prog, what):
+    """Decorate a command's ``main`` so that SIGINT and SIGTERM end it cleanly.
+
+    Ctrl-C (SIGINT, to the process group or to this process alone) and SIGTERM raise in the
+    main process (SIGTERM through :class:`Interrupted`); the run's own cleanup runs on the way
+    out (its temporary output folder is deleted, an earlier output is left as it was, worker
+    processes are ended by the job runner), and the command prints one line and returns
+    ``128 + signal number`` (130 for SIGINT, 143 for SIGTERM), without a traceback.
+    """
+
+    def wrap(main):
+        @functools.wraps(main)
+        def run(argv=None):
+            in_main = threading.current_thread() is threading.main_thread()
+            old = signal.signal(signal.SIGTERM, _raise_interrupted) if in_main else None
+            try:
+                return main(argv)
+            except (KeyboardInterrupt, Interrupted) as exc:
+                signum = getattr(exc, "signum", signal.SIGINT)
+                name = signal.Signals(signum).name
+                print(
+                    f"{prog}: interrupted by {name} during {what}; the output folder was not "
+                    "written (an earlier output there is unchanged)",
+                    file=sys.stderr,
+                )
+                return 128 + int(signum)
+            finally:
+                if in_main:
+                    signal.signal(signal.SIGTERM, old)
+
+        return run
+
+    return wrap
 
 
 def add_version(parser):

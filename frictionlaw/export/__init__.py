@@ -19,7 +19,15 @@ from pathlib import Path
 
 import numpy as np
 
-from ..clitools import Console, HelpFormatter, OutputFolder, add_common_options, add_version, parse
+from ..clitools import (
+    Console,
+    HelpFormatter,
+    OutputFolder,
+    add_common_options,
+    add_version,
+    interruptible,
+    parse,
+)
 from ..params import FrictionParams, fit_failure
 from . import _fortran, _readme, _tables
 
@@ -366,6 +374,7 @@ def _parser():
     return ap
 
 
+@interruptible("frictionlaw-export", "the export")
 def main(argv=None):
     """Console entry point; returns 0 on success, 1 if the export failed, 2 on bad input."""
     ap = _parser()

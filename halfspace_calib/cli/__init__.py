@@ -21,6 +21,7 @@ from frictionlaw.clitools import (
     OutputFolder,
     add_common_options,
     add_version,
+    interruptible,
     parse,
 )
 
@@ -371,8 +372,9 @@ def scene_from_args(args):
     return scene
 
 
+@interruptible("halfspace-calib", "the calibration")
 def main(argv=None):
-    """Entry point of ``halfspace-calib``; returns the exit code (0, 1 or 2)."""
+    """Entry point of ``halfspace-calib``; returns the exit code (0, 1, 2; 130/143 interrupted)."""
     args, code = parse(build_parser(), argv)
     if args is None:
         return code

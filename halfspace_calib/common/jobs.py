@@ -9,7 +9,10 @@ it comes back failed (``KilledWorker``), the others' results kept.
 The progress bar advances as jobs finish (in completion order), not as they are collected.
 """
 
+import ctypes
 import os
+import signal
+import sys
 import time
 import traceback
 from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -65,8 +68,36 @@ def fft_threads():
 
 
 def _init_worker(threads):
+    """A local worker: its FFT threads; interrupts are the main process's to handle.
+
+    Ctrl-C reaches the whole process group: the workers ignore SIGINT (no tracebacks of theirs),
+    and the main process ends them. SIGTERM ends a worker at once (the default action, not the
+    main process's handler), and a worker whose main process died gets SIGTERM from the kernel
+    (Linux ``PR_SET_PDEATHSIG``), so that no worker outlives its run.
+    """
     global _FFT_THREADS
     _FFT_THREADS = threads
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    if sys.platform.startswith("linux"):
+        try:
+            libc = ctypes.CDLL(None, use_errno=True)
+            libc.prctl(1, int(signal.SIGTERM))  # PR_SET_PDEATHSIG = 1
+        except (OSError, AttributeError):  # pragma: no cover - no prctl here
+            pass
+
+
+def _end_pool(pool):
+    """End a local pool now: cancel what has not started, terminate the running workers."""
+    procs = list((getattr(pool, "_processes", None) or {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for p in procs:
+        if p.is_alive():
+            p.terminate()
+    for p in procs:
+        p.join(timeout=5)
+        if p.is_alive():
+            p.kill()
 
 
 @dataclass
@@ -129,13 +160,17 @@ def run_jobs(fn, jobs, *, workers=None, scheduler=None, progress=True, desc="swe
             return out
         n = min(n, len(jobs))
         threads = max(1, available_cpus() // n)
-        with ProcessPoolExecutor(
-            max_workers=n, initializer=_init_worker, initargs=(threads,)
-        ) as pool:
+        pool = ProcessPoolExecutor(max_workers=n, initializer=_init_worker, initargs=(threads,))
+        try:
             futures = [pool.submit(_call, fn, i, job) for i, job in enumerate(jobs)]
             for _ in as_completed(futures):
                 bar.update()
-            return [f.result() for f in futures]
+            out = [f.result() for f in futures]
+        except BaseException:  # Ctrl-C, SIGTERM (clitools.Interrupted), a broken pool
+            _end_pool(pool)  # shutdown(wait=True) would wait for workers that keep computing
+            raise
+        pool.shutdown(wait=True)
+        return out
     finally:
         bar.close()
 
@@ -161,8 +196,12 @@ def _run_dask(fn, jobs, scheduler, bar):
     client = Client(scheduler) if own else scheduler
     try:
         futures = client.map(_call, [fn] * len(jobs), range(len(jobs)), jobs, pure=False)
-        for _ in as_completed(futures):
-            bar.update()
+        try:
+            for _ in as_completed(futures):
+                bar.update()
+        except BaseException:  # interrupted: the cluster stops the run's jobs
+            client.cancel(futures)
+            raise
         out = [_dask_result(i, f) for i, f in enumerate(futures)]
         # A job lost with its workers may only have shared a worker with the job that killed
         # it (the scheduler counts every task on a dying worker as suspect): each lost job is
