@@ -162,7 +162,9 @@ def test_cli_calibrates_each_shared_file(tmp_path, capsys, name):
     assert "solver grid 16 x 16" in text and "non-periodic (DC-FFT)" in text
     assert "resolution check (grid 16 against 8" in text
     summary = json.loads((out / "summary.json").read_text())
-    params = json.loads((out / "params.json").read_text())
+    # a failed run keeps its parameters only as params.failed.json (marked failed)
+    params = json.loads((out / ("params.json" if code == 0 else "params.failed.json")).read_text())
+    assert (params["provenance"].get("run", {}).get("status") == "failed") == (code == 1)
     files = params["provenance"]["extra"]["files"]
     assert [f["role"] for f in files] == ["workpiece", "tool"]
     assert files[0]["native_shape"] == list(FILES[name][1])
