@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import re
 import time
 from pathlib import Path
 
@@ -183,8 +184,8 @@ def mark_failed(folder, problems):
 
 def failure_hint(problems):
     """Likely causes of a collapsed fit, for the RUN FAILED report."""
-    text = " ".join(str(p) for p in problems).lower()
-    if not any(w in text for w in ("r^2", "fit", "converged load levels", "degenerate")):
+    r2 = [float(v) for v in re.findall(r"R\^2 = (-?[0-9.]+)", " ".join(map(str, problems)))]
+    if not r2 or min(r2) >= 0.5:  # only a collapsed fit, not a fit that is merely poor
         return None
     return (
         "likely causes of a collapsed fit: a lateral --size in the wrong unit for the heights "
