@@ -36,6 +36,7 @@ from frictionlaw.clitools import (
 )
 from frictionlaw.params import fit_failure
 
+from . import ringfit_cmd
 from .band import band_laws, write_band_outputs, write_run_report
 from .calibrated_range import range_lines
 from .laws import LAW_OPTIONS, LAWS
@@ -175,6 +176,7 @@ def build_parser():
     p = sub.add_parser("multistage", help="upset, unload, reload (Eq. 25)", **kw)
     _add_common(p, law="sbmf", nr=24, increments=30, reduction=0.45, out="fe_out/multistage")
     p.add_argument("--first-reduction", type=float, default=0.3, help="reduction of stage 1")
+    ringfit_cmd.add_parser(sub, HelpFormatter)
     return ap
 
 
@@ -553,6 +555,8 @@ def main(argv=None):
     if args is None:
         return code
     con = _Report("fe-demo", quiet=args.quiet)
+    if args.scene == "ring-fit":
+        return ringfit_cmd.run(args, con)
     if not (0.0 < args.reduction < 0.9):
         return con.error("--reduction must be in (0, 0.9)", 2)
     try:

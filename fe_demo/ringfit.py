@@ -1,0 +1,329 @@
+"""The friction factor ``m`` from ring-compression tests, with the law itself (``fe-demo ring-fit``).
+
+The law is ``tau = m k alpha(p, p_hist)``: the roughness calibration gives the shape of ``alpha``,
+the ring test the magnitude ``m``. A classical ring chart assumes ``tau = m k`` on the whole die
+face, so its ``m`` is not the ``m`` of this law. Here the ring is computed by the FE model with
+the calibrated law at several ``m``, and ``m`` is the least-squares fit of the computed
+inner-diameter change to the measured one; the same fit with Tresca's law gives the ``m`` a
+Tresca chart of the same FE model would give (``m_tresca_chart``).
+
+Method (docs/getting_m.md):
+
+1. One FE run to the largest measured reduction gives the whole curve ``d(reduction)`` at one
+   ``m``. Runs at ``m`` in :data:`M_GRID` (two at a time where two CPUs are free).
+2. At each measured reduction, ``d`` is interpolated across ``m`` by a monotone cubic (PCHIP),
+   and ``m`` minimises the sum of squared residuals on ``[0, 1]``.
+3. One or two refinement runs at the optimum join the grid and the fit is repeated, until ``m``
+   moves by less than :data:`M_TOL` (at most :data:`MAX_REFINE` refinements).
+4. The band: ``m -+ t_(N-1) s / sqrt(sum J_i^2)``, with ``s`` the residual standard deviation and
+   ``J_i = dd/dm`` at each point (the linearised least-squares interval), clipped to ``[0, 1]``.
+
+The runs at ``m = 0`` and ``m = 1`` bound every curve the law can give: points outside that
+range by more than :data:`RANGE_TOL` are refused (no ``m`` can produce them), saying which way.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import os
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from scipy.interpolate import PchipInterpolator
+from scipy.optimize import minimize_scalar
+from scipy.stats import t as student_t
+
+from frictionlaw import FrictionParams
+
+from .scenes import run_ring
+
+__all__ = [
+    "M_GRID",
+    "RingTest",
+    "RingFit",
+    "RingFitError",
+    "read_ring_tests",
+    "ring_curve",
+    "fit_m",
+    "least_squares_m",
+    "band_half_width",
+]
+
+#: the m of the first FE runs (0 and 1 bound every curve the law can give)
+M_GRID = (0.0, 0.15, 0.3, 0.6, 1.0)
+#: the fit stops when m moves by less than this between refinements
+M_TOL = 2e-3
+#: at most this many refinement runs per fit
+MAX_REFINE = 2
+#: a point may lie this far (inner-diameter change, a fraction) outside the m = 0 / m = 1 curves
+RANGE_TOL = 0.02
+#: reductions the ring fit accepts
+REDUCTION_RANGE = (0.0, 0.7)
+COLUMNS = ("inner_diameter_change", "inner_diameter_min_change")
+
+
+class RingFitError(RuntimeError):
+    """An FE ring run failed; ``m`` names the friction factor at which it failed."""
+
+    def __init__(self, m, message):
+        super().__init__(f"the FE ring run at m = {m:g} failed: {message}")
+        self.m = m
+
+
+@dataclass(frozen=True)
+class RingTest:
+    """Measured ring tests, pooled: one row per ring (repeated reductions allowed)."""
+
+    reduction: np.ndarray
+    d_inner: np.ndarray
+    column: str
+    sources: tuple
+
+
+@dataclass(frozen=True)
+class RingFit:
+    """Result of :func:`fit_m`."""
+
+    law: str
+    m: float
+    m_lower: float
+    m_upper: float
+    band_level: float
+    rmse: float
+    n_points: int
+    residuals: np.ndarray
+    n_fe_runs: int
+    curves: dict = field(repr=False)  # m -> (reduction, d) of each FE run
+    success: bool = True
+    message: str = ""
+
+    def predict(self, reduction, m=None):
+        """The inner-diameter change the model gives at ``reduction`` for ``m`` (the fit's)."""
+        return _surface(self.curves, np.atleast_1d(np.asarray(reduction, float)))(
+            self.m if m is None else m
+        )
+
+
+def read_ring_tests(paths):
+    """Read and check measured ring tests (CSV with the columns of ``history.csv``).
+
+    Raises ``ValueError`` naming the file, column, row or range: a missing column, a reduction
+    outside ``(0, 0.7]``, NaN, fewer than 2 points in all, or files that give different columns.
+    """
+    paths = [Path(p) for p in paths]
+    if not paths:
+        raise ValueError("--measured needs at least one CSV file")
+    red, dd, column = [], [], None
+    for path in paths:
+        if not path.is_file():
+            raise ValueError(f"--measured {path}: no such file")
+        with path.open(newline="", encoding="utf-8") as fh:
+            reader = csv.DictReader(row for row in fh if not row.lstrip().startswith("#"))
+            names = [n.strip() for n in (reader.fieldnames or [])]
+            if "height_reduction" not in names:
+                raise ValueError(f"--measured {path}: missing column 'height_reduction' ({names})")
+            have = [c for c in COLUMNS if c in names]
+            if not have:
+                raise ValueError(
+                    f"--measured {path}: missing column 'inner_diameter_change' (mid-plane) or "
+                    f"'inner_diameter_min_change' (smallest inner diameter); found {names}"
+                )
+            col = have[0]
+            if column is not None and col != column:
+                raise ValueError(
+                    f"--measured {path}: gives {col!r} where an earlier file gives {column!r}; "
+                    "pool files that measure the same diameter"
+                )
+            column = col
+            for i, row in enumerate(reader, start=2):
+                row = {k.strip(): v for k, v in row.items() if k is not None}
+                try:
+                    r, d = float(row["height_reduction"]), float(row[col])
+                except (TypeError, ValueError):
+                    raise ValueError(
+                        f"--measured {path}, row {i}: height_reduction and {col} must be numbers "
+                        f"(fractions), got {row.get('height_reduction')!r}, {row.get(col)!r}"
+                    ) from None
+                if math.isnan(r) or math.isnan(d):
+                    raise ValueError(
+                        f"--measured {path}, row {i}: NaN in height_reduction or {col}"
+                    )
+                lo, hi = REDUCTION_RANGE
+                if not (lo < r <= hi):
+                    raise ValueError(
+                        f"--measured {path}, row {i}: height_reduction {r:g} is outside "
+                        f"({lo:g}, {hi:g}] (a fraction: 0.5 for 50 %)"
+                    )
+                if not (-1.0 < d < 2.0) or math.isinf(d):
+                    raise ValueError(
+                        f"--measured {path}, row {i}: {col} {d:g} is not a plausible fraction "
+                        "(-1 < d < 2; 0.05 for +5 %)"
+                    )
+                red.append(r)
+                dd.append(d)
+    if len(red) < 2:
+        raise ValueError(
+            f"--measured: at least 2 points are needed to fit m and its band, got {len(red)}"
+        )
+    return RingTest(np.array(red), np.array(dd), column, tuple(str(p) for p in paths))
+
+
+def _law_kw(law, m, params):
+    if law == "tresca":
+        return {"m": m}
+    return {"params": params.replace(m=m)}
+
+
+def ring_curve(law, m, *, params=None, column="inner_diameter_change", reduction=0.5, **kw):
+    """``(reduction, d)`` of one FE ring run with ``law`` at friction factor ``m``."""
+    try:
+        res = run_ring(law, reduction=reduction, **_law_kw(law, m, params), **kw)
+    except (ValueError, ArithmeticError, np.linalg.LinAlgError) as exc:
+        raise RingFitError(m, str(exc)) from None
+    if not res.converged or not res.history:
+        raise RingFitError(m, res.message or "did not converge")
+    h = res.history
+    return np.asarray(h["height_reduction"], float), np.asarray(h[column], float)
+
+
+def _curve_job(args):
+    law, m, params, column, reduction, kw = args
+    return m, ring_curve(law, m, params=params, column=column, reduction=reduction, **kw)
+
+
+def _run_curves(law, ms, params, column, reduction, kw, workers):
+    jobs = [(law, float(m), params, column, reduction, kw) for m in ms]
+    if workers > 1 and len(jobs) > 1:
+        with ProcessPoolExecutor(max_workers=min(workers, len(jobs))) as pool:
+            return dict(pool.map(_curve_job, jobs))
+    return dict(_curve_job(j) for j in jobs)
+
+
+def _surface(curves, reduction):
+    """``m -> d`` at every measured reduction: PCHIP across the runs' m (monotone)."""
+    ms = np.array(sorted(curves))
+    table = np.array([np.interp(reduction, *curves[m]) for m in ms])  # (n_m, n_points)
+    return PchipInterpolator(ms, table, axis=0, extrapolate=False)
+
+
+def least_squares_m(surface, d):
+    """``m`` in ``[0, 1]`` minimising ``sum (surface(m) - d)^2``."""
+
+    def ssr(m):
+        return float(np.sum((surface(m) - d) ** 2))
+
+    return float(
+        minimize_scalar(ssr, bounds=(0.0, 1.0), method="bounded", options={"xatol": 1e-5}).x
+    )
+
+
+def band_half_width(residuals, jac, level):
+    """Half width of the linearised least-squares band on ``m``: ``t_(N-1) s / sqrt(sum J^2)``.
+
+    ``s`` is the residual standard deviation (``N - 1`` degrees of freedom, one parameter),
+    ``J = dd/dm`` at each point; infinite where the data do not depend on ``m``.
+    """
+    n = len(residuals)
+    s = math.sqrt(float(np.sum(np.square(residuals))) / max(n - 1, 1))
+    sj = math.sqrt(float(np.sum(np.square(jac))))
+    tq = float(student_t.ppf(0.5 + level / 2.0, max(n - 1, 1)))
+    return tq * s / sj if sj > 0 else math.inf
+
+
+def _check_range(test, curves):
+    lo_m, hi_m = min(curves), max(curves)
+    d0 = np.interp(test.reduction, *curves[lo_m])
+    d1 = np.interp(test.reduction, *curves[hi_m])
+    top, bottom = np.maximum(d0, d1), np.minimum(d0, d1)
+    above = np.flatnonzero(test.d_inner > top + RANGE_TOL)
+    below = np.flatnonzero(test.d_inner < bottom - RANGE_TOL)
+    for idx, way, ref, m_ref in (
+        (above, "above", top, "0 (no friction)"),
+        (below, "below", bottom, "1 (sticking)"),
+    ):
+        if idx.size:
+            i = int(idx[0])
+            raise ValueError(
+                f"--measured: {idx.size} point(s) lie {way} what any m in [0, 1] gives (by more than "
+                f"{RANGE_TOL:g}): e.g. reduction {test.reduction[i]:g}, {test.column} "
+                f"{test.d_inner[i]:+.4f} against {ref[i]:+.4f} at m = {m_ref}; check the sign "
+                "and units (fractions: -0.1 for -10 %), the geometry and the material"
+            )
+
+
+def fit_m(test, law="sbmf", *, params=None, band_level=0.9, workers=None, **ring_kw):
+    """Fit the friction factor ``m`` of ``law`` to measured ring tests.
+
+    Parameters
+    ----------
+    test : RingTest
+        Measured points (:func:`read_ring_tests`).
+    law : {"sbmf", "tresca"}
+        ``sbmf``: the calibrated law of ``params`` (its ``k``, ``sigma_y / 2`` by default, and its
+        ``alpha``), ``m`` varied; ``tresca``: the classical chart's law ``tau = m k`` of the FE
+        model (``k`` the current flow stress over ``sqrt(3)``).
+    params : FrictionParams
+        For ``sbmf``.
+    band_level : float
+        Level of the band on ``m`` in ``(0, 1)``.
+    workers : int, optional
+        Processes for the FE runs (default: 2 where two CPUs are free, else 1).
+    **ring_kw
+        Geometry, mesh, increments and material of :func:`fe_demo.run_ring`.
+
+    Returns
+    -------
+    RingFit
+
+    Raises
+    ------
+    ValueError
+        Points that no ``m`` in ``[0, 1]`` can produce (after the two extreme runs).
+    RingFitError
+        An FE run failed (naming its ``m``).
+    """
+    if law not in ("sbmf", "tresca"):
+        raise ValueError(f"law must be 'sbmf' or 'tresca', got {law!r}")
+    if law == "sbmf" and not isinstance(params, FrictionParams):
+        raise ValueError("law sbmf needs params (a FrictionParams)")
+    if not (0.0 < band_level < 1.0):
+        raise ValueError(f"band_level must be in (0, 1), got {band_level!r}")
+    if workers is None:
+        workers = 2 if len(os.sched_getaffinity(0)) >= 2 else 1
+    top = min(0.7, float(test.reduction.max()) + 0.02)  # the runs go a little past the data
+    col = test.column
+    curves = _run_curves(law, M_GRID, params, col, top, ring_kw, workers)
+    _check_range(test, curves)
+    m_fit, n_refine = None, 0
+    while True:
+        surf = _surface(curves, test.reduction)
+        m_new = least_squares_m(surf, test.d_inner)
+        done = m_fit is not None and abs(m_new - m_fit) < M_TOL
+        m_fit = m_new
+        if done or n_refine >= MAX_REFINE:
+            break
+        near = min(curves, key=lambda m: abs(m - m_fit))
+        if abs(near - m_fit) < M_TOL / 2:
+            break
+        curves |= _run_curves(law, [round(m_fit, 6)], params, col, top, ring_kw, 1)
+        n_refine += 1
+    surf = _surface(curves, test.reduction)
+    res = test.d_inner - surf(m_fit)
+    n = res.size
+    half = band_half_width(res, surf.derivative()(m_fit), band_level)
+    return RingFit(
+        law=law,
+        m=m_fit,
+        m_lower=max(0.0, m_fit - half),
+        m_upper=min(1.0, m_fit + half),
+        band_level=band_level,
+        rmse=math.sqrt(float(np.mean(res**2))),
+        n_points=n,
+        residuals=res,
+        n_fe_runs=len(curves),
+        curves=curves,
+        message=f"{len(curves)} FE runs, {n_refine} refinement(s)",
+    )
