@@ -180,6 +180,11 @@ def test_every_run_writes_a_report_that_agrees_with_its_summary(tmp_path):
     page = _Cells()
     page.feed((out / "report.html").read_text(encoding="utf-8"))
     assert page.images == 3  # force-stroke, die profile, ring chart
-    assert set(page.cells) == {"stopped_at_height_reduction", "wall_time_s"}
+    assert set(page.cells) == {
+        "stopped_at_height_reduction",
+        "wall_time_s",
+        "inner_diameter_change",  # a ring: what a ring test measures
+        "inner_diameter_min_change",
+    }
     for key, text in page.cells.items():
         assert float(text) == pytest.approx(s[key], rel=1e-5)
