@@ -69,8 +69,11 @@ class RingFitError(RuntimeError):
     """An FE ring run failed; ``m`` names the friction factor at which it failed."""
 
     def __init__(self, m, message):
-        super().__init__(f"the FE ring run at m = {m:g} failed: {message}")
-        self.m = m
+        super().__init__(m, message)  # both in args: the error crosses process boundaries
+        self.m, self.message = m, message
+
+    def __str__(self):
+        return f"the FE ring run at m = {self.m:g} failed: {self.message}"
 
 
 @dataclass(frozen=True)
@@ -189,9 +192,25 @@ def ring_curve(law, m, *, params=None, column="inner_diameter_change", reduction
     return np.asarray(h["height_reduction"], float), np.asarray(h[column], float)
 
 
+#: an FE run that fails is tried once more at m shifted by this (the grid's m are arbitrary)
+M_RETRY = 0.01
+
+
 def _curve_job(args):
+    """One run at ``m``, retried once at ``m -+ M_RETRY`` if it fails; a second failure raises.
+
+    The grid's ``m`` are arbitrary, so the neighbouring run is as good a point of the response
+    surface; the error names the ``m`` of the first try.
+    """
     law, m, params, column, reduction, kw = args
-    return m, ring_curve(law, m, params=params, column=column, reduction=reduction, **kw)
+    try:
+        return m, ring_curve(law, m, params=params, column=column, reduction=reduction, **kw)
+    except RingFitError as first:
+        m2 = round(m - M_RETRY if m + M_RETRY > 1.0 else m + M_RETRY, 6)
+        try:
+            return m2, ring_curve(law, m2, params=params, column=column, reduction=reduction, **kw)
+        except RingFitError:
+            raise RingFitError(m, f"{first.message} (and again at m = {m2:g})") from None
 
 
 def _run_curves(law, ms, params, column, reduction, kw, workers):
