@@ -50,7 +50,7 @@ def test_version(prog, capsys):
 @pytest.mark.parametrize("prog", sorted(PARSERS))
 def test_every_option_has_help_with_its_default_and_no_rst(prog):
     parsers = _all_parsers(PARSERS[prog]())
-    assert len(parsers) == (4 if prog == "fe-demo" else 1)
+    assert len(parsers) == (5 if prog == "fe-demo" else 1)  # upsetting, ring, multistage, ring-fit
     for p in parsers:
         text = p.format_help()
         assert "``" not in text and not re.search(r":(class|func|meth|data|attr):", text), p.prog
