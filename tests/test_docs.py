@@ -62,5 +62,6 @@ def test_gallery_examples_are_executed_and_exist():
         "plot_law_history.py",
         "plot_export_abaqus.py",
         "plot_band_from_patches.py",
+        "plot_ring_fit.py",
     ):
         assert needed in examples
