@@ -34,7 +34,6 @@ from frictionlaw.clitools import (
     interruptible,
     parse,
 )
-from frictionlaw.params import fit_failure
 
 from . import ringfit_cmd
 from .band import band_laws, write_band_outputs, write_run_report
@@ -57,7 +56,6 @@ __all__ = ["main", "build_parser"]
 
 _LAWS_ALL = (*LAWS, "all")
 _MU, _M = 0.1, 0.3  # defaults of --mu, --m where the law uses them
-#: files that mark a folder as an earlier fe-demo output (a rerun replaces it whole)
 
 
 def _positive_int(name):
@@ -262,10 +260,11 @@ def _report_run(con, label, res):
         )
 
 
-def _summary_row(label, res):
+def _summary_row(label, res, *, ring=False):
+    """One row of the console table (a ring's has the inner-diameter change in % after the force)."""
     h = res.history
     tm = res.info.get("timings", {})
-    return {
+    row = {
         "run": label,
         "ok": res.converged,
         "elements": res.info.get("n_elements", 0),
@@ -275,6 +274,10 @@ def _summary_row(label, res):
         "remesh": res.info.get("n_remesh", 0),
         "reduction": float(h["height_reduction"][-1]) if h else 0.0,
         "force_kN": float(h["force"][-1] / 1e3) if h else 0.0,
+    }
+    if ring:
+        row["ID_change_%"] = 100.0 * float(h["inner_diameter_change"][-1]) if h else 0.0
+    return row | {
         "wall_s": res.wall_time,
         "solve_s": tm.get("solve", 0.0),
         "assembly_s": tm.get("assembly", 0.0),
@@ -363,16 +366,7 @@ def _cmd_ring(args, con):
         _write_run(folder, res, lab)
         if res.history:
             fe[lab] = (res.history["height_reduction"], res.history["inner_diameter_change"])
-        row = _summary_row(lab, res)
-        h = res.history
-        d_in = 100.0 * float(h["inner_diameter_change"][-1]) if h else 0.0
-        # the inner-diameter change (%) is what a ring test measures: beside the force
-        keys = list(row)
-        at = keys.index("force_kN") + 1
-        row = (
-            {k: row[k] for k in keys[:at]} | {"ID_change_%": d_in} | {k: row[k] for k in keys[at:]}
-        )
-        rows.append(row)
+        rows.append(_summary_row(lab, res, ring=True))
         ok &= res.converged
         _report_run(con, lab, res)
     args.out.mkdir(parents=True, exist_ok=True)
@@ -480,7 +474,7 @@ def _check_options(args):
             raise ValueError(f"--params file {args.params} does not exist")
         # unreadable files and failed fits: bad input, before any run
         P = FrictionParams.from_json(args.params, accept_failed=args.accept_failed_fit)
-        reason = fit_failure(json.loads(args.params.read_text(encoding="utf-8")))
+        reason = P.failure
         if reason:  # accepted: the run uses the object, and says so
             args.params_loaded = P
             print(f"fe-demo: WARNING: {args.params}: {reason}; run as asked", file=sys.stderr)

@@ -27,7 +27,6 @@ from __future__ import annotations
 import csv
 import math
 import os
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -37,6 +36,7 @@ from scipy.optimize import minimize_scalar
 from scipy.stats import t as student_t
 
 from frictionlaw import FrictionParams
+from frictionlaw.clitools import process_pool
 
 from .scenes import run_ring
 
@@ -100,7 +100,6 @@ class RingFit:
     residuals: np.ndarray
     n_fe_runs: int
     curves: dict = field(repr=False)  # m -> (reduction, d) of each FE run
-    success: bool = True
     message: str = ""
 
     def predict(self, reduction, m=None):
@@ -216,7 +215,7 @@ def _curve_job(args):
 def _run_curves(law, ms, params, column, reduction, kw, workers):
     jobs = [(law, float(m), params, column, reduction, kw) for m in ms]
     if workers > 1 and len(jobs) > 1:
-        with ProcessPoolExecutor(max_workers=min(workers, len(jobs))) as pool:
+        with process_pool(min(workers, len(jobs))) as pool:  # an interrupt ends the workers
             return dict(pool.map(_curve_job, jobs))
     return dict(_curve_job(j) for j in jobs)
 
@@ -329,8 +328,7 @@ def fit_m(test, law="sbmf", *, params=None, band_level=0.9, workers=None, **ring
             break
         curves |= _run_curves(law, [round(m_fit, 6)], params, col, top, ring_kw, 1)
         n_refine += 1
-    surf = _surface(curves, test.reduction)
-    res = test.d_inner - surf(m_fit)
+    res = test.d_inner - surf(m_fit)  # surf: the surface of the final set of runs
     n = res.size
     half = band_half_width(res, surf.derivative()(m_fit), band_level)
     return RingFit(

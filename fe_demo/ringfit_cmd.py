@@ -14,6 +14,7 @@ from frictionlaw import FrictionParams
 from frictionlaw.clitools import OutputFolder, version
 from frictionlaw.htmlpage import figure, number_cell, page
 
+from .laws import EXAMPLE_PARAMS_PATH
 from .material import DC04, Material
 from .ringfit import RingFitError, fit_m, read_ring_tests
 
@@ -93,8 +94,6 @@ def _check(args):
     test = read_ring_tests(args.measured)
     params = None
     if args.law == "sbmf":
-        from .laws import EXAMPLE_PARAMS_PATH
-
         src = args.params or EXAMPLE_PARAMS_PATH
         params = FrictionParams.from_json(src, accept_failed=args.accept_failed_fit)
     material = Material.from_json(args.material) if args.material else DC04

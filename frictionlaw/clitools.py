@@ -20,6 +20,8 @@ Exit codes: 0 success, 1 the run failed, 2 bad input (no traceback).
 from __future__ import annotations
 
 import argparse
+import contextlib
+import ctypes
 import functools
 import json
 import os
@@ -28,6 +30,7 @@ import signal
 import sys
 import tempfile
 import threading
+from concurrent.futures import ProcessPoolExecutor
 from importlib import metadata
 from pathlib import Path
 
@@ -42,7 +45,9 @@ __all__ = [
     "OutputFolder",
     "add_common_options",
     "parse",
+    "process_pool",
     "read_marker",
+    "worker_ignores_interrupts",
     "version",
 ]
 
@@ -149,6 +154,59 @@ def interruptible(prog, what):
     return wrap
 
 
+def worker_ignores_interrupts():
+    """Set up a worker process of a command's pool so that interrupts stay the main process's.
+
+    Ctrl-C reaches the whole process group: the worker ignores SIGINT (no traceback of its own)
+    and is ended by the main process (:func:`process_pool`). SIGTERM ends it at once (the default
+    action, not an inherited handler), and on Linux the kernel sends it SIGTERM when the main
+    process dies (``PR_SET_PDEATHSIG``), so that no worker outlives its run.
+    """
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    if sys.platform.startswith("linux"):
+        try:
+            libc = ctypes.CDLL(None, use_errno=True)
+            libc.prctl(1, int(signal.SIGTERM))  # PR_SET_PDEATHSIG = 1
+        except (OSError, AttributeError):  # pragma: no cover - no prctl here
+            pass
+
+
+def _init_pool_worker(initializer, initargs):
+    worker_ignores_interrupts()
+    if initializer is not None:
+        initializer(*initargs)
+
+
+@contextlib.contextmanager
+def process_pool(max_workers, initializer=None, initargs=()):
+    """A ``ProcessPoolExecutor`` that an interrupt ends at once, workers included.
+
+    On the way out of the block with an exception (Ctrl-C, SIGTERM as :class:`Interrupted`, a
+    failed job) the pending jobs are cancelled and the running workers terminated: the
+    executor's own ``shutdown(wait=True)`` would wait for workers that keep computing. Without an
+    exception the pool is shut down normally. The workers run :func:`worker_ignores_interrupts`
+    before ``initializer(*initargs)``.
+    """
+    pool = ProcessPoolExecutor(
+        max_workers=max_workers, initializer=_init_pool_worker, initargs=(initializer, initargs)
+    )
+    try:
+        yield pool
+    except BaseException:
+        procs = list((getattr(pool, "_processes", None) or {}).values())
+        pool.shutdown(wait=False, cancel_futures=True)
+        for p in procs:
+            if p.is_alive():
+                p.terminate()
+        for p in procs:
+            p.join(timeout=5)
+            if p.is_alive():
+                p.kill()
+        raise
+    pool.shutdown(wait=True)
+
+
 def add_version(parser):
     """Add ``--version`` (prints ``<prog> <version>`` and exits 0)."""
     parser.add_argument(
@@ -175,10 +233,8 @@ def _subparser(parser, args):
     """The subcommand parser ``args`` came through, or ``parser`` itself."""
     for action in parser._actions:
         if isinstance(action, argparse._SubParsersAction):
-            chosen = getattr(args, action.dest, None) if action.dest != argparse.SUPPRESS else None
-            if chosen is None:  # unnamed dest: find the subcommand by the parsed defaults
-                return parser
-            return action.choices.get(chosen, parser)
+            chosen = getattr(args, action.dest, None)
+            return parser if chosen is None else action.choices.get(chosen, parser)
     return parser
 
 

@@ -315,6 +315,11 @@ class FrictionParams:
         return self.m * k * (1.0 + self.geo_ratio)
 
     @property
+    def failure(self) -> str | None:
+        """Why this fit is no law to run (:func:`fit_failure` of its provenance), or ``None``."""
+        return fit_failure({"provenance": self.provenance})
+
+    @property
     def mu_eff(self) -> float:
         """Small-pressure Coulomb slope of Eq. 24, ``m k C1 / H`` (times ``1 + geo_ratio``)."""
         return self.tau_max * self.C1 / self.H

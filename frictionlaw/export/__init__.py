@@ -296,15 +296,14 @@ def export(
     ExportResult
     """
     out = Path(out)
-    folder = OutputFolder(
+    with OutputFolder(
         out,
         command="frictionlaw-export",
         what="export",
         force=force,
         require_force=True,
         inputs=(params_path,),
-    )
-    try:
+    ) as folder:
         files, table = render(
             target,
             params_path,
@@ -313,10 +312,6 @@ def export(
             table_tol=table_tol,
             accept_failed=accept_failed,
         )
-    except BaseException:
-        folder.discard()
-        raise
-    with folder:
         for name, text in files.items():
             (folder.tmp / name).write_text(text, encoding="utf-8")
         folder.commit()

@@ -9,17 +9,16 @@ it comes back failed (``KilledWorker``), the others' results kept.
 The progress bar advances as jobs finish (in completion order), not as they are collected.
 """
 
-import ctypes
 import os
-import signal
-import sys
 import time
 import traceback
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import as_completed
 from dataclasses import dataclass
 from typing import Any
 
 from tqdm.auto import tqdm
+
+from frictionlaw.clitools import process_pool
 
 __all__ = ["JobResult", "available_cpus", "default_workers", "fft_threads", "run_jobs"]
 
@@ -68,36 +67,9 @@ def fft_threads():
 
 
 def _init_worker(threads):
-    """A local worker: its FFT threads; interrupts are the main process's to handle.
-
-    Ctrl-C reaches the whole process group: the workers ignore SIGINT (no tracebacks of theirs),
-    and the main process ends them. SIGTERM ends a worker at once (the default action, not the
-    main process's handler), and a worker whose main process died gets SIGTERM from the kernel
-    (Linux ``PR_SET_PDEATHSIG``), so that no worker outlives its run.
-    """
+    """A local worker's FFT threads (interrupts: :func:`frictionlaw.clitools.process_pool`)."""
     global _FFT_THREADS
     _FFT_THREADS = threads
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, signal.SIG_DFL)
-    if sys.platform.startswith("linux"):
-        try:
-            libc = ctypes.CDLL(None, use_errno=True)
-            libc.prctl(1, int(signal.SIGTERM))  # PR_SET_PDEATHSIG = 1
-        except (OSError, AttributeError):  # pragma: no cover - no prctl here
-            pass
-
-
-def _end_pool(pool):
-    """End a local pool now: cancel what has not started, terminate the running workers."""
-    procs = list((getattr(pool, "_processes", None) or {}).values())
-    pool.shutdown(wait=False, cancel_futures=True)
-    for p in procs:
-        if p.is_alive():
-            p.terminate()
-    for p in procs:
-        p.join(timeout=5)
-        if p.is_alive():
-            p.kill()
 
 
 @dataclass
@@ -160,17 +132,12 @@ def run_jobs(fn, jobs, *, workers=None, scheduler=None, progress=True, desc="swe
             return out
         n = min(n, len(jobs))
         threads = max(1, available_cpus() // n)
-        pool = ProcessPoolExecutor(max_workers=n, initializer=_init_worker, initargs=(threads,))
-        try:
+        # an interrupt ends the workers at once (Ctrl-C, SIGTERM: no run left hanging)
+        with process_pool(n, _init_worker, (threads,)) as pool:
             futures = [pool.submit(_call, fn, i, job) for i, job in enumerate(jobs)]
             for _ in as_completed(futures):
                 bar.update()
-            out = [f.result() for f in futures]
-        except BaseException:  # Ctrl-C, SIGTERM (clitools.Interrupted), a broken pool
-            _end_pool(pool)  # shutdown(wait=True) would wait for workers that keep computing
-            raise
-        pool.shutdown(wait=True)
-        return out
+            return [f.result() for f in futures]
     finally:
         bar.close()
 
