@@ -22,6 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
+from . import _kernels
+
 __all__ = ["Material", "DC04", "radial_return", "elastic_matrix", "von_mises"]
 
 #: Voigt helpers: trace vector and the deviatoric projector (engineering shear)
@@ -120,8 +122,12 @@ def _norm(s):
     return np.sqrt(s[..., 0] ** 2 + s[..., 1] ** 2 + s[..., 2] ** 2 + 2.0 * s[..., 3] ** 2)
 
 
-def radial_return(mat, sigma_old, eps_p_old, d_eps, *, tol=1e-12, max_iter=50):
+def radial_return(mat, sigma_old, eps_p_old, d_eps, *, tol=1e-12, max_iter=50, kernels="numpy"):
     """Radial return at every point, with the consistent tangent.
+
+    ``kernels="numpy"`` runs the local Newton iteration on all plastic points at once (until
+    the slowest has converged), ``"numba"`` point by point
+    (:func:`fe_demo._kernels.radial_return_row`); the results agree to rounding.
 
     Parameters
     ----------
@@ -132,6 +138,12 @@ def radial_return(mat, sigma_old, eps_p_old, d_eps, *, tol=1e-12, max_iter=50):
         Equivalent plastic strain at the start of the increment.
     d_eps : ndarray, shape (..., 4)
         Strain increment (engineering shear).
+    tol : float
+        Relative tolerance of the yield check and the local Newton iteration.
+    max_iter : int
+        Local Newton iterations allowed.
+    kernels : {"numpy", "numba"}
+        Implementation.
 
     Returns
     -------
@@ -140,7 +152,16 @@ def radial_return(mat, sigma_old, eps_p_old, d_eps, *, tol=1e-12, max_iter=50):
     D : ndarray, shape (..., 4, 4)
         Consistent tangent ``d sigma / d d_eps``.
     plastic : ndarray of bool, shape (...)
+
+    Raises
+    ------
+    RuntimeError
+        The local Newton iteration did not converge at some point.
     """
+    if kernels == "numba":
+        return _radial_return_numba(mat, sigma_old, eps_p_old, d_eps, tol, max_iter)
+    if kernels != "numpy":
+        raise ValueError(f"kernels must be 'numpy' or 'numba', got {kernels!r}")
     G, Kb = mat.G, mat.bulk
     De = elastic_matrix(mat)
     sig_tr = sigma_old + np.einsum("ij,...j->...i", De, d_eps)
@@ -182,6 +203,28 @@ def radial_return(mat, sigma_old, eps_p_old, d_eps, *, tol=1e-12, max_iter=50):
     )
     D[plastic] = Dp
     return sigma, eps_p, D, plastic
+
+
+def _radial_return_numba(mat, sigma_old, eps_p_old, d_eps, tol, max_iter):
+    shape = np.broadcast_shapes(np.shape(sigma_old), np.shape(d_eps))[:-1]
+    so = np.ascontiguousarray(np.broadcast_to(sigma_old, shape + (4,)), dtype=float).reshape(-1, 4)
+    de = np.ascontiguousarray(np.broadcast_to(d_eps, shape + (4,)), dtype=float).reshape(-1, 4)
+    ep0 = np.ascontiguousarray(np.broadcast_to(eps_p_old, shape), dtype=float).reshape(-1)
+    prm = np.array(
+        [mat.G, mat.bulk, mat.K, mat.eps0, mat.n, tol, max_iter, mat.sigma_y0], dtype=float
+    )
+    n = so.shape[0]
+    sigma, eps_p = np.empty((n, 4)), np.empty(n)
+    D, plastic = np.empty((n, 4, 4)), np.empty(n, dtype=bool)
+    bad = _kernels.radial_return(elastic_matrix(mat), prm, so, ep0, de, sigma, eps_p, D, plastic)
+    if bad:
+        raise RuntimeError("radial return did not converge (flow curve too steep?)")
+    return (
+        sigma.reshape(shape + (4,)),
+        eps_p.reshape(shape),
+        D.reshape(shape + (4, 4)),
+        plastic.reshape(shape),
+    )
 
 
 def von_mises(sigma):

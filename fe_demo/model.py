@@ -23,7 +23,14 @@ import numpy as np
 import scipy.sparse as sp
 
 from .contact import DieContact, nodal_areas
-from .element import Assembler, internal_force, kinematics, stiffness
+from .element import (
+    Assembler,
+    check_kernels,
+    internal_force,
+    kinematics,
+    stiffness,
+    strain_increment,
+)
 from .linsolve import TangentSolver
 from .material import DC04, radial_return
 
@@ -52,6 +59,15 @@ class SolverOptions:
         a fresh LU per Newton iteration (the reference; same results to ``linear_rtol``).
     linear_rtol : float
         Relative residual of the linear solve, ``|K d - b| <= linear_rtol |b|``.
+    kernels : {"numba", "numpy"}
+        The element loops and the return map: numba kernels (:mod:`fe_demo._kernels`) or the
+        vectorised NumPy reference; the same results to rounding.
+    linear_solver : {"auto", "superlu", "pardiso"}
+        Direct solver of :class:`~fe_demo.linsolve.TangentSolver`: ``"pardiso"`` needs the
+        optional extra ``pardiso`` (pypardiso, MKL), ``"auto"`` uses it when installed and
+        SuperLU otherwise.
+    linear_threads : int
+        MKL threads for PARDISO (1 or 2).
     """
 
     rtol: float = 1e-6
@@ -61,6 +77,12 @@ class SolverOptions:
     penalty_factor: float = 10.0
     reuse_factorisation: bool = True
     linear_rtol: float = 1e-10
+    kernels: str = "numba"
+    linear_solver: str = "auto"
+    linear_threads: int = 1
+
+    def __post_init__(self):
+        check_kernels(self.kernels)
 
 
 @dataclass
@@ -106,17 +128,6 @@ class Timings:
             "solve": self.solve,
             "contact": self.contact,
         }
-
-
-def _rotate(sig, w):
-    """Rotate Voigt stresses ``[rr, zz, tt, rz]`` by the angle ``w`` in the r-z plane."""
-    c, s = np.cos(w), np.sin(w)
-    a, b, d = sig[..., 0], sig[..., 1], sig[..., 3]
-    out = sig.copy()
-    out[..., 0] = c * c * a + 2 * c * s * d + s * s * b
-    out[..., 1] = s * s * a - 2 * c * s * d + c * c * b
-    out[..., 3] = -c * s * a + (c * c - s * s) * d + c * s * b
-    return out
 
 
 class FormingModel:
@@ -166,7 +177,13 @@ class FormingModel:
         self.accepted = None
         self.log = []
         self.timings = Timings()
-        self.linear = TangentSolver(self.opt.reuse_factorisation, self.opt.linear_rtol)
+        self.linear = TangentSolver(
+            self.opt.reuse_factorisation,
+            self.opt.linear_rtol,
+            backend=self.opt.linear_solver,
+            threads=self.opt.linear_threads,
+        )
+        self._pattern = None  # the free-dof tangent's pattern (numba kernels), built when needed
         self.n_newton = 0
         self.n_remesh = 0
 
@@ -205,24 +222,18 @@ class FormingModel:
         t0 = time.perf_counter()
         x1 = self.x + du.reshape(-1, 2)
         xm = self.x + 0.5 * du.reshape(-1, 2)
-        kin1 = kinematics(x1, self.t)
-        kinm = kinematics(xm, self.t)
+        kern = self.opt.kernels
+        kin1 = kinematics(x1, self.t, kern)
+        kinm = kinematics(xm, self.t, kern)
         t1 = time.perf_counter()
         tm.kinematics += t1 - t0
         if not (kin1.valid and kinm.valid):
             return None
-        due = du[self.asm.edofs]  # (ne, 8)
-        deps = np.einsum("eqia,ea->eqi", kinm.B, due)
-        dur, duz = due[:, 0::2], due[:, 1::2]
-        w = 0.5 * (
-            np.einsum("eqa,ea->eq", kinm.dNdx[..., 1], dur)
-            - np.einsum("eqa,ea->eq", kinm.dNdx[..., 0], duz)
-        )
-        sig0 = _rotate(self.sigma, w)
-        sig, ep, D, _ = radial_return(self.mat, sig0, self.eps_p, deps)
+        deps, sig0 = strain_increment(kinm, self.asm.edofs, du, self.sigma, kern)
+        sig, ep, D, _ = radial_return(self.mat, sig0, self.eps_p, deps, kernels=kern)
         t2 = time.perf_counter()
         tm.material += t2 - t1
-        R = self.asm.vector(internal_force(kin1, sig))
+        R = self.asm.vector(internal_force(kin1, sig, kern))
         ref = float(np.linalg.norm(R[self.free]))
         nodes = self.contact.nodes
         ev = self.contact.evaluate(x1[nodes, 1], z_die, du[2 * nodes], area)
@@ -242,8 +253,19 @@ class FormingModel:
         t0 = time.perf_counter()
         ev = trial.contact
         nodes = self.contact.nodes
-        K = self.asm.matrix(stiffness(trial.kin, trial.D))
+        ke = stiffness(trial.kin, trial.D, self.opt.kernels)
         zi, ri = 2 * nodes + 1, 2 * nodes
+        if self.opt.kernels == "numba":
+            # straight into the free-dof matrix's data through a pattern built once
+            if self._pattern is None:
+                fmt = "csr" if self.linear.backend == "pardiso" else "csc"
+                rows = np.concatenate([zi, ri, ri])
+                cols = np.concatenate([zi, ri, zi])
+                self._pattern = self.asm.reduced(self.free, rows, cols, fmt)
+            K = self._pattern.matrix(ke, ev.kzz, ev.krr, ev.krz)
+            self.timings.assembly += time.perf_counter() - t0
+            return K
+        K = self.asm.matrix(ke)
         Kc = sp.coo_matrix(
             (
                 np.concatenate([ev.kzz, ev.krr, ev.krz]),

@@ -282,7 +282,9 @@ def _press(
         "newton_iterations": model.n_newton,
         "cutback_log": list(model.log),
         "timings": model.timings.as_dict(),
+        "kernels": model.opt.kernels,
         "linear_solver": {
+            "backend": model.linear.backend,
             "factorisations": model.linear.n_factor,
             "krylov_solves": model.linear.n_krylov_solves,
             "krylov_iterations": model.linear.n_krylov_iterations,
@@ -532,7 +534,9 @@ def run_multistage(
         "newton_iterations": model.n_newton,
         "cutback_log": list(model.log),
         "timings": model.timings.as_dict(),
+        "kernels": model.opt.kernels,
         "linear_solver": {
+            "backend": model.linear.backend,
             "factorisations": model.linear.n_factor,
             "krylov_solves": model.linear.n_krylov_solves,
             "krylov_iterations": model.linear.n_krylov_iterations,

@@ -1,11 +1,17 @@
-"""Material return map and element kernels against independent references."""
+"""Material return map and element kernels against independent references.
+
+The numba kernels (fe_demo/_kernels.py) are checked against the vectorised NumPy code, their oracle.
+"""
 
 import numpy as np
 import pytest
+import scipy.sparse as sp
 
-from fe_demo.element import Assembler, internal_force, kinematics, stiffness
+from fe_demo.element import Assembler, internal_force, kinematics, stiffness, strain_increment
 from fe_demo.material import DC04, Material, elastic_matrix, radial_return, von_mises
 from fe_demo.mesh import cylinder_mesh, ring_mesh
+from fe_demo.model import SolverOptions
+from fe_demo.scenes import run_upsetting
 
 
 def test_radial_return_consistency_and_tangent_by_finite_differences():
@@ -102,3 +108,143 @@ def test_mesh_validation():
         ring_mesh(10e-3, 12e-3, 4e-3)
     axi = cylinder_mesh(20e-3, 10e-3, nr=4, nz=2)
     assert axi.n_elements == 8 and axi.axis_nodes.size == 3 and axi.sym_nodes.size == 5
+
+
+# ---------------------------------------------------------------- numba kernels vs NumPy oracles
+
+
+def _distorted_mesh(seed, nr=6, nz=4):
+    """A ring mesh with randomly moved interior nodes (irregular, valid quads)."""
+    axi = ring_mesh(18e-3, 9e-3, 6e-3, nr=nr, nz=nz)
+    x = axi.mesh.p.T.copy()
+    rng = np.random.default_rng(seed)
+    interior = np.setdiff1d(np.arange(x.shape[0]), axi.mesh.boundary_nodes())
+    x[interior] += rng.uniform(-0.25, 0.25, (interior.size, 2)) * 0.5e-3
+    return axi, x
+
+
+def _close(a, b, rtol=1e-12):
+    """Agreement relative to the largest magnitude of the oracle."""
+    np.testing.assert_allclose(a, b, rtol=0, atol=rtol * np.abs(b).max())
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_numba_kinematics_internal_force_and_stiffness_match_numpy(seed):
+    axi, x = _distorted_mesh(seed)
+    t = axi.mesh.t
+    ref = kinematics(x, t)
+    new = kinematics(x, t, kernels="numba")
+    assert ref.valid and new.valid and new.min_detJ == pytest.approx(ref.min_detJ, rel=1e-14)
+    for name in ("B", "dV", "r", "dNdx"):
+        _close(getattr(new, name), getattr(ref, name))
+    rng = np.random.default_rng(seed)
+    ne, nq = ref.dV.shape
+    sig = rng.normal(0, 200e6, (ne, nq, 4))
+    _close(internal_force(new, sig, kernels="numba"), internal_force(ref, sig))
+    # a random (unsymmetric) D per point, and the elastic D
+    D = rng.normal(0, 100e9, (ne, nq, 4, 4))
+    _close(stiffness(new, D, kernels="numba"), stiffness(ref, D))
+    De = np.broadcast_to(elastic_matrix(DC04), (ne, nq, 4, 4))
+    _close(stiffness(new, De, kernels="numba"), stiffness(ref, De))
+
+
+def test_numba_kinematics_flags_an_inverted_element():
+    axi, x = _distorted_mesh(0)
+    t = axi.mesh.t
+    x[t[2, 5]] = x[t[0, 5]] - 0.3 * (x[t[2, 5]] - x[t[0, 5]])  # fold element 5
+    ref = kinematics(x, t)
+    new = kinematics(x, t, kernels="numba")
+    assert not ref.valid and not new.valid
+    assert new.min_detJ == pytest.approx(ref.min_detJ, rel=1e-12)
+    _close(new.B, ref.B)
+    _close(new.dV, ref.dV)
+
+
+def test_numba_strain_increment_and_rotation_match_numpy():
+    axi, x = _distorted_mesh(3)
+    kin = kinematics(x, axi.mesh.t)
+    asm = Assembler(axi.mesh.t, x.shape[0])
+    rng = np.random.default_rng(3)
+    du = rng.normal(0, 1e-5, 2 * x.shape[0])
+    sig = rng.normal(0, 200e6, kin.dV.shape + (4,))
+    d_ref, s_ref = strain_increment(kin, asm.edofs, du, sig)
+    d_new, s_new = strain_increment(kin, asm.edofs, du, sig, kernels="numba")
+    _close(d_new, d_ref)
+    _close(s_new, s_ref)
+    assert np.abs(s_ref - sig).max() > 1e-3 * np.abs(sig).max()  # the rotation did something
+
+
+@pytest.mark.parametrize("mat", [DC04, Material(n=0.05, eps0=0.002), Material(n=0.5, nu=0.2)])
+def test_numba_radial_return_matches_numpy(mat):
+    rng = np.random.default_rng(7)
+    n = 400
+    sig0 = rng.normal(0, 80e6, (n, 4))
+    ep0 = rng.uniform(0, 0.5, n)
+    ep0[:20] = 0.0
+    sig0 *= (
+        rng.uniform(0.2, 1.0, n)[:, None] * mat.flow_stress(ep0)[:, None] / von_mises(sig0)[:, None]
+    )
+    deps = rng.normal(0, 3e-3, (n, 4)) * rng.choice([1e-3, 1.0], n)[:, None]  # elastic and plastic
+    ref = radial_return(mat, sig0, ep0, deps)
+    new = radial_return(mat, sig0, ep0, deps, kernels="numba")
+    assert 50 < ref[3].sum() < n - 50
+    np.testing.assert_array_equal(new[3], ref[3])
+    _close(new[0], ref[0])
+    np.testing.assert_allclose(new[1], ref[1], rtol=1e-12, atol=1e-15)
+    _close(new[2], ref[2])
+    # stacked shapes as the model passes them, and an all-elastic call
+    ref2 = radial_return(mat, sig0.reshape(100, 4, 4), ep0.reshape(100, 4), deps.reshape(100, 4, 4))
+    new2 = radial_return(
+        mat, sig0.reshape(100, 4, 4), ep0.reshape(100, 4), deps.reshape(100, 4, 4), kernels="numba"
+    )
+    assert new2[2].shape == (100, 4, 4, 4)
+    _close(new2[0], ref2[0])
+    el = radial_return(mat, 0 * sig0, ep0, 1e-9 * deps, kernels="numba")
+    assert not el[3].any()
+    _close(el[0], radial_return(mat, 0 * sig0, ep0, 1e-9 * deps)[0])
+
+
+def test_bad_kernels_name():
+    with pytest.raises(ValueError, match="kernels must be one of"):
+        kinematics(np.zeros((4, 2)), np.zeros((4, 1), int), kernels="fortran")
+    with pytest.raises(ValueError, match="kernels must be"):
+        radial_return(DC04, np.zeros((1, 4)), np.zeros(1), np.zeros((1, 4)), kernels="c")
+    with pytest.raises(ValueError, match="kernels must be one of"):
+        SolverOptions(kernels="cuda")
+
+
+def test_reduced_pattern_matches_the_sliced_global_matrix():
+    axi, x = _distorted_mesh(4)
+    t = axi.mesh.t
+    asm = Assembler(t, x.shape[0])
+    kin = kinematics(x, t)
+    rng = np.random.default_rng(4)
+    ke = stiffness(kin, rng.normal(0, 100e9, kin.dV.shape + (4, 4)))
+    free = rng.random(asm.n_dof) > 0.2
+    nodes = np.unique(t[2])[:5]
+    zi, ri = 2 * nodes + 1, 2 * nodes
+    rows, cols = np.concatenate([zi, ri, ri]), np.concatenate([zi, ri, zi])
+    extra = rng.normal(0, 1e9, rows.size)
+    extra[:2] = 0.0  # zero entries keep their place in the pattern
+    full = asm.matrix(ke) + sp.coo_matrix((extra, (rows, cols)), shape=(asm.n_dof,) * 2).tocsr()
+    ref = full[free][:, free].toarray()
+    for fmt in ("csc", "csr"):
+        pat = asm.reduced(free, rows, cols, fmt)
+        K = pat.matrix(ke, extra[:5], extra[5:])
+        assert K.format == fmt and K.nnz == pat.nnz
+        _close(K.toarray(), ref)
+    with pytest.raises(ValueError, match="values for a pattern"):
+        pat.matrix(ke)
+
+
+def test_numba_and_numpy_runs_give_the_same_force():
+    kw = {"m": 0.3, "nr": 10, "n_increments": 10, "reduction": 0.3}
+    opt = {"linear_solver": "superlu"}
+    ref = run_upsetting("tresca", options=SolverOptions(kernels="numpy", **opt), **kw)
+    new = run_upsetting("tresca", options=SolverOptions(kernels="numba", **opt), **kw)
+    assert ref.converged and new.converged
+    assert new.info["kernels"] == "numba" and ref.info["kernels"] == "numpy"
+    assert new.info["newton_iterations"] == ref.info["newton_iterations"]
+    np.testing.assert_allclose(new.history["force"], ref.history["force"], rtol=1e-9)
+    np.testing.assert_allclose(new.model.x, ref.model.x, rtol=0, atol=1e-13)
+    _close(new.model.sigma, ref.model.sigma, rtol=1e-8)

@@ -5,6 +5,7 @@ import pytest
 import scipy.sparse as sp
 from scipy.sparse.linalg import spsolve
 
+from fe_demo import linsolve
 from fe_demo.linsolve import TangentSolver
 from fe_demo.model import SolverOptions
 from fe_demo.scenes import run_upsetting
@@ -53,8 +54,11 @@ def test_bad_settings():
 
 def test_upsetting_results_identical_to_the_fresh_factorisation():
     kw = {"nr": 12, "n_increments": 12, "reduction": 0.3, "progress": False}
-    new = run_upsetting("sbmf", **kw)
-    ref = run_upsetting("sbmf", options=SolverOptions(reuse_factorisation=False), **kw)
+    # SuperLU's reuse policy (max_iter 12); PARDISO's is tested below
+    new = run_upsetting("sbmf", options=SolverOptions(linear_solver="superlu"), **kw)
+    ref = run_upsetting(
+        "sbmf", options=SolverOptions(reuse_factorisation=False, linear_solver="superlu"), **kw
+    )
     assert new.converged and ref.converged
     assert new.info["newton_iterations"] == ref.info["newton_iterations"]
     ls, lr = new.info["linear_solver"], ref.info["linear_solver"]
@@ -67,3 +71,51 @@ def test_upsetting_results_identical_to_the_fresh_factorisation():
     np.testing.assert_allclose(
         new.model.contact.state.p_hist, ref.model.contact.state.p_hist, rtol=1e-7, atol=1e-3
     )
+
+
+needs_pardiso = pytest.mark.skipif(
+    not linsolve.pardiso_available(),
+    reason="pypardiso (the optional extra 'pardiso') is not installed",
+)
+
+
+def test_backend_choice_without_pypardiso(monkeypatch):
+    monkeypatch.setattr(linsolve, "pardiso_available", lambda: False)
+    assert TangentSolver(backend="auto").backend == "superlu"
+    assert TangentSolver().backend == "superlu"
+    with pytest.raises(ImportError, match="linear_solver='superlu'"):
+        TangentSolver(backend="pardiso")
+    with pytest.raises(ValueError, match="backend must be one of"):
+        TangentSolver(backend="umfpack")
+    with pytest.raises(ValueError, match="threads must be 1 or 2"):
+        TangentSolver(threads=4)
+
+
+@needs_pardiso
+def test_pardiso_gives_the_direct_answer_and_reuses_its_analysis():
+    rng = np.random.default_rng(5)
+    s = TangentSolver(backend="pardiso", rtol=1e-10)
+    assert s.backend == "pardiso" and TangentSolver(backend="auto").backend == "pardiso"
+    for k in range(5):
+        A = _laplace_like(400, 0.3 * k, rng)
+        b = rng.standard_normal(A.shape[0])
+        x = s.solve(A, b)
+        assert np.linalg.norm(A @ x - b) <= 1e-10 * np.linalg.norm(b)
+        np.testing.assert_allclose(x, spsolve(A, b), rtol=0, atol=1e-8)
+    assert s.n_factor >= 2 and s.n_factor + s.n_krylov_solves == 5
+    fresh = TangentSolver(backend="pardiso", reuse=False)
+    B = _laplace_like(400, 1.0, rng)
+    np.testing.assert_allclose(fresh.solve(B.tocsr(), np.ones(400)), spsolve(B, np.ones(400)))
+    np.testing.assert_allclose(fresh.solve(B, 2 * np.ones(400)), spsolve(B, 2 * np.ones(400)))
+    assert fresh.n_factor == 2
+
+
+@needs_pardiso
+def test_upsetting_with_pardiso_matches_superlu():
+    kw = {"nr": 12, "n_increments": 12, "reduction": 0.3, "progress": False}
+    new = run_upsetting("sbmf", options=SolverOptions(linear_solver="pardiso"), **kw)
+    ref = run_upsetting("sbmf", options=SolverOptions(linear_solver="superlu"), **kw)
+    assert new.info["linear_solver"]["backend"] == "pardiso"
+    assert new.info["newton_iterations"] == ref.info["newton_iterations"]
+    np.testing.assert_allclose(new.history["force"], ref.history["force"], rtol=1e-8)
+    np.testing.assert_allclose(new.model.x, ref.model.x, rtol=0, atol=1e-12)
