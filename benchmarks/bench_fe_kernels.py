@@ -128,5 +128,7 @@ if __name__ == "__main__":
             names = argv[i + 1].split(",")
             del argv[i : i + 2]
             if unknown := set(names) - set(CONFIGS):
-                raise SystemExit(f"unknown configurations {sorted(unknown)}; known: {list(CONFIGS)}")
+                raise SystemExit(
+                    f"unknown configurations {sorted(unknown)}; known: {list(CONFIGS)}"
+                )
         main([int(a) for a in argv] or [64, 100, 200], names)
