@@ -206,7 +206,8 @@ def radial_return_row(De, prm, sigma_old, eps_p_old, d_eps, sigma, eps_p, D, i):
     snorm = math.sqrt(s0 * s0 + s1 * s1 + s2 * s2 + 2.0 * s3 * s3)
     q = math.sqrt(1.5) * snorm
     ep0 = eps_p_old[i]
-    f_tr = q - _flow(K, eps0, n, ep0)[0]
+    f0, h0 = _flow(K, eps0, n, ep0)
+    f_tr = q - f0
     if not f_tr > tol * sy0:
         for a in range(4):
             sigma[i, a] = st[a]
@@ -216,8 +217,9 @@ def radial_return_row(De, prm, sigma_old, eps_p_old, d_eps, sigma, eps_p, D, i):
         return 0
     dg = 0.0
     converged = False
-    for _ in range(max_iter):
-        f, h = _flow(K, eps0, n, ep0 + dg)
+    for it in range(max_iter):
+        # at dg = 0 the flow stress and slope are the trial's (ep0 + 0.0 == ep0): no new pow
+        f, h = (f0, h0) if it == 0 else _flow(K, eps0, n, ep0 + dg)
         res = q - 3.0 * G * dg - f
         dres = -3.0 * G - h
         step = -res / dres

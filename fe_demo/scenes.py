@@ -286,6 +286,7 @@ def _press(
         "linear_solver": {
             "backend": model.linear.backend,
             "factorisations": model.linear.n_factor,
+            "symmetric_factorisations": model.linear.n_factor_symmetric,
             "krylov_solves": model.linear.n_krylov_solves,
             "krylov_iterations": model.linear.n_krylov_iterations,
         },
@@ -538,6 +539,7 @@ def run_multistage(
         "linear_solver": {
             "backend": model.linear.backend,
             "factorisations": model.linear.n_factor,
+            "symmetric_factorisations": model.linear.n_factor_symmetric,
             "krylov_solves": model.linear.n_krylov_solves,
             "krylov_iterations": model.linear.n_krylov_iterations,
         },

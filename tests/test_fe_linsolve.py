@@ -107,15 +107,40 @@ def test_pardiso_gives_the_direct_answer_and_reuses_its_analysis():
     B = _laplace_like(400, 1.0, rng)
     np.testing.assert_allclose(fresh.solve(B.tocsr(), np.ones(400)), spsolve(B, np.ones(400)))
     np.testing.assert_allclose(fresh.solve(B, 2 * np.ones(400)), spsolve(B, 2 * np.ones(400)))
-    assert fresh.n_factor == 2
+    assert fresh.n_factor == 2 and fresh.n_factor_symmetric == 0
 
 
 @needs_pardiso
-def test_upsetting_with_pardiso_matches_superlu():
+def test_pardiso_factorises_a_symmetric_tangent_as_symmetric():
+    rng = np.random.default_rng(6)
+    A = _laplace_like(400, 0.0, rng)
+    S = (A + A.T).tocsr()  # symmetric, not positive definite after the shift below
+    S = (S - sp.diags(np.full(400, 9.0))).tocsr()
+    s = TangentSolver(backend="pardiso", reuse=False)
+    b = rng.standard_normal(400)
+    x = s.solve(S, b)
+    assert s.n_factor_symmetric == 1
+    assert np.linalg.norm(S @ x - b) <= 1e-10 * np.linalg.norm(b) * np.abs(x).max()
+    np.testing.assert_allclose(x, spsolve(S.tocsc(), b), rtol=1e-9, atol=1e-12)
+    U = S.copy()
+    U.data[U.indices == 3] *= 1.0 + 1e-12  # unsymmetric beyond rounding: general LU
+    np.testing.assert_allclose(s.solve(U, b), spsolve(U.tocsc(), b), rtol=1e-9, atol=1e-12)
+    assert s.n_factor == 2 and s.n_factor_symmetric == 1
+
+
+@needs_pardiso
+@pytest.mark.parametrize("law", ["sbmf", "tresca"])
+def test_upsetting_with_pardiso_matches_superlu(law):
     kw = {"nr": 12, "n_increments": 12, "reduction": 0.3, "progress": False}
-    new = run_upsetting("sbmf", options=SolverOptions(linear_solver="pardiso"), **kw)
-    ref = run_upsetting("sbmf", options=SolverOptions(linear_solver="superlu"), **kw)
-    assert new.info["linear_solver"]["backend"] == "pardiso"
+    new = run_upsetting(law, options=SolverOptions(linear_solver="pardiso"), **kw)
+    ref = run_upsetting(law, options=SolverOptions(linear_solver="superlu"), **kw)
+    lin = new.info["linear_solver"]
+    assert lin["backend"] == "pardiso"
+    # Tresca's tangent is symmetric (J2 tangent, no normal-shear coupling), the SBMF law's not
+    if law == "tresca":
+        assert lin["symmetric_factorisations"] == lin["factorisations"]
+    else:
+        assert lin["symmetric_factorisations"] < lin["factorisations"]
     assert new.info["newton_iterations"] == ref.info["newton_iterations"]
     np.testing.assert_allclose(new.history["force"], ref.history["force"], rtol=1e-8)
     np.testing.assert_allclose(new.model.x, ref.model.x, rtol=0, atol=1e-12)
