@@ -175,7 +175,7 @@ _rr_row_sig = int64(
 )
 
 
-@nb.jit(_rr_row_sig, **_opts)
+@nb.jit(_rr_row_sig, inline="always", **_opts)
 def radial_return_row(De, prm, sigma_old, eps_p_old, d_eps, sigma, eps_p, D, i):
     """Radial return with the consistent tangent at point ``i`` (row ``i`` of the arrays).
 
@@ -192,25 +192,31 @@ def radial_return_row(De, prm, sigma_old, eps_p_old, d_eps, sigma, eps_p, D, i):
     tol = prm[5]
     max_iter = int(prm[6])
     sy0 = prm[7]
-    st = [0.0, 0.0, 0.0, 0.0]
-    for a in range(4):
-        s = sigma_old[i, a]
-        for b in range(4):
-            s += De[a, b] * d_eps[i, b]
-        st[a] = s
-    p_tr = (st[0] + st[1] + st[2]) / 3.0
-    s0 = st[0] - p_tr
-    s1 = st[1] - p_tr
-    s2 = st[2] - p_tr
-    s3 = st[3]
+    d0 = d_eps[i, 0]
+    d1 = d_eps[i, 1]
+    d2 = d_eps[i, 2]
+    d3 = d_eps[i, 3]
+    # trial stress, scalars only (a list here would be allocated at every point)
+    t0 = sigma_old[i, 0] + (De[0, 0] * d0 + De[0, 1] * d1 + De[0, 2] * d2 + De[0, 3] * d3)
+    t1 = sigma_old[i, 1] + (De[1, 0] * d0 + De[1, 1] * d1 + De[1, 2] * d2 + De[1, 3] * d3)
+    t2 = sigma_old[i, 2] + (De[2, 0] * d0 + De[2, 1] * d1 + De[2, 2] * d2 + De[2, 3] * d3)
+    t3 = sigma_old[i, 3] + (De[3, 0] * d0 + De[3, 1] * d1 + De[3, 2] * d2 + De[3, 3] * d3)
+    p_tr = (t0 + t1 + t2) / 3.0
+    s0 = t0 - p_tr
+    s1 = t1 - p_tr
+    s2 = t2 - p_tr
+    s3 = t3
     snorm = math.sqrt(s0 * s0 + s1 * s1 + s2 * s2 + 2.0 * s3 * s3)
     q = math.sqrt(1.5) * snorm
     ep0 = eps_p_old[i]
     f0, h0 = _flow(K, eps0, n, ep0)
     f_tr = q - f0
     if not f_tr > tol * sy0:
+        sigma[i, 0] = t0
+        sigma[i, 1] = t1
+        sigma[i, 2] = t2
+        sigma[i, 3] = t3
         for a in range(4):
-            sigma[i, a] = st[a]
             for b in range(4):
                 D[i, a, b] = De[a, b]
         eps_p[i] = ep0
