@@ -56,7 +56,8 @@ class SolverOptions:
     reuse_factorisation : bool
         Solve each tangent by iterative refinement with the last sparse LU, refactorising only
         when that misses ``linear_rtol`` (:class:`~fe_demo.linsolve.TangentSolver`); ``False``:
-        a fresh LU per Newton iteration (the reference; same results to ``linear_rtol``).
+        a fresh LU per Newton iteration (the reference; same results to ``linear_rtol``). SuperLU
+        only: PARDISO factorises every tangent (cheaper than refinement there).
     linear_rtol : float
         Relative residual of the linear solve, ``|K d - b| <= linear_rtol |b|``.
     kernels : {"numba", "numpy"}
