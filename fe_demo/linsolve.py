@@ -103,6 +103,20 @@ class _Pardiso:
         self.n_symmetric = 0
         self.shape = None
 
+    def release(self):
+        """Free PARDISO's internal memory (its factors live outside Python's reach)."""
+        for ps in self._solvers.values():
+            ps.free_memory(everything=True)
+        self._solvers = {}
+        self._pattern = None
+        self._analysed = set()
+
+    def __del__(self):
+        try:
+            self.release()
+        except Exception:  # at interpreter shutdown the library may be gone
+            pass
+
     def _solver(self, mtype):
         ps = self._solvers.get(mtype)
         if ps is None:
@@ -137,9 +151,7 @@ class _Pardiso:
     def _new_pattern(self, K):
         """Transpose map and upper-triangle mask of a new pattern; analyses are redone."""
         n, nnz = K.shape[0], K.nnz
-        for ps in self._solvers.values():
-            ps.free_memory(everything=True)
-        self._analysed = set()
+        self.release()
         T = type(K)((np.arange(1.0, nnz + 1.0), K.indices, K.indptr), shape=K.shape).T.tocsr()
         T.sort_indices()
         if np.array_equal(T.indices, K.indices) and np.array_equal(T.indptr, K.indptr):
