@@ -10,12 +10,15 @@ Takes the Newton tangents of the first increment of the default upsetting run (S
 - the project's :class:`fe_demo.linsolve.TangentSolver` over the increment's sequence of tangents,
   against a fresh factorisation per tangent;
 
-and checks every answer's relative residual. Whether scikit-umfpack / pypardiso import is printed
-(neither is installed: scikit-umfpack builds from source against SuiteSparse and needs swig; pypardiso
-needs Intel MKL, a ~200 MB x86-only wheel outside the project's dependencies).
-Writes benchmarks/results/fe_linear_solvers.csv.
+and checks every answer's relative residual. With pypardiso installed (the optional extra
+``pardiso``, Intel MKL) also MKL PARDISO as fe_demo uses it (one thread, METIS): the analysis, a
+numerical factorisation (symmetric indefinite when the tangent is symmetric to rounding, as
+Tresca's are; unsymmetric otherwise), one solve, and the sequence with ``backend="pardiso"``.
+Whether scikit-umfpack imports is printed (it builds from source against SuiteSparse and needs
+swig). Writes benchmarks/results/fe_linear_solvers.csv (``--law tresca``:
+fe_linear_solvers_tresca.csv).
 
-Run: python benchmarks/bench_fe_linear_solvers.py [nr]
+Run: python benchmarks/bench_fe_linear_solvers.py [--law sbmf|tresca] [nr]
 """
 
 import csv
@@ -33,7 +36,8 @@ from _provenance import run_record
 from scipy.sparse.linalg import splu
 
 import fe_demo.model as M
-from fe_demo.linsolve import TangentSolver
+from fe_demo.linsolve import TangentSolver, _Pardiso, pardiso_available
+from fe_demo.model import SolverOptions
 from fe_demo.scenes import run_upsetting
 
 OUT = Path(__file__).resolve().parent / "results"
@@ -48,7 +52,7 @@ def _best(f, repeat=3):
     return best, out
 
 
-def _tangents(nr):
+def _tangents(nr, law):
     """The tangents (and right-hand sides) of the run's first increment."""
     seen = []
     real = M.TangentSolver.solve
@@ -59,15 +63,22 @@ def _tangents(nr):
 
     M.TangentSolver.solve = grab
     try:
-        run_upsetting("sbmf", nr=nr, n_increments=1, reduction=0.01, progress=False)
+        run_upsetting(
+            law,
+            nr=nr,
+            n_increments=1,
+            reduction=0.01,
+            progress=False,
+            options=SolverOptions(linear_solver="superlu"),  # CSC tangents
+        )
     finally:
         M.TangentSolver.solve = real
     return seen
 
 
-def main(nr):
+def main(nr, law="sbmf"):
     OUT.mkdir(exist_ok=True)
-    seq = _tangents(nr)
+    seq = _tangents(nr, law)
     K, b = seq[-1]
     n = K.shape[0]
     rows = []
@@ -104,14 +115,45 @@ def main(nr):
     lu = splu(K, permc_spec="MMD_AT_PLUS_A")
     t, x = _best(lambda: lu.solve(b))
     rows.append({"method": "triangular solve only", "cpu_s": t, "fill": 0, "residual": res(x)})
-    for reuse in (False, True):
-        s = TangentSolver(reuse=reuse)
+    if pardiso_available():
+        p = _Pardiso(threads=1)
+        t0 = time.process_time()
+        p.factorize(K)
+        first = time.process_time() - t0
+        t, _ = _best(lambda: p.factorize(K))
+        kind = "symmetric indefinite" if p.symmetric else "unsymmetric"
+        rows.append(
+            {
+                "method": "pardiso analysis (METIS, once per pattern) + first factorisation",
+                "cpu_s": first,
+                "fill": 0,
+                "residual": res(p.solve(b)),
+            }
+        )
+        rows.append(
+            {
+                "method": f"pardiso numerical factorisation, {kind}",
+                "cpu_s": t,
+                "fill": 0,
+                "residual": res(p.solve(b)),
+            }
+        )
+        t, x = _best(lambda: p.solve(b))
+        rows.append(
+            {"method": "pardiso triangular solve only", "cpu_s": t, "fill": 0, "residual": res(x)}
+        )
+        p.release()
+    backends = [("superlu", False), ("superlu", True)]
+    if pardiso_available():
+        backends.append(("pardiso", False))
+    for backend, reuse in backends:
+        s = TangentSolver(reuse=reuse, backend=backend)
         t0 = time.process_time()
         worst = max(res(s.solve(A, rhs), A, rhs) for A, rhs in seq)
         rows.append(
             {
-                "method": f"{len(seq)} tangents, "
-                + ("reused LU + refinement" if reuse else "fresh LU each")
+                "method": f"{len(seq)} tangents, {backend}, "
+                + ("reused LU + refinement" if reuse else "fresh factorisation each")
                 + f" ({s.n_factor} factorisations)",
                 "cpu_s": time.process_time() - t0,
                 "fill": 0,
@@ -120,10 +162,14 @@ def main(nr):
         )
     for r in rows:
         r["dofs"] = n
-    with (OUT / "fe_linear_solvers.csv").open("w", newline="") as fh:
+    name = "fe_linear_solvers" + ("" if law == "sbmf" else f"_{law}")
+    with (OUT / f"{name}.csv").open("w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
+    print(
+        f"law {law}: tangent asymmetry |K - K^T| / max|K| = {abs(K - K.T).max() / abs(K).max():.1e}"
+    )
     for mod in ("scikits.umfpack", "pypardiso"):
         try:
             ok = importlib.util.find_spec(mod) is not None
@@ -139,4 +185,12 @@ def main(nr):
 
 if __name__ == "__main__":
     with run_record(__file__):
-        main(int(sys.argv[1]) if len(sys.argv) > 1 else 200)
+        argv = sys.argv[1:]
+        law = "sbmf"
+        if "--law" in argv:
+            i = argv.index("--law")
+            law = argv[i + 1]
+            del argv[i : i + 2]
+            if law not in ("sbmf", "tresca"):
+                raise SystemExit("--law must be sbmf or tresca")
+        main(int(argv[0]) if argv else 200, law)
