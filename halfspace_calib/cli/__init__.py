@@ -168,8 +168,10 @@ def build_parser():
         metavar="FILE",
         help="fit H to the workpiece's measured roughness after pressing (Sec. 3.1, Figs. 3-4): "
         "a text table 'p_mean [MPa], Ra [um], Rq [um]', one row per sample, >= 2 loads, a "
-        "p_mean = 0 row for before contact; then calibrate with that H (default: no fit, H as "
-        "given); writes hardness_fit.{csv,json,md,png}",
+        "p_mean = 0 row for before contact; or a table 'p_mean [MPa], file' naming surfaces "
+        "scanned after unloading, measured with the calibration's crop, levelling, filters and "
+        "grid; then calibrate with that H (default: no fit, H as given); writes "
+        "hardness_fit.{csv,json,md,png} with H's standard error",
     )
     g.add_argument("--sigma-y", type=float, help="yield stress (default H / 2.8)")
     g.add_argument(
