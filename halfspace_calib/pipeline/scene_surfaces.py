@@ -16,7 +16,10 @@ applies the policy of ``docs/measured_surfaces.md``:
 4. crop: both files to the largest common square (or ``crop_size``), centred on each scan;
 5. resample: the square patch is area-averaged onto square elements (exact integration of the
    piecewise-constant pixels, :func:`area_resample`); non-square pixels end as square elements;
-   the default grid resolves ``lambda_s`` with :data:`ELEMENTS_PER_LAMBDA_S` elements;
+   the default grid resolves ``lambda_s`` with :data:`ELEMENTS_PER_LAMBDA_S` elements. A scan
+   whose pixel is coarser than the element (two instruments: the coarser scan of the pair) is
+   S-filtered and so band-limited: its elements are the exact cell means of the filter's own
+   cosine series (:func:`band_limited_resample`), so the grid is not capped by its pixel;
 6. level: the least-squares plane over the patch is removed;
 7. plausibility: ``Rq`` of each levelled patch in :data:`RQ_RANGE`, the element edge between
    :data:`ELEMENT_PER_PIXEL` times the scan's coarser pixel pitch, the grid within memory;
@@ -33,6 +36,7 @@ import os
 from dataclasses import asdict, dataclass
 
 import numpy as np
+from scipy import fft as sfft
 
 from .. import topography as _surf
 from ..contact.normal import estimate_memory
@@ -62,6 +66,7 @@ __all__ = [
     "FileRecord",
     "SceneSurfaces",
     "area_resample",
+    "band_limited_resample",
     "check_memory",
     "default_lambda_s",
     "load_scene_surfaces",
@@ -248,6 +253,73 @@ def area_resample(surface, side, m):
     return surface.derive(h, op, dx=e, dy=e, periodic=False)
 
 
+def _cosine_cell_means(n, pitch, start, edge, m):
+    """``(m, n)``: the mean of each orthonormal DCT-II basis function over ``m`` cells.
+
+    Basis function ``k`` of ``n`` samples of ``pitch`` (sample ``i`` at the pixel centre
+    ``(i + 1/2) pitch``) is ``w_k cos(pi k x / L)``, ``L = n pitch``, ``w_0 = sqrt(1/n)``,
+    ``w_k = sqrt(2/n)``; its mean over ``[c - e/2, c + e/2]`` is
+    ``w_k cos(q c) sin(q e/2) / (q e/2)`` with ``q = pi k / L``.
+    """
+    length = n * pitch
+    centre = start + edge * (np.arange(m) + 0.5)
+    q = np.pi * np.arange(n) / length
+    w = np.full(n, math.sqrt(2.0 / n))
+    w[0] = math.sqrt(1.0 / n)
+    return np.cos(np.outer(centre, q)) * (np.sinc(q * edge / (2 * np.pi)) * w)
+
+
+def band_limited_resample(surface, side, m):
+    """Cell means of a band-limited (S-filtered) ``surface`` on an ``m x m`` centred square grid.
+
+    For a scan whose pixel is coarser than the solver's element: the coarser scan of two
+    instruments, S-filtered at ``lambda_s`` (at least :data:`ISO_SAMPLING_RATIO` of its pixels
+    by default). :func:`area_resample` would copy each pixel into several elements (a staircase
+    that has the pixel's edges in it, i.e. spectral content up to the element's Nyquist that
+    the filter removed). Here the surface is the cosine series of its samples (DCT-II: the
+    Fourier series of the scan's even extension) and each element gets the exact mean of that
+    series over its square (a separable matrix product, no FFT size constraint, any ratio of
+    element to pixel, non-square pixels included).
+
+    Why this interpolation: the S-filter (:func:`~halfspace_calib.topography.filters.s_filter`)
+    acts on the same even extension, so it multiplies each cosine coefficient by the Gaussian
+    transmission: the filtered scan *is* this cosine series, and evaluating it between the
+    pixels adds nothing the filter did not define (no periodic seam, as the mirrored extension
+    is continuous at the scan's edges). A zero-padded FFT of the scan itself would join its
+    opposite edges (a seam); a cubic spline is local but not exact. Measured on a band-limited
+    self-affine surface (``tests/test_measured_files.py``), point-sampled at 3 pixels per
+    ``lambda_s`` (the default's coarsest) and put on 16 elements per ``lambda_s``: RMS error
+    against the area average of the finely sampled, filtered truth 0.34 % of Rq with this
+    series, 1.2 % with a cubic spline (``scipy.ndimage.map_coordinates``, order 3) and 7.1 %
+    with :func:`area_resample`'s pixel copies; at 8 pixels per ``lambda_s``: 0.12, 0.38 and
+    4.9 %. Its cost is ``m (nx ny + m ny)`` operations, a fraction of a second at the default
+    grids.
+
+    On elements larger than the pixels it is the exact mean of the series, not of the
+    piecewise-constant pixels that :func:`area_resample` averages; the loader uses it only
+    where a pixel is coarser than the element.
+    """
+    lx, ly = surface.size
+    if side > min(lx, ly) * (1 + 1e-9):
+        raise ValueError(f"side {side:g} m exceeds the surface's size {lx:g} x {ly:g} m")
+    e = side / m
+    x0, y0 = 0.5 * (lx - side), 0.5 * (ly - side)
+    nx, ny = surface.shape
+    coef = sfft.dctn(surface.heights, type=2, norm="ortho")
+    ax = _cosine_cell_means(nx, surface.dx, x0, e, m)
+    ay = _cosine_cell_means(ny, surface.dy, y0, e, m)
+    h = ax @ coef @ ay.T
+    op = {
+        "op": "band_limited_resample",
+        "method": "exact cell means of the DCT-II cosine series (even extension)",
+        "side": side,
+        "shape": [m, m],
+        "origin": [x0, y0],
+        "from_pitch": [surface.dx, surface.dy],
+    }
+    return surface.derive(h, op, dx=e, dy=e, periodic=False)
+
+
 # ----------------------------------------------------------------------------- reading
 def _file_key(scene, role):
     """The cache key of a role's file: ``(path, modification stamp, role, unit, size, max_undefined)``."""
@@ -344,15 +416,20 @@ def _default_grid(side, pitches, inclined, lambda_s=None):
     """The default solver grid of measured files.
 
     With an S-filter: :data:`ELEMENTS_PER_LAMBDA_S` elements per ``lambda_s`` (a multiple of 8),
-    at most the scans' native sampling and :data:`MAX_DEFAULT_GRID`; without one, the native
-    sampling on the common square, at most :data:`MAX_DEFAULT_GRID`.
+    at most :data:`MAX_DEFAULT_GRID`; not capped by the scans' pixel, because the filtered scans
+    are band-limited and a scan coarser than the element is interpolated exactly
+    (:func:`band_limited_resample`), except with the inclined effect, whose patch planes need
+    two measured points per element edge. Without a filter: the native sampling on the common
+    square (the coarser scan's pixel), at most :data:`MAX_DEFAULT_GRID`.
     """
     native = int(side / max(pitches) * (1 + 1e-9))
     if inclined:
         native //= 2  # two measured points per element edge for the patch planes
     n = native
     if lambda_s:
-        n = min(native, 8 * math.ceil(ELEMENTS_PER_LAMBDA_S * side / lambda_s / 8 - 1e-9))
+        n = 8 * math.ceil(ELEMENTS_PER_LAMBDA_S * side / lambda_s / 8 - 1e-9)
+        if inclined:
+            n = min(native, n)
     return max(8, min(n, MAX_DEFAULT_GRID))
 
 
@@ -367,14 +444,30 @@ def _check_rq(path, role, rq):
         )
 
 
-def _check_element(path, element, pitch, grid):
+def _check_element(path, element, pitch, grid, lambda_s=0.0):
+    """Refuse an element far from the scan's pixel (``ValueError`` naming ``--grid``).
+
+    With an S-filter the scan is band-limited and may be interpolated below its pixel
+    (:func:`band_limited_resample`), down to ``lambda_s`` / (2 :data:`ELEMENTS_PER_LAMBDA_S`):
+    one grid doubling beyond the default rule, for a convergence check.
+    """
     lo, hi = ELEMENT_PER_PIXEL
-    r = element / max(pitch)
-    if not lo <= r <= hi:
+    p = max(pitch)
+    if lambda_s:
+        lo = min(lo, lambda_s / (2 * ELEMENTS_PER_LAMBDA_S) / p)
+    r = element / p
+    if not lo * (1 - 1e-9) <= r <= hi:
         raise ValueError(
             f"{path}: grid={grid} gives elements of {element:.3g} m, {r:.3g} times the scan's "
-            f"pixel pitch {max(pitch):.3g} m (allowed {lo:g} .. {hi:g}); choose --grid so "
-            f"that the element is close to the scan's sampling (or check --size)"
+            f"pixel pitch {p:.3g} m (allowed {lo:.3g} .. {hi:g}"
+            + (
+                f"; below 0.5 down to lambda_s / {2 * ELEMENTS_PER_LAMBDA_S}, the filtered "
+                "scan being band-limited"
+                if lambda_s
+                else ""
+            )
+            + "); choose --grid so that the element is close to the scan's sampling (or check "
+            "--size, --lambda-s)"
         )
 
 
@@ -440,6 +533,15 @@ def load_scene_surfaces(scene, *, grid=None, check_sampling=True):
             f"pitches and >= {ELEMENTS_PER_LAMBDA_S} elements of the {side:.4g} m square at "
             f"grid {MAX_DEFAULT_GRID}"
         )
+        if lam > side * (1 + 1e-9):  # e.g. a scan of millimetre pixels with a 0.1 mm scan
+            coarse = max(raw.values(), key=lambda v: max(v[0].dx, v[0].dy))[0]
+            raise ValueError(
+                f"{coarse.provenance['path']} has pixels of {max(coarse.dx, coarse.dy):.3g} m: "
+                f"the default lambda_s (>= {ISO_SAMPLING_RATIO:g} of its pixels) is {lam:.3g} m, "
+                f"more than the files' common square of {side:.3g} m, so the scans cannot be "
+                "paired at the coarser one's resolution; give --lambda-s (m, at least 2 pixel "
+                "pitches of each file and at most the common square) or a scan of finer pixels"
+            )
     elif not lam:
         lam, lam_source = 0.0, "option: no S-filter"
     read = {r: _filtered(scene, r, lam) for r in roles}
@@ -460,7 +562,7 @@ def load_scene_surfaces(scene, *, grid=None, check_sampling=True):
     fine, records = {}, []
     for role, (s, steps) in read.items():
         if check_sampling:
-            _check_element(s.provenance["path"], element, (s.dx, s.dy), n)
+            _check_element(s.provenance["path"], element, (s.dx, s.dy), n, lam)
         steps = list(steps)
         lx, ly = s.size
         if not (math.isclose(lx, side, rel_tol=1e-9) and math.isclose(ly, side, rel_tol=1e-9)):
@@ -474,12 +576,20 @@ def load_scene_surfaces(scene, *, grid=None, check_sampling=True):
                 "elements (area average)"
             )
         m = n * block
-        r = area_resample(s, side, m)
-        if r is not s:
+        if lam and max(s.dx, s.dy) > side / m * (1 + 1e-9):  # pixel coarser than the element
+            r = band_limited_resample(s, side, m)
             steps.append(
-                f"area-averaged from {s.shape[0]} x {s.shape[1]} points to {m} x {m} "
-                f"({side / m * 1e6:.4g} um square elements)"
+                f"interpolated (band-limited: exact cell means of the S-filtered scan's cosine "
+                f"series) from {s.shape[0]} x {s.shape[1]} points of {s.dx * 1e6:.4g} x "
+                f"{s.dy * 1e6:.4g} um to {m} x {m} ({side / m * 1e6:.4g} um square elements)"
             )
+        else:
+            r = area_resample(s, side, m)
+            if r is not s:
+                steps.append(
+                    f"area-averaged from {s.shape[0]} x {s.shape[1]} points to {m} x {m} "
+                    f"({side / m * 1e6:.4g} um square elements)"
+                )
         r = _surf.level(r)
         steps.append("levelled: least-squares plane a + b x + c y removed over the patch")
         rq = _surf.rq(r)
