@@ -1,8 +1,8 @@
 """How mu_eff and C1 scatter with the size of the patch calibrated, in units of lambda_s.
 
 A large scan is S-filtered once at ``lambda_s`` and cut into non-overlapping square patches of
-4, 8, 16 and 32 ``lambda_s`` a side (at most ``--max-patches`` per size, spread evenly over
-the scan); each patch is calibrated on its own (default scene: Table 1 materials, default
+4, 8, 16 and 32 ``lambda_s`` a side (at most ``--max-patches`` per size, a fixed random
+choice among the layout's patches); each patch is calibrated on its own (default scene: Table 1 materials, default
 pressures, non-periodic, no resolution check, one process) and the table gives, per size,
 the number of patches, the mean of ``mu_eff`` and ``C1``, their coefficient of variation
 (standard deviation / mean over the patches), their range (max - min) / mean, and the mean's
@@ -95,14 +95,17 @@ def _scans(folder, only=None):
 
 
 def _origins(lx, ly, side, max_patches):
-    """Origins of non-overlapping ``side`` squares on a centred layout; at most ``max_patches``."""
+    """Origins of non-overlapping ``side`` squares on a centred layout.
+
+    At most ``max_patches``: a fixed random choice (seed 0) among them, spread over the scan.
+    """
     kx, ky = int(lx / side + 1e-9), int(ly / side + 1e-9)
     x0, y0 = 0.5 * (lx - kx * side), 0.5 * (ly - ky * side)
     allo = [(x0 + i * side, y0 + j * side) for i in range(kx) for j in range(ky)]
     if len(allo) <= max_patches:
         return allo
-    pick = np.linspace(0, len(allo) - 1, max_patches).round().astype(int)
-    return [allo[k] for k in pick]
+    pick = np.random.default_rng(0).choice(len(allo), max_patches, replace=False)
+    return [allo[k] for k in sorted(pick)]
 
 
 def run(folder, max_patches, elements, sizes, only=None):
