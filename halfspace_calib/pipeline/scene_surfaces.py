@@ -23,7 +23,8 @@ applies the policy of ``docs/measured_surfaces.md``:
 6. level: the least-squares plane over the patch is removed;
 7. plausibility: ``Rq`` of each levelled patch in :data:`RQ_RANGE`, the element edge between
    :data:`ELEMENT_PER_PIXEL` times the scan's coarser pixel pitch, the grid within memory;
-   a grid with fewer than :data:`ELEMENTS_PER_LAMBDA_S` elements per ``lambda_s`` is warned.
+   a grid with fewer than :data:`ELEMENTS_PER_LAMBDA_S` elements per ``lambda_s`` and a patch
+   fewer than :data:`MIN_PATCH_LAMBDA_S` ``lambda_s`` across are warned.
 
 Each step is recorded in a :class:`FileRecord` (the parameter file's provenance).
 """
@@ -47,7 +48,9 @@ from .length_scale import (
     ISO_NESTING_INDICES,
     ISO_SAMPLING_RATIO,
     MIN_ELEMENTS_PER_LAMBDA_S,
+    MIN_PATCH_LAMBDA_S,
     check_lambda_s,
+    check_patch_size,
     default_lambda_s,
 )
 
@@ -63,6 +66,7 @@ __all__ = [
     "ISO_SAMPLING_RATIO",
     "ELEMENTS_PER_LAMBDA_S",
     "MIN_ELEMENTS_PER_LAMBDA_S",
+    "MIN_PATCH_LAMBDA_S",
     "FileRecord",
     "SceneSurfaces",
     "area_resample",
@@ -161,7 +165,8 @@ class SceneSurfaces:
     averages are the solver surfaces; ``None`` for synthetic surfaces unless
     ``Scene.measured_n`` asked for them. ``lambda_s`` / ``lambda_c`` are the filters' nesting
     indices applied to the files (m; ``0.0`` / ``None``: none), ``lambda_s_source`` says where
-    ``lambda_s`` came from, ``notes`` are warnings for the user (grid coarse for ``lambda_s``).
+    ``lambda_s`` came from, ``notes`` are warnings for the user (grid coarse for ``lambda_s``, patch
+    fewer than :data:`MIN_PATCH_LAMBDA_S` ``lambda_s`` across).
     """
 
     workpiece: object
@@ -436,7 +441,9 @@ def load_scene_surfaces(scene, *, grid=None, check_sampling=True):
         n = _default_grid(side, pitches, inclined, lam)
     check_memory(n, scene.periodic)
     element = side / n
-    notes = check_lambda_s(lam, element, n, side) if check_sampling else ()
+    notes = ()
+    if check_sampling:  # not for the resolution check's half grid
+        notes = check_lambda_s(lam, element, n, side) + check_patch_size(side, lam)
     block = max(1, min(int(element / max(s.dx, s.dy) + 1e-9) for s, _ in read.values()))
     if inclined and block < 2:
         raise ValueError(
