@@ -144,8 +144,9 @@ def build_parser():
         "--grid",
         type=int,
         help="solver grid: N x N elements (default 128 for synthetic surfaces; for files "
-        f"{ELEMENTS_PER_LAMBDA_S} elements per lambda_s, at most the scans' sampling on the "
-        f"common square and {MAX_DEFAULT_GRID})",
+        f"{ELEMENTS_PER_LAMBDA_S} elements per lambda_s, at most {MAX_DEFAULT_GRID}; the "
+        "coarser scan is interpolated (band-limited) where its pixel is larger than the "
+        "element; with --lambda-s 0 at most the scans' sampling on the common square)",
     )
     g = ap.add_argument_group("materials (Pa)")
     g.add_argument(
