@@ -34,15 +34,14 @@ and levelled. Writes ``benchmarks/results/patch_size.csv`` (one row per patch) a
 from __future__ import annotations
 
 import argparse
-import csv
 import math
 import os
 import platform
-import subprocess
 import time
 from pathlib import Path
 
 import numpy as np
+from _provenance import RESULTS, commit, write_rows
 
 from halfspace_calib import topography as S
 from halfspace_calib.pipeline.calibration import Scene, calibrate
@@ -50,17 +49,7 @@ from halfspace_calib.pipeline.scene_surfaces import SceneSurfaces
 from halfspace_calib.topography.filters import s_filter
 from halfspace_calib.topography.resample import band_limited_resample
 
-RESULTS = Path(__file__).resolve().parent / "results"
 SIZES = (4, 8, 16, 32)  # patch edge in lambda_s
-
-
-def _commit():
-    try:
-        return subprocess.run(
-            ["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, check=True
-        ).stdout.strip()
-    except (OSError, subprocess.CalledProcessError):
-        return "unknown"
 
 
 #: the real scans and their lambda_s (m): the smallest ISO index >= 3 of their coarser pixels
@@ -226,15 +215,12 @@ def main():
     ap.add_argument("--sizes", type=int, nargs="*", default=list(SIZES), help="in lambda_s")
     ap.add_argument("--only", nargs="*", help="scans to run (file names or 'synthetic')")
     a = ap.parse_args()
-    commit = _commit()
+    rev = commit()
     rows = run(a.folder, a.max_patches, a.elements, a.sizes, a.only)
     RESULTS.mkdir(exist_ok=True)
-    with open(RESULTS / "patch_size.csv", "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+    write_rows(RESULTS / "patch_size.csv", rows)
     head = (
-        f"commit {commit}, {platform.machine()}, Python {platform.python_version()}; one "
+        f"commit {rev}, {platform.machine()}, Python {platform.python_version()}; one "
         f"process; {a.elements:g} elements per lambda_s; at most {a.max_patches} patches per "
         f"size; load average at the end {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs\n\n"
     )

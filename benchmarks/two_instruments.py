@@ -22,7 +22,6 @@ the repository root::
 from __future__ import annotations
 
 import argparse
-import csv
 import json
 import math
 import os
@@ -33,8 +32,9 @@ import tempfile
 import time
 from pathlib import Path
 
+from _provenance import RESULTS, commit, write_rows
+
 FILES = ["metropro-1.dat", "mnt-1.mnt", "x3p-2.x3p", "sur-3.sur", "matrix-3.txt"]
-RESULTS = Path(__file__).resolve().parent / "results"
 FIELDS = [
     "workpiece",
     "tool",
@@ -56,15 +56,6 @@ FIELDS = [
     "wall_s",
     "message",
 ]
-
-
-def _commit():
-    try:
-        return subprocess.run(
-            ["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, check=True
-        ).stdout.strip()
-    except (OSError, subprocess.CalledProcessError):
-        return "unknown"
 
 
 def _one(folder, wp, tl, timeout):
@@ -171,7 +162,7 @@ def main():
     ap.add_argument("--only", nargs="*", help="workpiece files to run (default: all five)")
     ap.add_argument("--timeout", type=float, default=900.0, help="seconds per calibration")
     a = ap.parse_args()
-    commit = _commit()
+    rev = commit()
     rows = []
     RESULTS.mkdir(exist_ok=True)
     csv_path = RESULTS / "two_instruments.csv"
@@ -184,12 +175,9 @@ def main():
                 f"mu_eff change {_pct(r['mu_eff_change'])}, {r['wall_s']} s",
                 flush=True,
             )
-            with open(csv_path, "w", newline="") as fh:  # after each run: partial results kept
-                w = csv.DictWriter(fh, fieldnames=FIELDS)
-                w.writeheader()
-                w.writerows(rows)
+            write_rows(csv_path, rows, FIELDS)  # after each run: partial results kept
     head = (
-        f"commit {commit}, {platform.machine()}, Python {platform.python_version()}; "
+        f"commit {rev}, {platform.machine()}, Python {platform.python_version()}; "
         f"halfspace-calib with its defaults, --workers 1; load average at the end "
         f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs\n\n"
     )

@@ -37,6 +37,17 @@ def _write_scan(heights, side, path):
         np.savetxt(fh, heights, fmt="%.12e", delimiter="\t")
 
 
+def _scene(folder, grid):
+    """The calibration scene of the sheet and tool files in ``folder`` at ``grid``."""
+    return Scene(
+        workpiece=str(folder / "sheet.txt"),
+        tool=str(folder / "tool.txt"),
+        grid=grid,
+        lambda_s=LAMBDA_S,
+        resolution_check=False,
+    )
+
+
 @pytest.fixture(scope="module")
 def scans(tmp_path_factory):
     """Sheet, tool and after-contact scans at 128^2 (pressed at H_TRUE), and the table."""
@@ -45,13 +56,7 @@ def scans(tmp_path_factory):
     side = syn.workpiece.dx * 128
     _write_scan(syn.workpiece.heights, side, d / "sheet.txt")
     _write_scan(syn.tool.heights, side, d / "tool.txt")
-    truth = Scene(
-        workpiece=str(d / "sheet.txt"),
-        tool=str(d / "tool.txt"),
-        grid=128,
-        lambda_s=LAMBDA_S,
-        resolution_check=False,
-    )
+    truth = _scene(d, 128)
     ts = load_scene_surfaces(truth)
     rows = ["p_mean [MPa], file"]
     for p in LOADS_MPA:
@@ -74,13 +79,7 @@ def scans(tmp_path_factory):
 
 
 def test_h_is_recovered_from_scans_of_a_finer_truth(scans):
-    scene = Scene(
-        workpiece=str(scans / "sheet.txt"),
-        tool=str(scans / "tool.txt"),
-        grid=64,
-        lambda_s=LAMBDA_S,
-        resolution_check=False,
-    )
+    scene = _scene(scans, 64)
     surfaces = load_scene_surfaces(scene)
     table = read_after_contact(scans / "scans.csv")
     assert isinstance(table, AfterContactScans)
