@@ -36,6 +36,21 @@ def _git(*args):
     return out.stdout.strip()
 
 
+def commit():
+    """The short hash of the checked-out commit (``"unknown"`` outside git)."""
+    return _git("rev-parse", "--short", "HEAD") or "unknown"
+
+
+def write_rows(path, rows, fieldnames=None):
+    """Write dict ``rows`` as CSV (columns: ``fieldnames`` or the first row's keys)."""
+    import csv
+
+    with open(path, "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(fieldnames or rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+
+
 def _cpu_model():
     try:
         for line in Path("/proc/cpuinfo").read_text().splitlines():

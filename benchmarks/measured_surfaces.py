@@ -22,27 +22,17 @@ default policy refuses it.
 from __future__ import annotations
 
 import argparse
-import csv
 import dataclasses
 import os
 import platform
-import subprocess
 import time
 from pathlib import Path
+
+from _provenance import RESULTS, commit, write_rows
 
 from halfspace_calib.pipeline.calibration import Scene, calibrate
 
 FILES = ["metropro-1.dat", "mnt-1.mnt", "x3p-2.x3p", "sur-3.sur", "matrix-3.txt"]
-RESULTS = Path(__file__).resolve().parent / "results"
-
-
-def _commit():
-    try:
-        return subprocess.run(
-            ["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, check=True
-        ).stdout.strip()
-    except (OSError, subprocess.CalledProcessError):
-        return "unknown"
 
 
 def _row(name, cal, grid, periodic, seconds, kind):
@@ -118,14 +108,11 @@ def run(folder, max_grid=None):
     return rows, checks
 
 
-def write(rows, checks, commit):
+def write(rows, checks, rev):
     RESULTS.mkdir(exist_ok=True)
-    with open(RESULTS / "measured_surfaces.csv", "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+    write_rows(RESULTS / "measured_surfaces.csv", rows)
     head = (
-        f"commit {commit}, {platform.machine()} {platform.processor() or ''}, "
+        f"commit {rev}, {platform.machine()} {platform.processor() or ''}, "
         f"Python {platform.python_version()}; one process, workers=1; "
         f"load average at the end {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs\n\n"
     )
@@ -167,9 +154,9 @@ def main():
     ap.add_argument("--folder", required=True, help="folder holding the five files")
     ap.add_argument("--max-grid", type=int, help="cap the default grid (quick runs)")
     a = ap.parse_args()
-    commit = _commit()  # the code that runs, read before the run
+    rev = commit()  # the code that runs, read before the run
     rows, checks = run(a.folder, a.max_grid)
-    write(rows, checks, commit)
+    write(rows, checks, rev)
 
 
 if __name__ == "__main__":

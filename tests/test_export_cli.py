@@ -28,8 +28,12 @@ def test_every_target_writes_source_and_readme(tmp_path, params_file, target, un
         exp.main([target, "--params", str(params_file), "--out", str(out), "--units", units]) == 0
     )
     names = sorted(p.name for p in out.iterdir() if p.name != MARKER)
-    assert "README.md" in names and len(names) == 2
-    src = next(out / n for n in names if n != "README.md").read_text()
+    extra = {"calculix": {"ABA_PARAM.INC", "build.sh", "calculix-2.20-user-friction.patch"}}
+    assert set(names) - extra.get(target, set()) - {"README.md"} == {
+        next(n for n in names if n.endswith((".f", ".inp", ".k")))
+    }
+    assert "README.md" in names and len(names) == 2 + len(extra.get(target, ()))
+    src = next(out / n for n in names if n.endswith((".f", ".inp", ".k"))).read_text()
     sha = hashlib.sha256(params_file.read_bytes()).hexdigest()
     assert sha in src and f"units: {units}" in src
     assert "fit" in src  # fit summary line (none recorded here)

@@ -23,7 +23,9 @@ pytestmark = pytest.mark.skipif(
     reason="gfortran not installed (.ci/run installs it: apt-get install -y gfortran)",
 )
 
-FORTRAN_TARGETS = [t for t in exp.TARGETS if not t.endswith("-table")]
+# "calculix" writes the abaqus-fric routine unchanged (checked in test_calculix.py, where ccx
+# calls it from its own threads)
+FORTRAN_TARGETS = [t for t in exp.TARGETS if not t.endswith("-table") and t != "calculix"]
 N_THREADS = 4
 N_REPEAT = 25
 N_NODES = 4 * 2000

@@ -6,7 +6,8 @@ header (the file's sha256, the fit summary, the unit system) and a README saying
 and activate them. See ``docs/fe_codes.md``.
 
 Targets: ``abaqus-fric``, ``abaqus-vfric``, ``abaqus-vfriction``, ``lsdyna-usrfrc``,
-``lsdyna-usrfrc-mpp``, ``lsdyna``, ``ansys-userfric`` (Fortran),
+``lsdyna-usrfrc-mpp``, ``lsdyna``, ``ansys-userfric`` (Fortran), ``calculix`` (the ``abaqus-fric``
+routine with a patch for CalculiX 2.20 and the script that builds ``ccx`` with both),
 ``abaqus-table``, ``lsdyna-table`` (Eq. 24 as a friction-coefficient table; no history).
 """
 
@@ -52,6 +53,7 @@ TARGETS = (
     "lsdyna-usrfrc-mpp",
     "lsdyna",
     "ansys-userfric",
+    "calculix",
     "abaqus-table",
     "lsdyna-table",
 )
@@ -216,7 +218,14 @@ _FORTRAN = {
     "lsdyna-usrfrc-mpp": ("sbmf_usrfrc_mpp.f", _fortran.usrfrc_mpp_source),
     "lsdyna": ("sbmf_lsdyna.f", _fortran.generic_source),
     "ansys-userfric": ("sbmf_userfric.f", _fortran.generic_source),
+    "calculix": ("sbmf_fric.f", _fortran.fric_source),
 }
+
+#: CalculiX: the patch and its build script ship with the package (frictionlaw/export/calculix)
+CALCULIX_DIR = Path(__file__).resolve().parent / "calculix"
+CALCULIX_FILES = ("calculix-2.20-user-friction.patch", "build.sh")
+#: Abaqus' ABA_PARAM.INC (implicit double precision), included by the FRIC routine
+ABA_PARAM_INC = "      IMPLICIT REAL*8(A-H,O-Z)\n      PARAMETER (NPRECD=2)\n"
 
 
 def _check_args(target, units, table_tol):
@@ -243,7 +252,12 @@ def render(target, params_path, *, units="SI", k_t=None, table_tol=1e-3, accept_
         head = _comment(header_lines(target, params, params_path, sha, us, kt), "C", 72)
         src = make(head, law_constants(params, us), params.continuous_reload, kt)
         readme = _readme.fortran_readme(target, name, params, us, kt, sha)
-        return {name: src, "README.md": readme}, None
+        files = {name: src, "README.md": readme}
+        if target == "calculix":
+            files["ABA_PARAM.INC"] = ABA_PARAM_INC
+            for extra in CALCULIX_FILES:
+                files[extra] = (CALCULIX_DIR / extra).read_text(encoding="utf-8")
+        return files, None
     table = _tables.build_table(params, table_tol)
     head_lines = header_lines(target, params, params_path, sha, us, None)
     if target == "abaqus-table":
@@ -314,6 +328,8 @@ def export(
         )
         for name, text in files.items():
             (folder.tmp / name).write_text(text, encoding="utf-8")
+            if name.endswith(".sh"):
+                (folder.tmp / name).chmod(0o755)
         folder.commit()
     return ExportResult(out, tuple(sorted(files)), table)
 

@@ -58,7 +58,7 @@ def _kt_text(target, kt, units):
             "`tau(p, p_hist) x area`, so no stiffness is needed."
         )
     text = "Stick stiffness: " + kt.describe(units) + "."
-    if kt.kind == "host" and target == "abaqus-fric":
+    if kt.kind == "host" and target in ("abaqus-fric", "calculix"):
         text += (
             " Abaqus' own convention is used: elastic slip 0.005 x CHRLNGTH, i.e. "
             "`k_t = tau(p, p_hist) / (0.005 CHRLNGTH)` (at least the smallest normal double "
@@ -89,6 +89,7 @@ def fortran_readme(target, name, params, units, kt, sha):
         "lsdyna-usrfrc-mpp": _LSDYNA_USRFRC_MPP,
         "lsdyna": _LSDYNA,
         "ansys-userfric": _ANSYS,
+        "calculix": _CALCULIX,
     }[target]
     return (
         f"# `{target}`: SBMF friction law as a user subroutine\n\n"
@@ -102,11 +103,21 @@ def fortran_readme(target, name, params, units, kt, sha):
         + body.format(name=name)
         + "\n"
         + _STATE.format(s=units.stress_unit, arr=arr[0], end=arr[1])
-        + "\nTested here: compiled with gfortran -Wall and driven by a harness that emulates the "
-        "host's documented calling sequence (iterations, converged increments, cut-backs) against "
-        "`frictionlaw.traction_update`; no commercial solver runs in this project. See "
-        "docs/fe_codes.md of the sbmf-friction project.\n"
+        + (_TESTED_CALCULIX if target == "calculix" else _TESTED_EMULATED)
     )
+
+
+_TESTED_EMULATED = (
+    "\nTested here: compiled with gfortran -Wall and driven by a harness that emulates the "
+    "host's documented calling sequence (iterations, converged increments, cut-backs) against "
+    "`frictionlaw.traction_update`; no commercial solver runs in this project. See "
+    "docs/fe_codes.md of the sbmf-friction project.\n"
+)
+_TESTED_CALCULIX = (
+    "\nTested here: ccx built by `build.sh` runs blocks pressed, slid, unloaded and reloaded, and "
+    "a ring compression; the friction force is checked against `frictionlaw.shear_limit` node by "
+    "node (tests/test_calculix.py of the sbmf-friction project).\n"
+)
 
 
 _ABAQUS_FRIC = """\
@@ -128,6 +139,37 @@ current contact pressure; Abaqus keeps `STATEV` only when the increment converge
 on a cut-back. The routine returns `LM = 0` (relative motion: elastic stick or slip) with `TAU`,
 `DDTDDG`, `DDTDDP`, `DSLIP`, `SED`, `SFD`, or `LM = 2` (no friction) when `PRESS <= 0`.
 `DDTDDP` is unsymmetric: use `*CONTACT PAIR ... UNSYMM=YES`/the unsymmetric solver to use it.
+"""
+
+_CALCULIX = """\
+## Build ccx with the routine (CalculiX 2.20, Debian 12)
+
+CalculiX has no user friction routine; `calculix-2.20-user-friction.patch` adds Abaqus' form
+`*FRICTION, USER, DEPVAR=n[, PROPERTIES=m]` to its node-to-surface penalty contact and calls the
+routine `{name}` (the `abaqus-fric` routine, unchanged) per slave node. `build.sh` fetches Debian's
+`calculix-ccx` 2.20 source (`apt-get source`: it needs a `deb-src` entry), applies the patch, builds
+it and links the routine in:
+
+    apt-get install -y dpkg-dev gfortran gcc make patch libspooles-dev libarpack2-dev liblapack-dev
+    bash build.sh            # prints the path of ./ccx; --help lists the options
+
+About 2 minutes on 2 cores; `ccx-build/` keeps the objects, so relinking another export's routine
+(`bash build.sh --routine other/sbmf_fric.f --out other/ccx`) takes seconds. `ccx-build/ccx_reference`
+is the same source without the patch.
+
+Input deck (node-to-surface contact, `*CONTACT PAIR, ..., TYPE=NODE TO SURFACE`):
+
+    *SURFACE INTERACTION, NAME=SBMF
+    *SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR
+    <slope>, <tension at large clearance>
+    *FRICTION, USER, DEPVAR=3
+
+Limits of the patch: face-to-face and mortar contact stop with an error; KSTEP, KINC, TIME, DTIME,
+DPRESS, DDPDDH, PREDEF, the surface names and DROT are not passed (0, blanks, identity: CalculiX
+does not hand them to its contact springs); PNEWDT is ignored; LM = 1 (sticking) is taken as LM = 0.
+The state (the routine's STATEV and the frictional stress) is committed with each converged
+increment and restored on a cut-back, as CalculiX does for its own slip state. See docs/fe_codes.md
+of the sbmf-friction project. The patch is GPL v2, as CalculiX.
 """
 
 _ABAQUS_VFRIC = """\

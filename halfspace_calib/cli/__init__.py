@@ -144,8 +144,9 @@ def build_parser():
         "--grid",
         type=int,
         help="solver grid: N x N elements (default 128 for synthetic surfaces; for files "
-        f"{ELEMENTS_PER_LAMBDA_S} elements per lambda_s, at most the scans' sampling on the "
-        f"common square and {MAX_DEFAULT_GRID})",
+        f"{ELEMENTS_PER_LAMBDA_S} elements per lambda_s, at most {MAX_DEFAULT_GRID}; the "
+        "coarser scan is interpolated (band-limited) where its pixel is larger than the "
+        "element; with --lambda-s 0 at most the scans' sampling on the common square)",
     )
     g = ap.add_argument_group("materials (Pa)")
     g.add_argument(
@@ -168,8 +169,10 @@ def build_parser():
         metavar="FILE",
         help="fit H to the workpiece's measured roughness after pressing (Sec. 3.1, Figs. 3-4): "
         "a text table 'p_mean [MPa], Ra [um], Rq [um]', one row per sample, >= 2 loads, a "
-        "p_mean = 0 row for before contact; then calibrate with that H (default: no fit, H as "
-        "given); writes hardness_fit.{csv,json,md,png}",
+        "p_mean = 0 row for before contact; or a table 'p_mean [MPa], file' naming surfaces "
+        "scanned after unloading, measured with the calibration's crop, levelling, filters and "
+        "grid; then calibrate with that H (default: no fit, H as given); writes "
+        "hardness_fit.{csv,json,md,png} with H's standard error",
     )
     g.add_argument("--sigma-y", type=float, help="yield stress (default H / 2.8)")
     g.add_argument(

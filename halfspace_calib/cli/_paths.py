@@ -15,7 +15,12 @@ from pathlib import Path
 from frictionlaw.clitools import Console, OutputFolder
 
 from ..output.hardness import hardness_table
-from ..pipeline.hardness import fit_hardness, read_after_contact
+from ..pipeline.hardness import (
+    AfterContactScans,
+    fit_hardness,
+    read_after_contact,
+    roughness_of_scans,
+)
 
 #: files that mark a folder as a calibration output (a rerun may replace it)
 
@@ -138,6 +143,16 @@ def after_contact(args, scene):
 def fit_h(con, args, scene, surfaces, data):
     """Fit H (Sec. 3.1) on the scene's solver surfaces; the scene calibrated with it."""
     t0 = time.perf_counter()
+    if isinstance(data, AfterContactScans):
+        data, records = roughness_of_scans(data, scene, surfaces)
+        con.result(
+            f"  after-contact scans ({len(records)}), prepared as the workpiece (grid "
+            f"{surfaces.grid}, lambda_s {surfaces.lambda_s or 0:.3g} m):"
+        )
+        for p, ra, rq, rec in zip(data.p_mean, data.Ra, data.Rq, records, strict=True):
+            con.result(
+                f"    {p / 1e6:8.1f} MPa  Ra {ra * 1e6:.4f} um  Rq {rq * 1e6:.4f} um  {rec['path']}"
+            )
     fit = fit_hardness(surfaces.workpiece, surfaces.tool, scene.materials, scene.solver, data)
     con.result(
         f"  H fitted to the after-contact roughness in {time.perf_counter() - t0:.1f} s "

@@ -68,6 +68,7 @@ class Calibration:
     files: tuple = ()
     resolution: ResolutionCheck | None = None
     notes: tuple = ()  # what calibrate() decided on its own (the periodic fallback)
+    warnings: tuple = ()  # the surfaces' warnings (grid coarse for lambda_s, patch too small)
 
     def __repr__(self):
         """One line a notebook can show: the law, the fit quality, the sweep and the time."""
@@ -177,6 +178,8 @@ class Calibration:
             "grid": self.scene.grid,
             "periodic": self.scene.periodic,
             "notes": list(self.notes),
+            # warnings do not fail the run (problems do: exit 1, params.failed.json)
+            "warnings": list(self.warnings),
             "files": [f.as_dict() for f in self.files],
             "resolution_check": None if self.resolution is None else self.resolution.as_dict(),
             "problems": self.problems(),
@@ -302,6 +305,7 @@ def _calibrate(scene, progress, surfaces, periodic_reason):
         effects,
         surfs.files,
         resolution,
+        warnings=tuple(surfs.notes),
     )
 
 

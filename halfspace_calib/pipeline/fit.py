@@ -31,6 +31,7 @@ from scipy.optimize import least_squares
 from frictionlaw import FrictionParams, alpha_first, alpha_reload, reload_jump
 from frictionlaw.params import C_RANGE, N_RANGE
 
+from ..common.blas import serial_blas
 from ..common.checks import positive
 from .alpha_bound import bound_record, floor_fit, floor_violation
 
@@ -422,6 +423,7 @@ def _degenerate(params, at_bound, lb, ub, r2, alpha):
     return "; ".join(why)
 
 
+@serial_blas
 def fit_first_loading(
     p,
     alpha,
@@ -519,6 +521,7 @@ def fit_first_loading(
     )
 
 
+@serial_blas
 def fit_reload(
     curves, H, C1, n1, *, continuous=False, relative=False, C_bounds=C_BOUNDS, n_bounds=N_BOUNDS
 ):

@@ -6,11 +6,16 @@ for a trial H, the workpiece is pressed against the tool at each measured ``p_me
 loading, volume-conserving plastic flattening as in Sec. 2.1), unloaded, and its ``Ra``/``Rq``
 (about the mean, as ``roughness.csv``) compared with the measured ones; H minimises the sum of
 squared relative differences over all loads and both parameters. :func:`read_after_contact`
-reads the measured values (a small text table, units in the header).
+reads the measured values (a small text table, units in the header), or a table of
+``p_mean, file`` rows naming surfaces scanned after unloading (:class:`AfterContactScans`), whose
+``Ra``/``Rq`` :func:`roughness_of_scans` takes through the calibration's own preparation chain (the
+same crop, levelling, filters and grid). :class:`HardnessFit` carries H's standard error from the
+curvature of the least-squares cost.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import math
 import re
@@ -19,11 +24,14 @@ from pathlib import Path
 
 import numpy as np
 from scipy.optimize import minimize_scalar
+from scipy.stats import t as student_t
 
 from ..contact.normal import solve_normal_pair
 
 __all__ = [
     "AfterContact",
+    "AfterContactScans",
+    "roughness_of_scans",
     "HardnessFit",
     "after_contact_roughness",
     "fit_hardness",
@@ -34,6 +42,10 @@ _PRESSURE_UNITS = {"pa": 1.0, "kpa": 1e3, "mpa": 1e6, "gpa": 1e9}
 _LENGTH_UNITS = {"m": 1.0, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "nm": 1e-9}
 #: the fitted H is searched in ``(H_LOW * max p_mean, H_HIGH * max p_mean)``
 H_LOW, H_HIGH = 1.02, 100.0
+#: points of the coarse scan of log H before the bounded search
+SCAN_POINTS = 13
+#: after-contact roughness above GUARD times the model's before contact is refused as bad data
+GUARD = 1.5
 
 
 @dataclass(frozen=True)
@@ -42,7 +54,9 @@ class AfterContact:
 
     ``p_mean``, ``Ra``, ``Rq``: one entry per measured sample (several samples per load are
     fitted as they are); ``initial``: ``(Ra, Rq)`` before contact if the table has a
-    ``p_mean = 0`` row (their mean), else ``None``; ``source``: where the values came from.
+    ``p_mean = 0`` row (their mean), else ``None``; ``source``: where the values came from;
+    ``lambda_s`` / ``lambda_c``: the S- and L-filter the measured surfaces went through after
+    contact (m; 0 / ``None``: none known), applied to the model's deformed surfaces too.
     """
 
     p_mean: tuple
@@ -50,6 +64,8 @@ class AfterContact:
     Rq: tuple
     initial: tuple | None = None
     source: str = "given"
+    lambda_s: float = 0.0
+    lambda_c: float | None = None
 
     def __post_init__(self):
         p, ra, rq = (np.asarray(v, dtype=float) for v in (self.p_mean, self.Ra, self.Rq))
@@ -94,6 +110,109 @@ def _unit(header, allowed, what):
     return name, allowed.get(unit.lower(), allowed.get(unit))
 
 
+@dataclass(frozen=True)
+class AfterContactScans:
+    """Surfaces of the workpiece scanned after pressing at ``p_mean`` and unloading (SI: Pa).
+
+    ``files``: one path per row (relative paths in the table are relative to the table's
+    folder); ``source``: the table's path and sha256. :func:`roughness_of_scans` turns them into
+    an :class:`AfterContact` of measured ``Ra``/``Rq``.
+    """
+
+    p_mean: tuple
+    files: tuple
+    source: str = "given"
+
+
+def roughness_of_scans(scans, scene, surfaces):
+    """``Ra``/``Rq`` of after-contact scans, prepared exactly as the calibration's workpiece.
+
+    Each scan goes through :func:`~halfspace_calib.pipeline.scene_surfaces.load_scene_surfaces`
+    with the calibration's resolved choices fixed: the same units and undefined-point limit, the
+    crop of the calibration's patch (``crop_size``), the S- and L-filters (``lambda_s``,
+    ``lambda_c``) and the solver grid; ``Ra``/``Rq`` are taken about the mean of the levelled
+    solver-grid map, as the model's after-contact roughness. Returns the :class:`AfterContact`
+    (and the per-scan file records, for the provenance).
+
+    Raises
+    ------
+    ValueError
+        A scan that cannot be read or prepared, naming its row and file.
+    """
+    from .scene_surfaces import load_scene_surfaces
+
+    crop = next((f.crop_size for f in surfaces.files if f.role == "workpiece"), None)
+    ra, rq, records = [], [], []
+    for row, (p, path) in enumerate(zip(scans.p_mean, scans.files, strict=True), start=1):
+        scan_scene = dataclasses.replace(
+            scene,
+            workpiece=str(path),
+            tool=None,
+            grid=surfaces.grid,
+            crop_size=crop,
+            lambda_s=surfaces.lambda_s if surfaces.lambda_s is not None else 0.0,
+            lambda_c=surfaces.lambda_c,
+            effects=(),
+            resolution_check=False,
+        )
+        try:
+            prepared = load_scene_surfaces(scan_scene)
+        except (ValueError, OSError) as exc:
+            raise ValueError(
+                f"--after-contact row {row} (p_mean {p / 1e6:g} MPa, {path}): {exc}"
+            ) from None
+        h = prepared.workpiece.heights - prepared.workpiece.heights.mean()
+        ra.append(float(np.mean(np.abs(h))))
+        rq.append(float(np.sqrt(np.mean(h * h))))
+        records.append(prepared.files[0].as_dict())
+    data = AfterContact(
+        tuple(scans.p_mean),
+        tuple(ra),
+        tuple(rq),
+        None,
+        scans.source,
+        lambda_s=surfaces.lambda_s or 0.0,
+        lambda_c=surfaces.lambda_c,
+    )
+    return data, records
+
+
+def _read_scans(path, lines, split, heads):
+    """The ``p_mean [unit], file`` form of :func:`read_after_contact`."""
+    try:
+        name, factor = _unit(heads[0], _PRESSURE_UNITS, "p_mean")
+    except ValueError as exc:
+        raise ValueError(f"{path}: {exc}") from None
+    if name.lower() != "p_mean" or heads[1].strip().lower() != "file":
+        raise ValueError(f"{path}: the columns must be 'p_mean [MPa], file'")
+    p_mean, files = [], []
+    for i, ln in enumerate(lines[1:], start=2):
+        cells = [c.strip() for c in split(ln)]
+        if len(cells) != 2:
+            raise ValueError(f"{path}: row {i} is not 'p_mean, file': {ln.strip()!r}")
+        try:
+            p = float(cells[0]) * factor
+        except ValueError:
+            raise ValueError(f"{path}: row {i}: p_mean {cells[0]!r} is not a number") from None
+        if not (math.isfinite(p) and p > 0):
+            raise ValueError(f"{path}: row {i}: p_mean must be > 0 after contact, got {cells[0]}")
+        f = Path(cells[1])
+        f = f if f.is_absolute() else path.parent / f
+        if not f.is_file():
+            raise ValueError(f"{path}: row {i}: the scan {cells[1]!r} is not a file ({f})")
+        p_mean.append(p)
+        files.append(str(f))
+    if len(set(p_mean)) < 2:
+        raise ValueError(
+            f"{path}: scans at {len(set(p_mean))} load(s): the fit of H needs at least two "
+            "different p_mean"
+        )
+    digest = hashlib.sha256(path.read_bytes()).hexdigest()
+    return AfterContactScans(
+        tuple(p_mean), tuple(files), f"fitted to the scans of {path} (sha256 {digest})"
+    )
+
+
 def read_after_contact(path):
     """Read measured after-contact roughness: a text table with a header naming the units.
 
@@ -101,6 +220,10 @@ def read_after_contact(path):
     ``p_mean [MPa], Ra [um], Rq [um]`` (pressure units Pa, kPa, MPa, GPa; lengths m, mm, um,
     nm), then one row per sample, comma- or whitespace-separated. A ``p_mean = 0`` row is the
     roughness before contact (checked against, not fitted).
+
+    With the header ``p_mean [MPa], file`` the rows name surfaces scanned after unloading
+    (instrument files, as the workpiece's; relative to the table's folder) and an
+    :class:`AfterContactScans` is returned; :func:`roughness_of_scans` measures them.
 
     Raises
     ------
@@ -122,8 +245,12 @@ def read_after_contact(path):
     heads = re.findall(r"[A-Za-z_]+\s*[\[(][^\])]*[\])]", lines[0])
     if len(heads) != 3:
         heads = split(lines[0])
+    if len(heads) == 2 or (len(split(lines[0])) == 2 and "file" in lines[0].lower()):
+        return _read_scans(path, lines, split, split(lines[0]))
     if len(heads) != 3:
-        raise ValueError(f"{path}: the header must be 'p_mean [MPa], Ra [um], Rq [um]'")
+        raise ValueError(
+            f"{path}: the header must be 'p_mean [MPa], Ra [um], Rq [um]' or 'p_mean [MPa], file'"
+        )
     try:
         cols = [
             _unit(heads[0], _PRESSURE_UNITS, "p_mean"),
@@ -163,13 +290,38 @@ def read_after_contact(path):
         raise ValueError(f"{path}: {exc}") from None
 
 
-def after_contact_roughness(workpiece, tool, materials, solver, H, pressures):
+def _as_measured(surface, heights, lambda_s, lambda_c):
+    """``heights`` on ``surface``'s grid as a scan of it goes through the preparation chain.
+
+    Levelled, then L- and S-filtered as the chain filters a scan (no filter where the cut-off
+    is shorter than the filters allow on this grid); ``Ra``/``Rq`` are then taken about the mean.
+    """
+    if not lambda_s and lambda_c is None:
+        return heights
+    from ..topography import level
+    from ..topography.filters import MIN_CUTOFF_PIXELS, l_filter, s_filter
+
+    f = level(surface.derive(heights, {"op": "after_contact_simulated"}))
+    pitch = max(surface.dx, surface.dy)
+    if lambda_c is not None:
+        f = l_filter(f, lambda_c)
+    if lambda_s and lambda_s >= MIN_CUTOFF_PIXELS * pitch:
+        f = s_filter(f, lambda_s)
+    return f.heights
+
+
+def after_contact_roughness(
+    workpiece, tool, materials, solver, H, pressures, *, lambda_s=0.0, lambda_c=None
+):
     """``(Ra, Rq)`` arrays (m) of the unloaded workpiece after pressing at each ``p_mean``.
 
     First loading of ``workpiece`` (softer body, hardness ``H``) against ``tool``
     (:class:`~halfspace_calib.topography.Surface` s on one grid) with volume conservation
     (Sec. 2.1); the roughness about the mean of the deformed workpiece, as the sweeps'
-    ``Ra_after``/``Rq_after``. ``RuntimeError`` if a solve does not converge.
+    ``Ra_after``/``Rq_after``. With ``lambda_s`` / ``lambda_c`` the deformed surface is first
+    levelled and filtered as a scan of it would be (the after-contact scans are filtered after
+    the contact; filtering and plastic flattening do not commute). ``RuntimeError`` if a solve
+    does not converge.
     """
     ra, rq = [], []
     for p in pressures:
@@ -186,7 +338,8 @@ def after_contact_roughness(workpiece, tool, materials, solver, H, pressures):
         )
         if not res.converged:
             raise RuntimeError(f"the solve at {p:g} Pa with H = {H:g} Pa: {res.message}")
-        h = res.deformed_workpiece - res.deformed_workpiece.mean()
+        h = _as_measured(workpiece, res.deformed_workpiece, lambda_s, lambda_c)
+        h = h - h.mean()
         ra.append(float(np.mean(np.abs(h))))
         rq.append(float(np.sqrt(np.mean(h * h))))
     return np.array(ra), np.array(rq)
@@ -213,6 +366,14 @@ class HardnessFit:
         The searched interval of H (Pa).
     evaluations : int
         Trial hardnesses computed.
+    H_std : float
+        Standard error of H (Pa): ``H`` times that of ``log H``, from the least-squares
+        curvature ``s^2 / (J.J)`` with ``J`` the derivative of the relative residuals by
+        ``log H`` (central differences) and ``s^2`` the residual variance on ``2 rows - 1``
+        degrees of freedom (``nan`` with fewer than 2 residuals or a flat cost).
+    H_interval : tuple
+        ``H exp(-+ t_0.95 se(log H))``: the 90 % interval (Student's t, ``2 rows - 1`` degrees
+        of freedom).
     converged : bool
         False if H ended on a bound (the data do not fix it) or the search did not converge.
     message : str
@@ -230,6 +391,8 @@ class HardnessFit:
     evaluations: int
     converged: bool
     message: str
+    H_std: float = math.nan
+    H_interval: tuple = (math.nan, math.nan)
 
     def as_dict(self):
         """JSON-ready record (params.json provenance, ``hardness_fit.json``)."""
@@ -245,6 +408,8 @@ class HardnessFit:
             "initial_measured": None if self.data.initial is None else list(self.data.initial),
             "initial_simulated": [self.Ra_initial, self.Rq_initial],
             "bounds": list(self.bounds),
+            "H_std": self.H_std,
+            "H_interval_90": list(self.H_interval),
             "evaluations": self.evaluations,
             "converged": self.converged,
             "message": self.message,
@@ -255,8 +420,8 @@ def fit_hardness(workpiece, tool, materials, solver, data, *, xtol=1e-4):
     """Fit the effective hardness H to measured after-contact ``Ra``/``Rq`` (Sec. 3.1).
 
     Minimises ``sum_i ((Ra_sim - Ra_i) / Ra_i)^2 + ((Rq_sim - Rq_i) / Rq_i)^2`` over ``log H``
-    in ``(1.02, 100) * max(p_mean)`` (bounded Brent search; the roughness after contact grows
-    monotonically with H). ``workpiece``/``tool`` are the solver-grid surfaces of the scene
+    in ``(1.02, 100) * max(p_mean)``: a scan of :data:`SCAN_POINTS` values of ``log H``, then a
+    bounded Brent search between the neighbours of the best (the cost is not always unimodal). ``workpiece``/``tool`` are the solver-grid surfaces of the scene
     (same filters and grid as the calibration), ``materials`` and ``solver`` its records (the
     materials' own H is not used).
 
@@ -270,15 +435,30 @@ def fit_hardness(workpiece, tool, materials, solver, data, *, xtol=1e-4):
     """
     p = np.asarray(data.p_mean)
     ra_m, rq_m = np.asarray(data.Ra), np.asarray(data.Rq)
-    h0 = workpiece.heights - workpiece.heights.mean()
+    h0 = _as_measured(workpiece, workpiece.heights, data.lambda_s, data.lambda_c)
+    h0 = h0 - h0.mean()
     ra0, rq0 = float(np.mean(np.abs(h0))), float(np.sqrt(np.mean(h0 * h0)))
-    high = sorted({float(q) for q, a, b in zip(p, ra_m, rq_m, strict=True) if a > ra0 or b > rq0})
+    # the guard against impossible data (units, rows): more than GUARD times the roughness
+    # before contact and before any filtering after contact. Not 1: a filtered scan of a
+    # flattened surface can keep more of its long waves than the filtered model surface before
+    # contact, and a non-periodic patch pressed beyond about 0.5 H gets rougher at its edges
+    # (docs/measured_surfaces.md, "H from after-contact scans")
+    hr = workpiece.heights - workpiece.heights.mean()
+    ra_raw = max(ra0, float(np.mean(np.abs(hr))))
+    rq_raw = max(rq0, float(np.sqrt(np.mean(hr * hr))))
+    high = sorted(
+        {
+            float(q)
+            for q, a, b in zip(p, ra_m, rq_m, strict=True)
+            if a > GUARD * ra_raw or b > GUARD * rq_raw
+        }
+    )
     if high:
         raise ValueError(
             f"after-contact roughness at p_mean {high} Pa is above the initial roughness of the "
-            f"model workpiece (Ra {ra0:.4g} m, Rq {rq0:.4g} m, at the calibration's grid and "
-            "lambda_s): pressing only flattens it, so no H fits; check the units, the rows and "
-            "that the data belong to this workpiece"
+            f"model workpiece (Ra {ra_raw:.4g} m, Rq {rq_raw:.4g} m, at the calibration's grid and "
+            f"lambda_s) by more than {GUARD:g} x: pressing flattens it, so no H fits; check the "
+            "units, the rows and that the data belong to this workpiece"
         )
     loads, inv = np.unique(p, return_inverse=True)
     lo, hi = H_LOW * loads.max(), H_HIGH * loads.max()
@@ -287,7 +467,14 @@ def fit_hardness(workpiece, tool, materials, solver, data, *, xtol=1e-4):
     def simulate(logH):
         if logH not in seen:
             ra, rq = after_contact_roughness(
-                workpiece, tool, materials, solver, math.exp(logH), loads
+                workpiece,
+                tool,
+                materials,
+                solver,
+                math.exp(logH),
+                loads,
+                lambda_s=data.lambda_s,
+                lambda_c=data.lambda_c,
             )
             seen[logH] = (ra[inv], rq[inv])
         return seen[logH]
@@ -296,9 +483,12 @@ def fit_hardness(workpiece, tool, materials, solver, data, *, xtol=1e-4):
         ra, rq = simulate(logH)
         return float(np.sum(((ra - ra_m) / ra_m) ** 2 + ((rq - rq_m) / rq_m) ** 2))
 
-    opt = minimize_scalar(
-        cost, bounds=(math.log(lo), math.log(hi)), method="bounded", options={"xatol": xtol}
-    )
+    # the cost need not be unimodal in H (a pressed non-periodic patch roughens at its edges
+    # beyond about 0.5 H): scan log H on a coarse grid, then refine around the best point
+    grid = np.linspace(math.log(lo), math.log(hi), SCAN_POINTS)
+    best = int(np.argmin([cost(x) for x in grid]))
+    bracket = (grid[max(best - 1, 0)], grid[min(best + 1, grid.size - 1)])
+    opt = minimize_scalar(cost, bounds=bracket, method="bounded", options={"xatol": xtol})
     H = math.exp(opt.x)
     ra, rq = simulate(opt.x)
     res = math.sqrt(opt.fun / (2 * p.size))
@@ -321,6 +511,11 @@ def fit_hardness(workpiece, tool, materials, solver, data, *, xtol=1e-4):
         msg = f"the search for H did not converge: {opt.message}"
     else:
         msg = f"H = {H:.4g} Pa, rms relative residual {res:.3g} over {p.size} rows x (Ra, Rq)"
+    h_std, h_int = math.nan, (math.nan, math.nan)
+    if ok:
+        h_std, h_int = _h_uncertainty(opt.x, simulate, ra_m, rq_m)
+        if math.isfinite(h_std):
+            msg += f", standard error {h_std:.3g} Pa (90 %: {h_int[0]:.4g}-{h_int[1]:.4g} Pa)"
     return HardnessFit(
         H=H,
         residual=res,
@@ -333,4 +528,25 @@ def fit_hardness(workpiece, tool, materials, solver, data, *, xtol=1e-4):
         evaluations=len(seen),
         converged=ok,
         message=msg,
+        H_std=h_std,
+        H_interval=h_int,
     )
+
+
+def _h_uncertainty(log_h, simulate, ra_m, rq_m, step=0.02):
+    """``(se(H), 90 % interval)`` from the curvature of the least-squares cost at ``log_h``."""
+
+    def resid(x):
+        ra, rq = simulate(x)
+        return np.concatenate([(ra - ra_m) / ra_m, (rq - rq_m) / rq_m])
+
+    r0 = resid(log_h)
+    jac = (resid(log_h + step) - resid(log_h - step)) / (2 * step)
+    dof = r0.size - 1
+    jj = float(jac @ jac)
+    if dof < 1 or not jj > 0:
+        return math.nan, (math.nan, math.nan)
+    se = math.sqrt(float(r0 @ r0) / dof / jj)
+    h = math.exp(log_h)
+    q = float(student_t.ppf(0.95, dof))
+    return h * se, (h * math.exp(-q * se), h * math.exp(q * se))

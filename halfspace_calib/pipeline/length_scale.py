@@ -14,7 +14,9 @@ __all__ = [
     "ISO_NESTING_INDICES",
     "ISO_SAMPLING_RATIO",
     "MIN_ELEMENTS_PER_LAMBDA_S",
+    "MIN_PATCH_LAMBDA_S",
     "check_lambda_s",
+    "check_patch_size",
     "default_lambda_s",
 ]
 
@@ -27,6 +29,19 @@ ISO_SAMPLING_RATIO = 3.0
 ELEMENTS_PER_LAMBDA_S = 16
 #: fewest elements per ``lambda_s`` that sample the filtered surface at all (below: warned)
 MIN_ELEMENTS_PER_LAMBDA_S = 2.0
+#: smallest patch edge, in ``lambda_s``, that represents a surface: measured
+#: (``benchmarks/patch_size.py``, docs/measured_surfaces.md "Patch size"), the smallest patch
+#: size at which ``mu_eff`` and ``C1`` of patches of one scan (metropro-1) scatter by at most the
+#: resolution check's 10 % (coefficient of variation 9.2 % at 16, 14.7 % at 8, 19.5 % at 4).
+#: Necessary, not sufficient: mnt-1 still scatters by 40 % at 32 ``lambda_s``; scans at the
+#: Bowden-Tabor limit (``C1`` close to 1) scatter by under 1 % from 4 on.
+MIN_PATCH_LAMBDA_S = 16
+#: the measured scatter quoted in the warning
+PATCH_SCATTER_NOTE = (
+    "on patches of one scan, mu_eff and C1 scattered between patches by 15 % (metropro-1) to "
+    "72 % (mnt-1) at 8 lambda_s (coefficient of variation; docs/measured_surfaces.md, "
+    "'Patch size')"
+)
 
 
 def default_lambda_s(side, pitch, max_grid):
@@ -68,4 +83,24 @@ def check_lambda_s(lambda_s, element, grid, side):
         f"grid {grid} has {k:.3g} elements per lambda_s = {lambda_s * 1e6:.4g} um, fewer than "
         f"the {ELEMENTS_PER_LAMBDA_S} of the default rule: it {what}; use --grid {good} "
         "or a larger --lambda-s",
+    )
+
+
+def check_patch_size(side, lambda_s):
+    """The warning (a note, the run goes on) for a patch too small to represent the surface.
+
+    Below :data:`MIN_PATCH_LAMBDA_S` ``lambda_s`` across, a patch's ``mu_eff`` and ``C1`` are
+    one draw of a wide scatter, not the surface's (measured, docs/measured_surfaces.md "Patch
+    size"). ``()`` without an S-filter (``lambda_s`` 0).
+    """
+    if not lambda_s:
+        return ()
+    k = side / lambda_s
+    if k >= MIN_PATCH_LAMBDA_S * (1 - 1e-9):
+        return ()
+    return (
+        f"the patch is {side * 1e6:.4g} um = {k:.3g} lambda_s across, fewer than "
+        f"{MIN_PATCH_LAMBDA_S} lambda_s, below which one patch does not represent the surface: "
+        f"{PATCH_SCATTER_NOTE}; measure a larger area, or cut a large scan into several "
+        "patches with --patches N and read the band over them",
     )

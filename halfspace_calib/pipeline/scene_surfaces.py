@@ -16,11 +16,15 @@ applies the policy of ``docs/measured_surfaces.md``:
 4. crop: both files to the largest common square (or ``crop_size``), centred on each scan;
 5. resample: the square patch is area-averaged onto square elements (exact integration of the
    piecewise-constant pixels, :func:`area_resample`); non-square pixels end as square elements;
-   the default grid resolves ``lambda_s`` with :data:`ELEMENTS_PER_LAMBDA_S` elements;
+   the default grid resolves ``lambda_s`` with :data:`ELEMENTS_PER_LAMBDA_S` elements. A scan
+   whose pixel is coarser than the element (two instruments: the coarser scan of the pair) is
+   S-filtered and so band-limited: its elements are the exact cell means of the filter's own
+   cosine series (:func:`band_limited_resample`), so the grid is not capped by its pixel;
 6. level: the least-squares plane over the patch is removed;
 7. plausibility: ``Rq`` of each levelled patch in :data:`RQ_RANGE`, the element edge between
    :data:`ELEMENT_PER_PIXEL` times the scan's coarser pixel pitch, the grid within memory;
-   a grid with fewer than :data:`ELEMENTS_PER_LAMBDA_S` elements per ``lambda_s`` is warned.
+   a grid with fewer than :data:`ELEMENTS_PER_LAMBDA_S` elements per ``lambda_s`` and a patch
+   fewer than :data:`MIN_PATCH_LAMBDA_S` ``lambda_s`` across are warned.
 
 Each step is recorded in a :class:`FileRecord` (the parameter file's provenance).
 """
@@ -37,13 +41,16 @@ import numpy as np
 from .. import topography as _surf
 from ..contact.normal import estimate_memory
 from ..topography.filters import l_filter, s_filter
+from ..topography.resample import area_resample, band_limited_resample
 from ..topography.synthesis import measured_surfaces
 from .length_scale import (
     ELEMENTS_PER_LAMBDA_S,
     ISO_NESTING_INDICES,
     ISO_SAMPLING_RATIO,
     MIN_ELEMENTS_PER_LAMBDA_S,
+    MIN_PATCH_LAMBDA_S,
     check_lambda_s,
+    check_patch_size,
     default_lambda_s,
 )
 
@@ -59,9 +66,11 @@ __all__ = [
     "ISO_SAMPLING_RATIO",
     "ELEMENTS_PER_LAMBDA_S",
     "MIN_ELEMENTS_PER_LAMBDA_S",
+    "MIN_PATCH_LAMBDA_S",
     "FileRecord",
     "SceneSurfaces",
     "area_resample",
+    "band_limited_resample",
     "check_memory",
     "default_lambda_s",
     "load_scene_surfaces",
@@ -156,7 +165,8 @@ class SceneSurfaces:
     averages are the solver surfaces; ``None`` for synthetic surfaces unless
     ``Scene.measured_n`` asked for them. ``lambda_s`` / ``lambda_c`` are the filters' nesting
     indices applied to the files (m; ``0.0`` / ``None``: none), ``lambda_s_source`` says where
-    ``lambda_s`` came from, ``notes`` are warnings for the user (grid coarse for ``lambda_s``).
+    ``lambda_s`` came from, ``notes`` are warnings for the user (grid coarse for ``lambda_s``, patch
+    fewer than :data:`MIN_PATCH_LAMBDA_S` ``lambda_s`` across).
     """
 
     workpiece: object
@@ -200,52 +210,6 @@ def check_memory(grid, periodic, name="grid"):
             f"(periodic={periodic}), more than the {MAX_MEMORY / 2**30:.0f} GiB limit; "
             "use a smaller grid"
         )
-
-
-def _axis_average(h, pitch, start, edge, m, axis):
-    """Average the pixel columns along ``axis`` over ``m`` cells ``[start + k e, start + (k+1) e)``.
-
-    The heights are piecewise constant over pixels of width ``pitch``; the cumulative integral
-    is piecewise linear, so interpolating it at the cell edges integrates exactly.
-    """
-    h = np.moveaxis(h, axis, 0)
-    n = h.shape[0]
-    cum = np.concatenate([np.zeros((1,) + h.shape[1:]), np.cumsum(h, axis=0) * pitch])
-    t = (start + edge * np.arange(m + 1)) / pitch  # cell edges in pixel units
-    t = np.clip(t, 0.0, n)
-    i = np.minimum(np.floor(t).astype(np.int64), n - 1)
-    w = (t - i)[:, None]
-    at = cum[i] * (1 - w) + cum[i + 1] * w
-    out = np.diff(at, axis=0) / edge
-    return np.moveaxis(out, 0, axis)
-
-
-def area_resample(surface, side, m):
-    """Average ``surface`` over an ``m x m`` grid of square cells covering a centred ``side`` square.
-
-    Exact area averaging of the piecewise-constant pixels (a pixel cut by a cell edge counts
-    with the part inside): on an integer ratio it is the block average, on non-square pixels
-    it gives square elements. The result is a new :class:`~halfspace_calib.topography.Surface`
-    with element ``side / m``; the operation is recorded in its provenance.
-    """
-    lx, ly = surface.size
-    if side > min(lx, ly) * (1 + 1e-9):
-        raise ValueError(f"side {side:g} m exceeds the surface's size {lx:g} x {ly:g} m")
-    e = side / m
-    x0, y0 = 0.5 * (lx - side), 0.5 * (ly - side)
-    same = surface.shape == (m, m) and math.isclose(surface.dx, e, rel_tol=1e-12)
-    if same and math.isclose(surface.dy, e, rel_tol=1e-12):
-        return surface
-    h = _axis_average(surface.heights, surface.dx, x0, e, m, 0)
-    h = _axis_average(h, surface.dy, y0, e, m, 1)
-    op = {
-        "op": "area_resample",
-        "side": side,
-        "shape": [m, m],
-        "origin": [x0, y0],
-        "from_pitch": [surface.dx, surface.dy],
-    }
-    return surface.derive(h, op, dx=e, dy=e, periodic=False)
 
 
 # ----------------------------------------------------------------------------- reading
@@ -344,15 +308,20 @@ def _default_grid(side, pitches, inclined, lambda_s=None):
     """The default solver grid of measured files.
 
     With an S-filter: :data:`ELEMENTS_PER_LAMBDA_S` elements per ``lambda_s`` (a multiple of 8),
-    at most the scans' native sampling and :data:`MAX_DEFAULT_GRID`; without one, the native
-    sampling on the common square, at most :data:`MAX_DEFAULT_GRID`.
+    at most :data:`MAX_DEFAULT_GRID`; not capped by the scans' pixel, because the filtered scans
+    are band-limited and a scan coarser than the element is interpolated exactly
+    (:func:`band_limited_resample`), except with the inclined effect, whose patch planes need
+    two measured points per element edge. Without a filter: the native sampling on the common
+    square (the coarser scan's pixel), at most :data:`MAX_DEFAULT_GRID`.
     """
     native = int(side / max(pitches) * (1 + 1e-9))
     if inclined:
         native //= 2  # two measured points per element edge for the patch planes
     n = native
     if lambda_s:
-        n = min(native, 8 * math.ceil(ELEMENTS_PER_LAMBDA_S * side / lambda_s / 8 - 1e-9))
+        n = 8 * math.ceil(ELEMENTS_PER_LAMBDA_S * side / lambda_s / 8 - 1e-9)
+        if inclined:
+            n = min(native, n)
     return max(8, min(n, MAX_DEFAULT_GRID))
 
 
@@ -367,14 +336,30 @@ def _check_rq(path, role, rq):
         )
 
 
-def _check_element(path, element, pitch, grid):
+def _check_element(path, element, pitch, grid, lambda_s=0.0):
+    """Refuse an element far from the scan's pixel (``ValueError`` naming ``--grid``).
+
+    With an S-filter the scan is band-limited and may be interpolated below its pixel
+    (:func:`band_limited_resample`), down to ``lambda_s`` / (2 :data:`ELEMENTS_PER_LAMBDA_S`):
+    one grid doubling beyond the default rule, for a convergence check.
+    """
     lo, hi = ELEMENT_PER_PIXEL
-    r = element / max(pitch)
-    if not lo <= r <= hi:
+    p = max(pitch)
+    if lambda_s:
+        lo = min(lo, lambda_s / (2 * ELEMENTS_PER_LAMBDA_S) / p)
+    r = element / p
+    if not lo * (1 - 1e-9) <= r <= hi:
         raise ValueError(
             f"{path}: grid={grid} gives elements of {element:.3g} m, {r:.3g} times the scan's "
-            f"pixel pitch {max(pitch):.3g} m (allowed {lo:g} .. {hi:g}); choose --grid so "
-            f"that the element is close to the scan's sampling (or check --size)"
+            f"pixel pitch {p:.3g} m (allowed {lo:.3g} .. {hi:g}"
+            + (
+                f"; below 0.5 down to lambda_s / {2 * ELEMENTS_PER_LAMBDA_S}, the filtered "
+                "scan being band-limited"
+                if lambda_s
+                else ""
+            )
+            + "); choose --grid so that the element is close to the scan's sampling (or check "
+            "--size, --lambda-s)"
         )
 
 
@@ -440,6 +425,15 @@ def load_scene_surfaces(scene, *, grid=None, check_sampling=True):
             f"pitches and >= {ELEMENTS_PER_LAMBDA_S} elements of the {side:.4g} m square at "
             f"grid {MAX_DEFAULT_GRID}"
         )
+        if lam > side * (1 + 1e-9):  # e.g. a scan of millimetre pixels with a 0.1 mm scan
+            coarse = max(raw.values(), key=lambda v: max(v[0].dx, v[0].dy))[0]
+            raise ValueError(
+                f"{coarse.provenance['path']} has pixels of {max(coarse.dx, coarse.dy):.3g} m: "
+                f"the default lambda_s (>= {ISO_SAMPLING_RATIO:g} of its pixels) is {lam:.3g} m, "
+                f"more than the files' common square of {side:.3g} m, so the scans cannot be "
+                "paired at the coarser one's resolution; give --lambda-s (m, at least 2 pixel "
+                "pitches of each file and at most the common square) or a scan of finer pixels"
+            )
     elif not lam:
         lam, lam_source = 0.0, "option: no S-filter"
     read = {r: _filtered(scene, r, lam) for r in roles}
@@ -447,7 +441,9 @@ def load_scene_surfaces(scene, *, grid=None, check_sampling=True):
         n = _default_grid(side, pitches, inclined, lam)
     check_memory(n, scene.periodic)
     element = side / n
-    notes = check_lambda_s(lam, element, n, side) if check_sampling else ()
+    notes = ()
+    if check_sampling:  # not for the resolution check's half grid
+        notes = check_lambda_s(lam, element, n, side) + check_patch_size(side, lam)
     block = max(1, min(int(element / max(s.dx, s.dy) + 1e-9) for s, _ in read.values()))
     if inclined and block < 2:
         raise ValueError(
@@ -460,7 +456,7 @@ def load_scene_surfaces(scene, *, grid=None, check_sampling=True):
     fine, records = {}, []
     for role, (s, steps) in read.items():
         if check_sampling:
-            _check_element(s.provenance["path"], element, (s.dx, s.dy), n)
+            _check_element(s.provenance["path"], element, (s.dx, s.dy), n, lam)
         steps = list(steps)
         lx, ly = s.size
         if not (math.isclose(lx, side, rel_tol=1e-9) and math.isclose(ly, side, rel_tol=1e-9)):
@@ -474,12 +470,20 @@ def load_scene_surfaces(scene, *, grid=None, check_sampling=True):
                 "elements (area average)"
             )
         m = n * block
-        r = area_resample(s, side, m)
-        if r is not s:
+        if lam and max(s.dx, s.dy) > side / m * (1 + 1e-9):  # pixel coarser than the element
+            r = band_limited_resample(s, side, m)
             steps.append(
-                f"area-averaged from {s.shape[0]} x {s.shape[1]} points to {m} x {m} "
-                f"({side / m * 1e6:.4g} um square elements)"
+                f"interpolated (band-limited: exact cell means of the S-filtered scan's cosine "
+                f"series) from {s.shape[0]} x {s.shape[1]} points of {s.dx * 1e6:.4g} x "
+                f"{s.dy * 1e6:.4g} um to {m} x {m} ({side / m * 1e6:.4g} um square elements)"
             )
+        else:
+            r = area_resample(s, side, m)
+            if r is not s:
+                steps.append(
+                    f"area-averaged from {s.shape[0]} x {s.shape[1]} points to {m} x {m} "
+                    f"({side / m * 1e6:.4g} um square elements)"
+                )
         r = _surf.level(r)
         steps.append("levelled: least-squares plane a + b x + c y removed over the patch")
         rq = _surf.rq(r)

@@ -49,6 +49,7 @@ from scipy.stats import t as student_t
 from frictionlaw import alpha_first, alpha_reload
 from frictionlaw.uncertainty import Band, Interval, SampleLaw, Uncertainty
 
+from ..common.blas import serial_blas
 from . import fit as _fit
 from .alpha_bound import floor_fit, floor_violation
 
@@ -95,6 +96,7 @@ def curves_of(name, sweeps):
     return SampleCurves(name, p, a, tuple(sweeps.reload_curves()))
 
 
+@serial_blas
 def pooled_fit(samples, H, *, continuous=False, alpha_floor=None):
     """``(FirstLoadingFit, ReloadFit)`` of Eqs. 24-25 to all samples' points at once.
 
@@ -238,6 +240,7 @@ def _curves(law, grid1, grid2):
     return out
 
 
+@serial_blas
 def bootstrap_laws(
     samples, central, *, n_bootstrap=N_BOOTSTRAP, seed=0, continuous=False, floor_to=None
 ):
@@ -257,6 +260,7 @@ def bootstrap_laws(
     return boot
 
 
+@serial_blas
 def bootstrap_uncertainty(
     samples,
     central,

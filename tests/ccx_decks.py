@@ -1,0 +1,223 @@
+"""CalculiX input decks and output parsing for tests/test_calculix.py (units mm, t, s: MPa, N).
+
+Two blocks of linear C3D8 elements: a 20 x 20 x 5 mm base (fixed at its bottom) and a
+10 x 10 x 5 mm block on it, pressed by a pressure on its top face and moved sideways by a prescribed
+displacement of its top face. The block's bottom face is the slave surface of node-to-surface
+penalty contact; its nodes carry the contact areas of :func:`slave_areas`. And :func:`ring`, the
+axisymmetric ring compression of ``fe-demo ring``.
+"""
+
+import re
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["two_blocks", "slave_areas", "read_dat", "ring", "SLAVE0"]
+
+#: first node number of the block (its bottom layer is the slave surface)
+SLAVE0 = 1001
+
+
+def _block(origin, size, divisions, n0, e0):
+    axes = [np.linspace(o, o + s, d + 1) for o, s, d in zip(origin, size, divisions, strict=True)]
+    nx, ny, nz = divisions
+    ids = np.arange((nx + 1) * (ny + 1) * (nz + 1)).reshape(nz + 1, ny + 1, nx + 1) + n0
+    nodes = {}
+    for k in range(nz + 1):
+        for j in range(ny + 1):
+            for i in range(nx + 1):
+                nodes[int(ids[k, j, i])] = (axes[0][i], axes[1][j], axes[2][k])
+    elements = {}
+    e = e0
+    for k in range(nz):
+        for j in range(ny):
+            for i in range(nx):
+                c = ids[k : k + 2, j : j + 2, i : i + 2]
+                conn = [c[0, 0, 0], c[0, 0, 1], c[0, 1, 1], c[0, 1, 0]]
+                conn += [c[1, 0, 0], c[1, 0, 1], c[1, 1, 1], c[1, 1, 0]]
+                elements[e] = (k, [int(v) for v in conn])
+                e += 1
+    return nodes, elements, ids
+
+
+def two_blocks(steps, interaction, *, n=3, slope=1e6):
+    """The deck's text.
+
+    Parameters
+    ----------
+    steps : list of (pressure_MPa, ux_mm)
+        Values at the end of each static step (ramped from the previous step's).
+    interaction : list of str
+        Lines after ``*SURFACE INTERACTION, NAME=...`` (its first line included), e.g. the
+        docs' ``*SURFACE INTERACTION, NAME=SBMF`` / ``*FRICTION, USER, DEPVAR=3``; a
+        ``*SURFACE BEHAVIOR`` with a linear pressure-overclosure of ``slope`` MPa/mm is appended.
+    n : int
+        Elements along each side of the block's contact face.
+    """
+    nb, eb, ib = _block((0, 0, -5), (20, 20, 5), (4, 4, 1), 1, 1)
+    nt, et, it = _block((5, 5, 0), (10, 10, 5), (n, n, 2), SLAVE0, 1001)
+    name = interaction[0].split("NAME=")[1].strip()
+    out = ["*HEADING", "two blocks: press, slide, unload, reload", "*NODE"]
+    for nodes in (nb, nt):
+        out += [f"{k}, {x:.10g}, {y:.10g}, {z:.10g}" for k, (x, y, z) in nodes.items()]
+    for elset, els in (("EBASE", eb), ("EBLOCK", et)):
+        out.append(f"*ELEMENT, TYPE=C3D8, ELSET={elset}")
+        out += [f"{e}, " + ", ".join(map(str, c)) for e, (_, c) in els.items()]
+    # C3D8 faces: S1 = nodes 1-2-3-4 (z-), S2 = nodes 5-6-7-8 (z+)
+    out.append("*SURFACE, NAME=SMASTER")
+    out += [f"{e}, S2" for e, (k, _) in eb.items() if k == 0]
+    out.append("*SURFACE, NAME=SSLAVE")
+    out += [f"{e}, S1" for e, (k, _) in et.items() if k == 0]
+    out.append("*NSET, NSET=NBASE")
+    out += [f"{v}," for v in ib[0].ravel()]
+    out.append("*NSET, NSET=NTOP")
+    out += [f"{v}," for v in it[-1].ravel()]
+    out += [
+        "*MATERIAL, NAME=STEEL",
+        "*ELASTIC",
+        "210000., 0.3",
+        "*SOLID SECTION, ELSET=EBASE, MATERIAL=STEEL",
+        "*SOLID SECTION, ELSET=EBLOCK, MATERIAL=STEEL",
+        *interaction,
+        "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR",
+        f"{slope:g}, 0.01",
+        f"*CONTACT PAIR, INTERACTION={name}, TYPE=NODE TO SURFACE",
+        "SSLAVE, SMASTER",
+        "*BOUNDARY",
+        "NBASE, 1, 3, 0.",
+    ]
+    top = [e for e, (k, _) in et.items() if k == 1]
+    for p, ux in steps:
+        out += ["*STEP, INC=200", "*STATIC", "0.1, 1.0, 1e-5, 0.25", "*BOUNDARY"]
+        out += [f"NTOP, 1, 1, {ux:.10g}", "NTOP, 2, 2, 0.", "*DLOAD"]
+        out += [f"{e}, P2, {p:.10g}" for e in top]
+        out += ["*NODE PRINT, NSET=NTOP", "RF", "*CONTACT PRINT", "CSTR", "*END STEP"]
+    return "\n".join(out) + "\n"
+
+
+def slave_areas(n=3, side=10.0):
+    """Contact area of each slave node (mm^2): a quarter of each adjacent face."""
+    a = (side / n) ** 2
+    w = np.zeros((n + 1, n + 1))
+    for j in range(n):
+        for i in range(n):
+            w[j : j + 2, i : i + 2] += a / 4
+    return {SLAVE0 + k: float(v) for k, v in enumerate(w.ravel())}
+
+
+_HEAD = re.compile(r"\s*(forces|contact stress) .*time\s+(\S+)")
+
+
+def read_dat(path):
+    """Output times of a ``.dat`` file: ``[(time, forces, contact)]``.
+
+    ``forces[node] = (fx, fy, fz)`` of ``*NODE PRINT, RF``; ``contact[node] = (p, tau1, tau2)``
+    of ``*CONTACT PRINT, CSTR``.
+    """
+    blocks = {}
+    cur = None
+    for line in Path(path).read_text().splitlines():
+        m = _HEAD.match(line)
+        if m:
+            kind = "forces" if m.group(1) == "forces" else "contact"
+            cur = blocks.setdefault(float(m.group(2)), {"forces": {}, "contact": {}})[kind]
+            continue
+        parts = line.split()
+        if cur is not None and len(parts) == 4:
+            try:
+                cur[int(parts[0])] = tuple(float(v) for v in parts[1:])
+            except ValueError:
+                cur = None
+    return [(t, b["forces"], b["contact"]) for t, b in sorted(blocks.items())]
+
+
+def _swift_table(K=530.0, eps0=0.006, n=0.24, eps_max=3.0, points=60):
+    """``*PLASTIC`` rows (MPa, plastic strain) of the Swift curve, denser at small strain."""
+    ep = np.concatenate([[0.0], np.geomspace(1e-4, eps_max, points - 1)])
+    return [f"{K * (eps0 + e) ** n:.8g}, {e:.8g}" for e in ep]
+
+
+def ring(interaction, *, nr=12, nz=None, od=18.0, idia=9.0, h=6.0, reduction=0.3, n_inc=30):
+    """Axisymmetric ring compression (CAX4, half height, mm): the deck of ``fe-demo ring``.
+
+    The ring's upper half (symmetry at z = 0) under a flat die of 1000x steel's stiffness whose
+    top is moved down by ``reduction * h / 2`` in ``n_inc`` fixed increments; DC04's Swift curve
+    (fe_demo.material.DC04) as isotropic hardening, NLGEOM. Node 1 is the inner mid-plane node;
+    the die's top nodes form NDIE.
+    """
+    ri, ro, hh = idia / 2, od / 2, h / 2
+    if nz is None:
+        nz = max(1, round(nr * hh / (ro - ri)))
+    rs, zs = np.linspace(ri, ro, nr + 1), np.linspace(0.0, hh, nz + 1)
+    ids = np.arange((nr + 1) * (nz + 1)).reshape(nz + 1, nr + 1) + 1
+    out = ["*HEADING", "ring compression, user friction", "*NODE"]
+    out += [
+        f"{ids[k, i]}, {rs[i]:.10g}, {zs[k]:.10g}" for k in range(nz + 1) for i in range(nr + 1)
+    ]
+    # die: r from 0 to 1.5 od, 2 layers, elements about the ring's size
+    nd = int(np.ceil(1.5 * ro / ((ro - ri) / nr)))
+    rd, zd = np.linspace(0.0, 1.5 * ro, nd + 1), np.linspace(hh, hh + 1.0, 3)
+    dids = np.arange((nd + 1) * 3).reshape(3, nd + 1) + 100001
+    out += [f"{dids[k, i]}, {rd[i]:.10g}, {zd[k]:.10g}" for k in range(3) for i in range(nd + 1)]
+    out.append("*ELEMENT, TYPE=CAX4R, ELSET=ERING")
+    e = 1
+    faces = []  # the top face and the free sides, which fold onto the die as the ring barrels
+    for k in range(nz):
+        for i in range(nr):
+            out.append(f"{e}, {ids[k, i]}, {ids[k, i + 1]}, {ids[k + 1, i + 1]}, {ids[k + 1, i]}")
+            if k == nz - 1:
+                faces.append(f"{e}, S3")
+            if i == 0:
+                faces.append(f"{e}, S4")
+            if i == nr - 1:
+                faces.append(f"{e}, S2")
+            e += 1
+    out.append("*ELEMENT, TYPE=CAX4, ELSET=EDIE")
+    e = 100001
+    bottom = []
+    for k in range(2):
+        for i in range(nd):
+            out.append(
+                f"{e}, {dids[k, i]}, {dids[k, i + 1]}, {dids[k + 1, i + 1]}, {dids[k + 1, i]}"
+            )
+            if k == 0:
+                bottom.append(e)
+            e += 1
+    # CAX4 faces: S1 = nodes 1-2 (bottom), S2 = 2-3 (outer), S3 = 3-4 (top), S4 = 4-1 (inner)
+    out += ["*SURFACE, NAME=SRING", *faces]
+    out += ["*SURFACE, NAME=SDIE", *[f"{el}, S1" for el in bottom]]
+    out += ["*NSET, NSET=NSYM", *[f"{v}," for v in ids[0]]]
+    out += ["*NSET, NSET=NDIE", *[f"{v}," for v in dids[-1]]]
+    out += ["*NSET, NSET=NINNER", "1,"]
+    out += [
+        "*MATERIAL, NAME=DC04",
+        "*ELASTIC",
+        "210000., 0.3",
+        "*PLASTIC",
+        *_swift_table(),
+        "*MATERIAL, NAME=DIE",
+        "*ELASTIC",
+        "2.1e8, 0.3",
+        "*SOLID SECTION, ELSET=ERING, MATERIAL=DC04",
+        "*SOLID SECTION, ELSET=EDIE, MATERIAL=DIE",
+        *interaction,
+        "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR",
+        "1e6, 0.01",
+        f"*CONTACT PAIR, INTERACTION={interaction[0].split('NAME=')[1].strip()}, "
+        "TYPE=NODE TO SURFACE",
+        "SRING, SDIE",
+        "*BOUNDARY",
+        "NSYM, 2, 2, 0.",
+        "NDIE, 1, 1, 0.",
+        f"*STEP, NLGEOM, INC={10 * n_inc}",
+        "*STATIC",
+        f"{1.0 / n_inc:.10g}, 1.0, 1e-5, {1.0 / n_inc:.10g}",
+        "*BOUNDARY",
+        f"NDIE, 2, 2, {-reduction * hh:.10g}",
+        "*NODE PRINT, NSET=NDIE, TOTALS=ONLY",
+        "RF",
+        "*NODE PRINT, NSET=NINNER",
+        "U",
+        "*END STEP",
+    ]
+    return "\n".join(out) + "\n"
