@@ -32,9 +32,9 @@ about 5-8 solves, so refinement with a stored one does not pay: over the whole T
 elements, refinement with at most 3 steps took 37.5 s of CPU, a fresh factorisation per Newton
 iteration 35.2 s. With PARDISO every solve therefore factorises afresh (``reuse`` applies to
 SuperLU only). MKL's two threads took 0.15 s of CPU (and as much wall time) per unsymmetric
-factorisation on the loaded machine against 0.085 s with one, and one 5,000-element run went from
-6 s to 28 s wall with two threads while another job ran, so the default is one thread (``threads``,
-at most 2). ``backend="auto"`` takes PARDISO when pypardiso imports and SuperLU otherwise. The
+factorisation on the loaded machine against 0.085 s with one; a whole 5,000-element run took 28.0 s
+wall with two threads against 7.6 s with one while another job ran, and 5.4 s against 6.0 s (8.9
+against 6.0 s of CPU) when it paused. So the default is one thread (``threads``, at most 2). ``backend="auto"`` takes PARDISO when pypardiso imports and SuperLU otherwise. The
 whole-run effect: docs/fe_demo.md.
 """
 
