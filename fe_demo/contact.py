@@ -30,7 +30,10 @@ import numpy as np
 
 from frictionlaw import HistoryState, traction_update
 
-__all__ = ["nodal_areas", "DieContact", "ContactEval"]
+__all__ = ["nodal_areas", "DieContact", "ContactEval", "FREEZE_AFTER"]
+
+#: branch flips of a node within one increment after which its branch is frozen on Eq. 24
+FREEZE_AFTER = 3
 
 
 def nodal_areas(x, edges, nodes):
@@ -91,6 +94,13 @@ class DieContact:
         self.p_old = np.zeros(self.nodes.size)
         self.last = None
         self.k_t_used = (math.inf, 0.0)  # smallest, largest k_t (Pa/m) on a node in contact
+        self._reset_branches()
+        self.n_frozen = 0  # node evaluations on a frozen first-loading branch (summary.json)
+
+    def _reset_branches(self):
+        """Forget the branch flips of the increment (after a commit or a cut-back)."""
+        self._below = np.zeros(self.nodes.size, dtype=bool)
+        self._flips = np.zeros(self.nodes.size, dtype=np.int64)
 
     def k_t_table(self):
         """The law's calibrated ``k_t(p)`` table, or ``None`` (then the penalty ``eps_t``)."""
@@ -148,7 +158,7 @@ class DieContact:
             self.state.propose(p)
         else:
             res = traction_update(
-                self.law, p, dur, self.tau_old, self.stick_stiffness(), self.state
+                self.law, p, dur, self.tau_old, self.stick_stiffness(), *self._history(p, active)
             )
             tau, status = res.traction, res.status
             fr = tau * area
@@ -160,6 +170,33 @@ class DieContact:
         self.last = ev
         return ev
 
+    def _history(self, p, active):
+        """The history ``traction_update`` sees: the node's, or a frozen first-loading branch.
+
+        Eq. 25 jumps below Eq. 24 at ``p = p_hist`` (unless the law is continuous). A node whose
+        pressure sits at its history then flips between the branches from one Newton iteration
+        to the next, its traction jumps by the law's reload jump each time, and Newton cannot
+        converge (measured: a ring with sur-3's law stalled at ``|R|/|f| = 2.2e-4`` after 7
+        cut-backs). A node that has flipped :data:`FREEZE_AFTER` times in the increment is
+        evaluated on Eq. 24 at its pressure for the rest of the increment (it is at its history,
+        where the law is two-valued); its trial ``p_hist`` stays ``max(p_hist, p)``.
+        """
+        params = getattr(self.law, "params", None)
+        if not getattr(self.law, "uses_history", False) or getattr(
+            params, "continuous_reload", False
+        ):
+            return (self.state,)  # no history, or no jump to chatter across
+        hist = self.state.committed_array()
+        below = active & (p < hist)
+        self._flips += below != self._below
+        self._below = below
+        frozen = below & (self._flips >= FREEZE_AFTER)
+        if not frozen.any():
+            return (self.state,)
+        self.n_frozen += int(frozen.sum())
+        self.state.propose(p)  # the real trial history, max(p_hist, p)
+        return (HistoryState(p_hist=np.where(frozen, p, hist)),)
+
     def commit(self, ev):
         """Accept the increment: traction becomes the old traction, ``p_hist`` is committed."""
         if self.law is not None and self.k_t_table() is not None and (ev.p > 0).any():
@@ -169,6 +206,7 @@ class DieContact:
         self.tau_old = np.where(ev.p > 0, ev.tau, 0.0)
         self.p_old = np.maximum(ev.p, 0.0)
         self.state.commit()
+        self._reset_branches()
 
     def reset_history(self):
         """Forget the committed ``p_hist`` (a law without history, for comparisons)."""
@@ -177,3 +215,4 @@ class DieContact:
     def rollback(self):
         """Cut-back: discard the trial ``p_hist``."""
         self.state.rollback()
+        self._reset_branches()

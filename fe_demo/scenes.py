@@ -291,6 +291,7 @@ def _press(
             "krylov_iterations": model.linear.n_krylov_iterations,
         },
         "tangential_stiffness": model.contact.stiffness_record(),
+        "frozen_branch_evaluations": model.contact.n_frozen,
         "calibrated_range": range_summary(model, hist),
     }
     return SceneResult(ok, msg, hist, model, wall, snaps, info)
@@ -544,6 +545,7 @@ def run_multistage(
             "krylov_iterations": model.linear.n_krylov_iterations,
         },
         "tangential_stiffness": model.contact.stiffness_record(),
+        "frozen_branch_evaluations": model.contact.n_frozen,
         "calibrated_range": range_summary(model, hist),
     }
     return SceneResult(ok, msg, hist, model, wall, snaps, info)
