@@ -48,6 +48,7 @@ import numpy as np
 
 from .. import topography as _surf
 from ..common.jobs import run_jobs
+from ..topography import chain
 from .calibration import Calibration, calibrate
 from .scene_surfaces import MAX_DEFAULT_GRID, SceneSurfaces, _synthetic_one, load_scene_surfaces
 from .sweeps import FailedLevel, SweepResult
@@ -235,7 +236,8 @@ def cut_patches(surfs, k, where, grid):
         pair = []
         for s in (surfs.workpiece, surfs.tool):
             op = {"op": "patch", "index": [i, j], "layout": [k, k], "shape": [grid, grid]}
-            pair.append(_surf.level(s.derive(np.array(s.heights[sl]), op, periodic=False)))
+            cut = s.derive(np.array(s.heights[sl]), op, periodic=False)
+            pair.append(chain.level_patch(cut)[0])  # the chain's last stage, on the patch
         recs = tuple(
             dataclasses.replace(
                 r,

@@ -36,11 +36,10 @@ import math
 import os
 from dataclasses import asdict, dataclass
 
-import numpy as np
-
 from .. import topography as _surf
 from ..contact.normal import estimate_memory
-from ..topography.filters import l_filter, s_filter
+from ..topography import chain
+from ..topography.chain import SQUARE_PIXEL_RTOL
 from ..topography.resample import area_resample, band_limited_resample
 from ..topography.synthesis import measured_surfaces
 from .length_scale import (
@@ -83,8 +82,6 @@ RQ_RANGE = (1e-9, 1e-3)
 #: allowed element edge / coarser pixel pitch of a scan: below 0.5 the solver would invent
 #: detail the scan does not hold; above 64 it averages the roughness away
 ELEMENT_PER_PIXEL = (0.5, 64.0)
-#: pixels whose pitches differ by less than this (relative) count as square
-SQUARE_PIXEL_RTOL = 0.01
 #: solver grid of synthetic scenes
 SYNTHETIC_GRID = 128
 #: largest grid the default for measured files picks (the time budget: about 1 min per
@@ -256,25 +253,12 @@ def _read_cached(path, stamp, role, unit, size, max_undefined):
         raise
     except OSError as exc:
         raise ValueError(f"{path}: cannot read the file ({exc.strerror or exc})") from None
-    bad = int(np.count_nonzero(np.isnan(h)))
-    frac = bad / h.size
-    if frac > max_undefined:
-        raise ValueError(
-            f"{path}: {100 * frac:.1f} % of the points are undefined (not measured), more "
-            f"than --max-undefined = {100 * max_undefined:g} %; fill them yourself, "
-            f"crop the scan, or raise --max-undefined (a fraction in [0, 1])"
-        )
-    steps = []
-    if bad:
-        h = _surf.fill_harmonic(h)
-        steps.append(
-            f"filled {bad} undefined points ({100 * frac:.2f} %) with the harmonic interpolant"
-        )
+    h, steps, bad = chain.fill_holes(h, max_undefined, path)
     prov["undefined_points"] = bad
     s = _surf.Surface(h, dx, dy, provenance=prov, periodic=False)
     prov["rq_scan"] = _surf.rq(_surf.level(s))
     s = _surf.Surface(h, dx, dy, provenance=prov, periodic=False)
-    return s, tuple(steps)
+    return s, steps
 
 
 @functools.lru_cache(maxsize=4)
@@ -283,25 +267,12 @@ def _filtered_cached(path, stamp, role, unit, size, max_undefined, lambda_s, lam
     s, steps = _read_cached(path, stamp, role, unit, size, max_undefined)
     if not lambda_s and lambda_c is None:
         return s, steps
-    steps = list(steps)
-    f = _surf.level(s)
-    steps.append("levelled: least-squares plane removed over the whole scan")
+    f, levelled = chain.level_scan(s)
     try:
-        if lambda_c is not None:
-            f = l_filter(f, lambda_c)
-            steps.append(
-                f"L-filter (ISO 16610-61 Gaussian), lambda_c = {lambda_c * 1e6:.4g} um: "
-                "longer wavelengths removed"
-            )
-        if lambda_s:
-            f = s_filter(f, lambda_s)
-            steps.append(
-                f"S-filter (ISO 16610-61 Gaussian), lambda_s = {lambda_s * 1e6:.4g} um: "
-                "shorter wavelengths removed (50 % amplitude at lambda_s)"
-            )
+        f, filtered = chain.filter_scan(f, lambda_s, lambda_c)
     except ValueError as exc:
         raise ValueError(f"{path}: {exc} (--lambda-s / --lambda-c)") from None
-    return f, tuple(steps)
+    return f, steps + levelled + filtered
 
 
 def _default_grid(side, pitches, inclined, lambda_s=None):
@@ -457,35 +428,10 @@ def load_scene_surfaces(scene, *, grid=None, check_sampling=True):
     for role, (s, steps) in read.items():
         if check_sampling:
             _check_element(s.provenance["path"], element, (s.dx, s.dy), n, lam)
-        steps = list(steps)
         lx, ly = s.size
-        if not (math.isclose(lx, side, rel_tol=1e-9) and math.isclose(ly, side, rel_tol=1e-9)):
-            steps.append(
-                f"cropped from {lx * 1e6:.4g} x {ly * 1e6:.4g} um to the centred "
-                f"{side * 1e6:.4g} x {side * 1e6:.4g} um square"
-            )
-        if not math.isclose(s.dx, s.dy, rel_tol=SQUARE_PIXEL_RTOL):
-            steps.append(
-                f"non-square pixels {s.dx * 1e6:.4g} x {s.dy * 1e6:.4g} um resampled to square "
-                "elements (area average)"
-            )
-        m = n * block
-        if lam and max(s.dx, s.dy) > side / m * (1 + 1e-9):  # pixel coarser than the element
-            r = band_limited_resample(s, side, m)
-            steps.append(
-                f"interpolated (band-limited: exact cell means of the S-filtered scan's cosine "
-                f"series) from {s.shape[0]} x {s.shape[1]} points of {s.dx * 1e6:.4g} x "
-                f"{s.dy * 1e6:.4g} um to {m} x {m} ({side / m * 1e6:.4g} um square elements)"
-            )
-        else:
-            r = area_resample(s, side, m)
-            if r is not s:
-                steps.append(
-                    f"area-averaged from {s.shape[0]} x {s.shape[1]} points to {m} x {m} "
-                    f"({side / m * 1e6:.4g} um square elements)"
-                )
-        r = _surf.level(r)
-        steps.append("levelled: least-squares plane a + b x + c y removed over the patch")
+        r, resampled = chain.crop_resample(s, side, n * block, lam)
+        r, levelled = chain.level_patch(r)
+        steps = steps + resampled + levelled
         rq = _surf.rq(r)
         _check_rq(s.provenance["path"], role, s.provenance["rq_scan"])
         rq_filtered = _surf.rq(_surf.level(s))  # the whole scan as it is resampled

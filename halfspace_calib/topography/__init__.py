@@ -5,8 +5,13 @@
 - :mod:`.synthesis`: the self-affine generator, the paper's presets (Table 1) and the measured
   maps of the geometric study
 - :mod:`.files`: reading plain and instrument files, filling undefined points, writing
+- :mod:`.filters`: the ISO 16610-61 Gaussian S- and L-filters
+- :mod:`.resample`: area averaging and band-limited interpolation onto square elements
+- :mod:`.chain`: the preparation of a measured surface as a chain of stages (fill holes, level,
+  filter, crop and resample, level), each returning the surface and its lines of provenance
 """
 
+from . import chain
 from .files import fill_harmonic, read_raw, read_surface, write_surface
 from .surface import (
     Roughness,
@@ -33,6 +38,7 @@ from .synthesis import (
 )
 
 __all__ = [
+    "chain",
     "PAPER_SIZE",
     "RA_RQ_RANGE",
     "TABLE1",
