@@ -101,28 +101,20 @@ def test_h_is_recovered_from_scans_of_a_finer_truth(scans):
     assert fit.as_dict()["H_std"] == fit.H_std
 
 
-def test_cli_fits_h_from_scans_and_records_its_uncertainty(scans, tmp_path, capsys):
-    out = tmp_path / "out"
-    code = main(
+def _cli(scans, table, out, grid, *extra):
+    """``halfspace-calib`` on the sheet and tool files with ``--after-contact table``."""
+    return main(
         [
-            "--workpiece",
-            str(scans / "sheet.txt"),
-            "--tool",
-            str(scans / "tool.txt"),
-            "--grid",
-            "64",
-            "--lambda-s",
-            str(LAMBDA_S),
-            "--after-contact",
-            str(scans / "scans.csv"),
-            "--no-resolution-check",
-            "--workers",
-            "1",
-            "--quiet",
-            "--out",
-            str(out),
+            *("--workpiece", str(scans / "sheet.txt"), "--tool", str(scans / "tool.txt")),
+            *("--grid", grid, *extra, "--after-contact", str(table)),
+            *("--no-resolution-check", "--workers", "1", "--quiet", "--out", str(out)),
         ]
     )
+
+
+def test_cli_fits_h_from_scans_and_records_its_uncertainty(scans, tmp_path, capsys):
+    out = tmp_path / "out"
+    code = _cli(scans, scans / "scans.csv", out, "64", "--lambda-s", str(LAMBDA_S))
     assert code == 0, capsys.readouterr().err
     fit = json.loads((out / "hardness_fit.json").read_text())
     assert abs(fit["H"] / H_TRUE - 1) < 0.05
@@ -146,21 +138,7 @@ def test_cli_fits_h_from_scans_and_records_its_uncertainty(scans, tmp_path, caps
 def test_bad_scan_tables_exit_2_naming_the_row(scans, tmp_path, capsys, table, message):
     bad = scans / f"bad_{abs(hash(table))}.csv"
     bad.write_text(table)
-    code = main(
-        [
-            "--workpiece",
-            str(scans / "sheet.txt"),
-            "--tool",
-            str(scans / "tool.txt"),
-            "--grid",
-            "32",
-            "--after-contact",
-            str(bad),
-            "--quiet",
-            "--out",
-            str(tmp_path / "out"),
-        ]
-    )
+    code = _cli(scans, bad, tmp_path / "out", "32")
     err = capsys.readouterr().err
     assert code == 2
     assert message in err and "Traceback" not in err
