@@ -76,8 +76,10 @@ stamp="$work/patched.sha256"
 if [ ! -f "$stamp" ] || [ "$(cat "$stamp")" != "$patch_sum" ] || [ ! -f "$src/ccx_$version.a" ]; then
     # the source: Debian's calculix-ccx 2.20 (Debian's own patches applied by apt-get source)
     rm -rf "$work/calculix-ccx-$version" "$stamp"
+    # (|| true: awk stops reading at the first match, and under pipefail a SIGPIPE of
+    # apt-cache must not end the script)
     debver="$(apt-cache showsrc calculix-ccx 2>/dev/null | awk -v v="$version" \
-        '$1 == "Version:" && index($2, v "-") == 1 {print $2; exit}')"
+        '$1 == "Version:" && index($2, v "-") == 1 {print $2; exit}' || true)"
     if [ -z "$debver" ]; then
         {
             echo "build.sh: apt knows no source package calculix-ccx $version."
