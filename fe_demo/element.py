@@ -141,9 +141,8 @@ def _kinematics_numba(x, t):
     dV = np.empty((ne, nq))
     r = np.empty((ne, nq))
     dNdx = np.empty((ne, nq, 4, 2))
-    x = np.ascontiguousarray(x, dtype=float)
     t = np.ascontiguousarray(t, dtype=np.int64)
-    min_det = _kernels.kinematics(x, t, _N, _DN, _W, B, dV, r, dNdx)
+    min_det = _kernels.kinematics(_c(x), t, _N, _DN, _W, B, dV, r, dNdx)
     return Kinematics(B, dV, r, dNdx, min_det > 0, min_det)
 
 
@@ -183,11 +182,11 @@ def strain_increment(kin, edofs, du, sigma, kernels="numpy"):
         d_eps = np.empty(kin.B.shape[:3])
         sig_rot = np.empty(kin.B.shape[:3])
         _kernels.strain_spin_rotate(
-            np.ascontiguousarray(kin.B),
-            np.ascontiguousarray(kin.dNdx),
+            _c(kin.B),
+            _c(kin.dNdx),
             np.ascontiguousarray(edofs, dtype=np.int64),
-            np.ascontiguousarray(du, dtype=float),
-            np.ascontiguousarray(sigma, dtype=float),
+            _c(du),
+            _c(sigma),
             d_eps,
             sig_rot,
         )
@@ -317,9 +316,7 @@ def internal_force(kin, sigma, kernels="numpy"):
     ne = kin.B.shape[0]
     if check_kernels(kernels) == "numba":
         fe = np.empty((ne, 8))
-        _kernels.internal_force(
-            np.ascontiguousarray(kin.B), np.ascontiguousarray(kin.dV), _c(sigma), fe
-        )
+        _kernels.internal_force(_c(kin.B), _c(kin.dV), _c(sigma), fe)
         return fe
     return np.matmul(_weighted_bt(kin), sigma.reshape(ne, -1, 1))[..., 0]
 
@@ -329,7 +326,7 @@ def stiffness(kin, D, kernels="numpy"):
     ne = kin.B.shape[0]
     if check_kernels(kernels) == "numba":
         ke = np.empty((ne, 8, 8))
-        _kernels.stiffness(np.ascontiguousarray(kin.B), np.ascontiguousarray(kin.dV), _c(D), ke)
+        _kernels.stiffness(_c(kin.B), _c(kin.dV), _c(D), ke)
         return ke
     DB = np.matmul(D, kin.B)  # (ne, nq, 4, 8)
     return np.matmul(_weighted_bt(kin), DB.reshape(ne, -1, 8))

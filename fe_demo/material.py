@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from . import _kernels
+from .element import check_kernels
 
 __all__ = ["Material", "DC04", "radial_return", "elastic_matrix", "von_mises"]
 
@@ -158,10 +159,8 @@ def radial_return(mat, sigma_old, eps_p_old, d_eps, *, tol=1e-12, max_iter=50, k
     RuntimeError
         The local Newton iteration did not converge at some point.
     """
-    if kernels == "numba":
+    if check_kernels(kernels) == "numba":
         return _radial_return_numba(mat, sigma_old, eps_p_old, d_eps, tol, max_iter)
-    if kernels != "numpy":
-        raise ValueError(f"kernels must be 'numpy' or 'numba', got {kernels!r}")
     G, Kb = mat.G, mat.bulk
     De = elastic_matrix(mat)
     sig_tr = sigma_old + np.einsum("ij,...j->...i", De, d_eps)

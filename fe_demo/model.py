@@ -31,7 +31,7 @@ from .element import (
     stiffness,
     strain_increment,
 )
-from .linsolve import TangentSolver
+from .linsolve import TangentSolver, _norm
 from .material import DC04, radial_return
 
 __all__ = ["SolverOptions", "IncrementResult", "FormingModel", "Timings"]
@@ -129,11 +129,6 @@ class Timings:
             "solve": self.solve,
             "contact": self.contact,
         }
-
-
-def _norm(v):
-    """Euclidean norm without BLAS (whose threads stall on a loaded machine)."""
-    return math.sqrt(float(np.einsum("i,i->", v, v)))
 
 
 class FormingModel:

@@ -250,6 +250,27 @@ def _check_inc(n):
     return n
 
 
+def _solver_info(model, hist):
+    """The solver's part of a scene's ``info`` (summary.json): iterations, timings, solvers."""
+    lin = model.linear
+    return {
+        "newton_iterations": model.n_newton,
+        "cutback_log": list(model.log),
+        "timings": model.timings.as_dict(),
+        "kernels": model.opt.kernels,
+        "linear_solver": {
+            "backend": lin.backend,
+            "factorisations": lin.n_factor,
+            "symmetric_factorisations": lin.n_factor_symmetric,
+            "krylov_solves": lin.n_krylov_solves,
+            "krylov_iterations": lin.n_krylov_iterations,
+        },
+        "tangential_stiffness": model.contact.stiffness_record(),
+        "frozen_branch_evaluations": model.contact.n_frozen,
+        "calibrated_range": range_summary(model, hist),
+    }
+
+
 def _press(
     scene,
     model,
@@ -279,20 +300,7 @@ def _press(
         "law_parameters": law_params,
         "n_elements": axi.n_elements,
         "n_dof": 2 * model.n_nodes,
-        "newton_iterations": model.n_newton,
-        "cutback_log": list(model.log),
-        "timings": model.timings.as_dict(),
-        "kernels": model.opt.kernels,
-        "linear_solver": {
-            "backend": model.linear.backend,
-            "factorisations": model.linear.n_factor,
-            "symmetric_factorisations": model.linear.n_factor_symmetric,
-            "krylov_solves": model.linear.n_krylov_solves,
-            "krylov_iterations": model.linear.n_krylov_iterations,
-        },
-        "tangential_stiffness": model.contact.stiffness_record(),
-        "frozen_branch_evaluations": model.contact.n_frozen,
-        "calibrated_range": range_summary(model, hist),
+        **_solver_info(model, hist),
     }
     return SceneResult(ok, msg, hist, model, wall, snaps, info)
 
@@ -533,19 +541,6 @@ def run_multistage(
         "reset_history": reset_history,
         "recontact_profile": best["profile"],
         "n_elements": axi.n_elements,
-        "newton_iterations": model.n_newton,
-        "cutback_log": list(model.log),
-        "timings": model.timings.as_dict(),
-        "kernels": model.opt.kernels,
-        "linear_solver": {
-            "backend": model.linear.backend,
-            "factorisations": model.linear.n_factor,
-            "symmetric_factorisations": model.linear.n_factor_symmetric,
-            "krylov_solves": model.linear.n_krylov_solves,
-            "krylov_iterations": model.linear.n_krylov_iterations,
-        },
-        "tangential_stiffness": model.contact.stiffness_record(),
-        "frozen_branch_evaluations": model.contact.n_frozen,
-        "calibrated_range": range_summary(model, hist),
+        **_solver_info(model, hist),
     }
     return SceneResult(ok, msg, hist, model, wall, snaps, info)
