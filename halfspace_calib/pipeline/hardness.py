@@ -27,6 +27,8 @@ from scipy.optimize import minimize_scalar
 from scipy.stats import t as student_t
 
 from ..contact.normal import solve_normal_pair
+from ..topography import chain
+from ..topography.filters import MIN_CUTOFF_PIXELS
 
 __all__ = [
     "AfterContact",
@@ -142,6 +144,7 @@ def roughness_of_scans(scans, scene, surfaces):
     from .scene_surfaces import load_scene_surfaces
 
     crop = next((f.crop_size for f in surfaces.files if f.role == "workpiece"), None)
+    lambda_s = surfaces.lambda_s or 0.0
     ra, rq, records = [], [], []
     for row, (p, path) in enumerate(zip(scans.p_mean, scans.files, strict=True), start=1):
         scan_scene = dataclasses.replace(
@@ -150,7 +153,7 @@ def roughness_of_scans(scans, scene, surfaces):
             tool=None,
             grid=surfaces.grid,
             crop_size=crop,
-            lambda_s=surfaces.lambda_s if surfaces.lambda_s is not None else 0.0,
+            lambda_s=lambda_s,
             lambda_c=surfaces.lambda_c,
             effects=(),
             resolution_check=False,
@@ -161,9 +164,9 @@ def roughness_of_scans(scans, scene, surfaces):
             raise ValueError(
                 f"--after-contact row {row} (p_mean {p / 1e6:g} MPa, {path}): {exc}"
             ) from None
-        h = prepared.workpiece.heights - prepared.workpiece.heights.mean()
-        ra.append(float(np.mean(np.abs(h))))
-        rq.append(float(np.sqrt(np.mean(h * h))))
+        a, q = _ra_rq(prepared.workpiece.heights)
+        ra.append(a)
+        rq.append(q)
         records.append(prepared.files[0].as_dict())
     data = AfterContact(
         tuple(scans.p_mean),
@@ -171,7 +174,7 @@ def roughness_of_scans(scans, scene, surfaces):
         tuple(rq),
         None,
         scans.source,
-        lambda_s=surfaces.lambda_s or 0.0,
+        lambda_s=lambda_s,
         lambda_c=surfaces.lambda_c,
     )
     return data, records
@@ -245,8 +248,8 @@ def read_after_contact(path):
     heads = re.findall(r"[A-Za-z_]+\s*[\[(][^\])]*[\])]", lines[0])
     if len(heads) != 3:
         heads = split(lines[0])
-    if len(heads) == 2 or (len(split(lines[0])) == 2 and "file" in lines[0].lower()):
-        return _read_scans(path, lines, split, split(lines[0]))
+    if len(heads) == 2:  # 'p_mean [MPa], file'
+        return _read_scans(path, lines, split, heads)
     if len(heads) != 3:
         raise ValueError(
             f"{path}: the header must be 'p_mean [MPa], Ra [um], Rq [um]' or 'p_mean [MPa], file'"
@@ -290,23 +293,24 @@ def read_after_contact(path):
         raise ValueError(f"{path}: {exc}") from None
 
 
+def _ra_rq(heights):
+    """``(Ra, Rq)`` of a height map about its mean (m), as ``roughness.csv``."""
+    h = heights - heights.mean()
+    return float(np.mean(np.abs(h))), float(np.sqrt(np.mean(h * h)))
+
+
 def _as_measured(surface, heights, lambda_s, lambda_c):
     """``heights`` on ``surface``'s grid as a scan of it goes through the preparation chain.
 
-    Levelled, then L- and S-filtered as the chain filters a scan (no filter where the cut-off
-    is shorter than the filters allow on this grid); ``Ra``/``Rq`` are then taken about the mean.
+    The chain's levelling and filter stages (:mod:`~halfspace_calib.topography.chain`), without
+    the S-filter where ``lambda_s`` is shorter than the filters allow on this grid.
     """
     if not lambda_s and lambda_c is None:
         return heights
-    from ..topography import level
-    from ..topography.filters import MIN_CUTOFF_PIXELS, l_filter, s_filter
-
-    f = level(surface.derive(heights, {"op": "after_contact_simulated"}))
-    pitch = max(surface.dx, surface.dy)
-    if lambda_c is not None:
-        f = l_filter(f, lambda_c)
-    if lambda_s and lambda_s >= MIN_CUTOFF_PIXELS * pitch:
-        f = s_filter(f, lambda_s)
+    if lambda_s < MIN_CUTOFF_PIXELS * max(surface.dx, surface.dy):
+        lambda_s = 0.0
+    f, _ = chain.level_scan(surface.derive(heights, {"op": "after_contact_simulated"}))
+    f, _ = chain.filter_scan(f, lambda_s, lambda_c)
     return f.heights
 
 
@@ -338,10 +342,9 @@ def after_contact_roughness(
         )
         if not res.converged:
             raise RuntimeError(f"the solve at {p:g} Pa with H = {H:g} Pa: {res.message}")
-        h = _as_measured(workpiece, res.deformed_workpiece, lambda_s, lambda_c)
-        h = h - h.mean()
-        ra.append(float(np.mean(np.abs(h))))
-        rq.append(float(np.sqrt(np.mean(h * h))))
+        a, q = _ra_rq(_as_measured(workpiece, res.deformed_workpiece, lambda_s, lambda_c))
+        ra.append(a)
+        rq.append(q)
     return np.array(ra), np.array(rq)
 
 
@@ -421,9 +424,10 @@ def fit_hardness(workpiece, tool, materials, solver, data, *, xtol=1e-4):
 
     Minimises ``sum_i ((Ra_sim - Ra_i) / Ra_i)^2 + ((Rq_sim - Rq_i) / Rq_i)^2`` over ``log H``
     in ``(1.02, 100) * max(p_mean)``: a scan of :data:`SCAN_POINTS` values of ``log H``, then a
-    bounded Brent search between the neighbours of the best (the cost is not always unimodal). ``workpiece``/``tool`` are the solver-grid surfaces of the scene
-    (same filters and grid as the calibration), ``materials`` and ``solver`` its records (the
-    materials' own H is not used).
+    bounded Brent search between the neighbours of the best (the cost is not always unimodal).
+    ``workpiece``/``tool`` are the solver-grid surfaces of the scene (same filters and grid as
+    the calibration), ``materials`` and ``solver`` its records (the materials' own H is not
+    used).
 
     Raises
     ------
@@ -435,17 +439,14 @@ def fit_hardness(workpiece, tool, materials, solver, data, *, xtol=1e-4):
     """
     p = np.asarray(data.p_mean)
     ra_m, rq_m = np.asarray(data.Ra), np.asarray(data.Rq)
-    h0 = _as_measured(workpiece, workpiece.heights, data.lambda_s, data.lambda_c)
-    h0 = h0 - h0.mean()
-    ra0, rq0 = float(np.mean(np.abs(h0))), float(np.sqrt(np.mean(h0 * h0)))
+    ra0, rq0 = _ra_rq(_as_measured(workpiece, workpiece.heights, data.lambda_s, data.lambda_c))
     # the guard against impossible data (units, rows): more than GUARD times the roughness
     # before contact and before any filtering after contact. Not 1: a filtered scan of a
     # flattened surface can keep more of its long waves than the filtered model surface before
     # contact, and a non-periodic patch pressed beyond about 0.5 H gets rougher at its edges
     # (docs/measured_surfaces.md, "H from after-contact scans")
-    hr = workpiece.heights - workpiece.heights.mean()
-    ra_raw = max(ra0, float(np.mean(np.abs(hr))))
-    rq_raw = max(rq0, float(np.sqrt(np.mean(hr * hr))))
+    ra_w, rq_w = _ra_rq(workpiece.heights)
+    ra_raw, rq_raw = max(ra0, ra_w), max(rq0, rq_w)
     high = sorted(
         {
             float(q)
