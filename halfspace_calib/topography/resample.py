@@ -36,6 +36,21 @@ def _axis_average(h, pitch, start, edge, m, axis):
     return np.moveaxis(out, 0, axis)
 
 
+def _check_side(surface, side):
+    """The surface's size ``(lx, ly)``; ``ValueError`` if a ``side`` square does not fit."""
+    lx, ly = surface.size
+    if side > min(lx, ly) * (1 + 1e-9):
+        raise ValueError(f"side {side:g} m exceeds the surface's size {lx:g} x {ly:g} m")
+    return lx, ly
+
+
+def _on_grid(surface, h, op, side, m, origin):
+    """``h`` as the surface's ``m x m`` resampling with square elements ``side / m``."""
+    op.update(side=side, shape=[m, m], origin=list(origin), from_pitch=[surface.dx, surface.dy])
+    e = side / m
+    return surface.derive(h, op, dx=e, dy=e, periodic=False)
+
+
 def area_resample(surface, side, m):
     """Average ``surface`` over an ``m x m`` grid of square cells covering a centred ``side`` square.
 
@@ -44,9 +59,7 @@ def area_resample(surface, side, m):
     it gives square elements. The result is a new :class:`~halfspace_calib.topography.Surface`
     with element ``side / m``; the operation is recorded in its provenance.
     """
-    lx, ly = surface.size
-    if side > min(lx, ly) * (1 + 1e-9):
-        raise ValueError(f"side {side:g} m exceeds the surface's size {lx:g} x {ly:g} m")
+    lx, ly = _check_side(surface, side)
     e = side / m
     x0, y0 = 0.5 * (lx - side), 0.5 * (ly - side)
     same = surface.shape == (m, m) and math.isclose(surface.dx, e, rel_tol=1e-12)
@@ -54,14 +67,7 @@ def area_resample(surface, side, m):
         return surface
     h = _axis_average(surface.heights, surface.dx, x0, e, m, 0)
     h = _axis_average(h, surface.dy, y0, e, m, 1)
-    op = {
-        "op": "area_resample",
-        "side": side,
-        "shape": [m, m],
-        "origin": [x0, y0],
-        "from_pitch": [surface.dx, surface.dy],
-    }
-    return surface.derive(h, op, dx=e, dy=e, periodic=False)
+    return _on_grid(surface, h, {"op": "area_resample"}, side, m, (x0, y0))
 
 
 def _cosine_cell_means(n, pitch, start, edge, m):
@@ -114,9 +120,7 @@ def band_limited_resample(surface, side, m, origin=None):
     piecewise-constant pixels that :func:`area_resample` averages; the loader uses it only
     where a pixel is coarser than the element.
     """
-    lx, ly = surface.size
-    if side > min(lx, ly) * (1 + 1e-9):
-        raise ValueError(f"side {side:g} m exceeds the surface's size {lx:g} x {ly:g} m")
+    lx, ly = _check_side(surface, side)
     e = side / m
     x0, y0 = (0.5 * (lx - side), 0.5 * (ly - side)) if origin is None else map(float, origin)
     if not (-1e-9 * lx <= x0 <= (lx - side) * (1 + 1e-9) + 1e-9 * lx) or not (
@@ -134,9 +138,5 @@ def band_limited_resample(surface, side, m, origin=None):
     op = {
         "op": "band_limited_resample",
         "method": "exact cell means of the DCT-II cosine series (even extension)",
-        "side": side,
-        "shape": [m, m],
-        "origin": [x0, y0],
-        "from_pitch": [surface.dx, surface.dy],
     }
-    return surface.derive(h, op, dx=e, dy=e, periodic=False)
+    return _on_grid(surface, h, op, side, m, (x0, y0))
