@@ -14,6 +14,7 @@ comparable; this file is how a reader tells.
 
 import contextlib
 import json
+import math
 import os
 import platform
 import subprocess
@@ -39,6 +40,12 @@ def _git(*args):
 def commit():
     """The short hash of the checked-out commit (``"unknown"`` outside git)."""
     return _git("rev-parse", "--short", "HEAD") or "unknown"
+
+
+def pct(v):
+    """A fraction as ``"12.3 %"``; ``"-"`` for a missing (non-numeric) or non-finite value."""
+    ok = isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+    return f"{100 * v:.1f} %" if ok else "-"
 
 
 def write_rows(path, rows, fieldnames=None):

@@ -41,7 +41,7 @@ import time
 from pathlib import Path
 
 import numpy as np
-from _provenance import RESULTS, commit, write_rows
+from _provenance import RESULTS, commit, pct, write_rows
 
 from halfspace_calib import topography as S
 from halfspace_calib.pipeline.calibration import Scene, calibrate
@@ -185,10 +185,6 @@ def stats(rows):
     return out
 
 
-def _pct(v):
-    return "-" if not math.isfinite(v) else f"{100 * v:.1f} %"
-
-
 def table(st):
     lines = [
         "| scan | patch (lambda_s) | patch (um) | grid | patches | mu_eff mean | mu_eff CV | "
@@ -199,9 +195,9 @@ def table(st):
     for d in st:
         lines.append(
             f"| {d['scan']} | {d['patch_lambda_s']} | {d['side_um']:.4g} | {d['grid']} | "
-            f"{d['n']} | {d['mu_eff_mean']:.4g} | {_pct(d['mu_eff_cv'])} | "
-            f"{_pct(d['mu_eff_range'])} | {d['C1_mean']:.4g} | {_pct(d['C1_cv'])} | "
-            f"{_pct(d['C1_range'])} | {_pct(d['n1_cv'])} | {_pct(d['mu_eff_offset'])} | "
+            f"{d['n']} | {d['mu_eff_mean']:.4g} | {pct(d['mu_eff_cv'])} | "
+            f"{pct(d['mu_eff_range'])} | {d['C1_mean']:.4g} | {pct(d['C1_cv'])} | "
+            f"{pct(d['C1_range'])} | {pct(d['n1_cv'])} | {pct(d['mu_eff_offset'])} | "
             f"{d['failed']} | {d['seconds']:.1f} |"
         )
     return "\n".join(lines)

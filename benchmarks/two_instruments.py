@@ -32,7 +32,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from _provenance import RESULTS, commit, write_rows
+from _provenance import RESULTS, commit, pct, write_rows
 
 FILES = ["metropro-1.dat", "mnt-1.mnt", "x3p-2.x3p", "sur-3.sur", "matrix-3.txt"]
 FIELDS = [
@@ -125,10 +125,6 @@ def _one(folder, wp, tl, timeout):
         return row
 
 
-def _pct(v):
-    return f"{100 * v:.1f} %" if isinstance(v, float) and math.isfinite(v) else "-"
-
-
 def _g(v, fmt):
     return format(v, fmt) if isinstance(v, (int, float)) and not isinstance(v, bool) else "-"
 
@@ -149,7 +145,7 @@ def table(rows):
         lines.append(
             f"| {r['workpiece']} | {r['tool']} | {_g(r['lambda_s_um'], '.4g')} | "
             f"{r['grid'] or '-'} | {_g(r['elements_per_lambda_s'], '.3g')} | {before} | "
-            f"{_g(r['mu_eff'], '.4g')} | {_pct(r['mu_eff_change'])} / {_pct(r['C1_change'])} | "
+            f"{_g(r['mu_eff'], '.4g')} | {pct(r['mu_eff_change'])} / {pct(r['C1_change'])} | "
             f"{'yes' if r['check_warns'] is True else ('no' if r['check_warns'] is False else '-')}"
             f" | {r['wall_s']} | {r['exit']} |"
         )
@@ -172,7 +168,7 @@ def main():
             rows.append(r)
             print(
                 f"{wp} x {tl}: exit {r['exit']}, grid {r['grid']}, "
-                f"mu_eff change {_pct(r['mu_eff_change'])}, {r['wall_s']} s",
+                f"mu_eff change {pct(r['mu_eff_change'])}, {r['wall_s']} s",
                 flush=True,
             )
             write_rows(csv_path, rows, FIELDS)  # after each run: partial results kept
