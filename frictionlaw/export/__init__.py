@@ -224,8 +224,6 @@ _FORTRAN = {
 #: CalculiX: the patch and its build script ship with the package (frictionlaw/export/calculix)
 CALCULIX_DIR = Path(__file__).resolve().parent / "calculix"
 CALCULIX_FILES = ("calculix-2.20-user-friction.patch", "build.sh")
-#: Abaqus' ABA_PARAM.INC (implicit double precision), included by the FRIC routine
-ABA_PARAM_INC = "      IMPLICIT REAL*8(A-H,O-Z)\n      PARAMETER (NPRECD=2)\n"
 
 
 def _check_args(target, units, table_tol):
@@ -254,7 +252,7 @@ def render(target, params_path, *, units="SI", k_t=None, table_tol=1e-3, accept_
         readme = _readme.fortran_readme(target, name, params, us, kt, sha)
         files = {name: src, "README.md": readme}
         if target == "calculix":
-            files["ABA_PARAM.INC"] = ABA_PARAM_INC
+            files["ABA_PARAM.INC"] = _fortran.ABA_PARAM_INC
             for extra in CALCULIX_FILES:
                 files[extra] = (CALCULIX_DIR / extra).read_text(encoding="utf-8")
         return files, None

@@ -22,6 +22,7 @@ State per contact point (the host keeps it only for converged increments):
 import math
 
 __all__ = [
+    "ABA_PARAM_INC",
     "core_source",
     "fric_source",
     "vfric_source",
@@ -33,6 +34,9 @@ __all__ = [
 ]
 
 _MAX_COLS = 72
+#: Abaqus' ABA_PARAM.INC (implicit double precision, as the User Subroutines Reference gives it),
+#: included by the FRIC routine: written beside it by the ``calculix`` target and by the harness
+ABA_PARAM_INC = "      IMPLICIT REAL*8(A-H,O-Z)\n      PARAMETER (NPRECD=2)\n"
 
 
 def fortran_double(v):

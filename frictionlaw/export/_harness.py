@@ -14,6 +14,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ._fortran import ABA_PARAM_INC
+
 __all__ = [
     "gfortran",
     "build",
@@ -34,7 +36,6 @@ HOST_PRECISION_FLAGS = {
     "DP": ("-fdefault-real-8", "-fdefault-double-8", "-fdefault-integer-8"),
 }
 
-_ABA_PARAM = "      IMPLICIT REAL*8(A-H,O-Z)\n      PARAMETER (NPRECD=2)\n"
 _VABA_PARAM = (
     "      implicit real*8 (a-h,o-z)\n"
     "      parameter (j_sys_Dimension = 2)\n"
@@ -274,7 +275,7 @@ def build(sources, workdir, name, shim, *, flags=("-O2",)):
     """
     workdir = Path(workdir)
     workdir.mkdir(parents=True, exist_ok=True)
-    (workdir / "ABA_PARAM.INC").write_text(_ABA_PARAM)
+    (workdir / "ABA_PARAM.INC").write_text(ABA_PARAM_INC)
     (workdir / "vaba_param.inc").write_text(_VABA_PARAM)
     fc = gfortran()
     if fc is None:
