@@ -172,13 +172,12 @@ class _Pardiso:
         return float(np.abs(d - d[self._tperm]).max()) <= 1e-14 * scale
 
     def factorize(self, K):
-        K = K.tocsr() if K.format != "csr" else K
+        K = K.tocsr()
         if not K.has_sorted_indices:
             K = K.sorted_indices()
         pattern = (K.shape, K.indptr.tobytes(), K.indices.tobytes())
         if pattern != self._pattern:
-            self._pattern = None
-            self._new_pattern(K)
+            self._new_pattern(K)  # releases the old analyses and factors first
             self._pattern = pattern
         self.symmetric = self._is_symmetric(K)
         mtype = -2 if self.symmetric else 11

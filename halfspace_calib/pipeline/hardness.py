@@ -29,6 +29,7 @@ from scipy.stats import t as student_t
 from ..contact.normal import solve_normal_pair
 from ..topography import chain
 from ..topography.filters import MIN_CUTOFF_PIXELS
+from .scene_surfaces import load_scene_surfaces
 
 __all__ = [
     "AfterContact",
@@ -141,8 +142,6 @@ def roughness_of_scans(scans, scene, surfaces):
     ValueError
         A scan that cannot be read or prepared, naming its row and file.
     """
-    from .scene_surfaces import load_scene_surfaces
-
     crop = next((f.crop_size for f in surfaces.files if f.role == "workpiece"), None)
     lambda_s = surfaces.lambda_s or 0.0
     ra, rq, records = [], [], []
