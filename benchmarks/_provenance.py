@@ -42,6 +42,20 @@ def commit():
     return _git("rev-parse", "--short", "HEAD") or "unknown"
 
 
+def law_fields(cal):
+    """A calibration's law and fit quality as result-table columns."""
+    P = cal.params
+    return {
+        "mu_eff": P.mu_eff,
+        "C1": P.C1,
+        "n1": P.n1,
+        "C2": P.C2,
+        "n2": P.n2,
+        "r2_first": cal.first.r_squared,
+        "r2_reload": cal.reload.r_squared,
+    }
+
+
 def pct(v):
     """A fraction as ``"12.3 %"``; ``"-"`` for a missing (non-numeric) or non-finite value."""
     ok = isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)

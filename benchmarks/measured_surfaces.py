@@ -28,7 +28,7 @@ import platform
 import time
 from pathlib import Path
 
-from _provenance import RESULTS, commit, write_rows
+from _provenance import RESULTS, commit, law_fields, write_rows
 
 from halfspace_calib.pipeline.calibration import Scene, calibrate
 
@@ -36,7 +36,6 @@ FILES = ["metropro-1.dat", "mnt-1.mnt", "x3p-2.x3p", "sur-3.sur", "matrix-3.txt"
 
 
 def _row(name, cal, grid, periodic, seconds, kind):
-    P = cal.params
     rec = cal.files[0]
     return {
         "file": name,
@@ -45,13 +44,7 @@ def _row(name, cal, grid, periodic, seconds, kind):
         "lambda_s_um": cal.scene.lambda_s * 1e6 if cal.scene.lambda_s else 0.0,
         "element_um": cal.sweeps.surfaces["workpiece"].dx * 1e6,
         "periodic": periodic,
-        "mu_eff": P.mu_eff,
-        "C1": P.C1,
-        "n1": P.n1,
-        "C2": P.C2,
-        "n2": P.n2,
-        "r2_first": cal.first.r_squared,
-        "r2_reload": cal.reload.r_squared,
+        **law_fields(cal),
         "seconds": seconds,
         "undefined_fraction": rec.undefined_fraction,
         "problems": len(cal.problems()),

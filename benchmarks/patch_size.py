@@ -41,7 +41,7 @@ import time
 from pathlib import Path
 
 import numpy as np
-from _provenance import RESULTS, commit, pct, write_rows
+from _provenance import RESULTS, commit, law_fields, pct, write_rows
 
 from halfspace_calib import topography as S
 from halfspace_calib.pipeline.calibration import Scene, calibrate
@@ -138,13 +138,7 @@ def run(folder, max_patches, elements, sizes, only=None):
                         "x0_um": o[0] * 1e6,
                         "y0_um": o[1] * 1e6,
                         "rq_workpiece_nm": float(S.rq(pair[0])) * 1e9,
-                        "mu_eff": P.mu_eff,
-                        "C1": P.C1,
-                        "n1": P.n1,
-                        "C2": P.C2,
-                        "n2": P.n2,
-                        "r2_first": cal.first.r_squared,
-                        "r2_reload": cal.reload.r_squared,
+                        **law_fields(cal),
                         "problems": len(cal.problems()),
                         "seconds": dt,
                     }
