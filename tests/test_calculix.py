@@ -192,8 +192,9 @@ def test_p_hist_is_the_largest_pressure_each_node_carried(slide):
 def test_docs_deck_lines_run_unchanged(slide):
     """(b) The deck above used docs/fe_codes.md's two lines verbatim; ccx accepted them."""
     dat, _ = slide
-    assert "job" in dat.name and dat.stat().st_size > 0
-    assert _doc_lines()[1] == "*FRICTION, USER, DEPVAR=3"
+    deck = dat.with_suffix(".inp").read_text()
+    assert "\n".join(_doc_lines()) + "\n" in deck  # the two lines, in order, as printed
+    assert dat.stat().st_size > 0 and len(read_dat(dat)) > 20  # ccx ran them to the end
 
 
 def test_two_threads_give_one_threads_result(ccx, slide, tmp_path):
