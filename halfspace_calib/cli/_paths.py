@@ -197,10 +197,15 @@ def mark_failed(folder, problems):
     src.unlink()
 
 
+#: a branch that misses the model by this much in alpha has collapsed rather than fitted poorly
+GROSS_MISS = 0.15
+
+
 def failure_hint(problems):
-    """Likely causes of a collapsed fit, for the RUN FAILED report."""
-    r2 = [float(v) for v in re.findall(r"R\^2 = (-?[0-9.]+)", " ".join(map(str, problems)))]
-    if not r2 or min(r2) >= 0.5:  # only a collapsed fit, not a fit that is merely poor
+    """Likely causes of a collapsed fit (a branch missing by >= 0.15 in alpha), for RUN FAILED."""
+    text = " ".join(map(str, problems))
+    miss = [float(v) for v in re.findall(r"\|d alpha\| = ([0-9.eE+-]+)", text)]
+    if not miss or max(miss) < GROSS_MISS:  # only a collapsed fit, not one that is merely poor
         return None
     return (
         "likely causes of a collapsed fit: a lateral --size in the wrong unit for the heights "
