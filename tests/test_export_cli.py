@@ -25,9 +25,7 @@ def params_file(tmp_path_factory):
 @pytest.mark.parametrize("units", ["SI", "mm-t-s"])
 def test_every_target_writes_source_and_readme(tmp_path, params_file, target, units):
     out = tmp_path / "out"
-    assert (
-        main([target, "--params", str(params_file), "--out", str(out), "--units", units]) == 0
-    )
+    assert main([target, "--params", str(params_file), "--out", str(out), "--units", units]) == 0
     names = sorted(p.name for p in out.iterdir() if p.name != MARKER)
     extra = {"calculix": {"ABA_PARAM.INC", "build.sh", "calculix-2.20-user-friction.patch"}}
     assert set(names) - extra.get(target, set()) - {"README.md"} == {
@@ -63,9 +61,7 @@ def test_constants_in_host_units(tmp_path, params_file):
 def test_bad_input_exit_2_and_no_output(tmp_path, params_file, capsys):
     out = tmp_path / "o"
     assert main(["nastran", "--params", str(params_file), "--out", str(out)]) == 2
-    assert (
-        main(["lsdyna", "--params", str(params_file), "--out", str(out), "--units", "ft"]) == 2
-    )
+    assert main(["lsdyna", "--params", str(params_file), "--out", str(out), "--units", "ft"]) == 2
     assert main(["lsdyna", "--params", str(tmp_path / "none.json"), "--out", str(out)]) == 2
     assert main(["lsdyna", "--params", str(params_file), "--out", str(out), "--k-t", "-1"]) == 2
     args = ["abaqus-table", "--params", str(params_file), "--out", str(out)]
