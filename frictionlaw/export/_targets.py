@@ -9,7 +9,7 @@ a friction-coefficient table). Templates are named by their path below ``frictio
 (see :mod:`frictionlaw.export._templates`) or by an absolute path.
 
 Adding a target is one record here (or a :func:`register` call) and its templates; a new law
-form for every target is ``core/sbmf_core.f`` and ``_templates.core_context``.
+form for every target is ``core/sbmf_core.f`` and ``_law.core_context``.
 """
 
 from dataclasses import dataclass

@@ -8,23 +8,21 @@ the host-neutral entry), plus ``core/`` (the law core every Fortran target inclu
 path below this folder (``{% include "core/sbmf_core.f" %}``); a record may also name one by an
 absolute path (a target defined outside the package).
 
-:func:`core_context` is the one function that turns a parameter file into the values the law
-core is rendered with; a new law form changes it and ``core/sbmf_core.f``, nothing per target.
+The values the law core is rendered with come from one function,
+:func:`frictionlaw.export._law.core_context`; a new law form changes it and ``core/sbmf_core.f``,
+nothing per target.
 """
 
-import math
 from pathlib import Path
 
 import jinja2
-
-from ._law import law_constants
 
 __all__ = [
     "ROOT",
     "template_path",
     "render_template",
-    "core_context",
     "fortran_double",
+    "comment_block",
     "check_columns",
 ]
 
@@ -71,31 +69,21 @@ def render_template(template, /, **context):
     return _ENV.get_template(str(template)).render(**context)
 
 
-def core_context(params, units, kt):
-    """The values ``core/sbmf_core.f`` (the law core of every Fortran target) is rendered with.
+def _wrap(lines, width):
+    out = []
+    for line in lines:
+        while len(line) > width:
+            cut = line.rfind(" ", 0, width)
+            cut = cut if cut > 0 else width
+            out.append(line[:cut])
+            line = "  " + line[cut:].lstrip()
+        out.append(line)
+    return out
 
-    Parameters
-    ----------
-    params : FrictionParams
-    units : UnitSystem
-        The host's units (the constants are converted at export time).
-    kt : StiffnessSpec or None
-        The stick stiffness source (None for a table target, which renders no core).
 
-    Returns
-    -------
-    dict
-        ``law`` (``TMAX, H, C1, XN1, C2, XN2`` in the host's units), ``continuous``
-        (``params.continuous_reload``), ``kt``, and ``ln_small``, ``ln_sat``: the smooth
-        minimum's branch points ``ln(1e-4)`` and ``ln(350)`` of ``frictionlaw._kernels``.
-    """
-    return {
-        "law": law_constants(params, units),
-        "continuous": params.continuous_reload,
-        "kt": kt,
-        "ln_small": math.log(1e-4),
-        "ln_sat": math.log(350.0),
-    }
+def comment_block(lines, marker, columns):
+    """``lines`` as comment lines ``marker line``, wrapped (indented by 2) to ``columns``."""
+    return "".join(f"{marker} {line}\n" for line in _wrap(lines, columns - len(marker) - 1))
 
 
 def check_columns(text, columns, what):

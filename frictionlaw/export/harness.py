@@ -24,8 +24,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ._law import UNIT_SYSTEMS, StiffnessSpec
-from ._templates import core_context, render_template, template_path
+from ._law import UNIT_SYSTEMS, StiffnessSpec, core_context
+from ._templates import render_template, template_path
 
 __all__ = [
     "Harness",

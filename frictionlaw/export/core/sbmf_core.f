@@ -3,7 +3,7 @@
   precision), included at the end of each host's entry template. It follows
   frictionlaw._kernels statement by statement (smooth_min_log, log_product,
   sbmf_first_scalar, sbmf_reload_scalar, traction_row), so that the compiled routine and the
-  runtime agree to rounding. Rendered with the values of frictionlaw.export._templates.core_context:
+  runtime agree to rounding. Rendered with the values of frictionlaw.export._law.core_context:
   law (TMAX, H, C1, XN1, C2, XN2 in the host's units), continuous (continuous_reload), kt (the
   StiffnessSpec), ln_small, ln_sat (the smooth minimum's branch points). A new law form
   changes this file and core_context, nothing per target.
