@@ -6,6 +6,10 @@ CODE_CAP = 2
 CODE_SBMF = 3
 CODE_SBMF_RELOAD = 4  # Eq. 25 alone, whatever p is (for alpha_reload)
 
+# the reload form of codes 3 and 4 (coeffs[7], frictionlaw.reload_form)
+FORM_PAPER = 0
+FORM_TABULATED = 1
+
 STATUS_OPEN = 0
 STATUS_STICK = 1
 STATUS_SLIP = 2

@@ -6,7 +6,8 @@ operation, which a host's own ``@njit`` loop can call, and array kernels (serial
 and ``prange`` parallel) built on the scalar ones. The independent NumPy oracle
 that the tests compare against is :mod:`frictionlaw._reference`.
 
-Law codes and coefficient layout (``coeffs`` is a float64 array of length 8):
+Law codes and coefficient layout (``coeffs`` is one contiguous float64 array, of length 8
+but for the tabulated reload form):
 
 ====  ===========  =====================================================
 code  law          coeffs
@@ -14,9 +15,13 @@ code  law          coeffs
 0     Coulomb      ``[mu]``
 1     Tresca       ``[tau_max]`` (``m k``)
 2     Coulomb+cap  ``[mu, tau_max]``
-3     SBMF         ``[tau_max, H, C1, n1, C2, n2, continuous, 0]``
+3     SBMF         ``[tau_max, H, C1, n1, C2, n2, continuous, form]``, and with
+                   ``form = 1`` (tabulated reload, :mod:`frictionlaw.reload_form`)
+                   ``s2, K, z[K], lnC2[K], dlnC2[K], lnn2[K], dlnn2[K]``
 4     Eq. 25 only  as SBMF
 ====  ===========  =====================================================
+
+``form = 0`` (or an 8-slot array) is the paper's Eq. 25 with ``C2, n2``.
 """
 
 import math
@@ -29,6 +34,7 @@ from ._codes import (
     CODE_COULOMB,
     CODE_SBMF_RELOAD,
     CODE_TRESCA,
+    FORM_TABULATED,
     STATUS_OPEN,
     STATUS_SLIP,
     STATUS_STICK,
@@ -151,6 +157,96 @@ def sbmf_reload_scalar(p, p_hist, tau_max, H, C1, n1, C2, n2, continuous):
     return tau, dtau
 
 
+# Inputs are typed read-only: numba converts a writable array to these safely, so read-only
+# arrays (a HistoryState's p_hist view, a host's frozen coeffs) are accepted as well.
+_RO = types.Array(float64, 1, "C", readonly=True)
+_RO2 = types.Array(float64, 2, "C", readonly=True)
+
+_TAB = 10  # coeffs index of z[0] in the tabulated reload form
+_LN_D_MAX = 700.0  # ln of the largest d tau / d p formed (exp(700) is finite)
+
+
+@nb.jit(types.UniTuple(float64, 2)(_RO, float64), **_opts)
+def reload_table_at(coeffs, x):
+    """``(ln C2, ln n2)`` of the tabulated reload form at ``x = p_hist / H``.
+
+    The monotone cubic Hermite interpolant over ``z = -ln(1 - x)`` whose knots and slopes
+    ``coeffs`` carries (:func:`frictionlaw.reload_form.pchip_slopes`); the first level's values
+    up to it, the last level's from it on (``x >= 1`` included).
+    """
+    k = int(coeffs[9])
+    zk = _TAB
+    c0 = _TAB + k
+    n0 = _TAB + 3 * k
+    if k == 1 or not x < 1.0:
+        j = 0 if k == 1 else k - 1
+        return coeffs[c0 + j], coeffs[n0 + j]
+    z = -math.log1p(-x)
+    if not z > coeffs[zk]:
+        return coeffs[c0], coeffs[n0]
+    if not z < coeffs[zk + k - 1]:
+        return coeffs[c0 + k - 1], coeffs[n0 + k - 1]
+    j = 0
+    while j < k - 2 and z >= coeffs[zk + j + 1]:
+        j += 1
+    h = coeffs[zk + j + 1] - coeffs[zk + j]
+    t = (z - coeffs[zk + j]) / h
+    u = 1.0 - t
+    h00 = (1.0 + 2.0 * t) * u * u
+    h10 = t * u * u * h
+    h01 = t * t * (3.0 - 2.0 * t)
+    h11 = t * t * (t - 1.0) * h
+    lnc = (
+        h00 * coeffs[c0 + j]
+        + h10 * coeffs[c0 + k + j]
+        + h01 * coeffs[c0 + j + 1]
+        + h11 * coeffs[c0 + k + j + 1]
+    )
+    lnn = (
+        h00 * coeffs[n0 + j]
+        + h10 * coeffs[n0 + k + j]
+        + h01 * coeffs[n0 + j + 1]
+        + h11 * coeffs[n0 + k + j + 1]
+    )
+    return lnc, lnn
+
+
+@nb.jit(types.UniTuple(float64, 2)(float64, float64, _RO), **_opts)
+def sbmf_reload_table_scalar(p, p_hist, coeffs):
+    """Eq. 25, tabulated over ``p_hist``: ``(tau, dtau/dp)`` on the un-/reload branch.
+
+    ``tau = tau_max a1h g(x2; n2)`` with ``a1h = alpha1(p_hist)``, ``(C2, n2)`` of the table at
+    ``p_hist`` (:func:`reload_table_at`), ``x2h = p_hist C2 / (H a1h)`` and
+    ``x2 = x2h (p / p_hist) ** s2``; divided by ``g(x2h; n2)`` when ``continuous != 0`` so that
+    it meets Eq. 24 at ``p_hist``. All in logs, as :func:`sbmf_reload_scalar`.
+    ``dtau/dp = tau_max a1h / g(x2h) g'(x2) s2 x2 / p``: for ``s2 < 1`` it grows without bound as
+    ``p -> 0``; it is formed in logs and held below ``exp(700)``. Bounded by ``tau_max a1h``
+    (``p <= p_hist``) and by ``tau_max`` (``p > p_hist``).
+    """
+    if not (p > 0.0 and p_hist > 0.0):
+        return 0.0, 0.0
+    tau_max = coeffs[0]
+    H = coeffs[1]
+    _, _, _, lna1h = smooth_min_log(log_product(p_hist, coeffs[2] / H), coeffs[3])
+    lnc2, lnn2 = reload_table_at(coeffs, p_hist / H)
+    n2 = math.exp(lnn2)
+    s2 = coeffs[8]
+    lnx2h = log_product(p_hist, math.exp(lnc2) / H) - lna1h
+    lnq = math.log(p) - math.log(p_hist)
+    lnx2 = lnx2h + s2 * lnq
+    _, _, dg2, lng2 = smooth_min_log(lnx2, n2)
+    lng2h = 0.0
+    if coeffs[6] != 0.0:
+        _, _, _, lng2h = smooth_min_log(lnx2h, n2)
+    tau = tau_max * math.exp(lna1h + lng2 - lng2h)
+    lnd = min(lna1h - lng2h + lnx2 - math.log(p), _LN_D_MAX)
+    dtau = tau_max * s2 * dg2 * math.exp(lnd)
+    cap = tau_max * math.exp(lna1h) if p <= p_hist else tau_max
+    if tau >= cap:
+        return cap, (0.0 if p > p_hist else dtau)
+    return tau, dtau
+
+
 @nb.jit(
     types.UniTuple(float64, 2)(
         float64, float64, float64, float64, float64, float64, float64, float64, float64
@@ -162,12 +258,6 @@ def sbmf_shear_scalar(p, p_hist, tau_max, H, C1, n1, C2, n2, continuous):
     if p < p_hist:
         return sbmf_reload_scalar(p, p_hist, tau_max, H, C1, n1, C2, n2, continuous)
     return sbmf_first_scalar(p, tau_max, H, C1, n1)
-
-
-# Inputs are typed read-only: numba converts a writable array to these safely, so read-only
-# arrays (a HistoryState's p_hist view, a host's frozen coeffs) are accepted as well.
-_RO = types.Array(float64, 1, "C", readonly=True)
-_RO2 = types.Array(float64, 2, "C", readonly=True)
 
 
 @nb.jit(
@@ -190,6 +280,10 @@ def shear_scalar(code, coeffs, p, p_hist):
         if t < coeffs[1]:
             return t, coeffs[0]
         return coeffs[1], 0.0
+    if coeffs.shape[0] > 9 and coeffs[7] == FORM_TABULATED:
+        if code == CODE_SBMF_RELOAD or p < p_hist:
+            return sbmf_reload_table_scalar(p, p_hist, coeffs)
+        return sbmf_first_scalar(p, coeffs[0], coeffs[1], coeffs[2], coeffs[3])
     if code == CODE_SBMF_RELOAD:
         return sbmf_reload_scalar(
             p, p_hist, coeffs[0], coeffs[1], coeffs[2], coeffs[3], coeffs[4], coeffs[5], coeffs[6]

@@ -12,6 +12,7 @@ __all__ = [
     "smooth_min",
     "alpha_first",
     "alpha_reload",
+    "alpha_reload_tabulated",
     "sbmf_shear",
     "traction_update",
 ]
@@ -76,6 +77,27 @@ def alpha_reload(p, p_hist, C1, n1, C2, n2, H, continuous=False):
     ln_val = ln_a1h + ln_smooth_min(_ln_x(p[ok], C2, H) - ln_a1h, n2)
     if continuous:
         ln_val = ln_val - ln_smooth_min(_ln_x(ph, C2, H) - ln_a1h, n2)
+    with np.errstate(under="ignore"):
+        out[ok] = np.minimum(np.exp(ln_val), 1.0)
+    return out
+
+
+def alpha_reload_tabulated(p, p_hist, C1, n1, H, C2, n2, s2, continuous=False):
+    """The tabulated form's ``alpha2(p; p_hist)`` with ``C2``, ``n2`` given per point.
+
+    ``C2`` and ``n2`` are the table's values at each ``p_hist`` (the tests take them from
+    SciPy's ``PchipInterpolator``); ``x2 = (p_hist C2 / (H a1h)) (p / p_hist) ** s2``. Capped
+    at a contact ratio of 1, 0 where ``p <= 0`` or ``p_hist <= 0``.
+    """
+    p, p_hist, C2, n2 = np.broadcast_arrays(*(np.asarray(v, float) for v in (p, p_hist, C2, n2)))
+    out = np.zeros(p.shape)
+    ok = (p > 0) & (p_hist > 0)
+    ph, c2, nn = p_hist[ok], C2[ok], n2[ok]
+    ln_a1h = ln_smooth_min(_ln_x(ph, C1, H), n1)
+    ln_x2h = _ln_x(ph, c2, H) - ln_a1h
+    ln_val = ln_a1h + ln_smooth_min(ln_x2h + s2 * (np.log(p[ok]) - np.log(ph)), nn)
+    if continuous:
+        ln_val = ln_val - ln_smooth_min(ln_x2h, nn)
     with np.errstate(under="ignore"):
         out[ok] = np.minimum(np.exp(ln_val), 1.0)
     return out

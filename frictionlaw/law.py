@@ -62,9 +62,16 @@ def as_float_array(name: str, value: ArrayLike) -> NDArray[np.float64]:
 
 
 def sbmf_coeffs(params: "FrictionParams", tau_max: float | None = None) -> NDArray[np.float64]:
-    """Kernel coefficient vector of the SBMF law (see :mod:`frictionlaw._kernels`)."""
+    """Kernel coefficient vector of the SBMF law (layout in :mod:`frictionlaw._kernels`).
+
+    The paper's form fills 8 slots; the tabulated reload form appends ``s2``, the number of
+    levels ``K`` and the interpolant (``z``, ``ln C2`` and its slopes, ``ln n2`` and its
+    slopes: ``10 + 5 K`` slots in all). One contiguous float64 array in every case.
+    """
     tm = params.tau_max if tau_max is None else tau_max
-    c = np.zeros(8)
+    table = params.reload_table if params.reload_form == "tabulated" else None
+    k = 0 if table is None else len(table.p_hist)
+    c = np.zeros(8 if table is None else 10 + 5 * k)
     c[:7] = (
         tm,
         params.H,
@@ -74,6 +81,12 @@ def sbmf_coeffs(params: "FrictionParams", tau_max: float | None = None) -> NDArr
         params.n2,
         float(params.continuous_reload),
     )
+    if table is not None:
+        kn = table.knots(params.H)
+        c[7] = float(K.FORM_TABULATED)
+        c[8] = table.s2
+        c[9] = float(k)
+        c[10:] = np.concatenate([kn["z"], kn["lnC2"], kn["dlnC2"], kn["lnn2"], kn["dlnn2"]])
     return c
 
 

@@ -9,6 +9,9 @@ k : shear flow stress (Pa), ``sigma_y / 2`` in the paper (Tresca); allowed ``[1/
 C1, n1 : first-loading parameters of Eq. 24
 C2, n2 : un-/reloading parameters of Eq. 25
 continuous_reload : normalise Eq. 25 so that it meets Eq. 24 at ``p_hist``
+reload_form : ``"paper"`` (Eq. 25 with one ``C2, n2``) or ``"tabulated"`` (Eq. 25 with ``C2, n2``
+    per calibrated ``p_hist`` and an exponent ``s2``, :mod:`frictionlaw.reload_form`)
+reload_table : the tabulated form's levels (:class:`~frictionlaw.reload_form.ReloadTable`)
 geo_ratio : Eq. 26's geometric share, ``f(p) = geo_ratio k alpha(p)`` (0: Eqs. 24-25 alone)
 p_range : mean contact pressures (Pa) the calibration covered on first loading, ``(p_min, p_max)``
 k_t : calibrated tangential interface stiffness ``k_t(p)`` (Pa/m) as a table over ``p`` (Pa)
@@ -26,6 +29,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ._io import atomic_write
 from ._shear_flow import check_k_against_sigma_y
+from .reload_form import RELOAD_FORMS, ReloadTable
 from .uncertainty import LAW_KEYS, Uncertainty
 
 __all__ = [
@@ -43,7 +47,10 @@ __all__ = [
 ]
 
 FORMAT_NAME = "sbmf-friction-params"
-FORMAT_VERSION = 1
+#: the version written when the file carries a ``reload_law`` object (2); files without one are
+#: written as version 1, which every earlier runtime reads (the paper's Eq. 25)
+FORMAT_VERSION = 2
+_READ_VERSIONS = (1, 2)
 
 _UNITS = {
     "m": "1",
@@ -70,7 +77,7 @@ _RANGE_NOTE = (
     "finite for every pressure and history)"
 )
 
-#: version of the optional ``tangential_stiffness`` object inside a version-1 parameter file
+#: version of the optional ``tangential_stiffness`` object inside a parameter file
 K_T_FORMAT_VERSION = 1
 
 
@@ -221,7 +228,16 @@ class FrictionParams:
         ``ValueError`` naming both values.
     continuous_reload : bool
         Use the normalised Eq. 25 that equals Eq. 24 at ``p = p_hist``
-        (see :func:`frictionlaw.reload_jump`). Default ``False`` (the paper's form).
+        (see :func:`frictionlaw.reload_jump`), in either reload form. Default ``False`` (the
+        paper's Eq. 25 as printed).
+    reload_form : {"paper", "tabulated"}
+        The reload branch (:mod:`frictionlaw.reload_form`): ``"paper"``, Eq. 25 with the one
+        pair ``C2, n2`` (the default, and the reading of every file written before the table
+        existed), or ``"tabulated"``, Eq. 25 with ``C2, n2`` following ``p_hist`` through
+        ``reload_table``.
+    reload_table : ReloadTable, optional
+        The calibrated levels of the tabulated form (required by it; kept, unused, with
+        ``reload_form="paper"`` so that a calibration can be switched to the paper's form).
     geo_ratio : float
         Eq. 26's extra term for rough tools in ``[0, 10]``: ``tau = m [k alpha + f]`` with
         ``f = geo_ratio k alpha`` (the calibration finds ``tau_geo / tau_adh`` nearly independent
@@ -251,6 +267,8 @@ class FrictionParams:
     n2: float
     k: float | None = None
     continuous_reload: bool = False
+    reload_form: str = "paper"
+    reload_table: ReloadTable | None = None
     geo_ratio: float = 0.0
     p_range: tuple | None = None
     k_t: TangentialStiffness | None = None
@@ -272,6 +290,19 @@ class FrictionParams:
                 f"continuous_reload must be True or False, got {self.continuous_reload!r}"
             )
         set_(self, "continuous_reload", bool(self.continuous_reload))
+        if self.reload_form not in RELOAD_FORMS:
+            raise ValueError(
+                f"reload_form must be one of {', '.join(RELOAD_FORMS)}, got {self.reload_form!r}"
+            )
+        if self.reload_table is not None:
+            if not isinstance(self.reload_table, ReloadTable):
+                raise ValueError(
+                    "reload_table must be a ReloadTable or None, got "
+                    f"{type(self.reload_table).__name__}"
+                )
+            self.reload_table.check_hardness(self.H)
+        elif self.reload_form == "tabulated":
+            raise ValueError("reload_form='tabulated' needs a reload_table (the calibrated levels)")
         set_(self, "geo_ratio", check_range("geo_ratio", self.geo_ratio, 0.0, 10.0))
         set_(self, "p_range", _check_p_range(self.p_range))
         if self.k_t is not None and not isinstance(self.k_t, TangentialStiffness):
@@ -337,15 +368,24 @@ class FrictionParams:
         prov = d.pop("provenance")
         cont = d.pop("continuous_reload")
         p_range = d.pop("p_range")
+        form = d.pop("reload_form")
+        d.pop("reload_table")
         d.pop("k_t")
         d.pop("uncertainty")
+        law = None
+        if self.reload_table is not None:
+            law = self.reload_table.to_dict(form)
+        elif form != "paper":  # pragma: no cover - __post_init__ refuses it
+            raise ValueError(f"reload_form {form!r} without a reload_table")
         doc = {
             "format": FORMAT_NAME,
-            "version": FORMAT_VERSION,
+            "version": FORMAT_VERSION if law is not None else 1,
             "units": dict(_UNITS),
             "parameters": d,
             "options": {"continuous_reload": cont},
         }
+        if law is not None:
+            doc["reload_law"] = law
         if p_range is not None:
             doc["calibrated_range"] = {"p_min": p_range[0], "p_max": p_range[1], "unit": "Pa"}
         if self.k_t is not None:
@@ -382,11 +422,13 @@ class FrictionParams:
                 f"{source}: 'format' must be {FORMAT_NAME!r}, got {doc.get('format')!r}"
             )
         version = doc.get("version")
-        if type(version) is not int or version != FORMAT_VERSION:  # not 1.0, not true
+        if type(version) is not int or version not in _READ_VERSIONS:  # not 1.0, not true
             raise ValueError(
-                f"{source}: unsupported version {version!r}; this runtime reads version "
-                f"{FORMAT_VERSION} (an integer)"
+                f"{source}: unsupported version {version!r}; this runtime reads versions "
+                f"{', '.join(map(str, _READ_VERSIONS))} (an integer)"
             )
+        if version == 1 and "reload_law" in doc:
+            raise ValueError(f"{source}: 'reload_law' needs version 2, the file says version 1")
         for key in ("units", "options", "provenance"):
             if not isinstance(doc.get(key, {}), dict):
                 raise ValueError(f"{source}: {key!r} must be a JSON object, got {doc[key]!r}")
@@ -419,10 +461,15 @@ class FrictionParams:
         k_t = None if k_doc is None else TangentialStiffness.from_dict(k_doc, source=source)
         u_doc = doc.get("uncertainty")
         unc = None if u_doc is None else Uncertainty.from_dict(u_doc, source=source)
+        form, table = "paper", None  # version 1: the paper's Eq. 25
+        if "reload_law" in doc:
+            form, table = ReloadTable.from_dict(doc["reload_law"], source=source)
         try:
             return cls(
                 **par,
                 continuous_reload=opts.get("continuous_reload", False),
+                reload_form=form,
+                reload_table=table,
                 p_range=p_range,
                 k_t=k_t,
                 provenance=doc.get("provenance", {}),
