@@ -24,7 +24,7 @@ import numpy as np
 
 import frictionlaw as fl
 from frictionlaw import export as exp
-from frictionlaw.export import _fortran, _harness
+from frictionlaw.export import harness
 
 H = 800e6
 PARAMS = fl.FrictionParams(
@@ -55,13 +55,11 @@ def interleaved(calls, repeat):
 
 def libraries(workdir, params_path):
     files, _ = exp.render("lsdyna", params_path)
-    sbmf, _ = _harness.build(files, workdir / "sbmf", "sbmf", "generic")
-    kt = exp.StiffnessSpec("host")
-    core = _fortran.core_source(exp.law_constants(PARAMS, exp.UNIT_SYSTEMS["SI"]), False, kt)
-    coul, _ = _harness.build(
-        {"coulomb.f": _harness.COULOMB_SOURCE + "C\n" + core}, workdir / "coul", "coul", "generic"
-    )
-    return _harness.GenericLib(sbmf), _harness.GenericLib(coul)
+    entry = exp.target("lsdyna").harness  # the host-neutral SBMF_FRICTION
+    sbmf, _ = entry.load(files, workdir / "sbmf", name="sbmf")
+    coulomb = {"coulomb.f": harness.coulomb_source(PARAMS)}
+    coul, _ = entry.load(coulomb, workdir / "coul", name="coul")
+    return sbmf, coul
 
 
 def cases(n, rng):

@@ -5,8 +5,9 @@ Export the law to Abaqus and check the routine
 ``frictionlaw-export abaqus-fric`` writes the law as an Abaqus/Standard ``FRIC`` user subroutine
 with the parameter file's constants compiled in. Here the routine is written from the shipped
 example parameter file, compiled with gfortran (when it is installed) and called through the
-project's emulation of Abaqus' documented ``FRIC`` interface, the one the test suite uses. Its
-slip traction is compared with the Python runtime on the same pressures and histories.
+project's emulation of Abaqus' documented ``FRIC`` interface (``frictionlaw.export.harness``, the
+one the test suite uses). Its slip traction is compared with the Python runtime on the same
+pressures and histories.
 """
 
 import tempfile
@@ -16,8 +17,7 @@ import numpy as np
 
 import fe_demo
 from frictionlaw import FrictionParams, shear_limit
-from frictionlaw.export import _harness as harness
-from frictionlaw.export import export
+from frictionlaw.export import export, harness, target
 
 params_file = Path(fe_demo.__file__).parent / "data" / "sbmf_example.json"
 params = FrictionParams.from_json(params_file)
@@ -38,10 +38,10 @@ p_hist = np.array([0.0, 0.0, 0.0, 400e6, 600e6])  # the last two are unloaded: E
 if harness.gfortran() is None:
     print("gfortran is not installed: the routine was written but not compiled here")
 else:
-    lib, warnings = harness.build(
-        {routine.name: routine.read_text()}, out / "build", "example", "fric"
+    # the target's record names its host emulation: the FRIC shim and its driver
+    fric, warnings = target("abaqus-fric").harness.load(
+        {routine.name: routine.read_text()}, out / "build", name="example"
     )
-    fric = harness.FricLib(lib)
     n = p.size
     statev = np.zeros((n, 3))
     statev[:, 0] = p_hist

@@ -24,7 +24,7 @@ from ccx_decks import ring as ccx_decks_ring
 
 from frictionlaw import FrictionParams, shear_limit
 from frictionlaw.export import CALCULIX_DIR
-from frictionlaw.export import main as export_main
+from frictionlaw.export.cli import main as export_main
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "fe_demo" / "data" / "sbmf_example.json"

@@ -12,8 +12,8 @@ import pytest
 
 from fe_demo import cli as fe_cli
 from frictionlaw import __main__ as law_demo
-from frictionlaw import export as law_export
 from frictionlaw.clitools import OutputFolder
+from frictionlaw.export import cli as law_export
 from halfspace_calib import cli as hs_cli
 
 MAINS = {
@@ -25,7 +25,7 @@ MAINS = {
 PARSERS = {
     "halfspace-calib": hs_cli.build_parser,
     "fe-demo": fe_cli.build_parser,
-    "frictionlaw-export": law_export._parser,
+    "frictionlaw-export": law_export.build_parser,
     "frictionlaw-demo": law_demo.build_parser,
 }
 FE_FAST = ["--nr", "4", "--increments", "3", "--reduction", "0.15", "--vtu-every", "1"]

@@ -11,6 +11,8 @@ import pytest
 
 import fe_demo
 import frictionlaw
+import frictionlaw.export
+import frictionlaw.export.harness
 import halfspace_calib
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -32,7 +34,9 @@ def _autosummary_entries(text):
 
 
 @pytest.mark.parametrize(
-    "module", [frictionlaw, halfspace_calib, fe_demo], ids=lambda m: m.__name__
+    "module",
+    [frictionlaw, frictionlaw.export, frictionlaw.export.harness, halfspace_calib, fe_demo],
+    ids=lambda m: m.__name__,
 )
 def test_api_reference_lists_the_public_surface(module):
     text = (DOCS / "api.rst").read_text(encoding="utf-8")

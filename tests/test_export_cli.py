@@ -11,6 +11,7 @@ import frictionlaw as fl
 import frictionlaw.export as exp
 from frictionlaw.clitools import MARKER
 from frictionlaw.export import _tables
+from frictionlaw.export.cli import main
 
 
 @pytest.fixture(scope="module")
@@ -24,9 +25,7 @@ def params_file(tmp_path_factory):
 @pytest.mark.parametrize("units", ["SI", "mm-t-s"])
 def test_every_target_writes_source_and_readme(tmp_path, params_file, target, units):
     out = tmp_path / "out"
-    assert (
-        exp.main([target, "--params", str(params_file), "--out", str(out), "--units", units]) == 0
-    )
+    assert main([target, "--params", str(params_file), "--out", str(out), "--units", units]) == 0
     names = sorted(p.name for p in out.iterdir() if p.name != MARKER)
     extra = {"calculix": {"ABA_PARAM.INC", "build.sh", "calculix-2.20-user-friction.patch"}}
     assert set(names) - extra.get(target, set()) - {"README.md"} == {
@@ -61,21 +60,19 @@ def test_constants_in_host_units(tmp_path, params_file):
 
 def test_bad_input_exit_2_and_no_output(tmp_path, params_file, capsys):
     out = tmp_path / "o"
-    assert exp.main(["nastran", "--params", str(params_file), "--out", str(out)]) == 2
-    assert (
-        exp.main(["lsdyna", "--params", str(params_file), "--out", str(out), "--units", "ft"]) == 2
-    )
-    assert exp.main(["lsdyna", "--params", str(tmp_path / "none.json"), "--out", str(out)]) == 2
-    assert exp.main(["lsdyna", "--params", str(params_file), "--out", str(out), "--k-t", "-1"]) == 2
+    assert main(["nastran", "--params", str(params_file), "--out", str(out)]) == 2
+    assert main(["lsdyna", "--params", str(params_file), "--out", str(out), "--units", "ft"]) == 2
+    assert main(["lsdyna", "--params", str(tmp_path / "none.json"), "--out", str(out)]) == 2
+    assert main(["lsdyna", "--params", str(params_file), "--out", str(out), "--k-t", "-1"]) == 2
     args = ["abaqus-table", "--params", str(params_file), "--out", str(out)]
-    assert exp.main([*args, "--table-tol", "0.5"]) == 2
-    assert exp.main([*args, "--k-t", "1e12"]) == 2  # no option silently ignored
+    assert main([*args, "--table-tol", "0.5"]) == 2
+    assert main([*args, "--k-t", "1e12"]) == 2  # no option silently ignored
     assert not out.exists()
     err = capsys.readouterr().err
     assert "target must be one of" in err and "Traceback" not in err
-    assert exp.main(args) == 0
-    assert exp.main(args) == 2  # exists
-    assert exp.main([*args, "--force"]) == 0
+    assert main(args) == 0
+    assert main(args) == 2  # exists
+    assert main([*args, "--force"]) == 0
 
 
 def test_k_t_table_baked_in(tmp_path):

@@ -17,11 +17,12 @@ from hypothesis import strategies as st
 
 import frictionlaw as fl
 import frictionlaw.export as exp
-from frictionlaw.export import _fortran, _harness
+from frictionlaw.export import harness
+from frictionlaw.export._templates import fortran_double
 from frictionlaw.params import TangentialStiffness
 
 pytestmark = pytest.mark.skipif(
-    _harness.gfortran() is None,
+    harness.gfortran() is None,
     reason="gfortran not installed (.ci/run installs it: apt-get install -y gfortran)",
 )
 
@@ -57,12 +58,9 @@ def lib_for(tmp_path_factory, target, key, units, k_t=None):
     if tag not in _LIBS:
         files, _ = exp.render(target, _write_params(tmp_path_factory, key), units=units, k_t=k_t)
         src = {n: t for n, t in files.items() if n.endswith(".f")}
-        shim = {"abaqus-fric": "fric", "abaqus-vfric": "vfric"}.get(target, "generic")
         name = re.sub(r"[^a-z0-9]", "_", f"{target}_{key}_{units}_{k_t}".lower())
         wd = tmp_path_factory.mktemp(name)
-        lib, warnings = _harness.build(src, wd, name, shim)
-        wrap = {"fric": _harness.FricLib, "vfric": _harness.VfricLib}.get(shim, _harness.GenericLib)
-        _LIBS[tag] = (wrap(lib), warnings)
+        _LIBS[tag] = exp.target(target).harness.load(src, wd, name=name)
     return _LIBS[tag]
 
 
@@ -408,7 +406,7 @@ def test_generic_agrees_with_runtime(tmp_path_factory, target, key, units, seed,
 
 def test_constants_are_exact_double_literals():
     for v in (0.1, 1.0466452593966644, 142857142.85714287, 5e-324, 1.7976931348623157e308):
-        lit = _fortran.fortran_double(v)
+        lit = fortran_double(v)
         assert float(lit.replace("D", "e")) == v
 
 

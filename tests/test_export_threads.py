@@ -16,10 +16,10 @@ import pytest
 from test_export_fortran import PARAM_SETS
 
 import frictionlaw.export as exp
-from frictionlaw.export import _harness
+from frictionlaw.export import harness
 
 pytestmark = pytest.mark.skipif(
-    _harness.gfortran() is None,
+    harness.gfortran() is None,
     reason="gfortran not installed (.ci/run installs it: apt-get install -y gfortran)",
 )
 
@@ -29,16 +29,6 @@ FORTRAN_TARGETS = [t for t in exp.TARGETS if not t.endswith("-table") and t != "
 N_THREADS = 4
 N_REPEAT = 25
 N_NODES = 4 * 2000
-
-SHIMS = {
-    "abaqus-fric": "fric",
-    "abaqus-vfric": "vfric",
-    "abaqus-vfriction": "vfriction",
-    "lsdyna-usrfrc": "usrfrc",
-    "lsdyna-usrfrc-mpp": "usrfrc_mpp",
-    "lsdyna": "generic",
-    "ansys-userfric": "generic",
-}
 
 
 def _code_lines(text):
@@ -242,23 +232,13 @@ def _concurrently(calls):
 def test_concurrent_calls_equal_serial(tmp_path_factory, params_file, target, prec):
     files, _ = exp.render(target, params_file, k_t=None if target != "lsdyna" else 5e12)
     src = {k: v for k, v in files.items() if k.endswith(".f")}
-    shim = SHIMS[target]
     lsdyna = target.startswith("lsdyna-usrfrc")
-    flags = ("-O2", "-fopenmp", *(_harness.HOST_PRECISION_FLAGS[prec] if lsdyna else ()))
+    flags = ("-O2", "-fopenmp", *(harness.HOST_PRECISION_FLAGS[prec] if lsdyna else ()))
     name = re.sub(r"[^a-z0-9]", "_", f"thr_{target}_{prec}")
-    lib, _ = _harness.build(src, tmp_path_factory.mktemp(name), name, shim, flags=flags)
-    wrap = {
-        "fric": _harness.FricLib,
-        "vfric": _harness.VfricLib,
-        "vfriction": _harness.VfrictionLib,
-        "generic": _harness.GenericLib,
-    }
-    if lsdyna:
-        host = (_harness.UsrfrcLib if shim == "usrfrc" else _harness.UsrfrcMppLib)(
-            lib, np.float32 if prec == "SP" else np.float64
-        )
-    else:
-        host = wrap[shim](lib)
+    options = {"dtype": np.float32 if prec == "SP" else np.float64} if lsdyna else {}
+    host, _ = exp.target(target).harness.load(
+        src, tmp_path_factory.mktemp(name), name=name, flags=flags, **options
+    )
     params = PARAM_SETS["soft"]
     order = np.random.default_rng(7).permutation(N_NODES)
     chunks = np.array_split(order if lsdyna else np.arange(N_NODES), N_THREADS)

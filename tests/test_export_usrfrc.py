@@ -18,10 +18,10 @@ from test_export_fortran import PARAM_SETS, check_cache, pressures
 
 import frictionlaw as fl
 import frictionlaw.export as exp
-from frictionlaw.export import _harness
+from frictionlaw.export import harness
 
 pytestmark = pytest.mark.skipif(
-    _harness.gfortran() is None,
+    harness.gfortran() is None,
     reason="gfortran not installed (.ci/run installs it: apt-get install -y gfortran)",
 )
 
@@ -37,12 +37,11 @@ def usrfrc_lib(tmp_path_factory, target, key, prec, k_t=None):
             PARAM_SETS[key].to_json(path)
         files, _ = exp.render(target, path, k_t=k_t)
         src = {n: t for n, t in files.items() if n.endswith(".f")}
-        shim = "usrfrc" if target == "lsdyna-usrfrc" else "usrfrc_mpp"
         name = re.sub(r"[^a-z0-9]", "_", f"{target}_{key}_{prec}_{k_t}".lower())
-        flags = ("-O2", *_harness.HOST_PRECISION_FLAGS[prec])
-        lib, warnings = _harness.build(src, tmp_path_factory.mktemp(name), name, shim, flags=flags)
-        wrap = _harness.UsrfrcLib if shim == "usrfrc" else _harness.UsrfrcMppLib
-        _LIBS[tag] = (wrap(lib, DTYPES[prec]), warnings)
+        flags = ("-O2", *harness.HOST_PRECISION_FLAGS[prec])
+        _LIBS[tag] = exp.target(target).harness.load(
+            src, tmp_path_factory.mktemp(name), name=name, flags=flags, dtype=DTYPES[prec]
+        )
     return _LIBS[tag]
 
 
@@ -287,7 +286,7 @@ def test_dp_build_without_double_8_is_refused(tmp_path):
     src = tmp_path / "u.f"
     src.write_text(files["sbmf_usrfrc_smp.f"])
     r = subprocess.run(
-        [_harness.gfortran(), "-fdefault-real-8", "-c", str(src), "-o", str(tmp_path / "u.o")],
+        [harness.gfortran(), "-fdefault-real-8", "-c", str(src), "-o", str(tmp_path / "u.o")],
         capture_output=True,
         text=True,
     )

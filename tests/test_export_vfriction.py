@@ -16,10 +16,10 @@ from test_export_fortran import PARAM_SETS, TINY, assert_close, check_cache, pre
 
 import frictionlaw as fl
 import frictionlaw.export as exp
-from frictionlaw.export import _harness
+from frictionlaw.export import harness
 
 pytestmark = pytest.mark.skipif(
-    _harness.gfortran() is None,
+    harness.gfortran() is None,
     reason="gfortran not installed (.ci/run installs it: apt-get install -y gfortran)",
 )
 
@@ -33,8 +33,9 @@ def vfriction_lib(tmp_path_factory, key):
         files, _ = exp.render("abaqus-vfriction", path)
         src = {n: t for n, t in files.items() if n.endswith(".f")}
         name = f"vfriction_{key}"
-        lib, warnings = _harness.build(src, tmp_path_factory.mktemp(name), name, "vfriction")
-        _LIBS[key] = (_harness.VfrictionLib(lib), warnings)
+        _LIBS[key] = exp.target("abaqus-vfriction").harness.load(
+            src, tmp_path_factory.mktemp(name), name=name
+        )
     return _LIBS[key]
 
 

@@ -20,7 +20,7 @@ import pytest
 
 from fe_demo.cli import main as fe_demo
 from frictionlaw import FrictionParams
-from frictionlaw.export import main as export
+from frictionlaw.export.cli import main as export
 from frictionlaw.params import fit_failure
 from halfspace_calib.cli import main as calib
 from halfspace_calib.cli._paths import failure_hint

@@ -15,7 +15,7 @@ import pytest
 
 from fe_demo.cli import main as fe_demo
 from frictionlaw.clitools import MARKER, OutputFolder, read_marker
-from frictionlaw.export import main as export
+from frictionlaw.export.cli import main as export
 from halfspace_calib.cli import main as calib
 
 CALIB = [

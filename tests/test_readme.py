@@ -55,7 +55,7 @@ def test_readme_getfem_test_count_and_skip_conditions_are_true():
 def test_readme_progress_options_per_command_are_true():
     from fe_demo.cli import build_parser as fe_parser
     from frictionlaw.__main__ import main as demo_main  # noqa: F401 - the command exists
-    from frictionlaw.export import _parser as export_parser
+    from frictionlaw.export.cli import build_parser as export_parser
     from halfspace_calib.cli import build_parser as calib_parser
 
     text = " ".join(_readme().split())

@@ -6,6 +6,7 @@ with that law, on a coarse FE mesh to save time) runs from a folder outside the 
 """
 
 import os
+import re
 import subprocess
 import sys
 import tarfile
@@ -47,6 +48,31 @@ def test_wheel_and_sdist_carry_data_licence_and_type_marker(dist):
         snames = {n.split("/", 1)[1] for n in tf.getnames() if "/" in n}
     for member in ("LICENSE", "README.md", "pyproject.toml", "frictionlaw/py.typed"):
         assert member in snames, member
+
+
+def test_wheel_carries_every_export_template(dist):
+    """frictionlaw-export renders from template files: each one, and each file a target's record
+    names or a template includes, must be in the wheel."""
+    from frictionlaw.export import REGISTRY
+
+    wheel, _ = dist
+    names = set(zipfile.ZipFile(wheel).namelist())
+    export = ROOT / "frictionlaw" / "export"
+    templates = {
+        p
+        for p in export.rglob("*")
+        if p.is_file() and p.suffix not in (".py", ".pyc") and "__pycache__" not in p.parts
+    }
+    assert {p.relative_to(export).parts[0] for p in templates} >= {"core", "abaqus", "shims"}
+    named = {p for record in REGISTRY.values() for p in record.templates()}
+    included = {
+        export / m
+        for p in templates
+        for m in re.findall(r'{%\s*include\s+"([^"]+)"', p.read_text(encoding="utf-8"))
+    }
+    assert named | included <= templates, sorted(map(str, (named | included) - templates))
+    missing = sorted({p.relative_to(ROOT).as_posix() for p in templates} - names)
+    assert not missing, missing
 
 
 def test_wheel_runs_the_main_job_from_outside_the_repository(dist, tmp_path):

@@ -1,0 +1,172 @@
+"""The law's values in a host's units, and their provenance (private).
+
+What every target bakes in, decided from the parameter file before any template is rendered:
+the unit system, the stick stiffness source, the law's constants, :func:`core_context` (the
+values the law core ``core/sbmf_core.f`` is rendered with: a new law form changes that function
+and the template, nothing per target) and the provenance header's lines. The public names are
+re-exported by :mod:`frictionlaw.export`.
+"""
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .. import __version__
+
+__all__ = [
+    "UnitSystem",
+    "UNIT_SYSTEMS",
+    "StiffnessSpec",
+    "stiffness_spec",
+    "law_constants",
+    "core_context",
+    "header_lines",
+]
+
+
+@dataclass(frozen=True)
+class UnitSystem:
+    """A host unit system: host value = SI value times the factor."""
+
+    name: str
+    stress: float  # Pa -> host stress unit
+    length: float  # m -> host length unit
+    stress_unit: str
+    length_unit: str
+
+    @property
+    def stiffness(self):
+        """Factor for a tangential stiffness (stress per length)."""
+        return self.stress / self.length
+
+
+UNIT_SYSTEMS = {
+    "SI": UnitSystem("SI", 1.0, 1.0, "Pa", "m"),
+    "mm-t-s": UnitSystem("mm-t-s", 1e-6, 1e3, "MPa", "mm"),
+}
+
+
+@dataclass(frozen=True)
+class StiffnessSpec:
+    """Where the generated routine takes the tangential stick stiffness ``k_t`` from.
+
+    ``kind`` is ``"table"`` (the parameter file's calibrated ``k_t(p)``, log-log interpolated),
+    ``"constant"`` (``--k-t``) or ``"host"`` (the host's own penalty: for Abaqus FRIC an elastic
+    slip of 0.005 x CHRLNGTH). Values are in the host's units.
+    """
+
+    kind: str
+    p: tuple = ()
+    k: tuple = ()
+    log_p: tuple = ()
+    log_k: tuple = ()
+    value: float = 0.0
+
+    def describe(self, units):
+        """One line for headers and READMEs."""
+        k_unit = f"{units.stress_unit}/{units.length_unit}"
+        if self.kind == "table":
+            return (
+                f"calibrated k_t(p) table from the parameter file ({len(self.p)} points, "
+                f"{self.k[0]:.4g}..{self.k[-1]:.4g} {k_unit}, log-log, constant beyond the ends)"
+            )
+        if self.kind == "constant":
+            return f"constant k_t = {self.value:.6g} {k_unit} (--k-t)"
+        return "the host's penalty (no calibrated k_t in the parameter file, no --k-t)"
+
+
+def stiffness_spec(params, units, k_t=None):
+    """The stiffness source: ``k_t`` (Pa/m) if given, else the file's table, else the host's."""
+    if k_t is not None:
+        v = float(k_t)
+        if not (math.isfinite(v) and v > 0):
+            raise ValueError(f"--k-t must be a finite stiffness > 0 in Pa/m, got {k_t!r}")
+        return StiffnessSpec("constant", value=v * units.stiffness)
+    table = getattr(params, "k_t", None)
+    if table is None:
+        return StiffnessSpec("host")
+    p = tuple(float(v) * units.stress for v in table.p)
+    k = tuple(float(v) * units.stiffness for v in table.k_t)
+    return StiffnessSpec(
+        "table", p=p, k=k, log_p=tuple(np.log(p).tolist()), log_k=tuple(np.log(k).tolist())
+    )
+
+
+def law_constants(params, units):
+    """The constants baked into the Fortran core, in the host's units."""
+    return {
+        "TMAX": params.tau_max * units.stress,
+        "H": params.H * units.stress,
+        "C1": params.C1,
+        "XN1": params.n1,
+        "C2": params.C2,
+        "XN2": params.n2,
+    }
+
+
+def core_context(params, units, kt):
+    """The values ``core/sbmf_core.f`` (the law core of every Fortran target) is rendered with.
+
+    Parameters
+    ----------
+    params : FrictionParams
+    units : UnitSystem
+        The host's units (the constants are converted at export time).
+    kt : StiffnessSpec or None
+        The stick stiffness source (None for a table target, which renders no core).
+
+    Returns
+    -------
+    dict
+        ``law`` (``TMAX, H, C1, XN1, C2, XN2`` in the host's units), ``continuous``
+        (``params.continuous_reload``), ``kt``, and ``ln_small``, ``ln_sat``: the smooth
+        minimum's branch points ``ln(1e-4)`` and ``ln(350)`` of ``frictionlaw._kernels``.
+    """
+    return {
+        "law": law_constants(params, units),
+        "continuous": params.continuous_reload,
+        "kt": kt,
+        "ln_small": math.log(1e-4),
+        "ln_sat": math.log(350.0),
+    }
+
+
+def _fit_summary(params):
+    fit = params.provenance.get("fit", {}) if isinstance(params.provenance, dict) else {}
+    out = []
+    for key in ("first_loading", "reload"):
+        f = fit.get(key)
+        if isinstance(f, dict):
+            r2 = f.get("r_squared")
+            rmse = f.get("rmse")
+            npts = f.get("n_points")
+            out.append(f"fit {key}: R^2={r2:.6g}, rmse={rmse:.3g}, points={npts}")
+    return out or ["fit summary: none recorded in the parameter file"]
+
+
+def header_lines(target, params, params_path, sha, units, kt):
+    """Provenance lines (without comment markers)."""
+    s = units.stress_unit
+    lines = [
+        f"SBMF friction law (Eqs. 24-26), target {target}",
+        f"generated by frictionlaw-export {__version__}; do not edit by hand",
+        f"parameter file: {Path(params_path).name}",
+        f"sha256: {sha}",
+        f"units: {units.name} (stress {s}, length {units.length_unit})",
+        f"m={params.m!r} k={params.k * units.stress!r} {s}",
+        f"H={params.H * units.stress!r} {s} geo_ratio={params.geo_ratio!r}",
+        f"C1={params.C1!r} n1={params.n1!r}",
+        f"C2={params.C2!r} n2={params.n2!r}",
+        f"continuous_reload={params.continuous_reload}",
+        f"tau_max=m k (1+geo_ratio)={params.tau_max * units.stress!r} {s}",
+        f"mu_eff=tau_max C1/H={params.mu_eff!r}",
+    ]
+    if params.p_range is not None:
+        lo, hi = (v * units.stress for v in params.p_range)
+        lines.append(f"calibrated pressures: {lo:.6g}..{hi:.6g} {s}")
+    lines += _fit_summary(params)
+    if kt is not None:
+        lines.append("stick stiffness: " + kt.describe(units))
+    return lines

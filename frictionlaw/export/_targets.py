@@ -1,0 +1,345 @@
+"""One record per host target, and the registry :func:`frictionlaw.export.render` reads (private).
+
+A :class:`Target` says everything the export writes for a target and how it is tested: the
+host, the generated file and its template, the README's host section, the file's comment style,
+the extra files, and the harness that drives the routine as the host does. Its ``form`` says
+what the file carries: a :class:`Routine` (the law with its history as a Fortran user routine;
+its entry template includes the law core ``core/sbmf_core.f``) or a :class:`Table` (Eq. 24 as
+a friction-coefficient table). Templates are named by their path below ``frictionlaw/export``
+(see :mod:`frictionlaw.export._templates`) or by an absolute path.
+
+Adding a target is one record here (or a :func:`register` call) and its templates; a new law
+form for every target is ``core/sbmf_core.f`` and ``_law.core_context``.
+"""
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import ClassVar
+
+from ._law import stiffness_spec
+from ._tables import build_table
+from ._templates import template_path
+from .harness import FRIC, SBMF_FRICTION, USRFRC, USRFRC_MPP, VFRIC, VFRICTION, Harness
+
+__all__ = [
+    "Host",
+    "Style",
+    "Extra",
+    "Routine",
+    "Table",
+    "Target",
+    "REGISTRY",
+    "register",
+    "target",
+    "TARGETS",
+    "CALCULIX_DIR",
+]
+
+
+@dataclass(frozen=True)
+class Host:
+    """A host FE code as the generated routines meet it.
+
+    Attributes
+    ----------
+    name : str
+        The host (program and solver) as the docs name it.
+    exit_routine : str
+        The host's own error exit: the routine a generated routine calls to end the analysis
+        with an error (Abaqus/Standard ``XIT``).
+    message_routine : str
+        The host's message routine: how a generated routine writes a warning or the reason of
+        an error exit into the host's own log (Abaqus/Standard ``STDB_ABQERR``).
+    reference : str
+        Where the host documents both.
+
+    The two routines are not called yet: they are the one place per host where the routines'
+    guards (state-variable count, unit system, pressure range) will reach the host.
+    """
+
+    name: str
+    exit_routine: str
+    message_routine: str
+    reference: str
+
+
+@dataclass(frozen=True)
+class Style:
+    """The generated file's comment marker (of the provenance header) and line length."""
+
+    comment: str
+    columns: int
+
+
+#: fixed-form Fortran: comments from column 1, statements up to column 72
+FIXED_FORM = Style("C", 72)
+
+
+@dataclass(frozen=True)
+class Extra:
+    """A file written beside the generated one, copied verbatim from ``template``."""
+
+    name: str
+    template: str
+    executable: bool = False
+
+
+@dataclass(frozen=True)
+class Routine:
+    """The law with its history as a user routine (fixed-form Fortran, the law core included).
+
+    Attributes
+    ----------
+    stick : str
+        Template of the README's paragraph on the stick stiffness (it reads ``kt``).
+    state : tuple of str
+        How the README names state variable ``i``: ``state[0] + i + state[1]``.
+    tested : str
+        Template of the README's last paragraph: how the routine was tested.
+    """
+
+    stick: str
+    state: tuple = ("STATEV(", ")")
+    tested: str = "readme/tested.md"
+    #: the README's frame (it includes ``stick``, the target's section and ``tested``)
+    frame: ClassVar[str] = "readme/routine.md"
+    #: ``--k-t`` applies
+    takes_k_t: ClassVar[bool] = True
+
+    def decide(self, params, units, k_t, table_tol):
+        """``(stiffness, table)``: the stick stiffness source; a routine has no table."""
+        return stiffness_spec(params, units, k_t), None
+
+    def templates(self):
+        """The templates this form reads besides the target's own."""
+        return (self.frame, self.stick, self.tested)
+
+
+@dataclass(frozen=True)
+class Table:
+    """Eq. 24 as a friction-coefficient table (a function of the current pressure only)."""
+
+    frame: ClassVar[str] = "readme/table.md"
+    takes_k_t: ClassVar[bool] = False
+
+    def decide(self, params, units, k_t, table_tol):
+        """``(stiffness, table)``: no stiffness; the table (RuntimeError if ``table_tol`` fails)."""
+        return None, build_table(params, table_tol)
+
+    def templates(self):
+        """The templates this form reads besides the target's own."""
+        return (self.frame,)
+
+
+@dataclass(frozen=True)
+class Target:
+    """One host target of ``frictionlaw-export``.
+
+    Attributes
+    ----------
+    name : str
+        The target's name on the command line (``abaqus-fric``).
+    host : Host
+        The FE code and its error exit and message routine.
+    file : str
+        Name of the generated file (``sbmf_fric.f``).
+    template : str
+        Its template (a Fortran entry point that includes the law core, or a table deck); the
+        provenance header is written above it in ``style``.
+    readme : str
+        Template of the README's host section (how to compile and activate).
+    form : Routine or Table
+        What the file carries, and the README frame that goes with it.
+    style : Style
+        Comment marker and line length of the generated file (every line is checked).
+    extras : tuple of Extra
+        Files copied beside it (CalculiX: the patch, its build script, ``ABA_PARAM.INC``).
+    harness : frictionlaw.export.harness.Harness or None
+        How the tests call the routine as the host does (None: a table).
+    """
+
+    name: str
+    host: Host
+    file: str
+    template: str
+    readme: str
+    form: Routine | Table
+    style: Style = FIXED_FORM
+    extras: tuple = ()
+    harness: Harness | None = None
+
+    def templates(self):
+        """Every template file this target reads (its includes aside), as absolute paths."""
+        names = (self.template, self.readme, *self.form.templates())
+        names += tuple(e.template for e in self.extras)
+        names += (self.harness.shim,) if self.harness is not None else ()
+        return tuple(template_path(n) for n in names)
+
+
+#: every target by name, in the order the command lists them
+REGISTRY: dict[str, Target] = {}
+
+
+def register(record):
+    """Add ``record`` to the targets :func:`frictionlaw.export.render` knows; returns it."""
+    if record.name in REGISTRY:
+        raise ValueError(f"a target named {record.name!r} is registered already")
+    REGISTRY[record.name] = record
+    return record
+
+
+def target(name):
+    """The record of target ``name`` (ValueError naming the known ones if there is none)."""
+    try:
+        return REGISTRY[name]
+    except (KeyError, TypeError):
+        raise ValueError(f"target must be one of {', '.join(REGISTRY)}; got {name!r}") from None
+
+
+# -- the hosts ---------------------------------------------------------------------------------
+ABAQUS_STANDARD = Host(
+    "Abaqus/Standard",
+    "XIT",
+    "STDB_ABQERR",
+    "Abaqus User Subroutines Reference, utility routines: terminating an analysis (XIT), "
+    "printing messages to the message or status file (STDB_ABQERR)",
+)
+ABAQUS_EXPLICIT = Host(
+    "Abaqus/Explicit",
+    "XPLB_EXIT",
+    "XPLB_ABQERR",
+    "Abaqus User Subroutines Reference, utility routines: terminating an analysis (XPLB_EXIT), "
+    "printing messages to the status file (XPLB_ABQERR)",
+)
+LSDYNA = Host(
+    "LS-DYNA",
+    "ADIOS",
+    "WRITE to LS-DYNA's output units (IOTTY, IOHSP)",
+    "LSTC's user-routine file dyn21.f: the sample routines stop with CALL ADIOS(2) after "
+    "writing the reason to the terminal and the d3hsp file",
+)
+ANSYS = Host(
+    "ANSYS Mechanical APDL",
+    "ERHANDLER (error level)",
+    "ERHANDLER",
+    "ANSYS Programmer's Reference, 'Subroutine erhandler (Displays Program Errors)'",
+)
+CALCULIX = Host(
+    "CalculiX 2.20 (patched ccx)",
+    "EXIT(201)",
+    "WRITE(*, *) with the '*ERROR' or '*WARNING' prefix",
+    "CalculiX's own Fortran sources: an input error is written as '*ERROR ...' and ends the "
+    "run with CALL EXIT(201)",
+)
+
+#: CalculiX: the patch and its build script ship with the package (frictionlaw/export/calculix)
+CALCULIX_DIR = Path(template_path("calculix"))
+
+# -- the targets -------------------------------------------------------------------------------
+_CHRLNGTH = "abaqus/stick_chrlngth.md"
+_STICK_FORCE = "abaqus/stick_force.md"
+_KHOST = "neutral/stick_khost.md"
+
+for _record in (
+    Target(
+        "abaqus-fric",
+        ABAQUS_STANDARD,
+        "sbmf_fric.f",
+        "abaqus/fric.f",
+        "abaqus/fric.md",
+        Routine(stick=_CHRLNGTH),
+        harness=FRIC,
+    ),
+    Target(
+        "abaqus-vfric",
+        ABAQUS_EXPLICIT,
+        "sbmf_vfric.f",
+        "abaqus/vfric.f",
+        "abaqus/vfric.md",
+        Routine(stick=_STICK_FORCE),
+        harness=VFRIC,
+    ),
+    Target(
+        "abaqus-vfriction",
+        ABAQUS_EXPLICIT,
+        "sbmf_vfriction.f",
+        "abaqus/vfriction.f",
+        "abaqus/vfriction.md",
+        Routine(stick=_STICK_FORCE, state=("state(", ", j, k)")),
+        harness=VFRICTION,
+    ),
+    Target(
+        "lsdyna-usrfrc",
+        LSDYNA,
+        "sbmf_usrfrc_smp.f",
+        "lsdyna/usrfrc_smp.f",
+        "lsdyna/usrfrc_smp.md",
+        Routine(stick="lsdyna/stick_penalty.md", state=("UFHIST(", ", ILBSV(II))")),
+        harness=USRFRC,
+    ),
+    Target(
+        "lsdyna-usrfrc-mpp",
+        LSDYNA,
+        "sbmf_usrfrc_mpp.f",
+        "lsdyna/usrfrc_mpp.f",
+        "lsdyna/usrfrc_mpp.md",
+        Routine(stick="lsdyna/stick_coefficient.md", state=("UH(", ")")),
+        harness=USRFRC_MPP,
+    ),
+    Target(
+        "lsdyna",
+        LSDYNA,
+        "sbmf_lsdyna.f",
+        "neutral/sbmf_friction.f",
+        "lsdyna/lsdyna.md",
+        Routine(stick=_KHOST, state=("history variable ", "")),
+        harness=SBMF_FRICTION,
+    ),
+    Target(
+        "ansys-userfric",
+        ANSYS,
+        "sbmf_userfric.f",
+        "neutral/sbmf_friction.f",
+        "ansys/userfric.md",
+        Routine(stick=_KHOST, state=("state variable ", "")),
+        harness=SBMF_FRICTION,
+    ),
+    Target(
+        "calculix",
+        CALCULIX,
+        "sbmf_fric.f",
+        "abaqus/fric.f",  # the abaqus-fric routine, unchanged
+        "calculix/calculix.md",
+        Routine(stick=_CHRLNGTH, tested="calculix/tested.md"),
+        extras=(
+            Extra("ABA_PARAM.INC", "abaqus/ABA_PARAM.INC"),
+            Extra(
+                "calculix-2.20-user-friction.patch", "calculix/calculix-2.20-user-friction.patch"
+            ),
+            Extra("build.sh", "calculix/build.sh", executable=True),
+        ),
+        harness=FRIC,
+    ),
+    Target(
+        "abaqus-table",
+        ABAQUS_STANDARD,
+        "sbmf_friction_table.inp",
+        "abaqus/table.inp",
+        "abaqus/table.md",
+        Table(),
+        style=Style("**", 100),
+    ),
+    Target(
+        "lsdyna-table",
+        LSDYNA,
+        "sbmf_friction_table.k",
+        "lsdyna/table.k",
+        "lsdyna/table.md",
+        Table(),
+        style=Style("$", 80),
+    ),
+):
+    register(_record)
+
+#: the targets shipped with the package, in the command's order
+TARGETS = tuple(REGISTRY)

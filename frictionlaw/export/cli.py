@@ -1,0 +1,110 @@
+"""The ``frictionlaw-export`` command: options, messages and exit codes around :func:`export`.
+
+Exit codes: 0 written, 1 the export failed (a table that cannot meet its tolerance), 2 bad input
+(unknown target or unit system, unreadable parameter file, out-of-range option, an option that
+does not apply to the target), 130/143 interrupted. The library raises ``ValueError`` (and
+``FileNotFoundError``, ``IsADirectoryError``) for bad input and ``RuntimeError`` for a failed
+export; this module alone turns them into exit codes and one line on stderr.
+"""
+
+import argparse
+import json
+from pathlib import Path
+
+from ..clitools import (
+    Console,
+    HelpFormatter,
+    add_common_options,
+    add_version,
+    interruptible,
+    parse,
+)
+from ..params import fit_failure
+from . import TARGETS, export
+
+__all__ = ["build_parser", "main"]
+
+
+def _warn_failed(con, params_path, accepted):
+    """The warning that goes with an accepted failed fit."""
+    if not accepted:
+        return
+    try:
+        reason = fit_failure(json.loads(Path(params_path).read_text(encoding="utf-8")))
+    except (OSError, ValueError):
+        return
+    if reason:
+        con.warn(f"frictionlaw-export: WARNING: {params_path}: {reason}; exported as asked")
+
+
+def build_parser():
+    """The argument parser of ``frictionlaw-export``."""
+    ap = argparse.ArgumentParser(
+        prog="frictionlaw-export",
+        description="Write the calibrated friction law as an FE user subroutine or friction table.",
+        formatter_class=HelpFormatter,
+    )
+    add_version(ap)
+    ap.add_argument("target", help="one of: " + ", ".join(TARGETS))
+    ap.add_argument("--params", required=True, help="params.json from the calibration")
+    ap.add_argument("--out", required=True, help="output folder (must not exist unless --force)")
+    ap.add_argument("--units", default="SI", help="SI (Pa, m) or mm-t-s (MPa, mm)")
+    ap.add_argument(
+        "--k-t",
+        type=float,
+        default=None,
+        help="constant tangential stick stiffness in Pa/m (Fortran targets; overrides the "
+        "parameter file's calibrated k_t table; default: the file's table, else none)",
+    )
+    ap.add_argument(
+        "--table-tol",
+        type=float,
+        default=1e-3,
+        help="table targets: max |tau_table - tau| / tau_max on first loading",
+    )
+    ap.add_argument(
+        "--force",
+        action="store_true",
+        help="replace an earlier export in --out (never other files, never the --params file)",
+    )
+    ap.add_argument(
+        "--accept-failed-fit",
+        action="store_true",
+        help="export a parameter file whose calibration failed or whose fit did not converge "
+        "(refused otherwise; a warning is printed)",
+    )
+    add_common_options(ap, progress=False)
+    return ap
+
+
+@interruptible("frictionlaw-export", "the export")
+def main(argv=None):
+    """Console entry point; returns 0 on success, 1 if the export failed, 2 on bad input."""
+    ap = build_parser()
+    args, code = parse(ap, argv)
+    if args is None:
+        return code
+    con = Console("frictionlaw-export", quiet=args.quiet)
+    try:
+        res = export(
+            args.target,
+            args.params,
+            args.out,
+            units=args.units,
+            k_t=args.k_t,
+            table_tol=args.table_tol,
+            force=args.force,
+            accept_failed=args.accept_failed_fit,
+        )
+    except (ValueError, FileNotFoundError, IsADirectoryError) as exc:
+        return con.error(str(exc), 2)
+    except RuntimeError as exc:
+        return con.error(f"the export failed: {exc}", 1)
+    _warn_failed(con, args.params, args.accept_failed_fit)
+    con.result(f"wrote {', '.join(res.files)} to {res.out}")
+    if res.table is not None:
+        con.result(
+            f"table: {len(res.table.p)} pressures, measured max |tau_table - tau| = "
+            f"{res.table.max_error:.3g} tau_max (tolerance {res.table.tol:g})"
+        )
+    return 0

@@ -1,0 +1,127 @@
+C=======================================================================
+C     LS-DYNA SMP user friction usrfrc (argument list and conventions
+C     of the sample usrfrc in LSTC's user file dyn21.f). Called once
+C     per cycle with the NIISV5 active slave nodes IISV5(:). All host
+C     arguments have the host's default REAL/INTEGER (compile with the
+C     host's flags: SP as is, DP with ifort -r8 -i8 or gfortran
+C     -fdefault-real-8 -fdefault-double-8 -fdefault-integer-8); the
+C     law is computed in double precision.
+C     p = -FNI/AREAS (FNI < 0 in compression). Trial friction force:
+C     tangential part of FDAT(3:5) (old friction force) + STFK SFACN3
+C     (DX, DY, DZ) (k_t = STFK SFACN3/AREAS unless the export baked in
+C     a calibrated k_t); return map of the law on tractions (force /
+C     AREAS), as frictionlaw.traction_update_force; the new force is
+C     stored in FDAT(3:5) and added to FXIS, FYIS, FZIS.
+C     UFHIST(1, ILBSV(II)) = p_hist (NHV >= 1; stored rounded down to
+C     the host REAL), UFHIST(2, .) = cache -ln alpha1(p_hist) (NHV >= 2,
+C     used in double-precision hosts only), UFHIST(3, .) = status of
+C     the last cycle 0 open 1 stick 2 slip (NHV >= 3).
+C     FNI >= 0 or AREAS <= 0: open (no friction, FDAT(3:5) = 0,
+C     history unchanged). The Coulomb coefficients FRIC1..4, FRC and
+C     the thermal data are not used.
+C=======================================================================
+      SUBROUTINE USRFRC(NOSL,TIME,NCYCLE,DT2,INSV,AREAS,XS,YS,ZS,
+     & LSV,IX1,IX2,IX3,IX4,AREAM,XX1,XX2,XX3,STFN,STF,FNI,
+     & DX,DY,DZ,FDT2,NINPUT,UA,SIDE,IISV5,NIISV5,RN1,RN2,RN3,FRIC1,
+     & FRIC2,FRIC3,FRIC4,BIGNUM,FDAT,ISEG,FXIS,FYIS,FZIS,SS,TT,
+     & ILBSV,STFK,FRC,NUMNP,NPC,PLD,LCFST,LCFDT,TEMP,TEMP_BOT,
+     & TEMP_TOP,ISURFACE,NHV,UFHIST,NEPS,UFEPS,SFACN3)
+      IMPLICIT NONE
+      INTEGER NOSL, NCYCLE, NINPUT, NIISV5, NUMNP, NHV, NEPS
+      INTEGER INSV(*), LSV(*), IX1(*), IX2(*), IX3(*), IX4(*)
+      INTEGER IISV5(*), ISEG(*), ILBSV(*), NPC(*), LCFST(*), LCFDT(*)
+      INTEGER ISURFACE(*)
+      REAL TIME, DT2, FDT2, FRIC1, FRIC2, FRIC3, FRIC4, BIGNUM, SFACN3
+      REAL AREAS(*), XS(*), YS(*), ZS(*), AREAM(*), XX1(*), XX2(*)
+      REAL XX3(*), STFN(*), STF(*), FNI(*), DX(*), DY(*), DZ(*), UA(*)
+      REAL RN1(*), RN2(*), RN3(*), FDAT(5,*), FXIS(*), FYIS(*)
+      REAL FZIS(*), SS(*), TT(*), STFK(*), FRC(2,*), PLD(2,*), TEMP(*)
+      REAL TEMP_BOT(*), TEMP_TOP(*), UFHIST(NHV,*), UFEPS(*)
+      CHARACTER*(*) SIDE
+C
+      INTEGER KK, II, IH, A, ISTAT
+      DOUBLE PRECISION P, PH, PHNEW, G1H, G1NEW, TLIM, DTAU, AR, FN
+      DOUBLE PRECISION RN(3), FO(3), D(3), Q, KT, HD, HR, F
+      DOUBLE PRECISION TOLD(3), TNEW(3), DTDDU(3,3), DTDP(3)
+      REAL RPH
+      LOGICAL USECAC
+      DOUBLE PRECISION SBMF_KT
+      EXTERNAL SBMF_KT
+C     largest double and largest host REAL
+      HD = HUGE(HD)
+      HR = DBLE(HUGE(RPH))
+C     the cache is exact only where the host REAL is a double
+      USECAC = (KIND(RPH) .EQ. KIND(HD)) .AND. (NHV .GE. 2)
+      DO KK = 1, NIISV5
+        II = IISV5(KK)
+        IH = ILBSV(II)
+        ISEG(II) = LSV(II)
+        FDAT(1, II) = SS(II)
+        FDAT(2, II) = TT(II)
+        AR = DBLE(AREAS(II))
+        FN = -DBLE(FNI(II))
+        IF (.NOT. (FN .GT. 0.0D0 .AND. AR .GT. 0.0D0)) THEN
+          DO A = 3, 5
+            FDAT(A, II) = 0.0
+          END DO
+          IF (NHV .GE. 3) UFHIST(3, IH) = 0.0
+          CYCLE
+        END IF
+        P = MIN(FN/AR, HD)
+        PH = 0.0D0
+        IF (NHV .GE. 1) PH = MAX(DBLE(UFHIST(1, IH)), 0.0D0)
+        G1H = -1.0D0
+        IF (USECAC) G1H = DBLE(UFHIST(2, IH))
+        RN(1) = DBLE(RN1(II))
+        RN(2) = DBLE(RN2(II))
+        RN(3) = DBLE(RN3(II))
+        D(1) = DBLE(DX(II))
+        D(2) = DBLE(DY(II))
+        D(3) = DBLE(DZ(II))
+        DO A = 1, 3
+          FO(A) = DBLE(FDAT(2 + A, II))
+        END DO
+C       tangential parts: the normal components projected out
+        Q = FO(1)*RN(1) + FO(2)*RN(2) + FO(3)*RN(3)
+        DO A = 1, 3
+          FO(A) = FO(A) - Q*RN(A)
+        END DO
+        Q = D(1)*RN(1) + D(2)*RN(2) + D(3)*RN(3)
+        DO A = 1, 3
+          D(A) = D(A) - Q*RN(A)
+        END DO
+C       tractions: t_old = F_old/A, k_t = STFK SFACN3/A (kept finite)
+        KT = MAX(MIN((DBLE(STFK(II))*DBLE(SFACN3))/AR, HD), 0.0D0)
+C       a calibrated k_t (table or --k-t) replaces the penalty's
+        KT = SBMF_KT(P, KT)
+        DO A = 1, 3
+          TOLD(A) = MAX(MIN(FO(A)/AR, HD), -HD)
+        END DO
+        CALL SBMF_SHEAR(P, PH, G1H, TLIM, DTAU, G1NEW)
+        CALL SBMF_RMAP(3, TLIM, DTAU, D, TOLD, KT, TNEW, DTDDU, DTDP,
+     &                 ISTAT)
+        DO A = 1, 3
+          F = MAX(MIN(TNEW(A)*AR, HR), -HR)
+          FDAT(2 + A, II) = REAL(F)
+        END DO
+        FXIS(II) = FXIS(II) + FDAT(3, II)
+        FYIS(II) = FYIS(II) + FDAT(4, II)
+        FZIS(II) = FZIS(II) + FDAT(5, II)
+        PHNEW = MAX(PH, P)
+        IF (NHV .GE. 1) THEN
+C         stored rounded down: a constant pressure stays on Eq. 24
+          RPH = REAL(MIN(PHNEW, HR))
+          IF (DBLE(RPH) .GT. PHNEW) RPH = NEAREST(RPH, -1.0)
+          UFHIST(1, IH) = RPH
+        END IF
+        IF (USECAC) THEN
+          UFHIST(2, IH) = REAL(G1NEW)
+        ELSE IF (NHV .GE. 2) THEN
+          UFHIST(2, IH) = 0.0
+        END IF
+        IF (NHV .GE. 3) UFHIST(3, IH) = REAL(ISTAT)
+      END DO
+      RETURN
+      END
+C
+{% include "core/sbmf_core.f" %}
