@@ -102,11 +102,16 @@ def test_h_is_recovered_from_scans_of_a_finer_truth(scans):
 
 
 def _cli(scans, table, out, grid, *extra):
-    """``halfspace-calib`` on the sheet and tool files with ``--after-contact table``."""
+    """``halfspace-calib`` on the sheet and tool files with ``--after-contact table``.
+
+    The grid is coarse for ``lambda_s`` (warned) to keep the test fast: Eq. 24 then misses the
+    computed points by up to 0.053 in alpha, so the acceptance's tolerance is raised; what is
+    tested here is the fit of H (the acceptance: tests/test_failed_fit.py).
+    """
     return main(
         [
             *("--workpiece", str(scans / "sheet.txt"), "--tool", str(scans / "tool.txt")),
-            *("--grid", grid, *extra, "--after-contact", str(table)),
+            *("--grid", grid, *extra, "--after-contact", str(table), "--heldout-tol", "0.1"),
             *("--no-resolution-check", "--workers", "1", "--quiet", "--out", str(out)),
         ]
     )

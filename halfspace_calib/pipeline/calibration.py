@@ -27,12 +27,12 @@ import numpy as np
 from frictionlaw import FrictionParams, alpha_first
 
 from . import effects as _eff
-from .conformity import punch_edge_problem
 from . import heldout as _held
+from .conformity import punch_edge_problem
 from .fit import FirstLoadingFit, ReloadFit
 from .params import make_params
-from .reload_table import ReloadTableFit, fit_reload_table
 from .registry import REGISTRY
+from .reload_table import ReloadTableFit, fit_reload_table
 from .resolution import ResolutionCheck, fit_sweeps, resolution_check
 from .scene import Scene, load_scene
 from .scene_surfaces import SceneSurfaces, load_scene_surfaces
@@ -95,8 +95,9 @@ class Calibration:
     def problems(self):
         """Why the run failed, one sentence each (empty if it did not).
 
-        A failed or non-converged load level or solve; a branch whose held-out error exceeds
-        ``scene.heldout_tol`` (:mod:`.heldout`; R^2 is reported, it does not decide), with the
+        A failed or non-converged load level or solve; a branch whose measured error exceeds
+        ``scene.heldout_tol`` (:mod:`.heldout`: held out for the reload branch, in sample for
+        Eq. 24; R^2 is reported, it does not decide), with the
         parameters that ended on a bound named, since the bound then keeps the law from the
         data; a fit whose optimiser did not converge; why a reload fit failed on a nearly
         conforming non-periodic contact (:func:`~.conformity.punch_edge_problem`); failed
@@ -139,6 +140,9 @@ class Calibration:
         tol = self.scene.heldout_tol
         for key, name, fit in self._branches():
             err = self.errors.get(key)
+            warn = "" if err is None else err.heldout_warning(tol, name)
+            if warn:
+                out.append(warn)
             if fit.at_bound and not (err is not None and err.exceeds(tol)):
                 out.append(
                     f"{name}: {', '.join(fit.at_bound)} ended on a bound; the measured error "

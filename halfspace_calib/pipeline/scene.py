@@ -13,11 +13,11 @@ import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
+from frictionlaw.reload_form import RELOAD_FORMS
+
 from ..common.checks import tolerance, tresca_factor
 from ..contact.materials import Materials, SolverSettings, sigma_y_from_hardness
 from ..contact.normal import composite_modulus
-from frictionlaw.reload_form import RELOAD_FORMS
-
 from . import effects as _eff
 from .heldout import HELDOUT_TOL
 from .scene_surfaces import MAX_UNDEFINED, SYNTHETIC_GRID, check_memory
@@ -279,9 +279,7 @@ class Scene:
                 f"reload_form must be one of {', '.join(RELOAD_FORMS)}, got {self.reload_form!r}"
             )
         ht = self.heldout_tol
-        if not (
-            isinstance(ht, (int, float)) and not isinstance(ht, bool) and 1e-4 <= ht <= 1
-        ):
+        if not (isinstance(ht, (int, float)) and not isinstance(ht, bool) and 1e-4 <= ht <= 1):
             raise ValueError(
                 f"heldout_tol must be a contact-ratio error in [0.0001, 1], got {ht!r}"
             )
