@@ -29,7 +29,8 @@ from pathlib import Path
 
 import numpy as np
 
-from frictionlaw.htmlpage import figure, number_cell, page
+from sbmf_cli import ParameterError
+from sbmf_cli.htmlpage import figure, number_cell, page
 
 __all__ = [
     "band_laws",
@@ -50,10 +51,11 @@ def band_laws(P, mode, params_path):
     (bad input) if it has no uncertainty block.
     """
     if P.uncertainty is None:
-        raise ValueError(
-            f"--{mode} needs a parameter file with an uncertainty block (a calibration from "
-            f"several samples: halfspace-calib --patches N or several --workpiece files); "
-            f"{params_path} has none"
+        raise ParameterError(
+            f"{{{mode}}} needs a parameter file with an uncertainty block (a calibration from "
+            "several samples: halfspace-calib with several workpiece files or patches, "
+            f"docs/uncertainty.md); {params_path} has none",
+            mode,
         )
     central = P.replace(uncertainty=None)
     if mode == "band":

@@ -10,7 +10,7 @@ Examples
 ``fe-demo multistage`` (upset, unload, reload; with and without ``p_hist``).
 An option the chosen law does not use is refused (exit 2), never silently ignored.
 
-The output folder appears whole (:class:`frictionlaw.clitools.OutputFolder`): the run writes into a
+The output folder appears whole (:class:`sbmf_cli.OutputFolder`): the run writes into a
 temporary folder beside ``--out`` that replaces an earlier ``fe-demo`` output as a whole, so no
 file of a longer earlier run (``vtu/step_0005.vtu``) survives beside a new ``.pvd``. A run that
 did not converge still writes its results (up to the failure) and exits 1. The summary goes to
@@ -25,12 +25,13 @@ from pathlib import Path
 import numpy as np
 
 from frictionlaw import FrictionParams
-from frictionlaw.clitools import (
+from sbmf_cli import (
     Console,
     HelpFormatter,
     OutputFolder,
     add_common_options,
     add_version,
+    flags_of,
     interruptible,
     parse,
 )
@@ -530,25 +531,20 @@ def _cmd_band(args, con):
     return 0 if rec["ok"] else 1
 
 
-class _Report(Console):
-    """A :class:`Console` that also keeps the summary lines (written to ``summary.txt``)."""
-
-    def __init__(self, prog, quiet=False):
-        super().__init__(prog, quiet)
-        self.lines = []
-
-    def result(self, line=""):
-        self.lines.append(line)
-        super().result(line)
+def _flags(parser, scene):
+    """``{Python name: flag}`` of the chosen subcommand (the library's names included)."""
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    return flags_of(sub.choices[scene], n_increments="--increments", paths="--measured")
 
 
 @interruptible("fe-demo", "the FE run")
 def main(argv=None):
     """Entry point of ``fe-demo``: 0, 1 (a run failed), 2 (bad input), 130/143 (interrupted)."""
-    args, code = parse(build_parser(), argv)
+    parser = build_parser()
+    args, code = parse(parser, argv)
     if args is None:
         return code
-    con = _Report("fe-demo", quiet=args.quiet)
+    con = Console("fe-demo", quiet=args.quiet, flags=_flags(parser, args.scene))
     if args.scene == "ring-fit":
         return ringfit_cmd.run(args, con)
     if not (0.0 < args.reduction < 0.9):
@@ -562,7 +558,7 @@ def main(argv=None):
             inputs=(args.params, args.material),
         )
     except (ValueError, OSError) as exc:
-        return con.error(str(exc), 2)
+        return con.error(exc, 2)
     out, args.out = args.out, folder.tmp
     cmd = {"upsetting": _cmd_upsetting, "ring": _cmd_ring}.get(args.scene, _cmd_multistage)
     if args.band or args.samples:
@@ -570,10 +566,10 @@ def main(argv=None):
     with folder:
         try:
             code = cmd(args, con)
-            (folder.tmp / "summary.txt").write_text("\n".join(con.lines) + "\n", encoding="utf-8")
+            con.write_summary(folder.tmp)
             folder.commit()
         except ValueError as exc:
-            return con.error(str(exc), 2)
+            return con.error(exc, 2)
         except OSError as exc:  # writing the outputs (disk full, permissions changed meanwhile)
             return con.error(f"the outputs could not be written, {out} is unchanged: {exc}", 1)
     con.result(f"output in {out}")

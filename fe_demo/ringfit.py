@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import csv
 import math
-import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -36,7 +35,7 @@ from scipy.optimize import minimize_scalar
 from scipy.stats import t as student_t
 
 from frictionlaw import FrictionParams
-from frictionlaw.clitools import process_pool
+from sbmf_cli import ParameterError, available_cpus, process_pool
 
 from .scenes import run_ring
 
@@ -109,68 +108,84 @@ class RingFit:
         )
 
 
+def _bad(path, text):
+    """Bad input in a measured file, naming the ``paths`` parameter (``--measured``)."""
+    return ParameterError(f"{{paths}} {path}{text}", "paths")
+
+
+def _column(path, names, column):
+    """The measured diameter column of a file's header (the same in every pooled file)."""
+    if "height_reduction" not in names:
+        raise _bad(path, f": missing column 'height_reduction' ({names})")
+    have = [c for c in COLUMNS if c in names]
+    if not have:
+        raise _bad(
+            path,
+            ": missing column 'inner_diameter_change' (mid-plane) or "
+            f"'inner_diameter_min_change' (smallest inner diameter); found {names}",
+        )
+    if column is not None and have[0] != column:
+        raise _bad(
+            path,
+            f": gives {have[0]!r} where an earlier file gives {column!r}; pool files that "
+            "measure the same diameter",
+        )
+    return have[0]
+
+
+def _point(path, i, row, col):
+    """``(reduction, d)`` of one data row, checked."""
+    try:
+        r, d = float(row["height_reduction"]), float(row[col])
+    except (TypeError, ValueError):
+        raise _bad(
+            path,
+            f", row {i}: height_reduction and {col} must be numbers (fractions), got "
+            f"{row.get('height_reduction')!r}, {row.get(col)!r}",
+        ) from None
+    if math.isnan(r) or math.isnan(d):
+        raise _bad(path, f", row {i}: NaN in height_reduction or {col}")
+    lo, hi = REDUCTION_RANGE
+    if not (lo < r <= hi):
+        raise _bad(
+            path,
+            f", row {i}: height_reduction {r:g} is outside ({lo:g}, {hi:g}] (a fraction: 0.5 "
+            "for 50 %)",
+        )
+    if not (-1.0 < d < 2.0) or math.isinf(d):
+        raise _bad(
+            path, f", row {i}: {col} {d:g} is not a plausible fraction (-1 < d < 2; 0.05 for +5 %)"
+        )
+    return r, d
+
+
 def read_ring_tests(paths):
     """Read and check measured ring tests (CSV with the columns of ``history.csv``).
 
-    Raises ``ValueError`` naming the file, column, row or range: a missing column, a reduction
-    outside ``(0, 0.7]``, NaN, fewer than 2 points in all, or files that give different columns.
+    Raises :class:`sbmf_cli.ParameterError` (a ``ValueError``) naming ``paths``, the file, column,
+    row or range: a missing column, a reduction outside ``(0, 0.7]``, NaN, fewer than 2 points in
+    all, or files that give different columns.
     """
     paths = [Path(p) for p in paths]
     if not paths:
-        raise ValueError("--measured needs at least one CSV file")
-    red, dd, column = [], [], None
+        raise ParameterError("{paths} needs at least one CSV file", "paths")
+    points, column = [], None
     for path in paths:
         if not path.is_file():
-            raise ValueError(f"--measured {path}: no such file")
+            raise _bad(path, ": no such file")
         with path.open(newline="", encoding="utf-8") as fh:
             reader = csv.DictReader(row for row in fh if not row.lstrip().startswith("#"))
-            names = [n.strip() for n in (reader.fieldnames or [])]
-            if "height_reduction" not in names:
-                raise ValueError(f"--measured {path}: missing column 'height_reduction' ({names})")
-            have = [c for c in COLUMNS if c in names]
-            if not have:
-                raise ValueError(
-                    f"--measured {path}: missing column 'inner_diameter_change' (mid-plane) or "
-                    f"'inner_diameter_min_change' (smallest inner diameter); found {names}"
-                )
-            col = have[0]
-            if column is not None and col != column:
-                raise ValueError(
-                    f"--measured {path}: gives {col!r} where an earlier file gives {column!r}; "
-                    "pool files that measure the same diameter"
-                )
-            column = col
+            column = _column(path, [n.strip() for n in (reader.fieldnames or [])], column)
             for i, row in enumerate(reader, start=2):
                 row = {k.strip(): v for k, v in row.items() if k is not None}
-                try:
-                    r, d = float(row["height_reduction"]), float(row[col])
-                except (TypeError, ValueError):
-                    raise ValueError(
-                        f"--measured {path}, row {i}: height_reduction and {col} must be numbers "
-                        f"(fractions), got {row.get('height_reduction')!r}, {row.get(col)!r}"
-                    ) from None
-                if math.isnan(r) or math.isnan(d):
-                    raise ValueError(
-                        f"--measured {path}, row {i}: NaN in height_reduction or {col}"
-                    )
-                lo, hi = REDUCTION_RANGE
-                if not (lo < r <= hi):
-                    raise ValueError(
-                        f"--measured {path}, row {i}: height_reduction {r:g} is outside "
-                        f"({lo:g}, {hi:g}] (a fraction: 0.5 for 50 %)"
-                    )
-                if not (-1.0 < d < 2.0) or math.isinf(d):
-                    raise ValueError(
-                        f"--measured {path}, row {i}: {col} {d:g} is not a plausible fraction "
-                        "(-1 < d < 2; 0.05 for +5 %)"
-                    )
-                red.append(r)
-                dd.append(d)
-    if len(red) < 2:
-        raise ValueError(
-            f"--measured: at least 2 points are needed to fit m and its band, got {len(red)}"
+                points.append(_point(path, i, row, column))
+    if len(points) < 2:
+        raise ParameterError(
+            f"{{paths}}: at least 2 points are needed to fit m and its band, got {len(points)}",
+            "paths",
         )
-    return RingTest(np.array(red), np.array(dd), column, tuple(str(p) for p in paths))
+    red, dd = np.array(points).T
+    return RingTest(red, dd, column, tuple(str(p) for p in paths))
 
 
 def _law_kw(law, m, params):
@@ -264,11 +279,12 @@ def _check_range(test, curves):
     ):
         if idx.size:
             i = int(idx[0])
-            raise ValueError(
-                f"--measured: {idx.size} point(s) lie {way} what any m in [0, 1] gives (by more than "
+            raise ParameterError(
+                f"{{test}}: {idx.size} point(s) lie {way} what any m in [0, 1] gives (by more than "
                 f"{RANGE_TOL:g}): e.g. reduction {test.reduction[i]:g}, {test.column} "
                 f"{test.d_inner[i]:+.4f} against {ref[i]:+.4f} at m = {m_ref}; check the sign "
-                "and units (fractions: -0.1 for -10 %), the geometry and the material"
+                "and units (fractions: -0.1 for -10 %), the geometry and the material",
+                "test",
             )
 
 
@@ -310,7 +326,7 @@ def fit_m(test, law="sbmf", *, params=None, band_level=0.9, workers=None, **ring
     if not (0.0 < band_level < 1.0):
         raise ValueError(f"band_level must be in (0, 1), got {band_level!r}")
     if workers is None:
-        workers = 2 if len(os.sched_getaffinity(0)) >= 2 else 1
+        workers = min(2, available_cpus())
     top = min(0.7, float(test.reduction.max()) + 0.02)  # the runs go a little past the data
     col = test.column
     curves = _run_curves(law, M_GRID, params, col, top, ring_kw, workers)

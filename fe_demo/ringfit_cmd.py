@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 
 from frictionlaw import FrictionParams
-from frictionlaw.clitools import OutputFolder, version
-from frictionlaw.htmlpage import figure, number_cell, page
+from sbmf_cli import OutputFolder, version
+from sbmf_cli.htmlpage import figure, number_cell, page
 
 from .laws import EXAMPLE_PARAMS_PATH
 from .material import DC04, Material
@@ -120,7 +120,7 @@ def run(args, con):
             inputs=(*args.measured, args.params, args.material),
         )
     except (ValueError, OSError) as exc:
-        return con.error(str(exc), 2)
+        return con.error(exc, 2)
     with folder:
         try:
             fit = fit_m(
@@ -137,9 +137,9 @@ def run(args, con):
                 else fit_m(test, "tresca", band_level=args.band_level, workers=args.workers, **kw)
             )
         except ValueError as exc:  # points no m in [0, 1] can produce
-            return con.error(str(exc), 2)
+            return con.error(exc, 2)
         except RingFitError as exc:
-            return con.error(str(exc), 1)
+            return con.error(exc, 1)
         record = _record(args, test, fit, chart, kw)
         _write(folder.tmp, args, test, fit, chart, params, record)
         folder.commit()

@@ -1,4 +1,4 @@
-"""One set of conventions for the four command lines (frictionlaw.clitools).
+"""One set of conventions for the four command lines (sbmf_cli).
 
 --version, --quiet against --no-progress, stdout/stderr, help text with every default and no RST,
 output folders that appear whole.
@@ -13,8 +13,8 @@ import pytest
 from fe_demo import cli as fe_cli
 from frictionlaw import __main__ as law_demo
 from frictionlaw import export as law_export
-from frictionlaw.clitools import OutputFolder
 from halfspace_calib import cli as hs_cli
+from sbmf_cli import OutputFolder
 
 MAINS = {
     "halfspace-calib": hs_cli.main,
@@ -66,7 +66,7 @@ def test_every_option_has_help_with_its_default_and_no_rst(prog):
 
 
 def test_the_help_formatter_adds_a_default_only_where_missing():
-    from frictionlaw.clitools import HelpFormatter
+    from sbmf_cli import HelpFormatter
 
     ap = argparse.ArgumentParser(formatter_class=HelpFormatter)
     ap.add_argument("--a", type=float, default=2.5, help="an a")

@@ -12,6 +12,7 @@ import pytest
 import fe_demo
 import frictionlaw
 import halfspace_calib
+import sbmf_cli
 
 ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"
@@ -32,7 +33,7 @@ def _autosummary_entries(text):
 
 
 @pytest.mark.parametrize(
-    "module", [frictionlaw, halfspace_calib, fe_demo], ids=lambda m: m.__name__
+    "module", [frictionlaw, halfspace_calib, fe_demo, sbmf_cli], ids=lambda m: m.__name__
 )
 def test_api_reference_lists_the_public_surface(module):
     text = (DOCS / "api.rst").read_text(encoding="utf-8")

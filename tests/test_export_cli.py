@@ -9,8 +9,8 @@ from default_params import DEFAULT
 
 import frictionlaw as fl
 import frictionlaw.export as exp
-from frictionlaw.clitools import MARKER
 from frictionlaw.export import _tables
+from sbmf_cli import MARKER
 
 
 @pytest.fixture(scope="module")

@@ -92,8 +92,8 @@ def test_cutbacks_leave_no_trace(tmp_path):
         (["--law", "tresca", "--params", EXAMPLE], "--params applies to --law sbmf only"),
         (["--law", "sbmf", "--params", "missing.json"], "params: no such file"),
         (["--nr", "0"], "nr must be >= 1"),
-        (["--reduction", "0.3", "--first-reduction", "0.3"], "first_reduction must be in [0,"),
-        (["--first-reduction", "0.2", "--unload", "0"], "n_unload must be >= 1"),
+        (["--reduction", "0.3", "--first-reduction", "0.3"], "--first-reduction must be in [0,"),
+        (["--first-reduction", "0.2", "--unload", "0"], "--unload must be >= 1"),
     ],
 )
 def test_bad_input_exit_2(tmp_path, args, message):

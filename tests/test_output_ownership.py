@@ -14,9 +14,9 @@ import stat
 import pytest
 
 from fe_demo.cli import main as fe_demo
-from frictionlaw.clitools import MARKER, OutputFolder, read_marker
 from frictionlaw.export import main as export
 from halfspace_calib.cli import main as calib
+from sbmf_cli import MARKER, OutputFolder, read_marker
 
 CALIB = [
     "--grid", "16",

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..clitools import (
+from sbmf_cli import (
     Console,
     HelpFormatter,
     OutputFolder,
@@ -29,6 +29,7 @@ from ..clitools import (
     interruptible,
     parse,
 )
+
 from ..params import FrictionParams, fit_failure
 from . import _fortran, _readme, _tables
 

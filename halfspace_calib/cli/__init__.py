@@ -3,7 +3,7 @@
 Exit codes: 0 success; 1 the run failed (a load level or solve failed or did not converge, a
 degenerate fit, a failed effect solve); 2 bad input (refused before any sweep, no traceback).
 Outputs are written into a temporary folder beside ``--out`` and moved into place at the end,
-replacing an earlier calibration's whole output set (:class:`frictionlaw.clitools.OutputFolder`).
+replacing an earlier calibration's whole output set (:class:`sbmf_cli.OutputFolder`).
 The summary goes to stdout (hidden by ``--quiet``), warnings and errors to stderr.
 """
 
@@ -15,12 +15,13 @@ import time
 from dataclasses import fields
 from pathlib import Path
 
-from frictionlaw.clitools import (
+from sbmf_cli import (
     Console,
     HelpFormatter,
     OutputFolder,
     add_common_options,
     add_version,
+    flags_of,
     interruptible,
     parse,
 )
@@ -378,10 +379,11 @@ def scene_from_args(args):
 @interruptible("halfspace-calib", "the calibration")
 def main(argv=None):
     """Entry point of ``halfspace-calib``; returns the exit code (0, 1, 2; 130/143 interrupted)."""
-    args, code = parse(build_parser(), argv)
+    parser = build_parser()
+    args, code = parse(parser, argv)
     if args is None:
         return code
-    con = Console("halfspace-calib", quiet=args.quiet)
+    con = Console("halfspace-calib", quiet=args.quiet, flags=flags_of(parser))
     t0 = time.perf_counter()
     hfit = None
     try:
@@ -393,7 +395,7 @@ def main(argv=None):
                     "--after-contact fits H on one workpiece/tool pair; with several samples "
                     "fit H first on one pair and give it as --H"
                 )
-            return main_samples(args, scene, spec, t0)
+            return main_samples(con, args, scene, spec, t0)
         surfaces = load_scene_surfaces(scene)  # every file check before any sweep
         data = after_contact(args, scene)
         folder = OutputFolder(
@@ -406,7 +408,7 @@ def main(argv=None):
         msg = str(exc) if "not found" in str(exc) else f"file not found: {exc.filename}"
         return con.error(msg, 2)
     except (ValueError, ImportError, OSError) as exc:
-        return con.error(str(exc), 2)
+        return con.error(exc, 2)
     with folder:
         try:
             _print_input(con, scene, surfaces, derived=scene.grid is None)
@@ -414,7 +416,7 @@ def main(argv=None):
                 try:
                     hfit, scene = fit_h(con, args, scene, surfaces, data)
                 except ValueError as exc:
-                    return con.error(str(exc), 2)
+                    return con.error(exc, 2)
             progress = not (args.quiet or args.no_progress)
             cal = calibrate(
                 scene,

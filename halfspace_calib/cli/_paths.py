@@ -12,7 +12,7 @@ import re
 import time
 from pathlib import Path
 
-from frictionlaw.clitools import Console, OutputFolder
+from sbmf_cli import OutputFolder
 
 from ..output.hardness import hardness_table
 from ..pipeline.hardness import (
@@ -74,12 +74,11 @@ def sample_spec(args, scene):
     return spec
 
 
-def main_samples(args, scene, spec, t0):
+def main_samples(con, args, scene, spec, t0):
     """A calibration from several samples (docs/uncertainty.md); returns the exit code."""
     from ..output.uncertainty import write_sample_outputs
     from ..pipeline.samples import calibrate_samples, load_samples
 
-    con = Console("halfspace-calib", quiet=args.quiet)
     try:
         samples = load_samples(scene, spec)  # every file and sample check before any sweep
         folder = OutputFolder(
@@ -91,7 +90,7 @@ def main_samples(args, scene, spec, t0):
     except FileNotFoundError as exc:
         return con.error(f"file not found: {exc.filename or exc}", 2)
     except (ValueError, ImportError, OSError) as exc:
-        return con.error(str(exc), 2)
+        return con.error(exc, 2)
     with folder:
         try:
             con.result(
