@@ -1,8 +1,8 @@
 """The layering of the distribution (docs/architecture.md), read from the source with ``ast``.
 
 Every import of the project's own modules (module level and inside functions) is an edge. The
-tests fail on an import circle, on a package importing one it may not, and on a lower layer of
-``halfspace_calib`` importing a higher one.
+tests fail on an import circle, on a package importing one it may not, on a lower layer of
+``halfspace_calib`` or ``fe_demo`` importing a higher one, and on a module over 600 lines.
 """
 
 import ast
@@ -40,6 +40,26 @@ ALLOWED = {
     "cli": {"common", "contact", "topography", "studies", "pipeline", "output"},
     "__main__": {"cli"},
     "__init__": {"common", "contact", "topography", "studies", "pipeline", "output"},
+}
+
+
+#: what each part of fe_demo may import of the package (besides itself), bottom to top
+FE_ALLOWED = {
+    "solver": set(),
+    "output": {"solver"},
+    "scenes": {"solver", "output"},
+    "analysis": {"solver", "output", "scenes"},
+    "cli": {"solver", "output", "scenes", "analysis"},
+    "__main__": {"cli"},
+    "__init__": {"solver", "scenes"},
+}
+#: the layered packages and their rules
+LAYERS = {PKG: ALLOWED, "fe_demo": FE_ALLOWED}
+
+#: modules over the 600-line rule, each with the work that brings it under
+LONG_EXEMPT = {
+    # Fortran inside Python strings: issue 34 step 1 moves it into template files
+    "frictionlaw/export/_fortran.py": "issue 34 step 1 (the export's host-target records)",
 }
 
 
@@ -92,14 +112,19 @@ def graph():
     return {m: _imports(m, modules) for m in modules}
 
 
+def _within(graph, pkg):
+    """The edges within package ``pkg``."""
+    return {
+        m: {t for t in ts if t.split(".")[0] == pkg}
+        for m, ts in graph.items()
+        if m.split(".")[0] == pkg
+    }
+
+
 @pytest.fixture(scope="module")
 def calib(graph):
     """The edges within halfspace_calib."""
-    return {
-        m: {t for t in ts if t.split(".")[0] == PKG}
-        for m, ts in graph.items()
-        if m.split(".")[0] == PKG
-    }
+    return _within(graph, PKG)
 
 
 def test_the_graph_sees_the_packages(graph, calib):
@@ -144,14 +169,24 @@ def test_the_getfem_script_does_not_import_fe_demo(graph):
     assert [t for m in script for t in graph[m] if t.startswith("fe_demo")] == []
 
 
-def test_lower_layers_do_not_import_higher_ones(calib):
+@pytest.mark.parametrize("pkg", sorted(LAYERS))
+def test_lower_layers_do_not_import_higher_ones(graph, pkg):
+    edges = _within(graph, pkg)
+    assert {_part(m) for m in edges} == set(LAYERS[pkg])  # every part has its rule
     bad = [
         f"{m} imports {t}"
-        for m, targets in calib.items()
+        for m, targets in edges.items()
         for t in sorted(targets)
-        if _part(t) != _part(m) and _part(t) not in ALLOWED[_part(m)]
+        if _part(t) != _part(m) and _part(t) not in LAYERS[pkg][_part(m)]
     ]
     assert bad == []
+
+
+def test_fe_demo_graph_sees_its_layers(graph):
+    """The rule has something to hold: the layers' known edges are seen."""
+    assert "fe_demo.solver.model" in graph["fe_demo.scenes.press"]
+    assert "fe_demo.scenes.press" in graph["fe_demo.scenes"]
+    assert "fe_demo.scenes" in graph["fe_demo.analysis.ringfit"]
 
 
 def _circles(graph):
@@ -185,13 +220,18 @@ def test_the_circle_finder_finds_a_circle():
     assert _circles({"a": {"b"}, "b": {"c"}, "c": set()}) == []
 
 
-def test_no_module_over_600_lines():
-    long = {
-        str(p.relative_to(ROOT)): n
-        for p in ROOT.rglob("*.py")
+def _long_modules():
+    return {
+        p.relative_to(REPO).as_posix(): n
+        for pkg in PACKAGES
+        for p in (REPO / pkg).rglob("*.py")
         if (n := len(p.read_text(encoding="utf-8").splitlines())) > 600
     }
-    assert long == {}
+
+
+def test_no_module_over_600_lines():
+    """In every package of the distribution (and the coupling scripts)."""
+    assert set(_long_modules()) == set(LONG_EXEMPT)  # an exemption no longer needed fails too
 
 
 def _third_party_roots(package):

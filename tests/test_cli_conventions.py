@@ -11,6 +11,7 @@ from importlib import metadata
 import pytest
 
 from fe_demo import cli as fe_cli
+from fe_demo.cli import runs as fe_runs
 from frictionlaw import __main__ as law_demo
 from frictionlaw import export as law_export
 from halfspace_calib import cli as hs_cli
@@ -141,7 +142,7 @@ def test_fe_demo_failed_write_keeps_the_previous_output(tmp_path, capsys, monkey
     def broken(*a, **k):
         raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr(fe_cli, "write_history_csv", broken)
+    monkeypatch.setattr(fe_runs, "write_history_csv", broken)
     assert _fe(out, "--increments", "2") == 1
     err = capsys.readouterr().err
     assert "No space left" in err and "unchanged" in err and "Traceback" not in err

@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fe_demo.ringfit import read_ring_tests
+from fe_demo.analysis.ringfit import read_ring_tests
 from halfspace_calib.cli import build_parser as calib_parser
 from halfspace_calib.topography import chain
 from sbmf_cli import Console, ParameterError, flags_of

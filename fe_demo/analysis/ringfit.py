@@ -37,7 +37,7 @@ from scipy.stats import t as student_t
 from frictionlaw import FrictionParams
 from sbmf_cli import ParameterError, available_cpus, process_pool
 
-from .scenes import run_ring
+from ..scenes import run_ring
 
 __all__ = [
     "M_GRID",
@@ -100,12 +100,24 @@ class RingFit:
     n_fe_runs: int
     curves: dict = field(repr=False)  # m -> (reduction, d) of each FE run
     message: str = ""
+    #: the response surfaces ``m -> d`` built so far, by the reductions they are at
+    _surfaces: dict = field(default_factory=dict, init=False, repr=False, compare=False)
+
+    def surface(self, reduction):
+        """``m -> d`` at ``reduction`` (PCHIP across the FE runs' m), built once per reduction set.
+
+        The surface depends only on the FE runs and the reductions, so every prediction at the
+        same reductions (the fitted curve and its band's two edges) shares one.
+        """
+        r = np.atleast_1d(np.asarray(reduction, float))
+        key = (r.shape, r.tobytes())
+        if key not in self._surfaces:
+            self._surfaces[key] = _surface(self.curves, r)
+        return self._surfaces[key]
 
     def predict(self, reduction, m=None):
         """The inner-diameter change the model gives at ``reduction`` for ``m`` (the fit's)."""
-        return _surface(self.curves, np.atleast_1d(np.asarray(reduction, float)))(
-            self.m if m is None else m
-        )
+        return self.surface(reduction)(self.m if m is None else m)
 
 
 def _bad(path, text):
@@ -347,7 +359,7 @@ def fit_m(test, law="sbmf", *, params=None, band_level=0.9, workers=None, **ring
     res = test.d_inner - surf(m_fit)  # surf: the surface of the final set of runs
     n = res.size
     half = band_half_width(res, surf.derivative()(m_fit), band_level)
-    return RingFit(
+    fit = RingFit(
         law=law,
         m=m_fit,
         m_lower=max(0.0, m_fit - half),
@@ -360,3 +372,6 @@ def fit_m(test, law="sbmf", *, params=None, band_level=0.9, workers=None, **ring
         curves=curves,
         message=f"{len(curves)} FE runs, {n_refine} refinement(s)",
     )
+    r = np.atleast_1d(np.asarray(test.reduction, float))
+    fit._surfaces[(r.shape, r.tobytes())] = surf  # the measured points' surface, already built
+    return fit

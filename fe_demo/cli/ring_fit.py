@@ -1,22 +1,17 @@
-"""``fe-demo ring-fit``: the command around :mod:`fe_demo.ringfit`, and its output files."""
+"""``fe-demo ring-fit``: the command around :mod:`fe_demo.analysis.ringfit`."""
 
 from __future__ import annotations
 
-import csv
 import dataclasses
-import html
-import json
 from pathlib import Path
-
-import numpy as np
 
 from frictionlaw import FrictionParams
 from sbmf_cli import OutputFolder, version
-from sbmf_cli.htmlpage import figure, number_cell, page
 
-from .laws import EXAMPLE_PARAMS_PATH
-from .material import DC04, Material
-from .ringfit import RingFitError, fit_m, read_ring_tests
+from ..analysis.ringfit import RingFitError, fit_m, read_ring_tests
+from ..output.ring_fit import write_ring_fit
+from ..scenes.laws import EXAMPLE_PARAMS_PATH
+from ..solver.material import DC04, Material
 
 __all__ = ["add_parser", "run"]
 
@@ -141,7 +136,7 @@ def run(args, con):
         except RingFitError as exc:
             return con.error(exc, 1)
         record = _record(args, test, fit, chart, kw)
-        _write(folder.tmp, args, test, fit, chart, params, record)
+        write_ring_fit(folder.tmp, test, fit, chart, params, record)
         folder.commit()
     con.result(
         f"ring fit ({args.law}): m = {fit.m:.4f}  [{fit.m_lower:.4f}, {fit.m_upper:.4f}] at "
@@ -180,64 +175,3 @@ def _record(args, test, fit, chart, kw):
         "measured": list(test.sources),
         "software": {"fe-demo": version()},
     }
-
-
-def _write(out, args, test, fit, chart, params, record):
-    out = Path(out)
-    (out / "ring_fit.json").write_text(json.dumps(record, indent=2, default=str) + "\n")
-    if params is not None:
-        prov = dict(params.provenance)
-        prov["ring_test"] = {k: record[k] for k in record if k != "software"}
-        params.replace(m=fit.m, provenance=prov).to_json(out / "params.json")
-    pred = fit.predict(test.reduction)
-    with (out / "ring_fit.csv").open("w", newline="", encoding="utf-8") as fh:
-        w = csv.writer(fh)
-        w.writerow(
-            ["height_reduction", f"{test.column}_measured", f"{test.column}_fit", "residual"]
-        )
-        for r, d, p in zip(test.reduction, test.d_inner, pred, strict=True):
-            w.writerow([f"{r:.6g}", f"{d:.6g}", f"{p:.6g}", f"{d - p:.6g}"])
-    _plot(out / "ring_fit.png", test, fit, chart)
-    rows = "".join(
-        f"<tr><td>{k}</td>{number_cell(record[k], k)}</tr>"
-        for k in ("m", "m_lower", "m_upper", "rmse", "m_tresca_chart", "bias_chart_minus_law")
-    )
-    body = [
-        f"<p>law {html.escape(fit.law)}, {fit.n_points} points ({html.escape(test.column)}), "
-        f"{record['n_fe_runs']} FE runs, band {100 * fit.band_level:g} %</p>",
-        f"<table><tr><th>quantity</th><th>value</th></tr>{rows}</table>",
-        figure(
-            out / "ring_fit.png", "measured points, the fitted curve with its band, Tresca curves"
-        ),
-    ]
-    (out / "report.html").write_text(page("fe-demo ring-fit", body), encoding="utf-8")
-
-
-def _plot(path, test, fit, chart):
-    import matplotlib
-
-    matplotlib.use("Agg")
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(6.4, 4.4))
-    ax = fig.subplots()
-    r = np.linspace(0.0, float(test.reduction.max()), 60)[1:]
-    for m in sorted(chart.curves):
-        red, d = chart.curves[m]
-        ax.plot(100 * red, 100 * d, color="0.75", lw=0.8)
-        ax.annotate(f"{m:.3g}", (100 * red[-1], 100 * d[-1]), fontsize=7, color="0.5")
-    ax.fill_between(
-        100 * r,
-        100 * fit.predict(r, fit.m_lower),
-        100 * fit.predict(r, fit.m_upper),
-        alpha=0.3,
-        label=f"{100 * fit.band_level:g} % band on m",
-    )
-    ax.plot(100 * r, 100 * fit.predict(r), "C0", label=f"{fit.law}, m = {fit.m:.3f}")
-    ax.plot(100 * test.reduction, 100 * test.d_inner, "ko", ms=4, label="measured")
-    ax.plot([], [], color="0.75", label="Tresca, m as labelled")
-    ax.set_xlabel("height reduction (%)")
-    ax.set_ylabel(f"{test.column.replace('_', ' ')} (%)")
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
