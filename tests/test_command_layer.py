@@ -90,7 +90,14 @@ def test_ring_tests_name_paths_in_python_and_measured_on_the_command_line(tmp_pa
     with pytest.raises(ParameterError, match=r"^paths .*missing.csv: no such file"):
         read_ring_tests([tmp_path / "missing.csv"])
     rc = main(
-        ["ring-fit", "--measured", str(tmp_path / "missing.csv"), "--out", str(tmp_path / "o")]
+        [
+            "ring-fit",
+            "--measured",
+            str(tmp_path / "missing.csv"),
+            "--illustrative",
+            "--out",
+            str(tmp_path / "o"),
+        ]
     )
     assert (
         rc == 2

@@ -24,10 +24,9 @@ range by more than :data:`RANGE_TOL` are refused (no ``m`` can produce them), sa
 
 from __future__ import annotations
 
-import csv
 import math
+from concurrent.futures import as_completed
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 from scipy.interpolate import PchipInterpolator
@@ -38,6 +37,7 @@ from frictionlaw import FrictionParams
 from sbmf_cli import ParameterError, available_cpus, process_pool
 
 from ..scenes import run_ring
+from .ring_tests import RingTest, read_ring_tests
 
 __all__ = [
     "M_GRID",
@@ -59,9 +59,6 @@ M_TOL = 2e-3
 MAX_REFINE = 2
 #: a point may lie this far (inner-diameter change, a fraction) outside the m = 0 / m = 1 curves
 RANGE_TOL = 0.02
-#: reductions the ring fit accepts
-REDUCTION_RANGE = (0.0, 0.7)
-COLUMNS = ("inner_diameter_change", "inner_diameter_min_change")
 
 
 class RingFitError(RuntimeError):
@@ -73,16 +70,6 @@ class RingFitError(RuntimeError):
 
     def __str__(self):
         return f"the FE ring run at m = {self.m:g} failed: {self.message}"
-
-
-@dataclass(frozen=True)
-class RingTest:
-    """Measured ring tests, pooled: one row per ring (repeated reductions allowed)."""
-
-    reduction: np.ndarray
-    d_inner: np.ndarray
-    column: str
-    sources: tuple
 
 
 @dataclass(frozen=True)
@@ -100,6 +87,8 @@ class RingFit:
     n_fe_runs: int
     curves: dict = field(repr=False)  # m -> (reduction, d) of each FE run
     message: str = ""
+    #: the m of the refinement runs (the others are the grid's, or a grid run's retry)
+    refined: tuple = ()
     #: the response surfaces ``m -> d`` built so far, by the reductions they are at
     _surfaces: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
@@ -118,86 +107,6 @@ class RingFit:
     def predict(self, reduction, m=None):
         """The inner-diameter change the model gives at ``reduction`` for ``m`` (the fit's)."""
         return self.surface(reduction)(self.m if m is None else m)
-
-
-def _bad(path, text):
-    """Bad input in a measured file, naming the ``paths`` parameter (``--measured``)."""
-    return ParameterError(f"{{paths}} {path}{text}", "paths")
-
-
-def _column(path, names, column):
-    """The measured diameter column of a file's header (the same in every pooled file)."""
-    if "height_reduction" not in names:
-        raise _bad(path, f": missing column 'height_reduction' ({names})")
-    have = [c for c in COLUMNS if c in names]
-    if not have:
-        raise _bad(
-            path,
-            ": missing column 'inner_diameter_change' (mid-plane) or "
-            f"'inner_diameter_min_change' (smallest inner diameter); found {names}",
-        )
-    if column is not None and have[0] != column:
-        raise _bad(
-            path,
-            f": gives {have[0]!r} where an earlier file gives {column!r}; pool files that "
-            "measure the same diameter",
-        )
-    return have[0]
-
-
-def _point(path, i, row, col):
-    """``(reduction, d)`` of one data row, checked."""
-    try:
-        r, d = float(row["height_reduction"]), float(row[col])
-    except (TypeError, ValueError):
-        raise _bad(
-            path,
-            f", row {i}: height_reduction and {col} must be numbers (fractions), got "
-            f"{row.get('height_reduction')!r}, {row.get(col)!r}",
-        ) from None
-    if math.isnan(r) or math.isnan(d):
-        raise _bad(path, f", row {i}: NaN in height_reduction or {col}")
-    lo, hi = REDUCTION_RANGE
-    if not (lo < r <= hi):
-        raise _bad(
-            path,
-            f", row {i}: height_reduction {r:g} is outside ({lo:g}, {hi:g}] (a fraction: 0.5 "
-            "for 50 %)",
-        )
-    if not (-1.0 < d < 2.0) or math.isinf(d):
-        raise _bad(
-            path, f", row {i}: {col} {d:g} is not a plausible fraction (-1 < d < 2; 0.05 for +5 %)"
-        )
-    return r, d
-
-
-def read_ring_tests(paths):
-    """Read and check measured ring tests (CSV with the columns of ``history.csv``).
-
-    Raises :class:`sbmf_cli.ParameterError` (a ``ValueError``) naming ``paths``, the file, column,
-    row or range: a missing column, a reduction outside ``(0, 0.7]``, NaN, fewer than 2 points in
-    all, or files that give different columns.
-    """
-    paths = [Path(p) for p in paths]
-    if not paths:
-        raise ParameterError("{paths} needs at least one CSV file", "paths")
-    points, column = [], None
-    for path in paths:
-        if not path.is_file():
-            raise _bad(path, ": no such file")
-        with path.open(newline="", encoding="utf-8") as fh:
-            reader = csv.DictReader(row for row in fh if not row.lstrip().startswith("#"))
-            column = _column(path, [n.strip() for n in (reader.fieldnames or [])], column)
-            for i, row in enumerate(reader, start=2):
-                row = {k.strip(): v for k, v in row.items() if k is not None}
-                points.append(_point(path, i, row, column))
-    if len(points) < 2:
-        raise ParameterError(
-            f"{{paths}}: at least 2 points are needed to fit m and its band, got {len(points)}",
-            "paths",
-        )
-    red, dd = np.array(points).T
-    return RingTest(red, dd, column, tuple(str(p) for p in paths))
 
 
 def _law_kw(law, m, params):
@@ -239,12 +148,40 @@ def _curve_job(args):
             raise RingFitError(m, f"{first.message} (and again at m = {m2:g})") from None
 
 
-def _run_curves(law, ms, params, column, reduction, kw, workers):
+def _run_curves(law, ms, params, column, reduction, kw, workers, bar):
+    """``{m: (reduction, d)}`` of one FE run per ``m``; ``bar.update()`` after each run."""
     jobs = [(law, float(m), params, column, reduction, kw) for m in ms]
     if workers > 1 and len(jobs) > 1:
         with process_pool(min(workers, len(jobs))) as pool:  # an interrupt ends the workers
-            return dict(pool.map(_curve_job, jobs))
-    return dict(_curve_job(j) for j in jobs)
+            futures = [pool.submit(_curve_job, j) for j in jobs]
+            for _ in as_completed(futures):
+                bar.update()
+            return dict(f.result() for f in futures)  # a failure: the first in job order
+    out = {}
+    for job in jobs:
+        m, curve = _curve_job(job)
+        out[m] = curve
+        bar.update()
+    return out
+
+
+class _Bar:
+    """A progress bar over the FE runs (tqdm, to stderr), or nothing."""
+
+    def __init__(self, show, total, desc):
+        self.bar = None
+        if show:
+            from tqdm import tqdm
+
+            self.bar = tqdm(total=total, desc=desc, unit="FE run", leave=False)
+
+    def update(self):
+        if self.bar is not None:
+            self.bar.update(1)
+
+    def close(self):
+        if self.bar is not None:
+            self.bar.close()
 
 
 def _surface(curves, reduction):
@@ -300,7 +237,35 @@ def _check_range(test, curves):
             )
 
 
-def fit_m(test, law="sbmf", *, params=None, band_level=0.9, workers=None, **ring_kw):
+def _fit_runs(test, law, params, top, ring_kw, workers, bar):
+    """The FE runs of a fit and its least-squares ``m``: ``(curves, surface, m, refined m)``.
+
+    The grid's runs first (:data:`M_GRID`; points outside what ``m = 0`` and ``m = 1`` give are
+    refused), then a run at the optimum joins until ``m`` moves by less than :data:`M_TOL`.
+    """
+    col = test.column
+    curves = _run_curves(law, M_GRID, params, col, top, ring_kw, workers, bar)
+    _check_range(test, curves)
+    m_fit, refined = None, []
+    while True:
+        surf = _surface(curves, test.reduction)
+        m_new = least_squares_m(surf, test.d_inner)
+        done = m_fit is not None and abs(m_new - m_fit) < M_TOL
+        m_fit = m_new
+        if done or len(refined) >= MAX_REFINE:
+            break
+        near = min(curves, key=lambda m: abs(m - m_fit))
+        if abs(near - m_fit) < M_TOL / 2:
+            break
+        run = _run_curves(law, [round(m_fit, 6)], params, col, top, ring_kw, 1, bar)
+        curves |= run
+        refined += list(run)
+    return curves, surf, m_fit, tuple(refined)
+
+
+def fit_m(
+    test, law="sbmf", *, params=None, band_level=0.9, workers=None, progress=False, **ring_kw
+):
     """Fit the friction factor ``m`` of ``law`` to measured ring tests.
 
     Parameters
@@ -316,7 +281,10 @@ def fit_m(test, law="sbmf", *, params=None, band_level=0.9, workers=None, **ring
     band_level : float
         Level of the band on ``m`` in ``(0, 1)``.
     workers : int, optional
-        Processes for the FE runs (default: 2 where two CPUs are free, else 1).
+        Processes for the FE runs (default: 2 where two CPUs are free, else 1;
+        :func:`sbmf_cli.available_cpus`).
+    progress : bool
+        A progress bar over the FE runs (stderr).
     **ring_kw
         Geometry, mesh, increments and material of :func:`fe_demo.run_ring`.
 
@@ -340,22 +308,11 @@ def fit_m(test, law="sbmf", *, params=None, band_level=0.9, workers=None, **ring
     if workers is None:
         workers = min(2, available_cpus())
     top = min(0.7, float(test.reduction.max()) + 0.02)  # the runs go a little past the data
-    col = test.column
-    curves = _run_curves(law, M_GRID, params, col, top, ring_kw, workers)
-    _check_range(test, curves)
-    m_fit, n_refine = None, 0
-    while True:
-        surf = _surface(curves, test.reduction)
-        m_new = least_squares_m(surf, test.d_inner)
-        done = m_fit is not None and abs(m_new - m_fit) < M_TOL
-        m_fit = m_new
-        if done or n_refine >= MAX_REFINE:
-            break
-        near = min(curves, key=lambda m: abs(m - m_fit))
-        if abs(near - m_fit) < M_TOL / 2:
-            break
-        curves |= _run_curves(law, [round(m_fit, 6)], params, col, top, ring_kw, 1)
-        n_refine += 1
+    bar = _Bar(progress, len(M_GRID) + MAX_REFINE, f"ring fit ({law})")
+    try:
+        curves, surf, m_fit, refined = _fit_runs(test, law, params, top, ring_kw, workers, bar)
+    finally:
+        bar.close()
     res = test.d_inner - surf(m_fit)  # surf: the surface of the final set of runs
     n = res.size
     half = band_half_width(res, surf.derivative()(m_fit), band_level)
@@ -370,7 +327,8 @@ def fit_m(test, law="sbmf", *, params=None, band_level=0.9, workers=None, **ring
         residuals=res,
         n_fe_runs=len(curves),
         curves=curves,
-        message=f"{len(curves)} FE runs, {n_refine} refinement(s)",
+        message=f"{len(curves)} FE runs, {len(refined)} refinement(s)",
+        refined=refined,
     )
     r = np.atleast_1d(np.asarray(test.reduction, float))
     fit._surfaces[(r.shape, r.tobytes())] = surf  # the measured points' surface, already built
