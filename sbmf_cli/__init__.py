@@ -39,7 +39,7 @@ from ._options import (
     parse,
     version,
 )
-from ._output import MARKER, OutputFolder, read_marker
+from ._output import MARKER, OutputFolder, lock_path, read_marker
 from ._processes import (
     Interrupted,
     available_cpus,
@@ -61,6 +61,7 @@ __all__ = [
     "available_cpus",
     "flags_of",
     "interruptible",
+    "lock_path",
     "parse",
     "process_pool",
     "read_marker",

@@ -90,6 +90,13 @@ def add_parser(sub, formatter):
         "--workers", type=int, default=None, help="processes for the FE runs (default: 2 if free)"
     )
     p.add_argument("--out", type=Path, default=Path("fe_out/ring_fit"), help="output folder")
+    p.add_argument(
+        "--force",
+        action="store_true",
+        help="replace an earlier fe-demo output whose marker names no subcommand (written by "
+        "an earlier version); never another subcommand's or command's output, nor files "
+        "fe-demo did not write",
+    )
     add_common_options(p)
     return p
 
@@ -276,7 +283,9 @@ def run(args, con):
         folder = OutputFolder(
             args.out,
             command="fe-demo",
+            subcommand="ring-fit",
             what="fe-demo output",
+            force=args.force,
             inputs=(*args.measured, args.params, args.material),
         )
     except (ValueError, OSError) as exc:
