@@ -29,7 +29,7 @@ frictionlaw`` does not load it; an FE code that calls the law per node never car
 """
 
 from ._console import Console
-from ._errors import ParameterError
+from ._errors import ParameterError, Worded
 from ._options import (
     DISTRIBUTION,
     HelpFormatter,
@@ -45,6 +45,7 @@ from ._processes import (
     available_cpus,
     interruptible,
     process_pool,
+    process_seconds,
     worker_ignores_interrupts,
 )
 
@@ -56,6 +57,7 @@ __all__ = [
     "MARKER",
     "OutputFolder",
     "ParameterError",
+    "Worded",
     "add_common_options",
     "add_version",
     "available_cpus",
@@ -64,6 +66,7 @@ __all__ = [
     "lock_path",
     "parse",
     "process_pool",
+    "process_seconds",
     "read_marker",
     "version",
     "worker_ignores_interrupts",

@@ -6,7 +6,7 @@ import os
 import sys
 from pathlib import Path
 
-from ._errors import ParameterError
+from ._errors import ParameterError, Worded
 
 __all__ = ["Console"]
 
@@ -49,8 +49,8 @@ class Console:
         print(line, file=sys.stderr)
 
     def text(self, error):
-        """An error's message in the command's words (its flags for a ParameterError)."""
-        if isinstance(error, ParameterError):
+        """A message in the command's words (its flags for a ParameterError or a Worded text)."""
+        if isinstance(error, ParameterError | Worded):
             return error.render(self.flags)
         return str(error)
 

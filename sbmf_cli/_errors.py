@@ -2,11 +2,40 @@
 
 from __future__ import annotations
 
-__all__ = ["ParameterError"]
+__all__ = ["ParameterError", "Worded"]
+
+
+def _render(template, names, flags, python):
+    text = template
+    for name in names:
+        text = text.replace("{" + name + "}", flags.get(name) or python.get(name, name))
+    return text
 
 
 def _rebuild(template, names, python):
     return ParameterError(template, *names, python=python)
+
+
+class Worded(str):
+    """A text (a problem, a hint) naming parameters, worded for whoever reads it.
+
+    As :class:`ParameterError`, but a string: each parameter stands as ``{name}`` in
+    ``template``; the string reads with the Python names, :meth:`render` with a command's flags
+    (:meth:`sbmf_cli.Console.text` applies it).
+    """
+
+    def __new__(cls, template, *names, python=None):
+        python = dict(python or {})
+        obj = super().__new__(cls, _render(str(template), names, {}, python))
+        obj.template, obj.names, obj.python = str(template), tuple(names), python
+        return obj
+
+    def __getnewargs__(self):
+        return (self.template, *self.names)
+
+    def render(self, flags):
+        """The text with each parameter as ``flags[name]`` (its Python form where missing)."""
+        return _render(self.template, self.names, flags, self.python)
 
 
 class ParameterError(ValueError):
@@ -38,10 +67,7 @@ class ParameterError(ValueError):
 
     def render(self, flags):
         """The message with each parameter as ``flags[name]`` (its Python form where missing)."""
-        text = self.template
-        for name in self.names:
-            text = text.replace("{" + name + "}", flags.get(name) or self.python.get(name, name))
-        return text
+        return _render(self.template, self.names, flags, self.python)
 
     def __reduce__(self):  # the error crosses process boundaries with its names
         return _rebuild, (self.template, self.names, self.python)

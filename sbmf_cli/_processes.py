@@ -9,6 +9,7 @@ import os
 import signal
 import sys
 import threading
+import time
 from concurrent.futures import ProcessPoolExecutor
 
 __all__ = [
@@ -16,8 +17,29 @@ __all__ = [
     "available_cpus",
     "interruptible",
     "process_pool",
+    "process_seconds",
     "worker_ignores_interrupts",
 ]
+
+#: when this module was imported (the run time's start where the process's own is unknown)
+_IMPORTED = time.perf_counter()
+
+
+def process_seconds():
+    """Seconds since this process started: what a user's wall clock shows for a command so far.
+
+    On Linux from the process's start time (``/proc/self/stat``, 10 ms ticks), so that the
+    interpreter's start and the imports count, as they do on the user's clock; elsewhere since
+    the command layer was imported (early in every command).
+    """
+    try:
+        with open("/proc/self/stat", encoding="ascii") as fh:
+            start_ticks = int(fh.read().rsplit(")", 1)[1].split()[19])  # field 22, starttime
+        with open("/proc/uptime", encoding="ascii") as fh:
+            uptime = float(fh.read().split()[0])
+        return max(0.0, uptime - start_ticks / os.sysconf("SC_CLK_TCK"))
+    except (OSError, ValueError, IndexError, AttributeError):
+        return time.perf_counter() - _IMPORTED
 
 
 def available_cpus():

@@ -10,8 +10,8 @@ The summary goes to stdout (hidden by ``--quiet``), warnings and errors to stder
 from __future__ import annotations
 
 import argparse
+import json
 import sys
-import time
 from dataclasses import fields
 from pathlib import Path
 
@@ -24,18 +24,20 @@ from sbmf_cli import (
     flags_of,
     interruptible,
     parse,
+    process_seconds,
 )
 
 from ..output.hardness import write_hardness_fit
 from ..output.report import write_outputs
 from ..pipeline.calibration import Scene, calibrate, load_scene, load_scene_surfaces
-from ..pipeline.scene import PAPER_PRESSURES
+from ..pipeline.scene import MIN_TOL, PAPER_PRESSURES
 from ..pipeline.scene_surfaces import (
     ELEMENTS_PER_LAMBDA_S,
     ISO_SAMPLING_RATIO,
     MAX_DEFAULT_GRID,
 )
 from ._paths import (
+    FAILED_PARAMS,
     after_contact,
     exit_code,
     fit_h,
@@ -201,7 +203,11 @@ def build_parser():
         type=float,
         help=f"smallest p_hist with a reload curve (Pa; default {_D['reload_from']:g})",
     )
-    g.add_argument("--tol", type=float, help=f"solver tolerance (default {_D['tol']:g})")
+    g.add_argument(
+        "--tol",
+        type=float,
+        help=f"solver tolerance, in [{MIN_TOL:g}, 1) (default {_D['tol']:g})",
+    )
     g.add_argument(
         "--periodic",
         dest="periodic",
@@ -384,7 +390,6 @@ def main(argv=None):
     if args is None:
         return code
     con = Console("halfspace-calib", quiet=args.quiet, flags=flags_of(parser))
-    t0 = time.perf_counter()
     hfit = None
     try:
         scene = scene_from_args(args)
@@ -395,7 +400,7 @@ def main(argv=None):
                     "--after-contact fits H on one workpiece/tool pair; with several samples "
                     "fit H first on one pair and give it as --H"
                 )
-            return main_samples(con, args, scene, spec, t0)
+            return main_samples(con, args, scene, spec)
         surfaces = load_scene_surfaces(scene)  # every file check before any sweep
         data = after_contact(args, scene)
         folder = OutputFolder(
@@ -424,20 +429,21 @@ def main(argv=None):
                 surfaces=surfaces,
                 auto_periodic=args.periodic is None,
             )
-            write_outputs(cal, folder.tmp)
+            write_outputs(cal, folder.tmp, clock=process_seconds)
+            run_seconds = json.loads((folder.tmp / "summary.json").read_text())["command_seconds"]
             if hfit is not None:
                 write_hardness_fit(hfit, folder.tmp)
             mark_failed(folder.tmp, cal.problems())
             folder.commit()
-        except (RuntimeError, MemoryError) as exc:
-            return con.error(f"the run failed: {exc or type(exc).__name__}", 1)
+        except (RuntimeError, MemoryError, ValueError) as exc:  # input was checked: the run failed
+            return con.error(f"the run failed: {con.text(exc) or type(exc).__name__}", 1)
         except OSError as exc:  # writing the outputs (disk full, permissions changed meanwhile)
             return con.error(f"the outputs could not be written, {args.out} is unchanged: {exc}", 1)
     out = Path(args.out)
     P = cal.params
     s = cal.summary()
     say = con.result
-    say(f"calibrated in {time.perf_counter() - t0:.1f} s -> {out / 'params.json'}")
+    say(_ran(run_seconds, cal.seconds, out, cal.problems()))
     say(f"  Eq. 24: C1 = {P.C1:.4g}, n1 = {P.n1:.4g}  (R^2 = {s['first_loading_r2']:.5f})")
     say(
         f"  Eq. 25: C2 = {P.C2:.4g}, n2 = {P.n2:.4g}  (R^2 = {s['reload_r2']:.5f}, "
@@ -458,6 +464,14 @@ def main(argv=None):
     for note in cal.notes:  # the solve changed (periodic fallback): a warning, stderr
         con.warn(f"halfspace-calib: note: {note}")
     return exit_code(con, cal.problems())
+
+
+def _ran(run_seconds, solve_seconds, out, problems):
+    """The first summary line: how long, and which parameter file (only the one written)."""
+    took = f"{run_seconds:.1f} s ({solve_seconds:.1f} s of it solving and fitting)"
+    if problems:
+        return f"calibration FAILED after {took} -> {out / FAILED_PARAMS} (marked failed)"
+    return f"calibrated in {took} -> {out / 'params.json'}"
 
 
 def _print_input(con, scene, surfaces, derived=False):

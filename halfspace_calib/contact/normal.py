@@ -445,10 +445,7 @@ def _finish(h, p, u, g, nit, converged, res, tol, p_mean, H, periodic, vc, dA):
     if converged:
         msg = f"converged in {nit} iterations, residual {res:.2e} < tol {tol:.1e}{note}"
     else:
-        msg = (
-            f"NOT converged: residual {res:.2e} >= tol {tol:.1e} after {nit} iterations "
-            f"(raise maxiter or tol){note}"
-        )
+        msg = f"NOT converged: residual {res:.2e} >= tol {tol:.1e} after {nit} iterations{note}"
     return NormalResult(
         pressure=p,
         alpha=float(np.count_nonzero(contact) / p.size),
