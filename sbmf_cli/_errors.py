@@ -24,6 +24,10 @@ class Worded(str):
     (:meth:`sbmf_cli.Console.text` applies it).
     """
 
+    template: str
+    names: tuple
+    python: dict
+
     def __new__(cls, template, *names, python=None):
         python = dict(python or {})
         obj = super().__new__(cls, _render(str(template), names, {}, python))

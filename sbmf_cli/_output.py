@@ -23,7 +23,7 @@ MARKER = ".sbmf-output.json"
 LOCK_GRACE = 60.0
 
 #: the lock files held by the OutputFolders alive in this process
-_HELD = set()
+_HELD: set[str] = set()
 
 #: the command layer's own parameters read as the options they are, also where a library
 #: function (``frictionlaw.export.export``) takes them as ``out`` and ``force``
@@ -363,7 +363,7 @@ class OutputFolder:
     def commit(self):
         """Mark the output as this command's and move it into place (replacing an earlier one)."""
         files = [f for f in _listing(self.tmp) if f != MARKER]
-        record = {"command": self.command}
+        record: dict[str, object] = {"command": self.command}
         if self.subcommand is not None:
             record["subcommand"] = self.subcommand
         record |= {"version": version(), "files": files}
