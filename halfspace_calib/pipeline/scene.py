@@ -70,7 +70,9 @@ MIN_TOL = 1e-12
 
 @dataclass(frozen=True)
 class Scene:
-    """Everything a calibration needs; every field has the paper's default (Table 1, Sec. 3.1).
+    """Everything a calibration needs; every field has the paper's default.
+
+    The defaults are the paper's Table 1 and Sec. 3.1.
 
     Surfaces: ``workpiece`` / ``tool`` are file paths or ``None`` for the synthetic DC04-EDT-like
     sheet and tool of Table 1 (``rough_tool`` for the rough tool; ``measured_n``, a multiple of
