@@ -37,6 +37,7 @@ from frictionlaw import FrictionParams
 from sbmf_cli import ParameterError, available_cpus, process_pool
 
 from ..scenes import run_ring
+from ..scenes.drive import ProgressBar
 from .ring_tests import RingTest, read_ring_tests
 
 __all__ = [
@@ -165,25 +166,6 @@ def _run_curves(law, ms, params, column, reduction, kw, workers, bar):
     return out
 
 
-class _Bar:
-    """A progress bar over the FE runs (tqdm, to stderr), or nothing."""
-
-    def __init__(self, show, total, desc):
-        self.bar = None
-        if show:
-            from tqdm import tqdm
-
-            self.bar = tqdm(total=total, desc=desc, unit="FE run", leave=False)
-
-    def update(self):
-        if self.bar is not None:
-            self.bar.update(1)
-
-    def close(self):
-        if self.bar is not None:
-            self.bar.close()
-
-
 def _surface(curves, reduction):
     """``m -> d`` at every measured reduction: PCHIP across the runs' m (monotone)."""
     ms = np.array(sorted(curves))
@@ -308,7 +290,7 @@ def fit_m(
     if workers is None:
         workers = min(2, available_cpus())
     top = min(0.7, float(test.reduction.max()) + 0.02)  # the runs go a little past the data
-    bar = _Bar(progress, len(M_GRID) + MAX_REFINE, f"ring fit ({law})")
+    bar = ProgressBar(progress, len(M_GRID) + MAX_REFINE, f"ring fit ({law})", "FE run")
     try:
         curves, surf, m_fit, refined = _fit_runs(test, law, params, top, ring_kw, workers, bar)
     finally:

@@ -108,13 +108,7 @@ def _add_common(p, *, law, nr, increments, reduction, out):
     )
     p.add_argument("--reduction", type=float, default=reduction, help="final height reduction")
     p.add_argument("--out", type=Path, default=Path(out), help="output folder")
-    p.add_argument(
-        "--force",
-        action="store_true",
-        help="replace an earlier fe-demo output whose marker names no subcommand (written by "
-        "an earlier version); never another subcommand's or command's output, nor files "
-        "fe-demo did not write",
-    )
+    ring_fit.add_force(p)
     p.add_argument(
         "--vtu-every", type=int, default=5, help="VTU snapshot every N increments (0: none)"
     )

@@ -18,16 +18,27 @@ from frictionlaw import FrictionParams
 from sbmf_cli import OutputFolder, ParameterError, add_common_options, version
 
 from ..analysis.ringfit import RingFitError, fit_m, read_ring_tests
-from ..output.ring_fit import write_ring_fit
+from ..output.ring_fit import input_rows, write_ring_fit
 from ..scenes.laws import EXAMPLE_PARAMS_PATH
 from ..solver.material import DC04, Material
 
-__all__ = ["add_parser", "run"]
+__all__ = ["add_force", "add_parser", "run"]
 
 #: the standard 6:3:2 ring (OD, ID, H in m) when neither the option nor the files state one
 STANDARD_RING = (18e-3, 9e-3, 6e-3)
 #: relative distance of the calibration's sigma_y from the material's flow stress that is warned
 SIGMA_Y_TOLERANCE = 0.3
+
+
+def add_force(p):
+    """``--force``: replace an fe-demo output whose marker names no subcommand."""
+    p.add_argument(
+        "--force",
+        action="store_true",
+        help="replace an earlier fe-demo output whose marker names no subcommand (written by "
+        "an earlier version); never another subcommand's or command's output, nor files "
+        "fe-demo did not write",
+    )
 
 
 def add_parser(sub, formatter):
@@ -90,13 +101,7 @@ def add_parser(sub, formatter):
         "--workers", type=int, default=None, help="processes for the FE runs (default: 2 if free)"
     )
     p.add_argument("--out", type=Path, default=Path("fe_out/ring_fit"), help="output folder")
-    p.add_argument(
-        "--force",
-        action="store_true",
-        help="replace an earlier fe-demo output whose marker names no subcommand (written by "
-        "an earlier version); never another subcommand's or command's output, nor files "
-        "fe-demo did not write",
-    )
+    add_force(p)
     add_common_options(p)
     return p
 
@@ -340,7 +345,7 @@ def _summary(con, args, inp, fit, chart, record):
             f"  a Tresca chart of the same FE model reads m = {chart.m:.4f} from the same data: "
             f"the chart's m is {chart.m - fit.m:+.4f} off the law's"
         )
-    for line in _input_lines(inp, record):
+    for line in _input_lines(record):
         con.result(f"  {line}")
 
 
@@ -348,22 +353,9 @@ def _illustrative(inp):
     return bool(inp.params_file and inp.params_file["illustrative"])
 
 
-def _input_lines(inp, record):
-    """What the fit ran on, one line each (console, summary.txt)."""
-    pf = inp.params_file
-    lines = []
-    if pf is not None:
-        what = "illustrative law (shipped)" if pf["illustrative"] else "parameter file"
-        lines.append(f"{what}: {pf['path']} (sha256 {pf['sha256'][:12]})")
-    for f in record["measured_files"]:
-        lines.append(f"ring tests: {f['path']} (sha256 {f['sha256'][:12]})")
-    g = record["geometry_m"]
-    lines.append(
-        f"ring: OD {1e3 * g['outer_diameter']:g}, ID {1e3 * g['inner_diameter']:g}, "
-        f"H {1e3 * g['height']:g} mm ({record['geometry_source']})"
-    )
-    lines.append(f"material: {_material_text(inp.kw['material'])} ({record['material_source']})")
-    return lines
+def _input_lines(record):
+    """What the fit ran on, one line each (console, summary.txt): the report's input rows."""
+    return [f"{what}: {value} ({source})" for what, value, source in input_rows(record)]
 
 
 def _record(inp, fit, chart):

@@ -25,6 +25,7 @@ __all__ = [
     "csv_header",
     "write_history_csv",
     "write_vtu_series",
+    "summary_table",
     "force_stroke_figure",
     "die_profile_figure",
     "law_comparison_figure",
@@ -35,5 +36,4 @@ __all__ = [
     "plot_law_comparison",
     "plot_ring_chart",
     "plot_recontact",
-    "summary_table",
 ]

@@ -11,7 +11,7 @@ import numpy as np
 
 from sbmf_cli.htmlpage import figure, number_cell, page
 
-__all__ = ["ring_fit_figure", "write_ring_fit"]
+__all__ = ["input_rows", "ring_fit_figure", "write_ring_fit"]
 
 
 def write_ring_fit(out, test, fit, chart, params, record):
@@ -56,7 +56,20 @@ def write_ring_fit(out, test, fit, chart, params, record):
 
 
 def _inputs_table(record):
-    """The files, ring and material the fit ran on (paths, sha256, values and their source)."""
+    """The files, ring and material the fit ran on, as an HTML table."""
+    cells = "".join(
+        "<tr>" + "".join(f"<td class='t'>{html.escape(str(c))}</td>" for c in row) + "</tr>"
+        for row in input_rows(record)
+    )
+    return f"<table><tr><th>input</th><th>what</th><th>source</th></tr>{cells}</table>"
+
+
+def input_rows(record):
+    """``[(input, what, source)]``: the files, ring and material a fit ran on (its record's).
+
+    The parameter file and the ring-test files with their sha256, the ring and the material with
+    where each came from (an option, the files' header, a default).
+    """
     rows = []
     src = record.get("source_params")
     if src:
@@ -64,29 +77,18 @@ def _inputs_table(record):
         rows.append((what, src["path"], f"sha256 {src['sha256']}"))
     for f in record.get("measured_files", []):
         rows.append(("ring tests", f["path"], f"sha256 {f['sha256']}"))
-    g = record["geometry_m"]
-    rows.append(
-        (
-            "ring",
-            f"OD {1e3 * g['outer_diameter']:g} mm, ID {1e3 * g['inner_diameter']:g} mm, "
-            f"H {1e3 * g['height']:g} mm",
-            record.get("geometry_source", ""),
-        )
+    g, m = record["geometry_m"], record["material"]
+    ring = (
+        f"OD {1e3 * g['outer_diameter']:g} mm, ID {1e3 * g['inner_diameter']:g} mm, "
+        f"H {1e3 * g['height']:g} mm"
     )
-    m = record["material"]
-    rows.append(
-        (
-            "material",
-            f"E {m['E'] / 1e9:g} GPa, nu {m['nu']:g}, K {m['K'] / 1e6:g} MPa, "
-            f"eps0 {m['eps0']:g}, n {m['n']:g}",
-            record.get("material_source", ""),
-        )
+    material = (
+        f"E {m['E'] / 1e9:g} GPa, nu {m['nu']:g}, K {m['K'] / 1e6:g} MPa, eps0 {m['eps0']:g}, "
+        f"n {m['n']:g}"
     )
-    cells = "".join(
-        "<tr>" + "".join(f"<td class='t'>{html.escape(str(c))}</td>" for c in row) + "</tr>"
-        for row in rows
-    )
-    return f"<table><tr><th>input</th><th>what</th><th>source</th></tr>{cells}</table>"
+    rows.append(("ring", ring, record.get("geometry_source", "")))
+    rows.append(("material", material, record.get("material_source", "")))
+    return rows
 
 
 def ring_fit_figure(test, fit, chart):

@@ -22,7 +22,7 @@ from .laws import law_parameters, make_law_factory
 from .result import SceneResult
 from .slab import slab_pressure_coulomb, slab_pressure_law, slab_pressure_tresca
 
-__all__ = ["LawSpec", "RunSettings", "Run", "drive", "press"]
+__all__ = ["LawSpec", "ProgressBar", "RunSettings", "Run", "drive", "press"]
 
 
 @dataclass(frozen=True)
@@ -174,15 +174,15 @@ def _remesh_if_needed(run, row, remesh_below):
     )
 
 
-class _Bar:
-    """A progress bar over ``total`` increments (tqdm), or nothing."""
+class ProgressBar:
+    """A progress bar over ``total`` steps (tqdm, on stderr), or nothing when not ``show``."""
 
-    def __init__(self, show, total):
+    def __init__(self, show, total, desc="increments", unit="inc"):
         self.bar = None
         if show:
             from tqdm import tqdm
 
-            self.bar = tqdm(total=total, desc="increments", unit="inc", leave=False)
+            self.bar = tqdm(total=total, desc=desc, unit=unit, leave=False)
 
     def update(self):
         if self.bar is not None:
@@ -202,7 +202,7 @@ def drive(run, stages, *, progress=None):
     """
     model, cfg = run.model, run.settings
     rows, snaps = [], [_snapshot(model)]
-    bar = _Bar(cfg.progress if progress is None else progress, sum(n for _, n in stages))
+    bar = ProgressBar(cfg.progress if progress is None else progress, sum(n for _, n in stages))
     ok, msg = True, "converged"
     k = 0
     try:
