@@ -39,6 +39,8 @@ import numpy as np
 import scipy.fft as sfft
 from _provenance import run_record
 
+from sbmf_cli import available_cpus
+
 RESULTS = Path(__file__).parent / "results"
 HERE = Path(__file__).resolve()
 
@@ -67,7 +69,7 @@ def pair_seconds(shape, repeats=9):
     x = np.random.default_rng(0).random(shape)
     xh = _rfft2(x)
     best = np.inf
-    for w in sorted({1, len(os.sched_getaffinity(0))}):
+    for w in sorted({1, available_cpus()}):
         _irfft2(_rfft2(x, workers=w), s=shape, workers=w)
         for _ in range(repeats):
             t0 = time.perf_counter()
@@ -274,7 +276,7 @@ def main(argv=None):
     par = []
     if args.parallel:
         case = cases[0]
-        cpus = jobs.available_cpus()
+        cpus = available_cpus()
         for label, workers, threads in (
             ("1 process, 1 FFT thread", 1, 1),
             (f"1 process, {cpus} FFT threads", 1, cpus),
@@ -302,7 +304,7 @@ def main(argv=None):
     text = [
         "# Cost of a calibration in FFT pairs",
         "",
-        f"Machine: {jobs.available_cpus()} CPUs, load average {load0:.1f} at the start, "
+        f"Machine: {available_cpus()} CPUs, load average {load0:.1f} at the start, "
         f"{load1:.1f} at the end (other processes share the cores: compare ratios, not seconds).",
         "",
         table(rows),

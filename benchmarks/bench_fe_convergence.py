@@ -15,8 +15,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from _provenance import run_record
 
-from fe_demo.model import SolverOptions  # noqa: E402
 from fe_demo.scenes import run_upsetting  # noqa: E402
+from fe_demo.solver.model import SolverOptions  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results"
 MESHES = (8, 16, 32, 64)

@@ -7,7 +7,7 @@ small warm-up run of each, so numba's and MKL's first-call costs are not timed):
 
 - ``numpy+superlu``: ``SolverOptions(kernels="numpy", linear_solver="superlu")``, the code before
   this change (vectorised NumPy element loops, SuperLU with factorisation reuse);
-- ``numba+superlu``: numba element loops and return map (fe_demo/_kernels.py), the free-dof tangent
+- ``numba+superlu``: numba element loops and return map (fe_demo/solver/_kernels.py), the free-dof tangent
   scattered straight into a fixed CSC pattern, SuperLU;
 - ``numba+pardiso``: the same with MKL PARDISO (one thread), if pypardiso is installed.
 
@@ -31,9 +31,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from _provenance import run_record
 
-from fe_demo.linsolve import pardiso_available  # noqa: E402
-from fe_demo.model import SolverOptions  # noqa: E402
 from fe_demo.scenes import run_upsetting  # noqa: E402
+from fe_demo.solver.linsolve import pardiso_available  # noqa: E402
+from fe_demo.solver.model import SolverOptions  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results"
 

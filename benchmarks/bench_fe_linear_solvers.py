@@ -7,7 +7,7 @@ Takes the Newton tangents of the first increment of the default upsetting run (S
   hopeless on a 2D mesh and left out), its fill ``nnz(L) + nnz(U)``, and with
   ``SymmetricMode`` (no row pivoting off the diagonal);
 - one triangular solve with an existing factorisation;
-- the project's :class:`fe_demo.linsolve.TangentSolver` over the increment's sequence of tangents,
+- the project's :class:`fe_demo.solver.linsolve.TangentSolver` over the increment's sequence of tangents,
   against a fresh factorisation per tangent;
 
 and checks every answer's relative residual. With pypardiso installed (the optional extra
@@ -35,10 +35,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from _provenance import run_record
 from scipy.sparse.linalg import splu
 
-import fe_demo.model as M
-from fe_demo.linsolve import TangentSolver, _Pardiso, pardiso_available
-from fe_demo.model import SolverOptions
+import fe_demo.solver.model as M
 from fe_demo.scenes import run_upsetting
+from fe_demo.solver.linsolve import TangentSolver, _Pardiso, pardiso_available
+from fe_demo.solver.model import SolverOptions
 
 OUT = Path(__file__).resolve().parent / "results"
 

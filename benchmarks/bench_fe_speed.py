@@ -5,7 +5,7 @@ SBMF law (shipped example parameters). Reports wall and CPU time, Newton iterati
 and where the time goes (kinematics + return map, assembly, sparse solve, contact),
 and the scaling exponent of time against elements (ratios to the smallest mesh of
 the same run), and how many tangents were factorised (the rest were solved by GMRES
-preconditioned with the last factorisation, fe_demo/linsolve.py). Writes
+preconditioned with the last factorisation, fe_demo/solver/linsolve.py). Writes
 benchmarks/results/fe_speed.csv.
 
 Run: python benchmarks/bench_fe_speed.py [--first K] [--fresh-lu] [nr ...]
@@ -26,8 +26,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from _provenance import run_record
 
-from fe_demo.model import SolverOptions  # noqa: E402
 from fe_demo.scenes import run_upsetting  # noqa: E402
+from fe_demo.solver.model import SolverOptions  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results"
 

@@ -14,8 +14,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from _provenance import run_record
 
+from fe_demo.analysis.ring_chart import CHART_M, ring_chart  # noqa: E402
 from fe_demo.output import plot_ring_chart  # noqa: E402
-from fe_demo.ring_chart import CHART_M, ring_chart  # noqa: E402
 from fe_demo.scenes import run_ring, run_upsetting  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results"

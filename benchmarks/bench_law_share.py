@@ -46,8 +46,8 @@ def _timed(*a, **k):
 _FE = (
     _TIMER
     + """
-import fe_demo.contact
-fe_demo.contact.traction_update = _timed
+import fe_demo.solver.contact
+fe_demo.solver.contact.traction_update = _timed
 from fe_demo.scenes import run_upsetting
 run_upsetting("sbmf", nr=4, n_increments=2, reduction=0.02, progress=False)  # JIT warm-up
 _t[:] = [0.0, 0]

@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 from _provenance import RESULTS, ROOT, run_record
 
-from fe_demo.ringfit import (
+from fe_demo.analysis.ringfit import (
     RingFitError,
     RingTest,
     _surface,

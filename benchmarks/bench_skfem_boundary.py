@@ -31,9 +31,9 @@ from skfem import Basis, BilinearForm, ElementQuad1, ElementVector, asm
 from skfem.quadrature import get_quadrature
 from skfem.refdom import RefQuad
 
-import fe_demo.element as E
-from fe_demo.material import DC04, elastic_matrix
-from fe_demo.mesh import cylinder_mesh
+import fe_demo.solver.element as E
+from fe_demo.solver.material import DC04, elastic_matrix
+from fe_demo.solver.mesh import cylinder_mesh
 
 OUT = Path(__file__).resolve().parent / "results"
 

@@ -32,7 +32,7 @@ from pathlib import Path
 
 from _provenance import run_record
 
-from halfspace_calib.common.jobs import available_cpus
+from sbmf_cli import available_cpus
 
 RESULTS = Path(__file__).resolve().parent / "results"
 CLI = [sys.executable, "-m", "halfspace_calib.cli"]

@@ -112,7 +112,9 @@ def main(argv=None):
     else:
         P = FrictionParams.from_json(a.params)
     if P.reload_form != "tabulated":
-        raise SystemExit("--params must run the tabulated reload form (a calibration since issue 31)")
+        raise SystemExit(
+            "--params must run the tabulated reload form (a calibration since issue 31)"
+        )
     files = {"tabulated": work / "tab.json", "paper": work / "paper.json"}
     P.to_json(files["tabulated"])
     P.replace(reload_form="paper").to_json(files["paper"])
@@ -125,7 +127,9 @@ def main(argv=None):
     rows += compare("fe-demo cylinder", h["tabulated"], h["paper"], *map(_tau_effect, h.values()))
     kw = dict(nr=a.ring_nr, first_reduction=0.3, reduction=0.45, increments=30)
     ring = {f: fe_demo_ring_multistage(str(p), **kw)[0] for f, p in files.items()}
-    rows += compare("fe-demo ring", ring["tabulated"], ring["paper"], *map(_tau_effect, ring.values()))
+    rows += compare(
+        "fe-demo ring", ring["tabulated"], ring["paper"], *map(_tau_effect, ring.values())
+    )
     why = getfem_missing()
     if not a.no_getfem and why is None:
         hg = {}

@@ -16,7 +16,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import fe_demo
-from fe_demo.ringfit import fit_m, read_ring_tests
+from fe_demo.analysis.ringfit import fit_m, read_ring_tests
 from frictionlaw import FrictionParams
 
 data = Path(fe_demo.__file__).parent / "data"

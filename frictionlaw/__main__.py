@@ -9,8 +9,9 @@ import sys
 
 import numpy as np
 
+from sbmf_cli import Console, HelpFormatter, add_version, parse
+
 from . import FrictionParams, alpha_first, reload_jump, shear_limit
-from .clitools import Console, HelpFormatter, add_version, parse
 
 
 def default_params():

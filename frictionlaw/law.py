@@ -124,7 +124,9 @@ def evaluate(
 
 
 def alpha_first(p: ArrayLike, params: "FrictionParams") -> FloatOrArray:
-    """Eq. 24's contact ratio: ``alpha1(p) = g(p C1 / H; n1)``, 0 for ``p <= 0``.
+    """Contact ratio on first loading, ``alpha1(p) = g(p C1 / H; n1)``, 0 for ``p <= 0``.
+
+    This is Eq. 24.
 
     Parameters
     ----------
@@ -137,7 +139,9 @@ def alpha_first(p: ArrayLike, params: "FrictionParams") -> FloatOrArray:
 
 
 def alpha_reload(p: ArrayLike, p_hist: ArrayLike, params: "FrictionParams") -> FloatOrArray:
-    """Eq. 25's contact ratio: ``alpha2 = alpha1(p_hist) g(p C2 / (H alpha1(p_hist)); n2)``.
+    """Reload contact ratio ``alpha2 = alpha1(p_hist) g(p C2 / (H alpha1(p_hist)); n2)``.
+
+    This is Eq. 25.
 
     Evaluated on the reload branch whatever ``p`` is. With
     ``params.continuous_reload`` it is divided by its value at ``p = p_hist``,
@@ -148,7 +152,9 @@ def alpha_reload(p: ArrayLike, p_hist: ArrayLike, params: "FrictionParams") -> F
 
 
 def shear_limit(p: ArrayLike, p_hist: ArrayLike, params: "FrictionParams") -> FloatOrArray:
-    """Friction shear limit ``tau`` (Pa) of Eqs. 24-25.
+    """Friction shear limit ``tau`` (Pa) of the paper's law at ``p`` after the history ``p_hist``.
+
+    It evaluates Eqs. 24-25.
 
     ``tau = m k alpha2(p)`` (Eq. 25) while ``p < p_hist``, else
     ``tau = m k alpha1(p)`` (Eq. 24). ``p <= 0`` gives 0.

@@ -102,7 +102,7 @@ class CoulombCap(_Law):
 
 @dataclass(frozen=True)
 class SBMFLaw(_Law):
-    """The paper's law, Eqs. 24-25, with the pressure history ``p_hist`` per node."""
+    """The paper's friction law with the pressure history ``p_hist`` per node. It is Eqs. 24-25."""
 
     params: FrictionParams
     code = K.CODE_SBMF

@@ -207,7 +207,9 @@ def _check_p_range(p_range: Any) -> tuple[float, float] | None:
 
 @dataclass(frozen=True)
 class FrictionParams:
-    """Validated parameter set of the law of Eqs. 24-25.
+    """Validated parameter set of the paper's friction law, first loading and reload.
+
+    It is the law of Eqs. 24-25.
 
     Parameters
     ----------

@@ -142,7 +142,7 @@ def ring(interaction, *, nr=12, nz=None, od=18.0, idia=9.0, h=6.0, reduction=0.3
 
     The ring's upper half (symmetry at z = 0) under a flat die of 1000x steel's stiffness whose
     top is moved down by ``reduction * h / 2`` in ``n_inc`` fixed increments; DC04's Swift curve
-    (fe_demo.material.DC04) as isotropic hardening, NLGEOM. Node 1 is the inner mid-plane node;
+    (fe_demo.solver.material.DC04) as isotropic hardening, NLGEOM. Node 1 is the inner mid-plane node;
     the die's top nodes form NDIE.
     """
     ri, ro, hh = idia / 2, od / 2, h / 2

@@ -56,5 +56,5 @@ def test_holes_are_filled_up_to_the_limit_and_refused_beyond_it():
     h[2, 3] = h[5, 5] = np.nan
     filled, (line,), bad = chain.fill_holes(h, 0.05, "scan.dat")
     assert bad == 2 and np.isfinite(filled).all() and "filled 2 undefined points" in line
-    with pytest.raises(ValueError, match="more than --max-undefined = 1 %"):
+    with pytest.raises(ValueError, match="more than max_undefined = 1 %"):
         chain.fill_holes(h, 0.01, "scan.dat")

@@ -20,10 +20,14 @@ def test_m_has_one_rule():
 
 
 def test_tolerance_and_positive_have_one_rule():
-    for make in (lambda t: Scene(tol=t), lambda t: SolverSettings(tol=t), tolerance):
+    for make in (lambda t: SolverSettings(tol=t), tolerance):
         for bad in (0.0, 1.0, -1e-8, float("nan"), "1e-8"):
             with pytest.raises(ValueError, match=r"tol must be in \(0, 1\)"):
                 make(bad)
+    # a scene also refuses what its solver cannot reach (issue 33: --tol 1e-15)
+    for bad in (0.0, 1.0, -1e-8, float("nan"), "1e-8", 1e-15):
+        with pytest.raises(ValueError, match=r"tol must be in \[1e-12, 1\)"):
+            Scene(tol=bad)
     for bad in (0.0, -1.0, float("inf"), None, False, "1"):
         with pytest.raises(ValueError, match=r"H must be a finite number > 0 \(Pa\)"):
             sigma_y_from_hardness(bad)

@@ -1,4 +1,4 @@
-"""One set of conventions for the four command lines (frictionlaw.clitools).
+"""One set of conventions for the four command lines (sbmf_cli).
 
 --version, --quiet against --no-progress, stdout/stderr, help text with every default and no RST,
 output folders that appear whole.
@@ -11,10 +11,11 @@ from importlib import metadata
 import pytest
 
 from fe_demo import cli as fe_cli
+from fe_demo.cli import runs as fe_runs
 from frictionlaw import __main__ as law_demo
-from frictionlaw.clitools import OutputFolder
 from frictionlaw.export import cli as law_export
 from halfspace_calib import cli as hs_cli
+from sbmf_cli import OutputFolder
 
 MAINS = {
     "halfspace-calib": hs_cli.main,
@@ -66,7 +67,7 @@ def test_every_option_has_help_with_its_default_and_no_rst(prog):
 
 
 def test_the_help_formatter_adds_a_default_only_where_missing():
-    from frictionlaw.clitools import HelpFormatter
+    from sbmf_cli import HelpFormatter
 
     ap = argparse.ArgumentParser(formatter_class=HelpFormatter)
     ap.add_argument("--a", type=float, default=2.5, help="an a")
@@ -141,7 +142,7 @@ def test_fe_demo_failed_write_keeps_the_previous_output(tmp_path, capsys, monkey
     def broken(*a, **k):
         raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr(fe_cli, "write_history_csv", broken)
+    monkeypatch.setattr(fe_runs, "write_history_csv", broken)
     assert _fe(out, "--increments", "2") == 1
     err = capsys.readouterr().err
     assert "No space left" in err and "unchanged" in err and "Traceback" not in err

@@ -9,7 +9,7 @@ import pytest
 import fe_demo
 from fe_demo.cli import build_parser
 from fe_demo.cli import main as fe_demo_main
-from fe_demo.laws import EXAMPLE_PARAMS_PATH
+from fe_demo.scenes.laws import EXAMPLE_PARAMS_PATH
 from frictionlaw import FrictionParams, SBMFLaw, Tresca, shear_limit
 from halfspace_calib import Scene, calibrate
 from halfspace_calib.cli import main as calib

@@ -11,6 +11,7 @@ import dataclasses
 import numpy as np
 import pytest
 
+import sbmf_cli._processes as processes
 from halfspace_calib.common import jobs
 from halfspace_calib.pipeline import sweeps
 from halfspace_calib.pipeline.calibration import calibrate
@@ -19,12 +20,12 @@ from halfspace_calib.pipeline.scene import Scene
 
 @pytest.mark.parametrize("cpus", [1, 2, 3, 8])
 def test_default_workers_never_oversubscribe(monkeypatch, cpus):
-    monkeypatch.setattr(jobs.os, "sched_getaffinity", lambda pid: set(range(cpus)))
+    monkeypatch.setattr(processes.os, "sched_getaffinity", lambda pid: set(range(cpus)))
     assert jobs.default_workers() == 1  # no size: this process
     assert jobs.default_workers(jobs.POOL_MIN_FFT_ELEMENTS - 1) == 1
     w = jobs.default_workers(jobs.POOL_MIN_FFT_ELEMENTS)
     assert w == min(2, cpus)
-    threads = max(1, jobs.available_cpus() // w)
+    threads = max(1, processes.available_cpus() // w)
     assert 1 <= w * threads <= cpus
 
 
@@ -40,7 +41,7 @@ def test_sweeps_choose_processes_by_the_transform_size(monkeypatch, grid, period
         seen["workers"] = workers
         raise RuntimeError("stop")  # only the choice is under test
 
-    monkeypatch.setattr(jobs.os, "sched_getaffinity", lambda pid: {0, 1})
+    monkeypatch.setattr(processes.os, "sched_getaffinity", lambda pid: {0, 1})
     monkeypatch.setattr(sweeps, "run_jobs", fake_run_jobs)
     with pytest.raises(RuntimeError, match="stop"):
         sweeps.run_sweeps(Scene(grid=grid, periodic=periodic), progress=False)

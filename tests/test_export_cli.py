@@ -9,9 +9,9 @@ from default_params import DEFAULT
 
 import frictionlaw as fl
 import frictionlaw.export as exp
-from frictionlaw.clitools import MARKER
 from frictionlaw.export import _tables
 from frictionlaw.export.cli import main
+from sbmf_cli import MARKER
 
 
 @pytest.fixture(scope="module")

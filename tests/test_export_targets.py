@@ -16,9 +16,9 @@ from default_params import DEFAULT
 
 import frictionlaw as fl
 import frictionlaw.export as exp
-from frictionlaw.clitools import MARKER
 from frictionlaw.export import harness
 from frictionlaw.export.cli import main
+from sbmf_cli import MARKER
 
 ENTRY = """\
 C     Dummy host: the shear limit tau(P, PH) and the trial history.

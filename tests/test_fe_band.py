@@ -13,9 +13,9 @@ from html.parser import HTMLParser
 import numpy as np
 import pytest
 
-from fe_demo.band import combine
+from fe_demo.analysis.band import combine
 from fe_demo.cli import main
-from fe_demo.laws import example_params
+from fe_demo.scenes.laws import example_params
 from frictionlaw.uncertainty import Band, Interval, SampleLaw, Uncertainty
 
 TINY = ["--nr", "6", "--increments", "8", "--no-progress", "--vtu-every", "0"]

@@ -2,14 +2,14 @@
 
 Eq. 25 lies below Eq. 24 at ``p = p_hist`` (``reload_jump``). A node whose pressure sits at its
 history flips branch between Newton iterations and Newton stalls; ``DieContact`` freezes such a
-node on Eq. 24 after ``FREEZE_AFTER`` flips in an increment (fe_demo/contact.py).
+node on Eq. 24 after ``FREEZE_AFTER`` flips in an increment (fe_demo/solver/contact.py).
 """
 
 import numpy as np
 import pytest
 
-from fe_demo.contact import FREEZE_AFTER, DieContact
-from fe_demo.ringfit import ring_curve
+from fe_demo.analysis.ringfit import ring_curve
+from fe_demo.solver.contact import FREEZE_AFTER, DieContact
 from frictionlaw import FrictionParams, SBMFLaw, reload_jump, shear_limit
 
 #: a law calibrated from the shipped sur-3.sur against the default tool (its ring stalled)

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from fe_demo.cli import main
-from fe_demo.contact import DieContact
 from fe_demo.scenes import run_multistage, run_ring, run_upsetting
+from fe_demo.solver.contact import DieContact
 from frictionlaw import FrictionParams, SBMFLaw, TangentialStiffness
 from halfspace_calib.pipeline.calibration import Scene, calibrate
 from halfspace_calib.pipeline.scene import PAPER_PRESSURES

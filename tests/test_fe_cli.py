@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from fe_demo.cli import main
-from fe_demo.laws import make_law_factory
 from fe_demo.output import HISTORY_UNITS, csv_header
+from fe_demo.scenes.laws import make_law_factory
 
 
 def _csv(path):
@@ -112,7 +112,7 @@ def test_fe_demo_never_imports_halfspace_calib():
     import sys
 
     code = (
-        "import sys, fe_demo, fe_demo.cli, fe_demo.scenes, fe_demo.remesh;"
+        "import sys, fe_demo, fe_demo.cli, fe_demo.scenes, fe_demo.solver.remesh;"
         "print('halfspace_calib' in sys.modules)"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)

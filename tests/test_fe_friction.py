@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from fe_demo.scenes import run_upsetting
-from fe_demo.slab import slab_pressure_coulomb, slab_pressure_law, slab_pressure_tresca
+from fe_demo.scenes.slab import slab_pressure_coulomb, slab_pressure_law, slab_pressure_tresca
 
 COLUMNS = ("height_reduction", "force", "avg_pressure", "slab_pressure", "contact_radius")
 

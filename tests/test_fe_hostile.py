@@ -5,10 +5,11 @@ import json
 
 import pytest
 
-from fe_demo.cli import _write_run, main
-from fe_demo.model import SolverOptions
-from fe_demo.ring_chart import ring_chart
+from fe_demo.analysis.ring_chart import ring_chart
+from fe_demo.cli import main
+from fe_demo.cli.runs import write_run
 from fe_demo.scenes import run_upsetting
+from fe_demo.solver.model import SolverOptions
 
 FAST = ["--nr", "4", "--increments", "3", "--no-progress", "--vtu-every", "0"]
 
@@ -106,7 +107,7 @@ def test_stopped_run_records_the_accepted_part_of_its_last_increment(tmp_path):
     assert res.history["height_reduction"][-1] == last
     assert res.history["partial"][-1] == 1
     assert res.snapshots[-1]["height_reduction"] == last
-    _write_run(tmp_path, res, "stopped")
+    write_run(tmp_path, res, "stopped")
     rows = _rows(tmp_path / "history.csv")
     assert float(rows[-1]["height_reduction"]) == pytest.approx(last, rel=1e-9)
     pvd = (tmp_path / "vtu" / "step.pvd").read_text()

@@ -1,17 +1,23 @@
 """Material return map and element kernels against independent references.
 
-The numba kernels (fe_demo/_kernels.py) are checked against the vectorised NumPy code, their oracle.
+The numba kernels (fe_demo/solver/_kernels.py) are checked against the vectorised NumPy code, their oracle.
 """
 
 import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from fe_demo.element import Assembler, internal_force, kinematics, stiffness, strain_increment
-from fe_demo.material import DC04, Material, elastic_matrix, radial_return, von_mises
-from fe_demo.mesh import cylinder_mesh, ring_mesh
-from fe_demo.model import SolverOptions
 from fe_demo.scenes import run_upsetting
+from fe_demo.solver.element import (
+    Assembler,
+    internal_force,
+    kinematics,
+    stiffness,
+    strain_increment,
+)
+from fe_demo.solver.material import DC04, Material, elastic_matrix, radial_return, von_mises
+from fe_demo.solver.mesh import cylinder_mesh, ring_mesh
+from fe_demo.solver.model import SolverOptions
 
 
 def test_radial_return_consistency_and_tangent_by_finite_differences():

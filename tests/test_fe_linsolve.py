@@ -5,10 +5,10 @@ import pytest
 import scipy.sparse as sp
 from scipy.sparse.linalg import spsolve
 
-from fe_demo import linsolve
-from fe_demo.linsolve import TangentSolver
-from fe_demo.model import SolverOptions
 from fe_demo.scenes import run_upsetting
+from fe_demo.solver import linsolve
+from fe_demo.solver.linsolve import TangentSolver
+from fe_demo.solver.model import SolverOptions
 
 
 def _laplace_like(n, shift, rng):

@@ -5,9 +5,9 @@ import copy
 import numpy as np
 import pytest
 
-from fe_demo.element import kinematics
-from fe_demo.remesh import _coons, block_corners, element_quality, remesh
 from fe_demo.scenes import run_ring
+from fe_demo.solver.element import kinematics
+from fe_demo.solver.remesh import _coons, block_corners, element_quality, remesh
 
 
 def test_coons_reproduces_a_rectangular_grid_and_quality():

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from fe_demo.ring_chart import neutral_radius, ring_chart, ring_pressure_bound
+from fe_demo.analysis.ring_chart import neutral_radius, ring_chart, ring_pressure_bound
 from fe_demo.scenes import run_ring
 
 

@@ -1,9 +1,9 @@
 import numpy as np
 import pytest
 
-from fe_demo.material import DC04
-from fe_demo.mesh import cylinder_mesh
-from fe_demo.model import FormingModel
+from fe_demo.solver.material import DC04
+from fe_demo.solver.mesh import cylinder_mesh
+from fe_demo.solver.model import FormingModel
 
 
 def _frictionless(n_inc=10, reduction=0.5, nr=8, nz=4):

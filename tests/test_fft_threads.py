@@ -2,8 +2,9 @@
 
 import os
 
-from halfspace_calib.common.jobs import available_cpus, fft_threads, run_jobs
+from halfspace_calib.common.jobs import fft_threads, run_jobs
 from halfspace_calib.contact.influence import normal_operator
+from sbmf_cli import available_cpus
 
 
 def _threads(_):
@@ -12,6 +13,12 @@ def _threads(_):
 
 def test_available_cpus_is_the_affinity():
     assert available_cpus() == len(os.sched_getaffinity(0))
+
+
+def test_available_cpus_without_an_affinity_call(monkeypatch):
+    """macOS and Windows have no os.sched_getaffinity: the count falls back to the CPU count."""
+    monkeypatch.delattr(os, "sched_getaffinity")
+    assert available_cpus() == max(1, (getattr(os, "process_cpu_count", None) or os.cpu_count)())
 
 
 def test_serial_path_uses_the_available_cpus():

@@ -189,7 +189,7 @@ def test_output_buffers_are_reused(d):
 
 
 def test_one_law_factory_for_runtime_and_fe_demo():
-    from fe_demo.laws import make_law_factory
+    from fe_demo.scenes.laws import make_law_factory
 
     # cap with m = 0 has a zero cap (it used to fall back to tau_max = k)
     assert fl.law_from_name("cap", mu=0.1, m=0.0, k=1e8).tau_max == 0.0

@@ -92,8 +92,8 @@ def test_cutbacks_leave_no_trace(tmp_path):
         (["--law", "tresca", "--params", EXAMPLE], "--params applies to --law sbmf only"),
         (["--law", "sbmf", "--params", "missing.json"], "params: no such file"),
         (["--nr", "0"], "nr must be >= 1"),
-        (["--reduction", "0.3", "--first-reduction", "0.3"], "first_reduction must be in [0,"),
-        (["--first-reduction", "0.2", "--unload", "0"], "n_unload must be >= 1"),
+        (["--reduction", "0.3", "--first-reduction", "0.3"], "--first-reduction must be in [0,"),
+        (["--first-reduction", "0.2", "--unload", "0"], "--unload must be >= 1"),
     ],
 )
 def test_bad_input_exit_2(tmp_path, args, message):
@@ -145,3 +145,21 @@ def test_press_lift_press_against_fe_demo(tmp_path):
     # Eq. 25 is exercised in both codes during the re-contact (GetFEM: 2 nodes per radius)
     n_gf, n_fd = a["n_eq25_stage3"]
     assert n_fd >= 3 and n_gf >= n_fd
+
+
+def test_the_coupling_keeps_the_output_rules(tmp_path):
+    """An existing --out that is not this script's output is refused and left as it was (the
+    script deleted it before); its own earlier output is replaced whole; --quiet prints nothing."""
+    user = tmp_path / "mine"
+    user.mkdir()
+    (user / "notes.txt").write_text("keep me")
+    args = ["--law", "none", "--nr", "2", "--nz", "1", "--increments", "2", "--reduction", "0.1"]
+    rc, _, log = run_getfem_ring(user, args)
+    assert rc == 2 and "holds no GetFEM ring output" in log and "notes.txt" in log
+    assert [p.name for p in user.iterdir()] == ["notes.txt"]
+    out = tmp_path / "gf"
+    rc, _, log = run_getfem_ring(out, [*args, "--quiet"])
+    assert rc == 0 and log == ""
+    assert {"history.csv", "summary.json", "summary.txt"} <= {p.name for p in out.iterdir()}
+    rc, _, log = run_getfem_ring(out, [*args, "--no-progress"])
+    assert rc == 0 and "increments" in log and "stage 1 reduction" not in log

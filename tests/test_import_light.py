@@ -39,3 +39,18 @@ def test_runtime_import_stays_light():
     extra = {m for m in set(after_eval) - numba_alone if not m.startswith("numba")}
     assert not extra, sorted(extra)
     assert not any(m.split(".")[0] in ("skfem", "halfspace_calib", "fe_demo") for m in after_eval)
+
+
+def test_the_runtime_does_not_load_the_command_layer():
+    """``import frictionlaw`` and evaluating the law load no command code (sbmf_cli)."""
+    code = (
+        "import json, sys\nimport frictionlaw\n"
+        "p = frictionlaw.FrictionParams(m=0.5, sigma_y=3e8, H=8e8, C1=1, n1=2, C2=3, n2=2)\n"
+        "frictionlaw.shear_limit([1e8, 2e8], 0.0, p)\n"
+        "print(json.dumps(sorted(m for m in sys.modules if m.split('.')[0] == 'sbmf_cli')))"
+    )
+    assert _run(code) == []
+    # the probe can see the layer: the export command loads it
+    assert "sbmf_cli" in _run(
+        "import json, sys\nimport frictionlaw.export\nprint(json.dumps(sorted(sys.modules)))"
+    )

@@ -303,8 +303,8 @@ def test_cli_interrupted_write_keeps_the_previous_set(tmp_path, capsys, monkeypa
     before = {p.name: p.read_bytes() for p in out.iterdir() if p.is_file()}
     real = cli.write_outputs
 
-    def half_written(cal, where):
-        real(cal, where)
+    def half_written(cal, where, **kw):
+        real(cal, where, **kw)
         (where / "summary.json").unlink()
         raise OSError(28, "No space left on device")
 

@@ -14,9 +14,9 @@ import stat
 import pytest
 
 from fe_demo.cli import main as fe_demo
-from frictionlaw.clitools import MARKER, OutputFolder, read_marker
 from frictionlaw.export.cli import main as export
 from halfspace_calib.cli import main as calib
+from sbmf_cli import MARKER, OutputFolder, lock_path, read_marker
 
 CALIB = [
     "--grid", "16",
@@ -138,3 +138,104 @@ def test_output_folders_follow_the_umask(tmp_path):
     finally:
         os.umask(old)
     assert stat.S_IMODE((tmp_path / "o").stat().st_mode) == 0o755
+
+
+RING_FIT = ["--nr", "8", "--increments", "20", "--illustrative", "--quiet"]
+
+
+@pytest.fixture(scope="module")
+def ring_fit_out(tmp_path_factory):
+    """A ring fit's output folder (the synthetic example rings, coarse mesh)."""
+    from fe_demo.scenes.laws import EXAMPLE_PARAMS_PATH
+
+    rings = EXAMPLE_PARAMS_PATH.with_name("ring_example.csv")
+    out = tmp_path_factory.mktemp("rf") / "ring_fit"
+    assert fe_demo(["ring-fit", "--measured", str(rings), *RING_FIT, "--out", str(out)]) == 0
+    return out, rings
+
+
+def test_markers_name_the_subcommand(ring_fit_out):
+    out, _ = ring_fit_out
+    doc = read_marker(out)
+    assert doc["command"] == "fe-demo" and doc["subcommand"] == "ring-fit"
+
+
+def test_one_subcommand_does_not_replace_anothers_output(ring_fit_out, tmp_path, capsys):
+    """upsetting deleted a ring fit's params.json and report; ring-fit an upsetting's VTU."""
+    out, rings = ring_fit_out
+    before = _tree(out)
+    assert fe_demo([*FE, "--law", "tresca", "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "holds the output of fe-demo ring-fit, not of fe-demo upsetting" in err
+    assert fe_demo([*FE, "--law", "tresca", "--out", str(out), "--force"]) == 2  # force or not
+    assert _tree(out) == before
+    ups = tmp_path / "ups"
+    assert fe_demo([*FE, "--law", "tresca", "--vtu-every", "1", "--out", str(ups)]) == 0
+    before = _tree(ups)
+    assert fe_demo(["ring-fit", "--measured", str(rings), *RING_FIT, "--out", str(ups)]) == 2
+    assert (
+        "holds the output of fe-demo upsetting, not of fe-demo ring-fit" in capsys.readouterr().err
+    )
+    assert _tree(ups) == before
+
+
+def test_an_old_marker_naming_no_subcommand_is_replaced_only_with_force(tmp_path, capsys):
+    old = tmp_path / "old"
+    old.mkdir()
+    (old / "history.csv").write_text("height_reduction,force_N\n")
+    (old / MARKER).write_text(
+        json.dumps({"command": "fe-demo", "version": "0.1.0", "files": ["history.csv"]})
+    )
+    before = _tree(old)
+    assert fe_demo([*FE, "--law", "tresca", "--out", str(old)]) == 2
+    err = capsys.readouterr().err
+    assert "marker names no subcommand" in err and "--force" in err
+    assert _tree(old) == before
+    assert fe_demo([*FE, "--law", "tresca", "--out", str(old), "--force"]) == 0
+    assert read_marker(old)["subcommand"] == "upsetting"
+
+
+HOLD = """
+import sys, time
+from sbmf_cli import OutputFolder
+folder = OutputFolder(sys.argv[1], command="halfspace-calib", what="calibration output")
+print("holding", flush=True)
+time.sleep(60)
+"""
+
+
+def test_a_folder_another_running_command_writes_is_refused_naming_it(tmp_path, capsys):
+    """Two runs on one --out at once: the second exits 2 naming the first's process; once that
+    process has ended (here: killed, its lock left behind) the lock is stale and taken over."""
+    import subprocess
+    import sys
+
+    out = tmp_path / "cal"
+    holder = subprocess.Popen(
+        [sys.executable, "-c", HOLD, str(out)], stdout=subprocess.PIPE, text=True
+    )
+    try:
+        assert holder.stdout.readline().strip() == "holding"
+        assert calib([*CALIB, "--out", str(out)]) == 2
+        err = capsys.readouterr().err
+        assert "is being written by another run: halfspace-calib" in err
+        assert f"process {holder.pid}" in err and "Traceback" not in err
+        with pytest.raises(ValueError, match=f"process {holder.pid}"):
+            OutputFolder(out, command="fe-demo", what="fe-demo output")
+    finally:
+        holder.kill()
+        holder.wait()
+        holder.stdout.close()
+    assert lock_path(out).is_file()  # left by the killed run
+    assert calib([*CALIB, "--out", str(out)]) == 0
+    assert not lock_path(out).exists()  # released at the end
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["cal"]
+
+
+def test_two_folders_of_one_process_on_one_out_are_refused(tmp_path):
+    with OutputFolder(tmp_path / "o", command="t", what="t") as first:
+        with pytest.raises(ValueError, match=f"process {os.getpid()}"):
+            OutputFolder(tmp_path / "o", command="t", what="t")
+        first.commit()
+    with OutputFolder(tmp_path / "o", command="t", what="t") as again:  # released: free
+        again.commit()

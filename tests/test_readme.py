@@ -79,3 +79,69 @@ def test_readme_does_not_call_ls_dyna_both_drop_in_and_not():
 def test_default_output_folders_are_git_ignored():
     ignored = (ROOT / ".gitignore").read_text(encoding="utf-8").split()
     assert "out/" in ignored and "fe_out/" in ignored
+
+
+_CCX_PLUGIN = """
+def pytest_collection_modifyitems(session, config, items):
+    n = sum("ccx_work" in getattr(item, "fixturenames", ()) for item in items)
+    print("CCX_ITEMS", n)
+"""
+
+
+def test_readme_calculix_skip_count_is_true(tmp_path):
+    """The README's count of CalculiX tests that skip without the patched build: the test items
+    that need the build (the ``ccx_work`` fixture, directly or through another fixture)."""
+    import os
+    import subprocess
+    import sys
+
+    m = re.search(r"the CalculiX\s+tests \((\d+)\) without the patched library", _readme())
+    assert m, "README must state how many CalculiX tests skip without the build"
+    (tmp_path / "ccx_count.py").write_text(_CCX_PLUGIN)
+    env = dict(os.environ, PYTHONPATH=str(tmp_path) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    run = subprocess.run(
+        [sys.executable, "-m", "pytest", "--collect-only", "-q", "-p", "ccx_count",
+         "-p", "no:cacheprovider", str(ROOT / "tests" / "test_calculix.py")],
+        capture_output=True, text=True, env=env, cwd=ROOT, check=False,
+    )  # fmt: skip
+    n = re.search(r"CCX_ITEMS (\d+)", run.stdout)
+    assert n, run.stdout + run.stderr
+    assert int(m.group(1)) == int(n.group(1))
+
+
+def test_readme_default_run_figures_are_a_fresh_runs(tmp_path):
+    """The default calibration's parameters and Eq. 25 jump in the README are what a fresh run of
+    ``halfspace-calib`` gives now (the reload-law work changes them: this test says so)."""
+    import json
+
+    from halfspace_calib.cli import main
+
+    out = tmp_path / "calibration"
+    assert main(["--quiet", "--out", str(out)]) == 0
+    s = json.loads((out / "summary.json").read_text())
+    P = json.loads((out / "params.json").read_text())["parameters"]
+    text = " ".join(_readme().split())
+    default = re.search(
+        r"Default scene \(128\^2.*?`C1 = ([\d.]+), n1 = ([\d.]+)` \(R\^2 ([\d.]+)\), "
+        r"`C2 = ([\d.]+), n2 = ([\d.]+)` \(R\^2 ([\d.]+)\); `mu_eff = ([\d.]+)` with `m = ([\d.]+)`",
+        text,
+    )
+    assert default, "README must give the default scene's parameters"
+
+    def same(shown, value):  # the README's digits are the value rounded to them
+        digits = len(shown.split(".")[1]) if "." in shown else 0
+        return f"{value:.{digits}f}" == shown
+
+    C1, n1, r1, C2, n2, r2, mu, m = default.groups()
+    got = {
+        "C1": (C1, P["C1"]), "n1": (n1, P["n1"]), "first R^2": (r1, s["first_loading_r2"]),
+        "C2": (C2, P["C2"]), "n2": (n2, P["n2"]), "reload R^2": (r2, s["reload_r2"]),
+        "mu_eff": (mu, s["mu_eff"]), "m": (m, P["m"]),
+    }  # fmt: skip
+    wrong = {k: v for k, v in got.items() if not same(*v)}
+    assert not wrong, f"README default-run figures differ from a fresh run: {wrong}"
+    jump = re.search(r"default calibration the largest drop is ([\d.]+) % of `tau`", text)
+    assert jump and same(jump.group(1), 100 * s["max_jump_relative"]), (
+        jump and jump.group(1),
+        100 * s["max_jump_relative"],
+    )

@@ -90,10 +90,9 @@ def fe_demo_ring_multistage(
     Returns ``(history, profiles)``: the accepted increments' columns (with ``stage``) and
     the die-face nodes' ``p_hist`` after each stage (reference and current radius).
     """
-    from fe_demo.laws import make_law_factory
-    from fe_demo.mesh import ring_mesh
-    from fe_demo.model import FormingModel
-    from fe_demo.scenes import _drive
+    from fe_demo.scenes import LawSpec, Run, drive
+    from fe_demo.solver.mesh import ring_mesh
+    from fe_demo.solver.model import FormingModel
 
     from .ring import RingSetup, schedule
 
@@ -107,7 +106,8 @@ def fe_demo_ring_multistage(
         n_unload=n_unload,
     )
     axi = ring_mesh(setup.outer_diameter, setup.inner_diameter, setup.height, nr, None)
-    model = FormingModel(axi, _fe_material(setup), make_law_factory("sbmf", params=str(params)))
+    spec = LawSpec("sbmf", params=str(params))
+    model = FormingModel(axi, _fe_material(setup), spec.factory())
     node = axi.inner_mid_node
     r_in = float(model.X0[node, 0])
     stage = {"k": 1}
@@ -115,12 +115,13 @@ def fe_demo_ring_multistage(
     def extra(mdl):
         return {"stage": stage["k"], "inner_diameter_change": (mdl.x[node, 0] - r_in) / r_in}
 
+    run = Run(model, spec, extra=extra)
     hists, profiles = [], []
     for z_target, n_inc, k in schedule(setup):
         if k == 3 and stage["k"] == 2 and reset_history:
             model.contact.reset_history()
         stage["k"] = k
-        ok, msg, h, _ = _drive(model, [(z_target, n_inc)], "sbmf", 0.1, 0.3, False, 0, extra)
+        ok, msg, h, _ = drive(run, [(z_target, n_inc)])
         if not ok:
             raise RuntimeError(f"fe-demo ring multistage failed: {msg}")
         hists.append(h)
@@ -144,7 +145,7 @@ def fe_demo_ring_multistage(
 
 def _fe_material(setup):
     """fe-demo's material with the GetFEM script's Swift constants (the same DC04-like set)."""
-    from fe_demo.material import DC04
+    from fe_demo.solver.material import DC04
 
     m = setup.material
     for name in ("E", "nu", "K", "eps0", "n"):

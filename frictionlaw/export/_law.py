@@ -13,6 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
+from sbmf_cli import ParameterError
+
 from .. import __version__
 
 __all__ = [
@@ -82,7 +84,9 @@ def stiffness_spec(params, units, k_t=None):
     if k_t is not None:
         v = float(k_t)
         if not (math.isfinite(v) and v > 0):
-            raise ValueError(f"--k-t must be a finite stiffness > 0 in Pa/m, got {k_t!r}")
+            raise ParameterError(
+                f"{{k_t}} must be a finite stiffness > 0 in Pa/m, got {k_t!r}", "k_t"
+            )
         return StiffnessSpec("constant", value=v * units.stiffness)
     table = getattr(params, "k_t", None)
     if table is None:

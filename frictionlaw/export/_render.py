@@ -10,7 +10,8 @@ import hashlib
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..clitools import OutputFolder
+from sbmf_cli import OutputFolder, ParameterError
+
 from ..params import FrictionParams
 from . import _targets
 from ._law import UNIT_SYSTEMS, StiffnessSpec, UnitSystem, core_context, header_lines
@@ -77,9 +78,13 @@ def plan(target, params_path, *, units="SI", k_t=None, table_tol=1e-3, accept_fa
     if units not in UNIT_SYSTEMS:
         raise ValueError(f"units must be one of {', '.join(UNIT_SYSTEMS)}; got {units!r}")
     if not (1e-6 <= float(table_tol) <= 0.1):
-        raise ValueError(f"--table-tol must be in [1e-6, 0.1], got {table_tol!r}")
+        raise ParameterError(
+            f"{{table_tol}} must be in [1e-6, 0.1], got {table_tol!r}", "table_tol"
+        )
     if k_t is not None and not record.form.takes_k_t:
-        raise ValueError("--k-t applies to the Fortran targets only (a table has no stiffness)")
+        raise ParameterError(
+            "{k_t} applies to the Fortran targets only (a table has no stiffness)", "k_t"
+        )
     params_path = Path(params_path)
     params = FrictionParams.from_json(params_path, accept_failed=accept_failed)
     sha = _sha256(params_path)

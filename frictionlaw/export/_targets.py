@@ -117,7 +117,10 @@ class Routine:
 
 @dataclass(frozen=True)
 class Table:
-    """Eq. 24 as a friction-coefficient table (a function of the current pressure only)."""
+    """The first-loading law as a friction-coefficient table, a function of the pressure alone.
+
+    Eq. 24 only: a table carries no history.
+    """
 
     frame: ClassVar[str] = "readme/table.md"
     takes_k_t: ClassVar[bool] = False

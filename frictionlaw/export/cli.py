@@ -11,14 +11,16 @@ import argparse
 import json
 from pathlib import Path
 
-from ..clitools import (
+from sbmf_cli import (
     Console,
     HelpFormatter,
     add_common_options,
     add_version,
+    flags_of,
     interruptible,
     parse,
 )
+
 from ..params import fit_failure
 from . import TARGETS, export
 
@@ -84,7 +86,7 @@ def main(argv=None):
     args, code = parse(ap, argv)
     if args is None:
         return code
-    con = Console("frictionlaw-export", quiet=args.quiet)
+    con = Console("frictionlaw-export", quiet=args.quiet, flags=flags_of(ap))
     try:
         res = export(
             args.target,
@@ -97,7 +99,7 @@ def main(argv=None):
             accept_failed=args.accept_failed_fit,
         )
     except (ValueError, FileNotFoundError, IsADirectoryError) as exc:
-        return con.error(str(exc), 2)
+        return con.error(exc, 2)
     except RuntimeError as exc:
         return con.error(f"the export failed: {exc}", 1)
     _warn_failed(con, args.params, args.accept_failed_fit)

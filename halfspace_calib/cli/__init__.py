@@ -3,38 +3,41 @@
 Exit codes: 0 success; 1 the run failed (a load level or solve failed or did not converge, a
 degenerate fit, a failed effect solve); 2 bad input (refused before any sweep, no traceback).
 Outputs are written into a temporary folder beside ``--out`` and moved into place at the end,
-replacing an earlier calibration's whole output set (:class:`frictionlaw.clitools.OutputFolder`).
+replacing an earlier calibration's whole output set (:class:`sbmf_cli.OutputFolder`).
 The summary goes to stdout (hidden by ``--quiet``), warnings and errors to stderr.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import sys
-import time
 from dataclasses import fields
 from pathlib import Path
 
-from frictionlaw.clitools import (
+from sbmf_cli import (
     Console,
     HelpFormatter,
     OutputFolder,
     add_common_options,
     add_version,
+    flags_of,
     interruptible,
     parse,
+    process_seconds,
 )
 
 from ..output.hardness import write_hardness_fit
 from ..output.report import write_outputs
 from ..pipeline.calibration import Scene, calibrate, load_scene, load_scene_surfaces
-from ..pipeline.scene import PAPER_PRESSURES
+from ..pipeline.scene import MIN_TOL, PAPER_PRESSURES
 from ..pipeline.scene_surfaces import (
     ELEMENTS_PER_LAMBDA_S,
     ISO_SAMPLING_RATIO,
     MAX_DEFAULT_GRID,
 )
 from ._paths import (
+    FAILED_PARAMS,
     after_contact,
     exit_code,
     fit_h,
@@ -200,7 +203,11 @@ def build_parser():
         type=float,
         help=f"smallest p_hist with a reload curve (Pa; default {_D['reload_from']:g})",
     )
-    g.add_argument("--tol", type=float, help=f"solver tolerance (default {_D['tol']:g})")
+    g.add_argument(
+        "--tol",
+        type=float,
+        help=f"solver tolerance, in [{MIN_TOL:g}, 1) (default {_D['tol']:g})",
+    )
     g.add_argument(
         "--periodic",
         dest="periodic",
@@ -393,11 +400,11 @@ def scene_from_args(args):
 @interruptible("halfspace-calib", "the calibration")
 def main(argv=None):
     """Entry point of ``halfspace-calib``; returns the exit code (0, 1, 2; 130/143 interrupted)."""
-    args, code = parse(build_parser(), argv)
+    parser = build_parser()
+    args, code = parse(parser, argv)
     if args is None:
         return code
-    con = Console("halfspace-calib", quiet=args.quiet)
-    t0 = time.perf_counter()
+    con = Console("halfspace-calib", quiet=args.quiet, flags=flags_of(parser))
     hfit = None
     try:
         scene = scene_from_args(args)
@@ -408,7 +415,7 @@ def main(argv=None):
                     "--after-contact fits H on one workpiece/tool pair; with several samples "
                     "fit H first on one pair and give it as --H"
                 )
-            return main_samples(args, scene, spec, t0)
+            return main_samples(con, args, scene, spec)
         surfaces = load_scene_surfaces(scene)  # every file check before any sweep
         data = after_contact(args, scene)
         folder = OutputFolder(
@@ -421,7 +428,7 @@ def main(argv=None):
         msg = str(exc) if "not found" in str(exc) else f"file not found: {exc.filename}"
         return con.error(msg, 2)
     except (ValueError, ImportError, OSError) as exc:
-        return con.error(str(exc), 2)
+        return con.error(exc, 2)
     with folder:
         try:
             _print_input(con, scene, surfaces, derived=scene.grid is None)
@@ -429,7 +436,7 @@ def main(argv=None):
                 try:
                     hfit, scene = fit_h(con, args, scene, surfaces, data)
                 except ValueError as exc:
-                    return con.error(str(exc), 2)
+                    return con.error(exc, 2)
             progress = not (args.quiet or args.no_progress)
             cal = calibrate(
                 scene,
@@ -437,20 +444,21 @@ def main(argv=None):
                 surfaces=surfaces,
                 auto_periodic=args.periodic is None,
             )
-            write_outputs(cal, folder.tmp)
+            write_outputs(cal, folder.tmp, clock=process_seconds)
+            run_seconds = json.loads((folder.tmp / "summary.json").read_text())["command_seconds"]
             if hfit is not None:
                 write_hardness_fit(hfit, folder.tmp)
             mark_failed(folder.tmp, cal.problems())
             folder.commit()
-        except (RuntimeError, MemoryError) as exc:
-            return con.error(f"the run failed: {exc or type(exc).__name__}", 1)
+        except (RuntimeError, MemoryError, ValueError) as exc:  # input was checked: the run failed
+            return con.error(f"the run failed: {con.text(exc) or type(exc).__name__}", 1)
         except OSError as exc:  # writing the outputs (disk full, permissions changed meanwhile)
             return con.error(f"the outputs could not be written, {args.out} is unchanged: {exc}", 1)
     out = Path(args.out)
     P = cal.params
     s = cal.summary()
     say = con.result
-    say(f"calibrated in {time.perf_counter() - t0:.1f} s -> {out / 'params.json'}")
+    say(_ran(run_seconds, cal.seconds, out, cal.problems()))
     for line in _law_lines(cal, s):
         say(line)
     say(f"  Coulomb slope mu_eff = {P.mu_eff:.4f}, cap m k = {P.tau_max / 1e6:.1f} MPa")
@@ -508,6 +516,14 @@ def _law_lines(cal, s):
         ]
     lines += [f"  note: {n}" for n in s["fit_notes"]]
     return lines
+
+
+def _ran(run_seconds, solve_seconds, out, problems):
+    """The first summary line: how long, and which parameter file (only the one written)."""
+    took = f"{run_seconds:.1f} s ({solve_seconds:.1f} s of it solving and fitting)"
+    if problems:
+        return f"calibration FAILED after {took} -> {out / FAILED_PARAMS} (marked failed)"
+    return f"calibrated in {took} -> {out / 'params.json'}"
 
 
 def _print_input(con, scene, surfaces, derived=False):

@@ -12,7 +12,7 @@ import re
 import time
 from pathlib import Path
 
-from frictionlaw.clitools import Console, OutputFolder
+from sbmf_cli import OutputFolder, process_seconds
 
 from ..output.hardness import hardness_table
 from ..pipeline.hardness import (
@@ -74,12 +74,11 @@ def sample_spec(args, scene):
     return spec
 
 
-def main_samples(args, scene, spec, t0):
+def main_samples(con, args, scene, spec):
     """A calibration from several samples (docs/uncertainty.md); returns the exit code."""
     from ..output.uncertainty import write_sample_outputs
     from ..pipeline.samples import calibrate_samples, load_samples
 
-    con = Console("halfspace-calib", quiet=args.quiet)
     try:
         samples = load_samples(scene, spec)  # every file and sample check before any sweep
         folder = OutputFolder(
@@ -91,7 +90,7 @@ def main_samples(args, scene, spec, t0):
     except FileNotFoundError as exc:
         return con.error(f"file not found: {exc.filename or exc}", 2)
     except (ValueError, ImportError, OSError) as exc:
-        return con.error(str(exc), 2)
+        return con.error(exc, 2)
     with folder:
         try:
             con.result(
@@ -101,17 +100,19 @@ def main_samples(args, scene, spec, t0):
             )
             progress = not (args.quiet or args.no_progress)
             mc = calibrate_samples(scene, spec, samples=samples, progress=progress)
-            write_sample_outputs(mc, folder.tmp)
+            write_sample_outputs(mc, folder.tmp, clock=process_seconds)
+            run_seconds = json.loads((folder.tmp / "summary.json").read_text())["command_seconds"]
             mark_failed(folder.tmp, mc.problems())
             folder.commit()
-        except (RuntimeError, MemoryError) as exc:
-            return con.error(f"the run failed: {exc or type(exc).__name__}", 1)
+        except (RuntimeError, MemoryError, ValueError) as exc:  # input was checked: the run failed
+            return con.error(f"the run failed: {con.text(exc) or type(exc).__name__}", 1)
         except OSError as exc:
             return con.error(f"the outputs could not be written, {args.out} is unchanged: {exc}", 1)
     u = mc.uncertainty
+    written = FAILED_PARAMS + " (marked failed)" if mc.problems() else "params.json"
     con.result(
-        f"calibrated {len(mc.calibrations)} of {len(samples)} samples in "
-        f"{time.perf_counter() - t0:.1f} s -> {Path(args.out) / 'params.json'}"
+        f"calibrated {len(mc.calibrations)} of {len(samples)} samples in {run_seconds:.1f} s"
+        f"{' (FAILED)' if mc.problems() else ''} -> {Path(args.out) / written}"
     )
     con.result(
         f"  pooled law and {100 * u.level:g} % bootstrap band ({u.n_bootstrap} resamples, "
@@ -219,7 +220,7 @@ def exit_code(con, problems):
     if problems:
         con.warn("halfspace-calib: RUN FAILED (exit code 1):")
         for p in problems:
-            con.warn(f"    - {p}")
+            con.warn(f"    - {con.text(p)}")
         hint = failure_hint(problems)
         if hint:
             con.warn(f"halfspace-calib: {hint}")

@@ -1,7 +1,8 @@
 """Input checks shared by the package: one rule per kind of value, one wording of the error.
 
 Every public function validates its arguments through these helpers before doing any work, so
-that bad input gets a ``ValueError`` that names the parameter and the allowed range. Checks that
+that bad input gets a ``ValueError`` that names the parameter and the allowed range (a
+:class:`sbmf_cli.ParameterError`: the command that called words it with its flag). Checks that
 belong to one function only (a grid that must divide another, a file's header) stay with it.
 """
 
@@ -9,17 +10,24 @@ import math
 
 import numpy as np
 
+from sbmf_cli import ParameterError
+
 __all__ = ["count", "in_range", "pair", "positive", "real", "tolerance", "tresca_factor"]
+
+
+def _bad(name, text):
+    """The error of a check: ``"<name> <text>"``, ``name`` a parameter the command maps to its flag."""
+    return ParameterError("{" + name + "} " + text, name)
 
 
 def real(name, v):
     """``v`` as a float; ``ValueError`` naming ``name`` for a bool, a string or a non-number."""
     if isinstance(v, (bool, np.bool_, str, bytes)):
-        raise ValueError(f"{name} must be a number, got {v!r}")
+        raise _bad(name, f"must be a number, got {v!r}")
     try:
         return float(v)
     except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number, got {v!r}") from None
+        raise _bad(name, f"must be a number, got {v!r}") from None
 
 
 def positive(name, v, unit=None):
@@ -28,9 +36,9 @@ def positive(name, v, unit=None):
     try:
         f = real(name, v)
     except ValueError:
-        raise ValueError(f"{name} must be a finite number > 0{u}, got {v!r}") from None
+        raise _bad(name, f"must be a finite number > 0{u}, got {v!r}") from None
     if not (math.isfinite(f) and f > 0):
-        raise ValueError(f"{name} must be a finite number > 0{u}, got {v!r}")
+        raise _bad(name, f"must be a finite number > 0{u}, got {v!r}")
     return f
 
 
@@ -47,7 +55,7 @@ def in_range(name, v, lo, hi, *, lo_open=False, hi_open=False, why=""):
     above = f > lo if lo_open else f >= lo
     below = f < hi if hi_open else f <= hi
     if not (above and below):
-        raise ValueError(f"{name} must be in {interval}{why}, got {v!r}")
+        raise _bad(name, f"must be in {interval}{why}, got {v!r}")
     return f
 
 
@@ -68,7 +76,7 @@ def pair(name, v, conv):
         return a, a
     vals = list(v)
     if len(vals) != 2:
-        raise ValueError(f"{name} must be a scalar or a pair (x, y), got {v!r}")
+        raise _bad(name, f"must be a scalar or a pair (x, y), got {v!r}")
     return conv(name, vals[0]), conv(name, vals[1])
 
 
@@ -77,7 +85,7 @@ def count(name, v, lo=2):
     try:
         i = int(v)
     except (TypeError, ValueError):
-        raise ValueError(f"{name} must be an integer >= {lo}, got {v!r}") from None
+        raise _bad(name, f"must be an integer >= {lo}, got {v!r}") from None
     if i != v or i < lo:
-        raise ValueError(f"{name} must be an integer >= {lo}, got {v!r}")
+        raise _bad(name, f"must be an integer >= {lo}, got {v!r}")
     return i

@@ -9,7 +9,6 @@ it comes back failed (``KilledWorker``), the others' results kept.
 The progress bar advances as jobs finish (in completion order), not as they are collected.
 """
 
-import os
 import time
 import traceback
 from concurrent.futures import as_completed
@@ -18,9 +17,9 @@ from typing import Any
 
 from tqdm.auto import tqdm
 
-from frictionlaw.clitools import process_pool
+from sbmf_cli import available_cpus, process_pool
 
-__all__ = ["JobResult", "available_cpus", "default_workers", "fft_threads", "run_jobs"]
+__all__ = ["JobResult", "default_workers", "fft_threads", "run_jobs"]
 
 #: most local processes chosen by default (measured: benchmarks/bench_workers.py)
 DEFAULT_MAX_WORKERS = 2
@@ -30,14 +29,6 @@ POOL_MIN_FFT_ELEMENTS = 2**17
 
 #: FFT threads per process; set in each worker of a local process pool (``None``: the default)
 _FFT_THREADS = None
-
-
-def available_cpus():
-    """CPUs this process may run on (``os.sched_getaffinity``; ``os.cpu_count`` where missing)."""
-    try:
-        return max(1, len(os.sched_getaffinity(0)))
-    except AttributeError:  # pragma: no cover - not on Linux
-        return os.cpu_count() or 1
 
 
 def default_workers(fft_elements=None):
@@ -67,7 +58,7 @@ def fft_threads():
 
 
 def _init_worker(threads):
-    """A local worker's FFT threads (interrupts: :func:`frictionlaw.clitools.process_pool`)."""
+    """A local worker's FFT threads (interrupts: :func:`sbmf_cli.process_pool`)."""
     global _FFT_THREADS
     _FFT_THREADS = threads
 

@@ -62,7 +62,7 @@ def _love_primitive(x: np.ndarray, y: np.ndarray) -> np.ndarray:
 
 
 def love_coefficients(x, y, a: float, b: float, E_star: float) -> np.ndarray:
-    """Love's closed form of the normal influence coefficient (Eq. 4).
+    """Love's closed form of the normal influence coefficient. This is Eq. 4.
 
     Normal surface displacement at offset ``(x, y)`` from the centre of a ``2a x 2b``
     rectangle loaded by a unit uniform pressure on an elastic half-space,
@@ -374,7 +374,7 @@ def normal_operator(
     kernel: str = "spectral",
     workers: int | None = None,
 ) -> InfluenceOperator:
-    """The normal influence operator of Eqs. 3-4.
+    """The normal influence operator of the elastic half-space. It is Eqs. 3-4.
 
     Parameters
     ----------

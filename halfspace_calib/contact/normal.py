@@ -145,7 +145,7 @@ class NormalResult:
 
 
 def composite_modulus(E1: float, nu1: float, E2: float, nu2: float) -> float:
-    """Composite elastic modulus, Eq. 2: ``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2``.
+    """Composite elastic modulus ``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2``. This is Eq. 2.
 
     Parameters
     ----------
@@ -172,7 +172,7 @@ def composite_modulus(E1: float, nu1: float, E2: float, nu2: float) -> float:
 
 
 def composite_heights(workpiece: np.ndarray, tool: np.ndarray) -> np.ndarray:
-    """Composite topography of two facing surfaces (Fig. 2), workpiece first.
+    """Composite topography of two facing surfaces, workpiece first. It is the paper's Fig. 2.
 
     Both height maps are measured outward from their own body (asperities point towards the
     other body) on the same grid, so that the separation at element ``k`` is
@@ -255,7 +255,9 @@ def solve_normal(
     workers: int | None = None,
     nested: bool = False,
 ) -> NormalResult:
-    """Solve the normal contact of a rough surface at a prescribed mean pressure (Sec. 2.1).
+    """Solve the normal contact of a rough surface at a prescribed mean pressure.
+
+    The model is the paper's Sec. 2.1.
 
     Parameters
     ----------
@@ -445,10 +447,7 @@ def _finish(h, p, u, g, nit, converged, res, tol, p_mean, H, periodic, vc, dA):
     if converged:
         msg = f"converged in {nit} iterations, residual {res:.2e} < tol {tol:.1e}{note}"
     else:
-        msg = (
-            f"NOT converged: residual {res:.2e} >= tol {tol:.1e} after {nit} iterations "
-            f"(raise maxiter or tol){note}"
-        )
+        msg = f"NOT converged: residual {res:.2e} >= tol {tol:.1e} after {nit} iterations{note}"
     return NormalResult(
         pressure=p,
         alpha=float(np.count_nonzero(contact) / p.size),

@@ -217,7 +217,7 @@ def solve_tangential(
     tol=1e-8,
     maxiter=10000,
 ):
-    """Uncoupled tangential contact (Eq. 13 with the bound of Eq. 18) after a normal solve.
+    """Uncoupled tangential contact after a normal solve. It solves Eq. 13 with the bound of Eq. 18.
 
     Parameters
     ----------

@@ -11,7 +11,7 @@ from __future__ import annotations
 import html
 from pathlib import Path
 
-from frictionlaw.htmlpage import figure, number_cell, page
+from sbmf_cli.htmlpage import figure, number_cell, page
 
 __all__ = ["write_report"]
 

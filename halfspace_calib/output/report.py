@@ -185,11 +185,14 @@ def write_plots(cal, out):
     return figs
 
 
-def write_outputs(cal, out):
+def write_outputs(cal, out, *, clock=None):
     """Write ``params.json``, the CSV tables, the plots and ``summary.json`` into ``out``.
 
     Each modelled effect writes its CSV and PNG into a subfolder: ``tangential/``,
-    ``geometric/`` (the inclined patches) and ``sliding/``.
+    ``geometric/`` (the inclined patches) and ``sliding/``. ``clock()``: the command's run time
+    so far (:func:`sbmf_cli.process_seconds`), read when every other file is written and recorded
+    in ``summary.json`` as ``command_seconds`` beside ``seconds`` (the calibration's solves and
+    fits); the command reports that number.
     """
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -200,6 +203,8 @@ def write_outputs(cal, out):
 
     write_effect_outputs(cal, out)
     summary = cal.summary()  # one record for summary.json and report.html
+    if clock is not None:
+        summary["command_seconds"] = clock()
     (out / "summary.json").write_text(json.dumps(summary, indent=2, default=float) + "\n")
     from .html import write_report
 

@@ -102,12 +102,12 @@ def write_band_plots(mc, out):
     return figs
 
 
-def write_sample_outputs(mc, out):
+def write_sample_outputs(mc, out, *, clock=None):
     """Write a multi-sample calibration's files into ``out``.
 
     The pooled set (as one calibration: ``params.json`` with the uncertainty block, tables,
     plots), ``samples.csv``, ``bands.csv``, the band plots, ``summary.json`` and
-    ``report.html`` (with the band).
+    ``report.html`` (with the band). ``clock``: as in :func:`write_outputs`.
     """
     out = Path(out)
     write_outputs(mc.pooled, out)
@@ -144,6 +144,8 @@ def write_sample_outputs(mc, out):
     )
     write_band_plots(mc, out)
     summary = mc.summary()
+    if clock is not None:
+        summary["command_seconds"] = clock()
     (out / "summary.json").write_text(json.dumps(summary, indent=2, default=float) + "\n")
     write_report(
         summary,

@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from frictionlaw import FrictionParams, alpha_first
+from sbmf_cli import Worded
 
 from . import effects as _eff
 from . import heldout as _held
@@ -34,7 +35,7 @@ from .params import make_params
 from .registry import REGISTRY
 from .reload_table import ReloadTableFit, fit_reload_table
 from .resolution import ResolutionCheck, fit_sweeps, resolution_check
-from .scene import Scene, load_scene
+from .scene import MIN_TOL, Scene, load_scene
 from .scene_surfaces import SceneSurfaces, load_scene_surfaces
 from .sweeps import SweepResult, run_sweeps, scene_surfaces
 
@@ -106,8 +107,12 @@ class Calibration:
         """
         out = [f"load level {f.p_hist:g} Pa failed" for f in self.sweeps.failed]
         out += [
-            f"not converged, left out of the fit: p_hist {nc.p_hist:g} Pa, p_mean "
-            f"{nc.p_mean:g} Pa: {nc.message}"
+            Worded(
+                f"not converged, left out of the fit: p_hist {nc.p_hist:g} Pa, p_mean "
+                f"{nc.p_mean:g} Pa: {nc.message}; raise {{tol}} (now {self.scene.tol:g}; the "
+                f"residual stalls at rounding below about {MIN_TOL:g})",
+                "tol",
+            )
             for nc in self.sweeps.not_converged()
         ]
         tol = self.scene.heldout_tol

@@ -434,7 +434,9 @@ def fit_first_loading(
     n_bounds=N_BOUNDS,
     floor_to=None,
 ):
-    """Fit ``C1, n1`` of Eq. 24, ``alpha1(p) = tanh((p C1 / H)**n1)**(1/n1)``.
+    """Fit ``C1, n1`` of the first-loading ratio ``alpha1(p) = tanh((p C1 / H)**n1)**(1/n1)``.
+
+    This is Eq. 24.
 
     Parameters
     ----------
@@ -525,7 +527,9 @@ def fit_first_loading(
 def fit_reload(
     curves, H, C1, n1, *, continuous=False, relative=False, C_bounds=C_BOUNDS, n_bounds=N_BOUNDS
 ):
-    """Fit ``C2, n2`` of Eq. 25 to all un-/reloading curves together.
+    """Fit ``C2, n2`` of the reload contact ratio to all un-/reloading curves together.
+
+    This is Eq. 25.
 
     ``alpha2(p) = alpha1(p_hist) tanh(x2**n2)**(1/n2)``, ``x2 = p C2 / (H alpha1(p_hist))``,
     with ``alpha1`` from Eq. 24 and the given ``C1, n1`` (as the runtime evaluates it).

@@ -26,6 +26,8 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 from scipy.stats import t as student_t
 
+from sbmf_cli import ParameterError
+
 from ..contact.normal import solve_normal_pair
 from ..topography import chain
 from ..topography.filters import MIN_CUTOFF_PIXELS
@@ -160,8 +162,11 @@ def roughness_of_scans(scans, scene, surfaces):
         try:
             prepared = load_scene_surfaces(scan_scene)
         except (ValueError, OSError) as exc:
-            raise ValueError(
-                f"--after-contact row {row} (p_mean {p / 1e6:g} MPa, {path}): {exc}"
+            raise ParameterError(
+                f"{{after_contact}} row {row} (p_mean {p / 1e6:g} MPa, {path}): "
+                + (exc.template if isinstance(exc, ParameterError) else str(exc)),
+                "after_contact",
+                *(exc.names if isinstance(exc, ParameterError) else ()),
             ) from None
         a, q = _ra_rq(prepared.workpiece.heights)
         ra.append(a)

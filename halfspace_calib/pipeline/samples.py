@@ -46,6 +46,8 @@ from pathlib import Path
 
 import numpy as np
 
+from sbmf_cli import ParameterError
+
 from .. import topography as _surf
 from ..common.jobs import run_jobs
 from ..topography import chain
@@ -258,9 +260,10 @@ def cut_patches(surfs, k, where, grid):
 def _check_scene(scene):
     extra = [e for e in scene.effects if e != "normal"]
     if extra:
-        raise ValueError(
+        raise ParameterError(
             f"effects {extra} are not available in a multi-sample calibration (their pooling "
-            "over samples is not defined): calibrate one sample for them, or drop --effects"
+            "over samples is not defined): calibrate one sample for them, or drop {effects}",
+            "effects",
         )
 
 
@@ -271,7 +274,7 @@ def _load_pair(one, spec):
         s = load_scene_surfaces(one)
         return s, 1, s.grid
     if not one.from_files:
-        _patch_guard(one.grid, "--grid")
+        _patch_guard(one.grid, f"{{grid}} {one.grid}")
         return synthetic_population(one, k, one.grid), k, one.grid
     if one.grid is None:  # the scans' sampling on one patch, at most MAX_DEFAULT_GRID
         first = load_scene_surfaces(one, check_sampling=False)
@@ -280,15 +283,17 @@ def _load_pair(one, spec):
         grid = min(int(side / k / pitch + 1e-9), MAX_DEFAULT_GRID)
     else:
         grid = one.grid
-    _patch_guard(grid, f"--patches {spec.patches}")
+    _patch_guard(grid, f"{{patches}} {spec.patches}")
     return load_scene_surfaces(one, grid=k * grid), k, grid
 
 
 def _patch_guard(grid, what):
     if grid < PATCH_MIN_GRID:
-        raise ValueError(
+        raise ParameterError(
             f"{what} gives patches of {grid} elements a side, below the guard of "
-            f"{PATCH_MIN_GRID}: use fewer patches (--patches) or a finer --grid"
+            f"{PATCH_MIN_GRID}: use fewer patches ({{patches}}) or a finer {{grid}}",
+            "patches",
+            "grid",
         )
 
 
@@ -304,8 +309,10 @@ def load_samples(scene, spec):
     pairs = pair_files(wps, tls)
     n = len(pairs) * spec.patches
     if n < MIN_SAMPLES:
-        raise ValueError(
-            f"{n} sample(s): a band needs at least {MIN_SAMPLES} (give more files or --patches N)"
+        raise ParameterError(
+            f"{n} sample(s): a band needs at least {MIN_SAMPLES} (give more files or "
+            "{patches} N)",
+            "patches",
         )
     many_tools = len(set(t for _, t in pairs)) > 1
     patched = spec.patches > 1
@@ -357,10 +364,12 @@ def _check_consistent(samples):
     dx = [s.surfaces.workpiece.dx for s in samples]
     if max(dx) > min(dx) * (1 + ELEMENT_RTOL):
         what = ", ".join(f"{s.name}: {s.surfaces.workpiece.dx * 1e6:.4g} um" for s in samples)
-        raise ValueError(
+        raise ParameterError(
             f"the samples' element sizes differ by more than {100 * ELEMENT_RTOL:g} % after "
-            f"resampling ({what}): one law needs one element size; give --grid and --crop-size "
-            "so that every file gives the same element"
+            f"resampling ({what}): one law needs one element size; give {{grid}} and "
+            "{crop_size} so that every file gives the same element",
+            "grid",
+            "crop_size",
         )
 
 

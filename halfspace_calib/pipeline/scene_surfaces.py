@@ -36,6 +36,8 @@ import math
 import os
 from dataclasses import asdict, dataclass
 
+from sbmf_cli import ParameterError
+
 from .. import topography as _surf
 from ..contact.normal import estimate_memory
 from ..topography import chain
@@ -229,7 +231,8 @@ def _read(scene, role):
 @functools.lru_cache(maxsize=2)  # workpiece and tool
 def _read_cached(path, stamp, role, unit, size, max_undefined):
     """:func:`_read` for hashable arguments (the resolution check reads the files again)."""
-    unit_opt = f"--{role}-unit or --unit"
+    unit_opt = f"{{{role}_unit}} or {{unit}}"
+    unit_names = (f"{role}_unit", "unit")
     try:
         try:  # size applies to the files that do not carry their own
             h, dx, dy, prov = _surf.read_raw(path, unit=unit)
@@ -240,15 +243,16 @@ def _read_cached(path, stamp, role, unit, size, max_undefined):
     except ValueError as exc:
         text = str(exc)
         if "unit is required" in text:
-            raise ValueError(
+            raise ParameterError(
                 f"{path}: a plain file does not say its height unit: give {unit_opt} "
-                f"(m, mm, um, nm)"
+                f"(m, mm, um, nm)",
+                *unit_names,
             ) from None
         if "contradicts" in text:
-            raise ValueError(f"{text} (the option is {unit_opt})") from None
+            raise ParameterError(f"{text} (the option is {unit_opt})", *unit_names) from None
         if "no lateral calibration" in text:
-            raise ValueError(
-                f"{path}: a plain file does not say its size: give --size LX [LY] in m"
+            raise ParameterError(
+                f"{path}: a plain file does not say its size: give {{size}} (LX [LY] in m)", "size"
             ) from None
         raise
     except OSError as exc:
@@ -271,7 +275,9 @@ def _filtered_cached(path, stamp, role, unit, size, max_undefined, lambda_s, lam
     try:
         f, filtered = chain.filter_scan(f, lambda_s, lambda_c)
     except ValueError as exc:
-        raise ValueError(f"{path}: {exc} (--lambda-s / --lambda-c)") from None
+        raise ParameterError(
+            f"{path}: {exc} ({{lambda_s}} / {{lambda_c}})", "lambda_s", "lambda_c"
+        ) from None
     return f, steps + levelled + filtered
 
 
@@ -300,15 +306,17 @@ def _check_rq(path, role, rq):
     lo, hi = RQ_RANGE
     if not lo <= rq <= hi:
         hint = "too small" if rq < lo else "too large"
-        raise ValueError(
+        raise ParameterError(
             f"{path}: Rq = {rq:.3g} m (levelled scan) is {hint} for a metal surface (plausible: "
-            f"{lo:g} .. {hi:g} m); the height unit is most likely wrong: check --{role}-unit / "
-            "--unit (m, mm, um, nm) or the file"
+            f"{lo:g} .. {hi:g} m); the height unit is most likely wrong: check {{{role}_unit}} / "
+            "{unit} (m, mm, um, nm) or the file",
+            f"{role}_unit",
+            "unit",
         )
 
 
 def _check_element(path, element, pitch, grid, lambda_s=0.0):
-    """Refuse an element far from the scan's pixel (``ValueError`` naming ``--grid``).
+    """Refuse an element far from the scan's pixel (``ParameterError`` naming ``grid``).
 
     With an S-filter the scan is band-limited and may be interpolated below its pixel
     (:func:`band_limited_resample`), down to ``lambda_s`` / (2 :data:`ELEMENTS_PER_LAMBDA_S`):
@@ -320,7 +328,7 @@ def _check_element(path, element, pitch, grid, lambda_s=0.0):
         lo = min(lo, lambda_s / (2 * ELEMENTS_PER_LAMBDA_S) / p)
     r = element / p
     if not lo * (1 - 1e-9) <= r <= hi:
-        raise ValueError(
+        raise ParameterError(
             f"{path}: grid={grid} gives elements of {element:.3g} m, {r:.3g} times the scan's "
             f"pixel pitch {p:.3g} m (allowed {lo:.3g} .. {hi:g}"
             + (
@@ -329,8 +337,11 @@ def _check_element(path, element, pitch, grid, lambda_s=0.0):
                 if lambda_s
                 else ""
             )
-            + "); choose --grid so that the element is close to the scan's sampling (or check "
-            "--size, --lambda-s)"
+            + "); choose {grid} so that the element is close to the scan's sampling (or check "
+            "{size}, {lambda_s})",
+            "grid",
+            "size",
+            "lambda_s",
         )
 
 
@@ -374,17 +385,19 @@ def load_scene_surfaces(scene, *, grid=None, check_sampling=True):
     if scene.size is not None and all(
         s.provenance["size_source"] != "option" for s, _ in raw.values()
     ):
-        raise ValueError(
-            "--size applies to plain files without their own size; the files carry theirs "
-            f"({', '.join(str(getattr(scene, r)) for r in roles)})"
+        raise ParameterError(
+            "{size} applies to plain files without their own size; the files carry theirs "
+            f"({', '.join(str(getattr(scene, r)) for r in roles)})",
+            "size",
         )
     sides = [v for s, _ in raw.values() for v in s.size]
     side = min(sides)
     if scene.crop_size is not None:
         if scene.crop_size > side * (1 + 1e-9):
-            raise ValueError(
-                f"--crop-size {scene.crop_size:g} m exceeds the largest common square of the "
-                f"files, {side:g} m"
+            raise ParameterError(
+                f"{{crop_size}} {scene.crop_size:g} m exceeds the largest common square of the "
+                f"files, {side:g} m",
+                "crop_size",
             )
         side = float(scene.crop_size)
     pitches = [v for s, _ in raw.values() for v in (s.dx, s.dy)]
@@ -398,12 +411,13 @@ def load_scene_surfaces(scene, *, grid=None, check_sampling=True):
         )
         if lam > side * (1 + 1e-9):  # e.g. a scan of millimetre pixels with a 0.1 mm scan
             coarse = max(raw.values(), key=lambda v: max(v[0].dx, v[0].dy))[0]
-            raise ValueError(
+            raise ParameterError(
                 f"{coarse.provenance['path']} has pixels of {max(coarse.dx, coarse.dy):.3g} m: "
                 f"the default lambda_s (>= {ISO_SAMPLING_RATIO:g} of its pixels) is {lam:.3g} m, "
                 f"more than the files' common square of {side:.3g} m, so the scans cannot be "
-                "paired at the coarser one's resolution; give --lambda-s (m, at least 2 pixel "
-                "pitches of each file and at most the common square) or a scan of finer pixels"
+                "paired at the coarser one's resolution; give {lambda_s} (m, at least 2 pixel "
+                "pitches of each file and at most the common square) or a scan of finer pixels",
+                "lambda_s",
             )
     elif not lam:
         lam, lam_source = 0.0, "option: no S-filter"
@@ -417,10 +431,11 @@ def load_scene_surfaces(scene, *, grid=None, check_sampling=True):
         notes = check_lambda_s(lam, element, n, side) + check_patch_size(side, lam)
     block = max(1, min(int(element / max(s.dx, s.dy) + 1e-9) for s, _ in read.values()))
     if inclined and block < 2:
-        raise ValueError(
-            f"the inclined effect needs >= 2 measured points per element edge; grid={n} gives "
-            f"elements of {element:.3g} m on scans sampled at {max(pitches):.3g} m: use "
-            f"--grid <= {int(side / max(pitches)) // 2}"
+        raise ParameterError(
+            f"the inclined effect needs >= 2 measured points per element edge; grid={n} "
+            f"gives elements of {element:.3g} m on scans sampled at {max(pitches):.3g} m: use "
+            f"{{grid}} <= {int(side / max(pitches)) // 2}",
+            "grid",
         )
     if not inclined:
         block = 1

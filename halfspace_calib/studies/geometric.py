@@ -316,7 +316,9 @@ def geometric_study(
     materials=None,
     solver=None,
 ):
-    """Figs. 9-10: the DC04-like workpiece against the smooth and the rough tool.
+    """The geometric study: the DC04-like workpiece against the smooth and the rough tool.
+
+    It gives Figs. 9-10.
 
     Parameters
     ----------

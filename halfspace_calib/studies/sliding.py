@@ -371,7 +371,9 @@ def sliding_sweep(
     dy=None,
     progress=False,
 ):
-    """Slide the tool window over the workpiece, one element per position (Sec. 3.3).
+    """Slide the tool window over the workpiece, one element per position.
+
+    This is the paper's Sec. 3.3.
 
     Parameters
     ----------

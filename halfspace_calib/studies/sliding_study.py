@@ -96,7 +96,9 @@ def sliding_study(
     scheduler=None,
     progress=True,
 ):
-    """The sliding study of Sec. 3.3: one :func:`sliding_sweep` per pressure, as independent jobs.
+    """The sliding study: one :func:`sliding_sweep` per pressure, as independent jobs.
+
+    It is the paper's Sec. 3.3.
 
     Parameters
     ----------

@@ -33,6 +33,8 @@ import math
 
 import numpy as np
 
+from sbmf_cli import ParameterError
+
 from .files import fill_harmonic
 from .filters import l_filter, s_filter
 from .resample import area_resample, band_limited_resample
@@ -58,15 +60,16 @@ def fill_holes(heights, max_undefined, path):
     ------
     ValueError
         More than ``max_undefined`` (a fraction) of the points are undefined, naming the file
-        and ``--max-undefined``.
+        and ``max_undefined`` (a :class:`sbmf_cli.ParameterError`).
     """
     bad = int(np.count_nonzero(np.isnan(heights)))
     frac = bad / heights.size
     if frac > max_undefined:
-        raise ValueError(
+        raise ParameterError(
             f"{path}: {100 * frac:.1f} % of the points are undefined (not measured), more "
-            f"than --max-undefined = {100 * max_undefined:g} %; fill them yourself, "
-            f"crop the scan, or raise --max-undefined (a fraction in [0, 1])"
+            f"than {{max_undefined}} = {100 * max_undefined:g} %; fill them yourself, "
+            "crop the scan, or raise {max_undefined} (a fraction in [0, 1])",
+            "max_undefined",
         )
     if not bad:
         return heights, (), 0

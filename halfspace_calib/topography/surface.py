@@ -264,7 +264,9 @@ def crop(surface, shape, origin=(0, 0)):
 
 
 def block_average(surface, shape, *, trim=False):
-    """Coarsen to ``shape``: each element is the mean of the ``s`` points it covers (Sec. 3.1).
+    """Coarsen to ``shape``: each element is the mean of the ``s`` points it covers.
+
+    This is the coarsening of the paper's Sec. 3.1.
 
     Parameters
     ----------

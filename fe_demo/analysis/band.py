@@ -23,20 +23,19 @@ single samples' laws (what one further patch could give), which is wider.
 
 from __future__ import annotations
 
-import html
-import json
-from pathlib import Path
+from dataclasses import dataclass
 
 import numpy as np
 
-from frictionlaw.htmlpage import figure, number_cell, page
+from sbmf_cli import ParameterError
 
 __all__ = [
-    "band_laws",
-    "combine",
-    "write_band_outputs",
-    "write_run_report",
+    "BandResult",
     "REPORT_REDUCTIONS",
+    "band_laws",
+    "band_result",
+    "combine",
+    "summary_record",
 ]
 
 #: height reductions at which summary.json reports the force band (where the runs reach them)
@@ -50,10 +49,11 @@ def band_laws(P, mode, params_path):
     (bad input) if it has no uncertainty block.
     """
     if P.uncertainty is None:
-        raise ValueError(
-            f"--{mode} needs a parameter file with an uncertainty block (a calibration from "
-            f"several samples: halfspace-calib --patches N or several --workpiece files); "
-            f"{params_path} has none"
+        raise ParameterError(
+            f"{{{mode}}} needs a parameter file with an uncertainty block (a calibration from "
+            "several samples: halfspace-calib with several workpiece files or patches, "
+            f"docs/uncertainty.md); {params_path} has none",
+            mode,
         )
     central = P.replace(uncertainty=None)
     if mode == "band":
@@ -158,152 +158,26 @@ def summary_record(scene, mode, level, runs, band, keys):
     return rec
 
 
-def write_band_outputs(out, scene, mode, level, results, keys):
-    """history.csv, the band plots, summary.json and report.html of a band run.
+@dataclass(frozen=True)
+class BandResult:
+    """A band run combined: the band per increment, each run's history, the summary record."""
+
+    band: dict
+    histories: dict
+    record: dict
+    keys: tuple
+
+
+def band_result(scene, mode, level, results, keys):
+    """Combine the runs of a band (``--band``, ``--samples``) into a :class:`BandResult`.
 
     ``results``: ``{name: (history or None, run summary dict)}``; ``keys``:
     ``[(history column, unit)]`` (``force`` in N; the ring's ``inner_diameter_change`` in 1).
-    Returns the summary record.
+    ``RuntimeError`` when the central law's run gave no accepted increment.
     """
-    out = Path(out)
     hist = {n: h for n, (h, _) in results.items() if h}
     if "central" not in hist:
         raise RuntimeError("the central law's run gave no accepted increment")
     band = combine(hist, [k for k, _ in keys])
-    cols = ["height_reduction", "stage"] + [
-        f"{k}{s}" for k, _ in keys for s in ("", "_lower", "_upper")
-    ]
-    units = {k: u for k, u in keys}
-    header = ["height_reduction", "stage"] + [
-        f"{k}{s}" + ("" if units[k] == "1" else f"_{units[k]}")
-        for k, _ in keys
-        for s in ("", "_lower", "_upper")
-    ]
-    lines = [",".join(header)]
-    for i in range(band["height_reduction"].size):
-        lines.append(",".join(f"{band[c][i]:.10g}" for c in cols))
-    (out / "history.csv").write_text("\n".join(lines) + "\n", encoding="utf-8")
-    images = _plots(out, band, hist, keys, mode, level)
     runs = {n: s for n, (_, s) in results.items()}
-    rec = summary_record(scene, mode, level, runs, band, keys)
-    (out / "summary.json").write_text(json.dumps(rec, indent=2) + "\n", encoding="utf-8")
-    write_report(out, rec, images)
-    return rec
-
-
-def _plots(out, band, hist, keys, mode, level):
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    what = f"{100 * level:g} % band of the law" if mode == "band" else "spread of the samples"
-    images = []
-    for key, _ in keys:
-        scale, ylab, fname = (
-            (1e-3, "die force (kN)", "force_band.png")
-            if key == "force"
-            else (100.0, "change of inner diameter (%)", "ring_band.png")
-        )
-        fig, ax = plt.subplots(figsize=(6, 4))
-        r = 100 * band["height_reduction"]
-        ax.fill_between(
-            r,
-            band[f"{key}_lower"] * scale,
-            band[f"{key}_upper"] * scale,
-            color="C0",
-            alpha=0.3,
-            lw=0,
-            label=what,
-        )
-        for name, h in hist.items():
-            if name != "central" and mode == "samples":
-                ax.plot(100 * h["height_reduction"], h[key] * scale, "-", color="0.6", lw=0.6)
-        ax.plot(r, band[key] * scale, "C0-", lw=1.5, label="central (pooled) law")
-        ax.set(xlabel="height reduction (%)", ylabel=ylab)
-        ax.grid(alpha=0.3)
-        ax.legend()
-        fig.tight_layout()
-        fig.savefig(out / fname, dpi=120)
-        plt.close(fig)
-        images.append((fname, f"{ylab} with the {what}"))
-    return images
-
-
-def write_run_report(folder, info, title):
-    """``report.html`` of one ordinary run from its summary.json record ``info``.
-
-    Run status, end of run, the calibrated-range report and the run's plots (force-stroke,
-    die profile; the ring chart where the folder has one).
-    """
-    from .calibrated_range import range_lines
-
-    folder = Path(folder)
-    rows = [
-        ("converged", info.get("converged")),
-        ("stopped_at_height_reduction", info.get("stopped_at_height_reduction")),
-        ("wall_time_s", info.get("wall_time_s")),
-    ]
-    if "inner_diameter_change" in info:  # a ring test's measured quantities, at the end
-        rows.insert(2, ("inner_diameter_change", info["inner_diameter_change"]))
-        rows.insert(3, ("inner_diameter_min_change", info["inner_diameter_min_change"]))
-    body = ["<table><tr><th>quantity</th><th>value</th></tr>"]
-    for k, v in rows:
-        cell = number_cell(v, k) if isinstance(v, float) else f"<td>{html.escape(str(v))}</td>"
-        body.append(f"<tr><td>{k}</td>{cell}</tr>")
-    body.append("</table>")
-    body.append(f"<p>{html.escape(str(info.get('message', '')))}</p>")
-    body.append("<h2>Calibrated range</h2>")
-    lines = range_lines(title, info.get("calibrated_range")) or ["law without parameters"]
-    body.append("<ul>" + "".join(f"<li>{html.escape(x)}</li>" for x in lines) + "</ul>")
-    for fname, cap in (
-        ("force_stroke.png", "force against height reduction"),
-        ("die_profile.png", "pressure, shear and p_hist along the die"),
-        ("../ring_chart.png", "ring chart"),
-        ("ring_chart.png", "ring chart"),
-    ):
-        body.append(figure(folder / fname, cap))
-    (folder / "report.html").write_text(page(f"fe-demo: {title}", body), encoding="utf-8")
-
-
-def write_report(out, rec, images):
-    """``report.html`` from the summary record (numbers carry their summary.json path)."""
-    out = Path(out)
-    body = [
-        f"<p>scene {html.escape(rec['scene'])}, {html.escape(rec['meaning'])}"
-        + (f" at {100 * rec['level']:g} %" if rec["mode"] == "band" else "")
-        + "</p>"
-    ]
-    for key in [k for k in rec if k.endswith("_at")]:
-        body.append(
-            f"<h2>{html.escape(key[:-3])} [{html.escape(next(iter(rec[key].values()))['unit'])}]"
-            "</h2><table><tr><th>height reduction</th><th>central</th><th>lower</th>"
-            "<th>upper</th><th>+-</th></tr>"
-        )
-        for red, v in rec[key].items():
-            body.append(
-                f"<tr><td>{html.escape(red)}</td>"
-                + "".join(
-                    number_cell(v[f], f"{key}.{red}.{f}")
-                    for f in ("central", "lower", "upper", "plus_minus")
-                )
-                + "</tr>"
-            )
-        body.append("</table>")
-    body += [figure(out / fname, cap) for fname, cap in images]
-    body.append(
-        "<h2>Runs</h2><table><tr><th>run</th><th>converged</th><th>message</th>"
-        "<th>calibrated range</th></tr>"
-    )
-    from .calibrated_range import range_lines
-
-    for name, s in rec["runs"].items():
-        rng = "; ".join(range_lines(name, s.get("calibrated_range"))) or "-"
-        body.append(
-            f"<tr><td>{html.escape(name)}</td><td>{s['converged']}</td>"
-            f"<td>{html.escape(str(s.get('message', '')))}</td><td>{html.escape(rng)}</td></tr>"
-        )
-    body.append("</table>")
-    title = f"fe-demo {rec['scene']}: the friction law's band carried to the FE result"
-    doc = page(title, body)
-    (out / "report.html").write_text(doc, encoding="utf-8")
+    return BandResult(band, hist, summary_record(scene, mode, level, runs, band, keys), tuple(keys))

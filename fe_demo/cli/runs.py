@@ -1,46 +1,16 @@
-"""``fe-demo``: command-line runner for the upsetting, ring and multistage scenes.
+"""The runs of ``fe-demo upsetting|ring|multistage`` and of their ``--band`` / ``--samples``.
 
-Examples
---------
-``fe-demo upsetting`` (SBMF law with the shipped illustrative parameters),
-``fe-demo upsetting --law sbmf --params calibrated.json --out out/ups``,
-``fe-demo upsetting --law all`` (every law side by side),
-``fe-demo ring`` (Tresca m in {0, 0.1, 0.2, 0.3, 0.5, 1} over the upper-bound chart;
-``--m 0.3`` runs that m alone, ``--m-list 0,0.3`` sweeps those),
-``fe-demo multistage`` (upset, unload, reload; with and without ``p_hist``).
-An option the chosen law does not use is refused (exit 2), never silently ignored.
-
-The output folder appears whole (:class:`frictionlaw.clitools.OutputFolder`): the run writes into a
-temporary folder beside ``--out`` that replaces an earlier ``fe-demo`` output as a whole, so no
-file of a longer earlier run (``vtu/step_0005.vtu``) survives beside a new ``.pvd``. A run that
-did not converge still writes its results (up to the failure) and exits 1. The summary goes to
-stdout (hidden by ``--quiet``), warnings and errors to stderr.
+Each scene run, its files in the output folder and its console lines; ``cmd_*`` return the exit
+code (0, or 1 when a run did not converge).
 """
 
-import argparse
 import json
-import sys
-from pathlib import Path
 
 import numpy as np
 
-from frictionlaw import FrictionParams
-from frictionlaw.clitools import (
-    Console,
-    HelpFormatter,
-    OutputFolder,
-    add_common_options,
-    add_version,
-    interruptible,
-    parse,
-)
-
-from . import ringfit_cmd
-from .band import band_laws, write_band_outputs, write_run_report
-from .calibrated_range import range_lines
-from .laws import LAW_OPTIONS, LAWS
-from .material import DC04, Material
-from .output import (
+from ..analysis.band import band_result
+from ..analysis.ring_chart import CHART_M, ring_chart
+from ..output import (
     plot_force_stroke,
     plot_law_comparison,
     plot_recontact,
@@ -49,133 +19,13 @@ from .output import (
     write_history_csv,
     write_vtu_series,
 )
-from .ring_chart import CHART_M, ring_chart
-from .scenes import contact_profile, run_multistage, run_ring, run_upsetting
+from ..output.band import write_band_outputs
+from ..output.reports import range_lines, write_run_report
+from ..scenes import contact_profile, run_multistage, run_ring, run_upsetting
+from ..scenes.laws import LAWS
+from ..solver.material import DC04, Material
 
-__all__ = ["main", "build_parser"]
-
-_LAWS_ALL = (*LAWS, "all")
-_MU, _M = 0.1, 0.3  # defaults of --mu, --m where the law uses them
-
-
-def _positive_int(name):
-    def conv(s):
-        v = int(s)
-        if v < 1:
-            raise argparse.ArgumentTypeError(f"{name} must be >= 1, got {s}")
-        return v
-
-    return conv
-
-
-def _add_common(p, *, law, nr, increments, reduction, out):
-    p.add_argument(
-        "--law",
-        choices=_LAWS_ALL,
-        default=None,
-        help=f"friction law (default: {law}; sbmf when --params is given)",
-    )
-    p.set_defaults(default_law=law)
-    p.add_argument(
-        "--mu", type=float, default=None, help=f"Coulomb coefficient (coulomb, cap; default {_MU})"
-    )
-    p.add_argument(
-        "--m", type=float, default=None, help=f"Tresca friction factor (tresca, cap; default {_M})"
-    )
-    p.add_argument(
-        "--tau-max",
-        type=float,
-        default=None,
-        help="cap of 'cap' in Pa (default: m sigma_f / sqrt(3), updated like Tresca's)",
-    )
-    p.add_argument(
-        "--params",
-        type=Path,
-        default=None,
-        help="SBMF parameter JSON (FrictionParams file; default: the shipped illustrative set)",
-    )
-    p.add_argument(
-        "--accept-failed-fit",
-        action="store_true",
-        help="run a --params file whose calibration failed or whose fit did not converge "
-        "(refused otherwise; a warning is printed)",
-    )
-    p.add_argument(
-        "--material",
-        type=Path,
-        default=None,
-        help="material JSON (E, nu, K, eps0, n; default: DC04)",
-    )
-    p.add_argument("--nr", type=_positive_int("nr"), default=nr, help="elements across the radius")
-    p.add_argument(
-        "--nz",
-        type=_positive_int("nz"),
-        default=None,
-        help="elements over h/2 (default: square elements from --nr)",
-    )
-    p.add_argument(
-        "--increments",
-        type=_positive_int("increments"),
-        default=increments,
-        help="load increments",
-    )
-    p.add_argument("--reduction", type=float, default=reduction, help="final height reduction")
-    p.add_argument("--out", type=Path, default=Path(out), help="output folder")
-    p.add_argument(
-        "--vtu-every", type=int, default=5, help="VTU snapshot every N increments (0: none)"
-    )
-    add_common_options(p)
-    g = p.add_mutually_exclusive_group()
-    g.add_argument(
-        "--band",
-        action="store_true",
-        help="law sbmf with a multi-sample --params file: run the central law and the band's "
-        "two edge laws; history.csv, plot, summary.json and report.html give the band",
-    )
-    g.add_argument(
-        "--samples",
-        action="store_true",
-        help="as --band, but the central law and every sample's own law (their spread)",
-    )
-
-
-def build_parser():
-    """The argument parser of ``fe-demo``."""
-    ap = argparse.ArgumentParser(
-        prog="fe-demo",
-        description="Command-line runner for the upsetting, ring and multistage scenes.",
-        formatter_class=HelpFormatter,
-    )
-    add_version(ap)
-    sub = ap.add_subparsers(dest="scene", required=True)
-    kw = {"formatter_class": HelpFormatter}
-    p = sub.add_parser("upsetting", help="cylinder upsetting D0=20 mm, h0=10 mm", **kw)
-    _add_common(p, law="sbmf", nr=64, increments=50, reduction=0.5, out="fe_out/upsetting")
-    p.add_argument("--remesh-below", type=float, default=0.0, help="remesh threshold (0: off)")
-    p.add_argument("--diameter", type=float, default=20e-3, help="D0 in m")
-    p.add_argument("--height", type=float, default=10e-3, help="h0 in m")
-    p = sub.add_parser("ring", help="ring compression 6:3:2 (OD 18, ID 9, h 6 mm)", **kw)
-    _add_common(p, law="tresca", nr=16, increments=50, reduction=0.5, out="fe_out/ring")
-    p.add_argument(
-        "--m-list",
-        type=str,
-        default=None,
-        help=(
-            "Tresca factors to sweep over the chart (law tresca only); without --m or --m-list "
-            "tresca sweeps " + ",".join(f"{m:g}" for m in CHART_M) + " (default: none)"
-        ),
-    )
-    p.add_argument(
-        "--remesh-below",
-        type=float,
-        default=0.3,
-        help="remesh when the worst element corner sine falls below this (0: off)",
-    )
-    p = sub.add_parser("multistage", help="upset, unload, reload (Eq. 25)", **kw)
-    _add_common(p, law="sbmf", nr=24, increments=30, reduction=0.45, out="fe_out/multistage")
-    p.add_argument("--first-reduction", type=float, default=0.3, help="reduction of stage 1")
-    ringfit_cmd.add_parser(sub, HelpFormatter)
-    return ap
+__all__ = ["cmd_band", "cmd_multistage", "cmd_ring", "cmd_upsetting", "write_run"]
 
 
 def _material(args):
@@ -209,7 +59,8 @@ def _label(law, args):
     return "frictionless"
 
 
-def _write_run(folder, res, title):
+def write_run(folder, res, title):
+    """A run's files in ``folder``: history.csv, its plots, VTU series, summary.json, report.html."""
     folder.mkdir(parents=True, exist_ok=True)
     if res.history:
         write_history_csv(folder / "history.csv", res.history)
@@ -286,7 +137,8 @@ def _summary_row(label, res, *, ring=False):
     }
 
 
-def _cmd_upsetting(args, con):
+def cmd_upsetting(args, con):
+    """``fe-demo upsetting``: one run per law (``--law all``: every law side by side)."""
     laws = [w for w in LAWS if w != "none"] if args.law == "all" else [args.law]
     results, rows = {}, []
     ok = True
@@ -302,7 +154,7 @@ def _cmd_upsetting(args, con):
         )
         lab = _label(law, args)
         folder = args.out / law if len(laws) > 1 else args.out
-        _write_run(folder, res, lab)
+        write_run(folder, res, lab)
         results[lab] = (res.history, contact_profile(res.model)) if res.history else None
         rows.append(_summary_row(lab, res))
         ok &= res.converged
@@ -346,7 +198,8 @@ def _m_list(args):
     return [] if args.m_given else list(CHART_M)
 
 
-def _cmd_ring(args, con):
+def cmd_ring(args, con):
+    """``fe-demo ring``: the runs (a Tresca sweep, or the laws) over the upper-bound chart."""
     m_list = _m_list(args)
     runs = []
     if m_list:
@@ -363,7 +216,7 @@ def _cmd_ring(args, con):
         kw["m"] = m
         res = run_ring(law, reduction=args.reduction, remesh_below=args.remesh_below, **kw)
         folder = args.out / lab.replace(" ", "_").replace("=", "") if len(runs) > 1 else args.out
-        _write_run(folder, res, lab)
+        write_run(folder, res, lab)
         if res.history:
             fe[lab] = (res.history["height_reduction"], res.history["inner_diameter_change"])
         rows.append(_summary_row(lab, res, ring=True))
@@ -387,7 +240,8 @@ def _cmd_ring(args, con):
     return 0 if ok else 1
 
 
-def _cmd_multistage(args, con):
+def cmd_multistage(args, con):
+    """``fe-demo multistage``: each law with and without ``p_hist``."""
     laws = [w for w in LAWS if w != "none"] if args.law == "all" else [args.law]
     rows, curves = [], {}
     ok = True
@@ -402,7 +256,7 @@ def _cmd_multistage(args, con):
         )
         lab = _label(law, args) + (" without p_hist" if reset else " with p_hist")
         sub = args.out / law if len(laws) > 1 else args.out
-        _write_run(sub / ("no_history" if reset else "with_history"), res, lab)
+        write_run(sub / ("no_history" if reset else "with_history"), res, lab)
         prof = res.info.get("recontact_profile")
         if prof is not None and not reset:
             plot_recontact(sub / "recontact_friction.png", prof)
@@ -443,47 +297,7 @@ def _cmd_multistage(args, con):
     return 0 if ok else 1
 
 
-def _check_options(args):
-    """Refuse options the requested runs would not use; fill in the defaults of the rest."""
-    if args.law is None:  # a parameter file is only used by the law that reads it
-        args.law = "sbmf" if args.params is not None else args.default_law
-    used = LAW_OPTIONS[args.law]
-    for name in ("mu", "m", "tau_max", "params"):
-        if getattr(args, name) is not None and name not in used:
-            flag = "--" + name.replace("_", "-")
-            hint = " (add --law sbmf to run the parameter file's law)" if name == "params" else ""
-            raise ValueError(f"{flag} is not used by --law {args.law}{hint}")
-    if args.law == "cap" and args.tau_max is not None and args.m is not None:
-        raise ValueError("--m is not used by --law cap when --tau-max gives the cap")
-    if getattr(args, "m_list", None) is not None:
-        if args.law != "tresca":
-            raise ValueError(f"--m-list is not used by --law {args.law} (it sweeps Tresca's m)")
-        if args.m is not None:
-            raise ValueError("give --m or --m-list, not both")
-    if args.band or args.samples:
-        flag = "--band" if args.band else "--samples"
-        if args.law != "sbmf" or args.params is None:
-            raise ValueError(f"{flag} needs --law sbmf and a --params file from several samples")
-        if getattr(args, "m_list", None) is not None:
-            raise ValueError(f"--m-list is not used with {flag}")
-    args.m_given = args.m is not None
-    args.mu = _MU if args.mu is None else args.mu
-    args.m = _M if args.m is None else args.m
-    if args.params is not None:
-        if not args.params.exists():
-            raise ValueError(f"--params file {args.params} does not exist")
-        # unreadable files and failed fits: bad input, before any run
-        P = FrictionParams.from_json(args.params, accept_failed=args.accept_failed_fit)
-        reason = P.failure
-        if reason:  # accepted: the run uses the object, and says so
-            args.params_loaded = P
-            print(f"fe-demo: WARNING: {args.params}: {reason}; run as asked", file=sys.stderr)
-        if args.band or args.samples:
-            args.band_laws = band_laws(P, "band" if args.band else "samples", args.params)
-            args.band_level = P.uncertainty.level
-
-
-def _cmd_band(args, con):
+def cmd_band(args, con):
     """The scene once per law of the band (or per sample); the band's files in ``args.out``."""
     results = {}
     for name, law in args.band_laws:
@@ -504,7 +318,7 @@ def _cmd_band(args, con):
             res = run_multistage(
                 "sbmf", first_reduction=args.first_reduction, reduction=args.reduction, **kw
             )
-        _write_run(args.out / name, res, f"sbmf {name}")
+        write_run(args.out / name, res, f"sbmf {name}")
         _report_run(con, name, res)
         results[name] = (
             res.history or None,
@@ -516,8 +330,12 @@ def _cmd_band(args, con):
             },
         )
     keys = [("force", "N")] + ([("inner_diameter_change", "1")] if args.scene == "ring" else [])
+    mode = "band" if args.band else "samples"
     rec = write_band_outputs(
-        args.out, args.scene, "band" if args.band else "samples", args.band_level, results, keys
+        args.out,
+        band_result(args.scene, mode, args.band_level, results, keys),
+        mode,
+        args.band_level,
     )
     for key, unit in keys:
         for red, v in rec[f"{key}_at"].items():
@@ -528,53 +346,3 @@ def _cmd_band(args, con):
                 f"[{v['lower'] * s:.4g}, {v['upper'] * s:.4g}]"
             )
     return 0 if rec["ok"] else 1
-
-
-class _Report(Console):
-    """A :class:`Console` that also keeps the summary lines (written to ``summary.txt``)."""
-
-    def __init__(self, prog, quiet=False):
-        super().__init__(prog, quiet)
-        self.lines = []
-
-    def result(self, line=""):
-        self.lines.append(line)
-        super().result(line)
-
-
-@interruptible("fe-demo", "the FE run")
-def main(argv=None):
-    """Entry point of ``fe-demo``: 0, 1 (a run failed), 2 (bad input), 130/143 (interrupted)."""
-    args, code = parse(build_parser(), argv)
-    if args is None:
-        return code
-    con = _Report("fe-demo", quiet=args.quiet)
-    if args.scene == "ring-fit":
-        return ringfit_cmd.run(args, con)
-    if not (0.0 < args.reduction < 0.9):
-        return con.error("--reduction must be in (0, 0.9)", 2)
-    try:
-        _check_options(args)
-        folder = OutputFolder(
-            args.out,
-            command="fe-demo",
-            what="fe-demo output",
-            inputs=(args.params, args.material),
-        )
-    except (ValueError, OSError) as exc:
-        return con.error(str(exc), 2)
-    out, args.out = args.out, folder.tmp
-    cmd = {"upsetting": _cmd_upsetting, "ring": _cmd_ring}.get(args.scene, _cmd_multistage)
-    if args.band or args.samples:
-        cmd = _cmd_band
-    with folder:
-        try:
-            code = cmd(args, con)
-            (folder.tmp / "summary.txt").write_text("\n".join(con.lines) + "\n", encoding="utf-8")
-            folder.commit()
-        except ValueError as exc:
-            return con.error(str(exc), 2)
-        except OSError as exc:  # writing the outputs (disk full, permissions changed meanwhile)
-            return con.error(f"the outputs could not be written, {out} is unchanged: {exc}", 1)
-    con.result(f"output in {out}")
-    return code

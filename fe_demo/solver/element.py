@@ -8,7 +8,7 @@ average (Hughes 1980, mean dilatation), which removes volumetric locking of the
 plastically incompressible flow.
 
 Each function takes ``kernels="numpy"`` (the vectorised NumPy code of this module, the
-reference) or ``"numba"`` (the element loops of :mod:`fe_demo._kernels`, the same results to
+reference) or ``"numba"`` (the element loops of :mod:`fe_demo.solver._kernels`, the same results to
 rounding, ``tests/test_fe_kernels.py``).
 
 Strain components are ``[rr, zz, tt, rz]`` with engineering shear; element dofs

@@ -3,12 +3,12 @@
 All numba code of :mod:`fe_demo` lives here. Every kernel has an explicit signature (so it is
 compiled, or loaded from numba's on-disk cache, at import), ``cache=True`` and no ``fastmath``.
 Each loops over elements (or Gauss points) and does per element what the vectorised NumPy
-functions of :mod:`fe_demo.element` and :mod:`fe_demo.material` do for all elements at once;
+functions of :mod:`fe_demo.solver.element` and :mod:`fe_demo.solver.material` do for all elements at once;
 those NumPy functions are the independent oracles the tests compare against
 (``tests/test_fe_kernels.py``). The radial return has a scalar (one point) kernel,
 :func:`radial_return_row`, and an array kernel built on it.
 
-Array layouts are those of :mod:`fe_demo.element`: ``N (4, nq)``, ``dN (4, 2, nq)``,
+Array layouts are those of :mod:`fe_demo.solver.element`: ``N (4, nq)``, ``dN (4, 2, nq)``,
 ``w (nq,)``, ``B (n_el, nq, 4, 8)``, ``dV, r (n_el, nq)``, ``dNdx (n_el, nq, 4, 2)``; Voigt
 vectors ``[rr, zz, tt, rz]`` with engineering shear.
 """
@@ -47,7 +47,7 @@ _TWO_PI = 2.0 * math.pi
 def kinematics(x, t, N, dN, w, B, dV, r, dNdx):
     """B-bar matrices, volume weights, radii and shape-function gradients of every element.
 
-    Fills ``B``, ``dV``, ``r``, ``dNdx`` as :func:`fe_demo.element.kinematics` does and returns
+    Fills ``B``, ``dV``, ``r``, ``dNdx`` as :func:`fe_demo.solver.element.kinematics` does and returns
     the smallest Jacobian determinant. ``t`` is the connectivity ``(4, n_el)``.
     """
     ne = t.shape[1]
@@ -127,7 +127,7 @@ def strain_spin_rotate(B, dNdx, edofs, du, sigma, deps, sig_rot):
 
     ``B``, ``dNdx`` are the mid-increment configuration's, ``sigma (n_el, nq, 4)`` the stresses
     of the last increment; fills ``deps`` and ``sig_rot`` (both ``(n_el, nq, 4)``) as
-    ``einsum("eqia,ea->eqi", B, du[edofs])`` and :func:`fe_demo.model._rotate` do, with the
+    ``einsum("eqia,ea->eqi", B, du[edofs])`` and :func:`fe_demo.solver.model._rotate` do, with the
     in-plane spin ``w = (d du_r / dz - d du_z / dr) / 2``.
     """
     ne = B.shape[0]
@@ -181,7 +181,7 @@ def radial_return_row(De, prm, sigma_old, eps_p_old, d_eps, sigma, eps_p, D, i):
 
     ``prm = [G, K_bulk, K, eps0, n, tol, max_iter, sigma_y0]`` (Swift flow curve
     ``K (eps0 + eps_p)**n``), ``De`` the elastic matrix. Writes ``sigma[i]``, ``eps_p[i]``,
-    ``D[i]`` as :func:`fe_demo.material.radial_return` does; returns 0 (elastic), 1 (plastic)
+    ``D[i]`` as :func:`fe_demo.solver.material.radial_return` does; returns 0 (elastic), 1 (plastic)
     or -1 (the local Newton iteration did not converge).
     """
     G = prm[0]

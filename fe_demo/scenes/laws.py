@@ -40,7 +40,7 @@ LAW_OPTIONS = {
 }
 
 #: illustrative (not calibrated) SBMF parameter file shipped with the demo
-EXAMPLE_PARAMS_PATH = Path(__file__).with_name("data") / "sbmf_example.json"
+EXAMPLE_PARAMS_PATH = Path(__file__).parents[1] / "data" / "sbmf_example.json"
 
 
 def example_params():

@@ -128,7 +128,7 @@ def radial_return(mat, sigma_old, eps_p_old, d_eps, *, tol=1e-12, max_iter=50, k
 
     ``kernels="numpy"`` runs the local Newton iteration on all plastic points at once (until
     the slowest has converged), ``"numba"`` point by point
-    (:func:`fe_demo._kernels.radial_return_row`); the results agree to rounding.
+    (:func:`fe_demo.solver._kernels.radial_return_row`); the results agree to rounding.
 
     Parameters
     ----------

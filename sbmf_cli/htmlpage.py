@@ -1,10 +1,10 @@
 """Self-contained HTML pages of the project's reports (``report.html``).
 
-``halfspace-calib`` and ``fe-demo`` both write a ``report.html`` from the same records as their
-``summary.json``; this module is the one place that builds such a page: images embedded as base64
-(no network), every number carrying ``data-key="<dotted path in summary.json>"`` so that a reader
-or a test can check the page against the file. It lives in ``frictionlaw`` (standard library
-only) because that is the layer both other packages may import.
+``halfspace-calib``, ``fe-demo`` and ``fe-demo ring-fit`` write a ``report.html`` from the same
+records as their ``summary.json`` or ``ring_fit.json``; this module is the one place that builds
+such a page: images embedded as base64 (no network), every number carrying
+``data-key="<dotted path in the JSON record>"`` so that a reader or a test can check the page
+against the file. Standard library only, like the rest of the command layer.
 """
 
 from __future__ import annotations

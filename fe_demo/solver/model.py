@@ -55,16 +55,16 @@ class SolverOptions:
         Contact penalty ``eps_n = penalty_factor * E / h_min`` (Pa/m), also used for stick.
     reuse_factorisation : bool
         Solve each tangent by iterative refinement with the last sparse LU, refactorising only
-        when that misses ``linear_rtol`` (:class:`~fe_demo.linsolve.TangentSolver`); ``False``:
+        when that misses ``linear_rtol`` (:class:`~fe_demo.solver.linsolve.TangentSolver`); ``False``:
         a fresh LU per Newton iteration (the reference; same results to ``linear_rtol``). SuperLU
         only: PARDISO factorises every tangent (cheaper than refinement there).
     linear_rtol : float
         Relative residual of the linear solve, ``|K d - b| <= linear_rtol |b|``.
     kernels : {"numba", "numpy"}
-        The element loops and the return map: numba kernels (:mod:`fe_demo._kernels`) or the
+        The element loops and the return map: numba kernels (:mod:`fe_demo.solver._kernels`) or the
         vectorised NumPy reference; the same results to rounding.
     linear_solver : {"auto", "superlu", "pardiso"}
-        Direct solver of :class:`~fe_demo.linsolve.TangentSolver`: ``"pardiso"`` needs the
+        Direct solver of :class:`~fe_demo.solver.linsolve.TangentSolver`: ``"pardiso"`` needs the
         optional extra ``pardiso`` (pypardiso, MKL), ``"auto"`` uses it when installed and
         SuperLU otherwise.
     linear_threads : int
@@ -136,9 +136,9 @@ class FormingModel:
 
     Parameters
     ----------
-    axi : fe_demo.mesh.AxiMesh
+    axi : fe_demo.solver.mesh.AxiMesh
         Mesh and node sets.
-    material : fe_demo.material.Material
+    material : fe_demo.solver.material.Material
     law_factory : callable or None
         ``law_factory(model) -> law`` is called at the start of every increment
         (so that Tresca's ``k`` can follow the current flow stress); ``None`` for

@@ -4,7 +4,8 @@ With a parameter file that records its ``calibrated_range`` (``p_min, p_max``), 
 accepted increment gets the columns of :data:`RANGE_COLUMNS` (from
 :func:`frictionlaw.check_pressure_range` on the die's contact nodes), and the run's
 ``summary.json`` a ``calibrated_range`` record: the range, the worst increment (the largest
-count and peak over the run) and the last one. Laws without parameters (Coulomb, Tresca,
+count and peak over the run) and the last one (its console lines:
+:func:`fe_demo.output.reports.range_lines`). Laws without parameters (Coulomb, Tresca,
 cap) add nothing; an SBMF parameter set without a range says so.
 
 Nodes at ``p >= H`` are counted apart (``n_above_H``, ``n_hist_above_H``): the half-space model
@@ -17,7 +18,7 @@ import numpy as np
 
 from frictionlaw import alpha_first, check_pressure_range
 
-__all__ = ["RANGE_COLUMNS", "range_columns", "range_summary", "range_lines"]
+__all__ = ["RANGE_COLUMNS", "range_columns", "range_summary"]
 
 #: history columns (per accepted increment) when the law has a calibrated range
 RANGE_COLUMNS = (
@@ -81,45 +82,3 @@ def range_summary(model, history):
     ev = model.accepted
     out["end"]["n_contact"] = 0 if ev is None else int(np.count_nonzero(ev.p > 0))
     return out
-
-
-def range_lines(label, rec):
-    """Console lines for one run's ``calibrated_range`` record (none for ``None``)."""
-    if rec is None:
-        return []
-    if "note" in rec:
-        return [f"[{label}] calibrated range: {rec['note']}"]
-    lo, hi = rec["p_min_Pa"] / 1e6, rec["p_max_Pa"] / 1e6
-    if "end" not in rec:
-        return [f"[{label}] calibrated range {lo:g}-{hi:g} MPa: no accepted increment"]
-    e, w = rec["end"], rec["max_over_run"]
-    head = f"[{label}] calibrated range {lo:g}-{hi:g} MPa: "
-    out = []
-    limit = w.get("n_above_H", 0) or w.get("n_hist_above_H", 0)
-    if w["n_above_range"] == 0 and w["n_hist_above_range"] == 0 and not limit:
-        out.append(
-            head + f"every contact pressure inside (peak p/p_max {w['p_peak_over_p_max']:.2f})"
-        )
-    elif w["n_above_range"] == 0 and w["n_hist_above_range"] == 0:
-        out.append(head + "no node between p_max and H: the law is not extrapolated")
-    else:
-        out.append(
-            head + f"law EXTRAPOLATED between p_max and H: at the end {e['n_above_range']} of "
-            f"{e['n_contact']} contact nodes there (p_hist: {_nodes(e['n_hist_above_range'])}); "
-            f"over the run at most {_nodes(w['n_above_range'])}; {e['n_below_range']} contact "
-            f"nodes below p_min at the end"
-        )
-    if limit:
-        out.append(
-            f"[{label}] at the half-space model's limit p >= H = {rec['H_Pa'] / 1e6:g} MPa "
-            f"(full contact, alpha = 1; the law gives alpha1(H) = {rec['alpha1_at_H']:.4f}): "
-            f"at the end {e['n_above_H']} of {e['n_contact']} contact nodes (p up to "
-            f"{e['p_peak'] / 1e6:.0f} MPa, p_hist >= H: {_nodes(e['n_hist_above_H'])}); over the "
-            f"run at most {_nodes(w['n_above_H'])}"
-        )
-    return out
-
-
-def _nodes(k):
-    """``"1 node"``, ``"3 nodes"``."""
-    return f"{k} node" if k == 1 else f"{k} nodes"

@@ -24,11 +24,9 @@ range by more than :data:`RANGE_TOL` are refused (no ``m`` can produce them), sa
 
 from __future__ import annotations
 
-import csv
 import math
-import os
+from concurrent.futures import as_completed
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 from scipy.interpolate import PchipInterpolator
@@ -36,9 +34,11 @@ from scipy.optimize import minimize_scalar
 from scipy.stats import t as student_t
 
 from frictionlaw import FrictionParams
-from frictionlaw.clitools import process_pool
+from sbmf_cli import ParameterError, available_cpus, process_pool
 
-from .scenes import run_ring
+from ..scenes import run_ring
+from ..scenes.drive import ProgressBar
+from .ring_tests import RingTest, read_ring_tests
 
 __all__ = [
     "M_GRID",
@@ -60,9 +60,6 @@ M_TOL = 2e-3
 MAX_REFINE = 2
 #: a point may lie this far (inner-diameter change, a fraction) outside the m = 0 / m = 1 curves
 RANGE_TOL = 0.02
-#: reductions the ring fit accepts
-REDUCTION_RANGE = (0.0, 0.7)
-COLUMNS = ("inner_diameter_change", "inner_diameter_min_change")
 
 
 class RingFitError(RuntimeError):
@@ -74,16 +71,6 @@ class RingFitError(RuntimeError):
 
     def __str__(self):
         return f"the FE ring run at m = {self.m:g} failed: {self.message}"
-
-
-@dataclass(frozen=True)
-class RingTest:
-    """Measured ring tests, pooled: one row per ring (repeated reductions allowed)."""
-
-    reduction: np.ndarray
-    d_inner: np.ndarray
-    column: str
-    sources: tuple
 
 
 @dataclass(frozen=True)
@@ -101,76 +88,26 @@ class RingFit:
     n_fe_runs: int
     curves: dict = field(repr=False)  # m -> (reduction, d) of each FE run
     message: str = ""
+    #: the m of the refinement runs (the others are the grid's, or a grid run's retry)
+    refined: tuple = ()
+    #: the response surfaces ``m -> d`` built so far, by the reductions they are at
+    _surfaces: dict = field(default_factory=dict, init=False, repr=False, compare=False)
+
+    def surface(self, reduction):
+        """``m -> d`` at ``reduction`` (PCHIP across the FE runs' m), built once per reduction set.
+
+        The surface depends only on the FE runs and the reductions, so every prediction at the
+        same reductions (the fitted curve and its band's two edges) shares one.
+        """
+        r = np.atleast_1d(np.asarray(reduction, float))
+        key = (r.shape, r.tobytes())
+        if key not in self._surfaces:
+            self._surfaces[key] = _surface(self.curves, r)
+        return self._surfaces[key]
 
     def predict(self, reduction, m=None):
         """The inner-diameter change the model gives at ``reduction`` for ``m`` (the fit's)."""
-        return _surface(self.curves, np.atleast_1d(np.asarray(reduction, float)))(
-            self.m if m is None else m
-        )
-
-
-def read_ring_tests(paths):
-    """Read and check measured ring tests (CSV with the columns of ``history.csv``).
-
-    Raises ``ValueError`` naming the file, column, row or range: a missing column, a reduction
-    outside ``(0, 0.7]``, NaN, fewer than 2 points in all, or files that give different columns.
-    """
-    paths = [Path(p) for p in paths]
-    if not paths:
-        raise ValueError("--measured needs at least one CSV file")
-    red, dd, column = [], [], None
-    for path in paths:
-        if not path.is_file():
-            raise ValueError(f"--measured {path}: no such file")
-        with path.open(newline="", encoding="utf-8") as fh:
-            reader = csv.DictReader(row for row in fh if not row.lstrip().startswith("#"))
-            names = [n.strip() for n in (reader.fieldnames or [])]
-            if "height_reduction" not in names:
-                raise ValueError(f"--measured {path}: missing column 'height_reduction' ({names})")
-            have = [c for c in COLUMNS if c in names]
-            if not have:
-                raise ValueError(
-                    f"--measured {path}: missing column 'inner_diameter_change' (mid-plane) or "
-                    f"'inner_diameter_min_change' (smallest inner diameter); found {names}"
-                )
-            col = have[0]
-            if column is not None and col != column:
-                raise ValueError(
-                    f"--measured {path}: gives {col!r} where an earlier file gives {column!r}; "
-                    "pool files that measure the same diameter"
-                )
-            column = col
-            for i, row in enumerate(reader, start=2):
-                row = {k.strip(): v for k, v in row.items() if k is not None}
-                try:
-                    r, d = float(row["height_reduction"]), float(row[col])
-                except (TypeError, ValueError):
-                    raise ValueError(
-                        f"--measured {path}, row {i}: height_reduction and {col} must be numbers "
-                        f"(fractions), got {row.get('height_reduction')!r}, {row.get(col)!r}"
-                    ) from None
-                if math.isnan(r) or math.isnan(d):
-                    raise ValueError(
-                        f"--measured {path}, row {i}: NaN in height_reduction or {col}"
-                    )
-                lo, hi = REDUCTION_RANGE
-                if not (lo < r <= hi):
-                    raise ValueError(
-                        f"--measured {path}, row {i}: height_reduction {r:g} is outside "
-                        f"({lo:g}, {hi:g}] (a fraction: 0.5 for 50 %)"
-                    )
-                if not (-1.0 < d < 2.0) or math.isinf(d):
-                    raise ValueError(
-                        f"--measured {path}, row {i}: {col} {d:g} is not a plausible fraction "
-                        "(-1 < d < 2; 0.05 for +5 %)"
-                    )
-                red.append(r)
-                dd.append(d)
-    if len(red) < 2:
-        raise ValueError(
-            f"--measured: at least 2 points are needed to fit m and its band, got {len(red)}"
-        )
-    return RingTest(np.array(red), np.array(dd), column, tuple(str(p) for p in paths))
+        return self.surface(reduction)(self.m if m is None else m)
 
 
 def _law_kw(law, m, params):
@@ -212,12 +149,21 @@ def _curve_job(args):
             raise RingFitError(m, f"{first.message} (and again at m = {m2:g})") from None
 
 
-def _run_curves(law, ms, params, column, reduction, kw, workers):
+def _run_curves(law, ms, params, column, reduction, kw, workers, bar):
+    """``{m: (reduction, d)}`` of one FE run per ``m``; ``bar.update()`` after each run."""
     jobs = [(law, float(m), params, column, reduction, kw) for m in ms]
     if workers > 1 and len(jobs) > 1:
         with process_pool(min(workers, len(jobs))) as pool:  # an interrupt ends the workers
-            return dict(pool.map(_curve_job, jobs))
-    return dict(_curve_job(j) for j in jobs)
+            futures = [pool.submit(_curve_job, j) for j in jobs]
+            for _ in as_completed(futures):
+                bar.update()
+            return dict(f.result() for f in futures)  # a failure: the first in job order
+    out = {}
+    for job in jobs:
+        m, curve = _curve_job(job)
+        out[m] = curve
+        bar.update()
+    return out
 
 
 def _surface(curves, reduction):
@@ -264,15 +210,44 @@ def _check_range(test, curves):
     ):
         if idx.size:
             i = int(idx[0])
-            raise ValueError(
-                f"--measured: {idx.size} point(s) lie {way} what any m in [0, 1] gives (by more than "
+            raise ParameterError(
+                f"{{test}}: {idx.size} point(s) lie {way} what any m in [0, 1] gives (by more than "
                 f"{RANGE_TOL:g}): e.g. reduction {test.reduction[i]:g}, {test.column} "
                 f"{test.d_inner[i]:+.4f} against {ref[i]:+.4f} at m = {m_ref}; check the sign "
-                "and units (fractions: -0.1 for -10 %), the geometry and the material"
+                "and units (fractions: -0.1 for -10 %), the geometry and the material",
+                "test",
             )
 
 
-def fit_m(test, law="sbmf", *, params=None, band_level=0.9, workers=None, **ring_kw):
+def _fit_runs(test, law, params, top, ring_kw, workers, bar):
+    """The FE runs of a fit and its least-squares ``m``: ``(curves, surface, m, refined m)``.
+
+    The grid's runs first (:data:`M_GRID`; points outside what ``m = 0`` and ``m = 1`` give are
+    refused), then a run at the optimum joins until ``m`` moves by less than :data:`M_TOL`.
+    """
+    col = test.column
+    curves = _run_curves(law, M_GRID, params, col, top, ring_kw, workers, bar)
+    _check_range(test, curves)
+    m_fit, refined = None, []
+    while True:
+        surf = _surface(curves, test.reduction)
+        m_new = least_squares_m(surf, test.d_inner)
+        done = m_fit is not None and abs(m_new - m_fit) < M_TOL
+        m_fit = m_new
+        if done or len(refined) >= MAX_REFINE:
+            break
+        near = min(curves, key=lambda m: abs(m - m_fit))
+        if abs(near - m_fit) < M_TOL / 2:
+            break
+        run = _run_curves(law, [round(m_fit, 6)], params, col, top, ring_kw, 1, bar)
+        curves |= run
+        refined += list(run)
+    return curves, surf, m_fit, tuple(refined)
+
+
+def fit_m(
+    test, law="sbmf", *, params=None, band_level=0.9, workers=None, progress=False, **ring_kw
+):
     """Fit the friction factor ``m`` of ``law`` to measured ring tests.
 
     Parameters
@@ -288,7 +263,10 @@ def fit_m(test, law="sbmf", *, params=None, band_level=0.9, workers=None, **ring
     band_level : float
         Level of the band on ``m`` in ``(0, 1)``.
     workers : int, optional
-        Processes for the FE runs (default: 2 where two CPUs are free, else 1).
+        Processes for the FE runs (default: 2 where two CPUs are free, else 1;
+        :func:`sbmf_cli.available_cpus`).
+    progress : bool
+        A progress bar over the FE runs (stderr).
     **ring_kw
         Geometry, mesh, increments and material of :func:`fe_demo.run_ring`.
 
@@ -310,28 +288,17 @@ def fit_m(test, law="sbmf", *, params=None, band_level=0.9, workers=None, **ring
     if not (0.0 < band_level < 1.0):
         raise ValueError(f"band_level must be in (0, 1), got {band_level!r}")
     if workers is None:
-        workers = 2 if len(os.sched_getaffinity(0)) >= 2 else 1
+        workers = min(2, available_cpus())
     top = min(0.7, float(test.reduction.max()) + 0.02)  # the runs go a little past the data
-    col = test.column
-    curves = _run_curves(law, M_GRID, params, col, top, ring_kw, workers)
-    _check_range(test, curves)
-    m_fit, n_refine = None, 0
-    while True:
-        surf = _surface(curves, test.reduction)
-        m_new = least_squares_m(surf, test.d_inner)
-        done = m_fit is not None and abs(m_new - m_fit) < M_TOL
-        m_fit = m_new
-        if done or n_refine >= MAX_REFINE:
-            break
-        near = min(curves, key=lambda m: abs(m - m_fit))
-        if abs(near - m_fit) < M_TOL / 2:
-            break
-        curves |= _run_curves(law, [round(m_fit, 6)], params, col, top, ring_kw, 1)
-        n_refine += 1
+    bar = ProgressBar(progress, len(M_GRID) + MAX_REFINE, f"ring fit ({law})", "FE run")
+    try:
+        curves, surf, m_fit, refined = _fit_runs(test, law, params, top, ring_kw, workers, bar)
+    finally:
+        bar.close()
     res = test.d_inner - surf(m_fit)  # surf: the surface of the final set of runs
     n = res.size
     half = band_half_width(res, surf.derivative()(m_fit), band_level)
-    return RingFit(
+    fit = RingFit(
         law=law,
         m=m_fit,
         m_lower=max(0.0, m_fit - half),
@@ -342,5 +309,9 @@ def fit_m(test, law="sbmf", *, params=None, band_level=0.9, workers=None, **ring
         residuals=res,
         n_fe_runs=len(curves),
         curves=curves,
-        message=f"{len(curves)} FE runs, {n_refine} refinement(s)",
+        message=f"{len(curves)} FE runs, {len(refined)} refinement(s)",
+        refined=refined,
     )
+    r = np.atleast_1d(np.asarray(test.reduction, float))
+    fit._surfaces[(r.shape, r.tobytes())] = surf  # the measured points' surface, already built
+    return fit

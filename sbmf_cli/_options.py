@@ -1,0 +1,121 @@
+"""Options every command shares: ``--version``, ``--quiet``, ``--no-progress``, help with defaults."""
+
+from __future__ import annotations
+
+import argparse
+from importlib import metadata
+
+__all__ = [
+    "DISTRIBUTION",
+    "HelpFormatter",
+    "add_common_options",
+    "add_version",
+    "flags_of",
+    "parse",
+    "version",
+]
+
+#: the distribution whose version ``--version`` prints
+DISTRIBUTION = "sbmf-friction"
+
+
+def version():
+    """The installed version of the ``sbmf-friction`` distribution (``"unknown"`` if not installed)."""
+    try:
+        return metadata.version(DISTRIBUTION)
+    except metadata.PackageNotFoundError:
+        return "unknown (not installed as a distribution)"
+
+
+class HelpFormatter(argparse.HelpFormatter):
+    """Help that shows each option's default unless its help text already states one.
+
+    Flags (``store_true``/``store_false``) are off/on by default and say nothing more; an option
+    whose default is ``None`` must state in its help what applies when it is omitted.
+    """
+
+    def _get_help_string(self, action):
+        text = action.help or ""
+        if (
+            not action.option_strings
+            or "default" in text
+            or action.default in (None, argparse.SUPPRESS)
+            or isinstance(action.default, bool)
+            or action.nargs == 0
+        ):
+            return text
+        return f"{text} (default: %(default)s)"
+
+
+def add_common_options(parser, *, quiet=True, progress=True):
+    """Add ``--quiet`` and/or ``--no-progress`` (see the package docstring).
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        The parser (or sub-parser) to add to.
+    quiet : bool
+        Add ``--quiet`` (hide progress and the summary on stdout).
+    progress : bool
+        Add ``--no-progress`` (hide only the progress bar).
+    """
+    if quiet:
+        parser.add_argument(
+            "--quiet",
+            action="store_true",
+            help="print no summary and no progress bar (warnings and errors still go to stderr)",
+        )
+    if progress:
+        parser.add_argument(
+            "--no-progress", action="store_true", help="hide the progress bar, keep the summary"
+        )
+
+
+def add_version(parser):
+    """Add ``--version`` (prints ``<prog> <version>`` and exits 0)."""
+    parser.add_argument(
+        "--version", action="version", version=f"%(prog)s {version()}", help="print the version"
+    )
+
+
+def parse(parser, argv=None):
+    """``(args, None)``, or ``(None, exit code)`` where argparse exits.
+
+    argparse exits 2 for a bad option (its message already on stderr) and 0 for ``--help`` and
+    ``--version``; a command returns that code instead of raising ``SystemExit``.
+    """
+    try:
+        args, extra = parser.parse_known_args(argv)
+        if extra:  # a typo in a subcommand's option: that subcommand's usage, not the top level's
+            _subparser(parser, args).error(f"unrecognized arguments: {' '.join(extra)}")
+        return args, None
+    except SystemExit as exc:
+        return None, exc.code if isinstance(exc.code, int) else 2
+
+
+def _subparser(parser, args):
+    """The subcommand parser ``args`` came through, or ``parser`` itself."""
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            chosen = getattr(args, action.dest, None)
+            return parser if chosen is None else action.choices.get(chosen, parser)
+    return parser
+
+
+def flags_of(parser, **renamed):
+    """``{Python name: flag}`` of a parser's options: how a command names a parameter.
+
+    Each option's ``dest`` maps to its long flag (the one spelt like the ``dest``, else the first
+    long one); ``renamed`` adds the library's names for options whose ``dest`` differs
+    (``n_increments="--increments"``). A command gives the map to its :class:`sbmf_cli.Console`,
+    which words a :class:`sbmf_cli.ParameterError` with it.
+    """
+    flags = {}
+    for action in parser._actions:
+        longs = [s for s in action.option_strings if s.startswith("--")]
+        if not longs or action.dest in flags:
+            continue
+        spelt = "--" + action.dest.replace("_", "-")
+        flags[action.dest] = spelt if spelt in longs else longs[0]
+    flags.update(renamed)
+    return flags

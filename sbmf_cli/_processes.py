@@ -1,0 +1,159 @@
+"""Processes of a run: interrupts, the local worker pool, and the CPUs a run may use."""
+
+from __future__ import annotations
+
+import contextlib
+import ctypes
+import functools
+import os
+import signal
+import sys
+import threading
+import time
+from concurrent.futures import ProcessPoolExecutor
+
+__all__ = [
+    "Interrupted",
+    "available_cpus",
+    "interruptible",
+    "process_pool",
+    "process_seconds",
+    "worker_ignores_interrupts",
+]
+
+#: when this module was imported (the run time's start where the process's own is unknown)
+_IMPORTED = time.perf_counter()
+
+
+def process_seconds():
+    """Seconds since this process started: what a user's wall clock shows for a command so far.
+
+    On Linux from the process's start time (``/proc/self/stat``, 10 ms ticks), so that the
+    interpreter's start and the imports count, as they do on the user's clock; elsewhere since
+    the command layer was imported (early in every command).
+    """
+    try:
+        with open("/proc/self/stat", encoding="ascii") as fh:
+            start_ticks = int(fh.read().rsplit(")", 1)[1].split()[19])  # field 22, starttime
+        with open("/proc/uptime", encoding="ascii") as fh:
+            uptime = float(fh.read().split()[0])
+        return max(0.0, uptime - start_ticks / os.sysconf("SC_CLK_TCK"))
+    except (OSError, ValueError, IndexError, AttributeError):
+        return time.perf_counter() - _IMPORTED
+
+
+def available_cpus():
+    """CPUs this process may run on, on every platform.
+
+    The process's CPU affinity where the system has one (``os.sched_getaffinity``: Linux, a
+    container's or ``taskset``'s limit included); else ``os.process_cpu_count()`` (Python 3.13+)
+    or ``os.cpu_count()`` (macOS, Windows); at least 1.
+    """
+    affinity = getattr(os, "sched_getaffinity", None)
+    if affinity is not None:
+        try:
+            return max(1, len(affinity(0)))
+        except OSError:  # pragma: no cover - affinity not readable here
+            pass
+    count = getattr(os, "process_cpu_count", None) or os.cpu_count
+    return max(1, count() or 1)
+
+
+class Interrupted(BaseException):
+    """SIGTERM (or another handled signal) turned into an exception, like KeyboardInterrupt."""
+
+    def __init__(self, signum):
+        super().__init__(signum)
+        self.signum = signum
+
+
+def _raise_interrupted(signum, frame):
+    raise Interrupted(signum)
+
+
+def interruptible(prog, what):
+    """Decorate a command's ``main`` so that SIGINT and SIGTERM end it cleanly.
+
+    Ctrl-C (SIGINT, to the process group or to this process alone) and SIGTERM raise in the
+    main process (SIGTERM through :class:`Interrupted`); the run's own cleanup runs on the way
+    out (its temporary output folder is deleted, an earlier output is left as it was, worker
+    processes are ended by the pool), and the command prints one line and returns
+    ``128 + signal number`` (130 for SIGINT, 143 for SIGTERM), without a traceback.
+    """
+
+    def wrap(main):
+        @functools.wraps(main)
+        def run(argv=None):
+            in_main = threading.current_thread() is threading.main_thread()
+            old = signal.signal(signal.SIGTERM, _raise_interrupted) if in_main else None
+            try:
+                return main(argv)
+            except (KeyboardInterrupt, Interrupted) as exc:
+                signum = getattr(exc, "signum", signal.SIGINT)
+                name = signal.Signals(signum).name
+                print(
+                    f"{prog}: interrupted by {name} during {what}; the output folder was not "
+                    "written (an earlier output there is unchanged)",
+                    file=sys.stderr,
+                )
+                return 128 + int(signum)
+            finally:
+                if in_main:
+                    signal.signal(signal.SIGTERM, old)
+
+        return run
+
+    return wrap
+
+
+def worker_ignores_interrupts():
+    """Set up a worker process of a command's pool so that interrupts stay the main process's.
+
+    Ctrl-C reaches the whole process group: the worker ignores SIGINT (no traceback of its own)
+    and is ended by the main process (:func:`process_pool`). SIGTERM ends it at once (the default
+    action, not an inherited handler), and on Linux the kernel sends it SIGTERM when the main
+    process dies (``PR_SET_PDEATHSIG``), so that no worker outlives its run.
+    """
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    if sys.platform.startswith("linux"):
+        try:
+            libc = ctypes.CDLL(None, use_errno=True)
+            libc.prctl(1, int(signal.SIGTERM))  # PR_SET_PDEATHSIG = 1
+        except (OSError, AttributeError):  # pragma: no cover - no prctl here
+            pass
+
+
+def _init_pool_worker(initializer, initargs):
+    worker_ignores_interrupts()
+    if initializer is not None:
+        initializer(*initargs)
+
+
+@contextlib.contextmanager
+def process_pool(max_workers, initializer=None, initargs=()):
+    """A ``ProcessPoolExecutor`` that an interrupt ends at once, workers included.
+
+    On the way out of the block with an exception (Ctrl-C, SIGTERM as :class:`Interrupted`, a
+    failed job) the pending jobs are cancelled and the running workers terminated: the
+    executor's own ``shutdown(wait=True)`` would wait for workers that keep computing. Without an
+    exception the pool is shut down normally. The workers run :func:`worker_ignores_interrupts`
+    before ``initializer(*initargs)``.
+    """
+    pool = ProcessPoolExecutor(
+        max_workers=max_workers, initializer=_init_pool_worker, initargs=(initializer, initargs)
+    )
+    try:
+        yield pool
+    except BaseException:
+        procs = list((getattr(pool, "_processes", None) or {}).values())
+        pool.shutdown(wait=False, cancel_futures=True)
+        for p in procs:
+            if p.is_alive():
+                p.terminate()
+        for p in procs:
+            p.join(timeout=5)
+            if p.is_alive():
+                p.kill()
+        raise
+    pool.shutdown(wait=True)
