@@ -252,8 +252,8 @@ C     x2h = PH C2/(H a1h), x2 = x2h (P/PH)**S2, all formed in logs.
 {% if continuous %}
 C     Continuous variant: divided by g(x2h; n2) to meet Eq. 24 at PH.
 {% endif %}
-C     DTAU = TMAX a1h/g(x2h) g'(x2) S2 x2/P, formed in logs and held
-C     below exp(LNDMAX) (it grows without bound as P -> 0 for S2 < 1).
+C     DTAU = TMAX a1h/g(x2h) g'(x2) S2 x2/P, formed in logs, its log
+C     held below LNDMAX (it grows without bound as P -> 0 for S2 < 1).
 C     Cap TMAX a1h for P <= PH, TMAX above. G1H: cached -ln a1h
 C     (<= 0: recompute it); G1OUT: the cache value for PH.
 C=======================================================================
@@ -304,7 +304,8 @@ C     continuous_reload: divided by g(x2h; n2), formed in logs
       TAU = TMAX*EXP(LNA1H + LG2)
       LND = MIN(LNA1H + LNX2 - LNP, LNDMAX)
 {% endif %}
-      DTAU = TMAX*S2*DG2*EXP(LND)
+C     held below the largest double (TMAX S2 exp(700) is not)
+      DTAU = MIN(TMAX*S2*DG2*EXP(LND), HUGE(DTAU))
       IF (P .LE. PH) THEN
         CAP = TMAX*EXP(LNA1H)
       ELSE
