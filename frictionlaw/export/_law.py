@@ -14,7 +14,6 @@ from pathlib import Path
 import numpy as np
 
 from .. import __version__
-from ..law import sbmf_coeffs
 
 __all__ = [
     "UnitSystem",
@@ -150,15 +149,13 @@ def reload_spec(params, units):
     if params.reload_form != "tabulated":
         return None
     table = params.reload_table
-    c = sbmf_coeffs(params)
-    k = len(table.p_hist)
-    parts = [tuple(c[10 + i * k : 10 + (i + 1) * k].tolist()) for i in range(5)]
+    kn = table.knots(params.H)  # what frictionlaw.law.sbmf_coeffs gives the kernels, in SI
     return ReloadSpec(
         table.s2,
         tuple(v * units.stress for v in table.p_hist),
         tuple(table.C2),
         tuple(table.n2),
-        *parts,
+        *(tuple(kn[k].tolist()) for k in ("z", "lnC2", "dlnC2", "lnn2", "dlnn2")),
     )
 
 
