@@ -101,9 +101,7 @@ def _end_slope(h0: float, h1: float, m0: float, m1: float) -> float:
     return float(d)
 
 
-def hermite(
-    x: ArrayLike, knots: ArrayLike, y: ArrayLike, d: ArrayLike
-) -> NDArray[np.float64]:
+def hermite(x: ArrayLike, knots: ArrayLike, y: ArrayLike, d: ArrayLike) -> NDArray[np.float64]:
     """The cubic Hermite interpolant through ``(knots, y)`` with slopes ``d``, constant beyond.
 
     NumPy form of what the kernels evaluate per node (for tables, plots and the tests).
