@@ -8,7 +8,9 @@ Checked on two blocks pressed, slid, unloaded and reloaded (tests/ccx_decks.py):
 force ccx reports equals the sum over the slave nodes of ``tau(p_i, p_hist_i) a_i`` from the
 runtime (``frictionlaw.shear_limit``), with ``p_i`` the pressure ccx prints and ``p_hist_i`` the
 largest of them so far; a routine that ignores ``p_hist`` misses it; two threads give one
-thread's numbers; decks without ``USER`` give the unpatched ccx's output byte for byte.
+thread's numbers; decks without ``USER`` give the unpatched ccx's output byte for byte. Face-to-face
+contact, the output of slip and ``p_hist``, restart and the routine's interface (DEPVAR, XIT,
+STDB_ABQERR, KSTEP/KINC/TIME/DTIME, PNEWDT): tests/test_calculix_contact.py.
 """
 
 import hashlib
@@ -237,6 +239,7 @@ def test_a_routine_that_ignores_p_hist_fails_the_check(ccx_work, export_dir, tmp
     assert (np.abs(fx[sliding] - first_load[sliding]) / first_load[sliding]).max() < 0.02
 
 
+@pytest.mark.parametrize("contact", ["NODE TO SURFACE", "SURFACE TO SURFACE"], ids=["n2f", "f2f"])
 @pytest.mark.parametrize(
     "interaction",
     [
@@ -245,9 +248,9 @@ def test_a_routine_that_ignores_p_hist_fails_the_check(ccx_work, export_dir, tmp
     ],
     ids=["coulomb", "frictionless"],
 )
-def test_decks_without_user_match_the_unpatched_ccx(ccx_work, ccx, interaction, tmp_path):
+def test_decks_without_user_match_the_unpatched_ccx(ccx_work, ccx, interaction, contact, tmp_path):
     """Decks without USER: the patched ccx writes the unpatched ccx's .dat byte for byte."""
-    deck = two_blocks(STEPS[:3], interaction)
+    deck = two_blocks(STEPS[:3], interaction, contact=contact)
     ref = _run_ok(ccx_work / "ccx_reference", deck, tmp_path / "ref")
     new = _run_ok(ccx, deck, tmp_path / "new")
     assert new.read_bytes() == ref.read_bytes()
@@ -259,7 +262,7 @@ def test_decks_without_user_match_the_unpatched_ccx(ccx_work, ccx, interaction, 
     [
         (["*FRICTION, USER, DEPVAR=-1"], "DEPVAR must be"),
         (["*FRICTION, DEPVAR=3", "0.2, 1e5"], "need the parameter USER"),
-        (["*FRICTION, USER, PROPERTIES=1", "1.0, 2.0"], "more values"),
+        (["*FRICTION, USER, DEPVAR=3, PROPERTIES=1", "1.0, 2.0"], "more values"),
     ],
     ids=["negative-depvar", "depvar-without-user", "too-many-properties"],
 )
@@ -270,13 +273,11 @@ def test_bad_friction_cards_are_refused(ccx, friction, message, tmp_path):
     assert message in proc.stdout, proc.stdout[-1500:]
 
 
-def test_face_to_face_contact_is_refused(ccx, tmp_path):
-    deck = two_blocks(STEPS[:1], _doc_lines()).replace(
-        "TYPE=NODE TO SURFACE", "TYPE=SURFACE TO SURFACE"
-    )
-    proc, _ = _run(ccx, deck, tmp_path)
-    assert proc.returncode != 0
-    assert re.search(r"USER\s+is available with node-to-surface", proc.stdout), proc.stdout[-800:]
+def test_mortar_contact_is_refused(ccx, tmp_path):
+    """Mortar contact has no per-point routine call (docs/fe_codes.md, "CalculiX"): refused."""
+    proc, _ = _run(ccx, two_blocks(STEPS[:1], _doc_lines(), contact="MORTAR"), tmp_path)
+    assert proc.returncode != 0 and "Job finished" not in proc.stdout
+    assert re.search(r"USER\s+is not available with mortar", proc.stdout), proc.stdout[-800:]
 
 
 def _ring_result(dat):
