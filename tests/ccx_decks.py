@@ -59,7 +59,8 @@ def two_blocks(
         Values at the end of each static step (ramped from the previous step's). ``options``:
         ``amplitude`` (the name of an entry of ``amplitudes`` the step's pressure follows, as
         ``pressure * a(t)``), ``static`` (the ``*STATIC`` line, default ``0.1, 1.0, 1e-5,
-        0.25``).
+        0.25``), ``uz`` (a prescribed vertical displacement of the top, mm; it stays prescribed
+        in the later steps).
     interaction : list of str
         Lines after ``*SURFACE INTERACTION, NAME=...`` (its first line included), e.g. the
         docs' ``*SURFACE INTERACTION, NAME=SBMF`` / ``*FRICTION, USER, DEPVAR=3``; a
@@ -115,6 +116,8 @@ def two_blocks(
         static = opts.get("static", "0.1, 1.0, 1e-5, 0.25")
         out += ["*STEP, INC=200", "*STATIC", static, "*BOUNDARY"]
         out += [f"NTOP, 1, 1, {ux:.10g}", "NTOP, 2, 2, 0."]
+        if "uz" in opts:
+            out.append(f"NTOP, 3, 3, {opts['uz']:.10g}")
         out.append(f"*DLOAD, AMPLITUDE={opts['amplitude']}" if "amplitude" in opts else "*DLOAD")
         out += [f"{e}, P2, {p:.10g}" for e in top]
         out += ["*NODE PRINT, NSET=NTOP", "RF", "*CONTACT PRINT", ", ".join(contact_print)]

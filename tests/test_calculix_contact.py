@@ -173,6 +173,29 @@ def test_face_to_face_unloading_keeps_p_hist(f2f_slide):
     assert sdv[:, 0].max() <= p_load.max() * 1.05 + 1.0
 
 
+@pytest.mark.parametrize("kind", [N2F, F2F], ids=["node-to-surface", "face-to-face"])
+def test_lift_off_keeps_p_hist(ccx, kind, tmp_path):
+    """Press to 400 MPa and slide, lift the block off (no contact at all), press it back by a
+    prescribed displacement while sliding: p_hist survives the open contact (node-to-surface:
+    each node's value before the lift-off) and every point reloads below it on Eq. 25."""
+    steps = [(400.0, 0.0), (400.0, 0.1), (0.0, 0.1, {"uz": 0.05}), (0.0, 0.2, {"uz": -0.004})]
+    deck = two_blocks(steps, _doc_lines(), contact=kind, contact_print=("CSTR", "CSDV"))
+    blocks = dict(read_blocks(_run_ok(ccx, deck, tmp_path)))
+    assert not blocks[3.0].get("stress")  # open: no contact element at all
+    keys, p, tau, sdv = _points(blocks[4.0], kind)
+    p_hist = sdv[:, 0]
+    assert (p < 0.8 * p_hist).all() and p.max() > 100.0
+    params = FrictionParams.from_json(EXAMPLE)
+    law = shear_limit(p * 1e6, p_hist * 1e6, params) / 1e6
+    assert (np.abs(tau - law) <= 2e-6 * law + 1e-5).all()
+    first = shear_limit(p * 1e6, 0.0, params) / 1e6
+    assert (np.abs(first - tau) / tau).max() > 0.3  # first loading would be far off
+    if kind == N2F:
+        before = {int(r[0]): r[1] for r in blocks[2.0]["sdv"]}
+        for node, ph in zip(keys[:, 0].astype(int), p_hist, strict=True):
+            assert ph == before[node]
+
+
 # --- slip output (CDIS, CSLIP) ---------------------------------------------------------------
 
 
