@@ -340,6 +340,10 @@ class OutputFolder:
         Whether replacing the command's own earlier output needs ``force``.
     inputs : sequence of path
         Files the run reads; an ``out`` that contains one of them is refused.
+    products : sequence of str
+        Files (paths relative to ``out``) that a later step of the workflow may add to the
+        output, such as the program a shipped build script links there: they count as the
+        command's own when the folder is replaced.
 
     Raises
     ------
@@ -348,9 +352,12 @@ class OutputFolder:
         cannot be written; raised before any work.
     """
 
-    def __init__(self, out, *, command, what, force=False, require_force=False, inputs=()):
+    def __init__(
+        self, out, *, command, what, force=False, require_force=False, inputs=(), products=()
+    ):
         self.out = Path(out)
         self.command = str(command)
+        self.products = frozenset(products)
         if self.out.exists() and not self.out.is_dir():
             raise ValueError(f"--out {self.out} exists and is not a folder")
         here = self.out.resolve()
@@ -387,7 +394,7 @@ class OutputFolder:
                 f"--out {self.out} holds the output of {marker['command']}, not of "
                 f"{self.command}; {self.command} will not replace it: {hint}"
             )
-        foreign = sorted(set(_listing(self.out)) - set(marker["files"]) - {MARKER})
+        foreign = sorted(set(_listing(self.out)) - set(marker["files"]) - {MARKER} - self.products)
         if foreign:
             raise ValueError(
                 f"--out {self.out} is an earlier {what} but also holds files {self.command} did "

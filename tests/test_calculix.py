@@ -144,6 +144,28 @@ def test_export_writes_routine_patch_and_build_script(export_dir):
     assert "*FRICTION, USER, DEPVAR=3" in (export_dir / "README.md").read_text()
 
 
+def test_export_force_after_the_documented_build(ccx_work, tmp_path, capsys):
+    """`bash ccx_sbmf/build.sh` keeps its build tree outside the export folder (here the one
+    SBMF_CCX_WORK names, else a cache folder) and links `ccx` into it; `frictionlaw-export
+    --force` then replaces the export, binary included, but never a file of the user's."""
+    out = tmp_path / "ccx_sbmf"
+    args = ["calculix", "--params", str(EXAMPLE), "--out", str(out), "--units", "mm-t-s"]
+    assert export_main([*args, "--quiet"]) == 0
+    env = dict(os.environ, SBMF_CCX_WORK=str(ccx_work))
+    proc = subprocess.run(
+        ["bash", str(out / "build.sh")], capture_output=True, text=True, env=env, timeout=300
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip() == str(out / "ccx") and os.access(out / "ccx", os.X_OK)
+    assert not (out / "ccx-build").exists()
+    assert export_main([*args, "--quiet", "--force"]) == 0
+    assert not (out / "ccx").exists() and (out / "sbmf_fric.f").is_file()
+    (out / "job.inp").write_text("*HEADING\n")
+    capsys.readouterr()
+    assert export_main([*args, "--quiet", "--force"]) == 2
+    assert "job.inp" in capsys.readouterr().err and (out / "job.inp").is_file()
+
+
 def test_build_script_names_what_is_missing(tmp_path):
     """Bad options exit 2 before any work, naming the option."""
     proc = subprocess.run(["bash", str(BUILD), "--jobs", "0"], capture_output=True, text=True)

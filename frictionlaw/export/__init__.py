@@ -224,6 +224,8 @@ _FORTRAN = {
 #: CalculiX: the patch and its build script ship with the package (frictionlaw/export/calculix)
 CALCULIX_DIR = Path(__file__).resolve().parent / "calculix"
 CALCULIX_FILES = ("calculix-2.20-user-friction.patch", "build.sh")
+#: what build.sh adds to the export folder (its build tree is elsewhere): replaced with --force
+CALCULIX_PRODUCTS = ("ccx",)
 
 
 def _check_args(target, units, table_tol):
@@ -315,6 +317,7 @@ def export(
         force=force,
         require_force=True,
         inputs=(params_path,),
+        products=CALCULIX_PRODUCTS if target == "calculix" else (),
     ) as folder:
         files, table = render(
             target,
