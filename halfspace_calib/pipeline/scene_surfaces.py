@@ -198,13 +198,18 @@ class SceneSurfaces:
         }
 
 
-def check_memory(grid, periodic, name="grid"):
-    """``ValueError`` naming ``name`` if a ``grid x grid`` normal solve needs over :data:`MAX_MEMORY`."""
-    need = estimate_memory((grid, grid), periodic)
+def check_memory(grid, boundary, name="grid"):
+    """``ValueError`` naming ``name`` if a ``grid x grid`` normal solve needs over :data:`MAX_MEMORY`.
+
+    ``boundary``: the solve's boundary (or ``True`` / ``False`` for periodic / isolated), as
+    :func:`~halfspace_calib.contact.normal.estimate_memory` takes it.
+    """
+    need = estimate_memory((grid, grid), boundary)
     if need > MAX_MEMORY:
+        what = boundary if isinstance(boundary, str) else ("periodic" if boundary else "isolated")
         raise ValueError(
             f"{name}={grid} needs about {need / 2**30:.1f} GiB per normal solve "
-            f"(periodic={periodic}), more than the {MAX_MEMORY / 2**30:.0f} GiB limit; "
+            f"(boundary {what}), more than the {MAX_MEMORY / 2**30:.0f} GiB limit; "
             "use a smaller grid"
         )
 
@@ -410,7 +415,7 @@ def load_scene_surfaces(scene, *, grid=None, check_sampling=True):
     read = {r: _filtered(scene, r, lam) for r in roles}
     if n is None:
         n = _default_grid(side, pitches, inclined, lam)
-    check_memory(n, scene.periodic)
+    check_memory(n, scene.boundary)
     element = side / n
     notes = ()
     if check_sampling:  # not for the resolution check's half grid
@@ -493,7 +498,7 @@ def _synthetic_one(scene, role, n, size, measured_n=None):
 
 def _synthetic(scene, n, inclined):
     """Both surfaces synthetic (Table 1); the measured grid of the inclined effect if asked."""
-    check_memory(n, scene.periodic)
+    check_memory(n, scene.boundary)
     wp = _synthetic_one(scene, "workpiece", n, _surf.PAPER_SIZE, scene.measured_n)
     tl = _synthetic_one(scene, "tool", n, _surf.PAPER_SIZE, scene.measured_n)
     mw = mt = None
