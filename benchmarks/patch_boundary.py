@@ -185,7 +185,7 @@ def _candidate(method, scene, surfs):
             )
             p_init = r.pressure
             pts.append(read(r))
-        pts.sort()
+        pts = sorted(q for q in pts if q[0] > 0)  # a region without contact: no pressure
         p_hist = read(res)[0]  # the region's own pressure at the level
         reload.append(
             ReloadCurve(p_hist, np.array([p for p, _ in pts]), np.array([a for _, a in pts]))
@@ -211,6 +211,8 @@ def _first_curve(points):
     """First-loading points sorted by pressure, duplicates (to 9 digits) dropped."""
     seen, out = set(), []
     for p, a in sorted(points):
+        if p <= 0:  # a region without contact carries no pressure to compare at
+            continue
         k = f"{p:.9g}"
         if k not in seen:
             seen.add(k)
@@ -281,11 +283,16 @@ def compare(folder, cases, methods):
         surfs_h = load_scene_surfaces(sh, check_sampling=False)
         for m in methods:
             full, half = run_method(m, sc, surfs), run_method(m, sh, surfs_h)
+            try:
+                crit = criteria(full, half, sc.H)
+            except ValueError as exc:  # e.g. a region without contact at every reload point
+                crit = dict.fromkeys(("reload_deficit", "reload_grid_change"), math.nan)
+                crit.update(rim_capped=math.nan, centre_capped=math.nan, error=str(exc))
             row = {
                 "case": case,
                 "method": m,
                 "grid": g,
-                **criteria(full, half, sc.H),
+                **crit,
                 "seconds_grid": full.seconds,
                 "seconds_half": half.seconds,
                 "memory_MiB": full.memory / 2**20,
@@ -360,8 +367,9 @@ def tables(rows, costs, rev):
     ]
     for r in rows:
         lines.append(
-            f"| {r['case']} | {r['method']} | {r['grid']} | {r['reload_deficit']:+.3f} | "
-            f"{r['reload_grid_change']:.3f} | {r['rim_capped']:.2f} | {r['centre_capped']:.2f} | "
+            f"| {r['case']} | {r['method']} | {r['grid']} | {_f(r['reload_deficit'], '+.3f')} | "
+            f"{_f(r['reload_grid_change'], '.3f')} | {_f(r['rim_capped'], '.2f')} | "
+            f"{_f(r['centre_capped'], '.2f')} | "
             f"{r['seconds_grid']:.2f} + {r['seconds_half']:.2f} | {r['memory_MiB']:.0f} | "
             f"{_f(r.get('mu_eff'), '.4g')} | {_f(r.get('C2'), '.4g')} | {_f(r.get('n2'), '.3g')} |"
         )
