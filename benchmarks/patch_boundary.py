@@ -332,10 +332,14 @@ def cost(folder, cases, rounds):
                         "seconds": dt,
                         "seconds_check": rc.seconds if rc else 0.0,
                         **law_fields(cal),
-                        "mu_eff_change_half": rc.params["mu_eff"][2]
-                        if rc and rc.params
-                        else math.nan,
+                        **{
+                            f"change_{k}": v[2]
+                            for k, v in (rc.params if rc and rc.params else {}).items()
+                        },
+                        "alpha_change_half": rc.alpha_change if rc else math.nan,
+                        "check_warns": bool(rc and rc.warning),
                         "problems": len(cal.problems()),
+                        "problem_text": " | ".join(cal.problems()),
                     }
                 )
                 print(
@@ -419,7 +423,8 @@ def main():
         RESULTS / "patch_boundary.csv", rows, fieldnames=dict.fromkeys(k for r in rows for k in r)
     )
     if costs:
-        write_rows(RESULTS / "patch_boundary_cost.csv", costs)
+        keys = dict.fromkeys(k for r in costs for k in r)
+        write_rows(RESULTS / "patch_boundary_cost.csv", costs, keys)
     text = tables(rows, costs, rev)
     (RESULTS / "patch_boundary.md").write_text(text)
     print(text)
