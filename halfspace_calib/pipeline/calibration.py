@@ -96,7 +96,7 @@ class Calibration:
 
         A failed or non-converged load level or solve, a fit with ``R^2 <`` :data:`R2_MIN`, a
         fitted parameter on its bound or a fit that did not converge, why a reload fit failed on
-        a nearly conforming non-periodic contact (:func:`~.conformity.punch_edge_problem`), and
+        a nearly conforming isolated patch (:func:`~.conformity.punch_edge_problem`), and
         failed effect solves.
         """
         out = [f"load level {f.p_hist:g} Pa failed" for f in self.sweeps.failed]

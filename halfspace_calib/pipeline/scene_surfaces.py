@@ -85,7 +85,8 @@ ELEMENT_PER_PIXEL = (0.5, 64.0)
 #: solver grid of synthetic scenes
 SYNTHETIC_GRID = 128
 #: largest grid the default for measured files picks (the time budget: about 1 min per
-#: calibration on one core, non-periodic, see docs/measured_surfaces.md)
+#: calibration on one core with the isolated boundary it was set for; the mirror boundary
+#: costs 1.5-3.9x less, see docs/measured_surfaces.md)
 MAX_DEFAULT_GRID = 256
 #: memory limit of one normal solve (bytes), as :func:`halfspace_calib.contact.normal.solve_normal`
 MAX_MEMORY = 8 * 2**30
