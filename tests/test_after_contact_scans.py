@@ -89,12 +89,12 @@ def test_h_is_recovered_from_scans_of_a_finer_truth(scans):
     assert len(records) == 3 and all(r["role"] == "workpiece" for r in records)
     assert any("S-filter" in step for step in records[0]["steps"])
     assert data.lambda_s == pytest.approx(LAMBDA_S)
-    # pressing harder flattens more, up to about 0.5 H; at 450 MPa (0.56 H) the non-periodic
-    # patch's edges roughen (measured: Rq 0.204 / 0.200 / 0.298 um), and the model does the same
-    assert data.Rq[1] < data.Rq[0]
+    # pressing harder flattens more (measured: Rq 0.210 / 0.201 / 0.182 um); the isolated
+    # boundary's patch edges roughened at 450 MPa (0.56 H) instead, the mirror's have no edge
+    assert data.Rq[2] < data.Rq[1] < data.Rq[0]
     fit = fit_hardness(surfaces.workpiece, surfaces.tool, scene.materials, scene.solver, data)
     assert fit.converged, fit.message
-    # measured here: 794.9 MPa (-0.64 %), standard error 1.6 MPa
+    # measured here: 787.1 MPa (-1.6 %), standard error 1.1 MPa
     assert abs(fit.H / H_TRUE - 1) < 0.05
     assert 0 < fit.H_std < 0.05 * fit.H
     assert fit.H_interval[0] < fit.H < fit.H_interval[1]
@@ -114,7 +114,11 @@ def _cli(scans, table, out, grid, *extra):
 
 def test_cli_fits_h_from_scans_and_records_its_uncertainty(scans, tmp_path, capsys):
     out = tmp_path / "out"
-    code = _cli(scans, scans / "scans.csv", out, "64", "--lambda-s", str(LAMBDA_S))
+    # the paper's pressures: up to 0.95 H, Eq. 25 misses the reload curves of the mirror
+    # boundary (R^2 0.89 here; issue 31, items 1 and 4), which is not what this test is about
+    code = _cli(
+        scans, scans / "scans.csv", out, "64", "--lambda-s", str(LAMBDA_S), "--pressures", "paper"
+    )
     assert code == 0, capsys.readouterr().err
     fit = json.loads((out / "hardness_fit.json").read_text())
     assert abs(fit["H"] / H_TRUE - 1) < 0.05
