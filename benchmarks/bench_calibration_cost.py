@@ -4,13 +4,15 @@ Unit: one FFT pair is the fastest ``rfft2`` + ``irfft2`` of the solver's transfo
 machine (scipy.fft with 1 thread or all threads, best of 9), timed in the same run as the
 calibration (a ``--before-tree`` run is costed with the same unit). Per case the table gives
 the wall time, that time in FFT pairs of the case's grid
-(periodic: the grid; non-periodic: the zero-padded DC-FFT grid), the transforms the run actually
+(periodic and mirror: the grid; isolated: the zero-padded DC-FFT grid), the transforms the run
+actually
 made (counted, as pairs of the case's grid: other sizes, e.g. the resolution check's half grid,
 weighted by their own unit), the fine-grid CG iterations per solve (first loading and reload)
 and the time per phase (first loading, reloads, resolution check, the rest: surfaces, fits).
 
 Cases: the default synthetic scene at ``--grids`` (periodic) and ``--files`` from ``--surfaces``
-as workpiece and tool, non-periodic (the default for files) at ``--file-grids``; each
+as workpiece and tool, with the default boundary for files (mirror: cosine transforms of the
+grid, counted as FFTs of its size; isolated before issue 31) at ``--file-grids``; each
 calibration runs as a user's would, ``calibrate(scene)`` after a JIT warm-up, one process.
 
 ``--before-tree DIR`` runs the cases of ``--before`` also with the package found in ``DIR``
@@ -47,6 +49,7 @@ HERE = Path(__file__).resolve()
 # ----------------------------------------------------------------------------- FFT accounting
 COUNTS = Counter()
 _rfft2, _irfft2 = sfft.rfft2, sfft.irfft2
+_dctn, _idctn = sfft.dctn, sfft.idctn
 
 
 def _counting_rfft2(x, s=None, *args, **kw):
@@ -59,9 +62,22 @@ def _counting_irfft2(x, s=None, *args, **kw):
     return _irfft2(x, s, *args, **kw)
 
 
+def _counting_dctn(x, *args, **kw):
+    COUNTS[("r", np.shape(x))] += 1
+    return _dctn(x, *args, **kw)
+
+
+def _counting_idctn(x, *args, **kw):
+    COUNTS[("i", np.shape(x))] += 1
+    return _idctn(x, *args, **kw)
+
+
 def install_counters():
-    """Count the solver's transforms (it calls ``scipy.fft.rfft2 / irfft2`` by attribute)."""
+    """Count the solver's transforms (it calls ``scipy.fft.rfft2 / irfft2`` and, for the
+    mirror boundary, ``dctn / idctn`` by attribute; a cosine transform counts as an FFT of its
+    size)."""
     sfft.rfft2, sfft.irfft2 = _counting_rfft2, _counting_irfft2
+    sfft.dctn, sfft.idctn = _counting_dctn, _counting_idctn
 
 
 def pair_seconds(shape, repeats=9):
@@ -80,8 +96,8 @@ def pair_seconds(shape, repeats=9):
     return best
 
 
-def fft_shape(grid, periodic):
-    if periodic:
+def fft_shape(grid, boundary):
+    if boundary in ("periodic", "mirror", True):
         return (grid, grid)
     m = sfft.next_fast_len(2 * grid - 1, real=True)
     return (m, m)
@@ -120,6 +136,9 @@ def run_case(case, surfaces, workers=1):
         "case": case,
         "grid": cal.scene.grid,
         "periodic": bool(cal.scene.periodic),
+        "boundary": getattr(
+            cal.scene, "boundary", "periodic" if cal.scene.periodic else "isolated"
+        ),
         "seconds": seconds,
         "transforms": {f"{s[0]}x{s[1]}": k for s, k in by_shape.items() if s is not None},
         "loading_nit": load_nit,
@@ -135,7 +154,7 @@ def run_case(case, surfaces, workers=1):
 
 def costs(rec):
     """Add the units and the costs in FFT pairs of the case's grid to a case record."""
-    main = fft_shape(rec["grid"], rec["periodic"])
+    main = fft_shape(rec["grid"], rec.get("boundary", rec["periodic"]))
     unit = pair_seconds(main)
     counted = 0.0
     for key, k in rec["transforms"].items():

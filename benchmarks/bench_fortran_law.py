@@ -1,30 +1,37 @@
 """Per-node cost of the generated Fortran law vs a plain Coulomb routine vs frictionlaw's numba.
 
 One run, one process, one machine: the host-neutral entry ``SBMF_FRICTION`` (what every
-generated target calls per contact point; gfortran -O2) on the loading branch (Eq. 24) and the
-reloading branch (Eq. 25) with and without the ``alpha1(p_hist)`` cache in the second state
-variable, against a Coulomb routine with the same entry, return map and calling loop (the floor a
-host pays for any friction law), and against ``frictionlaw.traction_update`` (numba, serial, with
-``out=`` buffers) on the same data. 2 tangential directions; best of several rounds, the
-variants timed in turn in every round, in CPU time of the calling thread (``time.thread_time``:
-the routines run in that thread; on the shared 2-core machine the wall clock also counts the
-time the thread waits for a core, which inflated every figure by up to 4x).
+generated target calls per contact point; gfortran -O2) on the loading branch (Eq. 24), the
+reloading branch (Eq. 25) and a mix of both (``--reload-fraction`` of the nodes reloading, the
+rest loading, in random order), with and without the ``alpha1(p_hist)`` cache in the second
+state variable, against a Coulomb routine with the same entry, return map and calling loop (the
+floor a host pays for any friction law), and against ``frictionlaw.traction_update`` (numba,
+serial, with ``out=`` buffers) on the same data. Both reload forms: the paper's Eq. 25 and the
+tabulated form (8 levels from 100 to 760 MPa, C2 4.5..84, n2 0.95..0.29, s2 0.7), each compiled
+from its own parameter file and timed on the same nodes; ``tab_over_paper`` is their ratio.
+2 tangential directions; best of several rounds, the variants timed in turn in every round, in
+CPU time of the calling thread (``time.thread_time``: the routines run in that thread; on the
+shared 2-core machine the wall clock also counts the time the thread waits for a core, which
+inflated every figure by up to 4x).
 
-Run: python benchmarks/bench_fortran_law.py [--nodes 200000] [--repeat 5]
+Run: python benchmarks/bench_fortran_law.py [--nodes 200000] [--repeat 5] [--reload-fraction 0.5]
 Writes benchmarks/results/fortran_law.csv and prints a table.
 """
 
 import argparse
 import csv
+import dataclasses
 import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
+from _provenance import run_record
 
 import frictionlaw as fl
 from frictionlaw import export as exp
 from frictionlaw.export import harness
+from frictionlaw.reload_form import ReloadTable
 
 H = 800e6
 PARAMS = fl.FrictionParams(
@@ -35,6 +42,17 @@ PARAMS = fl.FrictionParams(
     n1=2.8674798599724576,
     C2=7.443848731746356,
     n2=0.5753816933748891,
+)
+#: the tabulated reload form: the shape of the default scene's reload curves (issue 31)
+TABULATED = dataclasses.replace(
+    PARAMS,
+    reload_form="tabulated",
+    reload_table=ReloadTable(
+        p_hist=(100e6, 200e6, 300e6, 400e6, 500e6, 600e6, 700e6, 760e6),
+        C2=(4.5, 4.8, 5.1, 5.6, 7.0, 10.0, 20.8, 83.6),
+        n2=(0.95, 0.84, 0.75, 0.71, 0.61, 0.51, 0.40, 0.29),
+        s2=0.7,
+    ),
 )
 KT = 1e13
 
@@ -53,25 +71,34 @@ def interleaved(calls, repeat):
     return best_t
 
 
-def libraries(workdir, params_path):
-    files, _ = exp.render("lsdyna", params_path)
+def libraries(workdir):
+    """The host-neutral ``SBMF_FRICTION`` of each reload form, and the Coulomb floor."""
     entry = exp.target("lsdyna").harness  # the host-neutral SBMF_FRICTION
-    sbmf, _ = entry.load(files, workdir / "sbmf", name="sbmf")
+    libs = {}
+    for name, params in (("paper", PARAMS), ("tab", TABULATED)):
+        params.to_json(workdir / f"params_{name}.json")
+        files, _ = exp.render("lsdyna", workdir / f"params_{name}.json")
+        libs[name], _ = entry.load(files, workdir / name, name=f"sbmf_{name}")
     coulomb = {"coulomb.f": harness.coulomb_source(PARAMS)}
-    coul, _ = entry.load(coulomb, workdir / "coul", name="coul")
-    return sbmf, coul
+    libs["coulomb"], _ = entry.load(coulomb, workdir / "coul", name="coul")
+    return libs
 
 
-def cases(n, rng):
+def cases(n, rng, reload_fraction):
+    """``{branch: (p, p_hist)}``: first loading (``p_hist`` 0 or below ``p``), reloading
+    (``p_hist`` 0.05 .. 1.2 H across the table's levels, ``p`` 5-95 % of it), and the mix."""
     du = rng.normal(size=(n, 2)) * 1e-6
     t_old = rng.normal(size=(n, 2)) * 3e7
     p_load = rng.uniform(0.05, 1.2, n) * H
-    p_hist_rel = rng.uniform(0.3, 1.2, n) * H
+    p_hist_load = np.where(rng.random(n) < 0.5, 0.0, p_load * rng.uniform(0.3, 1.0, n))
+    p_hist_rel = rng.uniform(0.05, 1.2, n) * H
     p_rel = p_hist_rel * rng.uniform(0.05, 0.95, n)
+    mix = rng.random(n) < reload_fraction
     return (
         {
-            "loading": (p_load, np.zeros(n)),
+            "loading": (p_load, p_hist_load),
             "reloading": (p_rel, p_hist_rel),
+            "mix": (np.where(mix, p_rel, p_load), np.where(mix, p_hist_rel, p_hist_load)),
         },
         du,
         t_old,
@@ -89,34 +116,37 @@ def main(argv=None):
     ap.add_argument("--nodes", type=int, default=200_000)
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--reps", type=int, default=5, help="sweeps over the nodes per timed call")
+    ap.add_argument(
+        "--reload-fraction", type=float, default=0.5, help="share of reloading nodes in the mix"
+    )
     args = ap.parse_args(argv)
     n, reps = args.nodes, args.reps
     rng = np.random.default_rng(0)
     law = fl.SBMFLaw(PARAMS)
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
-        tmp = Path(tmp)
-        PARAMS.to_json(tmp / "params.json")
-        sbmf, coul = libraries(tmp, tmp / "params.json")
-        data, du, t_old = cases(n, rng)
-        buf = sbmf(data["loading"][0], data["loading"][1], -np.ones(n), du, t_old, KT)
-        cbuf = coul(data["loading"][0], data["loading"][1], -np.ones(n), du, t_old, KT)
-        ref = fl.traction_update(law, data["loading"][0], du, t_old, KT, fl.HistoryState(n))
+        libs = libraries(Path(tmp))
+        data, du, t_old = cases(n, rng, args.reload_fraction)
+        p0, h0 = data["loading"]
+        bufs = {k: lib(p0, h0, -np.ones(n), du, t_old, KT) for k, lib in libs.items()}
+        ref = fl.traction_update(law, p0, du, t_old, KT, fl.HistoryState(n))
         for branch, (p, ph) in data.items():
             state = fl.HistoryState(n, ph)
-            g1 = cache_of(sbmf, ph, n) if branch == "reloading" else np.zeros(n)
+            # the committed cache a host holds for p_hist (Eq. 24's, the same in both forms)
+            g1 = cache_of(libs["paper"], ph, n)
             calls = {
-                "fortran_sbmf": lambda g=g1, p=p, ph=ph: sbmf(
-                    p, ph, g, du, t_old, KT, reps=reps, out=buf
-                ),
-                "fortran_coulomb": lambda p=p, ph=ph: coul(
-                    p, ph, -np.ones(n), du, t_old, KT, reps=reps, out=cbuf
+                "fortran_coulomb": lambda p=p, ph=ph: libs["coulomb"](
+                    p, ph, -np.ones(n), du, t_old, KT, reps=reps, out=bufs["coulomb"]
                 ),
             }
-            if branch == "reloading":
-                calls["fortran_sbmf_nocache"] = lambda p=p, ph=ph: sbmf(
-                    p, ph, -np.ones(n), du, t_old, KT, reps=reps, out=buf
+            for form, col in (("paper", "fortran_sbmf"), ("tab", "fortran_sbmf_tab")):
+                calls[col] = lambda g=g1, p=p, ph=ph, f=form: libs[f](
+                    p, ph, g, du, t_old, KT, reps=reps, out=bufs[f]
                 )
+                if branch != "loading":
+                    calls[col + "_nocache"] = lambda p=p, ph=ph, f=form: libs[f](
+                        p, ph, -np.ones(n), du, t_old, KT, reps=reps, out=bufs[f]
+                    )
 
             def numba_run(p=p, state=state):
                 for _ in range(reps):
@@ -128,8 +158,12 @@ def main(argv=None):
             row = {"branch": branch, "nodes": n}
             row.update({k: v * 1e9 for k, v in times.items()})
             row["sbmf_over_coulomb"] = times["fortran_sbmf"] / times["fortran_coulomb"]
+            row["tab_over_paper"] = times["fortran_sbmf_tab"] / times["fortran_sbmf"]
             row["numba_over_fortran"] = times["numba_serial"] / times["fortran_sbmf"]
             if "fortran_sbmf_nocache" in times:
+                row["tab_over_paper_nocache"] = (
+                    times["fortran_sbmf_tab_nocache"] / times["fortran_sbmf_nocache"]
+                )
                 row["cache_gain"] = times["fortran_sbmf_nocache"] / times["fortran_sbmf"]
             rows.append(row)
     cols = [
@@ -138,8 +172,12 @@ def main(argv=None):
         "fortran_coulomb",
         "fortran_sbmf",
         "fortran_sbmf_nocache",
+        "fortran_sbmf_tab",
+        "fortran_sbmf_tab_nocache",
         "numba_serial",
         "sbmf_over_coulomb",
+        "tab_over_paper",
+        "tab_over_paper_nocache",
         "numba_over_fortran",
         "cache_gain",
     ]
@@ -152,7 +190,9 @@ def main(argv=None):
             w.writerow(
                 {c: (f"{r[c]:.4g}" if isinstance(r.get(c), float) else r.get(c, "")) for c in cols}
             )
-    print("ns per node (2 directions); ratios are time ratios")
+    print(
+        f"ns per node (2 directions); ratios are time ratios; mix: {args.reload_fraction:g} reloading"
+    )
     print("| " + " | ".join(cols) + " |")
     print("|" + "---|" * len(cols))
     for r in rows:
@@ -162,4 +202,5 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    with run_record(__file__):
+        main()

@@ -9,7 +9,8 @@ for both choices on the same cases, interleaved (round ``r`` runs ``1, w`` for e
 ``w, 1`` for odd ``r``), so that the ratio of the two compares runs made under the same load.
 
 Cases: the default scene at 128^2 (the README's main job), 256^2 and 512^2; one measured file
-pressed against itself at its default ``lambda_s`` and grid (non-periodic, resolution check on).
+pressed against itself at its default ``lambda_s`` and grid (default boundary, resolution check
+on).
 One untimed run first fills the numba cache, as a user's second run finds it.
 
 Writes ``benchmarks/results/bench_workers.csv`` and ``.md`` and prints the table. Run from the

@@ -194,7 +194,7 @@ def files_table(folder):
             d = cal.resolution.as_dict()["params"]
             return " / ".join(f"{100 * d[k][2]:.1f}" for k in KEYS)
 
-        solve = "periodic (fallback)" if c.scene.periodic else "non-periodic"
+        solve = c.scene.boundary
         lines.append(
             f"| {name} | {solve} | {c.params.mu_eff:.4g} / {p.params.mu_eff:.4g} | "
             f"{c.params.C1:.4g} / {p.params.C1:.4g} | {change(c)} | {change(p)} | "

@@ -3,8 +3,8 @@
 For each file in a folder of measured surfaces (the five files of SurfaceTopography's public
 test set, ``test/file_format_examples/``: ``metropro-1.dat``, ``mnt-1.mnt``, ``x3p-2.x3p``,
 ``sur-3.sur``, ``matrix-3.txt``), the scan is workpiece and tool (a scan against itself), the
-scene is the default one otherwise (Table 1 materials, 10-600 MPa, non-periodic, or periodic
-after the fallback for a nearly conforming scan, docs/measured_surfaces.md):
+scene is the default one otherwise (Table 1 materials, 10-600 MPa, the default boundary of
+files: mirror-symmetric since issue 31, docs/measured_surfaces.md; column "solve"):
 
 1. **Grid convergence at fixed lambda_s** (the default ``lambda_s`` of the file, or
    ``--lambda-s-factor`` times it): the calibration at the default grid ``G`` (``16`` elements
@@ -72,6 +72,7 @@ def _run(scene, label, **kw):
         "seconds": dt,
         "problems": len(cal.problems()),
         "periodic": cal.scene.periodic,
+        "boundary": cal.scene.boundary,
     }
     print(
         f"  {label} lambda_s {row['lambda_s_um']:.4g} um grid {row['grid']}: "
@@ -141,8 +142,7 @@ def write(grid_rows, lam_rows, name="length_scale"):
         ch = _change(grid_rows)
         lines += [
             f"Grid convergence at fixed lambda_s (default grid = "
-            f"{ELEMENTS_PER_LAMBDA_S} elements per lambda_s; solve: non-periodic, or periodic after "
-            "the punch-edge fallback of a nearly conforming scan):",
+            f"{ELEMENTS_PER_LAMBDA_S} elements per lambda_s; solve: the boundary of the patch):",
             "",
             "| file | lambda_s (um) | grid | element (um) | elements / lambda_s | Rq patch (nm) "
             "| alpha(10 MPa) | mu_eff | C1 | n1 | C2 | n2 | solve | time (s) |",
@@ -154,7 +154,7 @@ def write(grid_rows, lam_rows, name="length_scale"):
                 f"{r['elements_per_lambda_s']:.3g} | {r['rq_patch_nm']:.4g} | "
                 f"{r['alpha_10MPa']:.4f} | "
                 + " | ".join(f"{r[k]:.4g}" for k in KEYS)
-                + f" | {'periodic' if r['periodic'] else 'non-periodic'} | {r['seconds']:.1f} |"
+                + f" | {r['boundary']} | {r['seconds']:.1f} |"
             )
         lines += [
             "",
@@ -180,7 +180,7 @@ def write(grid_rows, lam_rows, name="length_scale"):
                 f"{r['elements_per_lambda_s']:.3g} | {r['rq_patch_nm']:.4g} | "
                 f"{r['alpha_10MPa']:.4f} | "
                 + " | ".join(f"{r[k]:.4g}" for k in KEYS)
-                + f" | {'periodic' if r['periodic'] else 'non-periodic'} | {r['seconds']:.1f} |"
+                + f" | {r['boundary']} | {r['seconds']:.1f} |"
             )
     text = "\n".join(lines) + "\n"
     (RESULTS / f"{name}.md").write_text(text)

@@ -5,10 +5,11 @@ For each file in a folder of measured surfaces (the five files ``metropro-1.dat`
 ``test/file_format_examples/``), the file is used as workpiece and as tool (the composite
 of a scan with itself), with the default scene otherwise (Table 1 materials, default pressures):
 
-- the default calibration (the default S-filter ``lambda_s`` and grid of each file, non-periodic,
-  with the resolution check): the time of the main run and of the check;
-- the same scene at the default grid G and at G / 2, periodic and non-periodic (without the
-  check): mu_eff, C1, n1, C2, n2, the fits' R^2 and the wall time of each.
+- the default calibration (the default S-filter ``lambda_s`` and grid of each file, the default
+  boundary of files, with the resolution check): the time of the main run and of the check;
+- the same scene at the default grid G and at G / 2, periodic and isolated (DC-FFT; without the
+  check): mu_eff, C1, n1, C2, n2, the fits' R^2 and the wall time of each
+  (``benchmarks/patch_boundary.py`` compares these with the mirror-symmetric boundary).
 
 Writes ``benchmarks/results/measured_surfaces.csv`` and ``.md`` (the table of
 ``docs/measured_surfaces.md``) and prints the table. Run from the repository root::
@@ -78,6 +79,7 @@ def run(folder, max_grid=None):
                 "lambda_s_um": cal.scene.lambda_s * 1e6 if cal.scene.lambda_s else 0.0,
                 "seconds_total": total,
                 "seconds_check": rc.seconds,
+                "boundary": cal.scene.boundary,
                 "check_share": rc.seconds / total,
                 "warning": bool(rc.warning),
                 "mu_eff_change": rc.params["mu_eff"][2] if rc.params else float("nan"),
@@ -123,8 +125,8 @@ def write(rows, checks, rev):
         )
     lines += [
         "",
-        "Resolution check (default calibration: default lambda_s and grid, non-periodic, "
-        "check at half the grid):",
+        "Resolution check (default calibration: default lambda_s and grid, default boundary "
+        f"({', '.join(sorted({c['boundary'] for c in checks}))}), check at half the grid):",
         "",
         "| file | lambda_s (um) | grid | total (s) | check (s) | share of total | mu_eff change | "
         "max alpha change | warning |",

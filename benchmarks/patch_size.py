@@ -3,7 +3,8 @@
 A large scan is S-filtered once at ``lambda_s`` and cut into non-overlapping square patches of
 4, 8, 16 and 32 ``lambda_s`` a side (at most ``--max-patches`` per size, a fixed random
 choice among the layout's patches); each patch is calibrated on its own (default scene: Table 1 materials, default
-pressures, non-periodic, no resolution check, one process) and the table gives, per size,
+pressures, the isolated boundary (zero-padded DC-FFT, as before issue 31's mirror-symmetric
+default), no resolution check, one process) and the table gives, per size,
 the number of patches, the mean of ``mu_eff`` and ``C1``, their coefficient of variation
 (standard deviation / mean over the patches), their range (max - min) / mean, and the mean's
 offset from the mean of the largest patches.
@@ -116,13 +117,13 @@ def run(folder, max_patches, elements, sizes, only=None):
                     tool=path,
                     grid=grid,
                     lambda_s=lam if path else None,
-                    periodic=False,
+                    boundary="isolated",  # as the published table (before the mirror, issue 31)
                     resolution_check=False,
                     workers=1,
                 )
                 t0 = time.perf_counter()
                 try:
-                    cal = calibrate(scene, progress=False, surfaces=surfs, auto_periodic=False)
+                    cal = calibrate(scene, progress=False, surfaces=surfs)
                 except RuntimeError as exc:
                     print(f"{name} {k} lambda_s at {o}: failed: {exc}")
                     continue

@@ -53,6 +53,7 @@ FIELDS = [
     "n1_change",
     "check_warns",
     "periodic",
+    "boundary",
     "wall_s",
     "message",
 ]
@@ -121,6 +122,7 @@ def _one(folder, wp, tl, timeout):
             n1_change=prm.get("n1", [None, None, math.nan])[2],
             check_warns=bool(rc.get("warning")),
             periodic=s["periodic"],
+            boundary=s.get("boundary", "periodic" if s["periodic"] else "isolated"),
         )
         return row
 

@@ -164,6 +164,7 @@ _RO2 = types.Array(float64, 2, "C", readonly=True)
 
 _TAB = 10  # coeffs index of z[0] in the tabulated reload form
 _LN_D_MAX = 700.0  # ln of the largest d tau / d p formed (exp(700) is finite)
+_D_MAX = 1.7976931348623157e308  # the largest double: tau_max s2 exp(700) may exceed it
 
 
 @nb.jit(types.UniTuple(float64, 2)(_RO, float64), **_opts)
@@ -220,7 +221,8 @@ def sbmf_reload_table_scalar(p, p_hist, coeffs):
     ``x2 = x2h (p / p_hist) ** s2``; divided by ``g(x2h; n2)`` when ``continuous != 0`` so that
     it meets Eq. 24 at ``p_hist``. All in logs, as :func:`sbmf_reload_scalar`.
     ``dtau/dp = tau_max a1h / g(x2h) g'(x2) s2 x2 / p``: for ``s2 < 1`` it grows without bound as
-    ``p -> 0``; it is formed in logs and held below ``exp(700)``. Bounded by ``tau_max a1h``
+    ``p -> 0``; it is formed in logs, its logarithm held below 700 and the product below the
+    largest double (``tau_max s2 exp(700)`` overflows). Bounded by ``tau_max a1h``
     (``p <= p_hist``) and by ``tau_max`` (``p > p_hist``).
     """
     if not (p > 0.0 and p_hist > 0.0):
@@ -240,7 +242,7 @@ def sbmf_reload_table_scalar(p, p_hist, coeffs):
         _, _, _, lng2h = smooth_min_log(lnx2h, n2)
     tau = tau_max * math.exp(lna1h + lng2 - lng2h)
     lnd = min(lna1h - lng2h + lnx2 - math.log(p), _LN_D_MAX)
-    dtau = tau_max * s2 * dg2 * math.exp(lnd)
+    dtau = min(tau_max * s2 * dg2 * math.exp(lnd), _D_MAX)
     cap = tau_max * math.exp(lna1h) if p <= p_hist else tau_max
     if tau >= cap:
         return cap, (0.0 if p > p_hist else dtau)

@@ -256,6 +256,10 @@ class OutputFolder:
         Whether replacing the command's own earlier output needs ``force``.
     inputs : sequence of path
         Files the run reads; an ``out`` that contains one of them is refused.
+    products : sequence of str
+        Files (paths relative to ``out``) that a later step of the workflow may add to the
+        output, such as the program a shipped build script links there: they count as the
+        command's own when the folder is replaced.
 
     Raises
     ------
@@ -275,9 +279,11 @@ class OutputFolder:
         force=False,
         require_force=False,
         inputs=(),
+        products=(),
     ):
         self.out = Path(out)
         self.command = str(command)
+        self.products = frozenset(products)
         self.subcommand = subcommand
         self.committed = False
         if self.out.exists() and not self.out.is_dir():
@@ -328,7 +334,9 @@ class OutputFolder:
                 f"{self.command}; {self.command} will not replace it: {hint}"
             )
         self._check_subcommand(marker, force, hint)
-        foreign = sorted(set(_listing(self.out)) - set(marker["files"]) - {MARKER})
+        foreign = sorted(
+            set(_listing(self.out)) - set(marker["files"]) - {MARKER} - self.products
+        )
         if foreign:
             raise _refuse(
                 f"{{out}} {self.out} is an earlier {what} but also holds files {self.command} did "

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["two_blocks", "slave_areas", "read_dat", "ring", "SLAVE0"]
+__all__ = ["two_blocks", "slave_areas", "read_dat", "read_blocks", "ring", "SLAVE0"]
 
 #: first node number of the block (its bottom layer is the slave surface)
 SLAVE0 = 1001
@@ -40,19 +40,39 @@ def _block(origin, size, divisions, n0, e0):
     return nodes, elements, ids
 
 
-def two_blocks(steps, interaction, *, n=3, slope=1e6):
+def two_blocks(
+    steps,
+    interaction,
+    *,
+    n=3,
+    slope=1e6,
+    contact="NODE TO SURFACE",
+    contact_print=("CSTR",),
+    contact_file=(),
+    amplitudes=None,
+):
     """The deck's text.
 
     Parameters
     ----------
-    steps : list of (pressure_MPa, ux_mm)
-        Values at the end of each static step (ramped from the previous step's).
+    steps : list of (pressure_MPa, ux_mm) or (pressure_MPa, ux_mm, options)
+        Values at the end of each static step (ramped from the previous step's). ``options``:
+        ``amplitude`` (the name of an entry of ``amplitudes`` the step's pressure follows, as
+        ``pressure * a(t)``), ``static`` (the ``*STATIC`` line, default ``0.1, 1.0, 1e-5,
+        0.25``), ``uz`` (a prescribed vertical displacement of the top, mm; it stays prescribed
+        in the later steps).
     interaction : list of str
         Lines after ``*SURFACE INTERACTION, NAME=...`` (its first line included), e.g. the
         docs' ``*SURFACE INTERACTION, NAME=SBMF`` / ``*FRICTION, USER, DEPVAR=3``; a
         ``*SURFACE BEHAVIOR`` with a linear pressure-overclosure of ``slope`` MPa/mm is appended.
     n : int
         Elements along each side of the block's contact face.
+    contact : {"NODE TO SURFACE", "SURFACE TO SURFACE"}
+        The ``*CONTACT PAIR``'s ``TYPE``.
+    contact_print, contact_file : sequence of str
+        Keys of ``*CONTACT PRINT`` and ``*CONTACT FILE`` in every step.
+    amplitudes : dict, optional
+        ``{name: [(t, a), ...]}``, written as ``*AMPLITUDE`` cards (step time).
     """
     nb, eb, ib = _block((0, 0, -5), (20, 20, 5), (4, 4, 1), 1, 1)
     nt, et, it = _block((5, 5, 0), (10, 10, 5), (n, n, 2), SLAVE0, 1001)
@@ -72,6 +92,9 @@ def two_blocks(steps, interaction, *, n=3, slope=1e6):
     out += [f"{v}," for v in ib[0].ravel()]
     out.append("*NSET, NSET=NTOP")
     out += [f"{v}," for v in it[-1].ravel()]
+    for amp, points in (amplitudes or {}).items():
+        out.append(f"*AMPLITUDE, NAME={amp}")
+        out += [f"{t:.10g}, {a:.10g}" for t, a in points]
     out += [
         "*MATERIAL, NAME=STEEL",
         "*ELASTIC",
@@ -81,17 +104,26 @@ def two_blocks(steps, interaction, *, n=3, slope=1e6):
         *interaction,
         "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR",
         f"{slope:g}, 0.01",
-        f"*CONTACT PAIR, INTERACTION={name}, TYPE=NODE TO SURFACE",
+        f"*CONTACT PAIR, INTERACTION={name}, TYPE={contact}",
         "SSLAVE, SMASTER",
         "*BOUNDARY",
         "NBASE, 1, 3, 0.",
     ]
     top = [e for e, (k, _) in et.items() if k == 1]
-    for p, ux in steps:
-        out += ["*STEP, INC=200", "*STATIC", "0.1, 1.0, 1e-5, 0.25", "*BOUNDARY"]
-        out += [f"NTOP, 1, 1, {ux:.10g}", "NTOP, 2, 2, 0.", "*DLOAD"]
+    for step in steps:
+        p, ux = step[:2]
+        opts = step[2] if len(step) > 2 else {}
+        static = opts.get("static", "0.1, 1.0, 1e-5, 0.25")
+        out += ["*STEP, INC=200", "*STATIC", static, "*BOUNDARY"]
+        out += [f"NTOP, 1, 1, {ux:.10g}", "NTOP, 2, 2, 0."]
+        if "uz" in opts:
+            out.append(f"NTOP, 3, 3, {opts['uz']:.10g}")
+        out.append(f"*DLOAD, AMPLITUDE={opts['amplitude']}" if "amplitude" in opts else "*DLOAD")
         out += [f"{e}, P2, {p:.10g}" for e in top]
-        out += ["*NODE PRINT, NSET=NTOP", "RF", "*CONTACT PRINT", "CSTR", "*END STEP"]
+        out += ["*NODE PRINT, NSET=NTOP", "RF", "*CONTACT PRINT", ", ".join(contact_print)]
+        if contact_file:
+            out += ["*CONTACT FILE", ", ".join(contact_file)]
+        out.append("*END STEP")
     return "\n".join(out) + "\n"
 
 
@@ -105,30 +137,59 @@ def slave_areas(n=3, side=10.0):
     return {SLAVE0 + k: float(v) for k, v in enumerate(w.ravel())}
 
 
-_HEAD = re.compile(r"\s*(forces|contact stress) .*time\s+(\S+)")
+_KINDS = {
+    "forces": "forces",
+    "contact stress": "stress",
+    "relative contact displacement": "disp",
+    "contact state variables": "sdv",
+}
+_HEAD = re.compile(
+    r"\s*(forces|contact stress|relative contact displacement|contact state variables)"
+    r" .*time\s*(\S+)"
+)
 
 
-def read_dat(path):
-    """Output times of a ``.dat`` file: ``[(time, forces, contact)]``.
+def read_blocks(path):
+    """Output times of a ``.dat`` file: ``[(time, {kind: rows})]``, rows in the file's order.
 
-    ``forces[node] = (fx, fy, fz)`` of ``*NODE PRINT, RF``; ``contact[node] = (p, tau1, tau2)``
-    of ``*CONTACT PRINT, CSTR``.
+    Kinds: ``forces`` (``*NODE PRINT, RF``), ``stress`` (``*CONTACT PRINT, CSTR``), ``disp``
+    (``CDIS``), ``sdv`` (``CSDV``). A row is the tuple of the line's numbers: node-to-surface
+    contact ``(node, ...)``, face-to-face ``(element, face, ...)`` (``sdv``: ``(element, face,
+    integration point, ...)``). Other blocks of the file are skipped.
     """
     blocks = {}
     cur = None
     for line in Path(path).read_text().splitlines():
         m = _HEAD.match(line)
         if m:
-            kind = "forces" if m.group(1) == "forces" else "contact"
-            cur = blocks.setdefault(float(m.group(2)), {"forces": {}, "contact": {}})[kind]
+            kind = _KINDS[m.group(1)]
+            cur = blocks.setdefault(float(m.group(2)), {}).setdefault(kind, [])
             continue
         parts = line.split()
-        if cur is not None and len(parts) == 4:
-            try:
-                cur[int(parts[0])] = tuple(float(v) for v in parts[1:])
-            except ValueError:
-                cur = None
-    return [(t, b["forces"], b["contact"]) for t, b in sorted(blocks.items())]
+        if not parts:
+            continue
+        try:
+            row = tuple(float(v) for v in parts)
+        except ValueError:
+            cur = None
+            continue
+        if cur is not None:
+            cur.append(row)
+    return sorted(blocks.items())
+
+
+def read_dat(path):
+    """Output times of a node-to-surface ``.dat`` file: ``[(time, forces, contact)]``.
+
+    ``forces[node] = (fx, fy, fz)`` of ``*NODE PRINT, RF``; ``contact[node] = (p, tau1, tau2)``
+    of ``*CONTACT PRINT, CSTR``.
+    """
+    out = []
+    for t, b in read_blocks(path):
+        forces = {int(r[0]): r[1:] for r in b.get("forces", [])}
+        contact = {int(r[0]): r[1:] for r in b.get("stress", [])}
+        out.append((t, forces, contact))
+    return out
 
 
 def _swift_table(K=530.0, eps0=0.006, n=0.24, eps_max=3.0, points=60):

@@ -168,7 +168,7 @@ def test_measured_surface_files_give_the_synthetic_result(tmp_path):
         workpiece_unit="um",
         tool_unit="nm",
         size=size,
-        periodic=True,  # as the in-memory reference below (files default to non-periodic)
+        boundary="periodic",  # as the in-memory reference below (files default to mirror)
         lambda_s=0.0,  # no S-filter: the surfaces as written
         **kw,
     )

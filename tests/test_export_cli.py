@@ -6,6 +6,7 @@ import re
 import numpy as np
 import pytest
 from default_params import DEFAULT
+from reload_tables import STRONG
 
 import frictionlaw as fl
 import frictionlaw.export as exp
@@ -120,3 +121,47 @@ def test_table_decks_hold_the_table(tmp_path, params_file):
     files, t2 = exp.render("lsdyna-table", params_file)
     k = files["sbmf_friction_table.k"]
     assert "*DEFINE_TABLE" in k and k.count("*DEFINE_CURVE") == 2 and "FS = -2" in k
+
+
+@pytest.mark.parametrize("form", ["paper", "tabulated"])
+@pytest.mark.parametrize("units", ["SI", "mm-t-s"])
+@pytest.mark.parametrize("target", exp.TARGETS)
+def test_every_export_names_its_reload_form(tmp_path, target, units, form):
+    """Header and README name the reload form; the tabulated one with its levels (host units),
+    C2, n2, s2, the interpolation and the rule beyond the levels; a routine bakes in exactly the
+    runtime's knots and slopes, as PARAMETER arrays."""
+    table = STRONG if form == "tabulated" else None
+    params = fl.FrictionParams(**DEFAULT, reload_form=form, reload_table=table)
+    params.to_json(tmp_path / "p.json")
+    files, _ = exp.render(target, tmp_path / "p.json", units=units)
+    src = next(t for n, t in files.items() if n != "README.md")
+    header = " ".join(
+        line[2:].strip() for line in src.splitlines() if line[:2] in ("C ", "**", "$ ")
+    )
+    readme = files["README.md"]
+    s = exp.UNIT_SYSTEMS[units]
+    assert f"reload form: {form}" in header and f"Reload form: `{form}`" in readme
+    if target.endswith("-table"):
+        assert "lost, whatever the parameter file's reload form" in readme
+    if form == "paper":
+        assert f"C2={params.C2!r} n2={params.n2!r}" in header and "SBMF_RTAB" not in src
+        return
+    levels = ", ".join(repr(v * s.stress) for v in STRONG.p_hist)
+    assert f"reload levels p_hist ({s.stress_unit}): {levels}" in header
+    assert "reload C2: " + ", ".join(map(repr, STRONG.C2)) in header
+    assert "reload n2: " + ", ".join(map(repr, STRONG.n2)) in header
+    assert f"s2={STRONG.s2!r}" in header and "Fritsch-Carlson" in header
+    assert "of the last level from it on (p_hist >= H included)" in header
+    for p_hist, c2, n2 in zip(STRONG.p_hist, STRONG.C2, STRONG.n2, strict=True):
+        assert f"| {p_hist * s.stress:.6g} | {c2:.6g} | {n2:.6g} |" in readme
+    assert "Fritsch-Carlson" in readme and "the last level's" in readme
+    if target.endswith("-table"):
+        return
+    # the knots and slopes, as PARAMETER arrays, are the runtime's coefficients bit for bit
+    coeffs = fl.law.sbmf_coeffs(params)
+    k = len(STRONG.p_hist)
+    for i, name in enumerate(("ZK", "LCK", "DLCK", "LNK", "DLNK")):
+        m = re.search(rf"PARAMETER \({name} = \(/\n(.*?) /\)\)", src, re.S)
+        values = [float(v.strip(" &,\n").replace("D", "e")) for v in m.group(1).split(",\n")]
+        assert values == coeffs[10 + i * k : 10 + (i + 1) * k].tolist(), name
+    assert re.search(r"^\s*DATA\b", src, re.M) is None

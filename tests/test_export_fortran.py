@@ -4,9 +4,12 @@ Each target is compiled once per parameter set and unit system (gfortran -Wall) 
 library with a shim that calls the documented entry point for many contact points; a Python
 "host" drives increments with several iterations (state passed in as at the start of the
 increment, kept only when the increment converges, discarded on a cut-back) and compares every
-iteration node by node with ``frictionlaw.traction_update`` + ``HistoryState``.
+iteration node by node with ``frictionlaw.traction_update`` + ``HistoryState``. Both reload
+forms: the paper's Eq. 25 (``default``, ``soft``, ``sharp``) and the tabulated form (``tab``,
+``tab_flat``, tests/reload_tables.py), whose pressures also hit the table's levels.
 """
 
+import dataclasses
 import re
 
 import numpy as np
@@ -14,12 +17,14 @@ import pytest
 from default_params import DEFAULT
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from reload_tables import FLAT, PAIR, SINGLE, STRONG, levels
 
 import frictionlaw as fl
 import frictionlaw.export as exp
 from frictionlaw.export import harness
 from frictionlaw.export._templates import fortran_double
 from frictionlaw.params import TangentialStiffness
+from frictionlaw.reload_form import S2_RANGE
 
 pytestmark = pytest.mark.skipif(
     harness.gfortran() is None,
@@ -37,6 +42,28 @@ PARAM_SETS = {
         k_t=KT_TABLE,
     ),
     "sharp": fl.FrictionParams(**{**DEFAULT, "n1": 1000.0, "n2": 0.1, "C1": 10.0, "C2": 0.5}),
+    # the tabulated reload form: the default scene's shape, and a flat C2 with n2 varying tenfold
+    # (continuous, Eq. 26, k_t table)
+    "tab": fl.FrictionParams(**DEFAULT, reload_form="tabulated", reload_table=STRONG),
+    "tab_flat": fl.FrictionParams(
+        **DEFAULT,
+        continuous_reload=True,
+        geo_ratio=0.3,
+        k_t=KT_TABLE,
+        reload_form="tabulated",
+        reload_table=FLAT,
+    ),
+    # one level (constant C2, n2), two levels (the straight line), with the sharp Eq. 24
+    "tab_single": fl.FrictionParams(
+        **DEFAULT, continuous_reload=True, reload_form="tabulated", reload_table=SINGLE
+    ),
+    "tab_pair": fl.FrictionParams(
+        **{**DEFAULT, "n1": 1000.0, "C1": 10.0}, reload_form="tabulated", reload_table=PAIR
+    ),
+    # s2 at its lower bound: dtau/dp reaches the kernel's exp(700) bound at subnormal p
+    "tab_steep": fl.FrictionParams(
+        **DEFAULT, reload_form="tabulated", reload_table=dataclasses.replace(STRONG, s2=S2_RANGE[0])
+    ),
 }
 UNITS = exp.UNIT_SYSTEMS
 TINY = np.finfo(float).tiny
@@ -65,8 +92,13 @@ def lib_for(tmp_path_factory, target, key, units, k_t=None):
 
 
 # -- data of one iteration --------------------------------------------------------------------
-def pressures(rng, n, p_hist, H):
-    """A mix: open, tiny (down to 1e-300 Pa), at/around p_hist, below it (Eq. 25), up to 1e6 H."""
+def pressures(rng, n, p_hist, H, levels=()):
+    """A mix: open, tiny (down to 1e-300 Pa), at/around p_hist, below it (Eq. 25), up to 1e6 H.
+
+    With a tabulated reload form's ``levels``, a quarter of the points also land exactly on a
+    level or one ulp either side of it (so that ``p_hist`` is committed there), and a tenth just
+    below ``p_hist`` (1e-16 .. 1e-8 relative).
+    """
     kind = rng.integers(0, 7, n)
     p = 10.0 ** rng.uniform(np.log10(H) - 3, np.log10(H) + 6, n)  # first loading / reloading
     p = np.where(kind == 0, -rng.uniform(0, H, n) * (rng.random(n) < 0.5), p)  # open (0 or < 0)
@@ -75,6 +107,15 @@ def pressures(rng, n, p_hist, H):
     below = p_hist * rng.uniform(0.0, 1.0, n)
     p = np.where((kind >= 3) & (kind <= 4) & (p_hist > 0), below, p)
     p = np.where(kind == 5, 10.0 ** rng.uniform(np.log10(H) - 2, np.log10(H) + 0.5, n), p)
+    if len(levels):
+        at = np.asarray(levels)[rng.integers(0, len(levels), n)]
+        side = rng.integers(-1, 2, n)
+        at = np.where(
+            side < 0, np.nextafter(at, 0), np.where(side > 0, np.nextafter(at, 2 * at), at)
+        )
+        p = np.where(rng.random(n) < 0.25, at, p)
+        near = p_hist * (1.0 - 10.0 ** rng.uniform(-16, -8, n))
+        p = np.where((rng.random(n) < 0.1) & (p_hist > 0), near, p)
     return p
 
 
@@ -166,6 +207,19 @@ def traction_scale(units, ref_t, t_old, kt, du):
     return np.maximum(scale, terms)
 
 
+def same_branch(p, p_hist, units):
+    """Nodes on which the routine (inputs in host units) takes the runtime's branch.
+
+    In mm-t-s a ``p`` within a few ulps of ``p_hist`` (the tabulated tests put points 1e-16 ..
+    1e-8 below it) may round to the other side of ``p_hist``: the routine then takes Eq. 24
+    where the runtime, on the SI values, takes Eq. 25 (a jump of the law, or of its slope in the
+    continuous variant). Those nodes are compared in SI only (there every node is compared).
+    """
+    s = units.stress
+    with np.errstate(over="ignore"):
+        return (p * s < p_hist * s) == (p < p_hist)
+
+
 def knife_edge(t_old, du, kt, tau, eps):
     """Nodes whose trial |t| is within eps of tau (stick/slip may differ by rounding there)."""
     tr = np.linalg.norm(t_old + kt[:, None] * du, axis=1)
@@ -209,24 +263,25 @@ def run_fric(host, params, kt_spec, units, seed, nd, nstatv, n=48, n_incr=6):
             ph = state.p_hist.copy()
             dgam = np.zeros((n, nd))
             for _it in range(int(rng.integers(1, 4))):
-                p = pressures(rng, n, ph, params.H)
+                p = pressures(rng, n, ph, params.H, levels(params))
                 dgam = dgam + slips(rng, n, nd, params, k_scale)  # total since increment start
                 tau_lim = law.shear_limit(p, ph)[0]
                 kt = expected_kt(params, kt_spec, units, p, tau_lim, chr_)
                 ref = fl.traction_update(law, p, dgam, tau_c, kt, state)
                 out = host(p * s, dgam * ln, tau_c * s, sv, chr_ * ln)
                 # traction, tangents (host units -> SI), state
+                m = same_branch(p, ph, units)
                 scale = traction_scale(units, ref.traction, tau_c, kt, dgam)
-                assert_close(out["tau"] / s, ref.traction, 1e-12, "traction", scale)
+                assert_close(out["tau"][m] / s, ref.traction[m], 1e-12, "traction", scale[m])
                 assert_close(
-                    out["ddtddg"] / (s / ln),
-                    ref.dt_dslip,
+                    out["ddtddg"][m] / (s / ln),
+                    ref.dt_dslip[m],
                     1e-10,
                     "DDTDDG",
                     floor=host_floor(units.stiffness),
                 )
                 spread = dtdp_rounding(law, p, ph, units)
-                assert_dtdp_close(out["ddtddp"], ref.dt_dp, spread, "DDTDDP")
+                assert_dtdp_close(out["ddtddp"][m], ref.dt_dp[m], spread[m], "DDTDDP")
                 assert np.array_equal(
                     out["statev"][:, 0], np.maximum(ph * s, np.where(p > 0, p * s, 0))
                 )
@@ -238,6 +293,7 @@ def run_fric(host, params, kt_spec, units, seed, nd, nstatv, n=48, n_incr=6):
                     check_cache(params, out["statev"][:, 0] / s, out["statev"][:, 1])
                 if nstatv >= 3:
                     edge = knife_edge(tau_c, dgam, kt, tau_lim, 1e-9 if units.name != "SI" else 0)
+                    edge |= ~m
                     st_f = out["statev"][:, 2].astype(int)
                     assert np.array_equal(st_f[~edge], ref.status[~edge]), "stick/slip status"
                     # frictional slip only when slipping
@@ -259,7 +315,7 @@ def run_fric(host, params, kt_spec, units, seed, nd, nstatv, n=48, n_incr=6):
 
 
 @pytest.mark.parametrize("units", ["SI", "mm-t-s"])
-@pytest.mark.parametrize("key", ["default", "soft", "sharp"])
+@pytest.mark.parametrize("key", ["default", "soft", "sharp", "tab", "tab_flat"])
 def test_fric_compiles_cleanly(tmp_path_factory, key, units):
     _, warnings = lib_for(tmp_path_factory, "abaqus-fric", key, units)
     # only the documented interface's unused arguments may warn
@@ -280,6 +336,10 @@ FRIC_CASES = st.tuples(
         ("soft", "SI", None),
         ("soft", "mm-t-s", None),
         ("sharp", "SI", 5e12),
+        ("tab", "SI", None),
+        ("tab", "mm-t-s", None),
+        ("tab_flat", "SI", None),
+        ("tab_flat", "mm-t-s", 5e12),
     ],
 )
 @settings(
@@ -306,7 +366,7 @@ def run_vfric(host, params, units, seed, nsv, n=48, n_incr=8):
     for _ in range(n_incr):
         ph = state.p_hist.copy()
         area = 10.0 ** rng.uniform(-8, -4, n)  # m^2
-        p = pressures(rng, n, ph, params.H)
+        p = pressures(rng, n, ph, params.H, levels(params))
         if units.name != "SI":  # forces of 1e-300 Pa x 1e-8 m^2 are subnormal: SI covers them
             p = np.where((p > 0) & (p < 1e-280), 1e-280, p)
         f_n = p * area
@@ -335,7 +395,17 @@ def run_vfric(host, params, units, seed, nsv, n=48, n_incr=8):
     return n * n_incr
 
 
-@pytest.mark.parametrize("key,units", [("default", "SI"), ("default", "mm-t-s"), ("soft", "SI")])
+@pytest.mark.parametrize(
+    "key,units",
+    [
+        ("default", "SI"),
+        ("default", "mm-t-s"),
+        ("soft", "SI"),
+        ("tab", "SI"),
+        ("tab", "mm-t-s"),
+        ("tab_flat", "SI"),
+    ],
+)
 @settings(
     max_examples=12, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
 )
@@ -361,25 +431,26 @@ def run_generic(host, params, kt_spec, units, seed, nd, n=48, n_incr=6):
     for _ in range(n_incr):
         du = np.zeros((n, nd))
         for _it in range(int(rng.integers(1, 4))):
-            p = pressures(rng, n, state.p_hist, params.H)
+            p = pressures(rng, n, state.p_hist, params.H, levels(params))
             du = du + slips(rng, n, nd, params, 1e13)
             kt = k_host if kt_spec.kind == "host" else expected_kt(params, kt_spec, units, p, 0, 1)
             ref = fl.traction_update(law, p, du, t_c, kt, state)
             out = host(p * s, ph_c, g1_c, du * ln, t_c * s, k_host * units.stiffness)
+            m = same_branch(p, state.p_hist, units)
             scale = traction_scale(units, ref.traction, t_c, np.broadcast_to(kt, p.shape), du)
-            assert_close(out["t"] / s, ref.traction, 1e-12, "traction", scale)
+            assert_close(out["t"][m] / s, ref.traction[m], 1e-12, "traction", scale[m])
             assert_close(
-                host.tangent(out) / units.stiffness,
-                ref.dt_dslip,
+                host.tangent(out)[m] / units.stiffness,
+                ref.dt_dslip[m],
                 1e-10,
                 "dt/ddu",
                 floor=host_floor(units.stiffness),
             )
             spread = dtdp_rounding(law, p, state.p_hist.copy(), units)
-            assert_dtdp_close(out["dt_dp"], ref.dt_dp, spread, "dt/dp")
+            assert_dtdp_close(out["dt_dp"][m], ref.dt_dp[m], spread[m], "dt/dp")
             np.testing.assert_allclose(out["p_hist"] / s, state.p_hist_trial, rtol=1e-15)
             tau = law.shear_limit(p, state.p_hist.copy())[0]
-            edge = knife_edge(t_c, du, kt, tau, 1e-9 if units.name != "SI" else 0)
+            edge = knife_edge(t_c, du, kt, tau, 1e-9 if units.name != "SI" else 0) | ~m
             assert np.array_equal(out["status"][~edge], ref.status[~edge])
         if rng.random() < 0.3:
             state.rollback()  # cut-back: the glue drops PHNEW, G1NEW
@@ -391,7 +462,9 @@ def run_generic(host, params, kt_spec, units, seed, nd, n=48, n_incr=6):
 
 
 @pytest.mark.parametrize("target", ["lsdyna", "ansys-userfric"])
-@pytest.mark.parametrize("key,units", [("default", "SI"), ("soft", "mm-t-s")])
+@pytest.mark.parametrize(
+    "key,units", [("default", "SI"), ("soft", "mm-t-s"), ("tab", "SI"), ("tab_flat", "mm-t-s")]
+)
 @settings(
     max_examples=10, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
 )
@@ -412,7 +485,7 @@ def test_constants_are_exact_double_literals():
 
 # -- longer runs (slow) -------------------------------------------------------------------------
 @pytest.mark.slow
-@pytest.mark.parametrize("key", list(PARAM_SETS))
+@pytest.mark.parametrize("key", ["default", "soft", "sharp", "tab", "tab_flat"])
 @pytest.mark.parametrize("units", ["SI", "mm-t-s"])
 @settings(
     max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]

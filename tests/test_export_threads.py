@@ -5,7 +5,9 @@ Fortran target is compiled with ``-fopenmp`` (as a threaded host builds user cod
 concurrently from 4 OS threads (ctypes releases the GIL during the call) over disjoint node sets
 of shared arrays, many times; every result must equal the serial run bit for bit. A static check
 rejects any SAVE, COMMON, DATA, EQUIVALENCE or initialised declaration (implicitly SAVEd) in the
-generated sources: the routines keep no state of their own between calls.
+generated sources: the routines keep no state of their own between calls. Both reload forms:
+the static check on each (the tabulated form's table is PARAMETER arrays), the concurrent calls
+on the tabulated form for FRIC, VFRICTION and the single-precision ``usrfrc``.
 """
 
 import re
@@ -68,17 +70,23 @@ def static_storage(text):
     return bad
 
 
+#: the k_t table's and the reload table's PARAMETER arrays are checked too
+KEYS = ("soft", "tab_flat")
+
+
 @pytest.fixture(scope="module")
-def params_file(tmp_path_factory):
-    path = tmp_path_factory.mktemp("thr") / "params.json"
-    PARAM_SETS["soft"].to_json(path)  # k_t table: PARAMETER arrays are checked too
-    return path
+def params_files(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("thr")
+    for key in KEYS:
+        PARAM_SETS[key].to_json(folder / f"params_{key}.json")
+    return {key: folder / f"params_{key}.json" for key in KEYS}
 
 
+@pytest.mark.parametrize("key", KEYS)
 @pytest.mark.parametrize("target", FORTRAN_TARGETS)
-def test_generated_sources_have_no_static_storage(params_file, target):
+def test_generated_sources_have_no_static_storage(params_files, target, key):
     for k_t in (None, 5e12):
-        files, _ = exp.render(target, params_file, k_t=k_t)
+        files, _ = exp.render(target, params_files[key], k_t=k_t)
         for name, text in files.items():
             if name.endswith(".f"):
                 assert static_storage(text) == [], f"{target}/{name}"
@@ -226,20 +234,24 @@ def _concurrently(calls):
 
 
 @pytest.mark.parametrize(
-    "target,prec",
-    [(t, "DP") for t in FORTRAN_TARGETS] + [("lsdyna-usrfrc", "SP"), ("lsdyna-usrfrc-mpp", "SP")],
+    "target,prec,key",
+    [(t, "DP", "soft") for t in FORTRAN_TARGETS]
+    + [("lsdyna-usrfrc", "SP", "soft"), ("lsdyna-usrfrc-mpp", "SP", "soft")]
+    # the tabulated reload form: its core in an implicit, an explicit and an SP host routine
+    + [("abaqus-fric", "DP", "tab_flat"), ("abaqus-vfriction", "DP", "tab_flat")]
+    + [("lsdyna-usrfrc", "SP", "tab_flat")],
 )
-def test_concurrent_calls_equal_serial(tmp_path_factory, params_file, target, prec):
-    files, _ = exp.render(target, params_file, k_t=None if target != "lsdyna" else 5e12)
+def test_concurrent_calls_equal_serial(tmp_path_factory, params_files, target, prec, key):
+    files, _ = exp.render(target, params_files[key], k_t=None if target != "lsdyna" else 5e12)
     src = {k: v for k, v in files.items() if k.endswith(".f")}
     lsdyna = target.startswith("lsdyna-usrfrc")
     flags = ("-O2", "-fopenmp", *(harness.HOST_PRECISION_FLAGS[prec] if lsdyna else ()))
-    name = re.sub(r"[^a-z0-9]", "_", f"thr_{target}_{prec}")
+    name = re.sub(r"[^a-z0-9]", "_", f"thr_{target}_{prec}_{key}")
     options = {"dtype": np.float32 if prec == "SP" else np.float64} if lsdyna else {}
     host, _ = exp.target(target).harness.load(
         src, tmp_path_factory.mktemp(name), name=name, flags=flags, **options
     )
-    params = PARAM_SETS["soft"]
+    params = PARAM_SETS[key]
     order = np.random.default_rng(7).permutation(N_NODES)
     chunks = np.array_split(order if lsdyna else np.arange(N_NODES), N_THREADS)
     chunks = [np.sort(c) for c in chunks]

@@ -3,7 +3,8 @@
 Node-type secondary surfaces (``nNodState = 1``): each contact point carries its own state and
 the routine must equal ``traction_update_force`` + ``HistoryState`` (stick force as the trial).
 Edge-type (``nNodState`` 2 or 4): the point's ``p_hist`` is the largest of its state nodes', and
-each state node is raised to at least the current pressure.
+each state node is raised to at least the current pressure. Both reload forms (the tabulated
+form's sets ``tab`` and ``tab_flat`` of tests/test_export_fortran.py).
 """
 
 import re
@@ -12,6 +13,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from reload_tables import levels
 from test_export_fortran import PARAM_SETS, TINY, assert_close, check_cache, pressures
 
 import frictionlaw as fl
@@ -48,7 +50,7 @@ def run_vfriction(host, params, seed, nns, nsv, n=64, n_incr=8):
         ph = ph_nodes.max(axis=1)
         area = 10.0 ** rng.uniform(-8, -4, n)
         area[rng.random(n) < 0.05] = 0.0  # no area: open
-        p = pressures(rng, n, ph, params.H)
+        p = pressures(rng, n, ph, params.H, levels(params))
         f_n = p * np.where(area > 0, area, 1e-6)
         f_stick = params.tau_max * np.where(area > 0, area, 1e-6) * 10.0 ** rng.uniform(-2, 1, n)
         before = state.copy()
@@ -95,7 +97,7 @@ def run_vfriction(host, params, seed, nns, nsv, n=64, n_incr=8):
     return n * n_incr
 
 
-@pytest.mark.parametrize("key", ["default", "soft", "sharp"])
+@pytest.mark.parametrize("key", ["default", "soft", "sharp", "tab", "tab_flat"])
 @settings(
     max_examples=12, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
 )

@@ -159,7 +159,7 @@ def test_cli_calibrates_each_shared_file(tmp_path, capsys, name):
     )
     assert code in (0, 1), err
     assert "Traceback" not in err
-    assert "solver grid 16 x 16" in text and "non-periodic (DC-FFT)" in text
+    assert "solver grid 16 x 16" in text and "boundary mirror" in text
     assert "resolution check (grid 16 against 8" in text
     summary = json.loads((out / "summary.json").read_text())
     # a failed run keeps its parameters only as params.failed.json (marked failed)
@@ -169,9 +169,9 @@ def test_cli_calibrates_each_shared_file(tmp_path, capsys, name):
     assert [f["role"] for f in files] == ["workpiece", "tool"]
     assert files[0]["native_shape"] == list(FILES[name][1])
     assert summary["files"][0]["undefined_fraction"] == 0.0
-    # non-periodic, unless a nearly conforming scan fell back to the periodic solve (the
-    # punch-edge diagnosis, tests/test_conformity.py), which the summary then says
-    assert summary["periodic"] is bool(summary["notes"]) and summary["grid"] == 16
+    # files: the mirror-symmetric boundary, no seam and no punch edge (tests/test_conformity.py)
+    assert summary["boundary"] == "mirror" and summary["periodic"] is False
+    assert summary["notes"] == [] and summary["grid"] == 16
     rc = summary["resolution_check"]
     assert rc["half_grid"] == 8 and set(rc["params"]) == {"mu_eff", "C1", "n1", "C2", "n2"}
     assert params["provenance"]["extra"]["resolution_check"] == rc
@@ -325,6 +325,7 @@ def test_scene_calibration_from_a_real_file_by_api(tmp_path):
     assert cal.scene.grid == 16 and cal.scene.periodic is False
     assert cal.files[0].format == "X3PReader" and cal.resolution.half_grid == 8
     assert cal.params.provenance["grid"]["periodic"] is False
+    assert cal.params.provenance["grid"]["boundary"] == "mirror"
 
 
 def test_two_sizes_for_a_non_square_plain_file(tmp_path):

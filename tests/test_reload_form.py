@@ -22,7 +22,13 @@ from frictionlaw import (
     traction_update,
 )
 from frictionlaw import _reference as ref
-from frictionlaw.reload_form import ReloadTable, hermite, history_coordinate, pchip_slopes
+from frictionlaw.reload_form import (
+    S2_RANGE,
+    ReloadTable,
+    hermite,
+    history_coordinate,
+    pchip_slopes,
+)
 
 H = 800e6
 LEVELS = (100e6, 200e6, 300e6, 400e6, 500e6, 600e6, 700e6, 760e6)
@@ -193,8 +199,10 @@ def test_tangent_matches_central_differences(cont):
 
 
 @pytest.mark.parametrize("cont", [False, True])
-def test_no_nan_inf_or_warning_at_the_edges(cont):
-    P = params(cont)
+@pytest.mark.parametrize("s2", [0.67, S2_RANGE[0]])
+def test_no_nan_inf_or_warning_at_the_edges(cont, s2):
+    # s2 at its lower bound: dtau/dp ~ p**(s2 - 1) exceeds the largest double at subnormal p
+    P = params(cont, s2=s2)
     tiny = np.nextafter(0, 1)
     p = np.array([0.0, tiny, 1e-300, 1.0, 1e6, 760e6, 800e6, 1e9, 1e300, 1.7e308])
     ph = np.array([0.0, tiny, 1e-300, 1.0, 1e6, 760e6, 800e6, 1e9, 1e300, 1.7e308])

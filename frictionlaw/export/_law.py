@@ -23,6 +23,8 @@ __all__ = [
     "StiffnessSpec",
     "stiffness_spec",
     "law_constants",
+    "ReloadSpec",
+    "reload_spec",
     "core_context",
     "header_lines",
 ]
@@ -110,6 +112,57 @@ def law_constants(params, units):
     }
 
 
+@dataclass(frozen=True)
+class ReloadSpec:
+    """The tabulated reload form as the Fortran core bakes it in (:mod:`frictionlaw.reload_form`).
+
+    ``z``, ``lnC2``, ``dlnC2``, ``lnn2``, ``dlnn2`` are the interpolant's knots and slopes exactly
+    as the runtime's coefficient array carries them (:func:`frictionlaw.law.sbmf_coeffs`); they
+    are dimensionless (``z = -ln(1 - p_hist/H)``), so no unit system changes them. ``p_hist``
+    holds the levels in the host's stress unit (for the provenance and the README), ``C2``,
+    ``n2``, ``s2`` the calibrated values.
+    """
+
+    s2: float
+    p_hist: tuple
+    C2: tuple
+    n2: tuple
+    z: tuple
+    lnC2: tuple
+    dlnC2: tuple
+    lnn2: tuple
+    dlnn2: tuple
+
+    def describe(self, units):
+        """Lines for the provenance header: the form, s2, the levels, the rule between them."""
+        s = units.stress_unit
+        return [
+            "reload form: tabulated (Eq. 25 with C2, n2 per calibrated load level; "
+            f"x2 = x2h (p/p_hist)**s2, x2h = p_hist C2/(H alpha1(p_hist)), s2={self.s2!r})",
+            f"reload levels p_hist ({s}): " + ", ".join(f"{v!r}" for v in self.p_hist),
+            "reload C2: " + ", ".join(f"{v!r}" for v in self.C2),
+            "reload n2: " + ", ".join(f"{v!r}" for v in self.n2),
+            "reload interpolation: monotone cubic Hermite (Fritsch-Carlson) of ln C2 and ln n2 "
+            "over z=-ln(1-p_hist/H); C2, n2 of the first level below it, of the last level "
+            "from it on (p_hist >= H included)",
+        ]
+
+
+def reload_spec(params, units):
+    """The tabulated reload form's :class:`ReloadSpec` in ``units``; None for the paper form."""
+    if params.reload_form != "tabulated":
+        return None
+    table = params.reload_table
+    kn = table.knots(params.H)  # what frictionlaw.law.sbmf_coeffs gives the kernels, in SI
+    return ReloadSpec(
+        table.s2,
+        tuple(v * units.stress for v in table.p_hist),
+        tuple(table.C2),
+        tuple(table.n2),
+        *(tuple(kn[k].tolist()) for k in ("z", "lnC2", "dlnC2", "lnn2", "dlnn2")),
+    )
+
+
 def core_context(params, units, kt):
     """The values ``core/sbmf_core.f`` (the law core of every Fortran target) is rendered with.
 
@@ -125,15 +178,20 @@ def core_context(params, units, kt):
     -------
     dict
         ``law`` (``TMAX, H, C1, XN1, C2, XN2`` in the host's units), ``continuous``
-        (``params.continuous_reload``), ``kt``, and ``ln_small``, ``ln_sat``: the smooth
-        minimum's branch points ``ln(1e-4)`` and ``ln(350)`` of ``frictionlaw._kernels``.
+        (``params.continuous_reload``), ``reload`` (the tabulated reload form's
+        :class:`ReloadSpec`, None for the paper's Eq. 25), ``kt``, and ``ln_small``,
+        ``ln_sat``: the smooth minimum's branch points ``ln(1e-4)`` and ``ln(350)`` of
+        ``frictionlaw._kernels``; ``ln_d_max``, the tabulated form's bound 700 on
+        ``ln(dtau/dp)``.
     """
     return {
         "law": law_constants(params, units),
         "continuous": params.continuous_reload,
+        "reload": reload_spec(params, units),
         "kt": kt,
         "ln_small": math.log(1e-4),
         "ln_sat": math.log(350.0),
+        "ln_d_max": 700.0,
     }
 
 
@@ -181,7 +239,16 @@ def header_lines(target, params, params_path, sha, units, kt):
         f"m={params.m!r} k={params.k * units.stress!r} {s}",
         f"H={params.H * units.stress!r} {s} geo_ratio={params.geo_ratio!r}",
         f"C1={params.C1!r} n1={params.n1!r}",
-        f"C2={params.C2!r} n2={params.n2!r}",
+    ]
+    spec = reload_spec(params, units)
+    if spec is None:
+        lines += [
+            "reload form: paper (Eq. 25, one C2, n2 for every p_hist)",
+            f"C2={params.C2!r} n2={params.n2!r}",
+        ]
+    else:
+        lines += spec.describe(units)
+    lines += [
         f"continuous_reload={params.continuous_reload}",
         f"tau_max=m k (1+geo_ratio)={params.tau_max * units.stress!r} {s}",
         f"mu_eff=tau_max C1/H={params.mu_eff!r}",

@@ -185,6 +185,7 @@ def export(
         force=force,
         require_force=True,
         inputs=(params_path,),
+        products=_targets.target(target).products,
     ) as folder:
         files, table = render(
             target,

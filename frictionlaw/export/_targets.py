@@ -159,6 +159,9 @@ class Target:
         Files copied beside it (CalculiX: the patch, its build script, ``ABA_PARAM.INC``).
     harness : frictionlaw.export.harness.Harness or None
         How the tests call the routine as the host does (None: a table).
+    products : tuple of str
+        Files a later step adds to the export folder (CalculiX: the ``ccx`` that ``build.sh``
+        links there); they count as the export's own when ``--force`` replaces the folder.
     """
 
     name: str
@@ -170,6 +173,7 @@ class Target:
     style: Style = FIXED_FORM
     extras: tuple = ()
     harness: Harness | None = None
+    products: tuple = ()
 
     def templates(self):
         """Every template file this target reads (its includes aside), as absolute paths."""
@@ -322,6 +326,7 @@ for _record in (
             Extra("build.sh", "calculix/build.sh", executable=True),
         ),
         harness=FRIC,
+        products=("ccx",),  # build.sh links it here; its build tree is elsewhere
     ),
     Target(
         "abaqus-table",

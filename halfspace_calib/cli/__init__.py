@@ -30,7 +30,7 @@ from sbmf_cli import (
 from ..output.hardness import write_hardness_fit
 from ..output.report import write_outputs
 from ..pipeline.calibration import Scene, calibrate, load_scene, load_scene_surfaces
-from ..pipeline.scene import MIN_TOL, PAPER_PRESSURES
+from ..pipeline.scene import BOUNDARIES, MIN_TOL, PAPER_PRESSURES
 from ..pipeline.scene_surfaces import (
     ELEMENTS_PER_LAMBDA_S,
     ISO_SAMPLING_RATIO,
@@ -47,6 +47,12 @@ from ._paths import (
     sample_spec,
 )
 
+#: the boundaries in words (the input summary)
+_KIND = {
+    "periodic": "the patch is one period, FFT",
+    "mirror": "the patch's mirror-symmetric extension, cosine transforms; the default for files",
+    "isolated": "a finite body, zero-padded DC-FFT",
+}
 #: files that mark a folder as a calibration output (a rerun may replace it)
 #: the Scene's defaults, shown in --help
 _D = {f.name: f.default for f in fields(Scene)}
@@ -209,19 +215,27 @@ def build_parser():
         help=f"solver tolerance, in [{MIN_TOL:g}, 1) (default {_D['tol']:g})",
     )
     g.add_argument(
+        "--boundary",
+        choices=BOUNDARIES,
+        help="how the solver closes the patch: mirror (one quarter of the period of the patch's "
+        "mirror-symmetric extension: no seam, no patch edge), periodic (the patch is one period, "
+        "its opposite edges joined) or isolated (a finite body on a half-space, zero-padded "
+        "DC-FFT: the default for files before the mirror, whose nearly conforming patches act as "
+        "flat punches) (default: periodic for synthetic surfaces, mirror for files)",
+    )
+    g.add_argument(
         "--periodic",
         dest="periodic",
         action="store_true",
         default=None,
-        help="periodic (FFT) solve; default for synthetic surfaces",
+        help="the older spelling of --boundary periodic (default: off)",
     )
     g.add_argument(
         "--no-periodic",
         dest="periodic",
         action="store_false",
-        help="non-periodic (DC-FFT) solve; default for measured files, where a nearly "
-        "conforming scan whose patch edge goes plastic is solved periodic instead, unless this "
-        "option is given",
+        help="the older spelling of --boundary isolated (the zero-padded DC-FFT solve; "
+        "default: off)",
     )
     g.add_argument(
         "--no-resolution-check",
@@ -357,7 +371,7 @@ def scene_from_args(args):
             "reload_fractions",
             "reload_from",
             "tol",
-            "periodic",
+            "boundary",
             "resolution_check",
             "volume_conservation",
             "reload_surface",
@@ -371,6 +385,11 @@ def scene_from_args(args):
             "geo_threshold",
         )
     }
+    if args.periodic is not None:  # the older spelling of --boundary
+        if args.boundary is not None:
+            flag = "--periodic" if args.periodic else "--no-periodic"
+            raise ValueError(f"give --boundary or {flag}, not both")
+        over["boundary"] = "periodic" if args.periodic else "isolated"
     for role in ("workpiece", "tool"):  # several files: the first here, all in sample_spec
         if over[role] is not None:
             over[role] = over[role][0]
@@ -442,7 +461,6 @@ def main(argv=None):
                 scene,
                 progress=progress,
                 surfaces=surfaces,
-                auto_periodic=args.periodic is None,
             )
             write_outputs(cal, folder.tmp, clock=process_seconds)
             run_seconds = json.loads((folder.tmp / "summary.json").read_text())["command_seconds"]
@@ -473,7 +491,7 @@ def main(argv=None):
     )
     _print_effects(con, cal, out)
     _print_resolution(con, cal.resolution)
-    for note in cal.notes:  # the solve changed (periodic fallback): a warning, stderr
+    for note in cal.notes:  # what calibrate() decided on its own: stderr
         con.warn(f"halfspace-calib: note: {note}")
     return exit_code(con, cal.problems())
 
@@ -558,12 +576,10 @@ def _print_input(con, scene, surfaces, derived=False):
     for note in surfaces.notes:
         con.warn(f"halfspace-calib: warning: {note}")
     w = surfaces.workpiece
-    kind = "periodic (FFT)" if scene.periodic else "non-periodic (DC-FFT)"
     con.result(
         f"  solver grid {surfaces.grid} x {surfaces.grid}"
         + (" (default rule for files)" if derived else "")
-        + f", element {w.dx * 1e6:.4g} um, {kind}"
-        + (", measured files default to non-periodic" if scene.from_files else "")
+        + f", element {w.dx * 1e6:.4g} um, boundary {scene.boundary} ({_KIND[scene.boundary]})"
     )
 
 

@@ -60,9 +60,10 @@ def sample_spec(args, scene):
             "--resolution-check does not run per sample in a multi-sample calibration: "
             "calibrate one sample alone for it"
         )
-    if spec.patches > 1 and args.periodic:
+    if spec.patches > 1 and (args.periodic or args.boundary == "periodic"):
         raise ValueError(
-            "--periodic: a patch is not one period of a surface, patches are non-periodic"
+            "--boundary periodic: a patch is not one period of a surface; patches are solved "
+            "with --boundary mirror (default) or isolated"
         )
     if not spec.multi and any(
         getattr(args, o) is not None for o in ("band_level", "bootstrap", "band_method")
@@ -96,7 +97,8 @@ def main_samples(con, args, scene, spec):
             con.result(
                 f"  {len(samples)} samples ({spec.patches} patch(es) per pair), solver grid "
                 f"{samples[0].surfaces.grid} x {samples[0].surfaces.grid}, element "
-                f"{samples[0].surfaces.workpiece.dx * 1e6:.4g} um, non-periodic"
+                f"{samples[0].surfaces.workpiece.dx * 1e6:.4g} um, boundary "
+                f"{samples[0].scene.boundary}"
             )
             progress = not (args.quiet or args.no_progress)
             mc = calibrate_samples(scene, spec, samples=samples, progress=progress)

@@ -16,6 +16,11 @@ convolution evaluated by FFT in two modes:
   are taken at minimal-image offsets (``from_coefficients(..., periodic=True)``) or an exact
   spectral Green's function is used (``from_spectrum``). For the normal problem the default is
   the exact spectral periodic Green's function ``2 / (E_star |q|)`` (see ``normal_operator``).
+- mirror (:class:`MirrorOperator`, normal problem only): the patch is one quarter of the period
+  of its mirror-symmetric extension (reflected across each edge, period ``2 Lx x 2 Ly``),
+  which is continuous across every edge: no seam, and no edge of a finite body. A symmetric
+  pressure has a symmetric displacement, so the periodic operator of the extension restricted
+  to the patch is diagonal in the cosine basis of the patch (DCT-II): FFTs of the patch's size.
 
 The operator is generic: any even-or-odd kernel given as a function of the offset (for instance
 the Cerruti coefficients of Eq. 16) reuses the same FFT machinery and the cached spectrum.
@@ -32,11 +37,41 @@ from ..common.checks import positive
 from ..common.jobs import fft_threads
 
 __all__ = [
+    "BOUNDARIES",
     "InfluenceOperator",
+    "MirrorOperator",
+    "boundary_of",
     "love_coefficients",
     "normal_operator",
     "periodic_spectrum_normal",
 ]
+
+#: the boundary treatments of a patch: one period of a periodic surface (its opposite edges
+#: joined), one quarter of the period of its mirror-symmetric extension, an isolated body
+BOUNDARIES = ("periodic", "mirror", "isolated")
+
+
+def boundary_of(periodic=None, boundary=None) -> str:
+    """The boundary treatment named by ``boundary`` or, older switch, ``periodic``.
+
+    ``boundary``: one of :data:`BOUNDARIES`. ``periodic``: ``True`` is ``"periodic"``,
+    ``False`` a boundary other than ``"periodic"`` (``"isolated"`` when ``boundary`` is not
+    given: the zero-padded DC-FFT solve the switch always meant). Both ``None``:
+    ``"periodic"``. A ``ValueError`` names a boundary that is not one of :data:`BOUNDARIES`
+    and a ``periodic`` that contradicts ``boundary``.
+    """
+    if boundary is not None and boundary not in BOUNDARIES:
+        raise ValueError(f"boundary must be one of {', '.join(BOUNDARIES)}, got {boundary!r}")
+    if periodic is not None and not isinstance(periodic, (bool, np.bool_)):
+        raise ValueError(f"periodic must be True, False or None, got {periodic!r}")
+    if boundary is None:
+        return "isolated" if periodic is not None and not periodic else "periodic"
+    if periodic is not None and bool(periodic) != (boundary == "periodic"):
+        raise ValueError(
+            f"periodic={periodic!r} contradicts boundary={boundary!r} (periodic=True is "
+            "boundary='periodic'); give boundary alone"
+        )
+    return boundary
 
 
 def _check_shape(shape) -> tuple[int, int]:
@@ -159,6 +194,7 @@ class InfluenceOperator:
         self.fft_shape = kernel.shape
         self.workers = workers if workers is not None else fft_threads()
         self.kernel = kernel
+        self.boundary = "periodic" if self.periodic else "isolated"
         self.spectrum = sfft.rfft2(kernel, workers=self.workers)
         self._weights = None
         self._spec_real = None
@@ -364,16 +400,111 @@ class InfluenceOperator:
     dense = dense_matrix
 
 
+class MirrorOperator:
+    """The normal operator of a patch's mirror-symmetric extension, applied on the patch.
+
+    The patch of ``Nx x Ny`` elements is reflected across each of its edges into a surface
+    of period ``2 Lx x 2 Ly`` (``Lx = Nx dx``) that is continuous across every edge: the
+    heights of the elements on either side of an edge are equal. Pressed at a uniform mean
+    pressure, the extension's pressure and displacement are mirror-symmetric too, so the whole
+    problem lives on the patch. The periodic Green's function of the extension,
+    ``2 / (E_star |q|)`` (:func:`periodic_spectrum_normal`), restricted to symmetric fields is
+    diagonal in the patch's cosine basis ``cos(pi k (i + 1/2) / Nx)``: the orthonormal DCT-II
+    of the patch, with the mode ``k`` at ``q = pi k / Lx``. The operator is therefore exactly
+    the periodic operator of the ``2 Nx x 2 Ny`` extension read on the patch (tested), at the
+    cost of transforms of the patch's own size.
+
+    Same interface as :class:`InfluenceOperator` for the normal solver (:meth:`forward` gives
+    the cosine coefficients instead of the half spectrum). ``periodic`` is ``False``: the
+    patch's opposite edges are not joined (:attr:`boundary` is ``"mirror"``).
+    """
+
+    periodic = False
+    boundary = "mirror"
+
+    def __init__(self, shape, dx: float, E_star: float, dy: float | None = None, workers=None):
+        self.shape = _check_shape(shape)
+        self.fft_shape = self.shape
+        nx, ny = self.shape
+        dx = positive("dx", dx)
+        dy = dx if dy is None else positive("dy", dy)
+        E_star = positive("E_star", E_star)
+        self.workers = workers if workers is not None else fft_threads()
+        qx = (np.pi / (nx * dx)) * np.arange(nx)[:, None]
+        qy = (np.pi / (ny * dy)) * np.arange(ny)[None, :]
+        self.spectrum = periodic_spectrum_normal(qx, qy, E_star)
+        inv = 0.5 * E_star * np.hypot(qx, qy)
+        inv[0, 0] = 0.5 * E_star * np.pi / max(nx * dx, ny * dy)  # the lowest mode's value
+        self.inverse_spectrum = inv
+        self.real_dtype = np.float64
+
+    def _dct(self, a):
+        a = np.asarray(a, dtype=self.real_dtype)
+        return sfft.dctn(a, type=2, norm="ortho", workers=self.workers)
+
+    def _idct(self, a):
+        z = sfft.idctn(a, type=2, norm="ortho", workers=self.workers, overwrite_x=True)
+        return np.ascontiguousarray(z, dtype=np.float64)
+
+    def forward(self, p: np.ndarray) -> np.ndarray:
+        """Cosine coefficients of ``p`` (orthonormal DCT-II), used by :meth:`backward`."""
+        return self._dct(p)
+
+    def backward(self, p_hat: np.ndarray) -> np.ndarray:
+        """Displacement from the cosine coefficients: ``apply(p) == backward(forward(p))``."""
+        return self._idct(p_hat * self.spectrum)
+
+    def apply(self, p: np.ndarray) -> np.ndarray:
+        """Displacement ``u = C p`` of the mirror-symmetric extension, on the patch."""
+        p = np.asarray(p, dtype=float)
+        if p.shape != self.shape:
+            raise ValueError(f"p must have shape {self.shape}, got {p.shape}")
+        return self.backward(self.forward(p))
+
+    __call__ = apply
+
+    def apply_inverse(self, u: np.ndarray) -> np.ndarray:
+        """Approximate inverse ``C^-1 u`` by ``E_star |q| / 2`` (the preconditioner)."""
+        uh = self._dct(u)
+        uh *= self.inverse_spectrum
+        return self._idct(uh)
+
+    def energy(self, p_hat: np.ndarray) -> float:
+        """Quadratic form ``dot(p, C p)`` from the cosine coefficients of ``p`` (Parseval)."""
+        a = p_hat.astype(np.float64) ** 2
+        return float(np.sum(a * self.spectrum))
+
+    @property
+    def norm(self) -> float:
+        """The operator's 2-norm: its largest eigenvalue, that of the lowest cosine mode."""
+        return float(self.spectrum.max())
+
+    def single(self) -> MirrorOperator:
+        """A copy that runs the transforms in single precision (see :meth:`InfluenceOperator.single`)."""
+        import copy
+
+        op = copy.copy(self)
+        op.real_dtype = np.float32
+        return op
+
+    def dense_matrix(self) -> np.ndarray:
+        """Dense matrix ``C[k, l]`` over the flat (row-major) patch elements (small grids, tests)."""
+        n = self.shape[0] * self.shape[1]
+        cols = [self.apply(e.reshape(self.shape)).ravel() for e in np.eye(n)]
+        return np.array(cols).T
+
+
 def normal_operator(
     shape,
     dx: float,
     E_star: float,
     *,
     dy: float | None = None,
-    periodic: bool = True,
+    periodic: bool | None = None,
     kernel: str = "spectral",
     workers: int | None = None,
-) -> InfluenceOperator:
+    boundary: str | None = None,
+) -> InfluenceOperator | MirrorOperator:
     """The normal influence operator of the elastic half-space. It is Eqs. 3-4.
 
     Parameters
@@ -384,22 +515,36 @@ def normal_operator(
         Element sizes ``2a``, ``2b`` in m (``dy`` defaults to ``dx``).
     E_star : float
         Composite modulus (Eq. 2) in Pa.
-    periodic : bool
-        Periodic patch of a larger surface (True) or an isolated finite body (False, DC-FFT).
+    periodic : bool, optional
+        The older switch of ``boundary`` (:func:`boundary_of`): True is ``"periodic"``, False
+        ``"isolated"``.
     kernel : {"spectral", "love"}
         Periodic mode only: ``"spectral"`` (default) uses the exact periodic Green's function
         ``2 / (E_star |q|)`` (point values of the displacement of a sampled pressure field,
         exact for every Fourier mode of the grid); ``"love"`` uses Love's coefficients at
         minimal-image offsets (a truncated periodisation: accurate at short wavelengths, the
-        long-range 1/r tail beyond half a period is cut). Non-periodic mode always uses Love.
+        long-range 1/r tail beyond half a period is cut). Non-periodic mode always uses Love;
+        the mirror mode only the spectral Green's function.
     workers : int, optional
         Threads for ``scipy.fft`` (default: :func:`~halfspace_calib.common.jobs.fft_threads`).
+    boundary : {"periodic", "mirror", "isolated"}, optional
+        The patch as one period of a periodic surface (default), as one quarter of the period
+        of its mirror-symmetric extension (:class:`MirrorOperator`), or as an isolated finite
+        body (DC-FFT).
     """
     E_star = positive("E_star", E_star)
     dx = positive("dx", dx)
     dy = dx if dy is None else positive("dy", dy)
     if kernel not in ("spectral", "love"):
         raise ValueError(f"kernel must be 'spectral' or 'love', got {kernel!r}")
+    boundary = boundary_of(periodic, boundary)
+    if boundary == "mirror":
+        if kernel != "spectral":
+            raise ValueError(
+                "kernel='love' applies to the periodic boundary; the mirror one is spectral"
+            )
+        return MirrorOperator(shape, dx, E_star, dy=dy, workers=workers)
+    periodic = boundary == "periodic"
     if periodic and kernel == "spectral":
         op = InfluenceOperator.from_spectrum(
             lambda qx, qy: periodic_spectrum_normal(qx, qy, E_star), shape, dx, dy, workers

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 from ..common.checks import positive, tolerance, tresca_factor
 from .cerruti import E_prime
+from .influence import boundary_of
 from .normal import composite_modulus
 
 __all__ = [
@@ -87,28 +88,37 @@ class Materials:
 class SolverSettings:
     """Settings of the normal solver shared by every sweep and study.
 
-    ``tol``: relative residual in ``(0, 1)``; ``periodic``: spectral (True) or DC-FFT (False)
-    operator; ``volume_conservation``: lift the plastically removed volume into the valleys;
-    ``maxiter``: iteration limit (``None``: the solver's own default).
+    ``tol``: relative residual in ``(0, 1)``; ``boundary``: the patch as one period of a
+    periodic surface (``"periodic"``, spectral operator), as one quarter of the period of its
+    mirror-symmetric extension (``"mirror"``) or as an isolated body (``"isolated"``, DC-FFT);
+    ``periodic``: the older switch (True: ``"periodic"``, False: ``"isolated"``; both ``None``:
+    ``"periodic"``), resolved on construction so that ``periodic`` says whether the patch's
+    opposite edges are joined; ``volume_conservation``: lift the plastically removed volume
+    into the valleys; ``maxiter``: iteration limit (``None``: the solver's own default).
     """
 
     tol: float = 1e-8
-    periodic: bool = True
+    periodic: bool | None = None
     volume_conservation: bool = True
     maxiter: int | None = None
+    boundary: str | None = None
 
     def __post_init__(self):
         tolerance(self.tol)
-        for name in ("periodic", "volume_conservation"):
-            if not isinstance(getattr(self, name), bool):
-                raise ValueError(f"{name} must be True or False, got {getattr(self, name)!r}")
+        b = boundary_of(self.periodic, self.boundary)
+        object.__setattr__(self, "boundary", b)
+        object.__setattr__(self, "periodic", b == "periodic")
+        if not isinstance(self.volume_conservation, bool):
+            raise ValueError(
+                f"volume_conservation must be True or False, got {self.volume_conservation!r}"
+            )
         mi = self.maxiter
         if mi is not None and (isinstance(mi, bool) or not isinstance(mi, int) or mi < 1):
             raise ValueError(f"maxiter must be an integer >= 1 or None, got {mi!r}")
 
     def normal_kwargs(self):
         """Keyword arguments of :func:`~halfspace_calib.contact.normal.solve_normal`."""
-        kw = {"tol": self.tol, "periodic": self.periodic}
+        kw = {"tol": self.tol, "boundary": self.boundary}
         if self.maxiter is not None:
             kw["maxiter"] = self.maxiter
         return kw

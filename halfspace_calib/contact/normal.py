@@ -70,9 +70,10 @@ from ._box_cg import (
     project_box_sum,
     volume_conserving_lift,
 )
-from .influence import InfluenceOperator, normal_operator
+from .influence import BOUNDARIES, InfluenceOperator, MirrorOperator, boundary_of, normal_operator
 
 __all__ = [
+    "BOUNDARIES",
     "NormalResult",
     "composite_heights",
     "composite_modulus",
@@ -94,8 +95,8 @@ class NormalResult:
     alpha : float
         Contact ratio ``alpha_rc = A_real / A0``: fraction of elements with ``p > 0``.
     u0 : float
-        Global approach in m (Eq. 7), measured from first touch (``h_max``). In periodic mode
-        the elastic displacement has zero mean over the patch (its gauge).
+        Global approach in m (Eq. 7), measured from first touch (``h_max``). In periodic and
+        mirror mode the elastic displacement has zero mean over the patch (its gauge).
     elastic_displacement : numpy.ndarray
         ``u_el = C p`` in m.
     plastic_displacement : numpy.ndarray
@@ -122,6 +123,10 @@ class NormalResult:
     coarse_nit : tuple of int
         With ``nested``: the CG iterations spent on each coarser grid, finest first (each
         coarse iteration costs about a quarter of one on the next finer grid); ``()`` otherwise.
+    periodic : bool
+        The patch's opposite edges are joined (``boundary == "periodic"``).
+    boundary : str
+        The boundary treatment of the solve: ``"periodic"``, ``"mirror"`` or ``"isolated"``.
     """
 
     pressure: np.ndarray
@@ -142,6 +147,7 @@ class NormalResult:
     periodic: bool
     deformed_workpiece: np.ndarray | None = None
     coarse_nit: tuple = ()
+    boundary: str = "periodic"
 
 
 def composite_modulus(E1: float, nu1: float, E2: float, nu2: float) -> float:
@@ -188,14 +194,14 @@ def composite_heights(workpiece: np.ndarray, tool: np.ndarray) -> np.ndarray:
     return tool + workpiece
 
 
-def _validate(heights, dx, dy, E_star, p_mean, H, tol, maxiter, p_init, max_memory, periodic):
+def _validate(heights, dx, dy, E_star, p_mean, H, tol, maxiter, p_init, max_memory, boundary):
     shape = np.shape(heights)  # before any conversion: a huge grid is refused without a copy
     if len(shape) != 2 or min(shape) < 2:
         raise ValueError(f"heights must be a 2-D array with at least 2 x 2 elements, got {shape}")
-    need = estimate_memory(shape, periodic)
+    need = estimate_memory(shape, boundary)
     if need > max_memory:
         raise ValueError(
-            f"grid {shape} needs about {need / 2**30:.2f} GiB (periodic={periodic}), more than "
+            f"grid {shape} needs about {need / 2**30:.2f} GiB (boundary {boundary}), more than "
             f"max_memory={max_memory / 2**30:.2f} GiB; coarsen the grid or raise max_memory"
         )
     h = np.asarray(heights, dtype=float)
@@ -226,10 +232,15 @@ def _validate(heights, dx, dy, E_star, p_mean, H, tol, maxiter, p_init, max_memo
     return h, p_init
 
 
-def estimate_memory(shape, periodic: bool) -> int:
-    """Rough peak memory of :func:`solve_normal` in bytes (about 14 real fields + FFT buffers)."""
+def estimate_memory(shape, periodic: bool | str) -> int:
+    """Rough peak memory of :func:`solve_normal` in bytes (about 14 real fields + FFT buffers).
+
+    ``periodic``: ``True`` or the boundary ``"periodic"`` or ``"mirror"`` (transforms of the
+    grid's size), ``False`` or ``"isolated"`` (zero-padded to twice the grid per axis).
+    """
     nx, ny = shape
-    fx, fy = (nx, ny) if periodic else (2 * nx, 2 * ny)
+    padded = periodic is False or periodic == "isolated"
+    fx, fy = (2 * nx, 2 * ny) if padded else (nx, ny)
     return int(8 * (14 * nx * ny + fx * fy) + 16 * 3 * fx * (fy // 2 + 1))
 
 
@@ -240,20 +251,21 @@ def solve_normal(
     p_mean: float,
     *,
     H: float | None = None,
-    periodic: bool = True,
+    periodic: bool | None = None,
     tol: float = 1e-8,
     dy: float | None = None,
     maxiter: int = 5000,
     p_init=None,
     volume_conservation: bool = True,
     kernel: str = "spectral",
-    operator: InfluenceOperator | None = None,
+    operator: InfluenceOperator | MirrorOperator | None = None,
     refresh: int = 32,
     precondition: bool = True,
     single: bool = False,
     max_memory: float = 8 * 2**30,
     workers: int | None = None,
     nested: bool = False,
+    boundary: str | None = None,
 ) -> NormalResult:
     """Solve the normal contact of a rough surface at a prescribed mean pressure.
 
@@ -271,9 +283,9 @@ def solve_normal(
         Mean pressure over the apparent area in Pa, ``> 0`` and ``< H``.
     H : float, optional
         Hardness cap of Eq. 8 in Pa; ``None`` for a purely elastic contact.
-    periodic : bool
-        True: the grid is a periodic patch of a larger surface (roughness; exact spectral Green's
-        function). False: an isolated body (zero-padded DC-FFT, e.g. Hertz).
+    periodic : bool, optional
+        The older switch of ``boundary``: True is ``"periodic"`` (the default), False
+        ``"isolated"``.
     tol : float
         Tolerance on the dimensionless residual (module docstring).
     maxiter : int
@@ -314,13 +326,21 @@ def solve_normal(
         plus the prolongated coarse correction). The fine solve still has to
         reach ``tol`` on the fine grid; ``nit`` counts its iterations, ``coarse_nit`` the
         coarse ones.
+    boundary : {"periodic", "mirror", "isolated"}, optional
+        ``"periodic"`` (default): the grid is one period of a periodic surface (roughness;
+        exact spectral Green's function). ``"mirror"``: the grid is a patch of a larger surface
+        that is solved as one quarter of the period of its mirror-symmetric extension
+        (:class:`~halfspace_calib.contact.influence.MirrorOperator`): no seam between opposite
+        edges and no edge of a finite body, at the cost of the periodic solve. ``"isolated"``:
+        an isolated finite body (zero-padded DC-FFT, e.g. Hertz, a punch).
 
     Returns
     -------
     NormalResult
     """
+    boundary = boundary_of(periodic, boundary)
     h, p_init = _validate(
-        heights, dx, dy, E_star, p_mean, H, tol, maxiter, p_init, max_memory, periodic
+        heights, dx, dy, E_star, p_mean, H, tol, maxiter, p_init, max_memory, boundary
     )
     if single and tol < 1e-6:
         raise ValueError(f"tol must be >= 1e-6 with single=True (roundoff floor), got {tol!r}")
@@ -334,7 +354,7 @@ def solve_normal(
             E_star,
             p_mean,
             H=H,
-            periodic=periodic,
+            boundary=boundary,
             tol=max(tol, NESTED_TOL),
             dy=2.0 * dy_,
             maxiter=maxiter,
@@ -358,12 +378,12 @@ def solve_normal(
     if operator is None:
         threads = fft_threads() if workers is None else int(workers)
         operator = _cached_operator(
-            h.shape, float(dx), float(E_star), float(dy_), bool(periodic), kernel, threads
+            h.shape, float(dx), float(E_star), float(dy_), boundary, kernel, threads
         )
-    elif operator.shape != h.shape or operator.periodic != bool(periodic):
+    elif operator.shape != h.shape or getattr(operator, "boundary", None) != boundary:
         raise ValueError(
-            f"operator must have shape {h.shape} and periodic={periodic}, got "
-            f"{operator.shape} and periodic={operator.periodic}"
+            f"operator must have shape {h.shape} and boundary {boundary!r}, got "
+            f"{operator.shape} and {getattr(operator, 'boundary', None)!r}"
         )
     p, u, g, nit, converged, res = _pk_box_cg(
         operator.single() if single else operator,
@@ -378,7 +398,7 @@ def solve_normal(
         precondition=bool(precondition) and operator.inverse_spectrum is not None,
     )
     out = _finish(
-        h, p, u, g, nit, converged, res, tol, p_mean, H, periodic, volume_conservation, dx * dy_
+        h, p, u, g, nit, converged, res, tol, p_mean, H, boundary, volume_conservation, dx * dy_
     )
     out.coarse_nit = coarse_nit
     return out
@@ -402,7 +422,7 @@ def _prolong(a):
 
 
 @lru_cache(maxsize=4)
-def _cached_operator(shape, dx, E_star, dy, periodic, kernel, workers):
+def _cached_operator(shape, dx, E_star, dy, boundary, kernel, workers):
     """The normal operator of a grid, built once per process for the solves of a sweep.
 
     A sweep solves the same grid dozens of times (first loading, reloads, the coarse grids of
@@ -410,11 +430,11 @@ def _cached_operator(shape, dx, E_star, dy, periodic, kernel, workers):
     padded grid) costs several FFT pairs each time. Four entries: a grid and its coarse levels.
     """
     return normal_operator(
-        shape, dx, E_star, dy=dy, periodic=periodic, kernel=kernel, workers=workers
+        shape, dx, E_star, dy=dy, boundary=boundary, kernel=kernel, workers=workers
     )
 
 
-def _finish(h, p, u, g, nit, converged, res, tol, p_mean, H, periodic, vc, dA):
+def _finish(h, p, u, g, nit, converged, res, tol, p_mean, H, boundary, vc, dA):
     g_raw = u - h
     shift = _shift(g_raw, p, H)
     gap = g_raw + shift
@@ -464,7 +484,8 @@ def _finish(h, p, u, g, nit, converged, res, tol, p_mean, H, periodic, vc, dA):
         message=msg,
         p_mean=float(p_mean),
         H=None if H is None else float(H),
-        periodic=bool(periodic),
+        periodic=boundary == "periodic",
+        boundary=boundary,
     )
 
 

@@ -56,6 +56,16 @@ __all__ = [
 R2_MIN = 0.9
 
 
+#: why a scene's boundary is what it is (the defaults; any other combination was chosen)
+_BOUNDARY_REASON = {
+    (False, "periodic"): "synthetic surfaces are generated periodic",
+    (True, "mirror"): (
+        "measured files: a scan is a patch of a larger surface, not one period of it; solved as "
+        "one quarter of the period of its mirror-symmetric extension (no seam, no patch edge)"
+    ),
+}
+
+
 # ----------------------------------------------------------------------------- calibration
 @dataclass
 class Calibration:
@@ -77,7 +87,7 @@ class Calibration:
     effects: dict = field(default_factory=dict)  # name -> EffectOutcome
     files: tuple = ()
     resolution: ResolutionCheck | None = None
-    notes: tuple = ()  # what calibrate() decided on its own (the periodic fallback)
+    notes: tuple = ()  # what calibrate() decided on its own (printed as notes; none at present)
     warnings: tuple = ()  # the surfaces' warnings (grid coarse for lambda_s, patch too small)
     reload_table: ReloadTableFit | None = None
     errors: dict = field(default_factory=dict)  # branch -> heldout.BranchErrors
@@ -101,7 +111,7 @@ class Calibration:
         Eq. 24; R^2 is reported, it does not decide), with the
         parameters that ended on a bound named, since the bound then keeps the law from the
         data; a fit whose optimiser did not converge; why a reload fit failed on a nearly
-        conforming non-periodic contact (:func:`~.conformity.punch_edge_problem`); failed
+        conforming isolated patch (:func:`~.conformity.punch_edge_problem`); failed
         effect solves. A parameter on a bound with the error within the tolerance is a note
         (:meth:`fit_notes`), not a failure: the data are described with it there.
         """
@@ -247,6 +257,7 @@ class Calibration:
             "effect_results": _effects_record(self.effects),
             "grid": self.scene.grid,
             "periodic": self.scene.periodic,
+            "boundary": self.scene.boundary,
             "notes": list(self.notes),
             # warnings do not fail the run (problems do: exit 1, params.failed.json)
             "warnings": list(self.warnings),
@@ -257,41 +268,23 @@ class Calibration:
         }
 
 
-def calibrate(scene=None, *, progress=True, surfaces=None, auto_periodic=True):
+def calibrate(scene=None, *, progress=True, surfaces=None):
     """Run the sweeps of ``scene`` (default: the built-in scene) and fit the law.
 
     ``surfaces``: the scene's :class:`SceneSurfaces` if already loaded (the CLI loads them
     first, to refuse bad input before any sweep). For files, ``scene.grid=None`` becomes the
     loader's grid and, with ``scene.resolution_check``, the normal sweeps run again at half
-    the grid (:func:`resolution_check`).
-
-    ``auto_periodic``: a non-periodic calibration from files whose reload fit fails because the
-    contact is nearly conforming and the patch's edge went plastic
-    (:func:`~.conformity.punch_edge_problem`) is run again periodic, and the reason is recorded
-    (``Calibration.notes``, ``params.json`` ``grid.periodic_reason``). ``False`` keeps the
-    non-periodic run and its failure (the CLI passes ``False`` for ``--no-periodic``).
+    the grid (:func:`resolution_check`). The patch's boundary is ``scene.boundary`` (files:
+    the mirror-symmetric extension; docs/measured_surfaces.md, "The patch's boundary").
 
     Raises ``RuntimeError`` if too few load levels converged for a fit (the sweep's
     failures are in the message).
     """
-    t0 = time.perf_counter()
-    cal = _calibrate(Scene() if scene is None else scene, progress, surfaces, None)
-    if not (auto_periodic and cal.scene.from_files and not cal.scene.periodic):
-        return cal
-    why = punch_edge_problem(cal)
-    if not why:
-        return cal
-    reason = ("solved periodic after the non-periodic run failed: " + why).split(". Rerun with")[0]
-    again = _calibrate(dataclasses.replace(cal.scene, periodic=True), progress, surfaces, reason)
-    return dataclasses.replace(
-        again,
-        seconds=time.perf_counter() - t0,
-        notes=(f"{reason}; the periodic solve joins the scan's opposite edges instead",),
-    )
+    return _calibrate(Scene() if scene is None else scene, progress, surfaces)
 
 
-def _calibrate(scene, progress, surfaces, periodic_reason):
-    """One calibration of ``scene`` (:func:`calibrate` without the periodic fallback)."""
+def _calibrate(scene, progress, surfaces):
+    """One calibration of ``scene`` (the body of :func:`calibrate`)."""
     t0 = time.perf_counter()
     surfs = load_scene_surfaces(scene) if surfaces is None else surfaces
     if scene.grid != surfs.grid:
@@ -321,12 +314,8 @@ def _calibrate(scene, progress, surfaces, periodic_reason):
             "dx": wp.dx,
             "dy": wp.dy,
             "periodic": scene.periodic,
-            "periodic_reason": periodic_reason
-            or (
-                "measured files: a scan is not one period of a surface, non-periodic (DC-FFT) solve"
-                if scene.from_files and not scene.periodic
-                else ("synthetic surfaces are periodic" if scene.periodic else "chosen")
-            ),
+            "boundary": scene.boundary,
+            "boundary_reason": _BOUNDARY_REASON.get((scene.from_files, scene.boundary), "chosen"),
         },
         tolerance=scene.tol,
         pressures={

@@ -1,13 +1,18 @@
-"""Diagnosis of a nearly conforming contact in the non-periodic solve (docs/measured_surfaces.md).
+"""Diagnosis of a nearly conforming contact in the isolated solve (docs/measured_surfaces.md).
 
-In the non-periodic solve (DC-FFT, zero padding) the patch is a finite body pressed on a
-half-space. When the surfaces are so smooth that the contact becomes complete at small
-pressures, the patch acts as a flat punch: the pressure rises towards its edge (Boussinesq's
-punch has an inverse square-root edge singularity), the edge elements reach the hardness cap
-``H`` and deform plastically, and the reload curves then measure the plastic rim of the patch,
-not the roughness. Eq. 25 does not describe such curves. :func:`edge_plasticity` measures it on
-the pressure map of the highest load level, and :func:`punch_edge_problem` turns it into the
-sentence that :meth:`halfspace_calib.pipeline.calibration.Calibration.problems` prints.
+With ``boundary="isolated"`` (DC-FFT, zero padding; the default for measured files before the
+mirror-symmetric boundary) the patch is a finite body pressed on a half-space. When the
+surfaces are so smooth that the contact becomes complete at small pressures, the patch acts as
+a flat punch: the pressure rises towards its edge (Boussinesq's punch has an inverse
+square-root edge singularity), the edge elements reach the hardness cap ``H`` and deform
+plastically, and the reload curves then measure the plastic rim of the patch, not the
+roughness: they fall with ``p_hist``, below the first loading. Eq. 25 does not describe such
+curves. :func:`edge_plasticity` measures where the cap is reached on a pressure map (the
+border band against the centre, on any boundary: the benchmark ``patch_boundary.py`` reports
+it for each), and :func:`punch_edge_problem` turns a punch edge of an isolated calibration into
+the sentence that :meth:`halfspace_calib.pipeline.calibration.Calibration.problems` prints.
+The default ``boundary="mirror"`` has no patch edge (nor a seam): the two fractions are equal
+there on every measured file (docs/measured_surfaces.md).
 """
 
 from __future__ import annotations
@@ -16,8 +21,19 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.interpolate import PchipInterpolator
 
-__all__ = ["CENTRE_RATIO_MAX", "RIM_MIN", "EdgePlasticity", "edge_plasticity", "punch_edge_problem"]
+__all__ = [
+    "CENTRE_RATIO_MAX",
+    "RIM_MIN",
+    "EdgePlasticity",
+    "ReloadDeficit",
+    "ReloadGridChange",
+    "edge_plasticity",
+    "punch_edge_problem",
+    "reload_deficit",
+    "reload_grid_change",
+]
 
 #: the cap counts as a punch edge when at least this fraction of the border band is at the cap
 RIM_MIN = 0.5
@@ -67,7 +83,7 @@ def edge_plasticity(pressure, H, band=None):
     Parameters
     ----------
     pressure : ndarray (n, m)
-        Contact pressure (Pa) of the non-periodic solve.
+        Contact pressure (Pa) of a solve (the punch edge is the isolated boundary's).
     H : float
         Hardness (Pa), the pressure cap.
     band : int, optional
@@ -99,13 +115,12 @@ def edge_plasticity(pressure, H, band=None):
 def punch_edge_problem(cal):
     """The sentence explaining a failed reload fit by a plastic punch edge, or ``""``.
 
-    Only for a non-periodic calibration whose reload fit is unusable (``R^2 <`` the fit's
-    minimum or a parameter on its bound) and whose highest load level has its capped elements at
-    the patch's edge (:attr:`EdgePlasticity.punch_edge`).
+    Only for a calibration with ``boundary="isolated"`` whose reload branch fails its measured
+    error (the held-out maximum beyond ``scene.heldout_tol``, :mod:`.heldout`) and whose highest
+    load level has its capped elements at the patch's edge (:attr:`EdgePlasticity.punch_edge`).
     """
-    from .fit import R2_MIN
-
-    if cal.scene.periodic or (cal.reload.r_squared >= R2_MIN and not cal.reload.at_bound):
+    err = cal.errors.get("reload")
+    if cal.scene.boundary != "isolated" or err is None or not err.exceeds(cal.scene.heldout_tol):
         return ""
     top = max(cal.sweeps.levels, key=lambda lv: lv.p_hist, default=None)
     if top is None or top.pressure_map is None:
@@ -116,11 +131,131 @@ def punch_edge_problem(cal):
     p, a = cal.sweeps.loading
     return (
         f"the contact is nearly conforming (contact ratio {a[0]:.2f} at {p[0] / 1e6:g} MPa), "
-        "and in the non-periodic solve the patch then acts as a flat punch whose edge goes "
+        "and in the isolated solve (boundary isolated) the patch then acts as a flat punch whose "
+        "edge goes "
         f"plastic: at p_hist = {top.p_hist / 1e6:g} MPa, {100 * e.rim_capped:.0f} % of the "
         f"elements within {e.band} elements of the patch's edge are at the hardness H, "
-        f"{100 * e.centre_capped:.0f} % of its central square. The reload curves measure that plastic rim, not the "
-        "roughness, and Eq. 25 cannot describe them. Rerun with --periodic (Scene(periodic=True):"
-        " no patch edge; the scan's opposite edges are joined), or with a smaller --lambda-s and "
-        "a larger --grid, so that the contact stays partial (docs/measured_surfaces.md)"
+        f"{100 * e.centre_capped:.0f} % of its central square. The reload curves measure that "
+        "plastic rim, not the roughness, and Eq. 25 cannot describe them. Rerun with --boundary "
+        "mirror (Scene(boundary='mirror'), the default for files: the patch's mirror-symmetric "
+        "extension, no patch edge and no seam; docs/measured_surfaces.md)"
     )
+
+
+@dataclass(frozen=True)
+class ReloadDeficit:
+    """How far the reload curves fall below the first loading at the same pressure.
+
+    Attributes
+    ----------
+    worst : float
+        Largest ``alpha_first(p) - alpha_reload(p)`` over the reload points (``<= 0``: every
+        point lies at or above the first loading).
+    p_hist, p : float
+        Where it is (Pa).
+    points : int
+        Reload points compared (those within the first loading's pressure range).
+    """
+
+    worst: float
+    p_hist: float
+    p: float
+    points: int
+
+
+def reload_deficit(first_p, first_alpha, curves):
+    """Compare each reload curve with the first loading at the same pressure.
+
+    A plastically flattened surface carries at least the contact of the virgin one at the
+    same mean pressure: in the half-space model each reload point lies at or above the first
+    loading. A patch edge (the isolated boundary's flat punch) breaks that.
+
+    Parameters
+    ----------
+    first_p, first_alpha : array_like
+        The first loading: mean pressures (Pa, any order) and contact ratios. A reload pressure
+        found among them (to 9 digits) is compared with that point; others with the monotone cubic
+        (PCHIP) interpolant in ``log p``. Reload points outside their range are not compared.
+    curves : sequence
+        Reload curves with ``p_hist``, ``p`` and ``alpha`` (e.g.
+        :meth:`~halfspace_calib.pipeline.sweeps.SweepResult.reload_curves`).
+
+    Returns
+    -------
+    ReloadDeficit
+    """
+    p1 = np.asarray(first_p, dtype=float)
+    a1 = np.asarray(first_alpha, dtype=float)
+    if p1.ndim != 1 or p1.shape != a1.shape or p1.size < 2:
+        raise ValueError("first_p and first_alpha must be 1-D arrays of the same length >= 2")
+    if not (np.isfinite(p1).all() and np.isfinite(a1).all() and (p1 > 0).all()):
+        raise ValueError("first_p must be finite pressures > 0 (Pa), first_alpha finite")
+    order = np.argsort(p1)
+    p1, a1 = p1[order], a1[order]
+    if np.any(np.diff(p1) <= 0):
+        raise ValueError("first_p must hold distinct pressures")
+    interp = PchipInterpolator(np.log(p1), a1)
+    exact = {_key(p): float(a) for p, a in zip(p1, a1, strict=True)}
+    worst, where, n = -np.inf, (math.nan, math.nan), 0
+    for c in curves:
+        for p, a in zip(np.asarray(c.p, float), np.asarray(c.alpha, float), strict=True):
+            if not p1[0] <= p <= p1[-1]:
+                continue
+            ref = exact.get(_key(p))
+            ref = float(interp(math.log(p))) if ref is None else ref
+            n += 1
+            if ref - a > worst:
+                worst, where = ref - a, (float(c.p_hist), float(p))
+    if n == 0:
+        raise ValueError("no reload point lies within the first loading's pressure range")
+    return ReloadDeficit(float(worst), where[0], where[1], n)
+
+
+@dataclass(frozen=True)
+class ReloadGridChange:
+    """The largest change of the reload curves' contact ratio between two grids.
+
+    Attributes
+    ----------
+    worst : float
+        Largest ``|alpha - alpha_half|`` over the reload points both have.
+    p_hist, p : float
+        Where it is (Pa).
+    points : int
+        Points compared.
+    """
+
+    worst: float
+    p_hist: float
+    p: float
+    points: int
+
+
+def reload_grid_change(curves, curves_half):
+    """Compare the reload curves of two grids point by point (the same ``p_hist`` and ``p``).
+
+    ``curves``, ``curves_half``: reload curves with ``p_hist``, ``p`` and ``alpha``, for
+    example of the calibration's grid and of half of it. Points are matched by their
+    pressures (relative 1e-9); unmatched ones are ignored.
+    """
+    half = {}
+    for c in curves_half:
+        for p, a in zip(np.asarray(c.p, float), np.asarray(c.alpha, float), strict=True):
+            half[(_key(c.p_hist), _key(p))] = float(a)
+    worst, where, n = 0.0, (math.nan, math.nan), 0
+    for c in curves:
+        for p, a in zip(np.asarray(c.p, float), np.asarray(c.alpha, float), strict=True):
+            b = half.get((_key(c.p_hist), _key(p)))
+            if b is None:
+                continue
+            n += 1
+            if abs(a - b) >= worst:
+                worst, where = abs(a - b), (float(c.p_hist), float(p))
+    if n == 0:
+        raise ValueError("the two sets of reload curves have no point in common")
+    return ReloadGridChange(float(worst), where[0], where[1], n)
+
+
+def _key(p):
+    """A pressure rounded to 9 significant digits (matching points of two sweeps)."""
+    return float(f"{float(p):.9g}")

@@ -26,7 +26,9 @@ come from
 
 The solver grid of a patch is ``--grid`` (default: the scan's sampling on the patch, at most
 :data:`~.scene_surfaces.MAX_DEFAULT_GRID`); a patch below :data:`PATCH_MIN_GRID` elements a
-side is refused. A patch is not one period of anything: patches are solved non-periodic.
+side is refused. A patch is not one period of anything: patches are solved as one quarter of
+the period of their mirror-symmetric extension (``boundary="mirror"``, no seam and no patch
+edge), or isolated if the scene asks for ``boundary="isolated"``.
 
 Refused before any work (``ValueError``, exit 2): fewer than :data:`MIN_SAMPLES` samples,
 samples whose element sizes differ by more than :data:`ELEMENT_RTOL` after resampling, files
@@ -326,7 +328,9 @@ def load_samples(scene, spec):
             resolution_check=False,
             workers=1,
             scheduler=None,
-            periodic=False if patched else scene.periodic,
+            boundary=("mirror" if scene.periodic else scene.boundary)
+            if patched
+            else scene.boundary,
             grid=scene.grid if (files or scene.grid is not None) else None,
         )
         surfs, k, grid = _load_pair(one, spec)
@@ -375,8 +379,7 @@ def _check_consistent(samples):
 
 def _sample_job(sample):
     """One sample's calibration (run in a worker: serial sweeps, no progress bar)."""
-    # a patch is not one period of a surface: no periodic fallback (calibrate's auto_periodic)
-    return calibrate(sample.scene, progress=False, surfaces=sample.surfaces, auto_periodic=False)
+    return calibrate(sample.scene, progress=False, surfaces=sample.surfaces)
 
 
 def run_samples(samples, *, workers=1, scheduler=None, progress=True):

@@ -8,6 +8,7 @@ effects; :func:`load_scene` reads a scene file. Both are re-exported by
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import tomllib
 from dataclasses import dataclass
@@ -16,6 +17,7 @@ from pathlib import Path
 from frictionlaw.reload_form import RELOAD_FORMS
 
 from ..common.checks import in_range, tresca_factor
+from ..contact.influence import BOUNDARIES
 from ..contact.materials import Materials, SolverSettings, sigma_y_from_hardness
 from ..contact.normal import composite_modulus
 from . import effects as _eff
@@ -27,6 +29,7 @@ __all__ = [
     "MIN_TOL",
     "PAPER_PRESSURES",
     "ALPHA_FLOOR",
+    "BOUNDARIES",
     "DEFAULT_RELOAD_FRACTIONS",
     "P_FLOOR",
     "default_pressures",
@@ -71,6 +74,29 @@ _TABLE1 = Materials()
 MIN_TOL = 1e-12
 
 
+def _periodic_switch(cls):
+    """Let ``cls(periodic=...)`` and ``dataclasses.replace(scene, periodic=...)`` set ``boundary``.
+
+    ``periodic`` is the switch scenes had before ``boundary``; it keeps its meaning: ``True``
+    is ``boundary="periodic"``, ``False`` is ``boundary="isolated"`` (the zero-padded DC-FFT
+    solve), and when given it decides over ``boundary``. It is no field (``Scene.periodic``
+    reads the boundary), so ``dataclasses.replace`` passes it only when asked to.
+    """
+    init = cls.__init__
+
+    @functools.wraps(init)
+    def __init__(self, *args, periodic=None, **kwargs):
+        if periodic is not None:
+            if not isinstance(periodic, bool):
+                raise ValueError(f"periodic must be True, False or None, got {periodic!r}")
+            kwargs["boundary"] = "periodic" if periodic else "isolated"
+        init(self, *args, **kwargs)
+
+    cls.__init__ = __init__
+    return cls
+
+
+@_periodic_switch
 @dataclass(frozen=True)
 class Scene:
     """Everything a calibration needs; every field has the paper's default.
@@ -93,9 +119,17 @@ class Scene:
     generated spectrum (cut off at two elements), so both are refused for them.
     ``grid=None`` means 128 for synthetic surfaces and, for files,
     ``ELEMENTS_PER_LAMBDA_S`` elements per ``lambda_s`` (at most the scan's native sampling
-    and 256); ``periodic=None`` means periodic for synthetic surfaces and non-periodic (DC-FFT)
-    for measured ones; ``resolution_check=None`` runs the check (the normal sweeps again at half
-    the grid) for files only. ``contact_area``: the contact ratio the fits read, ``"count"``
+    and 256). ``boundary`` is how the solver closes the patch (one of :data:`BOUNDARIES`,
+    docs/measured_surfaces.md, "The patch's boundary"): ``"periodic"`` (one period of a
+    periodic surface, its opposite edges joined), ``"mirror"`` (one quarter of the period of
+    its mirror-symmetric extension: no seam, no edge of a finite body) or ``"isolated"`` (an
+    isolated body on a half-space, zero-padded DC-FFT: the default for files before the mirror
+    existed, whose nearly conforming patches act as flat punches); ``None`` means
+    ``"periodic"`` for synthetic surfaces, which are generated periodic, and ``"mirror"`` for
+    files. ``periodic=True`` / ``False`` is the older switch, still accepted: it sets
+    ``boundary`` to ``"periodic"`` / ``"isolated"``, and :attr:`periodic` says whether the
+    patch's opposite edges are joined. ``resolution_check=None`` runs the check (the normal
+    sweeps again at half the grid) for files only. ``contact_area``: the contact ratio the fits read, ``"count"``
     (elements with ``p > 0``, the default) or ``"perimeter"`` (the count corrected with the
     contact perimeter, Yastrebov et al. 2017; docs/normal_contact.md, "Contact-area estimators").
     ``workers=None`` chooses the processes of the normal
@@ -164,7 +198,7 @@ class Scene:
     reload_from: float = 100e6
     reload_fractions: tuple = DEFAULT_RELOAD_FRACTIONS
     tol: float = 1e-8
-    periodic: bool | None = None
+    boundary: str | None = None
     resolution_check: bool | None = None
     volume_conservation: bool = True
     reload_surface: str = "plastic"
@@ -191,8 +225,8 @@ class Scene:
         synthetic = not self.from_files
         if self.grid is None and synthetic:
             put("grid", SYNTHETIC_GRID)
-        if self.periodic is None:
-            put("periodic", synthetic)
+        if self.boundary is None:
+            put("boundary", "periodic" if synthetic else "mirror")
         if self.resolution_check is None:
             put("resolution_check", not synthetic)
         if isinstance(self.size, list):
@@ -216,6 +250,11 @@ class Scene:
         self._validate()
 
     @property
+    def periodic(self):
+        """The patch's opposite edges are joined (``boundary == "periodic"``)."""
+        return self.boundary == "periodic"
+
+    @property
     def materials(self):
         """The bodies' :class:`~halfspace_calib.contact.materials.Materials` of this scene."""
         return Materials(
@@ -233,7 +272,7 @@ class Scene:
         """The normal solver's :class:`~halfspace_calib.contact.materials.SolverSettings`."""
         return SolverSettings(
             tol=self.tol,
-            periodic=bool(self.periodic),
+            boundary=self.boundary,
             volume_conservation=bool(self.volume_conservation),
         )
 
@@ -248,12 +287,17 @@ class Scene:
             if not (-1.0 < v <= 0.5):
                 raise ValueError(f"{name} must be in (-1, 0.5], got {v!r}")
         tresca_factor(self.m)
+        if self.boundary not in BOUNDARIES:
+            raise ValueError(
+                f"boundary must be one of {', '.join(BOUNDARIES)} (or None: periodic for "
+                f"synthetic surfaces, mirror for files), got {self.boundary!r}"
+            )
         if self.H_source is not None and not isinstance(self.H_source, str):
             raise ValueError(f"H_source must be a text or None, got {self.H_source!r}")
         if not (self.grid is None and self.from_files):
             if isinstance(self.grid, bool) or not isinstance(self.grid, int) or self.grid < 8:
                 raise ValueError(f"grid must be an integer >= 8, got {self.grid!r}")
-            check_memory(self.grid, self.periodic)
+            check_memory(self.grid, self.boundary)
         if self.measured_n is not None and isinstance(self.measured_n, int):
             check_memory(self.measured_n, True, "measured_n")
         if self.H < 1e6:
@@ -430,12 +474,21 @@ def load_scene(path, **overrides):
         raise ValueError(f"{path}: not a valid TOML scene file ({exc})") from None
     data = data.get("scene", data)
     data.pop("samples", None)  # several samples: read by pipeline.samples.read_samples_table
-    known = {f.name for f in dataclasses.fields(Scene)}
+    known = {f.name for f in dataclasses.fields(Scene)} | {"periodic"}  # the older switch
     unknown = set(data) - known
     if unknown:
         raise ValueError(f"{path}: unknown scene keys {sorted(unknown)}; known: {sorted(known)}")
     for key in ("workpiece", "tool"):  # relative paths are relative to the scene file
         if data.get(key) and not Path(data[key]).is_absolute():
             data[key] = str(path.parent / data[key])
-    data.update({k: v for k, v in overrides.items() if v is not None})
+    if "periodic" in data and "boundary" in data:
+        raise ValueError(
+            f"{path}: give boundary or periodic (its older spelling: true is boundary = "
+            "'periodic', false boundary = 'isolated'), not both"
+        )
+    over = {k: v for k, v in overrides.items() if v is not None}
+    if "boundary" in over or "periodic" in over:  # an option overrides the file's either key
+        data.pop("periodic", None)
+        data.pop("boundary", None)
+    data.update(over)
     return Scene(**data)

@@ -87,7 +87,8 @@ ELEMENT_PER_PIXEL = (0.5, 64.0)
 #: solver grid of synthetic scenes
 SYNTHETIC_GRID = 128
 #: largest grid the default for measured files picks (the time budget: about 1 min per
-#: calibration on one core, non-periodic, see docs/measured_surfaces.md)
+#: calibration on one core with the isolated boundary it was set for; the mirror boundary
+#: costs 1.5-3.9x less, see docs/measured_surfaces.md)
 MAX_DEFAULT_GRID = 256
 #: memory limit of one normal solve (bytes), as :func:`halfspace_calib.contact.normal.solve_normal`
 MAX_MEMORY = 8 * 2**30
@@ -200,13 +201,18 @@ class SceneSurfaces:
         }
 
 
-def check_memory(grid, periodic, name="grid"):
-    """``ValueError`` naming ``name`` if a ``grid x grid`` normal solve needs over :data:`MAX_MEMORY`."""
-    need = estimate_memory((grid, grid), periodic)
+def check_memory(grid, boundary, name="grid"):
+    """``ValueError`` naming ``name`` if a ``grid x grid`` normal solve needs over :data:`MAX_MEMORY`.
+
+    ``boundary``: the solve's boundary (or ``True`` / ``False`` for periodic / isolated), as
+    :func:`~halfspace_calib.contact.normal.estimate_memory` takes it.
+    """
+    need = estimate_memory((grid, grid), boundary)
     if need > MAX_MEMORY:
+        what = boundary if isinstance(boundary, str) else ("periodic" if boundary else "isolated")
         raise ValueError(
             f"{name}={grid} needs about {need / 2**30:.1f} GiB per normal solve "
-            f"(periodic={periodic}), more than the {MAX_MEMORY / 2**30:.0f} GiB limit; "
+            f"(boundary {what}), more than the {MAX_MEMORY / 2**30:.0f} GiB limit; "
             "use a smaller grid"
         )
 
@@ -424,7 +430,7 @@ def load_scene_surfaces(scene, *, grid=None, check_sampling=True):
     read = {r: _filtered(scene, r, lam) for r in roles}
     if n is None:
         n = _default_grid(side, pitches, inclined, lam)
-    check_memory(n, scene.periodic)
+    check_memory(n, scene.boundary)
     element = side / n
     notes = ()
     if check_sampling:  # not for the resolution check's half grid
@@ -508,7 +514,7 @@ def _synthetic_one(scene, role, n, size, measured_n=None):
 
 def _synthetic(scene, n, inclined):
     """Both surfaces synthetic (Table 1); the measured grid of the inclined effect if asked."""
-    check_memory(n, scene.periodic)
+    check_memory(n, scene.boundary)
     wp = _synthetic_one(scene, "workpiece", n, _surf.PAPER_SIZE, scene.measured_n)
     tl = _synthetic_one(scene, "tool", n, _surf.PAPER_SIZE, scene.measured_n)
     mw = mt = None

@@ -321,7 +321,7 @@ def run_sweeps(scene, *, progress=True, surfaces=None):
     t0 = time.perf_counter()
     workers = scene.workers
     if workers is None and scene.scheduler is None:
-        pad = 1 if solver.periodic else 2  # non-periodic: zero-padded (DC-FFT) transforms
+        pad = 2 if solver.boundary == "isolated" else 1  # isolated: zero-padded (DC-FFT) FFTs
         workers = default_workers(wp.heights.shape[0] * wp.heights.shape[1] * pad * pad)
     results = run_jobs(
         _level_job,

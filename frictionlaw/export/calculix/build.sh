@@ -6,9 +6,12 @@
 #
 # Defaults (paths relative to this script's folder):
 #   --jobs     the number of CPUs (nproc)
-#   --work     ccx-build          (the source, the objects, the patched library; kept and reused)
+#   --work     $SBMF_CCX_WORK if set, else ${XDG_CACHE_HOME:-~/.cache}/sbmf-friction/ccx-2.20
+#              (the source, the objects, the patched library: outside the export folder, kept
+#              and shared by every export; rebuilt when the patch differs)
 #   --routine  sbmf_fric.f        (the routine written by frictionlaw-export calculix)
-#   --out      ccx                (the binary)
+#   --out      ccx                (the binary; frictionlaw-export --force replaces it with the
+#              rest of the export)
 #   --lib-only build the patched library (and the unpatched reference binary) and stop
 # Needs: a deb-src entry for Debian's sources, dpkg-dev (apt-get source), gfortran, gcc, make,
 # patch, and the build dependencies libspooles-dev, libarpack2-dev, liblapack-dev
@@ -19,7 +22,7 @@ set -euo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 jobs="$(nproc 2>/dev/null || echo 1)"
-work="$here/ccx-build"
+work="${SBMF_CCX_WORK:-${XDG_CACHE_HOME:-${HOME:-/tmp}/.cache}/sbmf-friction/ccx-2.20}"
 routine="$here/sbmf_fric.f"
 out="$here/ccx"
 lib_only=0
@@ -34,7 +37,7 @@ while [ $# -gt 0 ]; do
         --routine) [ $# -ge 2 ] || die "--routine needs a value" 2; routine="$2"; shift 2 ;;
         --out) [ $# -ge 2 ] || die "--out needs a value" 2; out="$2"; shift 2 ;;
         --lib-only) lib_only=1; shift ;;
-        -h|--help) sed -n '2,17p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+        -h|--help) sed -n '2,20p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
         *) die "unknown option $1 (see --help)" 2 ;;
     esac
 done
@@ -68,10 +71,15 @@ cflags="-Wall -O2 -I/usr/include/spooles -DARCH=\"Linux\" -DSPOOLES -DARPACK -DM
 fflags="-O2 -fallow-argument-mismatch"
 libs="-lspooles -lpthread -larpack -llapack -lblas -lm -lc -fopenmp"
 patch_sum="$(sha256sum "$patchfile" | cut -c1-64)"
-mkdir -p "$work"
+mkdir -p "$work" || die "cannot create the build folder $work (--work)" 2
 work="$(cd "$work" && pwd)"
 src="$work/calculix-ccx-$version/ccx_$version/src"
 stamp="$work/patched.sha256"
+# one build at a time in a shared build folder (flock, where util-linux has it)
+if command -v flock >/dev/null 2>&1; then
+    exec 9>"$work/.lock"
+    flock 9
+fi
 
 if [ ! -f "$stamp" ] || [ "$(cat "$stamp")" != "$patch_sum" ] || [ ! -f "$src/ccx_$version.a" ]; then
     # the source: Debian's calculix-ccx 2.20 (Debian's own patches applied by apt-get source)
@@ -112,10 +120,11 @@ if [ "$lib_only" -eq 1 ]; then
 fi
 
 # the routine, compiled with Abaqus' ABA_PARAM.INC convention (implicit double precision)
-obj="$work/user_fric.o"
-gfortran -O2 -I"$work" -c "$routine" -o "$obj" || die "compiling $routine failed"
+obj="$work/user_fric.$$.o"
+gfortran -O2 -I"$work" -c "$routine" -o "$obj" || { rm -f "$obj"; die "compiling $routine failed"; }
 tmp="$out.tmp.$$"
 gfortran -O2 -o "$tmp" "$src/ccx_$version.o" "$obj" "$src/ccx_$version.a" $libs ||
-    { rm -f "$tmp"; die "linking ccx failed"; }
+    { rm -f "$tmp" "$obj"; die "linking ccx failed"; }
+rm -f "$obj"
 mv -f "$tmp" "$out"
 echo "$(cd "$(dirname "$out")" && pwd)/$(basename "$out")"
