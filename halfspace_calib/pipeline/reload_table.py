@@ -4,8 +4,13 @@ The form (:mod:`frictionlaw.reload_form`): below ``p_hist``,
 ``alpha2 = alpha1(p_hist) g(x2h (p / p_hist) ** s2; n2)`` with
 ``x2h = p_hist C2 / (H alpha1(p_hist))``, ``C2`` and ``n2`` interpolated between the calibrated
 levels. Each level's reload curve fixes its own ``(C2, n2)``; ``s2`` is shared by all levels
-and is the one-dimensional minimiser (bounded Brent) of the summed squared residuals, each
-level refitted at every trial ``s2`` from the best point of a grid. With ``C1, n1``
+and is the one-dimensional minimiser (bounded Brent) of the summed squared residuals in sample
+plus those of each interior level predicted by the interpolant from the other levels (a
+cross-validated choice), each level refitted at every trial ``s2`` from the best point of a
+grid. The cross-validation matters where the curves saturate early: there ``s2`` and the
+levels' ``C2`` trade off with little change in sample, and only the prediction between levels
+tells the right exponent (nearly conforming metropro-1 at 48^2 with three levels: held out
+0.089 with the in-sample choice ``s2 = 0.48``, 0.013 with the cross-validated 1.12). With ``C1, n1``
 fixed from Eq. 24, as the runtime evaluates them: every residual is computed by
 :mod:`frictionlaw`'s own kernel, so the fitted numbers mean what the runtime computes.
 
@@ -25,19 +30,33 @@ from scipy.optimize import least_squares, minimize_scalar
 from frictionlaw import FrictionParams, alpha_first
 from frictionlaw._codes import CODE_SBMF_RELOAD, FORM_TABULATED
 from frictionlaw.law import evaluate, sbmf_coeffs
+from frictionlaw.params import C_RANGE, N_RANGE
 from frictionlaw.reload_form import ReloadTable
 
 from ..common.blas import serial_blas
 from ..common.checks import positive
-from .fit import C_BOUNDS, N_BOUNDS, ReloadCurve, _bounds, _curve
+from .fit import ReloadCurve, _bounds, _curve
 
-__all__ = ["S2_BOUNDS", "ReloadTableFit", "fit_reload_table", "table_alpha"]
+__all__ = [
+    "S2_BOUNDS",
+    "TABLE_C_BOUNDS",
+    "TABLE_N_BOUNDS",
+    "ReloadTableFit",
+    "fit_reload_table",
+    "table_alpha",
+]
 
 #: bounds of the shared exponent s2 of p / p_hist (2/3 is Hertz's exponent of a sphere's
 #: contact area, which the measured calibrations come close to)
-S2_BOUNDS = (0.25, 1.5)
+S2_BOUNDS = (0.25, 2.0)
+#: bounds of each level's C2 and n2: wider than the paper's fit (C_BOUNDS, N_BOUNDS), because a
+#: level near H that saturates early needs a large C2 with a round corner (measured on the default
+#: scene at 32^2: C2 -> 655 with n2 on 0.2 at 760 MPa; held out 0.064, 0.041 within these)
+TABLE_C_BOUNDS = (1e-3, 1e5)
+TABLE_N_BOUNDS = (0.1, 50.0)
 
 _N_GRID = (0.3, 0.6, 1.0, 2.0, 4.0, 8.0)
+_EXACT = 1e-8  # a level whose residuals are all below this (in alpha) is fitted
 _K_GRID = (0.5, 1.0, 2.0, 5.0, 10.0, 30.0, 100.0)
 
 
@@ -222,11 +241,14 @@ class _Level:
             ftol=1e-12,
             xtol=1e-12,
             gtol=1e-12,
-            max_nfev=500,
+            max_nfev=2000,
         )
         self.nfev += int(sol.nfev)
         self.x = sol.x
-        return float(sol.fun @ sol.fun), bool(sol.success)
+        # a curve fitted to rounding (a level in full contact: alpha = 1 at every point) can use
+        # up the evaluations without meeting the relative tolerances: that is no failure
+        exact = float(np.max(np.abs(sol.fun))) <= _EXACT
+        return float(sol.fun @ sol.fun), bool(sol.success or exact)
 
 
 @serial_blas
@@ -239,8 +261,8 @@ def fit_reload_table(
     continuous=False,
     s2=None,
     s2_bounds=S2_BOUNDS,
-    C_bounds=C_BOUNDS,
-    n_bounds=N_BOUNDS,
+    C_bounds=TABLE_C_BOUNDS,
+    n_bounds=TABLE_N_BOUNDS,
 ):
     """Fit the tabulated reload form: ``C2, n2`` per level, one ``s2`` for all.
 
@@ -282,7 +304,7 @@ def fit_reload_table(
             )
     H = positive("H", H)
     C1, n1 = positive("C1", C1), positive("n1", n1)
-    cb, nb = _bounds("C_bounds", C_bounds, C_BOUNDS), _bounds("n_bounds", n_bounds, N_BOUNDS)
+    cb, nb = _bounds("C_bounds", C_bounds, C_RANGE), _bounds("n_bounds", n_bounds, N_RANGE)
     sb = _bounds("s2_bounds", s2_bounds, (1e-2, 1e2))
     if s2 is not None:
         s2 = float(s2)
@@ -298,7 +320,7 @@ def fit_reload_table(
             sse, good = lv.fit(s)
             tot += sse
             ok[0] = ok[0] and good
-        return tot
+        return tot + _cross_validation(levels, s, H, C1, n1, cont)
 
     message = "converged"
     if s2 is None:
@@ -337,6 +359,23 @@ def fit_reload_table(
         nfev=sum(lv.nfev for lv in levels),
         seconds=time.perf_counter() - t0,
     )
+
+
+def _cross_validation(levels, s2, H, C1, n1, continuous):
+    """Squared residuals of each interior level predicted by the table of the other levels."""
+    out = 0.0
+    for j in range(1, len(levels) - 1):
+        rest = [lv for i, lv in enumerate(levels) if i != j]
+        table = ReloadTable(
+            p_hist=tuple(lv.c.p_hist for lv in rest),
+            C2=tuple(float(np.exp(lv.x[0])) for lv in rest),
+            n2=tuple(float(np.exp(lv.x[1])) for lv in rest),
+            s2=s2,
+        )
+        c = levels[j].c
+        e = table_alpha(c.p, c.p_hist, table, H, C1, n1, continuous) - c.alpha
+        out += float(e @ e)
+    return out
 
 
 def _at_bound(levels, phs, s2, sb, cb, nb):
