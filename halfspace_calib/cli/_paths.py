@@ -21,6 +21,7 @@ from ..pipeline.hardness import (
     read_after_contact,
     roughness_of_scans,
 )
+from ..pipeline.heldout import GROSS_MISS
 
 #: files that mark a folder as a calibration output (a rerun may replace it)
 
@@ -198,10 +199,6 @@ def mark_failed(folder, problems):
     }
     (Path(folder) / FAILED_PARAMS).write_text(json.dumps(doc, indent=2) + "\n", encoding="utf-8")
     src.unlink()
-
-
-#: a branch that misses the model by this much in alpha has collapsed rather than fitted poorly
-GROSS_MISS = 0.15
 
 
 def failure_hint(problems):

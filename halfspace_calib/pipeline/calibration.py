@@ -155,7 +155,7 @@ class Calibration:
         tol = self.scene.heldout_tol
         for key, name, fit in self._branches():
             err = self.errors.get(key)
-            warn = "" if err is None else err.heldout_warning(tol, name)
+            warn = "" if err is None else err.warning(tol, name)
             if warn:
                 out.append(warn)
             if fit.at_bound and not (err is not None and err.exceeds(tol)):

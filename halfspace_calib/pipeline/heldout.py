@@ -9,14 +9,22 @@ For each branch of the law the calibration reports the largest and the root-mean
 * **extrapolation**: the same for the top level, reported apart (the law beyond its data).
 
 The reload branch's held-out maximum decides (:data:`HELDOUT_TOL`, ``Scene.heldout_tol``, the
-CLI's ``--heldout-tol``). For the first loading (Eq. 24, two parameters on the sweep's
-pressures) the in-sample maximum decides and the held-out one is reported, with a note when it
-exceeds the tolerance: where the curve rises steeply and saturates early (nearly conforming
+CLI's ``--heldout-tol``): the branch's form is this project's choice, and what it must do is
+predict the model between the calibrated levels.
+
+The first loading is the paper's Eq. 24, two parameters whose form no calibration can change: its
+errors are reported, with a note above the tolerance, and fail the run only at a gross miss
+(:data:`GROSS_MISS` in sample, where a wrong input is likelier than a poor law). Measured on the
+default calibrations of real pairs, Eq. 24 misses the model by up to 0.07 in sample (sur-3 and
+mnt-1 against the synthetic tool; the bound ``alpha1 >= p / H`` costs part of it) while the
+reload branch predicts unseen levels within 0.045 (``benchmarks/reload_law.py``). Its held-out
+error is reported too, but where a curve rises steeply and saturates early (nearly conforming
 scans: ``alpha`` from 0.6 to 0.95 between 10 and 50 MPa), the one pressure left out is most of
-what fixes it, so its held-out error measures the sampling of the sweep rather than the law
-(measured: 0.084 held out against 0.003 in sample). R^2 is not a judge, because a curve that
-saturates early (full contact from low pressure, a valid physical result) has almost no
-variance for it to divide by.
+what fixes it, so it measures the sampling of the sweep rather than the law (0.084 held out
+against 0.003 in sample).
+
+R^2 is not a judge: a curve that saturates early (full contact from low pressure, a valid
+physical result) has almost no variance for it to divide by.
 """
 
 import math
@@ -31,6 +39,7 @@ from .reload_table import S2_BOUNDS, fit_reload_table, table_alpha
 
 __all__ = [
     "HELDOUT_TOL",
+    "GROSS_MISS",
     "FULL_CONTACT_ALPHA",
     "FULL_CONTACT_P",
     "BranchErrors",
@@ -40,8 +49,11 @@ __all__ = [
     "full_contact_pressure",
 ]
 
-#: default tolerance on the held-out max |d alpha| of each branch (an option)
+#: default tolerance on the reload branch's held-out max |d alpha| (an option)
 HELDOUT_TOL = 0.05
+#: a branch that misses the model by this much in alpha has collapsed (most likely a wrong input:
+#: a size or unit typed wrong), rather than fitted poorly: Eq. 24 fails the run only there
+GROSS_MISS = 0.15
 #: a pair is "in full contact from low pressure" when alpha >= FULL_CONTACT_ALPHA at a first-loading
 #: pressure p <= FULL_CONTACT_P H: reported, not failed (the law is then Tresca from low pressure)
 FULL_CONTACT_ALPHA = 0.95
@@ -88,22 +100,34 @@ class BranchErrors:
         """The held-out error decides (reload); for Eq. 24 the in-sample one (see the module)."""
         return self.branch != "first_loading" and math.isfinite(self.heldout_max)
 
-    def exceeds(self, tol):
-        """The deciding error (:attr:`decides_heldout`) exceeds ``tol``."""
-        worst = self.heldout_max if self.decides_heldout else self.in_sample_max
-        return worst > tol
+    def limit(self, tol):
+        """The error beyond which the branch fails the run: ``tol``, for Eq. 24 a gross miss."""
+        return tol if self.branch != "first_loading" else max(tol, GROSS_MISS)
 
-    def heldout_warning(self, tol, name):
-        """A note when a held-out error that does not decide exceeds ``tol``, else ``""``."""
-        if self.decides_heldout or not (math.isfinite(self.heldout_max) and self.heldout_max > tol):
+    def exceeds(self, tol):
+        """The deciding error (:attr:`decides_heldout`) exceeds :meth:`limit`."""
+        worst = self.heldout_max if self.decides_heldout else self.in_sample_max
+        return worst > self.limit(tol)
+
+    def warning(self, tol, name):
+        """A note when an error that does not fail the run exceeds ``tol``, else ``""``."""
+        if self.branch != "first_loading" or self.exceeds(tol):
             return ""
-        lv = max(self.heldout, key=lambda t: t[1])[0]
-        return (
-            f"{name}: held-out max |d alpha| = {self.heldout_max:.3g} (level {lv / 1e6:g} MPa left "
-            f"out) exceeds {tol:g}; in sample {self.in_sample_max:.3g}. One point of the first "
-            "loading is most of what fixes the curve where it rises steeply, so the law there "
-            "rests on few pressures: add pressures (--pressures) to fix it"
+        held = self.heldout_max if math.isfinite(self.heldout_max) else 0.0
+        if max(self.in_sample_max, held) <= tol:
+            return ""
+        text = (
+            f"{name}: max |d alpha| = {self.in_sample_max:.3g} on the computed points, "
+            f"{held:.3g} held out, beyond {tol:g}: the paper's Eq. 24 (two parameters) does not "
+            "follow this first loading closer; the run fails only at a miss of "
+            f"{GROSS_MISS:g} (a wrong input)"
         )
+        if held > 2.0 * max(self.in_sample_max, 1e-12):
+            text += (
+                "; where the curve rises steeply few pressures fix it, so the held-out error "
+                "there measures the sweep (add pressures, --pressures)"
+            )
+        return text
 
     def problem(self, tol, name):
         """The failure sentence if :meth:`exceeds`, else ``""``."""
@@ -116,8 +140,8 @@ class BranchErrors:
                 f"left out and predicted) exceeds the tolerance {tol:g}"
             )
         return (
-            f"{name}: max |d alpha| = {self.in_sample_max:.3g} on the computed points exceeds the "
-            f"tolerance {tol:g}"
+            f"{name}: max |d alpha| = {self.in_sample_max:.3g} on the computed points exceeds "
+            f"{self.limit(tol):g}: the fit has collapsed"
         )
 
     def summary(self):
