@@ -240,27 +240,18 @@ def _read_cached(path, stamp, role, unit, size, max_undefined):
     unit_opt = f"{{{role}_unit}} or {{unit}}"
     unit_names = (f"{role}_unit", "unit")
     try:
-        try:  # size applies to the files that do not carry their own
-            h, dx, dy, prov = _surf.read_raw(path, unit=unit)
-        except ValueError as exc:
-            if size is None or "no lateral calibration" not in str(exc):
-                raise
-            h, dx, dy, prov = _surf.read_raw(path, unit=unit, size=size)
-    except ValueError as exc:
-        text = str(exc)
-        if "unit is required" in text:
-            raise ParameterError(
-                f"{path}: a plain file does not say its height unit: give {unit_opt} "
-                f"(m, mm, um, nm)",
-                *unit_names,
-            ) from None
-        if "contradicts" in text:
-            raise ParameterError(f"{text} (the option is {unit_opt})", *unit_names) from None
-        if "no lateral calibration" in text:
-            raise ParameterError(
-                f"{path}: a plain file does not say its size: give {{size}} (LX [LY] in m)", "size"
-            ) from None
-        raise
+        h, dx, dy, prov = _read_sized(path, unit, size)
+    except _surf.UnitRequired:
+        raise ParameterError(
+            f"{path}: a plain file does not say its height unit: give {unit_opt} (m, mm, um, nm)",
+            *unit_names,
+        ) from None
+    except _surf.UnitContradiction as exc:
+        raise ParameterError(f"{exc} (the option is {unit_opt})", *unit_names) from None
+    except _surf.SizeRequired:
+        raise ParameterError(
+            f"{path}: a plain file does not say its size: give {{size}} (LX [LY] in m)", "size"
+        ) from None
     except OSError as exc:
         raise ValueError(f"{path}: cannot read the file ({exc.strerror or exc})") from None
     h, steps, bad = chain.fill_holes(h, max_undefined, path)
@@ -269,6 +260,16 @@ def _read_cached(path, stamp, role, unit, size, max_undefined):
     prov["rq_scan"] = _surf.rq(_surf.level(s))
     s = _surf.Surface(h, dx, dy, provenance=prov, periodic=False)
     return s, steps
+
+
+def _read_sized(path, unit, size):
+    """:func:`~halfspace_calib.topography.read_raw`; ``size`` only for a file without its own."""
+    try:
+        return _surf.read_raw(path, unit=unit)
+    except _surf.SizeRequired:
+        if size is None:
+            raise
+        return _surf.read_raw(path, unit=unit, size=size)
 
 
 @functools.lru_cache(maxsize=4)
