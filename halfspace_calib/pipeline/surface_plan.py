@@ -169,13 +169,6 @@ class SurfacePlan:
     side : float
         Edge of the square patch (m): the files' largest common square or ``crop_size``
         (synthetic: the paper's 2.11 mm).
-    pitch : float or None
-        The scans' coarser pixel pitch (m); ``None`` without files.
-    lambda_s, lambda_c : float or None
-        The S- and L-filters' nesting indices (m; ``0.0`` / ``None``: none; ``None`` without
-        files).
-    lambda_s_source : str
-        Where ``lambda_s`` came from (the option, or the default rule in words).
     grid : int
         Solver elements a side.
     block : int
@@ -186,6 +179,13 @@ class SurfacePlan:
         The solve's boundary (for the memory of one solve).
     synthetic : SyntheticSource
         The generator of the synthetic surfaces.
+    pitch : float or None
+        The scans' coarser pixel pitch (m); ``None`` without files.
+    lambda_s, lambda_c : float or None
+        The S- and L-filters' nesting indices (m; ``0.0`` / ``None``: none; ``None`` without
+        files).
+    lambda_s_source : str
+        Where ``lambda_s`` came from (the option, or the default rule in words).
     check_sampling : bool
         The element edge was checked against the scans' pixel (off for the resolution
         check's half grid, which coarsens on purpose).
@@ -195,15 +195,15 @@ class SurfacePlan:
 
     scans: tuple
     side: float
-    pitch: float | None
-    lambda_s: float | None
-    lambda_s_source: str
-    lambda_c: float | None
     grid: int
     block: int
     measured: bool
     boundary: str | bool
     synthetic: SyntheticSource
+    pitch: float | None = None
+    lambda_s: float | None = None
+    lambda_s_source: str = ""
+    lambda_c: float | None = None
     check_sampling: bool = True
     notes: tuple = ()
 
@@ -268,20 +268,18 @@ def plan_surfaces(scene, *, grid=None, check_sampling=True):
         size, too much memory.
     """
     n = scene.grid if grid is None else grid
-    measured = "inclined" in scene.effects
-    scans = tuple(Scan.read(scene, r) for r in ROLES if getattr(scene, r) is not None)
-    common = dict(
-        grid=n,
-        block=1,
-        measured=measured,
-        boundary=scene.boundary,
-        synthetic=SyntheticSource.of(scene),
-        check_sampling=check_sampling,
-    )
-    if not scans:
-        none = dict(pitch=None, lambda_s=None, lambda_s_source="", lambda_c=None)
-        return _on_grid(SurfacePlan(scans=(), side=_surf.PAPER_SIZE, **none, **common))
-    _check_pair(scans, measured)
+    roles = [r for r in ROLES if getattr(scene, r) is not None]
+    if roles:
+        plan = _files_plan(scene, roles, n, check_sampling)
+    else:
+        plan = _plan(scene, check_sampling, scans=(), side=_surf.PAPER_SIZE, grid=n)
+    return _on_grid(plan)
+
+
+def _files_plan(scene, roles, n, check_sampling):
+    """The choices made from the files of ``roles``, before the grid's (``n``: given or ``None``)."""
+    _check_pair(roles, "inclined" in scene.effects)
+    scans = tuple(Scan.read(scene, r) for r in roles)
     raw = [scan.surface for scan in scans]
     _check_size_option(scene.size, scans, raw)
     side = _side(scene.crop_size, raw)
@@ -289,17 +287,30 @@ def plan_surfaces(scene, *, grid=None, check_sampling=True):
     lam, lam_source = _lambda_s(scene.lambda_s, raw, side, pitch)
     _check_filters(scans, raw, lam, scene.lambda_c)
     if n is None:
-        common["grid"] = _default_grid(side, pitch, measured, lam)
-    plan = SurfacePlan(
+        n = _default_grid(side, pitch, "inclined" in scene.effects, lam)
+    return _plan(
+        scene,
+        check_sampling,
         scans=scans,
         side=side,
         pitch=pitch,
         lambda_s=lam,
         lambda_s_source=lam_source,
         lambda_c=scene.lambda_c,
-        **common,
+        grid=n,
     )
-    return _on_grid(plan)
+
+
+def _plan(scene, check_sampling, **decided):
+    """A :class:`SurfacePlan` of ``scene`` with the choices ``decided``, before its grid's."""
+    return SurfacePlan(
+        check_sampling=check_sampling,
+        block=1,
+        measured="inclined" in scene.effects,
+        boundary=scene.boundary,
+        synthetic=SyntheticSource.of(scene),
+        **decided,
+    )
 
 
 # ----------------------------------------------------------------------------- reading
@@ -343,10 +354,10 @@ def _read_sized(path, unit, size):
 
 
 # ----------------------------------------------------------------------------- decisions
-def _check_pair(scans, measured):
-    """The inclined effect needs both surfaces measured."""
-    if measured and len(scans) == 1:
-        missing = "tool" if scans[0].role == "workpiece" else "workpiece"
+def _check_pair(roles, inclined):
+    """The inclined effect needs both surfaces measured (``roles``: those with a file)."""
+    if inclined and len(roles) == 1:
+        missing = "tool" if roles == ["workpiece"] else "workpiece"
         raise ValueError(
             f"the inclined effect needs both surfaces measured: give the {missing} as a file "
             "too (a synthetic map has no measured points of its own)"
