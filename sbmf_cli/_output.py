@@ -334,9 +334,7 @@ class OutputFolder:
                 f"{self.command}; {self.command} will not replace it: {hint}"
             )
         self._check_subcommand(marker, force, hint)
-        foreign = sorted(
-            set(_listing(self.out)) - set(marker["files"]) - {MARKER} - self.products
-        )
+        foreign = sorted(set(_listing(self.out)) - set(marker["files"]) - {MARKER} - self.products)
         if foreign:
             raise _refuse(
                 f"{{out}} {self.out} is an earlier {what} but also holds files {self.command} did "
