@@ -88,6 +88,29 @@ def test_content_routing_and_text_headers(tmp_path):
         S.read_surface(_shared("matrix-3.txt"), size=1e-6)
 
 
+def test_read_raw_says_by_type_which_scale_is_missing_or_contradicted(tmp_path):
+    plain = tmp_path / "h.npy"
+    np.save(plain, np.ones((8, 8)))
+    header = _shared("matrix-3.txt")
+    x3p = _shared("x3p-2.x3p")
+    cases = [
+        (S.UnitRequired, plain, {}),
+        (S.SizeRequired, plain, {"unit": "um"}),
+        (S.UnitContradiction, header, {"unit": "um"}),
+        (S.UnitContradiction, x3p, {"unit": "nm"}),
+        (S.SizeContradiction, header, {"size": 1e-6}),
+        (S.SizeContradiction, x3p, {"dx": 1e-6}),
+    ]
+    for kind, path, kw in cases:
+        with pytest.raises(kind) as info:
+            S.read_raw(path, **kw)
+        assert isinstance(info.value, S.FileScaleError) and isinstance(info.value, ValueError)
+        others = {S.UnitRequired, S.SizeRequired, S.UnitContradiction, S.SizeContradiction}
+        assert not any(isinstance(info.value, k) for k in others - {kind}), (kind, info.value)
+    h, dx, dy, prov = S.read_raw(plain, unit="um", size=8e-6)  # both given: read
+    assert dx == dy == pytest.approx(1e-6) and prov["size_source"] == "option"
+
+
 # ----------------------------------------------------------------------------- scene loader
 @pytest.mark.parametrize("name", sorted(FILES))
 def test_scene_loader_reads_each_shared_file(name):

@@ -25,7 +25,7 @@ come from
   (``k x 2.11`` mm, the same Table 1 roughness): the population of the tests.
 
 The solver grid of a patch is ``--grid`` (default: the scan's sampling on the patch, at most
-:data:`~.scene_surfaces.MAX_DEFAULT_GRID`); a patch below :data:`PATCH_MIN_GRID` elements a
+:data:`~.surface_plan.MAX_DEFAULT_GRID`); a patch below :data:`PATCH_MIN_GRID` elements a
 side is refused. A patch is not one period of anything: patches are solved as one quarter of
 the period of their mirror-symmetric extension (``boundary="mirror"``, no seam and no patch
 edge), or isolated if the scene asks for ``boundary="isolated"``.
@@ -54,7 +54,8 @@ from .. import topography as _surf
 from ..common.jobs import run_jobs
 from ..topography import chain
 from .calibration import Calibration, calibrate
-from .scene_surfaces import MAX_DEFAULT_GRID, SceneSurfaces, _synthetic_one, load_scene_surfaces
+from .scene_surfaces import SceneSurfaces, load_scene_surfaces, run_plan
+from .surface_plan import MAX_DEFAULT_GRID, SyntheticSource, plan_surfaces
 from .sweeps import FailedLevel, SweepResult
 from .uncertainty import (
     BAND_LEVEL,
@@ -226,8 +227,9 @@ def synthetic_population(scene, k, grid):
     reference calibration.
     """
     size = k * _surf.PAPER_SIZE
-    wp = _synthetic_one(scene, "workpiece", k * grid, size)
-    tl = _synthetic_one(scene, "tool", k * grid, size)
+    gen = SyntheticSource.of(scene)
+    wp = gen.surface("workpiece", k * grid, size)
+    tl = gen.surface("tool", k * grid, size)
     return SceneSurfaces(wp, tl, None, None, 1, k * grid, ())
 
 
@@ -278,15 +280,12 @@ def _load_pair(one, spec):
     if not one.from_files:
         _patch_guard(one.grid, f"{{grid}} {one.grid}")
         return synthetic_population(one, k, one.grid), k, one.grid
-    if one.grid is None:  # the scans' sampling on one patch, at most MAX_DEFAULT_GRID
-        first = load_scene_surfaces(one, check_sampling=False)
-        side = min(r.crop_size for r in first.files)
-        pitch = max(max(r.pitch) for r in first.files)
-        grid = min(int(side / k / pitch + 1e-9), MAX_DEFAULT_GRID)
-    else:
-        grid = one.grid
+    plan = plan_surfaces(one, check_sampling=False)  # the square and lambda_s of every patch
+    grid = one.grid
+    if grid is None:  # the scans' sampling on one patch, at most MAX_DEFAULT_GRID
+        grid = min(int(plan.side / k / plan.pitch + 1e-9), MAX_DEFAULT_GRID)
     _patch_guard(grid, f"{{patches}} {spec.patches}")
-    return load_scene_surfaces(one, grid=k * grid), k, grid
+    return run_plan(plan.with_grid(k * grid)), k, grid
 
 
 def _patch_guard(grid, what):

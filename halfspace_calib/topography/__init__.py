@@ -4,7 +4,8 @@
   block averaging
 - :mod:`.synthesis`: the self-affine generator, the paper's presets (Table 1) and the measured
   maps of the geometric study
-- :mod:`.files`: reading plain and instrument files, filling undefined points, writing
+- :mod:`.files`: reading plain and instrument files, filling undefined points, writing; a file
+  whose unit or size is missing or contradicted raises one of :class:`FileScaleError`'s kinds
 - :mod:`.filters`: the ISO 16610-61 Gaussian S- and L-filters
 - :mod:`.resample`: area averaging and band-limited interpolation onto square elements
 - :mod:`.chain`: the preparation of a measured surface as a chain of stages (fill holes, level,
@@ -12,7 +13,17 @@
 """
 
 from . import chain
-from .files import fill_harmonic, read_raw, read_surface, write_surface
+from .files import (
+    FileScaleError,
+    SizeContradiction,
+    SizeRequired,
+    UnitContradiction,
+    UnitRequired,
+    fill_harmonic,
+    read_raw,
+    read_surface,
+    write_surface,
+)
 from .surface import (
     Roughness,
     Surface,
@@ -42,6 +53,11 @@ __all__ = [
     "PAPER_SIZE",
     "RA_RQ_RANGE",
     "TABLE1",
+    "FileScaleError",
+    "SizeContradiction",
+    "SizeRequired",
+    "UnitContradiction",
+    "UnitRequired",
     "Roughness",
     "Surface",
     "block_average",

@@ -20,6 +20,11 @@ import numpy as np
 __all__ = [
     "UNITS",
     "PLAIN_LAYOUTS",
+    "FileScaleError",
+    "UnitRequired",
+    "UnitContradiction",
+    "SizeRequired",
+    "SizeContradiction",
     "TOPOGRAPHY_EXTRA_HINT",
     "unit_factor",
     "file_sha256",
@@ -53,10 +58,38 @@ TOPOGRAPHY_EXTRA_HINT = (
 )
 
 
+class FileScaleError(ValueError):
+    """A file's scale (its height unit, its lateral size) is missing, or the options contradict it.
+
+    The family of errors a caller can tell apart by type: a plain file needs the options the
+    instrument files carry themselves. Each is a ``ValueError``; the message names the file
+    where it is known.
+    """
+
+
+class UnitRequired(FileScaleError):
+    """The file does not say its height unit and no ``unit`` was given."""
+
+
+class UnitContradiction(FileScaleError):
+    """The ``unit`` given is not the unit the file (or its header) states."""
+
+
+class SizeRequired(FileScaleError):
+    """The file has no lateral calibration and neither ``dx`` nor ``size`` was given."""
+
+
+class SizeContradiction(FileScaleError):
+    """``dx``, ``dy`` or ``size`` given for a file that carries its own lateral calibration."""
+
+
 def unit_factor(unit, name="unit"):
-    """Factor from ``unit`` to metres; ``ValueError`` naming ``name`` for an unknown unit."""
+    """Factor from ``unit`` to metres.
+
+    :class:`UnitRequired` naming ``name`` for ``None``, ``ValueError`` for an unknown unit.
+    """
     if unit is None:
-        raise ValueError(f"{name} is required for this file: one of {sorted(set(UNITS))}")
+        raise UnitRequired(f"{name} is required for this file: one of {sorted(set(UNITS))}")
     try:
         return UNITS[str(unit).strip()]
     except KeyError:
@@ -324,7 +357,7 @@ def load_instrument(path, unit=None, fill_undefined=False, keep_undefined=False)
     else:
         f = unit_factor(file_unit, "the file's unit")
         if unit is not None and unit_factor(unit) != f:
-            raise ValueError(
+            raise UnitContradiction(
                 f"{path}: unit={unit!r} contradicts the file's own unit {file_unit!r}; "
                 "leave unit unset"
             )

@@ -6,16 +6,18 @@ Each stage is one function here. It takes a :class:`~.surface.Surface` (``fill_h
 raw heights) and returns ``(result, steps)``: the result and the lines of provenance the run
 prints and ``params.json`` keeps ("what was done, in order"; empty when the stage changed
 nothing). The stages decide nothing. Their parameters are decided once, before the chain runs,
-by :func:`halfspace_calib.pipeline.scene_surfaces.load_scene_surfaces`: ``lambda_s`` and
-``lambda_c``, the centred square ``side``, and the grid ``m``. Reading (with the units and sizes
-of files and options) is :func:`~.files.read_raw`.
+by the plan of a scene's surfaces (:func:`halfspace_calib.pipeline.surface_plan.plan_surfaces`),
+which also reads the files (:func:`~.files.read_raw`, units and sizes of files and options),
+fills their holes (:func:`fill_holes`) and checks the filters' cut-offs on each scan
+(:func:`check_filter`). The rest of the chain runs from a :class:`ChainPlan` (``lambda_s`` and
+``lambda_c``, the centred square ``side``, the grid ``m``) in :func:`run`.
 
 The chain serves:
 
 - the calibration's files, where the scene decides the plan;
 - the sample patches of ``--patches``, cut from the files prepared on ``k`` times the patch grid
-  and levelled again by :func:`level_patch`;
-- the after-contact scans of ``--after-contact``, run with the calibration's plan.
+  (the same plan on another grid) and levelled again by :func:`level_patch`;
+- the after-contact scans of ``--after-contact``, planned with the calibration's choices fixed.
 
 Synthetic surfaces do not go through it. They are generated on the solver grid with their
 spectrum cut at two elements (``synthesis``), so there is nothing to fill, filter, crop or
@@ -29,21 +31,26 @@ to whole pixels first would move the square by up to half a pixel.
 
 from __future__ import annotations
 
+import functools
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
 from sbmf_cli import ParameterError
 
 from .files import fill_harmonic
-from .filters import l_filter, s_filter
+from .filters import check_cutoff, l_filter, s_filter
 from .resample import area_resample, band_limited_resample
 from .surface import level
 
 __all__ = [
+    "ChainPlan",
+    "run",
     "fill_holes",
     "level_scan",
     "filter_scan",
+    "check_filter",
     "crop_resample",
     "level_patch",
     "SQUARE_PIXEL_RTOL",
@@ -51,6 +58,54 @@ __all__ = [
 
 #: pixels whose two pitches differ by less than this (relative) count as square
 SQUARE_PIXEL_RTOL = 0.01
+
+
+@dataclass(frozen=True)
+class ChainPlan:
+    """The parameters of the stages after the read, decided before the chain runs (SI units).
+
+    Attributes
+    ----------
+    lambda_s : float
+        S-filter nesting index (m); ``0.0``: no S-filter.
+    lambda_c : float or None
+        L-filter nesting index (m); ``None``: no L-filter.
+    side : float
+        Edge of the centred square (m).
+    m : int
+        Square elements a side of the resampled patch.
+    """
+
+    lambda_s: float
+    lambda_c: float | None
+    side: float
+    m: int
+
+
+def run(surface, plan, steps=()):
+    """The chain after the read, from ``plan``: ``(whole, patch, steps)``.
+
+    ``surface``: a read scan, its holes filled; ``steps``: what was done to it so far.
+    ``whole`` is the whole scan levelled and filtered (:func:`level_scan`, :func:`filter_scan`;
+    ``surface`` itself without a filter), ``patch`` the centred square resampled and levelled
+    (:func:`crop_resample`, :func:`level_patch`), ``steps`` all lines of provenance in order.
+    The whole-scan stages are kept for the last few scans and cut-offs (the resolution check and
+    the sample patches prepare the same scan on another grid).
+    """
+    whole, done = _whole_scan(surface, plan.lambda_s, plan.lambda_c)
+    patch, resampled = crop_resample(whole, plan.side, plan.m, plan.lambda_s)
+    patch, levelled = level_patch(patch)
+    return whole, patch, tuple(steps) + done + resampled + levelled
+
+
+@functools.lru_cache(maxsize=4)  # keyed by the scan object: a scan read again is filtered again
+def _whole_scan(surface, lambda_s, lambda_c):
+    """The whole-scan stages: levelled and filtered, or ``surface`` itself without a filter."""
+    if not lambda_s and lambda_c is None:
+        return surface, ()
+    f, levelled = level_scan(surface)
+    f, filtered = filter_scan(f, lambda_s, lambda_c)
+    return f, levelled + filtered
 
 
 def fill_holes(heights, max_undefined, path):
@@ -102,6 +157,18 @@ def filter_scan(surface, lambda_s, lambda_c):
             "shorter wavelengths removed (50 % amplitude at lambda_s)"
         )
     return surface, tuple(steps)
+
+
+def check_filter(surface, lambda_s, lambda_c):
+    """Refuse the cut-offs that :func:`filter_scan` would refuse on ``surface``, filtering nothing.
+
+    The plan checks them before any stage runs. ``ValueError`` (the filters' own check) for a
+    ``lambda_c`` (if given) or a ``lambda_s`` (if not 0) outside the range the scan allows.
+    """
+    if lambda_c is not None:
+        check_cutoff("lambda_c", lambda_c, surface)
+    if lambda_s:
+        check_cutoff("lambda_s", lambda_s, surface)
 
 
 def crop_resample(surface, side, m, lambda_s):

@@ -9,9 +9,26 @@ import numpy as np
 
 from ..common.checks import pair, positive
 from . import _formats as _io
+from ._formats import (
+    FileScaleError,
+    SizeContradiction,
+    SizeRequired,
+    UnitContradiction,
+    UnitRequired,
+)
 from .surface import Surface
 
-__all__ = ["read_surface", "read_raw", "fill_harmonic", "write_surface"]
+__all__ = [
+    "read_surface",
+    "read_raw",
+    "fill_harmonic",
+    "write_surface",
+    "FileScaleError",
+    "UnitRequired",
+    "UnitContradiction",
+    "SizeRequired",
+    "SizeContradiction",
+]
 
 
 # -- files ----------------------------------------------------------------------------
@@ -68,7 +85,8 @@ def read_surface(
         If ``path`` does not exist.
     ValueError
         For a file that cannot be read in its layout, missing units or spacing, or
-        points that are not gridded.
+        points that are not gridded; a unit or size that is missing or contradicted is one
+        of the :class:`FileScaleError` kinds (as :func:`read_raw`).
     ImportError
         For an instrument format when SurfaceTopography is not installed (the
         message names the ``topography`` extra).
@@ -96,69 +114,29 @@ def read_raw(path, *, unit=None, dx=None, dy=None, size=None, xy_unit=None, layo
     returns ``(heights, dx, dy, provenance)`` with heights in m (NaN where the instrument
     measured nothing), spacings in m and the provenance dict (``path``, ``sha256``,
     ``layout``, ``format``, ``unit`` and where it came from, ``shape``, ``dx``, ``dy``).
+
+    Raises
+    ------
+    FileNotFoundError
+        If ``path`` does not exist.
+    UnitRequired, SizeRequired
+        A file that does not carry its height unit or its lateral size, and no option gives it.
+    UnitContradiction, SizeContradiction
+        An option that contradicts what the file (or its header) carries.
+    ValueError
+        The base of the four above; also a file that cannot be read in its layout.
     """
     path = Path(path)
-    layouts = ("npy", "matrix", "xyz", "instrument")
-    if layout is not None and layout not in layouts:
-        raise ValueError(f"layout must be one of {layouts}, got {layout!r}")
-    if not path.is_file():
-        raise FileNotFoundError(f"surface file not found: {path}")
-    if layout is None:
-        layout = _io.layout_for(path)
+    layout = _layout(path, layout)
     if size is not None and (dx is not None or dy is not None):
         raise ValueError("give either size or dx (and dy), not both")
     header = _io.matrix_header(path) if layout == "matrix" else {}
-    unit_source = "option"
-    if "unit" in header:
-        if unit is not None and _io.unit_factor(unit) != _io.UNITS[header["unit"]]:
-            raise ValueError(
-                f"{path}: unit={unit!r} contradicts the file's header unit "
-                f"{header['unit']!r}; leave unit unset"
-            )
-        unit, unit_source = header["unit"], "file header"
-    if "size" in header:
-        if size is not None or dx is not None or dy is not None:
-            raise ValueError(
-                f"{path}: the file's header gives its size "
-                f"{header['size'][0]:g} x {header['size'][1]:g} m; do not pass dx, dy or size"
-            )
-        size = header["size"]
-    if layout in ("npy", "matrix"):
-        _io.unit_factor(unit)
-        if dx is None and size is None:
-            raise ValueError(f"{path}: the file has no lateral calibration; pass dx or size (m)")
-    info = {}
-    if layout == "npy":
-        h = _io.load_npy(path, unit, allow_undefined=True)
-        fdx = fdy = None
-    elif layout == "matrix":
-        h = _io.load_matrix(path, unit, allow_undefined=True)
-        fdx = fdy = None
-    elif layout == "xyz":
-        if dx is not None or dy is not None or size is not None:
-            raise ValueError("dx, dy and size come from the x, y columns of a point list")
-        h, fdx, fdy = _io.load_xyz(path, unit, xy_unit)
-    else:
-        h, fdx, fdy, info = _io.load_instrument(path, unit, keep_undefined=True)
-        if fdx is not None and (dx is not None or dy is not None or size is not None):
-            raise ValueError(
-                f"{path}: the file carries its lateral calibration; do not pass dx, dy or size"
-            )
-        if info.get("file_unit") is not None:
-            unit, unit_source = info["file_unit"], "file"
-    if fdx is None:
-        if size is not None:
-            lx, ly = pair("size", size, positive)
-            fdx, fdy = lx / h.shape[0], ly / h.shape[1]
-            size_source = "file header" if "size" in header else "option"
-        elif dx is not None:
-            fdx = positive("dx", dx)
-            fdy = fdx if dy is None else positive("dy", dy)
-            size_source = "option"
-        else:
-            raise ValueError(f"{path}: the file has no lateral calibration; pass dx or size (m)")
-    else:
-        size_source = "file"
+    unit, unit_source = _header_unit(path, header, unit)
+    size = _header_size(path, header, size, dx, dy)
+    h, fdx, fdy, info = _load(path, layout, unit, xy_unit, (dx, dy, size))
+    if info.get("file_unit") is not None:
+        unit, unit_source = info["file_unit"], "file"
+    fdx, fdy, size_source = _lateral(path, h.shape, (fdx, fdy), (dx, dy, size), header)
     prov = {
         "source": "file",
         "path": str(path.resolve()),
@@ -176,6 +154,79 @@ def read_raw(path, *, unit=None, dx=None, dy=None, size=None, xy_unit=None, layo
     }
     prov.update({k: v for k, v in info.items() if k not in ("format", "filled_undefined")})
     return h, fdx, fdy, prov
+
+
+def _layout(path, layout):
+    """The file's layout (``layout`` if given, checked); ``FileNotFoundError`` for no file."""
+    layouts = ("npy", "matrix", "xyz", "instrument")
+    if layout is not None and layout not in layouts:
+        raise ValueError(f"layout must be one of {layouts}, got {layout!r}")
+    if not path.is_file():
+        raise FileNotFoundError(f"surface file not found: {path}")
+    return _io.layout_for(path) if layout is None else layout
+
+
+def _header_unit(path, header, unit):
+    """``(unit, where it came from)``: a text header's unit, which ``unit`` may only repeat."""
+    if "unit" not in header:
+        return unit, "option"
+    if unit is not None and _io.unit_factor(unit) != _io.UNITS[header["unit"]]:
+        raise UnitContradiction(
+            f"{path}: unit={unit!r} contradicts the file's header unit "
+            f"{header['unit']!r}; leave unit unset"
+        )
+    return header["unit"], "file header"
+
+
+def _header_size(path, header, size, dx, dy):
+    """``size``, or a text header's size, which no option may repeat."""
+    if "size" not in header:
+        return size
+    if size is not None or dx is not None or dy is not None:
+        raise SizeContradiction(
+            f"{path}: the file's header gives its size "
+            f"{header['size'][0]:g} x {header['size'][1]:g} m; do not pass dx, dy or size"
+        )
+    return header["size"]
+
+
+def _load(path, layout, unit, xy_unit, lateral):
+    """``(heights, dx, dy, info)`` of the layout's loader; ``dx``, ``dy`` ``None`` if unknown.
+
+    ``lateral``: the options ``(dx, dy, size)``, refused where the file carries its own.
+    """
+    dx, _, size = lateral
+    given = any(v is not None for v in lateral)
+    if layout in ("npy", "matrix"):
+        _io.unit_factor(unit)
+        if dx is None and size is None:
+            raise SizeRequired(f"{path}: the file has no lateral calibration; pass dx or size (m)")
+        load = _io.load_npy if layout == "npy" else _io.load_matrix
+        return load(path, unit, allow_undefined=True), None, None, {}
+    if layout == "xyz":
+        if given:
+            raise SizeContradiction("dx, dy and size come from the x, y columns of a point list")
+        return (*_io.load_xyz(path, unit, xy_unit), {})
+    h, fdx, fdy, info = _io.load_instrument(path, unit, keep_undefined=True)
+    if fdx is not None and given:
+        raise SizeContradiction(
+            f"{path}: the file carries its lateral calibration; do not pass dx, dy or size"
+        )
+    return h, fdx, fdy, info
+
+
+def _lateral(path, shape, pitch, lateral, header):
+    """``(dx, dy, where they came from)``: the file's own, else from ``size`` or ``dx``, ``dy``."""
+    if pitch[0] is not None:
+        return pitch[0], pitch[1], "file"
+    dx, dy, size = lateral
+    if size is not None:
+        lx, ly = pair("size", size, positive)
+        return lx / shape[0], ly / shape[1], "file header" if "size" in header else "option"
+    if dx is not None:
+        fdx = positive("dx", dx)
+        return fdx, fdx if dy is None else positive("dy", dy), "option"
+    raise SizeRequired(f"{path}: the file has no lateral calibration; pass dx or size (m)")
 
 
 def fill_harmonic(heights):

@@ -29,6 +29,7 @@ from scipy import ndimage
 __all__ = [
     "ISO_ALPHA",
     "MIN_CUTOFF_PIXELS",
+    "check_cutoff",
     "gaussian_transmission",
     "l_filter",
     "s_filter",
@@ -51,7 +52,12 @@ def gaussian_transmission(wavelength, cutoff):
     return np.exp(-math.pi * (ISO_ALPHA * cutoff / w) ** 2)
 
 
-def _check_cutoff(name, value, surface):
+def check_cutoff(name, value, surface):
+    """The nesting index ``value`` (m) of filter ``name`` as a float, if ``surface`` allows it.
+
+    ``ValueError`` naming ``name`` and the range: at least :data:`MIN_CUTOFF_PIXELS` pixel
+    pitches, at most the map's shorter side. Both filters check their cut-off with it.
+    """
     try:
         v = float(value)
     except (TypeError, ValueError):
@@ -97,7 +103,7 @@ def s_filter(surface, lambda_s):
     Surface
         The filtered surface; the operation is recorded in its provenance.
     """
-    lam = _check_cutoff("lambda_s", lambda_s, surface)
+    lam = check_cutoff("lambda_s", lambda_s, surface)
     out = _smooth(surface, lam)
     op = {"op": "s_filter", "standard": "ISO 16610-61 Gaussian", "lambda_s": lam}
     return surface.derive(out, op)
@@ -109,7 +115,7 @@ def l_filter(surface, lambda_c):
     The surface minus its Gaussian-smoothed self (nesting index ``lambda_c``, m; range as
     :func:`s_filter`). The operation is recorded in the provenance.
     """
-    lam = _check_cutoff("lambda_c", lambda_c, surface)
+    lam = check_cutoff("lambda_c", lambda_c, surface)
     out = surface.heights - _smooth(surface, lam)
     op = {"op": "l_filter", "standard": "ISO 16610-61 Gaussian", "lambda_c": lam}
     return surface.derive(out, op)
