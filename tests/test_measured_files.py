@@ -410,7 +410,10 @@ def test_cli_exit_1_for_a_failed_level_and_a_degenerate_fit(tmp_path, capsys, mo
     monkeypatch.setattr(HO, "first_loading_errors", worse)
     code, _, text = _run(capsys, *base, "--out", str(tmp_path / "c"))
     assert code == 1 and "RUN FAILED" in text
-    assert "first loading (Eq. 24): max |d alpha| = 0.7 on the computed points exceeds 0.5: the fit has collapsed" in text
+    assert (
+        "first loading (Eq. 24): max |d alpha| = 0.7 on the computed points exceeds 0.5: the fit has collapsed"
+        in text
+    )
     assert "(n1 on a bound)" in text
     problems = json.loads((tmp_path / "c" / "summary.json").read_text())["problems"]
     assert len(problems) == 1
