@@ -85,6 +85,32 @@ def smooth_min_log(lnx, n):
     return math.exp(lng), gox, gox * s, lng
 
 
+@nb.jit(types.UniTuple(float64, 2)(float64, float64), **_opts)
+def smooth_min_log_slope(lnx, n):
+    """``(ln g, d ln g / d ln x)`` of the smooth minimum ``g = tanh(x**n) ** (1/n)`` from ``ln x``.
+
+    ``ln g`` by the statements of :func:`smooth_min_log` (bitwise its fourth value), and the
+    logarithmic slope ``x g'/g = 2y/sinh(2y)`` (``y = x**n``): the factor that
+    :func:`smooth_min_log` multiplies ``g/x`` by to give ``dg/dx``, ``1 - 2y^2/3`` on its series
+    branch and 0 in saturation. Neither ``g`` nor ``g/x`` is formed (one or two ``exp`` less):
+    for a caller that needs ``ln g`` and ``dg/dx`` only through ``g' = (g/x) x g'/g``.
+    """
+    lny = n * lnx
+    if lny < _LN_Y_SMALL:
+        y = math.exp(lny)
+        y2 = y * y
+        return lnx + (-y2 / 3.0 + 7.0 * y2 * y2 / 90.0) / n, 1.0 - 2.0 * y2 / 3.0
+    if lny > _LN_Y_SATURATED:
+        return 0.0, 0.0
+    y = math.exp(lny)
+    em = math.expm1(-2.0 * y)
+    two_e = 2.0 + em
+    s = 4.0 * y * (1.0 + em) / (-em * two_e)
+    if y < 1.0:
+        return lnx + math.log((-em / two_e) / y) / n, s
+    return math.log1p(-2.0 * (1.0 + em) / two_e) / n, s
+
+
 @nb.jit(float64(float64, float64), **_opts)
 def log_product(p, c):
     """``ln(p c)`` for ``p, c > 0`` without forming an under- or overflowing product."""
@@ -163,8 +189,8 @@ _RO = types.Array(float64, 1, "C", readonly=True)
 _RO2 = types.Array(float64, 2, "C", readonly=True)
 
 _TAB = 10  # coeffs index of z[0] in the tabulated reload form
-_LN_D_MAX = 700.0  # ln of the largest d tau / d p formed (exp(700) is finite)
-_D_MAX = 1.7976931348623157e308  # the largest double: tau_max s2 exp(700) may exceed it
+_LN_D_MAX = 700.0  # bound on ln(dtau/dp / (tau_max s2 x g'/g)) where it is formed in logs
+_D_MAX = 1.7976931348623157e308  # the largest double: dtau/dp is held below it
 
 
 @nb.jit(types.UniTuple(float64, 2)(_RO, float64), **_opts)
@@ -173,7 +199,9 @@ def reload_table_at(coeffs, x):
 
     The monotone cubic Hermite interpolant over ``z = -ln(1 - x)`` whose knots and slopes
     ``coeffs`` carries (:func:`frictionlaw.reload_form.pchip_slopes`); the first level's values
-    up to it, the last level's from it on (``x >= 1`` included).
+    up to it, the last level's from it on (``x >= 1`` included). ``z`` is ``-log1p(-x)`` formed
+    from ``log`` (Kahan's ``log(u) x / (u - 1)``, ``u = 1 - x`` rounded: within a few ulps of
+    ``log1p``, whose libm version costs about three ``log`` here).
     """
     k = int(coeffs[9])
     zk = _TAB
@@ -182,7 +210,8 @@ def reload_table_at(coeffs, x):
     if k == 1 or not x < 1.0:
         j = 0 if k == 1 else k - 1
         return coeffs[c0 + j], coeffs[n0 + j]
-    z = -math.log1p(-x)
+    u = 1.0 - x
+    z = x if u == 1.0 else -math.log(u) * (x / (1.0 - u))
     if not z > coeffs[zk]:
         return coeffs[c0], coeffs[n0]
     if not z < coeffs[zk + k - 1]:
@@ -219,33 +248,53 @@ def sbmf_reload_table_scalar(p, p_hist, coeffs):
     ``tau = tau_max a1h g(x2; n2)`` with ``a1h = alpha1(p_hist)``, ``(C2, n2)`` of the table at
     ``p_hist`` (:func:`reload_table_at`), ``x2h = p_hist C2 / (H a1h)`` and
     ``x2 = x2h (p / p_hist) ** s2``; divided by ``g(x2h; n2)`` when ``continuous != 0`` so that
-    it meets Eq. 24 at ``p_hist``. All in logs, as :func:`sbmf_reload_scalar`.
-    ``dtau/dp = tau_max a1h / g(x2h) g'(x2) s2 x2 / p``: for ``s2 < 1`` it grows without bound as
-    ``p -> 0``; it is formed in logs, its logarithm held below 700 and the product below the
-    largest double (``tau_max s2 exp(700)`` overflows). Bounded by ``tau_max a1h``
-    (``p <= p_hist``) and by ``tau_max`` (``p > p_hist``).
+    it meets Eq. 24 at ``p_hist``. All in logs, as :func:`sbmf_reload_scalar`:
+    ``ln x2h = ln(p_hist / H) + ln C2 - ln a1h`` and ``ln(p / p_hist)``, each one ``log`` of the
+    quotient where it is a normal double (else of its terms); ``tau = tau_max exp(ln a1h +
+    ln g2 [- ln g2h])``.
+    ``dtau/dp = tau s2 (x2 g'/g)(x2) / p`` (the logarithmic slope of
+    :func:`smooth_min_log_slope`): for ``s2 < 1`` it grows without bound as ``p -> 0`` and is held
+    below the largest double; where ``tau s2 x2 g'/g`` is below 1e-290 (``tau`` subnormal or 0:
+    ``p_hist`` below about 1e-290 Pa) it is formed in logs instead, its logarithm held below 700.
+    Bounded by ``tau_max a1h`` (``p <= p_hist``; the comparison made in logs, so that the bound
+    is formed only where it applies) and by ``tau_max`` (``p > p_hist``).
     """
     if not (p > 0.0 and p_hist > 0.0):
         return 0.0, 0.0
     tau_max = coeffs[0]
     H = coeffs[1]
     _, _, _, lna1h = smooth_min_log(log_product(p_hist, coeffs[2] / H), coeffs[3])
-    lnc2, lnn2 = reload_table_at(coeffs, p_hist / H)
+    x = p_hist / H
+    lnc2, lnn2 = reload_table_at(coeffs, x)
     n2 = math.exp(lnn2)
     s2 = coeffs[8]
-    lnx2h = log_product(p_hist, math.exp(lnc2) / H) - lna1h
-    lnq = math.log(p) - math.log(p_hist)
+    if 1e-300 < x < 1e300:
+        lnx2h = math.log(x) + lnc2 - lna1h
+    else:
+        lnx2h = math.log(p_hist) - math.log(H) + lnc2 - lna1h
+    q = p / p_hist
+    if 1e-300 < q < 1e300:
+        lnq = math.log(q)
+    else:
+        lnq = math.log(p) - math.log(p_hist)
     lnx2 = lnx2h + s2 * lnq
-    _, _, dg2, lng2 = smooth_min_log(lnx2, n2)
+    lng2, sl2 = smooth_min_log_slope(lnx2, n2)
     lng2h = 0.0
     if coeffs[6] != 0.0:
         _, _, _, lng2h = smooth_min_log(lnx2h, n2)
-    tau = tau_max * math.exp(lna1h + lng2 - lng2h)
-    lnd = min(lna1h - lng2h + lnx2 - math.log(p), _LN_D_MAX)
-    dtau = min(tau_max * s2 * dg2 * math.exp(lnd), _D_MAX)
-    cap = tau_max * math.exp(lna1h) if p <= p_hist else tau_max
-    if tau >= cap:
-        return cap, (0.0 if p > p_hist else dtau)
+    lnt = lna1h + lng2 - lng2h
+    tau = tau_max * math.exp(lnt)
+    if p > p_hist and tau >= tau_max:
+        return tau_max, 0.0
+    d = tau * (s2 * sl2)
+    if d > 1e-290:
+        dtau = min(d / p, _D_MAX)
+    elif sl2 > 0.0:
+        dtau = min(tau_max * s2 * sl2 * math.exp(min(lnt - math.log(p), _LN_D_MAX)), _D_MAX)
+    else:
+        dtau = 0.0
+    if p <= p_hist and lnt >= lna1h:  # tau >= tau_max a1h (exp is monotone)
+        return tau_max * math.exp(lna1h), dtau
     return tau, dtau
 
 

@@ -22,6 +22,7 @@ from frictionlaw import (
     traction_update,
 )
 from frictionlaw import _reference as ref
+from frictionlaw._kernels import smooth_min_log, smooth_min_log_slope
 from frictionlaw.reload_form import (
     S2_RANGE,
     ReloadTable,
@@ -129,6 +130,31 @@ def test_kernel_agrees_with_oracle_and_scipy(cont, table):
     np.testing.assert_allclose(
         shear_limit(ph * 1.1, ph, P), P.tau_max * alpha_first(ph * 1.1, P), rtol=1e-15
     )
+
+
+@pytest.mark.parametrize("n", [0.1, 0.29, 1.0, 2.75, 16.5, 1000.0])
+def test_smooth_min_log_slope_against_the_oracle(n):
+    """``ln g`` and ``x g'/g`` of the smooth minimum, the tabulated branch's (``SBMF_SMINS``)."""
+    lnx = np.linspace(-745.0, 745.0, 4001)  # every branch: series, tanh, saturated
+    got = np.array([smooth_min_log_slope(v, n) for v in lnx])
+    full = np.array([smooth_min_log(v, n) for v in lnx])
+    # the statements of smooth_min_log: its ln g, and dg/dx = (g/x) (x g'/g), bit for bit
+    assert np.array_equal(got[:, 0], full[:, 3])
+    assert np.array_equal(full[:, 2], full[:, 1] * got[:, 1])
+    eps = np.finfo(float).eps
+    lng = ref.ln_smooth_min(lnx, n)
+    np.testing.assert_allclose(got[:, 0], lng, rtol=1e-15, atol=4.0 * eps / n)  # ln g = ln t / n
+    # x g'/g = 2y/sinh(2y), y = x**n, in NumPy (e = exp(-2y) above y = 1). The kernel's is within
+    # 1e-12 relative or a few y eps absolute: 1 + expm1(-2y) cancels for large y (as dg/dx does)
+    with np.errstate(all="ignore"):  # the branches np.where does not take
+        y = np.exp(np.minimum(n * lnx, 700.0))
+        e = np.exp(-2.0 * y)
+        want = np.where(
+            y < 1e-6,
+            1.0 - 2.0 * y**2 / 3.0,
+            np.where(y < 1.0, 2.0 * y / np.sinh(2.0 * y), 4.0 * y * e / ((1.0 - e) * (1.0 + e))),
+        )
+    assert np.all(np.abs(got[:, 1] - want) <= 1e-12 * want + 4.0 * np.maximum(y, 1.0) * eps)
 
 
 def test_one_level_with_s2_1_is_the_papers_eq25():

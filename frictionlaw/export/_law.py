@@ -182,16 +182,20 @@ def core_context(params, units, kt):
         :class:`ReloadSpec`, None for the paper's Eq. 25), ``kt``, and ``ln_small``,
         ``ln_sat``: the smooth minimum's branch points ``ln(1e-4)`` and ``ln(350)`` of
         ``frictionlaw._kernels``; ``ln_d_max``, the tabulated form's bound 700 on
-        ``ln(dtau/dp)``.
+        ``ln(dtau/dp)`` where it is formed in logs; ``ln_h``, ``ln H`` in the host's unit (as
+        the runtime's ``log(H)`` gives it, for the tabulated form's ``ln(p_hist/H)`` where the
+        quotient is not a normal double).
     """
+    law = law_constants(params, units)
     return {
-        "law": law_constants(params, units),
+        "law": law,
         "continuous": params.continuous_reload,
         "reload": reload_spec(params, units),
         "kt": kt,
         "ln_small": math.log(1e-4),
         "ln_sat": math.log(350.0),
         "ln_d_max": 700.0,
+        "ln_h": math.log(law["H"]),
     }
 
 

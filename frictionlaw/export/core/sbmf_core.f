@@ -2,14 +2,15 @@
   The law core of every generated Fortran routine (fixed form, IMPLICIT NONE, double
   precision), included at the end of each host's entry template. It follows
   frictionlaw._kernels statement by statement (smooth_min_log, log_product,
-  sbmf_first_scalar, sbmf_reload_scalar or, for the tabulated reload form, reload_table_at and
-  sbmf_reload_table_scalar, traction_row), so that the compiled routine and the runtime agree
-  to rounding. Rendered with the values of frictionlaw.export._law.core_context: law (TMAX, H,
-  C1, XN1, C2, XN2 in the host's units), continuous (continuous_reload), reload (the tabulated
-  form's ReloadSpec: its knots and slopes as PARAMETER arrays, no DATA or SAVE; None for the
-  paper's Eq. 25), kt (the StiffnessSpec), ln_small, ln_sat (the smooth minimum's branch
-  points), ln_d_max (the tabulated form's bound on ln dtau/dp). A new law form changes this
-  file and core_context, nothing per target.
+  sbmf_first_scalar, sbmf_reload_scalar or, for the tabulated reload form, the routines of
+  core/sbmf_reload_table.f, traction_row), so that the compiled routine and the runtime agree
+  to rounding. Rendered with the values of frictionlaw.export._law.core_context: law (TMAX,
+  H, C1, XN1, C2, XN2 in the host's units), continuous (continuous_reload), reload (the
+  tabulated form's ReloadSpec: its knots and slopes as PARAMETER arrays, no DATA or SAVE; None
+  for the paper's Eq. 25), kt (the StiffnessSpec), ln_small, ln_sat (the smooth minimum's
+  branch points), ln_d_max (the tabulated form's bound on ln dtau/dp where it is formed in
+  logs), ln_h (ln H in the host's unit). A new law form changes this file (or the one it
+  includes) and core_context, nothing per target.
 #}
 {% macro libm(name) %}
       DOUBLE PRECISION FUNCTION SBMF_{{ name | upper }}(Z)
@@ -178,146 +179,7 @@ C=======================================================================
       END
 C
 {% if reload %}
-C=======================================================================
-C     (ln C2, ln n2) of the tabulated reload form at X = PH/H
-C     (frictionlaw's reload_table_at): monotone cubic Hermite
-C     interpolant (Fritsch-Carlson slopes) over z = -ln(1 - X) through
-C     the calibrated levels; the first level's values up to it, the
-C     last level's from it on (X >= 1 included).
-C=======================================================================
-      SUBROUTINE SBMF_RTAB(X, LNC, LNN)
-      IMPLICIT NONE
-      DOUBLE PRECISION X, LNC, LNN
-{% if reload.z | length == 1 %}
-      IF (X .LT. 0.0D0) CONTINUE
-C     one level: its values for every p_hist
-      LNC = {{ reload.lnC2[0] | double }}
-      LNN = {{ reload.lnn2[0] | double }}
-      RETURN
-      END
-{% else %}
-      DOUBLE PRECISION Z, HK, T, U, H00, H10, H01, H11
-      INTEGER J, NK
-      DOUBLE PRECISION SBMF_LOG1P
-      EXTERNAL SBMF_LOG1P
-      PARAMETER (NK = {{ reload.z | length }})
-      DOUBLE PRECISION ZK(NK), LCK(NK), DLCK(NK), LNK(NK), DLNK(NK)
-{% for name, values in (("ZK", reload.z), ("LCK", reload.lnC2), ("DLCK", reload.dlnC2),
-                        ("LNK", reload.lnn2), ("DLNK", reload.dlnn2)) %}
-      PARAMETER ({{ name }} = (/
-     &  {{ values | map("double") | join(",
-     &  ") }} /))
-{% endfor %}
-      IF (.NOT. (X .LT. 1.0D0)) THEN
-        LNC = LCK(NK)
-        LNN = LNK(NK)
-        RETURN
-      END IF
-      Z = -SBMF_LOG1P(-X)
-      IF (.NOT. (Z .GT. ZK(1))) THEN
-        LNC = LCK(1)
-        LNN = LNK(1)
-        RETURN
-      END IF
-      IF (.NOT. (Z .LT. ZK(NK))) THEN
-        LNC = LCK(NK)
-        LNN = LNK(NK)
-        RETURN
-      END IF
-      J = 1
-   10 IF (J .LT. NK - 1 .AND. Z .GE. ZK(J + 1)) THEN
-        J = J + 1
-        GOTO 10
-      END IF
-      HK = ZK(J + 1) - ZK(J)
-      T = (Z - ZK(J))/HK
-      U = 1.0D0 - T
-      H00 = (1.0D0 + 2.0D0*T)*U*U
-      H10 = T*U*U*HK
-      H01 = T*T*(3.0D0 - 2.0D0*T)
-      H11 = T*T*(T - 1.0D0)*HK
-      LNC = H00*LCK(J) + H10*DLCK(J) + H01*LCK(J + 1)
-     &    + H11*DLCK(J + 1)
-      LNN = H00*LNK(J) + H10*DLNK(J) + H01*LNK(J + 1)
-     &    + H11*DLNK(J + 1)
-      RETURN
-      END
-{% endif %}
-C
-C=======================================================================
-C     Eq. 25 tabulated over p_hist (frictionlaw's
-C     sbmf_reload_table_scalar): TAU = TMAX a1h g(x2; n2), a1h =
-C     alpha1(PH), (C2, n2) of the table at PH (SBMF_RTAB),
-C     x2h = PH C2/(H a1h), x2 = x2h (P/PH)**S2, all formed in logs.
-{% if continuous %}
-C     Continuous variant: divided by g(x2h; n2) to meet Eq. 24 at PH.
-{% endif %}
-C     DTAU = TMAX a1h/g(x2h) g'(x2) S2 x2/P, formed in logs, its log
-C     held below LNDMAX (it grows without bound as P -> 0 for S2 < 1).
-C     Cap TMAX a1h for P <= PH, TMAX above. G1H: cached -ln a1h
-C     (<= 0: recompute it); G1OUT: the cache value for PH.
-C=======================================================================
-      SUBROUTINE SBMF_RELOAD(P, PH, G1H, TAU, DTAU, G1OUT)
-      IMPLICIT NONE
-      DOUBLE PRECISION P, PH, G1H, TAU, DTAU, G1OUT
-      DOUBLE PRECISION LNA1H, LNC2, LNN2, XN2, LNX2H, LNP, LNQ, LNX2
-      DOUBLE PRECISION G2, GOX2, DG2, LG2, LND, CAP
-{% if continuous %}
-      DOUBLE PRECISION LG2H
-{% endif %}
-      DOUBLE PRECISION SBMF_LPROD, SBMF_SMINL
-      EXTERNAL SBMF_LPROD, SBMF_SMINL
-      DOUBLE PRECISION TMAX, H, C1, XN1, S2, C1H, LNDMAX
-      PARAMETER (TMAX = {{ law.TMAX | double }})
-      PARAMETER (H = {{ law.H | double }})
-      PARAMETER (C1 = {{ law.C1 | double }})
-      PARAMETER (XN1 = {{ law.XN1 | double }})
-      PARAMETER (S2 = {{ reload.s2 | double }})
-      PARAMETER (C1H = C1/H)
-      PARAMETER (LNDMAX = {{ ln_d_max | double }})
-      G1OUT = G1H
-      IF (.NOT. (P .GT. 0.0D0 .AND. PH .GT. 0.0D0)) THEN
-        TAU = 0.0D0
-        DTAU = 0.0D0
-        RETURN
-      END IF
-      IF (G1H .GT. 0.0D0) THEN
-        LNA1H = -G1H
-      ELSE
-        LNA1H = SBMF_SMINL(SBMF_LPROD(PH, C1H), XN1)
-        G1OUT = -LNA1H
-      END IF
-      CALL SBMF_RTAB(PH/H, LNC2, LNN2)
-      XN2 = EXP(LNN2)
-      LNX2H = SBMF_LPROD(PH, EXP(LNC2)/H) - LNA1H
-      LNP = LOG(P)
-      LNQ = LNP - LOG(PH)
-      LNX2 = LNX2H + S2*LNQ
-C     x2 is not formed (X = 0): g/x comes from the logs
-      CALL SBMF_SMIN(LNX2, 0.0D0, XN2, G2, GOX2, DG2, LG2)
-{% if continuous %}
-C     continuous_reload: divided by g(x2h; n2), formed in logs
-      LG2H = SBMF_SMINL(LNX2H, XN2)
-      TAU = TMAX*EXP(LNA1H + LG2 - LG2H)
-      LND = MIN(LNA1H - LG2H + LNX2 - LNP, LNDMAX)
-{% else %}
-      TAU = TMAX*EXP(LNA1H + LG2)
-      LND = MIN(LNA1H + LNX2 - LNP, LNDMAX)
-{% endif %}
-C     held below the largest double (TMAX S2 exp(700) is not)
-      DTAU = MIN(TMAX*S2*DG2*EXP(LND), HUGE(DTAU))
-      IF (P .LE. PH) THEN
-        CAP = TMAX*EXP(LNA1H)
-      ELSE
-        CAP = TMAX
-      END IF
-      IF (TAU .GE. CAP) THEN
-        TAU = CAP
-        IF (P .GT. PH) DTAU = 0.0D0
-      END IF
-      RETURN
-      END
-C
+{% include "core/sbmf_reload_table.f" %}
 {% else %}
 C=======================================================================
 C     Eq. 25 below p_hist (frictionlaw's sbmf_reload_scalar):

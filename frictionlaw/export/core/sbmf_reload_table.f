@@ -1,0 +1,214 @@
+{#
+  The tabulated reload form's part of the law core (frictionlaw.reload_form), included by
+  core/sbmf_core.f in place of the paper form's SBMF_RELOAD when the parameter file selects
+  reload_form = "tabulated": SBMF_SMINS (frictionlaw._kernels.smooth_min_log_slope),
+  SBMF_RTAB (reload_table_at) and SBMF_RELOAD (sbmf_reload_table_scalar), statement by
+  statement. Rendered with core/sbmf_core.f's values (frictionlaw.export._law.core_context):
+  law, continuous, reload (the ReloadSpec: knots and slopes as PARAMETER arrays), ln_small,
+  ln_sat, ln_d_max, ln_h.
+#}
+C=======================================================================
+C     ln G and the logarithmic slope SL = X dG/dX / G = 2Y/sinh(2Y) of
+C     the smooth minimum from XL = ln X (frictionlaw's
+C     smooth_min_log_slope): SBMF_SMIN's GL and its factor S (dG/dX =
+C     G/X S), by the same statements, without G, G/X or dG/dX (one or
+C     two exps less). Series branch: SL = 1 - 2Y**2/3; saturated: 0.
+C=======================================================================
+      SUBROUTINE SBMF_SMINS(XL, XN, GL, SL)
+      IMPLICIT NONE
+      DOUBLE PRECISION XL, XN, GL, SL
+      DOUBLE PRECISION LNY, Y, Y2, EM, TWOE
+      DOUBLE PRECISION LNYSML, LNYSAT
+      PARAMETER (LNYSML = {{ ln_small | double }})
+      PARAMETER (LNYSAT = {{ ln_sat | double }})
+      DOUBLE PRECISION SBMF_EXPM1, SBMF_LOG1P
+      EXTERNAL SBMF_EXPM1, SBMF_LOG1P
+      LNY = XN*XL
+      IF (LNY .LT. LNYSML) THEN
+        Y = EXP(LNY)
+        Y2 = Y*Y
+        GL = XL + (-Y2/3.0D0 + 7.0D0*Y2*Y2/90.0D0)/XN
+        SL = 1.0D0 - 2.0D0*Y2/3.0D0
+        RETURN
+      END IF
+      IF (LNY .GT. LNYSAT) THEN
+        GL = 0.0D0
+        SL = 0.0D0
+        RETURN
+      END IF
+      Y = EXP(LNY)
+      EM = SBMF_EXPM1(-2.0D0*Y)
+      TWOE = 2.0D0 + EM
+      SL = 4.0D0*Y*(1.0D0 + EM)/(-EM*TWOE)
+      IF (Y .LT. 1.0D0) THEN
+        GL = XL + LOG((-EM/TWOE)/Y)/XN
+        RETURN
+      END IF
+      GL = SBMF_LOG1P(-2.0D0*(1.0D0 + EM)/TWOE)/XN
+      RETURN
+      END
+C
+C=======================================================================
+C     (ln C2, ln n2) of the tabulated reload form at X = PH/H
+C     (frictionlaw's reload_table_at): monotone cubic Hermite
+C     interpolant (Fritsch-Carlson slopes) over z = -ln(1 - X) through
+C     the calibrated levels; the first level's values up to it, the
+C     last level's from it on (X >= 1 included).
+C=======================================================================
+      SUBROUTINE SBMF_RTAB(X, LNC, LNN)
+      IMPLICIT NONE
+      DOUBLE PRECISION X, LNC, LNN
+{% if reload.z | length == 1 %}
+      IF (X .LT. 0.0D0) CONTINUE
+C     one level: its values for every p_hist
+      LNC = {{ reload.lnC2[0] | double }}
+      LNN = {{ reload.lnn2[0] | double }}
+      RETURN
+      END
+{% else %}
+      DOUBLE PRECISION Z, HK, T, U, H00, H10, H01, H11
+      INTEGER J, NK
+      PARAMETER (NK = {{ reload.z | length }})
+      DOUBLE PRECISION ZK(NK), LCK(NK), DLCK(NK), LNK(NK), DLNK(NK)
+{% for name, values in (("ZK", reload.z), ("LCK", reload.lnC2), ("DLCK", reload.dlnC2),
+                        ("LNK", reload.lnn2), ("DLNK", reload.dlnn2)) %}
+      PARAMETER ({{ name }} = (/
+     &  {{ values | map("double") | join(",
+     &  ") }} /))
+{% endfor %}
+      IF (.NOT. (X .LT. 1.0D0)) THEN
+        LNC = LCK(NK)
+        LNN = LNK(NK)
+        RETURN
+      END IF
+C     z = -log1p(-X) from log (Kahan: U = 1 - X rounded, then
+C     log(U) X/(1 - U) is within a few ulps of log1p, which is slower)
+      U = 1.0D0 - X
+      IF (U .EQ. 1.0D0) THEN
+        Z = X
+      ELSE
+        Z = -LOG(U)*(X/(1.0D0 - U))
+      END IF
+      IF (.NOT. (Z .GT. ZK(1))) THEN
+        LNC = LCK(1)
+        LNN = LNK(1)
+        RETURN
+      END IF
+      IF (.NOT. (Z .LT. ZK(NK))) THEN
+        LNC = LCK(NK)
+        LNN = LNK(NK)
+        RETURN
+      END IF
+      J = 1
+   10 IF (J .LT. NK - 1 .AND. Z .GE. ZK(J + 1)) THEN
+        J = J + 1
+        GOTO 10
+      END IF
+      HK = ZK(J + 1) - ZK(J)
+      T = (Z - ZK(J))/HK
+      U = 1.0D0 - T
+      H00 = (1.0D0 + 2.0D0*T)*U*U
+      H10 = T*U*U*HK
+      H01 = T*T*(3.0D0 - 2.0D0*T)
+      H11 = T*T*(T - 1.0D0)*HK
+      LNC = H00*LCK(J) + H10*DLCK(J) + H01*LCK(J + 1)
+     &    + H11*DLCK(J + 1)
+      LNN = H00*LNK(J) + H10*DLNK(J) + H01*LNK(J + 1)
+     &    + H11*DLNK(J + 1)
+      RETURN
+      END
+{% endif %}
+C
+C=======================================================================
+C     Eq. 25 tabulated over p_hist (frictionlaw's
+C     sbmf_reload_table_scalar): TAU = TMAX a1h g(x2; n2), a1h =
+C     alpha1(PH), (C2, n2) of the table at PH (SBMF_RTAB),
+C     x2h = PH C2/(H a1h), x2 = x2h (P/PH)**S2, all formed in logs:
+C     ln x2h = ln(PH/H) + ln C2 - ln a1h and ln(P/PH), one log of each
+C     quotient where it is a normal double (else of its terms).
+{% if continuous %}
+C     Continuous variant: divided by g(x2h; n2) to meet Eq. 24 at PH.
+{% endif %}
+C     DTAU = TAU S2 SL(x2)/P, SL = x2 g'/g (SBMF_SMINS), held below the
+C     largest double (it grows without bound as P -> 0 for S2 < 1);
+C     where TAU S2 SL is below 1D-290 (TAU subnormal or 0) formed in
+C     logs, its log held below LNDMAX. Cap TMAX a1h for P <= PH (the
+C     comparison made in logs: the cap is formed only where it
+C     applies), TMAX above. G1H: cached -ln a1h (<= 0: recompute it);
+C     G1OUT: the cache value for PH.
+C=======================================================================
+      SUBROUTINE SBMF_RELOAD(P, PH, G1H, TAU, DTAU, G1OUT)
+      IMPLICIT NONE
+      DOUBLE PRECISION P, PH, G1H, TAU, DTAU, G1OUT
+      DOUBLE PRECISION LNA1H, X, LNC2, LNN2, XN2, LNX2H, Q, LNQ, LNX2
+      DOUBLE PRECISION LG2, SL2, LNT, D
+{% if continuous %}
+      DOUBLE PRECISION LG2H
+{% endif %}
+      DOUBLE PRECISION SBMF_LPROD, SBMF_SMINL
+      EXTERNAL SBMF_LPROD, SBMF_SMINL
+      DOUBLE PRECISION TMAX, H, C1, XN1, S2, C1H, LNH, LNDMAX
+      PARAMETER (TMAX = {{ law.TMAX | double }})
+      PARAMETER (H = {{ law.H | double }})
+      PARAMETER (C1 = {{ law.C1 | double }})
+      PARAMETER (XN1 = {{ law.XN1 | double }})
+      PARAMETER (S2 = {{ reload.s2 | double }})
+      PARAMETER (C1H = C1/H)
+C     ln H, as the runtime's log(H) gives it
+      PARAMETER (LNH = {{ ln_h | double }})
+      PARAMETER (LNDMAX = {{ ln_d_max | double }})
+      G1OUT = G1H
+      IF (.NOT. (P .GT. 0.0D0 .AND. PH .GT. 0.0D0)) THEN
+        TAU = 0.0D0
+        DTAU = 0.0D0
+        RETURN
+      END IF
+      IF (G1H .GT. 0.0D0) THEN
+        LNA1H = -G1H
+      ELSE
+        LNA1H = SBMF_SMINL(SBMF_LPROD(PH, C1H), XN1)
+        G1OUT = -LNA1H
+      END IF
+      X = PH/H
+      CALL SBMF_RTAB(X, LNC2, LNN2)
+      XN2 = EXP(LNN2)
+      IF (1.0D-300 .LT. X .AND. X .LT. 1.0D+300) THEN
+        LNX2H = LOG(X) + LNC2 - LNA1H
+      ELSE
+        LNX2H = LOG(PH) - LNH + LNC2 - LNA1H
+      END IF
+      Q = P/PH
+      IF (1.0D-300 .LT. Q .AND. Q .LT. 1.0D+300) THEN
+        LNQ = LOG(Q)
+      ELSE
+        LNQ = LOG(P) - LOG(PH)
+      END IF
+      LNX2 = LNX2H + S2*LNQ
+      CALL SBMF_SMINS(LNX2, XN2, LG2, SL2)
+{% if continuous %}
+C     continuous_reload: divided by g(x2h; n2), formed in logs
+      LG2H = SBMF_SMINL(LNX2H, XN2)
+      LNT = LNA1H + LG2 - LG2H
+{% else %}
+      LNT = LNA1H + LG2
+{% endif %}
+      TAU = TMAX*EXP(LNT)
+      IF (P .GT. PH .AND. TAU .GE. TMAX) THEN
+        TAU = TMAX
+        DTAU = 0.0D0
+        RETURN
+      END IF
+      D = TAU*(S2*SL2)
+      IF (D .GT. 1.0D-290) THEN
+        DTAU = MIN(D/P, HUGE(DTAU))
+      ELSE IF (SL2 .GT. 0.0D0) THEN
+        DTAU = MIN(TMAX*S2*SL2*EXP(MIN(LNT - LOG(P), LNDMAX)),
+     &             HUGE(DTAU))
+      ELSE
+        DTAU = 0.0D0
+      END IF
+C     TAU >= TMAX a1h (exp is monotone): the cap
+      IF (P .LE. PH .AND. LNT .GE. LNA1H) TAU = TMAX*EXP(LNA1H)
+      RETURN
+      END
+C
