@@ -57,6 +57,7 @@ TABLE_N_BOUNDS = (0.1, 50.0)
 
 _N_GRID = (0.3, 0.6, 1.0, 2.0, 4.0, 8.0)
 _EXACT = 1e-8  # a level whose residuals are all below this (in alpha) is fitted
+_NEAR_BOUND = 5e-3  # ln of 1.005: a parameter this close to its bound is on it
 _K_GRID = (0.5, 1.0, 2.0, 5.0, 10.0, 30.0, 100.0)
 
 
@@ -248,7 +249,11 @@ class _Level:
         # a curve fitted to rounding (a level in full contact: alpha = 1 at every point) can use
         # up the evaluations without meeting the relative tolerances: that is no failure
         exact = float(np.max(np.abs(sol.fun))) <= _EXACT
-        return float(sol.fun @ sol.fun), bool(sol.success or exact)
+        # a parameter the data push beyond its bound (a sharp corner, n2 -> inf) is approached in
+        # ever smaller steps: within 0.5 % of the bound, with a small gradient, it has arrived
+        near = bool(np.any(np.minimum(sol.x - self.lb, self.ub - sol.x) < _NEAR_BOUND))
+        crawl = near and sol.optimality < 1e-4
+        return float(sol.fun @ sol.fun), bool(sol.success or exact or crawl)
 
 
 @serial_blas
@@ -382,7 +387,7 @@ def _at_bound(levels, phs, s2, sb, cb, nb):
     out = []
     for lv, ph in zip(levels, phs, strict=True):
         for name, v, (lo, hi) in (("C2", lv.x[0], cb), ("n2", lv.x[1], nb)):
-            if np.isclose(np.exp(v), (lo, hi), rtol=1e-6).any():
+            if min(v - np.log(lo), np.log(hi) - v) < _NEAR_BOUND:
                 out.append(f"{name} at {ph / 1e6:g} MPa")
     if np.isclose(s2, sb, rtol=1e-4).any():
         out.append("s2")
