@@ -52,6 +52,12 @@ FIELDS = [
     "C1_change",
     "n1_change",
     "check_warns",
+    "reload_in_sample_max",
+    "reload_heldout_max",
+    "reload_heldout_rms",
+    "paper_heldout_max",
+    "first_in_sample_max",
+    "full_contact_from_MPa",
     "periodic",
     "boundary",
     "wall_s",
@@ -121,10 +127,30 @@ def _one(folder, wp, tl, timeout):
             C1_change=prm.get("C1", [None, None, math.nan])[2],
             n1_change=prm.get("n1", [None, None, math.nan])[2],
             check_warns=bool(rc.get("warning")),
+            **_errors(s),
             periodic=s["periodic"],
             boundary=s.get("boundary", "periodic" if s["periodic"] else "isolated"),
         )
         return row
+
+
+def _errors(s):
+    """The reload branch's measured errors from ``summary.json`` (issue 31)."""
+    err = s.get("errors") or {}
+    rel, pap, first = (
+        err.get("reload", {}),
+        err.get("reload_paper", {}),
+        err.get("first_loading", {}),
+    )
+    full = s.get("full_contact_from_pressure")
+    return {
+        "reload_in_sample_max": rel.get("in_sample_max", ""),
+        "reload_heldout_max": rel.get("heldout_max", ""),
+        "reload_heldout_rms": rel.get("heldout_rms", ""),
+        "paper_heldout_max": pap.get("heldout_max", ""),
+        "first_in_sample_max": first.get("in_sample_max", ""),
+        "full_contact_from_MPa": full / 1e6 if full else "",
+    }
 
 
 def _g(v, fmt):
@@ -135,8 +161,9 @@ def table(rows):
     lines = [
         "| workpiece | tool | lambda_s (um) | grid | elements / lambda_s | before: grid, "
         "elements / lambda_s | mu_eff | change of mu_eff / C1 at half the grid | check warns "
+        "| reload max in sample / held out (RMS) | paper Eq. 25 held out | Eq. 24 in sample "
         "| time (s) | exit |",
-        "|---|---|---|---|---|---|---|---|---|---|---|",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
         before = (
@@ -149,7 +176,9 @@ def table(rows):
             f"{r['grid'] or '-'} | {_g(r['elements_per_lambda_s'], '.3g')} | {before} | "
             f"{_g(r['mu_eff'], '.4g')} | {pct(r['mu_eff_change'])} / {pct(r['C1_change'])} | "
             f"{'yes' if r['check_warns'] is True else ('no' if r['check_warns'] is False else '-')}"
-            f" | {r['wall_s']} | {r['exit']} |"
+            f" | {_g(r['reload_in_sample_max'], '.3f')} / {_g(r['reload_heldout_max'], '.3f')} "
+            f"({_g(r['reload_heldout_rms'], '.3f')}) | {_g(r['paper_heldout_max'], '.3f')} | "
+            f"{_g(r['first_in_sample_max'], '.3f')} | {r['wall_s']} | {r['exit']} |"
         )
     return "\n".join(lines)
 

@@ -102,11 +102,16 @@ def test_h_is_recovered_from_scans_of_a_finer_truth(scans):
 
 
 def _cli(scans, table, out, grid, *extra):
-    """``halfspace-calib`` on the sheet and tool files with ``--after-contact table``."""
+    """``halfspace-calib`` on the sheet and tool files with ``--after-contact table``.
+
+    The grid is coarse for ``lambda_s`` (warned) to keep the test fast: Eq. 24 then misses the
+    computed points by up to 0.053 in alpha, so the acceptance's tolerance is raised; what is
+    tested here is the fit of H (the acceptance: tests/test_failed_fit.py).
+    """
     return main(
         [
             *("--workpiece", str(scans / "sheet.txt"), "--tool", str(scans / "tool.txt")),
-            *("--grid", grid, *extra, "--after-contact", str(table)),
+            *("--grid", grid, *extra, "--after-contact", str(table), "--heldout-tol", "0.1"),
             *("--no-resolution-check", "--workers", "1", "--quiet", "--out", str(out)),
         ]
     )
@@ -114,11 +119,7 @@ def _cli(scans, table, out, grid, *extra):
 
 def test_cli_fits_h_from_scans_and_records_its_uncertainty(scans, tmp_path, capsys):
     out = tmp_path / "out"
-    # the paper's pressures: up to 0.95 H, Eq. 25 misses the reload curves of the mirror
-    # boundary (R^2 0.89 here; issue 31, items 1 and 4), which is not what this test is about
-    code = _cli(
-        scans, scans / "scans.csv", out, "64", "--lambda-s", str(LAMBDA_S), "--pressures", "paper"
-    )
+    code = _cli(scans, scans / "scans.csv", out, "64", "--lambda-s", str(LAMBDA_S))
     assert code == 0, capsys.readouterr().err
     fit = json.loads((out / "hardness_fit.json").read_text())
     assert abs(fit["H"] / H_TRUE - 1) < 0.05

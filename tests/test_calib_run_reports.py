@@ -55,8 +55,9 @@ def test_a_failed_run_never_announces_params_json(tmp_path, capsys):
     np.save(tmp_path / "s.npy", heights)
     s = str(tmp_path / "s.npy")
     out = tmp_path / "o"
-    argv = ["--workpiece", s, "--tool", s, "--size", "2", "--unit", "m", "--grid", "32"]
-    assert main([*argv, "--no-progress", "--out", str(out)]) == 1  # a collapsed fit
+    argv = ["--workpiece", s, "--tool", s, "--size", "2e-3", "--unit", "m", "--grid", "32"]
+    argv += ["--heldout-tol", "1e-4"]  # a tolerance no law meets: the run fails
+    assert main([*argv, "--no-progress", "--out", str(out)]) == 1
     cap = capsys.readouterr()
     assert "calibration FAILED after" in cap.out and "params.failed.json" in cap.out
     assert "params.json" not in cap.out + cap.err.replace("not as params.json", "")

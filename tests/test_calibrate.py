@@ -118,7 +118,7 @@ def test_scene_file_and_cli(tmp_path):
     scene = tmp_path / "scene.toml"
     scene.write_text(
         "[scene]\ngrid = 16\npressures = [50e6, 150e6, 300e6, 500e6]\nm = 0.3\n"
-        "reload_fractions = [0.2, 0.5, 0.8]\n"
+        "reload_fractions = [0.2, 0.5, 0.8]\nheldout_tol = 0.5\n"  # a toy grid
     )
     s = load_scene(scene, tol=1e-7)
     assert s.grid == 16 and s.m == 0.3 and s.tol == 1e-7

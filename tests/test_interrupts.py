@@ -79,8 +79,21 @@ def earlier(tmp_path):
     out = tmp_path / "calibration"
     from halfspace_calib.cli import main
 
-    rc = main(["--grid", "16", "--pressures", "1e8,2e8,3e8,5e8", "--reload-fractions", "0.3,0.6",
-               "--quiet", "--out", str(out)])  # fmt: skip
+    rc = main(
+        [
+            "--grid",
+            "16",
+            "--pressures",
+            "1e8,2e8,3e8,5e8",
+            "--reload-fractions",
+            "0.3,0.6",
+            "--heldout-tol",
+            "0.5",
+            "--quiet",
+            "--out",
+            str(out),
+        ]
+    )  # fmt: skip (toy grid)
     assert rc == 0
     return out, {p.name: p.read_bytes() for p in out.iterdir() if p.is_file()}
 

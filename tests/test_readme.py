@@ -123,8 +123,10 @@ def test_readme_default_run_figures_are_a_fresh_runs(tmp_path):
     P = json.loads((out / "params.json").read_text())["parameters"]
     text = " ".join(_readme().split())
     default = re.search(
-        r"Default scene \(128\^2.*?`C1 = ([\d.]+), n1 = ([\d.]+)` \(R\^2 ([\d.]+)\), "
-        r"`C2 = ([\d.]+), n2 = ([\d.]+)` \(R\^2 ([\d.]+)\); `mu_eff = ([\d.]+)` with `m = ([\d.]+)`",
+        r"Default scene \(128\^2.*?`C1 = ([\d.]+), n1 = ([\d.]+)` \(R\^2 ([\d.]+)\); the reload "
+        r"branch tabulated over (\d+) levels with `s2 = ([\d.]+)`, held-out max `\|d alpha\|` "
+        r"([\d.]+) \(the paper's one pair beside it: `C2 = ([\d.]+), n2 = ([\d.]+)` \(R\^2 "
+        r"([\d.]+)\), held out ([\d.]+)\); `mu_eff = ([\d.]+)` with `m = ([\d.]+)`",
         text,
     )
     assert default, "README must give the default scene's parameters"
@@ -133,15 +135,20 @@ def test_readme_default_run_figures_are_a_fresh_runs(tmp_path):
         digits = len(shown.split(".")[1]) if "." in shown else 0
         return f"{value:.{digits}f}" == shown
 
-    C1, n1, r1, C2, n2, r2, mu, m = default.groups()
+    C1, n1, r1, levels, s2, held, C2, n2, r2, held_p, mu, m = default.groups()
+    err = s["errors"]
     got = {
         "C1": (C1, P["C1"]), "n1": (n1, P["n1"]), "first R^2": (r1, s["first_loading_r2"]),
+        "levels": (levels, len(s["errors"]["reload"]["heldout"]) + 2), "s2": (s2, s["s2"]),
+        "held out": (held, err["reload"]["heldout_max"]),
         "C2": (C2, P["C2"]), "n2": (n2, P["n2"]), "reload R^2": (r2, s["reload_r2"]),
+        "held out, paper": (held_p, err["reload_paper"]["heldout_max"]),
         "mu_eff": (mu, s["mu_eff"]), "m": (m, P["m"]),
     }  # fmt: skip
     wrong = {k: v for k, v in got.items() if not same(*v)}
     assert not wrong, f"README default-run figures differ from a fresh run: {wrong}"
     jump = re.search(r"default calibration the largest drop is ([\d.]+) % of `tau`", text)
+    assert s["reload_form"] == "tabulated"
     assert jump and same(jump.group(1), 100 * s["max_jump_relative"]), (
         jump and jump.group(1),
         100 * s["max_jump_relative"],

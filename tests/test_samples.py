@@ -178,7 +178,10 @@ def test_params_file_round_trip_and_versions(population, tmp_path):
 
 
 # ----------------------------------------------------------------------------- CLI
-FAST = ["--pressures", "25e6,100e6,300e6,600e6", "--reload-fractions", "0.25,0.5,0.8"]
+# grid 16 and four pressures are a toy for the reports' plumbing: the held-out acceptance
+# (0.05 in alpha, tested in test_failed_fit and test_measured_files) is not what is checked here
+FAST = ["--pressures", "25e6,100e6,300e6,600e6", "--reload-fractions", "0.25,0.5,0.8",
+        "--heldout-tol", "0.5"]  # fmt: skip
 
 
 @pytest.mark.parametrize(

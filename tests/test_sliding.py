@@ -342,6 +342,8 @@ def test_cli_sliding_option(tmp_path, capsys):
         "0.2,0.5,0.8",
         "--tol",
         "1e-7",
+        "--heldout-tol",  # a toy grid: the acceptance is tested in test_failed_fit
+        "0.5",
         "--out",
         str(out),
         "--no-progress",

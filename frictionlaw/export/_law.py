@@ -208,7 +208,26 @@ def _fit_summary(params):
             r2 = f.get("r_squared")
             rmse = f.get("rmse")
             npts = f.get("n_points")
-            out.append(f"fit {key}: R^2={r2:.6g}, rmse={rmse:.3g}, points={npts}")
+            if r2 is None:  # the tabulated reload form: judged by its error, it has no R^2
+                out.append(
+                    f"fit {key}: {f.get('form', '?')} form, rmse={rmse:.3g}, max |d alpha|="
+                    f"{f.get('max_abs_residual', float('nan')):.3g}, points={npts}"
+                )
+            else:
+                out.append(f"fit {key}: R^2={r2:.6g}, rmse={rmse:.3g}, points={npts}")
+    err = params.provenance.get("errors") if isinstance(params.provenance, dict) else None
+    if isinstance(err, dict):
+        held = [
+            f"{k} {v['heldout_max']:.3g}"
+            for k, v in err.items()
+            if isinstance(v, dict) and isinstance(v.get("heldout_max"), (int, float))
+        ]
+        if held:
+            out.append(
+                "held-out max |d alpha|: "
+                + ", ".join(held)
+                + f" (tolerance {err.get('heldout_tol')})"
+            )
     return out or ["fit summary: none recorded in the parameter file"]
 
 

@@ -36,6 +36,7 @@ from ..pipeline.scene_surfaces import (
     ISO_SAMPLING_RATIO,
     MAX_DEFAULT_GRID,
 )
+from ._law import law_lines
 from ._paths import (
     FAILED_PARAMS,
     after_contact,
@@ -275,6 +276,19 @@ def build_parser():
         help="fit the continuous Eq. 25 (no jump at p_hist; default: with the jump)",
     )
     g.add_argument(
+        "--reload-form",
+        choices=["tabulated", "paper"],
+        help="the reload branch of params.json: Eq. 25 with C2, n2 per load level "
+        "(tabulated) or the paper's one C2, n2; the paper's form is fitted and its error "
+        "reported either way (default: " + _D["reload_form"] + ")",
+    )
+    g.add_argument(
+        "--heldout-tol",
+        type=float,
+        help="largest held-out |d alpha| of a branch (each interior load level left out, "
+        f"refitted and predicted); beyond it the run fails (default: {_D['heldout_tol']:g})",
+    )
+    g.add_argument(
         "--workers",
         type=int,
         help="local processes of the normal sweeps (1: in this process, 0: one per CPU; default: "
@@ -364,6 +378,8 @@ def scene_from_args(args):
             "reload_surface",
             "contact_area",
             "continuous_reload",
+            "reload_form",
+            "heldout_tol",
             "workers",
             "scheduler",
             "effects",
@@ -462,11 +478,8 @@ def main(argv=None):
     s = cal.summary()
     say = con.result
     say(_ran(run_seconds, cal.seconds, out, cal.problems()))
-    say(f"  Eq. 24: C1 = {P.C1:.4g}, n1 = {P.n1:.4g}  (R^2 = {s['first_loading_r2']:.5f})")
-    say(
-        f"  Eq. 25: C2 = {P.C2:.4g}, n2 = {P.n2:.4g}  (R^2 = {s['reload_r2']:.5f}, "
-        f"largest jump at p_hist {100 * s['max_jump_relative']:.2f} % of tau)"
-    )
+    for line in law_lines(cal, s):
+        say(line)
     say(f"  Coulomb slope mu_eff = {P.mu_eff:.4f}, cap m k = {P.tau_max / 1e6:.1f} MPa")
     say(
         f"  bound alpha >= p/H: largest violation by Eq. 24 {s['alpha_bound_violation_to_p_max']:.4f} "

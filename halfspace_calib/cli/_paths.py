@@ -21,6 +21,7 @@ from ..pipeline.hardness import (
     read_after_contact,
     roughness_of_scans,
 )
+from ..pipeline.heldout import GROSS_MISS
 
 #: files that mark a folder as a calibration output (a rerun may replace it)
 
@@ -201,9 +202,10 @@ def mark_failed(folder, problems):
 
 
 def failure_hint(problems):
-    """Likely causes of a collapsed fit, for the RUN FAILED report."""
-    r2 = [float(v) for v in re.findall(r"R\^2 = (-?[0-9.]+)", " ".join(map(str, problems)))]
-    if not r2 or min(r2) >= 0.5:  # only a collapsed fit, not a fit that is merely poor
+    """Likely causes of a collapsed fit (a branch missing by >= 0.15 in alpha), for RUN FAILED."""
+    text = " ".join(map(str, problems))
+    miss = [float(v) for v in re.findall(r"\|d alpha\| = ([0-9.eE+-]+)", text)]
+    if not miss or max(miss) < GROSS_MISS:  # only a collapsed fit, not one that is merely poor
         return None
     return (
         "likely causes of a collapsed fit: a lateral --size in the wrong unit for the heights "

@@ -115,15 +115,12 @@ def edge_plasticity(pressure, H, band=None):
 def punch_edge_problem(cal):
     """The sentence explaining a failed reload fit by a plastic punch edge, or ``""``.
 
-    Only for a calibration with ``boundary="isolated"`` whose reload fit is unusable (``R^2 <``
-    the fit's minimum or a parameter on its bound) and whose highest load level has its capped
-    elements at the patch's edge (:attr:`EdgePlasticity.punch_edge`).
+    Only for a calibration with ``boundary="isolated"`` whose reload branch fails its measured
+    error (the held-out maximum beyond ``scene.heldout_tol``, :mod:`.heldout`) and whose highest
+    load level has its capped elements at the patch's edge (:attr:`EdgePlasticity.punch_edge`).
     """
-    from .fit import R2_MIN
-
-    if cal.scene.boundary != "isolated" or (
-        cal.reload.r_squared >= R2_MIN and not cal.reload.at_bound
-    ):
+    err = cal.errors.get("reload")
+    if cal.scene.boundary != "isolated" or err is None or not err.exceeds(cal.scene.heldout_tol):
         return ""
     top = max(cal.sweeps.levels, key=lambda lv: lv.p_hist, default=None)
     if top is None or top.pressure_map is None:

@@ -71,6 +71,26 @@ def _input_notes(k, p_range):
     return notes
 
 
+def _fit_record(first, reload, table):
+    """``provenance["fit"]``: each branch's fit summary.
+
+    ``converged`` is the optimiser's verdict (what :func:`frictionlaw.params.fit_failure` refuses a
+    file on); whether the law was accepted is the measured error's (``provenance["errors"]``, and
+    ``run.status`` when the command failed). ``reload`` is the branch the file runs; beside a
+    tabulated form the paper's Eq. 25 is ``reload_paper``.
+    """
+    rec = {"first_loading": first.summary()}
+    rec["first_loading"]["converged"] = bool(first.success)
+    paper = reload.summary()
+    paper["converged"] = bool(reload.success)
+    if table is None:
+        rec["reload"] = paper
+    else:
+        rec["reload"] = table.summary()
+        rec["reload_paper"] = paper
+    return rec
+
+
 def make_params(
     first,
     reload,
@@ -87,6 +107,9 @@ def make_params(
     extra=None,
     p_range=None,
     k_t=None,
+    reload_table=None,
+    errors=None,
+    heldout_tol=None,
 ):
     """Assemble the calibrated :class:`frictionlaw.FrictionParams` with its provenance.
 
@@ -115,6 +138,14 @@ def make_params(
         Mean contact pressures (Pa) covered by the first-loading data, ``(p_min, p_max)``.
     k_t : frictionlaw.TangentialStiffness, optional
         Calibrated tangential stiffness table (from the tangential effect).
+    reload_table : ReloadTableFit, optional
+        The tabulated reload form's fit (:func:`~.reload_table.fit_reload_table`, same ``C1, n1,
+        H`` and ``continuous``): the parameters then run that form (``reload_form =
+        "tabulated"``), and ``reload`` (the paper's Eq. 25) is kept beside it.
+    errors : dict, optional
+        Branch -> :class:`~.heldout.BranchErrors`, recorded under ``provenance["errors"]``.
+    heldout_tol : float, optional
+        The tolerance the errors were judged against (recorded with them).
 
     Returns
     -------
@@ -131,6 +162,13 @@ def make_params(
     if (reload.C1, reload.n1) != (first.C1, first.n1) or reload.H != first.H:
         raise ValueError(
             "reload was fitted with other C1, n1 or H than first: refit it with first's values"
+        )
+    if reload_table is not None and (
+        (reload_table.C1, reload_table.n1, reload_table.H) != (first.C1, first.n1, first.H)
+        or reload_table.continuous != reload.continuous
+    ):
+        raise ValueError(
+            "reload_table was fitted with other C1, n1, H or continuous than first and reload"
         )
     if H is None:
         H = first.H
@@ -149,9 +187,14 @@ def make_params(
         "tolerance": _plain(tolerance, "tolerance"),
         "pressures": _plain(pressures, "pressures"),
         "material": _plain(material, "material"),
-        "fit": {"first_loading": first.summary(), "reload": reload.summary()},
+        "fit": _fit_record(first, reload, reload_table),
         "inputs": _input_notes(k, p_range),
     }
+    if errors is not None:
+        prov["errors"] = {
+            "heldout_tol": heldout_tol,
+            **{key: e.summary() for key, e in errors.items()},
+        }
     if extra is not None:
         prov["extra"] = _plain(extra, "extra")
     return FrictionParams(
@@ -164,6 +207,8 @@ def make_params(
         n2=reload.n2,
         k=k,
         continuous_reload=reload.continuous,
+        reload_form="paper" if reload_table is None else "tabulated",
+        reload_table=None if reload_table is None else reload_table.table,
         p_range=p_range,
         k_t=k_t,
         provenance=_plain(prov),

@@ -66,6 +66,7 @@ from .uncertainty import (
     check_band_method,
     curves_of,
     pooled_fit,
+    pooled_reload_law,
 )
 
 __all__ = [
@@ -428,16 +429,18 @@ class MultiCalibration:
     def problems(self):
         """Why the run failed: failed samples by name, each sample's own problems, the pooled fits'.
 
-        The pooled fits' ``R^2`` is not a criterion: it also measures the samples' spread (each
-        sample's own fit quality is).
+        The pooled fits' ``R^2`` and held-out errors are not criteria: they also measure the
+        samples' spread (each sample's own acceptance is). A pooled fit that did not converge is;
+        so is a pooled parameter on a bound of the paper's form when the file runs it.
         """
         out = [f"sample {n} failed: {e}" for n, e in self.failed.items()]
         for n, c in self.calibrations.items():
             out += [f"sample {n}: {p}" for p in c.problems()]
-        for name, fit in (("first loading", self.pooled.first), ("reload", self.pooled.reload)):
-            if fit.at_bound:
+        reload = self.pooled.reload_table or self.pooled.reload
+        for name, fit in (("first loading", self.pooled.first), ("reload", reload)):
+            if fit.at_bound and fit is not self.pooled.reload_table:
                 out.append(f"pooled {name} fit: {', '.join(fit.at_bound)} ended on a bound")
-            elif not fit.converged:
+            elif not fit.success:
                 out.append(f"pooled {name} fit did not converge: {fit.message}")
         return out
 
@@ -510,9 +513,20 @@ def calibrate_samples(scene, spec, *, samples=None, progress=True):
         continuous=ref.scene.continuous_reload,
         alpha_floor=ref.scene.alpha_floor,
     )
+    table, errors = pooled_reload_law(ref.scene, curves, first, reload)
     p_all = np.concatenate([c.p for c in curves])
     prov = dict(ref.params.provenance)
     prov["fit"] = {"first_loading": first.summary(), "reload": reload.summary()}
+    if table is not None:
+        prov["fit"] = {
+            "first_loading": first.summary(),
+            "reload": table.summary(),
+            "reload_paper": reload.summary(),
+        }
+    prov["errors"] = {
+        "heldout_tol": ref.scene.heldout_tol,
+        **{k: e.summary() for k, e in errors.items()},
+    }
     prov["surfaces"] = {"note": "several samples: see samples and extra.files"}
     extra = dict(prov.get("extra", {}))
     extra["files"] = _records(samples)
@@ -530,6 +544,8 @@ def calibrate_samples(scene, spec, *, samples=None, progress=True):
         n1=first.n1,
         C2=reload.C2,
         n2=reload.n2,
+        reload_form="paper" if table is None else "tabulated",
+        reload_table=None if table is None else table.table,
         p_range=(float(p_all.min()), float(p_all.max())),
         provenance=prov,
     )
@@ -564,6 +580,8 @@ def calibrate_samples(scene, spec, *, samples=None, progress=True):
         {},
         tuple(r for c in cals for r in c.files),
         None,
+        reload_table=table,
+        errors=errors,
     )
     secs = {"samples": t1 - t0, "bootstrap": t2 - t1, "total": time.perf_counter() - t0}
     return MultiCalibration(pooled, spec, list(samples), run.calibrations, run.failed, unc, secs)

@@ -14,11 +14,14 @@ import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
+from frictionlaw.reload_form import RELOAD_FORMS
+
 from ..common.checks import in_range, tresca_factor
 from ..contact.influence import BOUNDARIES
 from ..contact.materials import Materials, SolverSettings, sigma_y_from_hardness
 from ..contact.normal import composite_modulus
 from . import effects as _eff
+from .heldout import HELDOUT_TOL
 from .scene_surfaces import MAX_UNDEFINED, SYNTHETIC_GRID, check_memory
 
 __all__ = [
@@ -150,6 +153,12 @@ class Scene:
     Eq. 24 cannot reach 1 at ``H`` itself; ``None``: unconstrained, the fit before issue 26;
     :func:`~halfspace_calib.pipeline.fit.fit_first_loading`'s ``floor_to``).
 
+    ``reload_form``: the reload branch the parameter file runs, ``"tabulated"`` (the default:
+    Eq. 25 with ``C2, n2`` per load level, :mod:`frictionlaw.reload_form`) or ``"paper"``
+    (one ``C2, n2``); the paper's form is fitted and its error reported either way.
+    ``heldout_tol``: the largest held-out ``|d alpha|`` a branch may have
+    (:mod:`~halfspace_calib.pipeline.heldout`); beyond it the run fails.
+
     ``H_source`` says where ``H`` came from for the parameter file (``None``: Table 1's value
     or "given"; :mod:`halfspace_calib.pipeline.hardness` sets it when H is fitted to
     after-contact roughness).
@@ -195,6 +204,8 @@ class Scene:
     reload_surface: str = "plastic"
     contact_area: str = "count"
     continuous_reload: bool = False
+    reload_form: str = "tabulated"
+    heldout_tol: float = HELDOUT_TOL
     alpha_floor: float | None = ALPHA_FLOOR
     workers: int | None = None
     scheduler: str | None = None
@@ -323,6 +334,15 @@ class Scene:
         )
         if self.reload_surface not in ("plastic", "volume_conserving"):
             raise ValueError("reload_surface must be 'plastic' or 'volume_conserving'")
+        if self.reload_form not in RELOAD_FORMS:
+            raise ValueError(
+                f"reload_form must be one of {', '.join(RELOAD_FORMS)}, got {self.reload_form!r}"
+            )
+        ht = self.heldout_tol
+        if not (isinstance(ht, (int, float)) and not isinstance(ht, bool) and 1e-4 <= ht <= 1):
+            raise ValueError(
+                f"heldout_tol must be a contact-ratio error in [0.0001, 1], got {ht!r}"
+            )
         af = self.alpha_floor
         if af is not None and not (
             isinstance(af, (int, float)) and not isinstance(af, bool) and 0 < af < 1

@@ -39,6 +39,7 @@ take seconds.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -51,7 +52,9 @@ from frictionlaw.uncertainty import Band, Interval, SampleLaw, Uncertainty
 
 from ..common.blas import serial_blas
 from . import fit as _fit
+from . import heldout as _held
 from .alpha_bound import floor_fit, floor_violation
+from .reload_table import fit_reload_table
 
 __all__ = [
     "BAND_LEVEL",
@@ -62,6 +65,8 @@ __all__ = [
     "SampleCurves",
     "curves_of",
     "pooled_fit",
+    "pooled_curves",
+    "pooled_reload_law",
     "band_limits",
     "bootstrap_uncertainty",
 ]
@@ -111,6 +116,49 @@ def pooled_fit(samples, H, *, continuous=False, alpha_floor=None):
     curves = [c for s in samples for c in s.reload]
     reload = _fit.fit_reload(curves, H, first.C1, first.n1, continuous=continuous)
     return first, reload
+
+
+def pooled_curves(samples):
+    """Every sample's reload points pooled per load level: one curve per ``p_hist``.
+
+    What the tabulated reload form is fitted to (one ``C2, n2`` per level) when the samples share
+    their load levels, as the samples of one scene do.
+    """
+    by_level = {}
+    for s in samples:
+        for c in s.reload:
+            by_level.setdefault(float(c.p_hist), []).append(c)
+    out = []
+    for ph in sorted(by_level):
+        cs = by_level[ph]
+        p = np.concatenate([c.p for c in cs])
+        a = np.concatenate([c.alpha for c in cs])
+        order = np.argsort(p, kind="stable")
+        out.append(_fit.ReloadCurve(ph, p[order], a[order]))
+    return out
+
+
+def pooled_reload_law(scene, curves, first, reload):
+    """The pooled tabulated reload form (``None`` for ``reload_form="paper"``) and the errors.
+
+    The tabulated form is fitted to every sample's points pooled per load level
+    (:func:`pooled_curves`); the errors are the pooled law's against all points,
+    in sample and with each interior level left out (:mod:`.heldout`).
+    """
+    p = np.concatenate([c.p for c in curves])
+    alpha = np.concatenate([c.alpha for c in curves])
+    per_level = pooled_curves(curves)
+    floor_to = None if scene.alpha_floor is None else scene.alpha_floor * scene.H
+    cont = scene.continuous_reload
+    errors = {"first_loading": _held.first_loading_errors(p, alpha, scene.H, first, floor_to)}
+    paper = _held.reload_errors(per_level, scene.H, first.C1, first.n1, reload, cont)
+    if scene.reload_form == "paper":
+        errors["reload"] = paper
+        return None, errors
+    table = fit_reload_table(per_level, scene.H, first.C1, first.n1, continuous=cont)
+    errors["reload"] = _held.reload_table_errors(table)
+    errors["reload_paper"] = dataclasses.replace(paper, branch="reload_paper")
+    return table, errors
 
 
 class _Stacked:
