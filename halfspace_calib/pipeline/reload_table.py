@@ -299,20 +299,8 @@ def fit_reload_table(
     ReloadTableFit
     """
     t0 = time.perf_counter()
-    if isinstance(curves, (ReloadCurve, dict)) or not hasattr(curves, "__len__"):
-        raise ValueError("curves must be a sequence of reload curves")
-    if len(curves) == 0:
-        raise ValueError("curves must hold at least one reload curve")
-    cs = sorted((_curve(i, c) for i, c in enumerate(curves)), key=lambda c: c.p_hist)
+    cs = _levels_of(curves)
     phs = [c.p_hist for c in cs]
-    if len(set(phs)) != len(phs):
-        raise ValueError(f"curves must have distinct p_hist (one curve per level), got {phs}")
-    for i, c in enumerate(cs):
-        if c.p.size < 2:
-            raise ValueError(
-                f"curves[{i}] (p_hist {c.p_hist:g} Pa) has {c.p.size} point; each level needs "
-                "at least 2 to fix its C2 and n2"
-            )
     H = positive("H", H)
     C1, n1 = positive("C1", C1), positive("n1", n1)
     cb, nb = _bounds("C_bounds", C_bounds, C_RANGE), _bounds("n_bounds", n_bounds, N_RANGE)
@@ -372,6 +360,25 @@ def fit_reload_table(
         C_bounds=cb,
         n_bounds=nb,
     )
+
+
+def _levels_of(curves):
+    """The curves as :class:`ReloadCurve` s ascending in ``p_hist``, one per level, >= 2 points."""
+    if isinstance(curves, (ReloadCurve, dict)) or not hasattr(curves, "__len__"):
+        raise ValueError("curves must be a sequence of reload curves")
+    if len(curves) == 0:
+        raise ValueError("curves must hold at least one reload curve")
+    cs = sorted((_curve(i, c) for i, c in enumerate(curves)), key=lambda c: c.p_hist)
+    phs = [c.p_hist for c in cs]
+    if len(set(phs)) != len(phs):
+        raise ValueError(f"curves must have distinct p_hist (one curve per level), got {phs}")
+    for i, c in enumerate(cs):
+        if c.p.size < 2:
+            raise ValueError(
+                f"curves[{i}] (p_hist {c.p_hist:g} Pa) has {c.p.size} point; each level needs "
+                "at least 2 to fix its C2 and n2"
+            )
+    return cs
 
 
 def _cross_validation(levels, s2, H, C1, n1, continuous):
