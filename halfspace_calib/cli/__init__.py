@@ -277,10 +277,12 @@ def build_parser():
     )
     g.add_argument(
         "--reload-form",
-        choices=["tabulated", "paper"],
+        choices=["auto", "tabulated", "paper"],
         help="the reload branch of params.json: Eq. 25 with C2, n2 per load level "
-        "(tabulated) or the paper's one C2, n2; the paper's form is fitted and its error "
-        "reported either way (default: " + _D["reload_form"] + ")",
+        "(tabulated), the paper's one C2, n2 (paper), or whichever predicts the held-out load "
+        "levels better (auto); the other form's error is reported beside it (default: "
+        + _D["reload_form"]
+        + ")",
     )
     g.add_argument(
         "--heldout-tol",

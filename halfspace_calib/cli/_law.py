@@ -23,21 +23,28 @@ def law_lines(cal, s):
         "    " + _err(err["first_loading"]),
     ]
     jump = f"largest jump at p_hist {100 * s['max_jump_relative']:.2f} % of tau"
-    if cal.reload_table is None:
+    paper = f"C2 = {P.C2:.4g}, n2 = {P.n2:.4g}  (R^2 = {s['reload_r2']:.5f}"
+    t = cal.reload_table.table if cal.reload_table is not None else None
+    table = (
+        f"Eq. 25 tabulated over p_hist ({len(t.p_hist)} levels {t.p_hist[0] / 1e6:.4g}-"
+        f"{t.p_hist[-1] / 1e6:.4g} MPa): C2 {min(t.C2):.4g}-{max(t.C2):.4g}, n2 "
+        f"{min(t.n2):.4g}-{max(t.n2):.4g}, s2 = {t.s2:.4g}"
+        if t is not None
+        else ""
+    )
+    if cal.reload_form == "tabulated":
         lines += [
-            f"  Eq. 25: C2 = {P.C2:.4g}, n2 = {P.n2:.4g}  (R^2 = {s['reload_r2']:.5f}, {jump})",
+            f"  {table}  ({jump})",
             "    " + _err(err["reload"]),
-        ]
-    else:
-        t = cal.reload_table.table
-        lines += [
-            f"  Eq. 25 tabulated over p_hist ({len(t.p_hist)} levels "
-            f"{t.p_hist[0] / 1e6:.4g}-{t.p_hist[-1] / 1e6:.4g} MPa): C2 {min(t.C2):.4g}-"
-            f"{max(t.C2):.4g}, n2 {min(t.n2):.4g}-{max(t.n2):.4g}, s2 = {t.s2:.4g}  ({jump})",
-            "    " + _err(err["reload"]),
-            f"  the paper's Eq. 25 beside it: C2 = {P.C2:.4g}, n2 = {P.n2:.4g}  "
-            f"(R^2 = {s['reload_r2']:.5f})",
+            f"  the paper's Eq. 25 beside it: {paper})",
             "    " + _err(err["reload_paper"]),
         ]
+    else:
+        lines += [f"  Eq. 25: {paper}, {jump})", "    " + _err(err["reload"])]
+        if t is not None:
+            lines += [
+                f"  {table}, beside it",
+                "    " + _err(err["reload_tabulated"]),
+            ]
     lines += [f"  note: {n}" for n in s["fit_notes"]]
     return lines

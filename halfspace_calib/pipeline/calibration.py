@@ -33,7 +33,7 @@ from .conformity import punch_edge_problem
 from .fit import FirstLoadingFit, ReloadFit
 from .params import make_params
 from .registry import REGISTRY
-from .reload_table import ReloadTableFit, fit_reload_table
+from .reload_table import ReloadTableFit
 from .resolution import ResolutionCheck, fit_sweeps, resolution_check
 from .scene import MIN_TOL, Scene, load_scene
 from .scene_surfaces import SceneSurfaces, load_scene_surfaces
@@ -73,9 +73,9 @@ class Calibration:
 
     ``reload`` is the fit of the paper's Eq. 25 (one ``C2, n2``), made in every calibration;
     ``reload_table`` the tabulated form's (``None`` with ``scene.reload_form == "paper"``);
-    ``errors`` the measured errors of each branch (:mod:`.heldout`): ``"first_loading"``,
-    ``"reload"`` (the form the parameter file runs) and, beside a tabulated calibration,
-    ``"reload_paper"``.
+    ``reload_form`` the form the parameter file runs; ``errors`` the measured errors of each
+    branch (:mod:`.heldout`): ``"first_loading"``, ``"reload"`` (the form the file runs) and the
+    other form's beside it, ``"reload_paper"`` or ``"reload_tabulated"``.
     """
 
     params: FrictionParams
@@ -91,6 +91,7 @@ class Calibration:
     warnings: tuple = ()  # the surfaces' warnings (grid coarse for lambda_s, patch too small)
     reload_table: ReloadTableFit | None = None
     errors: dict = field(default_factory=dict)  # branch -> heldout.BranchErrors
+    reload_form: str = "paper"  # the reload form the parameter file runs
 
     def __repr__(self):
         """One line a notebook can show: the law, the fit quality, the sweep and the time."""
@@ -145,7 +146,7 @@ class Calibration:
     def _branches(self):
         """``(errors key, name, fit)`` of the branches the parameter file runs."""
         reload = ("reload", "reload (Eq. 25)", self.reload)
-        if self.reload_table is not None:
+        if self.reload_form == "tabulated":
             reload = ("reload", "reload (Eq. 25 tabulated over p_hist)", self.reload_table)
         return [("first_loading", "first loading (Eq. 24)", self.first), reload]
 
@@ -206,7 +207,7 @@ class Calibration:
 
     def _max_jump_relative(self):
         """The largest jump at ``p_hist`` relative to Eq. 24 there, of the branch that runs."""
-        if self.reload_table is None:
+        if self.reload_form != "tabulated":
             j = self.reload.jump_relative
         else:
             ph = np.asarray(self.reload_table.table.p_hist)
@@ -294,7 +295,7 @@ def _calibrate(scene, progress, surfaces):
     sweeps = run_sweeps(scene, progress=progress, surfaces=surfs)
     p, _ = sweeps.loading
     first, reload = fit_sweeps(scene, sweeps)
-    table, errors = _reload_law(scene, sweeps, first, reload)
+    form, table, errors = _reload_law(scene, sweeps, first, reload)
     wp, tl = sweeps.surfaces["workpiece"], sweeps.surfaces["tool"]
     effects = _run_effects(scene, sweeps, surfs, progress)
     resolution = (
@@ -353,6 +354,7 @@ def _calibrate(scene, progress, surfaces):
         p_range=(float(p.min()), float(p.max())),
         k_t=_eff.stiffness_table(effects.get("tangential")),
         reload_table=table,
+        reload_form=form,
         errors=errors,
         heldout_tol=scene.heldout_tol,
     )
@@ -371,24 +373,24 @@ def _calibrate(scene, progress, surfaces):
         warnings=tuple(surfs.notes),
         reload_table=table,
         errors=errors,
+        reload_form=form,
     )
 
 
 def _reload_law(scene, sweeps, first, reload):
-    """The tabulated form's fit (``None`` for ``reload_form="paper"``) and every branch's errors."""
+    """``(form, table fit or None, errors)``: the reload form the file runs and every branch's errors.
+
+    ``scene.reload_form``: ``"paper"`` fits the paper's Eq. 25 only; ``"tabulated"`` also the table
+    and runs it; ``"auto"`` (the default) fits both and runs the one whose held-out error is
+    smaller (:func:`.heldout.choose_reload_form`).
+    """
     p, alpha = sweeps.loading
     curves = sweeps.reload_curves()
     floor_to = None if scene.alpha_floor is None else scene.alpha_floor * scene.H
-    cont = scene.continuous_reload
     errors = {"first_loading": _held.first_loading_errors(p, alpha, scene.H, first, floor_to)}
-    paper = _held.reload_errors(curves, scene.H, first.C1, first.n1, reload, cont)
-    if scene.reload_form == "paper":
-        errors["reload"] = paper
-        return None, errors
-    table = fit_reload_table(curves, scene.H, first.C1, first.n1, continuous=cont)
-    errors["reload"] = _held.reload_table_errors(table)
-    errors["reload_paper"] = dataclasses.replace(paper, branch="reload_paper")
-    return table, errors
+    table, form, more = _held.reload_forms(scene, curves, first, reload)
+    errors.update(more)
+    return form, table, errors
 
 
 def _run_effects(scene, sweeps, surfs, progress):

@@ -27,6 +27,7 @@ R^2 is not a judge: a curve that saturates early (full contact from low pressure
 physical result) has almost no variance for it to divide by.
 """
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -35,7 +36,14 @@ import numpy as np
 from frictionlaw import FrictionParams, alpha_first, alpha_reload
 
 from . import fit as _fit
-from .reload_table import S2_BOUNDS, cross_validation, level_grid, table_alpha, table_of
+from .reload_table import (
+    S2_BOUNDS,
+    cross_validation,
+    fit_reload_table,
+    level_grid,
+    table_alpha,
+    table_of,
+)
 
 __all__ = [
     "HELDOUT_TOL",
@@ -47,6 +55,8 @@ __all__ = [
     "reload_errors",
     "reload_table_errors",
     "full_contact_pressure",
+    "reload_forms",
+    "choose_reload_form",
 ]
 
 #: default tolerance on the reload branch's held-out max |d alpha| (an option)
@@ -248,6 +258,50 @@ def reload_table_errors(table_fit):
     held = [(cs[j].p_hist, predict(j)) for j in range(1, n - 1)] if n >= 3 else []
     ext = (cs[-1].p_hist, predict(n - 1)) if n >= 2 else None
     return _errors("reload", "tabulated", f.residuals, held, ext)
+
+
+def reload_forms(scene, curves, first, reload):
+    """The reload forms of ``scene.reload_form`` fitted to ``curves``: ``(table, form, errors)``.
+
+    ``errors["reload"]`` is the branch the file runs; the other form's, when fitted, is
+    ``errors["reload_paper"]`` or ``errors["reload_tabulated"]``.
+    """
+    cont = scene.continuous_reload
+    paper = reload_errors(curves, scene.H, first.C1, first.n1, reload, cont)
+    if scene.reload_form == "paper":
+        return None, "paper", {"reload": paper}
+    table = fit_reload_table(curves, scene.H, first.C1, first.n1, continuous=cont)
+    tab = reload_table_errors(table)
+    form = "tabulated" if scene.reload_form == "tabulated" else choose_reload_form(tab, paper)
+    if form == "tabulated":
+        return (
+            table,
+            form,
+            {"reload": tab, "reload_paper": dataclasses.replace(paper, branch="reload_paper")},
+        )
+    return (
+        table,
+        form,
+        {
+            "reload": paper,
+            "reload_tabulated": dataclasses.replace(tab, branch="reload_tabulated"),
+        },
+    )
+
+
+def choose_reload_form(tabulated, paper):
+    """``"tabulated"`` or ``"paper"``: the form whose held-out max ``|d alpha|`` is smaller.
+
+    In sample where fewer than three levels leave nothing to hold out; the tabulated form on a
+    tie. Where the reload curves are the first loading's own (an elastic, nearly conforming
+    contact: ``alpha`` a function of ``p`` alone), the paper's form knows it (``x2`` linear in
+    ``p``) and the table does not: the patches of mnt-1 against itself held out 0.063 tabulated.
+    """
+
+    def worst(e):
+        return e.heldout_max if math.isfinite(e.heldout_max) else e.in_sample_max
+
+    return "paper" if worst(paper) < worst(tabulated) else "tabulated"
 
 
 def full_contact_pressure(p, alpha, H):

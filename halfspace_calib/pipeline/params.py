@@ -71,7 +71,7 @@ def _input_notes(k, p_range):
     return notes
 
 
-def _fit_record(first, reload, table):
+def _fit_record(first, reload, table, form=None):
     """``provenance["fit"]``: each branch's fit summary.
 
     ``converged`` is the optimiser's verdict (what :func:`frictionlaw.params.fit_failure` refuses a
@@ -85,6 +85,9 @@ def _fit_record(first, reload, table):
     paper["converged"] = bool(reload.success)
     if table is None:
         rec["reload"] = paper
+    elif form == "paper":
+        rec["reload"] = paper
+        rec["reload_tabulated"] = table.summary()
     else:
         rec["reload"] = table.summary()
         rec["reload_paper"] = paper
@@ -110,6 +113,7 @@ def make_params(
     reload_table=None,
     errors=None,
     heldout_tol=None,
+    reload_form=None,
 ):
     """Assemble the calibrated :class:`frictionlaw.FrictionParams` with its provenance.
 
@@ -142,6 +146,9 @@ def make_params(
         The tabulated reload form's fit (:func:`~.reload_table.fit_reload_table`, same ``C1, n1,
         H`` and ``continuous``): the parameters then run that form (``reload_form =
         "tabulated"``), and ``reload`` (the paper's Eq. 25) is kept beside it.
+    reload_form : {"tabulated", "paper"}, optional
+        The form the parameters run (default: ``"tabulated"`` with a ``reload_table``, else
+        ``"paper"``); a table is kept with the paper's form, so that a user can switch.
     errors : dict, optional
         Branch -> :class:`~.heldout.BranchErrors`, recorded under ``provenance["errors"]``.
     heldout_tol : float, optional
@@ -187,7 +194,7 @@ def make_params(
         "tolerance": _plain(tolerance, "tolerance"),
         "pressures": _plain(pressures, "pressures"),
         "material": _plain(material, "material"),
-        "fit": _fit_record(first, reload, reload_table),
+        "fit": _fit_record(first, reload, reload_table, reload_form),
         "inputs": _input_notes(k, p_range),
     }
     if errors is not None:
@@ -207,7 +214,7 @@ def make_params(
         n2=reload.n2,
         k=k,
         continuous_reload=reload.continuous,
-        reload_form="paper" if reload_table is None else "tabulated",
+        reload_form=reload_form or ("paper" if reload_table is None else "tabulated"),
         reload_table=None if reload_table is None else reload_table.table,
         p_range=p_range,
         k_t=k_t,

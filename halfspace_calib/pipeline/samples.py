@@ -436,9 +436,10 @@ class MultiCalibration:
         out = [f"sample {n} failed: {e}" for n, e in self.failed.items()]
         for n, c in self.calibrations.items():
             out += [f"sample {n}: {p}" for p in c.problems()]
-        reload = self.pooled.reload_table or self.pooled.reload
+        tabulated = self.pooled.reload_form == "tabulated"
+        reload = self.pooled.reload_table if tabulated else self.pooled.reload
         for name, fit in (("first loading", self.pooled.first), ("reload", reload)):
-            if fit.at_bound and fit is not self.pooled.reload_table:
+            if fit.at_bound and not (tabulated and fit is reload):
                 out.append(f"pooled {name} fit: {', '.join(fit.at_bound)} ended on a bound")
             elif not fit.success:
                 out.append(f"pooled {name} fit did not converge: {fit.message}")
@@ -513,16 +514,16 @@ def calibrate_samples(scene, spec, *, samples=None, progress=True):
         continuous=ref.scene.continuous_reload,
         alpha_floor=ref.scene.alpha_floor,
     )
-    table, errors = pooled_reload_law(ref.scene, curves, first, reload)
+    form, table, errors = pooled_reload_law(ref.scene, curves, first, reload)
     p_all = np.concatenate([c.p for c in curves])
     prov = dict(ref.params.provenance)
     prov["fit"] = {"first_loading": first.summary(), "reload": reload.summary()}
     if table is not None:
-        prov["fit"] = {
-            "first_loading": first.summary(),
-            "reload": table.summary(),
-            "reload_paper": reload.summary(),
-        }
+        runs, beside = (reload.summary(), table.summary())
+        other = "reload_tabulated"
+        if form == "tabulated":
+            runs, beside, other = beside, runs, "reload_paper"
+        prov["fit"] = {"first_loading": first.summary(), "reload": runs, other: beside}
     prov["errors"] = {
         "heldout_tol": ref.scene.heldout_tol,
         **{k: e.summary() for k, e in errors.items()},
@@ -544,7 +545,7 @@ def calibrate_samples(scene, spec, *, samples=None, progress=True):
         n1=first.n1,
         C2=reload.C2,
         n2=reload.n2,
-        reload_form="paper" if table is None else "tabulated",
+        reload_form=form,
         reload_table=None if table is None else table.table,
         p_range=(float(p_all.min()), float(p_all.max())),
         provenance=prov,
@@ -582,6 +583,7 @@ def calibrate_samples(scene, spec, *, samples=None, progress=True):
         None,
         reload_table=table,
         errors=errors,
+        reload_form=form,
     )
     secs = {"samples": t1 - t0, "bootstrap": t2 - t1, "total": time.perf_counter() - t0}
     return MultiCalibration(pooled, spec, list(samples), run.calibrations, run.failed, unc, secs)

@@ -153,8 +153,9 @@ class Scene:
     Eq. 24 cannot reach 1 at ``H`` itself; ``None``: unconstrained, the fit before issue 26;
     :func:`~halfspace_calib.pipeline.fit.fit_first_loading`'s ``floor_to``).
 
-    ``reload_form``: the reload branch the parameter file runs, ``"tabulated"`` (the default:
-    Eq. 25 with ``C2, n2`` per load level, :mod:`frictionlaw.reload_form`) or ``"paper"``
+    ``reload_form``: the reload branch the parameter file runs: ``"auto"`` (the default: both
+    forms fitted, the one with the smaller held-out error runs), ``"tabulated"`` (Eq. 25 with
+    ``C2, n2`` per load level, :mod:`frictionlaw.reload_form`) or ``"paper"``
     (one ``C2, n2``); the paper's form is fitted and its error reported either way.
     ``heldout_tol``: the largest held-out ``|d alpha|`` a branch may have
     (:mod:`~halfspace_calib.pipeline.heldout`); beyond it the run fails.
@@ -204,7 +205,7 @@ class Scene:
     reload_surface: str = "plastic"
     contact_area: str = "count"
     continuous_reload: bool = False
-    reload_form: str = "tabulated"
+    reload_form: str = "auto"
     heldout_tol: float = HELDOUT_TOL
     alpha_floor: float | None = ALPHA_FLOOR
     workers: int | None = None
@@ -362,9 +363,10 @@ class Scene:
 
     def _validate_reload_law(self):
         """The reload law's form and the acceptance's tolerance (issue 31)."""
-        if self.reload_form not in RELOAD_FORMS:
+        forms = ("auto", *RELOAD_FORMS)
+        if self.reload_form not in forms:
             raise ValueError(
-                f"reload_form must be one of {', '.join(RELOAD_FORMS)}, got {self.reload_form!r}"
+                f"reload_form must be one of {', '.join(forms)}, got {self.reload_form!r}"
             )
         ht = self.heldout_tol
         if not (isinstance(ht, (int, float)) and not isinstance(ht, bool) and 1e-4 <= ht <= 1):

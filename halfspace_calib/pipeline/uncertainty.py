@@ -39,7 +39,6 @@ take seconds.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -54,7 +53,6 @@ from ..common.blas import serial_blas
 from . import fit as _fit
 from . import heldout as _held
 from .alpha_bound import floor_fit, floor_violation
-from .reload_table import fit_reload_table
 
 __all__ = [
     "BAND_LEVEL",
@@ -139,26 +137,19 @@ def pooled_curves(samples):
 
 
 def pooled_reload_law(scene, curves, first, reload):
-    """The pooled tabulated reload form (``None`` for ``reload_form="paper"``) and the errors.
+    """The pooled reload law: ``(form, table fit or None, errors)``, as a single calibration's.
 
-    The tabulated form is fitted to every sample's points pooled per load level
-    (:func:`pooled_curves`); the errors are the pooled law's against all points,
-    in sample and with each interior level left out (:mod:`.heldout`).
+    Both forms are fitted to every sample's points pooled per load level (:func:`pooled_curves`)
+    and chosen as ``scene.reload_form`` says (:func:`.heldout.reload_forms`); the errors are the
+    pooled law's against all points, in sample and with each interior level left out.
     """
     p = np.concatenate([c.p for c in curves])
     alpha = np.concatenate([c.alpha for c in curves])
-    per_level = pooled_curves(curves)
     floor_to = None if scene.alpha_floor is None else scene.alpha_floor * scene.H
-    cont = scene.continuous_reload
     errors = {"first_loading": _held.first_loading_errors(p, alpha, scene.H, first, floor_to)}
-    paper = _held.reload_errors(per_level, scene.H, first.C1, first.n1, reload, cont)
-    if scene.reload_form == "paper":
-        errors["reload"] = paper
-        return None, errors
-    table = fit_reload_table(per_level, scene.H, first.C1, first.n1, continuous=cont)
-    errors["reload"] = _held.reload_table_errors(table)
-    errors["reload_paper"] = dataclasses.replace(paper, branch="reload_paper")
-    return table, errors
+    table, form, more = _held.reload_forms(scene, pooled_curves(curves), first, reload)
+    errors.update(more)
+    return form, table, errors
 
 
 class _Stacked:
