@@ -434,19 +434,22 @@ class _LsdynaHost(_Host):
         super().__init__(lib, deck_units)
         self.dtype = dtype
         self.units_dir = Path(tempfile.mkdtemp(prefix="sbmf_lsdyna_"))
+        self._read = {"tty": 0, "d3hsp": 0, "messag": 0}
         path = str(self.units_dir).encode()
         lib.h_lsdyna_open(ctypes.c_char_p(path), ctypes.c_int(len(path)))
 
     def log(self):
-        """Everything the routine wrote to LS-DYNA's output units so far.
+        """What the routine wrote to LS-DYNA's output units since the last call.
 
-        ``{"tty": lines, "d3hsp": lines, "messag": lines}``.
+        ``{"tty": lines, "d3hsp": lines, "messag": lines}`` (the files stay in ``units_dir``).
         """
         self._lib.h_lsdyna_flush()
-        return {
-            k: (self.units_dir / f"{k}.txt").read_text().splitlines()
-            for k in ("tty", "d3hsp", "messag")
-        }
+        out = {}
+        for k, done in self._read.items():
+            lines = (self.units_dir / f"{k}.txt").read_text().splitlines()
+            out[k] = lines[done:]
+            self._read[k] = len(lines)
+        return out
 
 
 class UsrfrcLib(_LsdynaHost):

@@ -46,7 +46,7 @@ C=======================================================================
       DOUBLE PRECISION XV
       CHARACTER*(*) MSG
       CHARACTER*24 V
-      IF (ABS(XV) .LT. 1.0D9 .AND. XV .EQ. DBLE(NINT(XV))) THEN
+      IF (ABS(XV) .LT. 1.0D6 .AND. XV .EQ. DBLE(NINT(XV))) THEN
         WRITE (V, '(I0)') NINT(XV)
       ELSE
         WRITE (V, '(ES12.5)') XV
