@@ -16,6 +16,7 @@ import numpy as np
 from sbmf_cli import ParameterError
 
 from .. import __version__
+from ._origin import m_origin
 
 __all__ = [
     "UnitSystem",
@@ -355,6 +356,7 @@ def header_lines(target, params, params_path, sha, units, kt):
         f"sha256: {sha}",
         f"units: {units.name} (stress {s}, length {units.length_unit})",
         f"m={params.m!r} k={params.k * units.stress!r} {s}",
+        *m_origin(params).header(),
         f"H={params.H * units.stress!r} {s} geo_ratio={params.geo_ratio!r}",
         f"C1={params.C1!r} n1={params.n1!r}",
     ]

@@ -15,6 +15,7 @@ from sbmf_cli import OutputFolder, ParameterError
 from ..params import FrictionParams
 from . import _targets
 from ._law import UNIT_SYSTEMS, StiffnessSpec, UnitSystem, core_context, header_lines
+from ._origin import m_origin
 from ._tables import FrictionTable
 from ._templates import check_columns, comment_block, render_template, template_path
 
@@ -117,6 +118,7 @@ def texts(job, *, guards=True):
         "sha": job.sha,
         "table": job.table,
         "guards": guards,
+        "origin": m_origin(job.params),
         **job.law,
     }
     if "guard" in context:

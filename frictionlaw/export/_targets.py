@@ -106,6 +106,9 @@ class Routine:
     units_input : tuple of str
         ``(name, where)`` of the value by which the deck states its unit system (1 SI,
         2 mm-t-s), as the guards' message and the README name it.
+    status : bool
+        The routine returns its guards' status to its caller (``IERR`` of the host-neutral
+        ``SBMF_FRICTION``) instead of reaching the host through ``Host.guards``.
     """
 
     stick: str
@@ -113,6 +116,7 @@ class Routine:
     tested: str = "readme/tested.md"
     state_name: str = "DEPVAR"
     units_input: tuple = ("PROPS(1)", "the data line of *FRICTION, USER, PROPERTIES=1")
+    status: bool = False
     #: the README's frame (it includes ``stick``, the target's section and ``tested``)
     frame: ClassVar[str] = "readme/routine.md"
     #: ``--k-t`` applies
@@ -342,6 +346,7 @@ for _record in (
             state=("history variable ", ""),
             state_name="the history variables",
             units_input=("IUNIT", "SBMF_FRICTION's argument, from the deck's user parameters"),
+            status=True,
         ),
         harness=SBMF_FRICTION,
     ),
@@ -356,6 +361,7 @@ for _record in (
             state=("state variable ", ""),
             state_name="NSVR",
             units_input=("IUNIT", "SBMF_FRICTION's argument, from the TB,FRIC user constants"),
+            status=True,
         ),
         harness=SBMF_FRICTION,
     ),
