@@ -271,38 +271,44 @@ class FricLib(_Host):
         self._fn = lib.h_fric
         self._fn.restype = None
 
-    def __call__(self, press, dgam, tau_start, statev_start, chrlngth):
+    def __call__(self, press, dgam, tau_start, statev_start, chrlngth, reps=1, out=None):
         """One iteration: every point gets the start-of-increment ``TAU`` and ``STATEV``.
 
-        Arrays are (n,), (n, nd), (n, nd), (n, nstatv), (n,); returns a dict of outputs.
+        Arrays are (n,), (n, nd), (n, nd), (n, nstatv), (n,); returns a dict of outputs
+        (``out``: a dict a former call returned, reused; ``reps``: the points called that many
+        times, for timing).
         """
         press, dgam, tau_start, sv = map(_f, (press, dgam, tau_start, statev_start))
         chr_ = _f(np.broadcast_to(chrlngth, press.shape))
         n, nd = dgam.shape
         nsv = sv.shape[1]
-        out = {
-            "tau": np.full((n, nd), np.nan),
-            "ddtddg": np.full((n, nd, nd), np.nan),
-            "ddtddp": np.full((n, nd), np.nan),
-            "dslip": np.full((n, nd), np.nan),
-            "statev": np.full((n, nsv), np.nan),
-            "lm": np.full(n, -1, np.int32),
-            "sed": np.full(n, np.nan),
-            "sfd": np.full(n, np.nan),
-        }
+        if out is None:
+            out = {
+                "tau": np.full((n, nd), np.nan),
+                "ddtddg": np.full((n, nd, nd), np.nan),
+                "ddtddp": np.full((n, nd), np.nan),
+                "dslip": np.full((n, nd), np.nan),
+                "statev": np.full((n, nsv), np.nan),
+                "lm": np.full(n, -1, np.int32),
+                "sed": np.full(n, np.nan),
+                "sfd": np.full(n, np.nan),
+            }
+        else:  # a former call's outputs: DDTDDG back to the Fortran layout (a view)
+            out = {**out, "ddtddg": out["ddtddg"].transpose(0, 2, 1)}
+            assert out["ddtddg"].flags.c_contiguous
         nprops, props = self._props()
         self._fn(
             ctypes.c_int(n),
             ctypes.c_int(nd),
             ctypes.c_int(nsv),
+            ctypes.c_int(reps),
             ctypes.c_int(nprops),
             _ptr(props),
             *map(_ptr, (press, dgam, tau_start, sv, chr_)),
             *map(_ptr, out.values()),
         )
-        # Fortran DDTDDG(a, b) -> row-major [b, a] in memory: transpose to [a, b]
-        out["ddtddg"] = np.ascontiguousarray(out["ddtddg"].transpose(0, 2, 1))
-        return out
+        # Fortran DDTDDG(a, b) -> row-major [b, a] in memory: transposed to [a, b] (a view)
+        return {**out, "ddtddg": out["ddtddg"].transpose(0, 2, 1)}
 
 
 class VfricLib(_Host):

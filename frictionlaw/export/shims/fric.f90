@@ -1,15 +1,15 @@
-subroutine h_fric(n, nd, nstatv, nprops, props, press, dgam, tau_in, sv_in, chr, tau_out, &
-                  dtdg, dtdp, dslip, sv_out, lm_out, sed, sfd) bind(c, name='h_fric')
+subroutine h_fric(n, nd, nstatv, reps, nprops, props, press, dgam, tau_in, sv_in, chr, &
+                  tau_out, dtdg, dtdp, dslip, sv_out, lm_out, sed, sfd) bind(c, name='h_fric')
   use iso_c_binding
   use sbmf_host_log, only: exits
   implicit none
-  integer(c_int), value :: n, nd, nstatv, nprops
+  integer(c_int), value :: n, nd, nstatv, reps, nprops
   real(c_double), intent(in) :: props(max(nprops, 1))
   real(c_double), intent(in) :: press(n), dgam(nd, n), tau_in(nd, n), sv_in(nstatv, n), chr(n)
   real(c_double), intent(out) :: tau_out(nd, n), dtdg(nd, nd, n), dtdp(nd, n), dslip(nd, n)
   real(c_double), intent(out) :: sv_out(nstatv, n), sed(n), sfd(n)
   integer(c_int), intent(out) :: lm_out(n)
-  integer :: i, lm, kstep, kinc, noel, npt, node, npatch, mcrd, npred, np
+  integer :: i, r, lm, kstep, kinc, noel, npt, node, npatch, mcrd, npred, np
   double precision :: tau(nd), dd(nd, nd), ddp(nd), ds(nd), ddtddt(nd, 2), statev(nstatv)
   double precision :: dg(nd), taulm(nd), slip(nd), time(2), coords(3), rcoord(3), drot(2, 2)
   double precision :: temp(2), predef(2, 1), pr(max(nprops, 1)), pnewdt, dpress, ddpddh
@@ -19,6 +19,7 @@ subroutine h_fric(n, nd, nstatv, nprops, props, press, dgam, tau_in, sv_in, chr,
   np = nprops; time = 0d0; dtime = 1d0; coords = 0d0; rcoord = 0d0; drot = 0d0; temp = 0d0
   predef = 0d0; pr = props; taulm = 0d0; slip = 0d0; dpress = 0d0; ddpddh = 0d0
   ciname = 'CP'; slname = 'SLAVE'; msname = 'MASTER'
+  do r = 1, reps  ! reps > 1: the same points again (benchmarks/bench_fortran_law.py)
   do i = 1, n
     lm = 0
     pnewdt = 1d0
@@ -38,6 +39,7 @@ subroutine h_fric(n, nd, nstatv, nprops, props, press, dgam, tau_in, sv_in, chr,
     lm_out(i) = lm
     sed(i) = sedv
     sfd(i) = sfdv
+  end do
   end do
 end subroutine h_fric
 
