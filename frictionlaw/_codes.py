@@ -9,6 +9,8 @@ CODE_SBMF_RELOAD = 4  # Eq. 25 alone, whatever p is (for alpha_reload)
 # the reload form of codes 3 and 4 (coeffs[7], frictionlaw.reload_form)
 FORM_PAPER = 0
 FORM_TABULATED = 1
+#: the tabulated form's x2 starts quadratically below p / p_hist = Q_START (finite d tau / dp)
+Q_START = 0.01
 
 STATUS_OPEN = 0
 STATUS_STICK = 1

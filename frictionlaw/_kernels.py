@@ -35,6 +35,7 @@ from ._codes import (
     CODE_SBMF_RELOAD,
     CODE_TRESCA,
     FORM_TABULATED,
+    Q_START,
     STATUS_OPEN,
     STATUS_SLIP,
     STATUS_STICK,
@@ -189,6 +190,7 @@ _RO = types.Array(float64, 1, "C", readonly=True)
 _RO2 = types.Array(float64, 2, "C", readonly=True)
 
 _TAB = 10  # coeffs index of z[0] in the tabulated reload form
+_LN_Q_START = math.log(Q_START)  # below it the tabulated branch's x2 starts quadratically
 _LN_D_MAX = 700.0  # bound on ln(dtau/dp / (tau_max s2 x g'/g)) where it is formed in logs
 _D_MAX = 1.7976931348623157e308  # the largest double: dtau/dp is held below it
 
@@ -247,13 +249,15 @@ def sbmf_reload_table_scalar(p, p_hist, coeffs):
 
     ``tau = tau_max a1h g(x2; n2)`` with ``a1h = alpha1(p_hist)``, ``(C2, n2)`` of the table at
     ``p_hist`` (:func:`reload_table_at`), ``x2h = p_hist C2 / (H a1h)`` and
-    ``x2 = x2h (p / p_hist) ** s2``; divided by ``g(x2h; n2)`` when ``continuous != 0`` so that
-    it meets Eq. 24 at ``p_hist``. All in logs, as :func:`sbmf_reload_scalar`:
+    ``x2 = x2h (p / p_hist) ** s2`` (below ``p / p_hist = q0 = Q_START`` the C1 quadratic start
+    ``x2h q0**s2 (a t + b t**2)``, ``t = q / q0``, ``a = 2 - s2``, ``b = s2 - 1``, so that
+    ``d tau / dp`` stays finite at ``p -> 0``); divided by ``g(x2h; n2)`` when ``continuous != 0``
+    so that it meets Eq. 24 at ``p_hist``. All in logs, as :func:`sbmf_reload_scalar`:
     ``ln x2h = ln(p_hist / H) + ln C2 - ln a1h`` and ``ln(p / p_hist)``, each one ``log`` of the
     quotient where it is a normal double (else of its terms); ``tau = tau_max exp(ln a1h +
     ln g2 [- ln g2h])``.
-    ``dtau/dp = tau s2 (x2 g'/g)(x2) / p`` (the logarithmic slope of
-    :func:`smooth_min_log_slope`): for ``s2 < 1`` it grows without bound as ``p -> 0`` and is held
+    ``dtau/dp = tau m (x2 g'/g)(x2) / p`` with ``m = d ln x2 / d ln p`` (``s2``, below ``q0``
+    ``1 + b t / (a + b t)``) and the logarithmic slope of :func:`smooth_min_log_slope`; held
     below the largest double; where ``tau s2 x2 g'/g`` is below 1e-290 (``tau`` subnormal or 0:
     ``p_hist`` below about 1e-290 Pa) it is formed in logs instead, its logarithm held below 700.
     Bounded by ``tau_max a1h`` (``p <= p_hist``; the comparison made in logs, so that the bound
@@ -277,7 +281,16 @@ def sbmf_reload_table_scalar(p, p_hist, coeffs):
         lnq = math.log(q)
     else:
         lnq = math.log(p) - math.log(p_hist)
-    lnx2 = lnx2h + s2 * lnq
+    slope = s2  # d ln x2 / d ln p
+    if lnq < _LN_Q_START:
+        # below q0 = p / p_hist of 0.01: the C1 quadratic start q0**s2 (a t + b t**2),
+        # t = q / q0, a = 2 - s2, b = s2 - 1 (finite d tau/dp at p -> 0; q**s2 itself for s2 = 1, 2)
+        t = math.exp(lnq - _LN_Q_START)
+        u = (2.0 - s2) + (s2 - 1.0) * t
+        lnx2 = lnx2h + s2 * _LN_Q_START + (lnq - _LN_Q_START) + math.log(u)
+        slope = 1.0 + (s2 - 1.0) * t / u
+    else:
+        lnx2 = lnx2h + s2 * lnq
     lng2, sl2 = smooth_min_log_slope(lnx2, n2)
     lng2h = 0.0
     if coeffs[6] != 0.0:
@@ -286,11 +299,11 @@ def sbmf_reload_table_scalar(p, p_hist, coeffs):
     tau = tau_max * math.exp(lnt)
     if p > p_hist and tau >= tau_max:
         return tau_max, 0.0
-    d = tau * (s2 * sl2)
+    d = tau * (slope * sl2)
     if d > 1e-290:
         dtau = min(d / p, _D_MAX)
     elif sl2 > 0.0:
-        dtau = min(tau_max * s2 * sl2 * math.exp(min(lnt - math.log(p), _LN_D_MAX)), _D_MAX)
+        dtau = min(tau_max * slope * sl2 * math.exp(min(lnt - math.log(p), _LN_D_MAX)), _D_MAX)
     else:
         dtau = 0.0
     if p <= p_hist and lnt >= lna1h:  # tau >= tau_max a1h (exp is monotone)

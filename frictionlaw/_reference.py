@@ -7,6 +7,8 @@ that agreement between the two is evidence and not an echo.
 
 import numpy as np
 
+from ._codes import Q_START
+
 __all__ = [
     "ln_smooth_min",
     "smooth_min",
@@ -86,7 +88,9 @@ def alpha_reload_tabulated(p, p_hist, C1, n1, H, C2, n2, s2, continuous=False):
     """The tabulated form's ``alpha2(p; p_hist)`` with ``C2``, ``n2`` given per point.
 
     ``C2`` and ``n2`` are the table's values at each ``p_hist`` (the tests take them from
-    SciPy's ``PchipInterpolator``); ``x2 = (p_hist C2 / (H a1h)) (p / p_hist) ** s2``. Capped
+    SciPy's ``PchipInterpolator``); ``x2 = (p_hist C2 / (H a1h)) r(p / p_hist)``, ``r(q) =
+    q**s2`` and below ``q0 = Q_START`` the quadratic start ``q0**s2 (t (2 - s2) + t**2 (s2 - 1))``,
+    ``t = q / q0``. Capped
     at a contact ratio of 1, 0 where ``p <= 0`` or ``p_hist <= 0``.
     """
     p, p_hist, C2, n2 = np.broadcast_arrays(*(np.asarray(v, float) for v in (p, p_hist, C2, n2)))
@@ -95,7 +99,17 @@ def alpha_reload_tabulated(p, p_hist, C1, n1, H, C2, n2, s2, continuous=False):
     ph, c2, nn = p_hist[ok], C2[ok], n2[ok]
     ln_a1h = ln_smooth_min(_ln_x(ph, C1, H), n1)
     ln_x2h = _ln_x(ph, c2, H) - ln_a1h
-    ln_val = ln_a1h + ln_smooth_min(ln_x2h + s2 * (np.log(p[ok]) - np.log(ph)), nn)
+    # x2 = x2h r(q): q**s2, below q0 the quadratic q0**s2 (t (2 - s2) + t**2 (s2 - 1)), t = q/q0
+    lnq = np.log(p[ok]) - np.log(ph)
+    q0 = Q_START
+    t = np.exp(np.minimum(lnq - np.log(q0), 0.0))
+    with np.errstate(divide="ignore"):
+        ln_r = np.where(
+            lnq < np.log(q0),
+            s2 * np.log(q0) + np.log(t * ((2.0 - s2) + (s2 - 1.0) * t)),
+            s2 * lnq,
+        )
+    ln_val = ln_a1h + ln_smooth_min(ln_x2h + ln_r, nn)
     if continuous:
         ln_val = ln_val - ln_smooth_min(ln_x2h, nn)
     with np.errstate(under="ignore"):

@@ -239,8 +239,10 @@ def test_the_grid_spans_the_table():
     assert np.any(p == 0) and np.any(p == 1e-300) and np.any(p == np.nextafter(ph, 0))
     # the reload branch for most nodes, first loading for the rest
     assert 0.6 < np.mean((p > 0) & (p < ph)) < 0.9
-    # s2 at its lower bound: dtau/dp meets the kernel's bounds (exp(700), the largest double)
+    # s2 at its lower bound: below p/p_hist = Q_START the branch starts quadratically, so dtau/dp
+    # stays finite and moderate even at subnormal pressures (with q**s2 down to p = 0 it reached
+    # the largest double here)
     steep = PARAM_SETS["tab_steep"]
     p, ph = grid(steep, np.random.default_rng(31))
     d = evaluate(CODE_SBMF, sbmf_coeffs(steep), p, ph)[1]
-    assert np.isfinite(d).all() and np.any(d == np.finfo(float).max) and np.any(d > 1e300)
+    assert np.isfinite(d).all() and 100.0 < d.max() < 1e4

@@ -307,3 +307,28 @@ def test_tabulated_form_needs_a_table():
         )
     with pytest.raises(ValueError, match="reload_form must be one of"):
         FrictionParams(m=0.5, sigma_y=3e8, H=H, C1=1.0, n1=2.0, C2=3.0, n2=2.0, reload_form="x")
+
+
+@pytest.mark.parametrize("s2", [0.3, 0.67, 1.0, 1.6])
+def test_quadratic_start_below_q0_is_c1_with_a_finite_slope_at_zero(s2):
+    """Below p / p_hist = Q_START, x2 starts as a quadratic in p: tau and d tau/dp continuous at
+    Q_START, d tau/dp finite as p -> 0 (q**s2 alone has an infinite slope there for s2 < 1, which
+    stalled GetFEM's Newton on re-contact); s2 = 1 stays Eq. 25's linear x2 exactly."""
+    from frictionlaw._codes import Q_START
+
+    P = params(False, ReloadTable(p_hist=LEVELS, C2=C2B, n2=N2B, s2=s2))
+    ph = 500e6
+    q0p = Q_START * ph
+    lo, hi = q0p * (1 - 1e-10), q0p * (1 + 1e-10)
+    t = shear_limit(np.array([lo, hi]), ph, P)
+    d = shear_limit_dp(np.array([lo, hi]), ph, P)
+    assert abs(t[1] - t[0]) <= 1e-8 * t[1] and abs(d[1] - d[0]) <= 1e-6 * d[1]
+    p = np.array([1e-300, 1e-12, 1.0, 1e3])
+    d0 = shear_limit_dp(p, ph, P)
+    assert np.all(np.isfinite(d0)) and np.all(d0 <= (2.0 - s2) / s2 * d[0] * 10 + d[0])
+    # the slope at 0: tau = tau_max a1h g(x2) -> tau_max a1h x2 with x2 -> x2(q0) (2 - s2) t
+    c2, n2 = P.reload_table.at(ph, H)
+    a1h = alpha_first(ph, P)
+    x2q0 = ph * float(c2) / (H * a1h) * Q_START**s2
+    want = (2.0 - s2) * P.tau_max * a1h * x2q0 / q0p
+    assert d0[0] == pytest.approx(want, rel=1e-6)

@@ -16,6 +16,7 @@ import numpy as np
 from sbmf_cli import ParameterError
 
 from .. import __version__
+from .._codes import Q_START
 from ._origin import m_origin
 
 __all__ = [
@@ -297,8 +298,9 @@ def core_context(params, units, kt):
         ``frictionlaw._kernels``; ``ln_d_max``, the tabulated form's bound 700 on
         ``ln(dtau/dp)`` where it is formed in logs; ``ln_h``, ``ln H`` in the host's unit (as
         the runtime's ``log(H)`` gives it, for the tabulated form's ``ln(p_hist/H)`` where the
-        quotient is not a normal double); ``guard``, the :class:`GuardSpec` (the unit system,
-        ``100 H``, ``p_max``) every routine checks.
+        quotient is not a normal double); ``ln_q_start``, ``ln Q_START``, below which the
+        tabulated branch starts quadratically; ``guard``, the :class:`GuardSpec` (the unit
+        system, ``100 H``, ``p_max``) every routine checks.
     """
     law = law_constants(params, units)
     return {
@@ -310,6 +312,7 @@ def core_context(params, units, kt):
         "ln_sat": math.log(350.0),
         "ln_d_max": 700.0,
         "ln_h": math.log(law["H"]),
+        "ln_q_start": math.log(Q_START),
         "guard": guard_spec(params, units),
     }
 

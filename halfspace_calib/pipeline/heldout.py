@@ -35,7 +35,7 @@ import numpy as np
 from frictionlaw import FrictionParams, alpha_first, alpha_reload
 
 from . import fit as _fit
-from .reload_table import S2_BOUNDS, fit_reload_table, table_alpha
+from .reload_table import S2_BOUNDS, cross_validation, level_grid, table_alpha, table_of
 
 __all__ = [
     "HELDOUT_TOL",
@@ -58,7 +58,7 @@ GROSS_MISS = 0.15
 #: pressure p <= FULL_CONTACT_P H: reported, not failed (the law is then Tresca from low pressure)
 FULL_CONTACT_ALPHA = 0.95
 FULL_CONTACT_P = 0.1
-_S2_WINDOW = 0.15  # the held-out refits search s2 within this of the full fit's value
+_S2_STEPS = (-0.1, -0.05, 0.0, 0.05, 0.1)  # the held-out refits' s2, about the full fit's
 
 
 @dataclass(frozen=True)
@@ -219,22 +219,34 @@ def reload_errors(curves, H, C1, n1, reload, continuous=False, branch="reload"):
 def reload_table_errors(table_fit):
     """:class:`BranchErrors` of the tabulated form: each interior level left out of the table.
 
-    The levels left in are refitted with ``s2`` searched again (within 0.15 of the full fit's
-    value), so that the level left out shapes nothing of its prediction.
+    Without the level left out, ``s2`` is chosen again as the fit chooses it (the levels' squared
+    residuals plus the cross-validation among them), over a grid of step 0.05 within 0.1 of the
+    full fit's value; each level's own fit at a given ``s2`` does not depend on the level left
+    out, so one pass over the grid serves all (:func:`~.reload_table.level_grid`). The level left
+    out then shapes nothing of its prediction.
     """
     f = table_fit
     cs = list(f.curves)
-    s0 = f.s2
-    window = (max(S2_BOUNDS[0], s0 - _S2_WINDOW), min(S2_BOUNDS[1], s0 + _S2_WINDOW))
+    n = len(cs)
+    grid = sorted({float(np.clip(f.s2 + d, *S2_BOUNDS)) for d in _S2_STEPS})
+    fits = level_grid(f, grid) if n >= 2 else {}
 
     def predict(j):
-        rest = [c for i, c in enumerate(cs) if i != j]
-        g = fit_reload_table(rest, f.H, f.C1, f.n1, continuous=f.continuous, s2_bounds=window)
-        c = cs[j]
-        return table_alpha(c.p, c.p_hist, g.table, f.H, f.C1, f.n1, f.continuous) - c.alpha
+        keep = np.arange(n) != j
+        rest = [c for c, k in zip(cs, keep, strict=True) if k]
 
-    held = [(cs[j].p_hist, predict(j)) for j in range(1, len(cs) - 1)] if len(cs) >= 3 else []
-    ext = (cs[-1].p_hist, predict(len(cs) - 1)) if len(cs) >= 2 else None
+        def objective(s2):
+            X, sse = fits[s2]
+            cv = cross_validation(rest, X[keep], s2, f.H, f.C1, f.n1, f.continuous)
+            return float(sse[keep].sum()) + cv
+
+        s2 = min(grid, key=objective)
+        table = table_of(rest, fits[s2][0][keep], s2)
+        c = cs[j]
+        return table_alpha(c.p, c.p_hist, table, f.H, f.C1, f.n1, f.continuous) - c.alpha
+
+    held = [(cs[j].p_hist, predict(j)) for j in range(1, n - 1)] if n >= 3 else []
+    ext = (cs[-1].p_hist, predict(n - 1)) if n >= 2 else None
     return _errors("reload", "tabulated", f.residuals, held, ext)
 
 

@@ -39,6 +39,9 @@ from .fit import ReloadCurve, _bounds, _curve
 
 __all__ = [
     "S2_BOUNDS",
+    "cross_validation",
+    "level_grid",
+    "table_of",
     "TABLE_C_BOUNDS",
     "TABLE_N_BOUNDS",
     "ReloadTableFit",
@@ -58,6 +61,7 @@ TABLE_N_BOUNDS = (0.1, 50.0)
 _N_GRID = (0.3, 0.6, 1.0, 2.0, 4.0, 8.0)
 _EXACT = 1e-8  # a level whose residuals are all below this (in alpha) is fitted
 _NEAR_BOUND = 5e-3  # ln of 1.005: a parameter this close to its bound is on it
+_S2_TOL = 2e-3  # s2 is searched to this (held out, the law moves by < 1e-4 in alpha per 0.01)
 _K_GRID = (0.5, 1.0, 2.0, 5.0, 10.0, 30.0, 100.0)
 
 
@@ -108,6 +112,8 @@ class ReloadTableFit:
     n1: float
     nfev: int = 0
     seconds: float = 0.0
+    C_bounds: tuple = (1e-3, 1e5)
+    n_bounds: tuple = (0.1, 50.0)
     rmse: float = field(init=False)
     max_abs_residual: float = field(init=False)
 
@@ -238,7 +244,7 @@ class _Level:
             x0,
             bounds=(self.lb, self.ub),
             method="trf",
-            jac="3-point",
+            jac="2-point",
             ftol=1e-12,
             xtol=1e-12,
             gtol=1e-12,
@@ -293,20 +299,8 @@ def fit_reload_table(
     ReloadTableFit
     """
     t0 = time.perf_counter()
-    if isinstance(curves, (ReloadCurve, dict)) or not hasattr(curves, "__len__"):
-        raise ValueError("curves must be a sequence of reload curves")
-    if len(curves) == 0:
-        raise ValueError("curves must hold at least one reload curve")
-    cs = sorted((_curve(i, c) for i, c in enumerate(curves)), key=lambda c: c.p_hist)
+    cs = _levels_of(curves)
     phs = [c.p_hist for c in cs]
-    if len(set(phs)) != len(phs):
-        raise ValueError(f"curves must have distinct p_hist (one curve per level), got {phs}")
-    for i, c in enumerate(cs):
-        if c.p.size < 2:
-            raise ValueError(
-                f"curves[{i}] (p_hist {c.p_hist:g} Pa) has {c.p.size} point; each level needs "
-                "at least 2 to fix its C2 and n2"
-            )
     H = positive("H", H)
     C1, n1 = positive("C1", C1), positive("n1", n1)
     cb, nb = _bounds("C_bounds", C_bounds, C_RANGE), _bounds("n_bounds", n_bounds, N_RANGE)
@@ -329,7 +323,7 @@ def fit_reload_table(
 
     message = "converged"
     if s2 is None:
-        res = minimize_scalar(total, bounds=sb, method="bounded", options={"xatol": 1e-4})
+        res = minimize_scalar(total, bounds=sb, method="bounded", options={"xatol": _S2_TOL})
         s2 = float(res.x)
         if not res.success:
             message = f"the search for s2 did not converge: {res.message}"
@@ -363,23 +357,76 @@ def fit_reload_table(
         n1=n1,
         nfev=sum(lv.nfev for lv in levels),
         seconds=time.perf_counter() - t0,
+        C_bounds=cb,
+        n_bounds=nb,
     )
+
+
+def _levels_of(curves):
+    """The curves as :class:`ReloadCurve` s ascending in ``p_hist``, one per level, >= 2 points."""
+    if isinstance(curves, (ReloadCurve, dict)) or not hasattr(curves, "__len__"):
+        raise ValueError("curves must be a sequence of reload curves")
+    if len(curves) == 0:
+        raise ValueError("curves must hold at least one reload curve")
+    cs = sorted((_curve(i, c) for i, c in enumerate(curves)), key=lambda c: c.p_hist)
+    phs = [c.p_hist for c in cs]
+    if len(set(phs)) != len(phs):
+        raise ValueError(f"curves must have distinct p_hist (one curve per level), got {phs}")
+    for i, c in enumerate(cs):
+        if c.p.size < 2:
+            raise ValueError(
+                f"curves[{i}] (p_hist {c.p_hist:g} Pa) has {c.p.size} point; each level needs "
+                "at least 2 to fix its C2 and n2"
+            )
+    return cs
 
 
 def _cross_validation(levels, s2, H, C1, n1, continuous):
     """Squared residuals of each interior level predicted by the table of the other levels."""
+    X = np.array([lv.x for lv in levels])
+    return cross_validation([lv.c for lv in levels], X, s2, H, C1, n1, continuous)
+
+
+def table_of(curves, X, s2):
+    """The :class:`ReloadTable` of ``curves`` with per-level ``(ln C2, ln n2)`` rows ``X``."""
+    return ReloadTable(
+        p_hist=tuple(c.p_hist for c in curves),
+        C2=tuple(float(v) for v in np.exp(X[:, 0])),
+        n2=tuple(float(v) for v in np.exp(X[:, 1])),
+        s2=s2,
+    )
+
+
+def cross_validation(curves, X, s2, H, C1, n1, continuous):
+    """Summed squared residuals of each interior curve predicted from the others' table.
+
+    ``curves`` ascending in ``p_hist``, ``X`` their fitted ``(ln C2, ln n2)`` rows at ``s2``.
+    """
     out = 0.0
-    for j in range(1, len(levels) - 1):
-        rest = [lv for i, lv in enumerate(levels) if i != j]
-        table = ReloadTable(
-            p_hist=tuple(lv.c.p_hist for lv in rest),
-            C2=tuple(float(np.exp(lv.x[0])) for lv in rest),
-            n2=tuple(float(np.exp(lv.x[1])) for lv in rest),
-            s2=s2,
-        )
-        c = levels[j].c
+    for j in range(1, len(curves) - 1):
+        keep = np.arange(len(curves)) != j
+        rest = [c for c, k in zip(curves, keep, strict=True) if k]
+        c = curves[j]
+        table = table_of(rest, X[keep], s2)
         e = table_alpha(c.p, c.p_hist, table, H, C1, n1, continuous) - c.alpha
         out += float(e @ e)
+    return out
+
+
+def level_grid(fit, s2_values):
+    """Each level's fit at each of ``s2_values``: ``{s2: (X, sse)}``, ``X`` rows ``(ln C2, ln n2)``.
+
+    What the held-out errors reuse: a level's own fit at a given ``s2`` does not depend on which
+    other level is left out, so one pass over a few ``s2`` serves every left-out level.
+    """
+    levels = [
+        _Level(c, fit.H, fit.C1, fit.n1, fit.continuous, fit.C_bounds, fit.n_bounds)
+        for c in fit.curves
+    ]
+    out = {}
+    for s2 in s2_values:
+        sse = np.array([lv.fit(s2)[0] for lv in levels])
+        out[s2] = (np.array([lv.x.copy() for lv in levels]), sse)
     return out
 
 

@@ -334,15 +334,7 @@ class Scene:
         )
         if self.reload_surface not in ("plastic", "volume_conserving"):
             raise ValueError("reload_surface must be 'plastic' or 'volume_conserving'")
-        if self.reload_form not in RELOAD_FORMS:
-            raise ValueError(
-                f"reload_form must be one of {', '.join(RELOAD_FORMS)}, got {self.reload_form!r}"
-            )
-        ht = self.heldout_tol
-        if not (isinstance(ht, (int, float)) and not isinstance(ht, bool) and 1e-4 <= ht <= 1):
-            raise ValueError(
-                f"heldout_tol must be a contact-ratio error in [0.0001, 1], got {ht!r}"
-            )
+        self._validate_reload_law()
         af = self.alpha_floor
         if af is not None and not (
             isinstance(af, (int, float)) and not isinstance(af, bool) and 0 < af < 1
@@ -367,6 +359,18 @@ class Scene:
                     f"measured_n must be a multiple >= 2 of grid={self.grid} for the inclined "
                     f"effect (measured points per element), got {mn!r}"
                 )
+
+    def _validate_reload_law(self):
+        """The reload law's form and the acceptance's tolerance (issue 31)."""
+        if self.reload_form not in RELOAD_FORMS:
+            raise ValueError(
+                f"reload_form must be one of {', '.join(RELOAD_FORMS)}, got {self.reload_form!r}"
+            )
+        ht = self.heldout_tol
+        if not (isinstance(ht, (int, float)) and not isinstance(ht, bool) and 1e-4 <= ht <= 1):
+            raise ValueError(
+                f"heldout_tol must be a contact-ratio error in [0.0001, 1], got {ht!r}"
+            )
 
     def _validate_surfaces(self):
         """Options about files and synthetic surfaces: each honoured or refused."""

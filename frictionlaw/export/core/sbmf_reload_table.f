@@ -123,14 +123,15 @@ C=======================================================================
 C     Eq. 25 tabulated over p_hist (frictionlaw's
 C     sbmf_reload_table_scalar): TAU = TMAX a1h g(x2; n2), a1h =
 C     alpha1(PH), (C2, n2) of the table at PH (SBMF_RTAB),
-C     x2h = PH C2/(H a1h), x2 = x2h (P/PH)**S2, all formed in logs:
+C     x2h = PH C2/(H a1h), x2 = x2h (P/PH)**S2 (below P/PH = Q0 a C1
+C     quadratic start, finite DTAU at P -> 0), all formed in logs:
 C     ln x2h = ln(PH/H) + ln C2 - ln a1h and ln(P/PH), one log of each
 C     quotient where it is a normal double (else of its terms).
 {% if continuous %}
 C     Continuous variant: divided by g(x2h; n2) to meet Eq. 24 at PH.
 {% endif %}
-C     DTAU = TAU S2 SL(x2)/P, SL = x2 g'/g (SBMF_SMINS), held below the
-C     largest double (it grows without bound as P -> 0 for S2 < 1);
+C     DTAU = TAU SLP SL(x2)/P, SL = x2 g'/g (SBMF_SMINS), SLP =
+C     d ln x2/d ln P, held below the largest double;
 C     where TAU S2 SL is below 1D-290 (TAU subnormal or 0) formed in
 C     logs, its log held below LNDMAX. Cap TMAX a1h for P <= PH (the
 C     comparison made in logs: the cap is formed only where it
@@ -141,7 +142,7 @@ C=======================================================================
       IMPLICIT NONE
       DOUBLE PRECISION P, PH, G1H, TAU, DTAU, G1OUT
       DOUBLE PRECISION LNA1H, X, LNC2, LNN2, XN2, LNX2H, Q, LNQ, LNX2
-      DOUBLE PRECISION LG2, SL2, LNT, D
+      DOUBLE PRECISION LG2, SL2, LNT, D, SLP, T, U
 {% if continuous %}
       DOUBLE PRECISION LG2H
 {% endif %}
@@ -157,6 +158,9 @@ C=======================================================================
 C     ln H, as the runtime's log(H) gives it
       PARAMETER (LNH = {{ ln_h | double }})
       PARAMETER (LNDMAX = {{ ln_d_max | double }})
+      DOUBLE PRECISION LNQ0
+C     ln Q0: below P/PH = Q0 the branch starts quadratically
+      PARAMETER (LNQ0 = {{ ln_q_start | double }})
       G1OUT = G1H
       IF (.NOT. (P .GT. 0.0D0 .AND. PH .GT. 0.0D0)) THEN
         TAU = 0.0D0
@@ -183,7 +187,17 @@ C     ln H, as the runtime's log(H) gives it
       ELSE
         LNQ = LOG(P) - LOG(PH)
       END IF
-      LNX2 = LNX2H + S2*LNQ
+      SLP = S2
+      IF (LNQ .LT. LNQ0) THEN
+C       below P/PH = Q0: the C1 quadratic start Q0**S2 (A T + B T**2),
+C       T = Q/Q0, A = 2 - S2, B = S2 - 1 (finite DTAU at P -> 0)
+        T = EXP(LNQ - LNQ0)
+        U = (2.0D0 - S2) + (S2 - 1.0D0)*T
+        LNX2 = LNX2H + S2*LNQ0 + (LNQ - LNQ0) + LOG(U)
+        SLP = 1.0D0 + (S2 - 1.0D0)*T/U
+      ELSE
+        LNX2 = LNX2H + S2*LNQ
+      END IF
       CALL SBMF_SMINS(LNX2, XN2, LG2, SL2)
 {% if continuous %}
 C     continuous_reload: divided by g(x2h; n2), formed in logs
@@ -198,11 +212,11 @@ C     continuous_reload: divided by g(x2h; n2), formed in logs
         DTAU = 0.0D0
         RETURN
       END IF
-      D = TAU*(S2*SL2)
+      D = TAU*(SLP*SL2)
       IF (D .GT. 1.0D-290) THEN
         DTAU = MIN(D/P, HUGE(DTAU))
       ELSE IF (SL2 .GT. 0.0D0) THEN
-        DTAU = MIN(TMAX*S2*SL2*EXP(MIN(LNT - LOG(P), LNDMAX)),
+        DTAU = MIN(TMAX*SLP*SL2*EXP(MIN(LNT - LOG(P), LNDMAX)),
      &             HUGE(DTAU))
       ELSE
         DTAU = 0.0D0
