@@ -16,6 +16,14 @@ CPU time of the calling thread (``time.thread_time``: the routines run in that t
 shared 2-core machine the wall clock also counts the time the thread waits for a core, which
 inflated every figure by up to 4x).
 
+The guards' cost (docs/fe_codes.md, "Guards"): the shipped routines (guards in) against the same
+routines rendered without them (``frictionlaw.export._render.texts(job, guards=False)``, never
+shipped), timed in turn in the same rounds: the host-neutral ``SBMF_FRICTION`` (paper form) and
+Abaqus' ``FRIC`` (its shim calls it per point as Abaqus does). The parameter file records its
+calibrated range (up to 760 MPa), so the loading nodes above it take the range check's slow
+path (the once-per-process flag read) at every call. ``guard_cost_*`` is the median over the
+rounds of guarded / unguarded - 1.
+
 Run: python benchmarks/bench_fortran_law.py [--nodes 200000] [--repeat 5] [--reload-fraction 0.5]
 [--out benchmarks/results/fortran_law.csv]. Writes the CSV and prints a table.
 """
@@ -33,6 +41,7 @@ from _provenance import run_record
 import frictionlaw as fl
 from frictionlaw import export as exp
 from frictionlaw.export import harness
+from frictionlaw.export._render import plan, texts
 from frictionlaw.reload_form import ReloadTable
 
 H = 800e6
@@ -44,6 +53,7 @@ PARAMS = fl.FrictionParams(
     n1=2.8674798599724576,
     C2=7.443848731746356,
     n2=0.5753816933748891,
+    p_range=(10e6, 760e6),  # the loading nodes run to 1.2 H: a third are beyond p_max
 )
 #: the tabulated reload form: the shape of the default scene's reload curves (issue 31)
 TABULATED = dataclasses.replace(
@@ -79,7 +89,8 @@ def median_ratio(rounds, num, den):
 
 
 def libraries(workdir):
-    """The host-neutral ``SBMF_FRICTION`` of each reload form, and the Coulomb floor."""
+    """The host-neutral ``SBMF_FRICTION`` of each reload form, the Coulomb floor, and the
+    guards' pairs: ``SBMF_FRICTION`` and ``FRIC`` of the paper form with and without guards."""
     entry = exp.target("lsdyna").harness  # the host-neutral SBMF_FRICTION
     libs = {}
     for name, params in (("paper", PARAMS), ("tab", TABULATED)):
@@ -88,6 +99,14 @@ def libraries(workdir):
         libs[name], _ = entry.load(files, workdir / name, name=f"sbmf_{name}")
     coulomb = {"coulomb.f": harness.coulomb_source(PARAMS)}
     libs["coulomb"], _ = entry.load(coulomb, workdir / "coul", name="coul")
+    for target, key in (("lsdyna", "paper_noguard"), ("abaqus-fric", "fric_noguard")):
+        job = plan(target, workdir / "params_paper.json")
+        record = exp.target(target)
+        files = texts(job, guards=False)
+        assert ".GT. SBMFPU" not in files[record.file]  # no guard in it
+        libs[key], _ = record.harness.load(files, workdir / key, name=key)
+    files, _ = exp.render("abaqus-fric", workdir / "params_paper.json")
+    libs["fric"], _ = exp.target("abaqus-fric").harness.load(files, workdir / "fric", name="fric")
     return libs
 
 
@@ -141,7 +160,12 @@ def main(argv=None):
         libs = libraries(Path(tmp))
         data, du, t_old = cases(n, rng, args.reload_fraction)
         p0, h0 = data["loading"]
-        bufs = {k: lib(p0, h0, -np.ones(n), du, t_old, KT) for k, lib in libs.items()}
+        neutral = ("paper", "tab", "coulomb", "paper_noguard")
+        bufs = {k: libs[k](p0, h0, -np.ones(n), du, t_old, KT) for k in neutral}
+        chr_ = np.full(n, 1e-3)
+        sv0 = np.zeros((n, 3))
+        for k in ("fric", "fric_noguard"):
+            bufs[k] = libs[k](p0, du, t_old, sv0, chr_)
         ref = fl.traction_update(law, p0, du, t_old, KT, fl.HistoryState(n))
         for branch, (p, ph) in data.items():
             state = fl.HistoryState(n, ph)
@@ -161,6 +185,16 @@ def main(argv=None):
                         p, ph, -np.ones(n), du, t_old, KT, reps=reps, out=bufs[f]
                     )
 
+            # the guards' cost: the same routine with and without them, in the same rounds
+            calls["fortran_sbmf_noguard"] = lambda g=g1, p=p, ph=ph: libs["paper_noguard"](
+                p, ph, g, du, t_old, KT, reps=reps, out=bufs["paper_noguard"]
+            )
+            sv = np.stack([ph, g1, np.zeros(n)], 1)
+            for key in ("fric", "fric_noguard"):
+                calls[f"fortran_{key}"] = lambda p=p, sv=sv, k=key: libs[k](
+                    p, du, t_old, sv, chr_, reps=reps, out=bufs[k]
+                )
+
             def numba_run(p=p, state=state):
                 for _ in range(reps):
                     fl.traction_update(law, p, du, t_old, KT, state, parallel=False, out=ref)
@@ -174,6 +208,13 @@ def main(argv=None):
             row["tab_over_paper"] = times["fortran_sbmf_tab"] / times["fortran_sbmf"]
             row["tab_over_paper_median"] = median_ratio(rounds, "fortran_sbmf_tab", "fortran_sbmf")
             row["numba_over_fortran"] = times["numba_serial"] / times["fortran_sbmf"]
+            row["guard_cost_sbmf"] = (
+                median_ratio(rounds, "fortran_sbmf", "fortran_sbmf_noguard") - 1.0
+            )
+            row["guard_cost_fric"] = (
+                median_ratio(rounds, "fortran_fric", "fortran_fric_noguard") - 1
+            )
+            row["beyond_p_max"] = float(np.mean(p > PARAMS.p_range[1]))
             if "fortran_sbmf_nocache" in times:
                 row["tab_over_paper_nocache"] = (
                     times["fortran_sbmf_tab_nocache"] / times["fortran_sbmf_nocache"]
@@ -195,6 +236,12 @@ def main(argv=None):
         "tab_over_paper_nocache",
         "numba_over_fortran",
         "cache_gain",
+        "fortran_sbmf_noguard",
+        "fortran_fric",
+        "fortran_fric_noguard",
+        "guard_cost_sbmf",
+        "guard_cost_fric",
+        "beyond_p_max",
     ]
     out = args.out
     out.parent.mkdir(parents=True, exist_ok=True)

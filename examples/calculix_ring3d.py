@@ -49,7 +49,7 @@ DIE_STIFFNESS = 1000.0
 
 def _swift_rows(points=60, eps_max=3.0):
     """``*PLASTIC`` rows (MPa, plastic strain) of fe_demo's DC04 Swift curve."""
-    from fe_demo.material import DC04
+    from fe_demo import DC04
 
     ep = np.concatenate([[0.0], np.geomspace(1e-4, eps_max, points - 1)])
     return [f"{DC04.flow_stress(e) / 1e6:.8g}, {e:.8g}" for e in ep]
@@ -63,7 +63,7 @@ def ring_deck(*, nr=12, nth=12, nz=8, reduction=0.5, n_inc=50, contact="n2f", sl
     mid-plane. NDIE: the die's top nodes (the die force); NINNER: the inner nodes at the
     mid-plane (the inner diameter).
     """
-    from fe_demo.material import DC04
+    from fe_demo import DC04
 
     ri, ro, hh = ID / 2, OD / 2, H / 2
     rs = np.linspace(ri, ro, nr + 1)
@@ -146,7 +146,10 @@ def ring_deck(*, nr=12, nth=12, nz=8, reduction=0.5, n_inc=50, contact="n2f", sl
         "*SURFACE INTERACTION, NAME=SBMF",
         "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR",
         f"{slope:g}, 0.01",
-        "*FRICTION, USER, DEPVAR=3",
+        # DEPVAR: p_hist, its cache, the status; the one property: the deck's unit system,
+        # 2 = mm-t-s (the routine checks it against the units it was exported for)
+        "*FRICTION, USER, DEPVAR=3, PROPERTIES=1",
+        "2.",
         "*CONTACT PAIR, INTERACTION=SBMF, TYPE="
         + ("SURFACE TO SURFACE" if contact == "f2f" else "NODE TO SURFACE"),
         "SRING, SDIE",

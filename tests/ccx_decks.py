@@ -1,4 +1,5 @@
-"""CalculiX input decks and output parsing for tests/test_calculix.py (units mm, t, s: MPa, N).
+"""CalculiX input decks and output parsing for tests/test_calculix.py (units mm, t, s: MPa, N;
+:func:`two_blocks` also in SI, for the unit guards).
 
 Two blocks of linear C3D8 elements: a 20 x 20 x 5 mm base (fixed at its bottom) and a
 10 x 10 x 5 mm block on it, pressed by a pressure on its top face and moved sideways by a prescribed
@@ -50,6 +51,7 @@ def two_blocks(
     contact_print=("CSTR",),
     contact_file=(),
     amplitudes=None,
+    si=False,
 ):
     """The deck's text.
 
@@ -73,9 +75,13 @@ def two_blocks(
         Keys of ``*CONTACT PRINT`` and ``*CONTACT FILE`` in every step.
     amplitudes : dict, optional
         ``{name: [(t, a), ...]}``, written as ``*AMPLITUDE`` cards (step time).
+    si : bool
+        The same deck in SI (m, Pa): lengths times 1e-3, stresses times 1e6 (the arguments stay
+        in mm and MPa).
     """
-    nb, eb, ib = _block((0, 0, -5), (20, 20, 5), (4, 4, 1), 1, 1)
-    nt, et, it = _block((5, 5, 0), (10, 10, 5), (n, n, 2), SLAVE0, 1001)
+    ln, st = (1e-3, 1e6) if si else (1.0, 1.0)
+    nb, eb, ib = _block((0, 0, -5 * ln), (20 * ln, 20 * ln, 5 * ln), (4, 4, 1), 1, 1)
+    nt, et, it = _block((5 * ln, 5 * ln, 0), (10 * ln, 10 * ln, 5 * ln), (n, n, 2), SLAVE0, 1001)
     name = interaction[0].split("NAME=")[1].strip()
     out = ["*HEADING", "two blocks: press, slide, unload, reload", "*NODE"]
     for nodes in (nb, nt):
@@ -98,12 +104,12 @@ def two_blocks(
     out += [
         "*MATERIAL, NAME=STEEL",
         "*ELASTIC",
-        "210000., 0.3",
+        f"{210000.0 * st:.10g}, 0.3",
         "*SOLID SECTION, ELSET=EBASE, MATERIAL=STEEL",
         "*SOLID SECTION, ELSET=EBLOCK, MATERIAL=STEEL",
         *interaction,
         "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR",
-        f"{slope:g}, 0.01",
+        f"{slope * st / ln:g}, {0.01 * st:g}",
         f"*CONTACT PAIR, INTERACTION={name}, TYPE={contact}",
         "SSLAVE, SMASTER",
         "*BOUNDARY",
@@ -115,11 +121,11 @@ def two_blocks(
         opts = step[2] if len(step) > 2 else {}
         static = opts.get("static", "0.1, 1.0, 1e-5, 0.25")
         out += ["*STEP, INC=200", "*STATIC", static, "*BOUNDARY"]
-        out += [f"NTOP, 1, 1, {ux:.10g}", "NTOP, 2, 2, 0."]
+        out += [f"NTOP, 1, 1, {ux * ln:.10g}", "NTOP, 2, 2, 0."]
         if "uz" in opts:
-            out.append(f"NTOP, 3, 3, {opts['uz']:.10g}")
+            out.append(f"NTOP, 3, 3, {opts['uz'] * ln:.10g}")
         out.append(f"*DLOAD, AMPLITUDE={opts['amplitude']}" if "amplitude" in opts else "*DLOAD")
-        out += [f"{e}, P2, {p:.10g}" for e in top]
+        out += [f"{e}, P2, {p * st:.10g}" for e in top]
         out += ["*NODE PRINT, NSET=NTOP", "RF", "*CONTACT PRINT", ", ".join(contact_print)]
         if contact_file:
             out += ["*CONTACT FILE", ", ".join(contact_file)]

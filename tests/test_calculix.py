@@ -43,12 +43,18 @@ STEPS = [(400.0, 0.0), (400.0, 0.1), (150.0, 0.2), (300.0, 0.3), (500.0, 0.4)]
 FULL_SLIP = 1.5
 
 
+#: the deck lines of the docs and the README: DEPVAR, and the unit system the deck states
+#: (PROPERTIES=1, value 2: mm-t-s, the unit system of these decks and the exported routine)
+DOC_LINES = ["*SURFACE INTERACTION, NAME=SBMF", "*FRICTION, USER, DEPVAR=3, PROPERTIES=1", "2."]
+
+
 def _doc_lines():
     """The Abaqus/Standard deck lines of docs/fe_codes.md, as printed there."""
     text = (ROOT / "docs" / "fe_codes.md").read_text(encoding="utf-8")
     section = text.split("## Abaqus/Standard: `abaqus-fric`", 1)[1].split("\n## ", 1)[0]
-    lines = [ln.strip() for ln in section.splitlines() if ln.startswith("    *")]
-    assert lines == ["*SURFACE INTERACTION, NAME=SBMF", "*FRICTION, USER, DEPVAR=3"], lines
+    block = section.split("\n    *SURFACE INTERACTION", 1)[1].split("\n\n", 1)[0]
+    lines = [ln.strip() for ln in ("    *SURFACE INTERACTION" + block).splitlines()]
+    assert lines == DOC_LINES, lines
     return lines
 
 
@@ -145,7 +151,8 @@ def test_export_writes_routine_patch_and_build_script(export_dir):
     assert os.access(export_dir / "build.sh", os.X_OK)
     # the routine is the abaqus-fric routine, unchanged
     assert "SUBROUTINE FRIC(LM,TAU,DDTDDG,DDTDDP" in (export_dir / "sbmf_fric.f").read_text()
-    assert "*FRICTION, USER, DEPVAR=3" in (export_dir / "README.md").read_text()
+    readme = (export_dir / "README.md").read_text()
+    assert "    " + "\n    ".join(DOC_LINES) + "\n" in readme  # the deck lines, as the docs
 
 
 def test_export_force_after_the_documented_build(ccx_work, tmp_path, capsys):

@@ -12,9 +12,13 @@ Real ccx runs of the patched build (see tests/test_calculix.py for the build and
   carries it;
 - restart: a run restarted between the steps gives the uninterrupted run's output;
 - the routine's interface: DEPVAR checked at input (``FRIC_DEPVAR``), Abaqus' ``STDB_ABQERR`` and
-  ``XIT``, KSTEP, KINC, TIME and DTIME as ccx's increments, PNEWDT as a cut-back.
+  ``XIT``, KSTEP, KINC, TIME and DTIME as ccx's increments, PNEWDT as a cut-back;
+- the routine's guards: a deck that states no unit system or another one than the routine's
+  (both directions) and an SI model under an mm-t-s routine stop ccx with the routine's message
+  (exit 201); a pressure beyond the calibrated range warns once (two threads).
 """
 
+import json
 import os
 import re
 import shutil
@@ -23,10 +27,11 @@ import subprocess
 import numpy as np
 import pytest
 import test_calculix as base
-from ccx_decks import SLAVE0, read_blocks, two_blocks
+from ccx_decks import SLAVE0, read_blocks, read_dat, two_blocks
 from test_calculix import EXAMPLE, STEPS, _doc_lines, _link, _run, _run_ok
 
 from frictionlaw import FrictionParams, shear_limit
+from frictionlaw.export.cli import main as export_main
 
 # the patched build and the exported routine (fixtures of tests/test_calculix.py)
 ccx_work, export_dir, ccx = base.ccx_work, base.export_dir, base.ccx
@@ -358,17 +363,16 @@ def test_user_friction_without_depvar_stops_at_input(ccx, friction, message, tmp
 
 
 def test_a_routine_states_the_depvar_it_needs(export_dir, ccx_work, tmp_path):
-    """FRIC_DEPVAR() beside FRIC replaces the patch's default of 1: DEPVAR=2 is refused for a
-    routine that needs 3, DEPVAR=3 runs."""
+    """FRIC_DEPVAR() beside FRIC replaces the patch's default of 1 (the generated routine
+    defines it: 1): DEPVAR=2 is refused for a routine that needs 3, DEPVAR=3 runs."""
     src = (export_dir / "sbmf_fric.f").read_text()
+    assert src.count("      FRIC_DEPVAR = 1\n") == 1
     routine = tmp_path / "fric3.f"
-    routine.write_text(
-        src
-        + "      INTEGER FUNCTION FRIC_DEPVAR()\n      FRIC_DEPVAR = 3\n      RETURN\n      END\n"
-    )
+    routine.write_text(src.replace("      FRIC_DEPVAR = 1\n", "      FRIC_DEPVAR = 3\n"))
     binary = _link(ccx_work, routine, tmp_path / "ccx")
     short = [(400.0, 0.0, {"static": "0.5, 1.0, 1e-5, 0.5"})]
-    deck = two_blocks(short, ["*SURFACE INTERACTION, NAME=SBMF", "*FRICTION, USER, DEPVAR=2"])
+    friction = ["*FRICTION, USER, DEPVAR=2, PROPERTIES=1", "2."]
+    deck = two_blocks(short, ["*SURFACE INTERACTION, NAME=SBMF", *friction])
     proc, _ = _run(binary, deck, tmp_path / "two")
     assert proc.returncode != 0 and re.search(r"USER needs DEPVAR\s+>= 3", proc.stdout)
     assert "(DEPVAR=2 given)" in proc.stdout
@@ -447,3 +451,98 @@ def test_kstep_kinc_time_dtime_and_pnewdt(export_dir, ccx_work, tmp_path):
     assert (2, 2, 0.1, 1.1, 0.1) in clock  # the rejected attempt
     assert "increment size decrease requested by a material user routine" in proc.stdout
     assert {c[0] for c in clock} == {1, 2, 3} and SLAVE0 == 1001
+
+
+# --- the routine's guards (docs/fe_codes.md, "Guards") ---------------------------------------
+
+
+def _export(tmp_path, name, params, units):
+    """``frictionlaw-export calculix`` of ``params`` (a path) into ``tmp_path/name``."""
+    out = tmp_path / name
+    code = export_main(
+        ["calculix", "--params", str(params), "--out", str(out), "--units", units, "--quiet"]
+    )
+    assert code == 0
+    return out
+
+
+@pytest.mark.parametrize(
+    "friction, message",
+    [
+        (
+            ["*FRICTION, USER, DEPVAR=3, PROPERTIES=1", "1."],
+            "SBMF friction: the deck states the unit system PROPS(1) = 1, but this routine was "
+            "exported for mm-t-s (MPa, mm), PROPS(1) = 2",
+        ),
+        (
+            ["*FRICTION, USER, DEPVAR=3"],
+            "SBMF friction: the deck does not state its unit system; this routine was exported "
+            "for mm-t-s (MPa, mm): set PROPS(1) = 2",
+        ),
+    ],
+    ids=["contradicting", "unstated"],
+)
+def test_a_deck_that_does_not_state_the_routines_units_stops(ccx, friction, message, tmp_path):
+    """The mm-t-s routine in a deck that states SI, or no unit system: ccx stops (exit 201) at
+    the routine's first call, with its message."""
+    deck = two_blocks(STEPS[:1], ["*SURFACE INTERACTION, NAME=SBMF", *friction])
+    proc, _ = _run(ccx, deck, tmp_path)
+    assert proc.returncode == 201 and "Job finished" not in proc.stdout
+    assert f"*ERROR in a user routine: {message}" in proc.stdout, proc.stdout[-1500:]
+    assert proc.stdout.count("*ERROR in a user routine:") == 1
+
+
+def test_an_si_routine_in_an_mm_deck_stops(ccx_work, tmp_path):
+    """The direction the pressure cannot show (an SI routine in an mm-t-s deck agrees with the
+    law up to about 400 MPa): the deck's PROPERTIES value 2 against the routine's SI."""
+    out = _export(tmp_path, "si", EXAMPLE, "SI")
+    binary = _link(ccx_work, out / "sbmf_fric.f", tmp_path / "ccx")
+    proc, _ = _run(binary, two_blocks(STEPS[:1], _doc_lines()), tmp_path / "run")
+    assert proc.returncode == 201 and "Job finished" not in proc.stdout
+    assert (
+        "*ERROR in a user routine: SBMF friction: the deck states the unit system PROPS(1) = 2, "
+        "but this routine was exported for SI (Pa, m), PROPS(1) = 1" in proc.stdout
+    ), proc.stdout[-1500:]
+
+
+def test_an_si_model_under_an_mm_routine_stops_on_its_pressure(ccx, tmp_path):
+    """The same blocks in SI (m, Pa) under the mm-t-s routine, the deck wrongly stating
+    mm-t-s: the first contact pressure (tens of MPa, in Pa) is far above 100 H = 80000 (MPa)."""
+    deck = two_blocks(STEPS[:1], _doc_lines(), si=True)
+    proc, _ = _run(ccx, deck, tmp_path)
+    assert proc.returncode == 201 and "Job finished" not in proc.stdout
+    m = re.search(
+        r"\*ERROR in a user routine: SBMF friction: contact pressure (\S+) MPa > 100 H = 80000 "
+        r"MPa: this routine was exported for mm-t-s \(MPa, mm\) and the model looks SI "
+        r"\(Pa, m\)",
+        proc.stdout,
+    )
+    assert m, proc.stdout[-1500:]
+    assert float(m.group(1)) > 1e6  # a pressure in Pa
+
+
+def test_beyond_the_calibrated_range_ccx_warns_once(ccx_work, tmp_path):
+    """The example law with a calibrated range up to 300 MPa, the blocks pressed to 400 and
+    500 MPa on two threads: the run finishes, with one warning naming p_max, the pressure
+    beyond it, and where the largest pressures are (p_hist)."""
+    doc = json.loads(EXAMPLE.read_text())
+    doc["calibrated_range"] = {"p_min": 10e6, "p_max": 300e6, "unit": "Pa"}
+    params = tmp_path / "params.json"
+    params.write_text(json.dumps(doc))
+    out = _export(tmp_path, "ranged", params, "mm-t-s")
+    binary = _link(ccx_work, out / "sbmf_fric.f", tmp_path / "ccx")
+    proc, dat = _run(binary, two_blocks(STEPS, _doc_lines()), tmp_path / "run", threads=2)
+    assert proc.returncode == 0 and "Job finished" in proc.stdout, proc.stdout[-2000:]
+    warns = re.findall(r"\*WARNING in a user routine: (SBMF friction: .*)", proc.stdout)
+    assert len(warns) == 1, warns
+    m = re.fullmatch(
+        r"SBMF friction: contact pressure (\S+) MPa is beyond the calibrated range \(p_max = "
+        r"300 MPa\): the law is extrapolated there. Written once per process; the largest "
+        r"pressure each contact point carried is its p_hist \(state variable 1\)",
+        warns[0],
+    )
+    assert m, warns[0]
+    assert float(m.group(1)) > 300
+    # the run went on: the largest pressures printed reach beyond p_max
+    p_top = max(max(v[0] for v in c.values()) for _, _, c in read_dat(dat))
+    assert p_top > 400

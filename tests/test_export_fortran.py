@@ -92,21 +92,28 @@ def lib_for(tmp_path_factory, target, key, units, k_t=None):
 
 
 # -- data of one iteration --------------------------------------------------------------------
-def pressures(rng, n, p_hist, H, levels=()):
-    """A mix: open, tiny (down to 1e-300 Pa), at/around p_hist, below it (Eq. 25), up to 1e6 H.
+#: log10 of the largest pressure over H the routines run the law at: above 100 H their guards
+#: stop the run (docs/fe_codes.md, "Guards"; tests/test_export_guards.py); the host-neutral
+#: SBMF_FRICTION returns the law there too, with its status, and is driven up to 1e6 H
+TOP = 1.9
+
+
+def pressures(rng, n, p_hist, H, levels=(), top=TOP):
+    """A mix: open, tiny (down to 1e-300 Pa), at/around p_hist, below it (Eq. 25), up to
+    ``10**top`` H (1e6 H for the host-neutral entry, just below 100 H for the others).
 
     With a tabulated reload form's ``levels``, a quarter of the points also land exactly on a
     level or one ulp either side of it (so that ``p_hist`` is committed there), and a tenth just
     below ``p_hist`` (1e-16 .. 1e-8 relative).
     """
     kind = rng.integers(0, 7, n)
-    p = 10.0 ** rng.uniform(np.log10(H) - 3, np.log10(H) + 6, n)  # first loading / reloading
+    p = 10.0 ** rng.uniform(np.log10(H) - 3, np.log10(H) + top, n)  # first loading / reloading
     p = np.where(kind == 0, -rng.uniform(0, H, n) * (rng.random(n) < 0.5), p)  # open (0 or < 0)
     p = np.where(kind == 1, 10.0 ** rng.uniform(-300, -200, n), p)
     p = np.where(kind == 2, p_hist, p)
     below = p_hist * rng.uniform(0.0, 1.0, n)
     p = np.where((kind >= 3) & (kind <= 4) & (p_hist > 0), below, p)
-    p = np.where(kind == 5, 10.0 ** rng.uniform(np.log10(H) - 2, np.log10(H) + 0.5, n), p)
+    p = np.where(kind == 5, 10.0 ** rng.uniform(np.log10(H) - 2, np.log10(H) + min(top, 0.5), n), p)
     if len(levels):
         at = np.asarray(levels)[rng.integers(0, len(levels), n)]
         side = rng.integers(-1, 2, n)
@@ -431,11 +438,13 @@ def run_generic(host, params, kt_spec, units, seed, nd, n=48, n_incr=6):
     for _ in range(n_incr):
         du = np.zeros((n, nd))
         for _it in range(int(rng.integers(1, 4))):
-            p = pressures(rng, n, state.p_hist, params.H, levels(params))
+            p = pressures(rng, n, state.p_hist, params.H, levels(params), top=6)
             du = du + slips(rng, n, nd, params, 1e13)
             kt = k_host if kt_spec.kind == "host" else expected_kt(params, kt_spec, units, p, 0, 1)
             ref = fl.traction_update(law, p, du, t_c, kt, state)
             out = host(p * s, ph_c, g1_c, du * ln, t_c * s, k_host * units.stiffness)
+            # the guards' status: -4 above 100 H (the caller must stop), else 0 (no p_range)
+            assert np.array_equal(out["ierr"], np.where(p * s > 100 * params.H * s, -4, 0))
             m = same_branch(p, state.p_hist, units)
             scale = traction_scale(units, ref.traction, t_c, np.broadcast_to(kt, p.shape), du)
             assert_close(out["t"][m] / s, ref.traction[m], 1e-12, "traction", scale[m])

@@ -21,6 +21,7 @@ from test_export_fortran import PARAM_SETS, check_cache, pressures
 import frictionlaw as fl
 import frictionlaw.export as exp
 from frictionlaw.export import harness
+from frictionlaw.export._templates import template_path
 
 pytestmark = pytest.mark.skipif(
     harness.gfortran() is None,
@@ -200,7 +201,8 @@ def run_usrfrc(host, params, kt_spec, seed, nhv, n=64, n_cycles=10):
     return checked
 
 
-USRFRC_CASES = st.tuples(st.integers(0, 2**32 - 1), st.sampled_from([0, 1, 2, 3]))
+#: NHV >= 1: with none the guards refuse the law (tests/test_export_guards.py)
+USRFRC_CASES = st.tuples(st.integers(0, 2**32 - 1), st.sampled_from([1, 2, 3]))
 
 
 @pytest.mark.parametrize(
@@ -284,7 +286,7 @@ def run_mpp(host, params, seed, nh, n=64, n_cycles=10):
 @settings(
     max_examples=10, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
 )
-@given(seed=st.integers(0, 2**32 - 1), nh=st.sampled_from([0, 1, 2]))
+@given(seed=st.integers(0, 2**32 - 1), nh=st.sampled_from([1, 2]))
 def test_usrfrc_mpp_coefficient_agrees(tmp_path_factory, key, prec, seed, nh):
     host, warnings = usrfrc_lib(tmp_path_factory, "lsdyna-usrfrc-mpp", key, prec)
     others = [w for w in re.findall(r"Warning: (.*)", warnings) if "Unused dummy argument" not in w]
@@ -302,8 +304,19 @@ def test_dp_build_without_double_8_is_refused(tmp_path):
     files, _ = exp.render("lsdyna-usrfrc", path)
     src = tmp_path / "u.f"
     src.write_text(files["sbmf_usrfrc_smp.f"])
+    # LS-DYNA's iounits.inc (the routine's guards write to its units): the harness's stub
+    (tmp_path / "iounits.inc").write_text(template_path("shims/iounits.inc").read_text())
     r = subprocess.run(
-        [harness.gfortran(), "-fdefault-real-8", "-c", str(src), "-o", str(tmp_path / "u.o")],
+        [
+            harness.gfortran(),
+            "-fdefault-real-8",
+            "-I",
+            str(tmp_path),
+            "-c",
+            str(src),
+            "-o",
+            str(tmp_path / "u.o"),
+        ],
         capture_output=True,
         text=True,
     )

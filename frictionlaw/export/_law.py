@@ -17,6 +17,7 @@ from sbmf_cli import ParameterError
 
 from .. import __version__
 from .._codes import Q_START
+from ._origin import m_origin
 
 __all__ = [
     "UnitSystem",
@@ -26,6 +27,8 @@ __all__ = [
     "law_constants",
     "ReloadSpec",
     "reload_spec",
+    "GuardSpec",
+    "guard_spec",
     "core_context",
     "header_lines",
 ]
@@ -33,23 +36,32 @@ __all__ = [
 
 @dataclass(frozen=True)
 class UnitSystem:
-    """A host unit system: host value = SI value times the factor."""
+    """A host unit system: host value = SI value times the factor.
+
+    ``code`` is the number a deck states it with (the routines' unit property: 1 SI,
+    2 mm-t-s; docs/fe_codes.md, "Guards").
+    """
 
     name: str
     stress: float  # Pa -> host stress unit
     length: float  # m -> host length unit
     stress_unit: str
     length_unit: str
+    code: int = 0
 
     @property
     def stiffness(self):
         """Factor for a tangential stiffness (stress per length)."""
         return self.stress / self.length
 
+    def describe(self):
+        """``SI (Pa, m)``: the name with its stress and length units."""
+        return f"{self.name} ({self.stress_unit}, {self.length_unit})"
+
 
 UNIT_SYSTEMS = {
-    "SI": UnitSystem("SI", 1.0, 1.0, "Pa", "m"),
-    "mm-t-s": UnitSystem("mm-t-s", 1e-6, 1e3, "MPa", "mm"),
+    "SI": UnitSystem("SI", 1.0, 1.0, "Pa", "m", 1),
+    "mm-t-s": UnitSystem("mm-t-s", 1e-6, 1e3, "MPa", "mm", 2),
 }
 
 
@@ -164,6 +176,107 @@ def reload_spec(params, units):
     )
 
 
+#: a pressure above this multiple of H cannot be the model's (the deck's units are not the
+#: routine's); contact pressures stay below a few H in any forming model
+UNIT_LIMIT_H = 100.0
+
+
+@dataclass(frozen=True)
+class GuardSpec:
+    """What every generated routine checks before it runs the law (docs/fe_codes.md, "Guards").
+
+    Attributes
+    ----------
+    code : int
+        The unit system the routine was exported for, as the deck states it (1 SI, 2 mm-t-s).
+    units : str
+        Its description, ``mm-t-s (MPa, mm)``.
+    codes : str
+        Every code with its unit system, for the messages (``1 = SI (Pa, m), 2 = ...``).
+    p_unit : float
+        ``100 H`` in the host's stress unit: a larger pressure stops the run (the deck's units
+        are not the routine's).
+    p_max : float or None
+        The top of the calibrated pressure range in the host's unit (None: the parameter file
+        records none, and no range warning is compiled in).
+    other : str
+        The unit system a pressure above ``p_unit`` points to (mm-t-s routine: SI).
+    """
+
+    code: int
+    units: str
+    codes: str
+    p_unit: float
+    p_max: float | None
+    other: str
+
+    def messages(self, state_name, units_input):
+        """The messages of the guards, ``{kind: (text before the value, text after it)}``.
+
+        Kinds (the ``KIND`` of the routines' ``SBMF_MESSAGE``): 1 too few state variables
+        (value: their number), 2 no unit system stated (no value: the second text is None),
+        3 a stated unit system other than the routine's (value: the stated number), 4 a
+        pressure above ``100 H`` (value: the pressure), 5 a pressure beyond the calibrated
+        range (the one warning; value: the pressure). ``state_name`` names the deck's state
+        count (``DEPVAR``), ``units_input`` is ``(name, where)`` of its unit value (``PROPS(1)``,
+        ``the data line of *FRICTION, USER, PROPERTIES=1``): the fields of
+        :class:`frictionlaw.export.Routine`.
+        """
+        s = self.units.split("(")[1].split(",")[0]
+        name, where = units_input
+        pre = "SBMF friction: "
+        top = "none" if self.p_max is None else f"{self.p_max:.6g} {s}"
+        return {
+            1: (
+                f"{pre}{state_name} = ",
+                ", but the routine needs at least 1 state variable (1: p_hist); set "
+                f"{state_name} to 3 (p_hist, its cache, the status)",
+            ),
+            2: (
+                f"{pre}the deck does not state its unit system; this routine was exported "
+                f"for {self.units}: set {name} = {self.code}, {where} ({self.codes})",
+                None,
+            ),
+            3: (
+                f"{pre}the deck states the unit system {name} = ",
+                f", but this routine was exported for {self.units}, {name} = {self.code} "
+                f"({self.codes}): export the routine for the deck's units "
+                "(frictionlaw-export --units) or correct the deck",
+            ),
+            4: (
+                f"{pre}contact pressure ",
+                f" {s} > 100 H = {self.p_unit:.6g} {s}: this routine was exported for "
+                f"{self.units} and the model {self.other}",
+            ),
+            5: (
+                f"{pre}contact pressure ",
+                f" {s} is beyond the calibrated range (p_max = {top}): the law is "
+                "extrapolated there. Written once per process; the largest pressure each "
+                "contact point carried is its p_hist (state variable 1)",
+            ),
+        }
+
+
+def guard_spec(params, units):
+    """The :class:`GuardSpec` of ``params`` exported in ``units``."""
+    codes = ", ".join(f"{u.code} = {u.describe()}" for u in UNIT_SYSTEMS.values())
+    others = [u for u in UNIT_SYSTEMS.values() if u.stress > units.stress]
+    other = (
+        "looks " + " or ".join(u.describe() for u in others)
+        if others
+        else f"does not use {units.stress_unit}: check the deck's units"
+    )
+    p_max = None if params.p_range is None else params.p_range[1] * units.stress
+    return GuardSpec(
+        units.code,
+        units.describe(),
+        codes,
+        UNIT_LIMIT_H * params.H * units.stress,
+        p_max,
+        other,
+    )
+
+
 def core_context(params, units, kt):
     """The values ``core/sbmf_core.f`` (the law core of every Fortran target) is rendered with.
 
@@ -186,7 +299,8 @@ def core_context(params, units, kt):
         ``ln(dtau/dp)`` where it is formed in logs; ``ln_h``, ``ln H`` in the host's unit (as
         the runtime's ``log(H)`` gives it, for the tabulated form's ``ln(p_hist/H)`` where the
         quotient is not a normal double); ``ln_q_start``, ``ln Q_START``, below which the
-        tabulated branch starts quadratically.
+        tabulated branch starts quadratically; ``guard``, the :class:`GuardSpec` (the unit
+        system, ``100 H``, ``p_max``) every routine checks.
     """
     law = law_constants(params, units)
     return {
@@ -199,6 +313,7 @@ def core_context(params, units, kt):
         "ln_d_max": 700.0,
         "ln_h": math.log(law["H"]),
         "ln_q_start": math.log(Q_START),
+        "guard": guard_spec(params, units),
     }
 
 
@@ -244,6 +359,7 @@ def header_lines(target, params, params_path, sha, units, kt):
         f"sha256: {sha}",
         f"units: {units.name} (stress {s}, length {units.length_unit})",
         f"m={params.m!r} k={params.k * units.stress!r} {s}",
+        *m_origin(params).header(),
         f"H={params.H * units.stress!r} {s} geo_ratio={params.geo_ratio!r}",
         f"C1={params.C1!r} n1={params.n1!r}",
     ]

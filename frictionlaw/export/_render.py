@@ -15,6 +15,7 @@ from sbmf_cli import OutputFolder, ParameterError
 from ..params import FrictionParams
 from . import _targets
 from ._law import UNIT_SYSTEMS, StiffnessSpec, UnitSystem, core_context, header_lines
+from ._origin import m_origin
 from ._tables import FrictionTable
 from ._templates import check_columns, comment_block, render_template, template_path
 
@@ -94,13 +95,20 @@ def plan(target, params_path, *, units="SI", k_t=None, table_tol=1e-3, accept_fa
     return Job(record, params, us, sha, kt, table, header, core_context(params, us, kt))
 
 
-def texts(job):
+def texts(job, *, guards=True):
     """``{file name: text}`` of a decided export: its file, README.md, then the extra files.
 
     The generated file is the provenance header in the target's comment style, then its
     template; each of its lines is checked against the style's column limit (ValueError).
+    ``guards=False`` leaves the routines' guards out (docs/fe_codes.md, "Guards"): only for
+    ``benchmarks/bench_fortran_law.py``, which times their cost; never shipped.
     """
     t = job.target
+    words = (
+        (t.form.state_name, t.form.units_input)
+        if isinstance(t.form, _targets.Routine)
+        else ("", ("", ""))
+    )
     context = {
         "target": t,
         "host": t.host,
@@ -109,8 +117,12 @@ def texts(job):
         "units": job.units,
         "sha": job.sha,
         "table": job.table,
+        "guards": guards,
+        "origin": m_origin(job.params),
         **job.law,
     }
+    if "guard" in context:
+        context["guard_text"] = context["guard"].messages(*words)
     text = comment_block(job.header, t.style.comment, t.style.columns)
     text += render_template(t.template, **context)
     files = {

@@ -52,15 +52,20 @@ class Host:
         an error exit into the host's own log (Abaqus/Standard ``STDB_ABQERR``).
     reference : str
         Where the host documents both.
-
-    The two routines are not called yet: they are the one place per host where the routines'
-    guards (state-variable count, unit system, pressure range) will reach the host.
+    guards : str or None
+        Template of ``SBMF_GUARD``, the one routine through which the generated routines'
+        guards (state-variable count, unit system, pressure range; docs/fe_codes.md,
+        "Guards") reach the host, written with the two routines above (Abaqus, CalculiX) or
+        with what the host offers instead (LS-DYNA: its output units, no error exit). None:
+        the host's routines are not generated (ANSYS: the host-neutral entry returns a
+        status its caller reports).
     """
 
     name: str
     exit_routine: str
     message_routine: str
     reference: str
+    guards: str | None = None
 
 
 @dataclass(frozen=True)
@@ -96,11 +101,22 @@ class Routine:
         How the README names state variable ``i``: ``state[0] + i + state[1]``.
     tested : str
         Template of the README's last paragraph: how the routine was tested.
+    state_name : str
+        The deck's (or caller's) count of state variables, as the guards' message names it.
+    units_input : tuple of str
+        ``(name, where)`` of the value by which the deck states its unit system (1 SI,
+        2 mm-t-s), as the guards' message and the README name it.
+    status : bool
+        The routine returns its guards' status to its caller (``IERR`` of the host-neutral
+        ``SBMF_FRICTION``) instead of reaching the host through ``Host.guards``.
     """
 
     stick: str
     state: tuple = ("STATEV(", ")")
     tested: str = "readme/tested.md"
+    state_name: str = "DEPVAR"
+    units_input: tuple = ("PROPS(1)", "the data line of *FRICTION, USER, PROPERTIES=1")
+    status: bool = False
     #: the README's frame (it includes ``stick``, the target's section and ``tested``)
     frame: ClassVar[str] = "readme/routine.md"
     #: ``--k-t`` applies
@@ -178,8 +194,9 @@ class Target:
     def templates(self):
         """Every template file this target reads (its includes aside), as absolute paths."""
         names = (self.template, self.readme, *self.form.templates())
+        names += (self.host.guards,) if self.host.guards else ()
         names += tuple(e.template for e in self.extras)
-        names += (self.harness.shim,) if self.harness is not None else ()
+        names += (self.harness.shim, *self.harness.support) if self.harness is not None else ()
         return tuple(template_path(n) for n in names)
 
 
@@ -204,12 +221,14 @@ def target(name):
 
 
 # -- the hosts ---------------------------------------------------------------------------------
+_ABAQUS_GUARDS = "abaqus/guards.f"
 ABAQUS_STANDARD = Host(
     "Abaqus/Standard",
     "XIT",
     "STDB_ABQERR",
     "Abaqus User Subroutines Reference, utility routines: terminating an analysis (XIT), "
     "printing messages to the message or status file (STDB_ABQERR)",
+    _ABAQUS_GUARDS,
 )
 ABAQUS_EXPLICIT = Host(
     "Abaqus/Explicit",
@@ -217,13 +236,16 @@ ABAQUS_EXPLICIT = Host(
     "XPLB_ABQERR",
     "Abaqus User Subroutines Reference, utility routines: terminating an analysis (XPLB_EXIT), "
     "printing messages to the status file (XPLB_ABQERR)",
+    _ABAQUS_GUARDS,
 )
 LSDYNA = Host(
     "LS-DYNA",
-    "ADIOS",
-    "WRITE to LS-DYNA's output units (IOTTY, IOHSP)",
-    "LSTC's user-routine file dyn21.f: the sample routines stop with CALL ADIOS(2) after "
-    "writing the reason to the terminal and the d3hsp file",
+    "none documented (the law is refused: no friction)",
+    "WRITE to LS-DYNA's output units IOTTY, IOHSP, IOMSG (iounits.inc)",
+    "LSTC's user-routine file dyn21.f: its sample routines write their messages to the "
+    "terminal, d3hsp and messag units of iounits.inc; an error exit for user code is not "
+    "documented (older samples call ADIOS(2), the current ones LSTC's own message catalogue)",
+    "lsdyna/guards.f",
 )
 ANSYS = Host(
     "ANSYS Mechanical APDL",
@@ -233,10 +255,11 @@ ANSYS = Host(
 )
 CALCULIX = Host(
     "CalculiX 2.20 (patched ccx)",
-    "EXIT(201)",
-    "WRITE(*, *) with the '*ERROR' or '*WARNING' prefix",
-    "CalculiX's own Fortran sources: an input error is written as '*ERROR ...' and ends the "
-    "run with CALL EXIT(201)",
+    "XIT",
+    "STDB_ABQERR",
+    "the user-friction patch (xit.f, stdb_abqerr.f): Abaqus' utility routines for CalculiX; "
+    "an error closes ccx's files and exits with status 201, as ccx's own errors do",
+    _ABAQUS_GUARDS,
 )
 
 #: CalculiX: the patch and its build script ship with the package (frictionlaw/export/calculix)
@@ -263,7 +286,11 @@ for _record in (
         "sbmf_vfric.f",
         "abaqus/vfric.f",
         "abaqus/vfric.md",
-        Routine(stick=_STICK_FORCE),
+        Routine(
+            stick=_STICK_FORCE,
+            state_name="DEPVAR (nStateVar)",
+            units_input=("props(1)", "the data line of *FRICTION, USER=VFRIC, PROPERTIES=1"),
+        ),
         harness=VFRIC,
     ),
     Target(
@@ -272,7 +299,12 @@ for _record in (
         "sbmf_vfriction.f",
         "abaqus/vfriction.f",
         "abaqus/vfriction.md",
-        Routine(stick=_STICK_FORCE, state=("state(", ", j, k)")),
+        Routine(
+            stick=_STICK_FORCE,
+            state=("state(", ", j, k)"),
+            state_name="DEPVAR (nStates)",
+            units_input=("props(1)", "the data line of *FRICTION, USER=VFRICTION, PROPERTIES=1"),
+        ),
         harness=VFRICTION,
     ),
     Target(
@@ -281,7 +313,12 @@ for _record in (
         "sbmf_usrfrc_smp.f",
         "lsdyna/usrfrc_smp.f",
         "lsdyna/usrfrc_smp.md",
-        Routine(stick="lsdyna/stick_penalty.md", state=("UFHIST(", ", ILBSV(II))")),
+        Routine(
+            stick="lsdyna/stick_penalty.md",
+            state=("UFHIST(", ", ILBSV(II))"),
+            state_name="NHV (user friction history variables)",
+            units_input=("UA(1)", "the first user parameter of *USER_INTERFACE_FRICTION"),
+        ),
         harness=USRFRC,
     ),
     Target(
@@ -290,7 +327,12 @@ for _record in (
         "sbmf_usrfrc_mpp.f",
         "lsdyna/usrfrc_mpp.f",
         "lsdyna/usrfrc_mpp.md",
-        Routine(stick="lsdyna/stick_coefficient.md", state=("UH(", ")")),
+        Routine(
+            stick="lsdyna/stick_coefficient.md",
+            state=("UH(", ")"),
+            state_name="NH (user friction history variables)",
+            units_input=("UC(1)", "the first user parameter of *USER_INTERFACE_FRICTION"),
+        ),
         harness=USRFRC_MPP,
     ),
     Target(
@@ -299,7 +341,13 @@ for _record in (
         "sbmf_lsdyna.f",
         "neutral/sbmf_friction.f",
         "lsdyna/lsdyna.md",
-        Routine(stick=_KHOST, state=("history variable ", "")),
+        Routine(
+            stick=_KHOST,
+            state=("history variable ", ""),
+            state_name="the history variables",
+            units_input=("IUNIT", "SBMF_FRICTION's argument, from the deck's user parameters"),
+            status=True,
+        ),
         harness=SBMF_FRICTION,
     ),
     Target(
@@ -308,7 +356,13 @@ for _record in (
         "sbmf_userfric.f",
         "neutral/sbmf_friction.f",
         "ansys/userfric.md",
-        Routine(stick=_KHOST, state=("state variable ", "")),
+        Routine(
+            stick=_KHOST,
+            state=("state variable ", ""),
+            state_name="NSVR",
+            units_input=("IUNIT", "SBMF_FRICTION's argument, from the TB,FRIC user constants"),
+            status=True,
+        ),
         harness=SBMF_FRICTION,
     ),
     Target(

@@ -22,6 +22,7 @@ __all__ = [
     "template_path",
     "render_template",
     "fortran_double",
+    "fortran_chunks",
     "comment_block",
     "check_columns",
 ]
@@ -35,6 +36,24 @@ def fortran_double(v):
     s = f"{float(v):.17e}"
     mant, exp = s.split("e")
     return f"{mant}D{int(exp):+d}"
+
+
+def fortran_chunks(text, width=56):
+    """``text`` as pieces of a Fortran character literal, quotes doubled, each ``<= width``.
+
+    A template writes each piece as ``'piece'`` on a continuation line joined by ``//``, so that
+    a long message fits fixed form's 72 columns; no doubled quote is split.
+    """
+    out, cur = [], ""
+    for ch in str(text):
+        piece = "''" if ch == "'" else ch
+        if len(cur) + len(piece) > width:
+            out.append(cur)
+            cur = ""
+        cur += piece
+    if cur or not out:
+        out.append(cur)
+    return out
 
 
 def template_path(name):
@@ -61,6 +80,7 @@ _ENV = jinja2.Environment(
     autoescape=False,
 )
 _ENV.filters["double"] = fortran_double
+_ENV.filters["fchunks"] = fortran_chunks
 _ENV.filters["fmt"] = format
 
 

@@ -6,7 +6,12 @@ generated entry point exactly as the host's documentation describes (argument li
 in as at the start of the increment) for many contact points per call, and a driver class that
 calls the shim through ``ctypes`` with NumPy arrays, so that one compile serves thousands of
 cases. ``ABA_PARAM.INC`` and ``vaba_param.inc`` are replaced by stubs with Abaqus' documented
-content (implicit double precision). Needs ``gfortran``.
+content (implicit double precision), LS-DYNA's ``iounits.inc`` by a stub with its output units.
+The hosts' message and exit routines are emulated too (Abaqus' ``STDB_ABQERR``/``XIT`` and
+``XPLB_ABQERR``/``XPLB_EXIT``, LS-DYNA's output units): a driver's :meth:`~FricLib.log` returns
+what the routine's guards wrote, :meth:`~FricLib.exits` how often it ended the analysis. The
+deck's unit system (the routines' unit property, docs/fe_codes.md "Guards") is the driver's
+``deck_units``: by default the one the routine was exported for. Needs ``gfortran``.
 
 This module is public, not test support, because users need it too: it lets anyone check a
 routine written for their parameter file against the Python runtime on their own machine before
@@ -17,8 +22,10 @@ it.
 """
 
 import ctypes
+import re
 import shutil
 import subprocess
+import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -38,6 +45,7 @@ __all__ = [
     "UsrfrcLib",
     "UsrfrcMppLib",
     "GenericLib",
+    "routine_units",
     "FRIC",
     "VFRIC",
     "VFRICTION",
@@ -60,7 +68,33 @@ def gfortran():
     return shutil.which("gfortran")
 
 
-def build(sources, workdir, name, shim, *, flags=("-O2",)):
+#: the emulated hosts' message log, compiled into every harness library
+_LOG = "shims/host_log.f90"
+#: stubs of the hosts' include files, written into the build folder
+_STUBS = ("abaqus/ABA_PARAM.INC", "shims/vaba_param.inc", "shims/iounits.inc")
+
+
+def _compile(fc, src, obj, flags, workdir):
+    subprocess.run(
+        [
+            fc,
+            "-fPIC",
+            *flags,
+            "-J",
+            str(workdir),
+            "-I",
+            str(workdir),
+            "-c",
+            str(src),
+            "-o",
+            str(obj),
+        ],
+        check=True,
+        text=True,
+    )
+
+
+def build(sources, workdir, name, shim, *, flags=("-O2",), support=()):
     """Compile generated ``sources`` (``{file: text}``) with ``shim`` into ``workdir/name.so``.
 
     Parameters
@@ -69,8 +103,8 @@ def build(sources, workdir, name, shim, *, flags=("-O2",)):
         ``{file name: text}`` as :func:`frictionlaw.export.render` returns them; the ``.f``
         files are compiled (with ``-Wall``), the others ignored.
     workdir : path
-        Build folder (made if needed); the ``ABA_PARAM.INC`` and ``vaba_param.inc`` stubs go
-        there.
+        Build folder (made if needed); the ``ABA_PARAM.INC``, ``vaba_param.inc`` and
+        ``iounits.inc`` stubs go there.
     name : str
         Name of the shared library (and a suffix of the object files).
     shim : str or path
@@ -78,6 +112,9 @@ def build(sources, workdir, name, shim, *, flags=("-O2",)):
         an absolute path.
     flags : tuple of str
         gfortran flags for every file (e.g. :data:`HOST_PRECISION_FLAGS`, ``-fopenmp``).
+    support : tuple of str
+        Further emulation files compiled with the shim (the host's utility routines); the
+        message log ``shims/host_log.f90`` always is.
 
     Returns
     -------
@@ -87,7 +124,7 @@ def build(sources, workdir, name, shim, *, flags=("-O2",)):
     """
     workdir = Path(workdir)
     workdir.mkdir(parents=True, exist_ok=True)
-    for stub in ("abaqus/ABA_PARAM.INC", "shims/vaba_param.inc"):
+    for stub in _STUBS:
         (workdir / Path(stub).name).write_text(template_path(stub).read_text(encoding="utf-8"))
     fc = gfortran()
     if fc is None:
@@ -108,17 +145,27 @@ def build(sources, workdir, name, shim, *, flags=("-O2",)):
             raise RuntimeError(f"gfortran failed on {fname}:\n{r.stderr}")
         warnings.append(r.stderr)
         objs.append(obj)
-    shim_src = workdir / f"shim_{name}.f90"
-    shim_src.write_text(template_path(shim).read_text(encoding="utf-8"))
-    shim_obj = workdir / f"shim_{name}.o"
-    subprocess.run(
-        [fc, "-fPIC", *flags, "-c", str(shim_src), "-o", str(shim_obj)], check=True, text=True
-    )
+    for i, part in enumerate((_LOG, *support, shim)):
+        src = workdir / f"shim{i}_{name}.f90"
+        src.write_text(template_path(part).read_text(encoding="utf-8"))
+        obj = src.with_suffix(".o")
+        _compile(fc, src, obj, flags, workdir)
+        objs.append(obj)
     lib = workdir / f"{name}.so"
-    subprocess.run(
-        [fc, "-shared", *flags, *map(str, objs), str(shim_obj), "-o", str(lib)], check=True
-    )
+    subprocess.run([fc, "-shared", *flags, *map(str, objs), "-o", str(lib)], check=True)
     return ctypes.CDLL(str(lib)), "".join(warnings)
+
+
+def routine_units(sources):
+    """The unit system code (1 SI, 2 mm-t-s) the generated ``sources`` were exported for.
+
+    Read from the provenance header's ``units:`` line; None if no source carries one.
+    """
+    for text in sources.values():
+        m = re.search(r"^\S+ units: (\S+) \(", text, flags=re.M)
+        if m and m.group(1) in UNIT_SYSTEMS:
+            return UNIT_SYSTEMS[m.group(1)].code
+    return None
 
 
 @dataclass(frozen=True)
@@ -133,18 +180,25 @@ class Harness:
     driver : type
         Called as ``driver(lib, **options)`` with the compiled library; its instances call the
         shim with NumPy arrays (e.g. :class:`FricLib`).
+    support : tuple of str
+        Further emulation files (the host's utility routines: ``XPLB_ABQERR``, LS-DYNA's
+        output units).
     """
 
     shim: str
     driver: type
+    support: tuple = ()
 
     def load(self, sources, workdir, *, name="routine", flags=("-O2",), **options):
         """Compile ``sources`` with this shim (:func:`build`) and wrap the library.
 
         Returns ``(driver instance, gfortran's warnings)``; ``options`` go to the driver (the
-        LS-DYNA drivers take the host REAL as ``dtype``).
+        LS-DYNA drivers take the host REAL as ``dtype``; every driver ``deck_units``, the unit
+        system the emulated deck states, by default the routine's own).
         """
-        lib, warnings = build(sources, workdir, name, self.shim, flags=flags)
+        lib, warnings = build(sources, workdir, name, self.shim, flags=flags, support=self.support)
+        if issubclass(self.driver, _Host):
+            options.setdefault("deck_units", routine_units(sources))
         return self.driver(lib, **options), warnings
 
 
@@ -155,7 +209,8 @@ def coulomb_source(params):
     core of ``params`` in SI; driven by :data:`SBMF_FRICTION`.
     """
     context = core_context(params, UNIT_SYSTEMS["SI"], StiffnessSpec("host"))
-    return render_template("shims/coulomb.f", **context)
+    context["guard_text"] = context["guard"].messages("state variables", ("IUNIT", "its value"))
+    return render_template("shims/coulomb.f", guards=True, **context)
 
 
 def _f(a):
@@ -166,48 +221,104 @@ def _ptr(a):
     return a.ctypes.data_as(ctypes.c_void_p)
 
 
-class FricLib:
-    """Abaqus/Standard ``FRIC`` called per contact point as Abaqus does."""
+class _Host:
+    """What every driver shares: the emulated deck's unit value and the host's message log.
 
-    def __init__(self, lib):
+    ``deck_units`` is the value the emulated deck states its unit system with (the routines'
+    unit property: 1 SI, 2 mm-t-s, any other number to test the guard; None: the deck states
+    none, e.g. ``NPROPS = 0``).
+    """
+
+    def __init__(self, lib, deck_units=None):
+        self._lib = lib
+        self.deck_units = deck_units
+        lib.h_log_read.restype = ctypes.c_int
+        lib.h_log_exits.restype = ctypes.c_int
+
+    def _props(self, dtype=np.float64):
+        """``(count, array)`` of the unit property as the shim passes it."""
+        if self.deck_units is None:
+            return 0, np.zeros(1, dtype)
+        return 1, np.array([self.deck_units], dtype)
+
+    def log(self):
+        """What the routine wrote through the host's message routine since the last call.
+
+        A list of ``(LOP, text)`` (Abaqus' ``LOP``: -3 error, -1 warning, 1 information).
+        """
+        buf = ctypes.create_string_buffer(200_000)
+        n = self._lib.h_log_read(buf, len(buf))
+        out = []
+        for line in buf.raw[:n].decode().splitlines():
+            lop, text = line.split("|", 1)
+            out.append((int(lop), text))
+        return out
+
+    def exits(self, reset=True):
+        """How often the routine called the host's error exit (since the last reset)."""
+        return int(self._lib.h_log_exits(ctypes.c_int(1 if reset else 0)))
+
+
+class FricLib(_Host):
+    """Abaqus/Standard ``FRIC`` called per contact point as Abaqus does.
+
+    The unit property is ``PROPS(1)`` (``NPROPS = 0`` when ``deck_units`` is None). After an
+    error exit (``XIT``) the remaining points are not called: their outputs are NaN.
+    """
+
+    def __init__(self, lib, deck_units=None):
+        super().__init__(lib, deck_units)
         self._fn = lib.h_fric
         self._fn.restype = None
 
-    def __call__(self, press, dgam, tau_start, statev_start, chrlngth):
+    def __call__(self, press, dgam, tau_start, statev_start, chrlngth, reps=1, out=None):
         """One iteration: every point gets the start-of-increment ``TAU`` and ``STATEV``.
 
-        Arrays are (n,), (n, nd), (n, nd), (n, nstatv), (n,); returns a dict of outputs.
+        Arrays are (n,), (n, nd), (n, nd), (n, nstatv), (n,); returns a dict of outputs
+        (``out``: a dict a former call returned, reused; ``reps``: the points called that many
+        times, for timing).
         """
         press, dgam, tau_start, sv = map(_f, (press, dgam, tau_start, statev_start))
         chr_ = _f(np.broadcast_to(chrlngth, press.shape))
         n, nd = dgam.shape
         nsv = sv.shape[1]
-        out = {
-            "tau": np.empty((n, nd)),
-            "ddtddg": np.empty((n, nd, nd)),
-            "ddtddp": np.empty((n, nd)),
-            "dslip": np.empty((n, nd)),
-            "statev": np.empty((n, nsv)),
-            "lm": np.empty(n, np.int32),
-            "sed": np.empty(n),
-            "sfd": np.empty(n),
-        }
+        if out is None:
+            out = {
+                "tau": np.full((n, nd), np.nan),
+                "ddtddg": np.full((n, nd, nd), np.nan),
+                "ddtddp": np.full((n, nd), np.nan),
+                "dslip": np.full((n, nd), np.nan),
+                "statev": np.full((n, nsv), np.nan),
+                "lm": np.full(n, -1, np.int32),
+                "sed": np.full(n, np.nan),
+                "sfd": np.full(n, np.nan),
+            }
+        else:  # a former call's outputs: DDTDDG back to the Fortran layout (a view)
+            out = {**out, "ddtddg": out["ddtddg"].transpose(0, 2, 1)}
+            assert out["ddtddg"].flags.c_contiguous
+        nprops, props = self._props()
         self._fn(
             ctypes.c_int(n),
             ctypes.c_int(nd),
             ctypes.c_int(nsv),
+            ctypes.c_int(reps),
+            ctypes.c_int(nprops),
+            _ptr(props),
             *map(_ptr, (press, dgam, tau_start, sv, chr_)),
             *map(_ptr, out.values()),
         )
-        # Fortran DDTDDG(a, b) -> row-major [b, a] in memory: transpose to [a, b]
-        out["ddtddg"] = np.ascontiguousarray(out["ddtddg"].transpose(0, 2, 1))
-        return out
+        # Fortran DDTDDG(a, b) -> row-major [b, a] in memory: transposed to [a, b] (a view)
+        return {**out, "ddtddg": out["ddtddg"].transpose(0, 2, 1)}
 
 
-class VfricLib:
-    """Abaqus/Explicit ``VFRIC`` called once per increment for all contact points."""
+class VfricLib(_Host):
+    """Abaqus/Explicit ``VFRIC`` called once per increment for all contact points.
 
-    def __init__(self, lib):
+    The unit property is ``props(1)``.
+    """
+
+    def __init__(self, lib, deck_units=None):
+        super().__init__(lib, deck_units)
         self._fn = lib.h_vfric
         self._fn.restype = None
 
@@ -217,10 +328,13 @@ class VfricLib:
         if not (statev.flags.c_contiguous and statev.dtype == np.float64):
             raise ValueError("statev must be a C-contiguous float64 array")
         n, nsv = statev.shape
-        ft = np.empty((n, 2))
+        ft = np.full((n, 2), np.nan)
+        nprops, props = self._props()
         self._fn(
             ctypes.c_int(n),
             ctypes.c_int(nsv),
+            ctypes.c_int(nprops),
+            _ptr(props),
             *map(_ptr, (f_normal, f_stick, area)),
             _ptr(statev),
             _ptr(ft),
@@ -228,15 +342,30 @@ class VfricLib:
         return ft
 
 
-class GenericLib:
-    """The host-neutral ``SBMF_FRICTION`` over many contact points (LS-DYNA, ANSYS glue)."""
+class GenericLib(_Host):
+    """The host-neutral ``SBMF_FRICTION`` over many contact points (LS-DYNA, ANSYS glue).
 
-    def __init__(self, lib):
+    The unit property is the argument ``IUNIT`` (0 when ``deck_units`` is None); the guards'
+    status comes back per point as ``ierr``.
+    """
+
+    def __init__(self, lib, deck_units=None):
+        super().__init__(lib, deck_units)
         self._fn = lib.h_generic
         self._fn.restype = None
+        lib.h_message.restype = ctypes.c_int
+
+    def message(self, kind, value=0.0):
+        """``SBMF_MESSAGE``'s text for ``kind`` (``abs(ierr)``) and ``value``."""
+        buf = ctypes.create_string_buffer(400)
+        n = self._lib.h_message(ctypes.c_int(kind), ctypes.c_double(value), buf, len(buf))
+        return buf.raw[:n].decode()
 
     def __call__(self, p, p_hist, g1h, du, t_old, k_host, reps=1, out=None):
-        """Returns a dict: ``t``, ``dt_ddu``, ``dt_dp``, ``status``, ``p_hist``, ``g1h``."""
+        """Call ``SBMF_FRICTION`` for every point ``reps`` times.
+
+        Returns a dict: ``t``, ``dt_ddu``, ``dt_dp``, ``status``, ``p_hist``, ``g1h``, ``ierr``.
+        """
         p, p_hist, g1h, du, t_old = map(_f, (p, p_hist, g1h, du, t_old))
         kh = _f(np.broadcast_to(k_host, p.shape))
         n, nd = du.shape
@@ -248,11 +377,14 @@ class GenericLib:
                 "status": np.empty(n, np.int32),
                 "p_hist": np.empty(n),
                 "g1h": np.empty(n),
+                "ierr": np.empty(n, np.int32),
             }
+        iunit = 0 if self.deck_units is None else int(self.deck_units)
         self._fn(
             ctypes.c_int(n),
             ctypes.c_int(nd),
             ctypes.c_int(reps),
+            ctypes.c_int(iunit),
             *map(_ptr, (p, p_hist, g1h, du, t_old, kh)),
             *map(_ptr, out.values()),
         )
@@ -264,10 +396,14 @@ class GenericLib:
         return out["dt_ddu"].transpose(0, 2, 1)
 
 
-class VfrictionLib:
-    """Abaqus/Explicit ``VFRICTION`` called once for a block of contact points."""
+class VfrictionLib(_Host):
+    """Abaqus/Explicit ``VFRICTION`` called once for a block of contact points.
 
-    def __init__(self, lib):
+    The unit property is ``props(1)``.
+    """
+
+    def __init__(self, lib, deck_units=None):
+        super().__init__(lib, deck_units)
         self._fn = lib.h_vfriction
         self._fn.restype = None
 
@@ -277,11 +413,14 @@ class VfrictionLib:
         if not (state.flags.c_contiguous and state.dtype == np.float64):
             raise ValueError("state must be a C-contiguous float64 array")
         n, nns, nsv = state.shape
-        ft = np.empty((n, 2))
+        ft = np.full((n, 2), np.nan)
+        nprops, props = self._props()
         self._fn(
             ctypes.c_int(n),
             ctypes.c_int(nns),
             ctypes.c_int(nsv),
+            ctypes.c_int(nprops),
+            _ptr(props),
             *map(_ptr, (f_normal, f_stick, area)),
             _ptr(state),
             _ptr(ft),
@@ -294,16 +433,42 @@ def _host(a, dtype):
     return a
 
 
-class UsrfrcLib:
+class _LsdynaHost(_Host):
+    """LS-DYNA's output units (``IOTTY``, ``IOHSP``, ``IOMSG``) as files in a folder of its own."""
+
+    def __init__(self, lib, dtype, deck_units=None):
+        super().__init__(lib, deck_units)
+        self.dtype = dtype
+        self.units_dir = Path(tempfile.mkdtemp(prefix="sbmf_lsdyna_"))
+        self._read = {"tty": 0, "d3hsp": 0, "messag": 0}
+        path = str(self.units_dir).encode()
+        lib.h_lsdyna_open(ctypes.c_char_p(path), ctypes.c_int(len(path)))
+
+    def log(self):
+        """What the routine wrote to LS-DYNA's output units since the last call.
+
+        ``{"tty": lines, "d3hsp": lines, "messag": lines}`` (the files stay in ``units_dir``).
+        """
+        self._lib.h_lsdyna_flush()
+        out = {}
+        for k, done in self._read.items():
+            lines = (self.units_dir / f"{k}.txt").read_text().splitlines()
+            out[k] = lines[done:]
+            self._read[k] = len(lines)
+        return out
+
+
+class UsrfrcLib(_LsdynaHost):
     """LS-DYNA SMP ``usrfrc``: one call per cycle for the active slave nodes.
 
-    ``dtype`` is the host REAL (``np.float32`` for SP, ``np.float64`` for DP builds).
+    ``dtype`` is the host REAL (``np.float32`` for SP, ``np.float64`` for DP builds). The unit
+    property is ``UA(1)`` (``NINPUT = 0`` when ``deck_units`` is None).
     """
 
-    def __init__(self, lib, dtype):
+    def __init__(self, lib, dtype, deck_units=None):
+        super().__init__(lib, dtype, deck_units)
         self._fn = lib.h_usrfrc
         self._fn.restype = None
-        self.dtype = dtype
 
     def __call__(self, active, ilbsv, fni, areas, stfk, sfacn3, d, rn, fdat, fxyz, ufhist):
         """``fdat`` (n, 5), ``fxyz`` (n, 3), ``ufhist`` (n_hist, nhv) are updated in place.
@@ -320,10 +485,13 @@ class UsrfrcLib:
         iact = np.ascontiguousarray(np.asarray(active) + 1, dtype=np.int32)
         ilb = np.ascontiguousarray(np.asarray(ilbsv) + 1, dtype=np.int32)
         ins = [_host(v, dt) for v in (fni, areas, stfk, [sfacn3], d, rn)]
+        nua, ua = self._props(dt)
         self._fn(
             ctypes.c_int(n),
             ctypes.c_int(iact.size),
             ctypes.c_int(nhv),
+            ctypes.c_int(nua),
+            _ptr(ua),
             _ptr(iact),
             _ptr(ilb),
             *map(_ptr, ins),
@@ -333,13 +501,16 @@ class UsrfrcLib:
         )
 
 
-class UsrfrcMppLib:
-    """LS-DYNA MPP ``usrfrc``: one call per slave node; returns ``(fstt, fdyn)`` per node."""
+class UsrfrcMppLib(_LsdynaHost):
+    """LS-DYNA MPP ``usrfrc``: one call per slave node; returns ``(fstt, fdyn)`` per node.
 
-    def __init__(self, lib, dtype):
+    The unit property is ``UC(1)`` (``NC = 0`` when ``deck_units`` is None).
+    """
+
+    def __init__(self, lib, dtype, deck_units=None):
+        super().__init__(lib, dtype, deck_units)
         self._fn = lib.h_usrfrc_mpp
         self._fn.restype = None
-        self.dtype = dtype
 
     def __call__(self, prs, uh):
         """``uh`` (n, nh) of the host REAL is updated in place; returns (n, 2)."""
@@ -349,19 +520,28 @@ class UsrfrcMppLib:
         prs = _host(prs, dt)
         n, nh = uh.shape
         mu = np.empty((n, 2), dt)
-        self._fn(ctypes.c_int(n), ctypes.c_int(nh), _ptr(prs), _ptr(uh), _ptr(mu))
+        nuc, uc = self._props(dt)
+        self._fn(
+            ctypes.c_int(n),
+            ctypes.c_int(nh),
+            ctypes.c_int(nuc),
+            _ptr(uc),
+            _ptr(prs),
+            _ptr(uh),
+            _ptr(mu),
+        )
         return mu
 
 
 #: Abaqus/Standard ``FRIC`` (``abaqus-fric``, ``calculix``)
 FRIC = Harness("shims/fric.f90", FricLib)
 #: Abaqus/Explicit ``VFRIC`` (``abaqus-vfric``)
-VFRIC = Harness("shims/vfric.f90", VfricLib)
+VFRIC = Harness("shims/vfric.f90", VfricLib, ("shims/explicit_utilities.f90",))
 #: Abaqus/Explicit ``VFRICTION`` (``abaqus-vfriction``)
-VFRICTION = Harness("shims/vfriction.f90", VfrictionLib)
+VFRICTION = Harness("shims/vfriction.f90", VfrictionLib, ("shims/explicit_utilities.f90",))
 #: LS-DYNA SMP ``usrfrc`` (``lsdyna-usrfrc``); the driver takes ``dtype``
-USRFRC = Harness("shims/usrfrc.f90", UsrfrcLib)
+USRFRC = Harness("shims/usrfrc.f90", UsrfrcLib, ("shims/lsdyna_units.f90",))
 #: LS-DYNA MPP ``usrfrc`` (``lsdyna-usrfrc-mpp``); the driver takes ``dtype``
-USRFRC_MPP = Harness("shims/usrfrc_mpp.f90", UsrfrcMppLib)
+USRFRC_MPP = Harness("shims/usrfrc_mpp.f90", UsrfrcMppLib, ("shims/lsdyna_units.f90",))
 #: the host-neutral ``SBMF_FRICTION`` (``lsdyna``, ``ansys-userfric``, the Coulomb floor)
 SBMF_FRICTION = Harness("shims/sbmf_friction.f90", GenericLib)

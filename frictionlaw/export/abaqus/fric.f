@@ -7,7 +7,12 @@ C     0 open 1 stick 2 slip (DEPVAR >= 3, optional, output only).
 C     Abaqus passes STATEV and TAU as at the start of the increment and
 C     keeps the values written here only when the increment converges:
 C     p_hist therefore rises only through Abaqus' commit.
-C     PROPS are not used (NPROPS may be 0).
+C     PROPS(1) (*FRICTION, USER, PROPERTIES=1 and its data line) states
+C     the deck's unit system: 1 SI (Pa, m), 2 mm-t-s (MPa, mm).
+C     Guards (docs/fe_codes.md): NSTATV >= 1, PROPS(1) = the unit
+C     system this routine was exported for, PRESS <= 100 H, else an
+C     error message ({{ host.message_routine }}) and {{ host.exit_routine }}; PRESS beyond
+C     the calibrated range: one warning per process.
 C=======================================================================
       SUBROUTINE FRIC(LM,TAU,DDTDDG,DDTDDP,DSLIP,SED,SFD,
      1 DDTDDT,PNEWDT,STATEV,DGAM,TAULM,PRESS,DPRESS,DDPDDH,SLIP,
@@ -32,8 +37,29 @@ C
 C     elastic slip of Abaqus' own penalty friction: 0.005 CHRLNGTH
       DOUBLE PRECISION FSLIP
       PARAMETER (FSLIP = 5.0D-3)
+{% include "core/guard_decl.f" %}
 C
       P = PRESS
+{% if guards %}
+C     guards: the deck's state variables and unit system, the pressure
+      IF (NSTATV .LT. 1) THEN
+        CALL SBMF_GUARD(1, DBLE(NSTATV))
+        RETURN
+      END IF
+      IF (NPROPS .LT. 1) THEN
+        CALL SBMF_GUARD(2, 0.0D0)
+        RETURN
+      END IF
+      IF (PROPS(1) .NE. SBMFU) THEN
+        CALL SBMF_GUARD(3, PROPS(1))
+        RETURN
+      END IF
+      IF (P .GT. SBMFPU) THEN
+        CALL SBMF_GUARD(4, P)
+        RETURN
+      END IF
+      IF (P .GT. SBMFPM) CALL SBMF_GUARD(5, P)
+{% endif %}
       PH = STATEV(1)
       G1H = -1.0D0
       IF (NSTATV .GE. 2) G1H = STATEV(2)
@@ -85,4 +111,14 @@ C     trial history max(p_hist, p): kept by Abaqus only if converged
       RETURN
       END
 C
+C     The state variables FRIC needs (DEPVAR >= 1: STATEV(1) = p_hist).
+C     The CalculiX patch checks DEPVAR against it when ccx reads the
+C     deck; Abaqus does not call it.
+      INTEGER FUNCTION FRIC_DEPVAR()
+      IMPLICIT NONE
+      FRIC_DEPVAR = 1
+      RETURN
+      END
+C
+{% include host.guards %}
 {% include "core/sbmf_core.f" %}

@@ -6,6 +6,12 @@ C     (optional). Explicit has no iterations: each increment commits.
 C     p = fNormal/areaSec; the force limit tau(p, p_hist) areaSec;
 C     stick when tau > 0 and the stick force is within it, otherwise
 C     slip (tau = 0: no force, status slip, as traction_update).
+C     props(1) (*FRICTION, USER=VFRIC, PROPERTIES=1 and its data line)
+C     states the deck's unit system: 1 SI (Pa, m), 2 mm-t-s (MPa, mm).
+C     Guards (docs/fe_codes.md): nStateVar >= 1, props(1) = the unit
+C     system this routine was exported for, p <= 100 H, else an error
+C     message ({{ host.message_routine }}) and {{ host.exit_routine }}; p beyond the
+C     calibrated range: one warning per process.
 C=======================================================================
       subroutine vfric(
 C Write only -
@@ -40,7 +46,23 @@ C
 C
       double precision p, ph, g1h, g1new, tlim, dtau, flim
       integer k, n, ia, istat
+{% include "core/guard_decl.f" %}
 C
+{% if guards %}
+C     guards: the deck's state variables and unit system
+      if (nStateVar .lt. 1) then
+        call SBMF_GUARD(1, dble(nStateVar))
+        return
+      end if
+      if (nProps .lt. 1) then
+        call SBMF_GUARD(2, 0.0d0)
+        return
+      end if
+      if (props(1) .ne. SBMFU) then
+        call SBMF_GUARD(3, dble(props(1)))
+        return
+      end if
+{% endif %}
       do k = 1, nContact
         n = jConSecid(k)
         do ia = 1, nFricDir
@@ -48,6 +70,13 @@ C
         end do
 C       an overflowing pressure is taken as the largest double
         p = min(fNormal(k)/areaSec(n), huge(p))
+{% if guards %}
+        if (p .gt. SBMFPU) then
+          call SBMF_GUARD(4, p)
+          return
+        end if
+        if (p .gt. SBMFPM) call SBMF_GUARD(5, p)
+{% endif %}
         ph = statev(1, n)
         g1h = -1.0d0
         if (nStateVar .ge. 2) g1h = statev(2, n)
@@ -71,4 +100,5 @@ C       an overflowing pressure is taken as the largest double
       return
       end
 C
+{% include host.guards %}
 {% include "core/sbmf_core.f" %}

@@ -11,6 +11,12 @@ C     keeps max(its p_hist, p). Force limit tau(p, p_hist) areaCont;
 C     stick when tau > 0 and the stick force is within it, otherwise
 C     slip (tau = 0: no force, status slip, as traction_update).
 C     Explicit has no iterations: each increment commits.
+C     props(1) (*FRICTION, USER=VFRICTION, PROPERTIES=1 and its data
+C     line) states the deck's unit system: 1 SI (Pa, m), 2 mm-t-s
+C     (MPa, mm). Guards (docs/fe_codes.md): nStates >= 1, props(1) =
+C     the unit system this routine was exported for, p <= 100 H, else
+C     an error message ({{ host.message_routine }}) and {{ host.exit_routine }}; p beyond
+C     the calibrated range: one warning per process.
 C=======================================================================
       subroutine vfriction(
 C Write only -
@@ -62,7 +68,23 @@ C
 C
       double precision p, ph, g1h, g1new, tlim, dtau, flim, phnew, sj
       integer k, j, ia, istat, jmax
+{% include "core/guard_decl.f" %}
 C
+{% if guards %}
+C     guards: the deck's state variables and unit system
+      if (nStates .lt. 1) then
+        call SBMF_GUARD(1, dble(nStates))
+        return
+      end if
+      if (nProps .lt. 1) then
+        call SBMF_GUARD(2, 0.0d0)
+        return
+      end if
+      if (props(1) .ne. SBMFU) then
+        call SBMF_GUARD(3, dble(props(1)))
+        return
+      end if
+{% endif %}
       do k = 1, nBlock
         do ia = 1, nFricDir
           fTangential(ia, k) = 0.0d0
@@ -72,6 +94,13 @@ C       an overflowing pressure is taken as the largest double
         if (areaCont(k) .gt. 0.0d0) then
           p = min(fNormal(k)/areaCont(k), huge(p))
         end if
+{% if guards %}
+        if (p .gt. SBMFPU) then
+          call SBMF_GUARD(4, p)
+          return
+        end if
+        if (p .gt. SBMFPM) call SBMF_GUARD(5, p)
+{% endif %}
         if (.not. (p .gt. 0.0d0)) then
 C         open (or no area): no friction, history unchanged
           if (nStates .ge. 3) then
@@ -119,4 +148,5 @@ C             gets 0 ("recompute")
       return
       end
 C
+{% include host.guards %}
 {% include "core/sbmf_core.f" %}

@@ -119,9 +119,12 @@ if [ "$lib_only" -eq 1 ]; then
     exit 0
 fi
 
-# the routine, compiled with Abaqus' ABA_PARAM.INC convention (implicit double precision)
+# the routine, compiled with Abaqus' ABA_PARAM.INC convention (implicit double precision) and
+# -fopenmp: ccx calls it from several threads, and its guards' once-per-process flag is set
+# with OpenMP atomics (the link below already takes libgomp)
 obj="$work/user_fric.$$.o"
-gfortran -O2 -I"$work" -c "$routine" -o "$obj" || { rm -f "$obj"; die "compiling $routine failed"; }
+gfortran -O2 -fopenmp -I"$work" -c "$routine" -o "$obj" ||
+    { rm -f "$obj"; die "compiling $routine failed"; }
 tmp="$out.tmp.$$"
 gfortran -O2 -o "$tmp" "$src/ccx_$version.o" "$obj" "$src/ccx_$version.a" $libs ||
     { rm -f "$tmp" "$obj"; die "linking ccx failed"; }

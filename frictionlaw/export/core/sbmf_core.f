@@ -10,7 +10,8 @@
   for the paper's Eq. 25), kt (the StiffnessSpec), ln_small, ln_sat (the smooth minimum's
   branch points), ln_d_max (the tabulated form's bound on ln dtau/dp where it is formed in
   logs), ln_h (ln H in the host's unit). A new law form changes this file (or the one it
-  includes) and core_context, nothing per target.
+  includes) and core_context, nothing per target. At its end core/sbmf_guards.f (the guards'
+  once-per-process flags and messages; context guard_text).
 #}
 {% macro libm(name) %}
       DOUBLE PRECISION FUNCTION SBMF_{{ name | upper }}(Z)
@@ -438,3 +439,4 @@ C     TAU = 0 and no trial traction: TNEW = 0, zero tangent
       RETURN
       END
 C
+{% include "core/sbmf_guards.f" %}

@@ -8,6 +8,13 @@ C     UH(1) = p_hist (NH >= 1; stored rounded down to the host REAL),
 C     UH(2) = cache -ln alpha1(p_hist) (NH >= 2, double hosts only).
 C     PRS <= 0: FSTT = FDYN = 0, history unchanged. Host arguments have
 C     the host's default REAL/INTEGER (see the SMP routine).
+C     UC(1), the first user parameter (NC >= 1), states the deck's unit
+C     system: 1 SI (Pa, m), 2 mm-t-s (MPa, mm). Guards (docs/
+C     fe_codes.md): NH >= 1, UC(1) = the unit system this routine was
+C     exported for, p <= 100 H, else FSTT = FDYN = 0 (no friction,
+C     history unchanged) with one message per process (terminal,
+C     d3hsp, messag: iounits.inc); p beyond the calibrated range: one
+C     warning per process.
 C=======================================================================
       SUBROUTINE USRFRC(FSTT,FDYN,UC,NC,PRS,TEMP,V,UH,NH,CRV,NNPCRV,
      & NOSL,ICTYPE,SIDE,TIME,NCYCLE,DT2,FRIC1,FRIC2,FRIC3,FRIC4,LSV,
@@ -27,14 +34,30 @@ C
       DOUBLE PRECISION P, PH, PHNEW, G1H, G1NEW, TLIM, DTAU, XMU, HR
       REAL RPH
       LOGICAL USECAC
+{% include "core/guard_decl.f" %}
       HR = DBLE(HUGE(RPH))
       USECAC = (KIND(RPH) .EQ. KIND(HR)) .AND. (NH .GE. 2)
       P = DBLE(PRS)
-      IF (.NOT. (P .GT. 0.0D0)) THEN
-        FSTT = 0.0
-        FDYN = 0.0
+      FSTT = 0.0
+      FDYN = 0.0
+{% if guards %}
+C     guards: a failed one refuses the law (no friction, no history)
+      IF (NH .LT. 1) THEN
+        CALL SBMF_GUARD(1, DBLE(NH))
+        RETURN
+      ELSE IF (NC .LT. 1) THEN
+        CALL SBMF_GUARD(2, 0.0D0)
+        RETURN
+      ELSE IF (DBLE(UC(1)) .NE. SBMFU) THEN
+        CALL SBMF_GUARD(3, DBLE(UC(1)))
+        RETURN
+      ELSE IF (P .GT. SBMFPU) THEN
+        CALL SBMF_GUARD(4, P)
         RETURN
       END IF
+      IF (P .GT. SBMFPM) CALL SBMF_GUARD(5, P)
+{% endif %}
+      IF (.NOT. (P .GT. 0.0D0)) RETURN
       PH = 0.0D0
       IF (NH .GE. 1) PH = MAX(DBLE(UH(1)), 0.0D0)
       G1H = -1.0D0
@@ -53,4 +76,5 @@ C
       RETURN
       END
 C
+{% include host.guards %}
 {% include "core/sbmf_core.f" %}

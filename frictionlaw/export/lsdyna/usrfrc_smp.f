@@ -19,6 +19,13 @@ C     the last cycle 0 open 1 stick 2 slip (NHV >= 3).
 C     FNI >= 0 or AREAS <= 0: open (no friction, FDAT(3:5) = 0,
 C     history unchanged). The Coulomb coefficients FRIC1..4, FRC and
 C     the thermal data are not used.
+C     UA(1), the first user parameter of *USER_INTERFACE_FRICTION
+C     (NINPUT >= 1), states the deck's unit system: 1 SI (Pa, m), 2
+C     mm-t-s (MPa, mm). Guards (docs/fe_codes.md): NHV >= 1, UA(1) =
+C     the unit system this routine was exported for, else no friction
+C     at any node; p > 100 H: no friction at that node; each with one
+C     message per process (terminal, d3hsp, messag: iounits.inc).
+C     p beyond the calibrated range: one warning per process.
 C=======================================================================
       SUBROUTINE USRFRC(NOSL,TIME,NCYCLE,DT2,INSV,AREAS,XS,YS,ZS,
      & LSV,IX1,IX2,IX3,IX4,AREAM,XX1,XX2,XX3,STFN,STF,FNI,
@@ -44,14 +51,30 @@ C
       DOUBLE PRECISION RN(3), FO(3), D(3), Q, KT, HD, HR, F
       DOUBLE PRECISION TOLD(3), TNEW(3), DTDDU(3,3), DTDP(3)
       REAL RPH
-      LOGICAL USECAC
+      LOGICAL USECAC, REFUSE
       DOUBLE PRECISION SBMF_KT
       EXTERNAL SBMF_KT
+{% include "core/guard_decl.f" %}
 C     largest double and largest host REAL
       HD = HUGE(HD)
       HR = DBLE(HUGE(RPH))
 C     the cache is exact only where the host REAL is a double
       USECAC = (KIND(RPH) .EQ. KIND(HD)) .AND. (NHV .GE. 2)
+      REFUSE = .FALSE.
+{% if guards %}
+C     guards: the deck's history variables and unit system; a failed
+C     one refuses the law (no friction at any node, history unchanged)
+      IF (NHV .LT. 1) THEN
+        CALL SBMF_GUARD(1, DBLE(NHV))
+        REFUSE = .TRUE.
+      ELSE IF (NINPUT .LT. 1) THEN
+        CALL SBMF_GUARD(2, 0.0D0)
+        REFUSE = .TRUE.
+      ELSE IF (DBLE(UA(1)) .NE. SBMFU) THEN
+        CALL SBMF_GUARD(3, DBLE(UA(1)))
+        REFUSE = .TRUE.
+      END IF
+{% endif %}
       DO KK = 1, NIISV5
         II = IISV5(KK)
         IH = ILBSV(II)
@@ -60,14 +83,25 @@ C     the cache is exact only where the host REAL is a double
         FDAT(2, II) = TT(II)
         AR = DBLE(AREAS(II))
         FN = -DBLE(FNI(II))
-        IF (.NOT. (FN .GT. 0.0D0 .AND. AR .GT. 0.0D0)) THEN
+        IF (REFUSE .OR. .NOT. (FN .GT. 0.0D0 .AND. AR .GT. 0.0D0)) THEN
           DO A = 3, 5
             FDAT(A, II) = 0.0
           END DO
-          IF (NHV .GE. 3) UFHIST(3, IH) = 0.0
+          IF (NHV .GE. 3 .AND. .NOT. REFUSE) UFHIST(3, IH) = 0.0
           CYCLE
         END IF
         P = MIN(FN/AR, HD)
+{% if guards %}
+        IF (P .GT. SBMFPU) THEN
+C         the deck's units are not the routine's: no friction here
+          CALL SBMF_GUARD(4, P)
+          DO A = 3, 5
+            FDAT(A, II) = 0.0
+          END DO
+          CYCLE
+        END IF
+        IF (P .GT. SBMFPM) CALL SBMF_GUARD(5, P)
+{% endif %}
         PH = 0.0D0
         IF (NHV .GE. 1) PH = MAX(DBLE(UFHIST(1, IH)), 0.0D0)
         G1H = -1.0D0
@@ -124,4 +158,5 @@ C         stored rounded down: a constant pressure stays on Eq. 24
       RETURN
       END
 C
+{% include host.guards %}
 {% include "core/sbmf_core.f" %}

@@ -1,21 +1,25 @@
-subroutine h_fric(n, nd, nstatv, press, dgam, tau_in, sv_in, chr, tau_out, dtdg, dtdp, &
-                  dslip, sv_out, lm_out, sed, sfd) bind(c, name='h_fric')
+subroutine h_fric(n, nd, nstatv, reps, nprops, props, press, dgam, tau_in, sv_in, chr, &
+                  tau_out, dtdg, dtdp, dslip, sv_out, lm_out, sed, sfd) bind(c, name='h_fric')
   use iso_c_binding
+  use sbmf_host_log, only: exits
   implicit none
-  integer(c_int), value :: n, nd, nstatv
+  integer(c_int), value :: n, nd, nstatv, reps, nprops
+  real(c_double), intent(in) :: props(max(nprops, 1))
   real(c_double), intent(in) :: press(n), dgam(nd, n), tau_in(nd, n), sv_in(nstatv, n), chr(n)
   real(c_double), intent(out) :: tau_out(nd, n), dtdg(nd, nd, n), dtdp(nd, n), dslip(nd, n)
   real(c_double), intent(out) :: sv_out(nstatv, n), sed(n), sfd(n)
   integer(c_int), intent(out) :: lm_out(n)
-  integer :: i, lm, kstep, kinc, noel, npt, node, npatch, mcrd, npred, nprops
+  integer :: i, r, lm, kstep, kinc, noel, npt, node, npatch, mcrd, npred, np
   double precision :: tau(nd), dd(nd, nd), ddp(nd), ds(nd), ddtddt(nd, 2), statev(nstatv)
   double precision :: dg(nd), taulm(nd), slip(nd), time(2), coords(3), rcoord(3), drot(2, 2)
-  double precision :: temp(2), predef(2, 1), props(1), pnewdt, dpress, ddpddh, dtime, sedv, sfdv
+  double precision :: temp(2), predef(2, 1), pr(max(nprops, 1)), pnewdt, dpress, ddpddh
+  double precision :: dtime, sedv, sfdv
   character(len=80) :: ciname, slname, msname
   kstep = 1; kinc = 1; noel = 1; npt = 1; node = 1; npatch = 1; mcrd = 3; npred = 0
-  nprops = 0; time = 0d0; dtime = 1d0; coords = 0d0; rcoord = 0d0; drot = 0d0; temp = 0d0
-  predef = 0d0; props = 0d0; taulm = 0d0; slip = 0d0; dpress = 0d0; ddpddh = 0d0
+  np = nprops; time = 0d0; dtime = 1d0; coords = 0d0; rcoord = 0d0; drot = 0d0; temp = 0d0
+  predef = 0d0; pr = props; taulm = 0d0; slip = 0d0; dpress = 0d0; ddpddh = 0d0
   ciname = 'CP'; slname = 'SLAVE'; msname = 'MASTER'
+  do r = 1, reps  ! reps > 1: the same points again (benchmarks/bench_fortran_law.py)
   do i = 1, n
     lm = 0
     pnewdt = 1d0
@@ -25,7 +29,8 @@ subroutine h_fric(n, nd, nstatv, press, dgam, tau_in, sv_in, chr, tau_out, dtdg,
     call fric(lm, tau, dd, ddp, ds, sedv, sfdv, ddtddt, pnewdt, statev, dg, taulm, press(i), &
               dpress, ddpddh, slip, kstep, kinc, time, dtime, noel, ciname, slname, msname, &
               npt, node, npatch, coords, rcoord, drot, temp, predef, nd, mcrd, npred, nstatv, &
-              chr(i), props, nprops)
+              chr(i), pr, np)
+    if (exits > 0) return  ! the host's error exit ended the analysis
     tau_out(:, i) = tau
     dtdg(:, :, i) = dd
     dtdp(:, i) = ddp
@@ -35,4 +40,24 @@ subroutine h_fric(n, nd, nstatv, press, dgam, tau_in, sv_in, chr, tau_out, dtdg,
     sed(i) = sedv
     sfd(i) = sfdv
   end do
+  end do
 end subroutine h_fric
+
+! Abaqus/Standard's utility routines, as the harness emulates them: the message is logged with
+! its LOP (%I, %R, %S are not substituted), XIT counts an error exit and returns.
+subroutine stdb_abqerr(lop, string, intv, realv, charv)
+  use sbmf_host_log, only: log_line
+  implicit none
+  integer :: lop, intv(*)
+  character(len=*) :: string
+  double precision :: realv(*)
+  character(len=8) :: charv(*)
+  if (.false.) print *, intv(1), realv(1), charv(1)
+  call log_line(lop, string)
+end subroutine stdb_abqerr
+
+subroutine xit()
+  use sbmf_host_log, only: log_exit
+  implicit none
+  call log_exit()
+end subroutine xit

@@ -1,0 +1,37 @@
+{#
+  SBMF_GUARD for hosts with Abaqus' utility routines (Host.guards): Abaqus/Standard
+  (STDB_ABQERR, XIT), Abaqus/Explicit (XPLB_ABQERR, XPLB_EXIT) and the patched CalculiX, which
+  provides STDB_ABQERR and XIT. The names come from the Host record (message_routine,
+  exit_routine), the text from SBMF_MESSAGE (core/sbmf_guards.f).
+#}
+C=======================================================================
+C     The guards' way to {{ host.name }}: {{ host.message_routine }}
+C     writes the message; an error (KIND 1-4) is written with LOP = -3
+C     and ends the analysis ({{ host.exit_routine }} after it, should
+C     the host return); the warning (KIND 5) with LOP = -1, once per
+C     process.
+C=======================================================================
+      SUBROUTINE SBMF_GUARD(KIND, XV)
+      IMPLICIT NONE
+      INTEGER KIND, NMSG, INTV(1)
+      DOUBLE PRECISION XV, REALV(1)
+      CHARACTER*8 CHARV(1)
+      CHARACTER*400 MSG
+      INTEGER SBMF_ONCE
+      EXTERNAL SBMF_ONCE
+      INTV(1) = KIND
+      REALV(1) = XV
+      CHARV(1) = 'SBMF'
+      IF (KIND .EQ. 5) THEN
+        IF (SBMF_ONCE(KIND) .EQ. 0) RETURN
+        CALL SBMF_MESSAGE(KIND, XV, MSG, NMSG)
+        CALL {{ host.message_routine }}(-1, MSG(1:NMSG), INTV, REALV,
+     &                   CHARV)
+        RETURN
+      END IF
+      CALL SBMF_MESSAGE(KIND, XV, MSG, NMSG)
+      CALL {{ host.message_routine }}(-3, MSG(1:NMSG), INTV, REALV, CHARV)
+      CALL {{ host.exit_routine }}
+      RETURN
+      END
+C
