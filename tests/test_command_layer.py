@@ -27,7 +27,9 @@ COMMANDS = re.compile(
 )
 #: raise sites that still name flags, each with the reason it is left
 LEFT = {
-    # the parameter file's own checks: frictionlaw/params.py is the lead's to change
+    # the parameter file's own checks: the runtime law imports nothing of the project, so it
+    # cannot raise sbmf_cli's ParameterError; both name the Python argument first and the
+    # commands' flag beside it ("accept_failed=True; --accept-failed-fit on the command lines")
     "frictionlaw/params.py": 2,
 }
 
