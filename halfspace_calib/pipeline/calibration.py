@@ -295,7 +295,9 @@ def _calibrate(scene, progress, surfaces):
     sweeps = run_sweeps(scene, progress=progress, surfaces=surfs)
     p, _ = sweeps.loading
     first, reload = fit_sweeps(scene, sweeps)
-    form, table, errors = _reload_law(scene, sweeps, first, reload)
+    form, table, errors = _held.reload_law(
+        scene, *sweeps.loading, sweeps.reload_curves(), first, reload
+    )
     wp, tl = sweeps.surfaces["workpiece"], sweeps.surfaces["tool"]
     effects = _run_effects(scene, sweeps, surfs, progress)
     resolution = (
@@ -375,22 +377,6 @@ def _calibrate(scene, progress, surfaces):
         errors=errors,
         reload_form=form,
     )
-
-
-def _reload_law(scene, sweeps, first, reload):
-    """``(form, table fit or None, errors)``: the reload form the file runs and every branch's errors.
-
-    ``scene.reload_form``: ``"paper"`` fits the paper's Eq. 25 only; ``"tabulated"`` also the table
-    and runs it; ``"auto"`` (the default) fits both and runs the one whose held-out error is
-    smaller (:func:`.heldout.choose_reload_form`).
-    """
-    p, alpha = sweeps.loading
-    curves = sweeps.reload_curves()
-    floor_to = None if scene.alpha_floor is None else scene.alpha_floor * scene.H
-    errors = {"first_loading": _held.first_loading_errors(p, alpha, scene.H, first, floor_to)}
-    table, form, more = _held.reload_forms(scene, curves, first, reload)
-    errors.update(more)
-    return form, table, errors
 
 
 def _run_effects(scene, sweeps, surfs, progress):

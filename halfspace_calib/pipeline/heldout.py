@@ -56,6 +56,7 @@ __all__ = [
     "reload_table_errors",
     "full_contact_pressure",
     "reload_forms",
+    "reload_law",
     "choose_reload_form",
 ]
 
@@ -258,6 +259,21 @@ def reload_table_errors(table_fit):
     held = [(cs[j].p_hist, predict(j)) for j in range(1, n - 1)] if n >= 3 else []
     ext = (cs[-1].p_hist, predict(n - 1)) if n >= 2 else None
     return _errors("reload", "tabulated", f.residuals, held, ext)
+
+
+def reload_law(scene, p, alpha, curves, first, reload):
+    """``(form, table fit or None, errors)``: the reload form a file runs and every branch's errors.
+
+    ``p, alpha``: the first loading; ``curves``: one reload curve per level. ``scene.reload_form``:
+    ``"paper"`` fits the paper's Eq. 25 only; ``"tabulated"`` also the table and runs it;
+    ``"auto"`` (the default) fits both and runs the one whose held-out error is smaller
+    (:func:`choose_reload_form`). Used by a calibration and by the pooled law of several samples.
+    """
+    floor_to = None if scene.alpha_floor is None else scene.alpha_floor * scene.H
+    errors = {"first_loading": first_loading_errors(p, alpha, scene.H, first, floor_to)}
+    table, form, more = reload_forms(scene, curves, first, reload)
+    errors.update(more)
+    return form, table, errors
 
 
 def reload_forms(scene, curves, first, reload):

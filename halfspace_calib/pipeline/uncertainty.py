@@ -140,16 +140,12 @@ def pooled_reload_law(scene, curves, first, reload):
     """The pooled reload law: ``(form, table fit or None, errors)``, as a single calibration's.
 
     Both forms are fitted to every sample's points pooled per load level (:func:`pooled_curves`)
-    and chosen as ``scene.reload_form`` says (:func:`.heldout.reload_forms`); the errors are the
+    and chosen as ``scene.reload_form`` says (:func:`.heldout.reload_law`); the errors are the
     pooled law's against all points, in sample and with each interior level left out.
     """
     p = np.concatenate([c.p for c in curves])
     alpha = np.concatenate([c.alpha for c in curves])
-    floor_to = None if scene.alpha_floor is None else scene.alpha_floor * scene.H
-    errors = {"first_loading": _held.first_loading_errors(p, alpha, scene.H, first, floor_to)}
-    table, form, more = _held.reload_forms(scene, pooled_curves(curves), first, reload)
-    errors.update(more)
-    return form, table, errors
+    return _held.reload_law(scene, p, alpha, pooled_curves(curves), first, reload)
 
 
 class _Stacked:
