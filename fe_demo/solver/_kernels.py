@@ -37,6 +37,7 @@ _TWO_PI = 2.0 * math.pi
         _RO2,
         _RO3,
         _RO1,
+        boolean,
         float64[:, :, :, ::1],
         float64[:, ::1],
         float64[:, ::1],
@@ -44,11 +45,12 @@ _TWO_PI = 2.0 * math.pi
     ),
     **_opts,
 )
-def kinematics(x, t, N, dN, w, B, dV, r, dNdx):
+def kinematics(x, t, N, dN, w, axisymmetric, B, dV, r, dNdx):
     """B-bar matrices, volume weights, radii and shape-function gradients of every element.
 
     Fills ``B``, ``dV``, ``r``, ``dNdx`` as :func:`fe_demo.solver.element.kinematics` does and returns
-    the smallest Jacobian determinant. ``t`` is the connectivity ``(4, n_el)``.
+    the smallest Jacobian determinant. ``t`` is the connectivity ``(4, n_el)``;
+    ``axisymmetric`` False gives the plane-strain element (no ``N / r`` row, ``dV = detJ w``).
     """
     ne = t.shape[1]
     nq = w.shape[0]
@@ -84,7 +86,7 @@ def kinematics(x, t, N, dN, w, B, dV, r, dNdx):
             i10 = -j10 / det_s
             r[e, q] = rq
             r_s = rq if rq > 0.0 else 1.0
-            dv = _TWO_PI * rq * det * w[q]
+            dv = _TWO_PI * rq * det * w[q] if axisymmetric else det * w[q]
             dV[e, q] = dv
             vol += dv
             for a in range(4):
@@ -92,7 +94,7 @@ def kinematics(x, t, N, dN, w, B, dV, r, dNdx):
                 gz = dN[a, 0, q] * i01 + dN[a, 1, q] * i11
                 dNdx[e, q, a, 0] = gr
                 dNdx[e, q, a, 1] = gz
-                nr = N[a, q] / r_s
+                nr = N[a, q] / r_s if axisymmetric else 0.0
                 B[e, q, 0, 2 * a] = gr
                 B[e, q, 0, 2 * a + 1] = 0.0
                 B[e, q, 1, 2 * a] = 0.0

@@ -13,6 +13,11 @@ rounding, ``tests/test_fe_kernels.py``).
 
 Strain components are ``[rr, zz, tt, rz]`` with engineering shear; element dofs
 are ordered ``(node0 r, node0 z, node1 r, ...)``.
+
+Plane strain (``plane_strain=True``, used by :mod:`fe_demo.asperity`) is the same element without
+the hoop terms: ``(r, z)`` read as ``(x, z)``, the third strain component is the out-of-plane
+``eps_yy`` (zero but for the B-bar's volumetric correction), ``N / r`` is dropped from B and the
+volume weight is ``detJ w`` per unit thickness (m^2) instead of ``2 pi r detJ w``.
 """
 
 import numpy as np
@@ -77,7 +82,7 @@ class Kinematics:
         self.min_detJ = min_detJ
 
 
-def kinematics(x, t, kernels="numpy"):
+def kinematics(x, t, kernels="numpy", plane_strain=False):
     """B-bar matrices and volume weights in configuration ``x``.
 
     Parameters
@@ -88,15 +93,19 @@ def kinematics(x, t, kernels="numpy"):
         Element connectivity.
     kernels : {"numpy", "numba"}
         Implementation (:data:`KERNELS`).
+    plane_strain : bool
+        Plane strain (no hoop terms, ``dV = detJ w`` per unit thickness) instead of the
+        axisymmetric element.
 
     Returns
     -------
     Kinematics
-        ``B`` (n_el, nq, 4, 8), ``dV = 2 pi r detJ w`` (n_el, nq), ``r`` (n_el, nq),
-        ``dNdx`` (n_el, nq, 4, 2); ``valid`` is False if any Jacobian is not positive.
+        ``B`` (n_el, nq, 4, 8), ``dV = 2 pi r detJ w`` (n_el, nq; plane strain ``detJ w``),
+        ``r`` (n_el, nq), ``dNdx`` (n_el, nq, 4, 2); ``valid`` is False if any Jacobian is not
+        positive.
     """
     if check_kernels(kernels) == "numba":
-        return _kinematics_numba(x, t)
+        return _kinematics_numba(x, t, bool(plane_strain))
     xe = x[t]  # (4, ne, 2)
     J = np.einsum("aei,ajq->eqij", xe, _DN)  # dx_i / dxi_j
     det = J[..., 0, 0] * J[..., 1, 1] - J[..., 0, 1] * J[..., 1, 0]
@@ -111,9 +120,13 @@ def kinematics(x, t, kernels="numpy"):
     dNdx = np.einsum("ajq,eqji->eqai", _DN, inv)  # (ne, nq, 4, 2)
     r = np.einsum("aq,ae->eq", _N, xe[..., 0])
     r_s = np.where(r > 0, r, 1.0)
-    dV = 2.0 * np.pi * r * det * _W[None, :]
     ne, nq = r.shape
-    Nr = _N.T[None, :, :] / r_s[..., None]  # (ne, nq, 4)
+    if plane_strain:
+        dV = det * _W[None, :]
+        Nr = np.zeros((ne, nq, 4))
+    else:
+        dV = 2.0 * np.pi * r * det * _W[None, :]
+        Nr = _N.T[None, :, :] / r_s[..., None]  # (ne, nq, 4)
     B = np.zeros((ne, nq, 4, 8))
     B[..., 0, 0::2] = dNdx[..., 0]
     B[..., 1, 1::2] = dNdx[..., 1]
@@ -135,14 +148,14 @@ def _c(a):
     return np.ascontiguousarray(a, dtype=float)
 
 
-def _kinematics_numba(x, t):
+def _kinematics_numba(x, t, plane_strain=False):
     ne, nq = t.shape[1], _W.size
     B = np.empty((ne, nq, 4, 8))
     dV = np.empty((ne, nq))
     r = np.empty((ne, nq))
     dNdx = np.empty((ne, nq, 4, 2))
     t = np.ascontiguousarray(t, dtype=np.int64)
-    min_det = _kernels.kinematics(_c(x), t, _N, _DN, _W, B, dV, r, dNdx)
+    min_det = _kernels.kinematics(_c(x), t, _N, _DN, _W, not plane_strain, B, dV, r, dNdx)
     return Kinematics(B, dV, r, dNdx, min_det > 0, min_det)
 
 

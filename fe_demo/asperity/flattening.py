@@ -1,0 +1,327 @@
+"""The contact fraction of a profile pressed by a rigid flat and stretched: the asperity truth.
+
+:func:`asperity_contact_fraction` presses the strip under a profile (:mod:`.mesh`) with a rigid,
+frictionless flat to the nominal pressure ``p`` (load control), then stretches it between its
+symmetry sides, plane strain, to the requested in-plane bulk strains at constant ``p``, and
+reports the real contact fraction ``alpha`` (contact length / apparent length) at each. Nothing
+in it is fitted: it is the reference the flattening law (issue 43) is judged against.
+
+How the contact fraction is measured (:func:`contact_fraction`): along each top edge the gap to
+the flat is linear between its two nodes (``w - z``, negative where a node is inside the flat);
+the part of the edge where the gap is negative counts, by its ``x`` extent, and the sum is divided
+by the current apparent length ``L``. The contact edge is so placed between nodes.
+
+The hardness ``H`` the pressures are quoted against is the slip-line value of a rigid flat punch
+on a rigid-perfectly plastic half-space in plane strain (Prandtl): ``H = (2 + pi) k`` with
+``k = sigma_y / sqrt(3)`` (J2), ``H = 2.97 sigma_y`` (:func:`prandtl_hardness`);
+:func:`flat_punch_pressure` measures it in the model.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from sbmf_cli import ParameterError
+
+from ..solver.element import kinematics
+from ..solver.material import DC04, Material
+from .mesh import check_profile, strip_mesh
+from .model import StripModel
+
+__all__ = [
+    "AsperityMesh",
+    "AsperityOptions",
+    "AsperityHistory",
+    "AsperityResult",
+    "asperity_contact_fraction",
+    "contact_fraction",
+    "perfectly_plastic",
+    "prandtl_hardness",
+    "flat_punch_pressure",
+    "PunchResult",
+]
+
+
+def perfectly_plastic(sigma_y=None, E=DC04.E, nu=DC04.nu):
+    """An elastic-perfectly plastic J2 material (fe_demo's :class:`Material` with ``n = 0``).
+
+    ``sigma_y`` defaults to the initial yield stress of fe_demo's DC04 (155.6 MPa); ``E`` and
+    ``nu`` to DC04's (210 GPa, 0.3).
+    """
+    sy = DC04.sigma_y0 if sigma_y is None else float(sigma_y)
+    return Material(E=E, nu=nu, K=sy, eps0=1.0, n=0.0)
+
+
+def prandtl_hardness(sigma_y):
+    """``H = (2 + pi) sigma_y / sqrt(3)`` (Pa): the plane-strain flat-punch pressure (Prandtl)."""
+    return (2.0 + math.pi) * float(sigma_y) / math.sqrt(3.0)
+
+
+@dataclass(frozen=True)
+class AsperityMesh:
+    """The strip's mesh: ``nx`` elements along the profile, ``nz`` through the thickness, the
+    mean thickness ``depth`` (m; ``None``: the profile's length)."""
+
+    nx: int = 64
+    nz: int = 24
+    depth: float | None = None
+
+    def __post_init__(self):
+        if int(self.nx) < 2 or int(self.nz) < 2:
+            raise ParameterError(f"nx and nz must be >= 2, got nx={self.nx}, nz={self.nz}")
+        if self.depth is not None and not (math.isfinite(self.depth) and self.depth > 0):
+            raise ParameterError(f"depth must be finite and > 0 (m), got {self.depth!r}")
+
+
+@dataclass(frozen=True)
+class AsperityOptions:
+    """Increment control.
+
+    Attributes
+    ----------
+    press_increments : int
+        Load steps to ``p``, geometric from ``p / 100``.
+    first_strain_step, max_strain_step : float
+        The stretch's first and largest strain increment; between them the step grows by 1.5
+        after an increment of at most 6 Newton iterations and halves after one of more than 15.
+    rtol : float
+        Newton tolerance (relative residual).
+    kernels : {"numba", "numpy"}
+    """
+
+    press_increments: int = 8
+    first_strain_step: float = 5e-4
+    max_strain_step: float = 0.01
+    rtol: float = 1e-6
+    kernels: str = "numba"
+
+
+@dataclass
+class AsperityHistory:
+    """Per accepted increment (the pressing's end first)."""
+
+    strain: list = field(default_factory=list)  # in-plane bulk strain ln(L / L0)
+    alpha: list = field(default_factory=list)  # contact fraction
+    p_nominal: list = field(default_factory=list)  # sum of contact forces / L (Pa)
+    lateral_stress: list = field(default_factory=list)  # side force / side height (Pa)
+    nit: list = field(default_factory=list)  # Newton iterations of the increment
+
+
+@dataclass
+class AsperityResult:
+    """The contact fraction against bulk strain at constant nominal pressure.
+
+    Attributes
+    ----------
+    p, H, sigma_y : float
+        Nominal pressure, the slip-line hardness :func:`prandtl_hardness` of the material's
+        initial yield stress, that yield stress (Pa).
+    strains, alpha : ndarray
+        The requested strains reached and the contact fraction at each (the same length; shorter
+        than requested when the run stopped, then ``converged`` is False).
+    alpha_press : float
+        Contact fraction after pressing, before any stretch.
+    converged : bool
+    message : str
+    volume_change : float
+        ``ln(V / V0)`` of the strip at the end.
+    elastic_dilatation : float
+        The volume average of ``tr(sigma) / (3 K_bulk)`` at the end: what ``ln(V / V0)`` must
+        equal, the plastic flow being isochoric.
+    force_balance : float
+        ``|sum of bottom reactions - p L| / (p L)`` at the end.
+    history : AsperityHistory
+    n_increments, n_newton : int
+    seconds : float
+        Wall time of the run.
+    mesh : AsperityMesh
+    """
+
+    p: float
+    H: float
+    sigma_y: float
+    strains: np.ndarray
+    alpha: np.ndarray
+    alpha_press: float
+    converged: bool
+    message: str
+    volume_change: float
+    elastic_dilatation: float
+    force_balance: float
+    history: AsperityHistory
+    n_increments: int
+    n_newton: int
+    seconds: float
+    mesh: AsperityMesh
+
+
+def contact_fraction(model):
+    """The contact fraction ``alpha`` of a :class:`StripModel`'s current state (see the module)."""
+    xt = model.x[model.top]
+    g = model.w - xt[:, 1]  # < 0: inside the flat
+    dx = np.abs(np.diff(xt[:, 0]))
+    a, b = g[:-1], g[1:]
+    both = (a < 0) & (b < 0)
+    one = (a < 0) != (b < 0)
+    den = np.where(one, np.abs(a - b), 1.0)
+    frac = np.where(a < 0, -a, -b) / den
+    touch = np.where(both, dx, 0.0) + np.where(one, frac * dx, 0.0)
+    ok = model.candidate[:-1] & model.candidate[1:]
+    return float(touch[ok].sum() / model.length)
+
+
+def _volume_terms(model):
+    kin = kinematics(model.x, model.t, model.kernels, plane_strain=True)
+    v = float(kin.dV.sum())
+    mean = model.sigma[..., :3].sum(-1) / 3.0
+    dil = float((mean * kin.dV).sum() / v / model.mat.bulk)
+    return v, dil
+
+
+def _check_inputs(p, strains, material):
+    p = float(p)
+    if not (math.isfinite(p) and p > 0):
+        raise ParameterError(f"p must be finite and > 0 (Pa), got {p!r}")
+    e = np.atleast_1d(np.asarray(strains, dtype=float))
+    if e.ndim != 1 or e.size < 1 or not np.isfinite(e).all():
+        raise ParameterError("strains must be a non-empty 1-D array of finite bulk strains")
+    if (e < 0).any() or (e > 1.0).any() or (np.diff(e) < 0).any():
+        raise ParameterError("strains must be non-decreasing, in [0, 1]")
+    if not isinstance(material, Material):
+        raise ParameterError(f"material must be a fe_demo Material, got {type(material).__name__}")
+    H = prandtl_hardness(material.sigma_y0)
+    if p >= H:
+        raise ParameterError(f"p must be below the hardness H = {H:.4g} Pa, got {p!r}")
+    return p, e, H
+
+
+class _Controller:
+    """The increment size: grown by 1.5 after an easy increment (at most 6 Newton iterations),
+    halved after a hard one (more than 15, or a cut-back)."""
+
+    def __init__(self, opt):
+        self.n = 0
+
+    @staticmethod
+    def next(d, r, largest, smallest):
+        per = r.nit / (1 + r.cutbacks)
+        if r.cutbacks or per > 15:
+            return max(0.5 * d, smallest)
+        if per <= 6:
+            return min(1.5 * d, largest)
+        return d
+
+
+def _press(model, p, opt, ctl):
+    """Press to ``p`` under load control, in steps of ``ln(p_step)`` from ``p / 100`` (the first
+    ``opt.press_increments``-th of that range, then adapted). ``(ok, message)``."""
+    span = math.log(100.0)
+    d = span / max(int(opt.press_increments), 1)
+    done = -span
+    while done < 0.0:
+        nxt = min(done + d, 0.0)
+        if nxt > -0.2 * d:
+            nxt = 0.0
+        r = model.step(0.0, p=p * math.exp(nxt))
+        ctl.n += 1
+        if not r.converged:
+            return False, f"pressing to {p * math.exp(nxt):.4g} Pa failed: {r.message}"
+        done = nxt
+        d = ctl.next(d, r, span / 2, span / 400)
+    return True, "converged"
+
+
+def asperity_contact_fraction(
+    profile_x, profile_z, p, strains, material=None, mesh=None, options=None
+):
+    """The contact fraction of ``profile`` at nominal pressure ``p`` after each bulk strain.
+
+    Parameters
+    ----------
+    profile_x, profile_z : array_like
+        The profile (m): strictly increasing ``x``, heights levelled to mean zero here. Its
+        ends are symmetry planes (a regular profile: peak to valley, :func:`.wedge_profile`).
+    p : float
+        Nominal pressure (Pa) on the current apparent length, in ``(0, H)``.
+    strains : array_like
+        In-plane bulk strains ``ln(L / L0)``, non-decreasing in ``[0, 1]`` (0: pressing alone).
+    material : fe_demo.solver.Material, optional
+        Default :func:`perfectly_plastic` (elastic-perfectly plastic, DC04's elasticity and
+        initial yield).
+    mesh : AsperityMesh, optional
+    options : AsperityOptions, optional
+
+    Returns
+    -------
+    AsperityResult
+        ``converged`` False (with the reason in ``message``) when an increment could not be
+        completed; ``strains`` and ``alpha`` then hold the strains reached.
+    """
+    t0 = time.perf_counter()
+    material = perfectly_plastic() if material is None else material
+    mesh = AsperityMesh() if mesh is None else mesh
+    opt = AsperityOptions() if options is None else options
+    p, targets, H = _check_inputs(p, strains, material)
+    px, pz = check_profile(profile_x, profile_z)
+    depth = float(px[-1]) if mesh.depth is None else mesh.depth
+    strip = strip_mesh(px, pz, depth, mesh.nx, mesh.nz)
+    model = StripModel(strip, material, rtol=opt.rtol, kernels=opt.kernels)
+    v0, _ = _volume_terms(model)
+    hist = AsperityHistory()
+
+    def record(nit):
+        hist.strain.append(model.bulk_strain)
+        hist.alpha.append(contact_fraction(model))
+        hist.p_nominal.append(float(model.force.sum()) / model.length)
+        side = model.x[strip.right, 1].max()
+        hist.lateral_stress.append(float(model.reactions[2 * strip.right].sum()) / side)
+        hist.nit.append(nit)
+
+    ctl = _Controller(opt)
+    ok, message = _press(model, p, opt, ctl)
+    record(0)
+    alpha_press = hist.alpha[0]
+    reached_e, reached_a = [], []
+    d = opt.first_strain_step
+    for target in targets:
+        while ok and model.bulk_strain < target - 1e-12:
+            e1 = min(model.bulk_strain + d, target)
+            if e1 > target - 0.2 * d:
+                e1 = target  # no sliver of a step before a target
+            r = model.step(strip.length * (math.exp(e1) - 1.0), p=p)
+            ctl.n += 1
+            if not r.converged:
+                ok = False
+                message = f"stretch to strain {e1:.4g} failed: {r.message}"
+                break
+            record(r.nit)
+            d = ctl.next(d, r, opt.max_strain_step, 0.125 * opt.first_strain_step)
+        if not ok:
+            break
+        reached_e.append(float(target))
+        reached_a.append(contact_fraction(model))
+    v, dil = _volume_terms(model)
+    bottom = float(model.reactions[2 * strip.bottom + 1].sum())
+    load = float(model.force.sum())
+    return AsperityResult(
+        p=p,
+        H=H,
+        sigma_y=float(material.sigma_y0),
+        strains=np.array(reached_e),
+        alpha=np.array(reached_a),
+        alpha_press=alpha_press,
+        converged=ok,
+        message=message,
+        volume_change=math.log(v / v0),
+        elastic_dilatation=dil,
+        force_balance=abs(bottom - load) / load if load > 0 else 0.0,
+        history=hist,
+        n_increments=ctl.n,
+        n_newton=model.n_newton,
+        seconds=time.perf_counter() - t0,
+        mesh=mesh,
+    )
