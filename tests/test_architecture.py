@@ -46,6 +46,7 @@ ALLOWED = {
 #: what each part of fe_demo may import of the package (besides itself), bottom to top
 FE_ALLOWED = {
     "solver": set(),
+    "asperity": {"solver"},
     "output": {"solver"},
     "scenes": {"solver", "output"},
     "analysis": {"solver", "output", "scenes"},

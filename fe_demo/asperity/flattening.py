@@ -6,10 +6,13 @@ symmetry sides, plane strain, to the requested in-plane bulk strains at constant
 reports the real contact fraction ``alpha`` (contact length / apparent length) at each. Nothing
 in it is fitted: it is the reference the flattening law (issue 43) is judged against.
 
-How the contact fraction is measured (:func:`contact_fraction`): along each top edge the gap to
-the flat is linear between its two nodes (``w - z``, negative where a node is inside the flat);
-the part of the edge where the gap is negative counts, by its ``x`` extent, and the sum is divided
-by the current apparent length ``L``. The contact edge is so placed between nodes.
+How the contact fraction is measured (:func:`contact_fraction`): a top node inside the flat
+(carrying a pressure) counts with its tributary length, half the ``x`` extent of each of its top
+edges, and the sum is divided by the current apparent length ``L``. The contact edge so lies
+half-way between the last node in contact and the first one out, which resolves ``alpha`` to
+``1 / (2 nx)`` (the node-based contact area of FE codes); placing it by the linear gap between
+those two nodes would put it at the last node in contact (its gap is the penalty's tiny
+penetration) and bias ``alpha`` low by half an element on average.
 
 The hardness ``H`` the pressures are quoted against is the slip-line value of a rigid flat punch
 on a rigid-perfectly plastic half-space in plane strain (Prandtl): ``H = (2 + pi) k`` with
@@ -161,17 +164,8 @@ class AsperityResult:
 
 def contact_fraction(model):
     """The contact fraction ``alpha`` of a :class:`StripModel`'s current state (see the module)."""
-    xt = model.x[model.top]
-    g = model.w - xt[:, 1]  # < 0: inside the flat
-    dx = np.abs(np.diff(xt[:, 0]))
-    a, b = g[:-1], g[1:]
-    both = (a < 0) & (b < 0)
-    one = (a < 0) != (b < 0)
-    den = np.where(one, np.abs(a - b), 1.0)
-    frac = np.where(a < 0, -a, -b) / den
-    touch = np.where(both, dx, 0.0) + np.where(one, frac * dx, 0.0)
-    ok = model.candidate[:-1] & model.candidate[1:]
-    return float(touch[ok].sum() / model.length)
+    touching = (model.x[model.top, 1] > model.w) & model.candidate
+    return float(model.tributary()[touching].sum() / model.length)
 
 
 def _volume_terms(model):
@@ -325,3 +319,68 @@ def asperity_contact_fraction(
         seconds=time.perf_counter() - t0,
         mesh=mesh,
     )
+
+
+@dataclass
+class PunchResult:
+    """A rigid flat punch pressed into the flat strip (plane strain, frictionless).
+
+    Attributes
+    ----------
+    depth : ndarray
+        Punch displacement (m) of each increment.
+    pressure : ndarray
+        Mean pressure under the punch (Pa): the punch force over its half-width.
+    H : float
+        The slip-line value :func:`prandtl_hardness` (Pa).
+    converged : bool
+    message : str
+    """
+
+    depth: np.ndarray
+    pressure: np.ndarray
+    H: float
+    converged: bool
+    message: str
+
+    @property
+    def limit_pressure(self):
+        """The pressure at the knee of the curve (Pa): the first step that raises it by less than
+        5 % of the first step's rise (beyond it the curve rises slowly with the geometry's
+        change: the surface heaves beside the punch); the last pressure if there is no knee."""
+        rise = np.diff(np.concatenate([[0.0], self.pressure]))
+        if rise.size == 0:
+            return 0.0
+        knee = np.flatnonzero(rise < 0.05 * rise[0])
+        return float(self.pressure[knee[0]] if knee.size else self.pressure[-1])
+
+
+def flat_punch_pressure(material=None, *, nx=64, nz=24, half_width=10e-6, depth=0.04, steps=40):
+    """The mean pressure of a flat punch on the strip: the model's own hardness check.
+
+    A punch of half-width ``a = half_width`` (its edge at ``x = a``, the left side its
+    symmetry plane) on a flat strip ``8 a`` wide and ``8 a`` thick, pushed ``depth a`` down in
+    ``steps`` equal displacement increments. Fully plastic, the mean pressure approaches the
+    slip-line value ``(2 + pi) k`` (Prandtl); ``nx`` must be a multiple of 8 (a node at the edge).
+    """
+    material = perfectly_plastic() if material is None else material
+    a = float(half_width)
+    if not (math.isfinite(a) and a > 0):
+        raise ParameterError(f"half_width must be finite and > 0 (m), got {half_width!r}")
+    if int(nx) % 8:
+        raise ParameterError(f"nx must be a multiple of 8 (a node at the punch edge), got {nx}")
+    if not (0 < depth <= 0.5):
+        raise ParameterError(f"depth must be in (0, 0.5] (a fraction of half_width), got {depth!r}")
+    strip = strip_mesh([0.0, 8 * a], [0.0, 0.0], 8 * a, int(nx), int(nz))
+    model = StripModel(strip, material, punch_half_width=a)
+    w0 = model.w
+    d, pr = [], []
+    message, ok = "converged", True
+    for k in range(1, int(steps) + 1):
+        r = model.step(0.0, w=w0 - k * depth * a / steps)
+        if not r.converged:
+            ok, message = False, f"punch step {k} failed: {r.message}"
+            break
+        d.append(w0 - model.w)
+        pr.append(float(model.force.sum()) / a)
+    return PunchResult(np.array(d), np.array(pr), prandtl_hardness(material.sigma_y0), ok, message)

@@ -121,7 +121,9 @@ def _in_range(name, v, lo, hi, lo_open=False):
     v = float(v)
     ok = math.isfinite(v) and (v > lo if lo_open else v >= lo) and v <= hi
     if not ok:
-        raise ParameterError(f"{name} must be in {'(' if lo_open else '['}{lo:g}, {hi:g}], got {v!r}")
+        raise ParameterError(
+            f"{name} must be in {'(' if lo_open else '['}{lo:g}, {hi:g}], got {v!r}"
+        )
     return v
 
 
