@@ -52,7 +52,7 @@ __all__ = [
 def perfectly_plastic(sigma_y=None, E=DC04.E, nu=DC04.nu):
     """An elastic-perfectly plastic J2 material (fe_demo's :class:`Material` with ``n = 0``).
 
-    ``sigma_y`` defaults to the initial yield stress of fe_demo's DC04 (155.6 MPa); ``E`` and
+    ``sigma_y`` defaults to the initial yield stress of fe_demo's DC04 (155.3 MPa); ``E`` and
     ``nu`` to DC04's (210 GPa, 0.3).
     """
     sy = DC04.sigma_y0 if sigma_y is None else float(sigma_y)
@@ -66,8 +66,11 @@ def prandtl_hardness(sigma_y):
 
 @dataclass(frozen=True)
 class AsperityMesh:
-    """The strip's mesh: ``nx`` elements along the profile, ``nz`` through the thickness, the
-    mean thickness ``depth`` (m; ``None``: the profile's length)."""
+    """The strip's mesh.
+
+    ``nx`` elements along the profile, ``nz`` through the thickness, the mean thickness
+    ``depth`` (m; ``None``: the profile's length).
+    """
 
     nx: int = 64
     nz: int = 24
@@ -194,8 +197,11 @@ def _check_inputs(p, strains, material):
 
 
 class _Controller:
-    """The increment size: grown by 1.5 after an easy increment (at most 6 Newton iterations),
-    halved after a hard one (more than 15, or a cut-back)."""
+    """The increment size and count.
+
+    Grown by 1.5 after an easy increment (at most 6 Newton iterations), halved after a hard one
+    (more than 15, or a cut-back).
+    """
 
     def __init__(self, opt):
         self.n = 0
@@ -211,8 +217,11 @@ class _Controller:
 
 
 def _press(model, p, opt, ctl):
-    """Press to ``p`` under load control, in steps of ``ln(p_step)`` from ``p / 100`` (the first
-    ``opt.press_increments``-th of that range, then adapted). ``(ok, message)``."""
+    """Press to ``p`` under load control: ``(ok, message)``.
+
+    Steps of ``ln(p_step)`` from ``p / 100``, the first ``opt.press_increments``-th of that
+    range, then adapted.
+    """
     span = math.log(100.0)
     d = span / max(int(opt.press_increments), 1)
     done = -span
@@ -345,9 +354,12 @@ class PunchResult:
 
     @property
     def limit_pressure(self):
-        """The pressure at the knee of the curve (Pa): the first step that raises it by less than
-        5 % of the first step's rise (beyond it the curve rises slowly with the geometry's
-        change: the surface heaves beside the punch); the last pressure if there is no knee."""
+        """The pressure at the knee of the curve (Pa), the limit load's.
+
+        The first step that raises it by less than 5 % of the first step's rise (beyond it the
+        curve rises slowly with the geometry's change: the surface heaves beside the punch); the
+        last pressure if there is no knee.
+        """
         rise = np.diff(np.concatenate([[0.0], self.pressure]))
         if rise.size == 0:
             return 0.0

@@ -213,9 +213,11 @@ class StripModel:
         return _Trial(du, w, sig, ep, D, kin1, force, active, R, r_w, norm, ref)
 
     def _pattern(self, load_control):
-        """The free-dof tangent's fixed pattern (:class:`ReducedPattern`): the element matrices,
-        the contact diagonal of the top nodes' ``z`` and, under load control, the flat's row and
-        column (its dof last)."""
+        """The free-dof tangent's fixed pattern (:class:`ReducedPattern`).
+
+        The element matrices, the contact diagonal of the top nodes' ``z`` and, under load
+        control, the flat's row and column (its dof last).
+        """
         if load_control not in self._patterns:
             nf = int(self.free.sum())
             index = np.full(2 * self.n_nodes, -1, dtype=np.int64)
@@ -299,8 +301,9 @@ class StripModel:
         return None, self.max_iter, f"no convergence in {self.max_iter} iterations"
 
     def _entry_limit(self, trial, step, dw):
-        """The largest step fraction (at most 1) with which no open candidate node enters the
-        flat deeper than ``3 sigma_y / eps_n`` (the penetration of a hardness-like pressure).
+        """The largest step fraction (at most 1) that lets no open node enter the flat deeply.
+
+        Deeply: beyond ``3 sigma_y / eps_n`` (the penetration of a hardness-like pressure).
 
         A perfectly plastic asperity under a load-controlled flat has almost no stiffness until
         the next node touches: the full Newton step then drives the flat far down and many open
@@ -329,8 +332,10 @@ class StripModel:
         self.reactions = trial.R.copy()
 
     def step(self, u_side, *, p=None, w=None):
-        """Go to the side displacement ``u_side`` (m) at the nominal pressure ``p`` (Pa) or with
-        the flat at ``w`` (m), linearly from the current state, cutting back as needed.
+        """Go to the side displacement ``u_side`` (m) at the pressure ``p`` or the flat at ``w``.
+
+        ``p``: the nominal pressure (Pa), ``w``: the flat's position (m); linearly from the
+        current state, cutting back as needed.
 
         Under load control the load at a point of the step is ``p_step L``, ``p_step`` linear
         between the last accepted nominal pressure and ``p``.

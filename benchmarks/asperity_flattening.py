@@ -1,0 +1,285 @@
+"""The asperity truth of issue 43: contact fraction against bulk strain at constant pressure.
+
+A plane-strain elastic-perfectly plastic strip (DC04's elasticity and initial yield, 155.3 MPa;
+``H = (2 + pi) sigma_y / sqrt(3)``, the slip-line flat-punch pressure) whose top is a profile is
+pressed by a rigid frictionless flat to ``p`` and stretched between its symmetry sides to bulk
+strains up to 0.5 at that ``p`` (``fe_demo.asperity.asperity_contact_fraction``; nothing fitted).
+Profiles: regular wedges of slopes 3, 5, 7 and 10 degrees (peak to valley, spacing 100 um, strip
+50 um thick) and a line of a real scan, ``tests/data/matrix-3.txt``, levelled and S-filtered as the
+calibration does (ISO 16610-61, its default ``lambda_s``), its middle row over the scan's width.
+
+Parts (each writes its files under ``benchmarks/results/``):
+
+- the table (default): ``asperity_flattening.csv``, ``.md``, ``.png``: alpha(p, strain) for every
+  profile at ``p / H`` in 0.05 .. 0.6, mesh ``--nx`` x ``--nz`` (64 x 24);
+- ``--convergence``: ``asperity_convergence.csv``, ``.md``: three cases on 32 x 12, 64 x 24 and
+  128 x 40 elements, the differences and the first-order (Richardson) extrapolation;
+- ``--ccx``: ``asperity_ccx.csv``, ``.md``: one case against stock CalculiX 2.20
+  (``ccx_reference``; C3D8I, one layer, plane strain by ``u_y = 0``, NLGEOM, node-to-surface
+  penalty contact with a stiff elastic flat block loaded by a force on its rigid-body reference
+  node); needs ``--ccx-work`` (or ``SBMF_CCX_WORK``) naming the CalculiX build;
+- ``--punch``: ``asperity_punch.csv``: the flat punch's limit pressure against H on three meshes.
+
+Run: python benchmarks/asperity_flattening.py [--quick] [--convergence] [--ccx] [--punch]
+[--only-table-off]. The table takes ~30-60 min on a loaded 2-core machine, the convergence study
+about as long (the 128 x 40 runs), the CalculiX case a few minutes.
+"""
+
+import argparse
+import os
+import time
+from pathlib import Path
+
+import numpy as np
+from _asperity_ccx import ccx_case
+from _provenance import RESULTS, ROOT, run_record, write_rows
+
+from fe_demo.asperity import (
+    AsperityMesh,
+    asperity_contact_fraction,
+    flat_punch_pressure,
+    perfectly_plastic,
+    prandtl_hardness,
+    wedge_profile,
+)
+from halfspace_calib.pipeline.length_scale import default_lambda_s
+from halfspace_calib.pipeline.surface_plan import MAX_DEFAULT_GRID
+from halfspace_calib.topography import chain, read_surface
+
+SLOPES = (3.0, 5.0, 7.0, 10.0)
+SPACING = 100e-6  # wedge asperity spacing 2 l (m); the strip models one flank, l = 50 um
+P_OVER_H = (0.05, 0.1, 0.2, 0.3, 0.45, 0.6)
+STRAINS = (0.0, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.3, 0.5)
+MEASURED = ROOT / "tests" / "data" / "matrix-3.txt"
+CONVERGENCE_MESHES = ((32, 12), (64, 24), (128, 40))
+
+
+def measured_profile(path=MEASURED):
+    """The middle row of the scan, levelled and S-filtered as the calibration does.
+
+    Returns ``(x, z, lambda_s, notes)`` (m).
+    """
+    scan = read_surface(path)
+    side = min(scan.heights.shape[0] * scan.dx, scan.heights.shape[1] * scan.dy)
+    lam = default_lambda_s(side, max(scan.dx, scan.dy), MAX_DEFAULT_GRID)
+    levelled, s1 = chain.level_scan(scan)
+    filtered, s2 = chain.filter_scan(levelled, lam, None)
+    h = filtered.heights
+    row = h[h.shape[0] // 2]
+    x = np.arange(row.size) * filtered.dy
+    return x, row - row.mean(), lam, (*s1, *s2)
+
+
+def profiles(quick=False):
+    """``{name: (x, z, slope_deg or rms slope, depth)}`` of the table's profiles."""
+    out = {}
+    for s in SLOPES if not quick else (5.0,):
+        x, z = wedge_profile(s, SPACING)
+        out[f"wedge {s:g} deg"] = (x, z, s, SPACING / 2)
+    x, z, lam, _ = measured_profile()
+    rms = float(np.degrees(np.arctan(np.sqrt(np.mean((np.diff(z) / np.diff(x)) ** 2)))))
+    out[f"matrix-3 row (lambda_s {lam * 1e6:.3g} um)"] = (x, z, rms, float(x[-1]))
+    return out
+
+
+def run_case(name, prof, p_over_h, strains, nx, nz, mat):
+    x, z, slope, depth = prof
+    H = prandtl_hardness(mat.sigma_y0)
+    t0 = time.perf_counter()
+    res = asperity_contact_fraction(x, z, p_over_h * H, strains, mat, AsperityMesh(nx, nz, depth))
+    dt = time.perf_counter() - t0
+    rows = []
+    for e, a in zip(res.strains, res.alpha, strict=True):
+        rows.append(
+            {
+                "profile": name,
+                "slope_deg": round(slope, 4),
+                "p_over_H": p_over_h,
+                "p_Pa": p_over_h * H,
+                "strain": e,
+                "alpha": round(float(a), 5),
+                "nx": nx,
+                "nz": nz,
+                "converged": res.converged,
+                "volume_error": f"{abs(res.volume_change - res.elastic_dilatation):.2e}",
+                "force_balance": f"{res.force_balance:.2e}",
+                "increments": res.n_increments,
+                "newton": res.n_newton,
+                "seconds": round(dt, 1),
+            }
+        )
+    status = "ok" if res.converged else f"STOPPED: {res.message}"
+    print(
+        f"{name:32s} p/H {p_over_h:<5g} {nx}x{nz}: alpha "
+        + " ".join(f"{a:.3f}" for a in res.alpha)
+        + f"  ({dt:.0f} s, {res.n_increments} incr, {res.n_newton} Newton; {status})",
+        flush=True,
+    )
+    return rows
+
+
+def table(args, mat):
+    rows = []
+    profs = profiles(args.quick)
+    pressures = (0.1, 0.3) if args.quick else P_OVER_H
+    strains = (0.0, 0.01, 0.05) if args.quick else STRAINS
+    for name, prof in profs.items():
+        for ph in pressures:
+            rows += run_case(name, prof, ph, strains, args.nx, args.nz, mat)
+    write_rows(RESULTS / "asperity_flattening.csv", rows)
+    _markdown(rows, RESULTS / "asperity_flattening.md", args)
+    _figure(rows, RESULTS / "asperity_flattening.png")
+
+
+def _markdown(rows, path, args):
+    strains = sorted({r["strain"] for r in rows})
+    lines = [
+        "# Contact fraction alpha against bulk strain at constant pressure (asperity truth)",
+        "",
+        f"`benchmarks/asperity_flattening.py`; mesh {args.nx} x {args.nz}; elastic-perfectly "
+        "plastic (E 210 GPa, nu 0.3, sigma_y 155.3 MPa), H = (2 + pi) sigma_y / sqrt(3) = "
+        f"{prandtl_hardness(perfectly_plastic().sigma_y0) / 1e6:.1f} MPa; frictionless flat.",
+        "",
+    ]
+    for name in dict.fromkeys(r["profile"] for r in rows):
+        sub = [r for r in rows if r["profile"] == name]
+        lines += [
+            f"## {name} (rms slope / slope {sub[0]['slope_deg']:.3g} deg)",
+            "",
+            "| p / H | " + " | ".join(f"{e:g}" for e in strains) + " | s |",
+            "|---|" + "---|" * (len(strains) + 1),
+        ]
+        for ph in sorted({r["p_over_H"] for r in sub}):
+            by = {r["strain"]: r for r in sub if r["p_over_H"] == ph}
+            cells = [f"{by[e]['alpha']:.3f}" if e in by else "-" for e in strains]
+            secs = max(r["seconds"] for r in by.values())
+            lines.append(f"| {ph:g} | " + " | ".join(cells) + f" | {secs:.0f} |")
+        lines.append("")
+    path.write_text("\n".join(lines))
+
+
+def _figure(rows, path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    names = list(dict.fromkeys(r["profile"] for r in rows))
+    fig, axes = plt.subplots(1, len(names), figsize=(3.2 * len(names), 3.4), sharey=True)
+    axes = np.atleast_1d(axes)
+    for ax, name in zip(axes, names, strict=True):
+        sub = [r for r in rows if r["profile"] == name]
+        for ph in sorted({r["p_over_H"] for r in sub}):
+            pts = sorted((r["strain"], r["alpha"]) for r in sub if r["p_over_H"] == ph)
+            e, a = np.array(pts).T
+            ax.plot(e, a, marker="o", ms=3, label=f"{ph:g}")
+        ax.set_xscale("symlog", linthresh=0.01, linscale=0.6)
+        ax.set_xlim(0, 0.55)
+        ticks = [0, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.5]
+        ax.set_xticks(ticks, [f"{v:g}" for v in ticks], fontsize=7)
+        ax.minorticks_off()
+        ax.set_ylim(0, 1.02)
+        ax.set_title(name, fontsize=8)
+        ax.set_xlabel("bulk strain ln(L/L0)")
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("contact fraction alpha")
+    axes[-1].legend(title="p / H", fontsize=7, title_fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+
+
+def convergence(args, mat):
+    profs = profiles()
+    measured = next(k for k in profs if k.startswith("matrix-3"))
+    cases = (("wedge 5 deg", 0.1), ("wedge 5 deg", 0.3), (measured, 0.3))
+    strains = (0.0, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2)
+    rows = []
+    for name, ph in cases:
+        for nx, nz in CONVERGENCE_MESHES:
+            rows += run_case(name, profs[name], ph, strains, nx, nz, mat)
+    write_rows(RESULTS / "asperity_convergence.csv", rows)
+    lines = [
+        "# Mesh convergence of alpha(strain) (asperity truth)",
+        "",
+        "Columns: alpha on each mesh; the differences between successive meshes; the first-order "
+        "(Richardson) extrapolation 2 alpha_fine - alpha_medium (the contact edge lies between "
+        "two nodes: the error is of the order of the top element's width).",
+        "",
+        "| case | strain | "
+        + " | ".join(f"{nx}x{nz}" for nx, nz in CONVERGENCE_MESHES)
+        + " | medium - coarse | fine - medium | extrapolated |",
+        "|---|---|" + "---|" * (len(CONVERGENCE_MESHES) + 3),
+    ]
+    for name, ph in cases:
+        for e in strains:
+            a = []
+            for nx, _ in CONVERGENCE_MESHES:
+                hit = [
+                    r["alpha"]
+                    for r in rows
+                    if r["profile"] == name
+                    and r["p_over_H"] == ph
+                    and r["nx"] == nx
+                    and r["strain"] == e
+                ]
+                a.append(hit[0] if hit else float("nan"))
+            lines.append(
+                f"| {name}, p/H {ph:g} | {e:g} | "
+                + " | ".join(f"{v:.3f}" for v in a)
+                + f" | {a[1] - a[0]:+.3f} | {a[2] - a[1]:+.3f} | {2 * a[2] - a[1]:.3f} |"
+            )
+    (RESULTS / "asperity_convergence.md").write_text("\n".join(lines) + "\n")
+
+
+def punch(args, mat):
+    rows = []
+    for nx, nz in CONVERGENCE_MESHES:
+        t0 = time.perf_counter()
+        res = flat_punch_pressure(mat, nx=nx, nz=nz)
+        rows.append(
+            {
+                "nx": nx,
+                "nz": nz,
+                "limit_over_H": round(res.limit_pressure / res.H, 4),
+                "pressure_at_4pct_over_H": round(res.pressure[-1] / res.H, 4),
+                "converged": res.converged,
+                "seconds": round(time.perf_counter() - t0, 1),
+            }
+        )
+        print(rows[-1], flush=True)
+    write_rows(RESULTS / "asperity_punch.csv", rows)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--nx", type=int, default=64, help="elements along the profile (table)")
+    ap.add_argument("--nz", type=int, default=24, help="elements through the thickness (table)")
+    ap.add_argument("--quick", action="store_true", help="one wedge, two pressures, 3 strains")
+    ap.add_argument("--no-table", action="store_true", help="skip the table")
+    ap.add_argument("--convergence", action="store_true", help="the mesh study")
+    ap.add_argument("--punch", action="store_true", help="the flat punch on three meshes")
+    ap.add_argument("--ccx", action="store_true", help="the CalculiX cross-check")
+    ap.add_argument(
+        "--ccx-work",
+        default=os.environ.get("SBMF_CCX_WORK"),
+        help="CalculiX build folder holding ccx_reference (default: $SBMF_CCX_WORK)",
+    )
+    args = ap.parse_args()
+    mat = perfectly_plastic()
+    RESULTS.mkdir(exist_ok=True)
+    if not args.no_table:
+        table(args, mat)
+    if args.punch:
+        punch(args, mat)
+    if args.convergence:
+        convergence(args, mat)
+    if args.ccx:
+        if not args.ccx_work:
+            raise SystemExit("--ccx needs --ccx-work or SBMF_CCX_WORK")
+        ccx_case(Path(args.ccx_work) / "ccx_reference", mat, RESULTS)
+
+
+if __name__ == "__main__":
+    with run_record(__file__):
+        main()
