@@ -45,9 +45,10 @@ from fe_demo.asperity import (
 )
 
 SLOPE, P_OVER_H = 5.0, 0.3
-NX, NZ = 64, 24
+NX, NZ = 64, 32
 STRAINS = (0.0, 0.005, 0.01, 0.02)
 L_MM = 0.05  # one flank of the 100 um spacing
+DEPTH = 8  # strip thickness / flank length, as in the table
 THICK = 0.005  # the extrusion (mm)
 
 
@@ -63,7 +64,7 @@ def _deck(strip, mat, p_mpa):
         lines.append(f"{k + 1 + n}, {x[k, 0]:.12g}, {THICK:.12g}, {x[k, 1]:.12g}")
     # the flat block: 4 x 1 x 1 elements above the highest point, wider than the stretched strip
     ztop = float(x[strip.top, 1].max())
-    bx = np.linspace(-0.2 * length, 1.4 * length, 5)
+    bx = np.linspace(-0.2 * length, 1.4 * length, 5)  # covers the strip stretched by 0.02
     b0 = 2 * n + 1
     bnode = {}
     for i, xx in enumerate(bx):
@@ -191,7 +192,7 @@ def ccx_case(binary, mat, results):
     """Run the case in CalculiX and in fe_demo; write ``asperity_ccx.csv`` and ``.md``."""
     H = prandtl_hardness(mat.sigma_y0)
     px, pz = wedge_profile(SLOPE, 2 * L_MM * 1e-3)
-    strip = strip_mesh(px, pz, L_MM * 1e-3, NX, NZ)
+    strip = strip_mesh(px, pz, DEPTH * L_MM * 1e-3, NX, NZ)
     folder = results / "asperity_ccx"
     folder.mkdir(exist_ok=True)
     (folder / "job.inp").write_text(_deck(strip, mat, P_OVER_H * H / 1e6))
@@ -213,7 +214,7 @@ def ccx_case(binary, mat, results):
     times = [t for t in sorted(blocks) if t >= 1.0 - 1e-9]
     t0 = time.perf_counter()
     fe = asperity_contact_fraction(
-        px, pz, P_OVER_H * H, STRAINS, mat, AsperityMesh(NX, NZ, L_MM * 1e-3)
+        px, pz, P_OVER_H * H, STRAINS, mat, AsperityMesh(NX, NZ, DEPTH * L_MM * 1e-3)
     )
     t_fe = time.perf_counter() - t0
     rows = []

@@ -4,16 +4,22 @@ A plane-strain elastic-perfectly plastic strip (DC04's elasticity and initial yi
 ``H = (2 + pi) sigma_y / sqrt(3)``, the slip-line flat-punch pressure) whose top is a profile is
 pressed by a rigid frictionless flat to ``p`` and stretched between its symmetry sides to bulk
 strains up to 0.5 at that ``p`` (``fe_demo.asperity.asperity_contact_fraction``; nothing fitted).
-Profiles: regular wedges of slopes 3, 5, 7 and 10 degrees (peak to valley, spacing 100 um, strip
-50 um thick) and a line of a real scan, ``tests/data/matrix-3.txt``, levelled and S-filtered as the
-calibration does (ISO 16610-61, its default ``lambda_s``), its middle row over the scan's width.
+Profiles: regular wedges of slopes 3, 5, 7 and 10 degrees (peak to valley: one flank of
+``l = 50 um``, spacing 100 um; strip ``8 l = 400 um`` thick) and a line of a real scan,
+``tests/data/matrix-3.txt``, levelled and S-filtered as the calibration does (ISO 16610-61, its
+default ``lambda_s``), its middle row over the scan's width ``L = 10 um`` (strip ``4 L`` thick).
+The strip is thick against the cell's width so that the perfectly plastic strip cannot neck
+within the cell (a neck needs a wavelength of the order of the thickness; ``--depth`` measures
+the effect of the thickness).
 
 Parts (each writes its files under ``benchmarks/results/``):
 
 - the table (default): ``asperity_flattening.csv``, ``.md``, ``.png``: alpha(p, strain) for every
-  profile at ``p / H`` in 0.05 .. 0.6, mesh ``--nx`` x ``--nz`` (64 x 24);
-- ``--convergence``: ``asperity_convergence.csv``, ``.md``: three cases on 32 x 12, 64 x 24 and
-  128 x 40 elements, the differences and the first-order (Richardson) extrapolation;
+  profile at ``p / H`` in 0.05 .. 0.6, mesh ``--nx`` x ``--nz`` (64 x 32);
+- ``--convergence``: ``asperity_convergence.csv``, ``.md``: three cases on 32 x 16, 64 x 32 and
+  128 x 48 elements, the differences and the first-order (Richardson) extrapolation;
+- ``--depth``: ``asperity_depth.csv``, ``.md``: the 5 degree wedge at 0.1 H with the strip 1, 2,
+  4, 8 and 16 flanks thick (64 x 32);
 - ``--ccx``: ``asperity_ccx.csv``, ``.md``: one case against stock CalculiX 2.20
   (``ccx_reference``; C3D8I, one layer, plane strain by ``u_y = 0``, NLGEOM, node-to-surface
   penalty contact with a stiff elastic flat block loaded by a force on its rigid-body reference
@@ -21,7 +27,7 @@ Parts (each writes its files under ``benchmarks/results/``):
 - ``--punch``: ``asperity_punch.csv``: the flat punch's limit pressure against H on three meshes.
 
 Run: python benchmarks/asperity_flattening.py [--quick] [--convergence] [--ccx] [--punch]
-[--only-table-off]. The table takes ~30-60 min on a loaded 2-core machine, the convergence study
+[--depth] [--no-table]. The table takes ~30-60 min on a loaded 2-core machine, the convergence study
 about as long (the 128 x 40 runs), the CalculiX case a few minutes.
 """
 
@@ -51,7 +57,10 @@ SPACING = 100e-6  # wedge asperity spacing 2 l (m); the strip models one flank, 
 P_OVER_H = (0.05, 0.1, 0.2, 0.3, 0.45, 0.6)
 STRAINS = (0.0, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.3, 0.5)
 MEASURED = ROOT / "tests" / "data" / "matrix-3.txt"
-CONVERGENCE_MESHES = ((32, 12), (64, 24), (128, 40))
+CONVERGENCE_MESHES = ((32, 16), (64, 32), (128, 48))
+WEDGE_DEPTH = 8  # strip thickness / flank length
+MEASURED_DEPTH = 4  # strip thickness / profile length
+DEPTHS = (1, 2, 4, 8, 16)
 
 
 def measured_profile(path=MEASURED):
@@ -75,10 +84,10 @@ def profiles(quick=False):
     out = {}
     for s in SLOPES if not quick else (5.0,):
         x, z = wedge_profile(s, SPACING)
-        out[f"wedge {s:g} deg"] = (x, z, s, SPACING / 2)
+        out[f"wedge {s:g} deg"] = (x, z, s, WEDGE_DEPTH * SPACING / 2)
     x, z, lam, _ = measured_profile()
     rms = float(np.degrees(np.arctan(np.sqrt(np.mean((np.diff(z) / np.diff(x)) ** 2)))))
-    out[f"matrix-3 row (lambda_s {lam * 1e6:.3g} um)"] = (x, z, rms, float(x[-1]))
+    out[f"matrix-3 row (lambda_s {lam * 1e6:.3g} um)"] = (x, z, rms, MEASURED_DEPTH * float(x[-1]))
     return out
 
 
@@ -232,6 +241,30 @@ def convergence(args, mat):
     (RESULTS / "asperity_convergence.md").write_text("\n".join(lines) + "\n")
 
 
+def depth_study(args, mat):
+    x, z = wedge_profile(5.0, SPACING)
+    strains = (0.0, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2)
+    rows = []
+    for k in DEPTHS:
+        name = f"wedge 5 deg, depth {k} l"
+        rows += run_case(name, (x, z, 5.0, k * SPACING / 2), 0.1, strains, args.nx, args.nz, mat)
+    write_rows(RESULTS / "asperity_depth.csv", rows)
+    lines = [
+        "# Strip thickness: the 5 degree wedge at p = 0.1 H (asperity truth)",
+        "",
+        f"Mesh {args.nx} x {args.nz}; thickness in flank lengths l = 50 um.",
+        "",
+        "| thickness | " + " | ".join(f"{e:g}" for e in strains) + " |",
+        "|---|" + "---|" * len(strains),
+    ]
+    for k in DEPTHS:
+        by = {r["strain"]: r["alpha"] for r in rows if r["profile"].endswith(f"depth {k} l")}
+        lines.append(
+            f"| {k} l | " + " | ".join(f"{by[e]:.3f}" if e in by else "-" for e in strains) + " |"
+        )
+    (RESULTS / "asperity_depth.md").write_text("\n".join(lines) + "\n")
+
+
 def punch(args, mat):
     rows = []
     for nx, nz in CONVERGENCE_MESHES:
@@ -254,11 +287,12 @@ def punch(args, mat):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--nx", type=int, default=64, help="elements along the profile (table)")
-    ap.add_argument("--nz", type=int, default=24, help="elements through the thickness (table)")
+    ap.add_argument("--nz", type=int, default=32, help="elements through the thickness (table)")
     ap.add_argument("--quick", action="store_true", help="one wedge, two pressures, 3 strains")
     ap.add_argument("--no-table", action="store_true", help="skip the table")
     ap.add_argument("--convergence", action="store_true", help="the mesh study")
     ap.add_argument("--punch", action="store_true", help="the flat punch on three meshes")
+    ap.add_argument("--depth", action="store_true", help="the strip thickness study")
     ap.add_argument("--ccx", action="store_true", help="the CalculiX cross-check")
     ap.add_argument(
         "--ccx-work",
@@ -272,6 +306,8 @@ def main():
         table(args, mat)
     if args.punch:
         punch(args, mat)
+    if args.depth:
+        depth_study(args, mat)
     if args.convergence:
         convergence(args, mat)
     if args.ccx:
