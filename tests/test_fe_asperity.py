@@ -228,6 +228,7 @@ def test_flat_punch_reaches_the_slip_line_pressure():
         (dict(profile_x=[0.0, 0.0]), "profile_x must be strictly increasing"),
         (dict(profile_z=[0.0]), "profile_z must have the shape"),
         (dict(material="steel"), "material must be a fe_demo Material"),
+        (dict(mesh=(64, 24)), "mesh must be an AsperityMesh"),
     ],
 )
 def test_bad_input_is_named(kwargs, match):
@@ -240,3 +241,7 @@ def test_bad_input_is_named(kwargs, match):
         AsperityMesh(1, 4)
     with pytest.raises(ParameterError, match="slope_deg"):
         wedge_profile(60.0, 1e-4)
+    with pytest.raises(ParameterError, match="max_strain_step"):
+        AsperityOptions(first_strain_step=0.02, max_strain_step=0.01)
+    with pytest.raises(ParameterError, match="depth must exceed the deepest valley"):
+        strip_mesh(*wedge_profile(10.0, 1e-4), 4e-6, 4, 4)

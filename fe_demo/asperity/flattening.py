@@ -30,7 +30,7 @@ import numpy as np
 
 from sbmf_cli import ParameterError
 
-from ..solver.element import kinematics
+from ..solver.element import check_kernels, kinematics
 from ..solver.material import DC04, Material
 from .mesh import check_profile, strip_mesh
 from .model import StripModel
@@ -104,6 +104,20 @@ class AsperityOptions:
     max_strain_step: float = 0.01
     rtol: float = 1e-6
     kernels: str = "numba"
+
+    def __post_init__(self):
+        if int(self.press_increments) != self.press_increments or self.press_increments < 1:
+            raise ParameterError(
+                f"press_increments must be an integer >= 1, got {self.press_increments!r}"
+            )
+        if not (0 < self.first_strain_step <= self.max_strain_step <= 0.1):
+            raise ParameterError(
+                "first_strain_step and max_strain_step must satisfy 0 < first <= max <= 0.1, got "
+                f"{self.first_strain_step!r}, {self.max_strain_step!r}"
+            )
+        if not (0 < self.rtol <= 1e-3):
+            raise ParameterError(f"rtol must be in (0, 1e-3], got {self.rtol!r}")
+        check_kernels(self.kernels)
 
 
 @dataclass
@@ -203,7 +217,7 @@ class _Controller:
     (more than 15, or a cut-back).
     """
 
-    def __init__(self, opt):
+    def __init__(self):
         self.n = 0
 
     @staticmethod
@@ -269,6 +283,10 @@ def asperity_contact_fraction(
     mesh = AsperityMesh() if mesh is None else mesh
     opt = AsperityOptions() if options is None else options
     p, targets, H = _check_inputs(p, strains, material)
+    if not isinstance(mesh, AsperityMesh):
+        raise ParameterError(f"mesh must be an AsperityMesh, got {type(mesh).__name__}")
+    if not isinstance(opt, AsperityOptions):
+        raise ParameterError(f"options must be an AsperityOptions, got {type(opt).__name__}")
     px, pz = check_profile(profile_x, profile_z)
     depth = float(px[-1]) if mesh.depth is None else mesh.depth
     strip = strip_mesh(px, pz, depth, mesh.nx, mesh.nz)
@@ -284,7 +302,7 @@ def asperity_contact_fraction(
         hist.lateral_stress.append(float(model.reactions[2 * strip.right].sum()) / side)
         hist.nit.append(nit)
 
-    ctl = _Controller(opt)
+    ctl = _Controller()
     ok, message = _press(model, p, opt, ctl)
     record(0)
     alpha_press = hist.alpha[0]
