@@ -1,7 +1,7 @@
 """The CalculiX cross-check of the asperity truth (used by ``asperity_flattening.py --ccx``).
 
-One case in stock CalculiX 2.20 (``ccx_reference``, built by the project's CalculiX build script
-without the friction patch) against ``fe_demo.asperity`` on the same nodes: the 5 degree wedge at
+One case in stock CalculiX 2.20 (``ccx_reference``, which ``frictionlaw/export/calculix/build.sh
+--lib-only`` builds from Debian's source without the friction patch) against ``fe_demo.asperity`` on the same nodes: the 5 degree wedge at
 ``p = 0.3 H``, pressed, then stretched to a bulk strain of 0.02.
 
 The deck (units mm, N, MPa), written from the keywords CalculiX documents in its user's manual
@@ -210,6 +210,9 @@ def ccx_case(binary, mat, results):
     if proc.returncode != 0 or "Job finished" not in proc.stdout:
         raise SystemExit(f"ccx failed (exit {proc.returncode}); see {folder / 'ccx.log'}")
     blocks = _blocks(folder / "job.dat")
+    # kept: the deck, the increments (.sta) and the log; the numbers are in the CSV
+    for big in ("job.dat", "job.frd", "job.12d", "job.cvg", "spooles.out"):
+        (folder / big).unlink(missing_ok=True)
     # step 1 prints every increment (its end is t = 1), step 2 its time points (t = 1 + fraction)
     times = [t for t in sorted(blocks) if t >= 1.0 - 1e-9]
     t0 = time.perf_counter()
