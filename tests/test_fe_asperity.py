@@ -161,7 +161,7 @@ def test_flat_strip_stretched_under_pressure_yields_in_plane_strain():
     )
     assert res.converged and np.all(res.alpha == pytest.approx(1.0, abs=1e-12))
     lateral = res.history.lateral_stress[-1]
-    assert lateral == pytest.approx(2 * MAT.sigma_y0 / math.sqrt(3) - p, rel=1e-4)
+    assert lateral == pytest.approx(2 * MAT.sigma_y0 / math.sqrt(3) - p, rel=1e-6)
     assert res.history.p_nominal[-1] == pytest.approx(p, rel=1e-6)
     assert abs(res.volume_change - res.elastic_dilatation) < 1e-8
     assert res.force_balance < 1e-5
@@ -200,7 +200,7 @@ def test_stretch_raises_alpha_monotonically_at_constant_pressure(wedge):
 
 def test_wedge_conserves_volume_and_balances_forces(wedge):
     """After 5 % of bulk strain (local plastic strains far larger) the strip's volume change is
-    its elastic dilatation to 1e-7 (measured 5e-9): the plastic flow is isochoric; the bottom
+    its elastic dilatation to 1e-7 (measured 3e-9): the plastic flow is isochoric; the bottom
     carries the flat's load to the Newton tolerance."""
     for res in wedge.values():
         assert abs(res.volume_change - res.elastic_dilatation) < 1e-7
