@@ -1,0 +1,442 @@
+"""Flattening of the workpiece's asperities under in-plane bulk plastic strain (issue 43).
+
+The paper's law makes the real contact fraction a function of the pressure alone. When the
+workpiece flows plastically under the tool, its asperities flatten far more easily than under
+pressure alone: their effective hardness drops (Wilson and Sheu 1988, whose abstract states it;
+the equations of the papers could not be read here, see ``docs/flattening.md``). This module
+carries that flattening as one more history variable per node, the *flattening pressure*
+``p_f``: the first-loading pressure whose contact fraction equals the flattened one,
+``alpha1(p_f) = A``. Every equation below is derived in ``docs/flattening.md`` ("Derivation"),
+numbered F1-F6 there and in the docstrings:
+
+* F1, kinematics: plateaus sinking at ``v_b`` into convected wedge flanks of slope ``tan(theta)``
+  grow as ``dA/d eps = v_b / (eps_dot l tan(theta))``;
+* F2, the surface layer (thickness ``beta l``) yields under the asperity pressure ``p / A`` and
+  the in-plane stress ``s`` of the bulk on the ellipse ``(p / p_f)^2 + (s / s0)^2 = 1``, with
+  ``s0 = 2 k`` the plane-strain flow stress and ``p_f / A`` the zero-strain asperity hardness
+  read from the law's own ``alpha1``; normality gives
+  ``v_b / (beta l eps_dot) = (s0 / p_f) r / sqrt(1 - r^2)``, ``r = p / p_f``;
+* F3, their product: ``dA/d eps = beta s0 r / (p_f tan(theta) sqrt(1 - r^2))``;
+* F4, its integral at constant ``p``: ``eps = tan(theta) J(p, p_f) / (beta s0 p)``,
+  ``J = int_p^p_f alpha1'(t) t sqrt(t^2 - p^2) dt``;
+* F5, the contact fraction of a node with history ``p_hist`` and flattening ``p_f``;
+* F6, the update of ``p_f`` over a strain increment at the current pressure.
+
+At zero strain ``p_f`` is never above the pressure history and F5 is the calibrated law itself;
+strain rate enters only through ``s0`` (the file's ``k``, scaled by the host's flow stress when
+it passes one). NumPy, vectorised, float64; F6 is written per node so that it ports to a kernel.
+"""
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from . import _codes as K
+from .law import alpha_first, alpha_reload, as_float_array, evaluate, sbmf_coeffs
+
+if TYPE_CHECKING:
+    from .params import FrictionParams
+
+__all__ = [
+    "Flattening",
+    "FLATTENING_MODEL",
+    "FLATTENING_VERSION",
+    "SLOPE_RANGE",
+    "BETA_RANGE",
+    "layer_sink_rate",
+    "contact_growth_rate",
+    "equivalent_strain",
+    "flattened_alpha",
+    "flattening_update",
+    "flattening_curve",
+]
+
+#: the model a ``flattening`` block names (the surface-layer yield model of docs/flattening.md)
+FLATTENING_MODEL = "layer-yield"
+#: version of the ``flattening`` object inside a parameter file
+FLATTENING_VERSION = 1
+#: validated range of the asperity flank slope ``tan(theta)``
+SLOPE_RANGE = (1e-4, 10.0)
+#: validated range of the layer-thickness factor ``beta``
+BETA_RANGE = (1e-3, 1e3)
+#: below this ``p / H`` a node does not flatten (the strain it would need exceeds any forming)
+P_MIN_RATIO = 1e-12
+#: Gauss-Legendre panels and nodes per panel of the ``J`` integral (F4); 1e-13 against adaptive
+#: quadrature over ``p / H`` 1e-4 to 2 and ``p_f / p`` up to 1e3 (tests/test_flattening.py)
+_PANELS, _NODES = 16, 8
+_GX, _GW = np.polynomial.legendre.leggauss(_NODES)
+_EDGES = np.linspace(0.0, 1.0, _PANELS + 1)
+_X = ((_EDGES[:-1, None] + _EDGES[1:, None]) / 2 + np.diff(_EDGES)[:, None] / 2 * _GX).ravel()
+_W = (np.diff(_EDGES)[:, None] / 2 * _GW).ravel()
+
+
+def _number(name: str, value: Any, lo: float, hi: float) -> float:
+    """``float(value)`` in ``[lo, hi]`` or ``ValueError`` naming ``name`` and the range."""
+    if isinstance(value, (bool, np.bool_)):
+        raise ValueError(f"{name} must be a real number in [{lo:g}, {hi:g}], got {value!r}")
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"{name} must be a real number in [{lo:g}, {hi:g}], got {value!r}"
+        ) from None
+    if not (math.isfinite(v) and lo <= v <= hi):
+        raise ValueError(f"{name} must be in [{lo:g}, {hi:g}], got {value!r}")
+    return v
+
+
+@dataclass(frozen=True)
+class Flattening:
+    """Inputs of the flattening model (the ``flattening`` block of ``params.json``).
+
+    Parameters
+    ----------
+    slope : float
+        ``tan(theta)``, the flank slope of the workpiece's asperities, in ``[1e-4, 10]``; a
+        calibration takes the RMS profile slope of the measured (or synthetic) workpiece.
+    beta : float
+        Thickness of the yielding surface layer in asperity half-spacings, in ``[1e-3, 1e3]``;
+        1 unless fitted to a measured contact fraction against strain.
+    beta_band : (float, float), optional
+        ``(lower, upper)`` of ``beta`` at ``band_level`` when it was fitted, else ``None``.
+    band_level : float, optional
+        Two-sided level of ``beta_band`` in ``(0, 1)``; given with the band, else ``None``.
+    """
+
+    slope: float
+    beta: float = 1.0
+    beta_band: tuple[float, float] | None = None
+    band_level: float | None = None
+
+    def __post_init__(self) -> None:
+        set_ = object.__setattr__
+        set_(self, "slope", _number("flattening.slope", self.slope, *SLOPE_RANGE))
+        set_(self, "beta", _number("flattening.beta", self.beta, *BETA_RANGE))
+        if (self.beta_band is None) != (self.band_level is None):
+            raise ValueError("flattening.beta_band and flattening.band_level come together")
+        if self.beta_band is not None:
+            try:
+                lo, hi = self.beta_band
+            except (TypeError, ValueError):
+                raise ValueError(
+                    f"flattening.beta_band must be [lower, upper], got {self.beta_band!r}"
+                ) from None
+            lo = _number("flattening.beta_band lower", lo, *BETA_RANGE)
+            hi = _number("flattening.beta_band upper", hi, *BETA_RANGE)
+            if not lo <= self.beta <= hi:
+                raise ValueError(
+                    f"flattening.beta_band [{lo:g}, {hi:g}] must contain beta = {self.beta:g}"
+                )
+            set_(self, "beta_band", (lo, hi))
+            level = _number("flattening.band_level", self.band_level, 1e-6, 1 - 1e-6)
+            set_(self, "band_level", level)
+
+    @property
+    def fitted(self) -> bool:
+        """``True`` when ``beta`` was fitted to a measurement (it then carries a band)."""
+        return self.beta_band is not None
+
+    def to_dict(self) -> dict[str, Any]:
+        """The ``flattening`` JSON object (with its own model name, version and units)."""
+        return {
+            "model": FLATTENING_MODEL,
+            "version": FLATTENING_VERSION,
+            "units": {"slope": "1", "beta": "1"},
+            "slope": self.slope,
+            "beta": self.beta,
+            "beta_band": None if self.beta_band is None else list(self.beta_band),
+            "band_level": self.band_level,
+        }
+
+    @classmethod
+    def from_dict(cls, doc: object, *, source: str = "<dict>") -> "Flattening":
+        """Build from :meth:`to_dict`'s object; ``ValueError`` naming the field if malformed."""
+        where = f"{source}: flattening"
+        if not isinstance(doc, dict):
+            raise ValueError(f"{where} must be a JSON object")
+        if doc.get("model") != FLATTENING_MODEL:
+            raise ValueError(
+                f"{where}.model must be {FLATTENING_MODEL!r}, got {doc.get('model')!r}"
+            )
+        version = doc.get("version")
+        if type(version) is not int or version != FLATTENING_VERSION:
+            raise ValueError(
+                f"{where}.version: unsupported {version!r}; this runtime reads {FLATTENING_VERSION}"
+            )
+        units = doc.get("units", {})
+        if not isinstance(units, dict) or any(units.get(k, "1") != "1" for k in ("slope", "beta")):
+            raise ValueError(f"{where}.units: slope and beta are dimensionless ('1')")
+        unknown = set(doc) - {
+            "model",
+            "version",
+            "units",
+            "slope",
+            "beta",
+            "beta_band",
+            "band_level",
+        }
+        if unknown:
+            raise ValueError(f"{where}: unknown fields {sorted(unknown)}")
+        if "slope" not in doc:
+            raise ValueError(f"{where}: missing 'slope'")
+        band = doc.get("beta_band")
+        try:
+            return cls(
+                slope=doc["slope"],
+                beta=doc.get("beta", 1.0),
+                beta_band=None if band is None else tuple(band),
+                band_level=doc.get("band_level"),
+            )
+        except TypeError:
+            raise ValueError(f"{where}.beta_band must be [lower, upper], got {band!r}") from None
+        except ValueError as exc:
+            raise ValueError(f"{source}: {exc}") from None
+
+
+# ----------------------------------------------------------------------------- equations
+def layer_sink_rate(r: ArrayLike, s0_over_pf: ArrayLike) -> NDArray[np.float64]:
+    """Sinking rate of the plateaus per layer thickness and strain, ``v_b / (beta l eps_dot)``.
+
+    This is Eq. F2 (docs/flattening.md): normality on the layer's yield ellipse
+    ``(p / p_f)^2 + (s / s0)^2 = 1`` gives ``(s0 / p_f) r / sqrt(1 - r^2)`` with ``r = p / p_f``
+    in ``[0, 1)``; ``inf`` at ``r = 1`` (pressure alone at the zero-strain hardness).
+    """
+    r = np.asarray(r, dtype=float)
+    with np.errstate(divide="ignore"):
+        return np.where(r < 1.0, np.asarray(s0_over_pf) * r / np.sqrt(1.0 - r * r), np.inf)
+
+
+def contact_growth_rate(
+    p: ArrayLike, p_f: ArrayLike, slope: float, beta: float, s0: float
+) -> NDArray[np.float64]:
+    """``dA / d eps`` of Eq. F3: F1's kinematics with F2's sinking rate, ``A = alpha1(p_f)``.
+
+    ``beta s0 r / (p_f tan(theta) sqrt(1 - r^2))``, ``r = p / p_f``; the spacing ``l`` cancels.
+    """
+    p_f = np.asarray(p_f, dtype=float)
+    return beta * layer_sink_rate(np.asarray(p) / p_f, s0 / p_f) / slope
+
+
+def _coeffs(params: "FrictionParams") -> NDArray[np.float64]:
+    return sbmf_coeffs(params, 1.0)  # tau_max = 1: the kernel's tau is alpha1
+
+
+def _j_integral(ph: NDArray, u: NDArray, coeffs: NDArray, H: float) -> NDArray[np.float64]:
+    """``J / H^2`` of Eq. F4 up to ``p_f = p cosh(u)``, pressures in units of ``H`` (``ph``).
+
+    ``t = p cosh(v)`` turns ``J`` into ``p^3 int_0^u alpha1'(p cosh v) cosh v sinh(v)^2 dv``, a
+    smooth integrand, summed by composite Gauss-Legendre (``_PANELS`` x ``_NODES``).
+    """
+    v = u[:, None] * _X[None, :]
+    t = ph[:, None] * np.cosh(v)
+    _, d = evaluate(K.CODE_SBMF, coeffs, t * H, 0.0)
+    f = np.asarray(d) * H * np.cosh(v) * np.sinh(v) ** 2
+    return ph**3 * u * (f @ _W)
+
+
+def _p_cap(params: "FrictionParams", coeffs: NDArray) -> float:
+    """The pressure from which ``alpha1`` is 1 to rounding (at most ``2^40 H``): the largest ``p_f``."""
+    cap = params.H
+    for _ in range(40):
+        if evaluate(K.CODE_SBMF, coeffs, cap, 0.0)[0] >= 1.0:
+            break
+        cap *= 2.0
+    return cap
+
+
+def _s0(params: "FrictionParams", sigma_y: float | None) -> float:
+    """The layer's in-plane flow stress ``s0 = 2 k`` (plane strain), the host's when it passes one."""
+    s0 = 2.0 * float(params.k)  # type: ignore[arg-type]
+    if sigma_y is None:
+        return s0
+    sy = _number("sigma_y", sigma_y, 1e3, 1e13)
+    return s0 * sy / params.sigma_y
+
+
+def _flattening_of(params: "FrictionParams") -> Flattening:
+    flat = getattr(params, "flattening", None)
+    if flat is None:
+        raise ValueError(
+            "these parameters have no flattening block: calibrate with halfspace-calib "
+            "--flattening, or give FrictionParams(..., flattening=Flattening(slope=...))"
+        )
+    return flat
+
+
+def equivalent_strain(
+    p: ArrayLike, p_f: ArrayLike, params: "FrictionParams", *, sigma_y: float | None = None
+) -> NDArray[np.float64]:
+    """Bulk strain that flattens a virgin surface at constant ``p`` up to ``p_f`` (Eq. F4).
+
+    ``eps = tan(theta) J(p, p_f) / (beta s0 p)``, ``J = int_p^p_f alpha1'(t) t sqrt(t^2 - p^2) dt``:
+    0 for ``p_f <= p``; grows with ``p_f``, proportional to ``tan(theta) / (beta s0)``.
+    """
+    flat = _flattening_of(params)
+    p, p_f = np.broadcast_arrays(as_float_array("p", p), as_float_array("p_f", p_f))
+    if not (np.all(np.isfinite(p)) and np.all(p > 0) and np.all(np.isfinite(p_f))):
+        raise ValueError("p must be finite and > 0 and p_f finite")
+    H = params.H
+    ph = (p / H).ravel()
+    u = np.arccosh(np.maximum(p_f.ravel() / p.ravel(), 1.0))
+    J = _j_integral(ph, u, _coeffs(params), H)
+    kappa = flat.slope * H / (flat.beta * _s0(params, sigma_y))
+    return (kappa * J / ph).reshape(p.shape)
+
+
+def flattened_alpha(
+    p: ArrayLike, p_hist: ArrayLike, p_f: ArrayLike, params: "FrictionParams"
+) -> NDArray[np.float64]:
+    """Contact fraction of a node with pressure history ``p_hist`` and flattening ``p_f`` (Eq. F5).
+
+    With ``h = max(p_hist, p_f)``: at ``p >= p_hist``, ``alpha1(max(p, p_f))``; below ``p_hist``
+    the law's own reload branch of the level ``h`` at the same ratio ``p / p_hist``,
+    ``alpha2(p h / p_hist; h)``. For ``p_f <= p_hist`` this is the calibrated law itself (Eqs.
+    24-25, any reload form); flattening moves the level the reload shape is read at.
+    """
+    p, p_hist, p_f = np.broadcast_arrays(
+        as_float_array("p", p), as_float_array("p_hist", p_hist), as_float_array("p_f", p_f)
+    )
+    if (p_hist < 0).any() or (p_f < 0).any():
+        raise ValueError("p_hist and p_f must be >= 0")
+    h = np.maximum(p_hist, p_f)
+    out = np.zeros(p.shape)
+    load = (p > 0) & (p >= p_hist)
+    if load.any():
+        out[load] = alpha_first(np.maximum(p[load], p_f[load]), params)
+    rel = (p > 0) & (p < p_hist)
+    if rel.any():
+        scale = h[rel] / p_hist[rel]  # exactly 1.0 without flattening: today's branch bit for bit
+        out[rel] = alpha_reload(p[rel] * scale, h[rel], params)
+    return out
+
+
+def flattening_update(
+    p_f: ArrayLike,
+    p_hist: ArrayLike,
+    p: ArrayLike,
+    d_eps: ArrayLike,
+    params: "FrictionParams",
+    *,
+    sigma_y: float | None = None,
+) -> NDArray[np.float64]:
+    """The flattening pressure after a bulk plastic strain increment ``d_eps`` at pressure ``p``.
+
+    This is Eq. F6. Per node: from ``P0 = max(p_f, p_hist, p)`` (the committed flattening, the
+    increment's trial history and the pressure) the equivalent strain of Eq. F4 at the current
+    ``p`` grows by ``d_eps``, ``J(p, P) = J(p, P0) + d_eps beta s0 p / tan(theta)``, solved for
+    ``P``. The result never falls below ``p_f``; ``d_eps = 0``, ``p <= 0`` (open) and ``p``
+    below ``1e-12 H`` leave ``p_f`` unchanged; it stops at the pressure where ``alpha1`` is 1.
+    Like ``p_hist``, call it from the committed ``p_f`` in every iteration and commit once.
+
+    Parameters
+    ----------
+    p_f, p_hist, p : array_like
+        Committed flattening pressure (0 for a new node), trial history and pressure (Pa).
+    d_eps : array_like
+        Equivalent plastic strain increment of the bulk under the node (``>= 0``).
+    sigma_y : float, optional
+        The host's current flow stress (Pa); the file's ``sigma_y`` by default.
+    """
+    flat = _flattening_of(params)
+    arrs = [as_float_array(n, v) for n, v in (("p_f", p_f), ("p_hist", p_hist), ("p", p))]
+    arrs.append(as_float_array("d_eps", d_eps))
+    p_f, p_hist, p, d_eps = np.broadcast_arrays(*arrs)
+    for name, a in (("p_f", p_f), ("p_hist", p_hist), ("p", p), ("d_eps", d_eps)):
+        if not np.all(np.isfinite(a)):
+            raise ValueError(f"{name} must be finite")
+    if (p_f < 0).any() or (p_hist < 0).any():
+        raise ValueError("p_f and p_hist must be >= 0")
+    if (d_eps < 0).any():
+        raise ValueError("d_eps must be >= 0 (a plastic strain increment)")
+    H, coeffs = params.H, _coeffs(params)
+    cap = _p_cap(params, coeffs)
+    out = np.array(p_f, dtype=float)
+    go = (d_eps > 0) & (p > P_MIN_RATIO * H) & (p < cap)
+    if not go.any():
+        return out
+    ph = p[go] / H
+    p0 = np.minimum(np.maximum(np.maximum(p_f[go], p_hist[go]), p[go]), cap)
+    kappa = flat.slope * H / (flat.beta * _s0(params, sigma_y))
+    u0 = np.arccosh(np.maximum(p0 / p[go], 1.0))
+    ucap = np.arccosh(cap / p[go])
+    target = _j_integral(ph, u0, coeffs, H) + d_eps[go] * ph / kappa
+    u = _solve_j(ph, target, u0, ucap, coeffs, H)
+    out[go] = np.maximum(np.minimum(p[go] * np.cosh(u), cap), p_f[go])
+    return out
+
+
+def _solve_j(ph, target, lo, hi, coeffs, H):
+    """``u`` in ``[lo, hi]`` with ``J(u) = target`` (``hi`` where ``J(hi) <= target``).
+
+    Safeguarded Newton in ``u`` (``dJ/du = p^3 alpha1'(p cosh u) cosh u sinh(u)^2``), bisection
+    where the step leaves the bracket; ``J`` increases with ``u``.
+    """
+    lo, hi = lo.copy(), hi.copy()
+    full = _j_integral(ph, hi, coeffs, H) <= target
+    u = np.where(full, hi, 0.5 * (lo + hi))
+    act = ~full
+    for _ in range(100):
+        if not act.any():
+            break
+        ua = u[act]
+        J = _j_integral(ph[act], ua, coeffs, H)
+        _, d = evaluate(K.CODE_SBMF, coeffs, ph[act] * np.cosh(ua) * H, 0.0)
+        dJ = np.asarray(d) * H * ph[act] ** 3 * np.cosh(ua) * np.sinh(ua) ** 2
+        below = J < target[act]
+        la, ha = np.where(below, ua, lo[act]), np.where(below, hi[act], ua)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            step = ua - (J - target[act]) / dJ
+        bad = ~np.isfinite(step) | (step <= la) | (step >= ha)
+        new = np.where(bad, 0.5 * (la + ha), step)
+        done = (np.abs(new - ua) <= 1e-14 * (1.0 + ua)) | (ha - la <= 1e-14 * (1.0 + ha))
+        lo[act], hi[act], u[act] = la, ha, new
+        idx = np.flatnonzero(act)
+        act[idx[done]] = False
+    return u
+
+
+def flattening_curve(
+    p: ArrayLike,
+    strains: ArrayLike,
+    params: "FrictionParams",
+    *,
+    sigma_y: float | None = None,
+) -> NDArray[np.float64]:
+    """Contact fraction of a virgin surface after bulk strain ``strains`` at constant ``p``.
+
+    Eq. F4 solved for ``p_f`` and read through Eq. F5: ``alpha1(p)`` at zero strain (the
+    calibrated law exactly), never falling with strain, at most 1, reaching 1 at the finite
+    strain ``tan(theta) J(p, inf) / (beta s0 p)``. For plots and checks.
+
+    Parameters
+    ----------
+    p : float or array_like
+        Contact pressure (Pa), ``> 0``; broadcast against ``strains``.
+    strains : float or array_like
+        Equivalent bulk plastic strains (``>= 0``).
+    params : FrictionParams
+        A law with a ``flattening`` block.
+    sigma_y : float, optional
+        Flow stress of the bulk (Pa) if not the file's ``sigma_y``.
+    """
+    p, eps = np.broadcast_arrays(as_float_array("p", p), as_float_array("strains", strains))
+    if not (np.all(np.isfinite(p)) and np.all(p > 0)):
+        raise ValueError("p must be finite and > 0 (Pa)")
+    if not (np.all(np.isfinite(eps)) and np.all(eps >= 0)):
+        raise ValueError("strains must be finite and >= 0")
+    pf, ef = p.ravel(), eps.ravel()
+    p_f = flattening_update(pf, pf, pf, ef, params, sigma_y=sigma_y)
+    alpha = flattened_alpha(pf, pf, p_f, params)
+    # a running maximum over increasing strain per pressure: the solver's last-digit scatter
+    # cannot make the curve fall
+    order = np.lexsort((ef, pf))
+    a = alpha[order]
+    same = np.r_[False, pf[order][1:] == pf[order][:-1]]
+    starts = np.flatnonzero(~same)
+    for s, e in zip(starts, np.r_[starts[1:], a.size], strict=True):
+        a[s:e] = np.maximum.accumulate(a[s:e])
+    alpha[order] = a
+    return alpha.reshape(p.shape)
