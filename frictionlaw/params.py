@@ -27,9 +27,9 @@ from typing import Any, cast
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._flattening_block import Flattening
 from ._io import atomic_write
 from ._shear_flow import check_k_against_sigma_y
-from .flattening import Flattening
 from .reload_form import RELOAD_FORMS, ReloadTable
 from .uncertainty import LAW_KEYS, Uncertainty
 
