@@ -27,6 +27,8 @@ strain rate enters only through ``s0`` (the file's ``k``, scaled by the host's f
 it passes one). NumPy, vectorised, float64; F6 is written per node so that it ports to a kernel.
 """
 
+import math
+from functools import lru_cache
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -62,13 +64,19 @@ __all__ = [
 
 #: below this ``p / H`` a node does not flatten (the strain it would need exceeds any forming)
 P_MIN_RATIO = 1e-12
-#: Gauss-Legendre panels and nodes per panel of the ``J`` integral (F4); 1e-13 against adaptive
-#: quadrature over ``p / H`` 1e-4 to 2 and ``p_f / p`` up to 1e3 (tests/test_flattening.py)
-_PANELS, _NODES = 16, 8
+#: Gauss-Legendre nodes per panel of the ``J`` integral (F4), at least ``_PANELS`` panels and
+#: none wider than ``_WIDTH`` in ``u``: 1e-13 against adaptive quadrature over ``p / H`` 1e-4 to 2
+#: and ``p_f / p`` up to 1e3 (tests/test_flattening.py)
+_PANELS, _NODES, _WIDTH = 16, 8, 0.5
 _GX, _GW = np.polynomial.legendre.leggauss(_NODES)
-_EDGES = np.linspace(0.0, 1.0, _PANELS + 1)
-_X = ((_EDGES[:-1, None] + _EDGES[1:, None]) / 2 + np.diff(_EDGES)[:, None] / 2 * _GX).ravel()
-_W = (np.diff(_EDGES)[:, None] / 2 * _GW).ravel()
+
+
+@lru_cache(maxsize=64)
+def _rule(panels: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Composite Gauss-Legendre nodes and weights on ``[0, 1]`` with ``panels`` equal panels."""
+    e = np.linspace(0.0, 1.0, panels + 1)
+    x = ((e[:-1, None] + e[1:, None]) / 2 + np.diff(e)[:, None] / 2 * _GX).ravel()
+    return x, (np.diff(e)[:, None] / 2 * _GW).ravel()
 
 
 # ----------------------------------------------------------------------------- equations
@@ -103,13 +111,16 @@ def _j_integral(ph: NDArray, u: NDArray, coeffs: NDArray, H: float) -> NDArray[n
     """``J / H^2`` of Eq. F4 up to ``p_f = p cosh(u)``, pressures in units of ``H`` (``ph``).
 
     ``t = p cosh(v)`` turns ``J`` into ``p^3 int_0^u alpha1'(p cosh v) cosh v sinh(v)^2 dv``, a
-    smooth integrand, summed by composite Gauss-Legendre (``_PANELS`` x ``_NODES``).
+    smooth integrand, summed by composite Gauss-Legendre (``_NODES`` per panel, at least
+    ``_PANELS`` panels, none wider than ``_WIDTH``).
     """
-    v = u[:, None] * _X[None, :]
+    panels = max(_PANELS, math.ceil(float(u.max(initial=0.0)) / _WIDTH))
+    x, w = _rule(panels)
+    v = u[:, None] * x[None, :]
     t = ph[:, None] * np.cosh(v)
     _, d = evaluate(K.CODE_SBMF, coeffs, t * H, 0.0)
     f = np.asarray(d) * H * np.cosh(v) * np.sinh(v) ** 2
-    return ph**3 * u * (f @ _W)
+    return ph**3 * u * (f @ w)
 
 
 def _p_cap(params: "FrictionParams", coeffs: NDArray) -> float:
@@ -153,10 +164,11 @@ def equivalent_strain(
     p, p_f = np.broadcast_arrays(as_float_array("p", p), as_float_array("p_f", p_f))
     if not (np.all(np.isfinite(p)) and np.all(p > 0) and np.all(np.isfinite(p_f))):
         raise ValueError("p must be finite and > 0 and p_f finite")
-    H = params.H
+    H, coeffs = params.H, _coeffs(params)
     ph = (p / H).ravel()
-    u = np.arccosh(np.maximum(p_f.ravel() / p.ravel(), 1.0))
-    J = _j_integral(ph, u, _coeffs(params), H)
+    top = np.minimum(p_f.ravel(), _p_cap(params, coeffs))  # alpha1 is 1 beyond: J is complete
+    u = np.arccosh(np.maximum(top / p.ravel(), 1.0))
+    J = _j_integral(ph, u, coeffs, H)
     kappa = flat.slope * H / (flat.beta * _s0(params, sigma_y))
     return (kappa * J / ph).reshape(p.shape)
 
