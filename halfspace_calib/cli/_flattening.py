@@ -79,11 +79,8 @@ def flattening_lines(cal):
     cross, patch = hs["from_crossings_m"], hs["from_patches_m"]
     lines.append(
         "    asperity half-spacing (not used by the model): "
-        + (
-            f"{cross * um:.4g} um from the profiles' mean-line crossings"
-            if cross
-            else "no crossings"
-        )
+        + " / ".join("-" if c is None else f"{c * um:.4g}" for c in cross)
+        + " um (x / y) from the profiles' mean-line crossings"
         + (
             f", {patch * um:.4g} um from {hs['patches']} contact patches at "
             f"{hs['patch_pressure_Pa'] / 1e6:.4g} MPa"

@@ -69,7 +69,8 @@ def flattening_section(s, out):
         ("slope_half_grid", "the same at half the grid (2 x 2 averages): its resolution"),
         ("beta", "layer factor: " + r["beta_source"]),
         ("zero_strain_hardness.law_small_p_Pa", "zero-strain asperity hardness H / C1 [Pa]"),
-        ("half_spacing.from_crossings_m", "half-spacing from mean-line crossings [m] (not used)"),
+        ("half_spacing.from_crossings_m.0", "half-spacing from x crossings [m] (not used)"),
+        ("half_spacing.from_crossings_m.1", "half-spacing from y crossings [m] (not used)"),
         ("half_spacing.from_patches_m", "half-spacing from contact patches [m] (not used)"),
         ("full_contact_strain_at_0.3H", "strain to full contact at 0.3 H"),
     ]
@@ -78,7 +79,10 @@ def flattening_section(s, out):
     for key, what in rows:
         v = r
         for part in key.split("."):
-            v = v.get(part) if isinstance(v, dict) else None
+            if isinstance(v, list):
+                v = v[int(part)]
+            else:
+                v = v.get(part) if isinstance(v, dict) else None
         body.append(
             f"<tr><td class='t'>{html.escape(key)}</td>{number_cell(v, 'flattening.' + key)}"
             f"<td class='t'>{html.escape(what)}</td></tr>"

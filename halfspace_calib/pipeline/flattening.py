@@ -120,21 +120,21 @@ def profile_slopes(surface) -> tuple[float, float]:
     return float(np.sqrt(np.mean(gx * gx))), float(np.sqrt(np.mean(gy * gy)))
 
 
-def crossing_half_spacing(surface) -> float | None:
-    """Half the mean spacing of the profiles' upward mean-line crossings (m), x and y pooled.
+def crossing_half_spacing(surface) -> tuple[float | None, float | None]:
+    """Half the mean spacing of the upward mean-line crossings of the x and of the y profiles (m).
 
     The width of a profile element (a peak and the valley beside it) is the spacing of two
     upward crossings of the mean line; the wedge model's period is ``2 l``. ``None`` for a
-    surface without crossings.
+    direction without crossings.
     """
     h = np.asarray(surface.heights, dtype=float)
     h = h - h.mean()
-    count, length = 0, 0.0
+    out = []
     for arr, step in ((h, surface.dx), (h.T, surface.dy)):
-        up = (arr[:-1] < 0) & (arr[1:] >= 0)
-        count += int(up.sum())
-        length += (arr.shape[0] - 1) * step * arr.shape[1]
-    return None if count == 0 else 0.5 * length / count
+        count = int(((arr[:-1] < 0) & (arr[1:] >= 0)).sum())
+        length = (arr.shape[0] - 1) * step * arr.shape[1]
+        out.append(None if count == 0 else 0.5 * length / count)
+    return out[0], out[1]
 
 
 def patch_half_spacing(pressure, dx, dy, periodic) -> tuple[float | None, int]:
@@ -196,7 +196,7 @@ def fit_beta(params, data: FlatteningData, level: float = BAND_LEVEL) -> dict:
         return float(np.sum((model(ln_beta) - data.alpha) ** 2))
 
     lo, hi = math.log(BETA_RANGE[0]), math.log(BETA_RANGE[1])
-    grid = np.linspace(lo, hi, 61)
+    grid = np.linspace(lo, hi, 25)
     k = int(np.argmin([cost(g) for g in grid]))
     a, b = grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)]
     res = optimize.minimize_scalar(cost, bounds=(a, b), method="bounded", options={"xatol": 1e-10})
@@ -286,7 +286,7 @@ def derive_flattening(cal, data: FlatteningData | None = None) -> tuple[Flatteni
             "law_small_p_Pa": P.H / P.C1,
         },
         "half_spacing": {
-            "from_crossings_m": crossing_half_spacing(wp),
+            "from_crossings_m": list(crossing_half_spacing(wp)),
             "from_patches_m": l_patch,
             "patches": n_patch,
             "patch_pressure_Pa": p_patch,
