@@ -146,8 +146,9 @@ def _flattening_of(params: "FrictionParams") -> Flattening:
     flat = getattr(params, "flattening", None)
     if flat is None:
         raise ValueError(
-            "these parameters have no flattening block: calibrate with halfspace-calib "
-            "--flattening, or give FrictionParams(..., flattening=Flattening(slope=...))"
+            "these parameters have no flattening block (FrictionParams.flattening is None): "
+            "give FrictionParams(..., flattening=Flattening(slope=...)), or calibrate with the "
+            "flattening block (docs/flattening.md)"
         )
     return flat
 
