@@ -196,8 +196,11 @@ def flattened_alpha(
         out[load] = alpha_first(np.maximum(p[load], p_f[load]), params)
     rel = (p > 0) & (p < p_hist)
     if rel.any():
-        scale = h[rel] / p_hist[rel]  # exactly 1.0 without flattening: today's branch bit for bit
-        out[rel] = alpha_reload(p[rel] * scale, h[rel], params)
+        pr, hr, phr = p[rel], h[rel], p_hist[rel]
+        # p h / p_hist as (p / p_hist) h, which cannot overflow; p itself where h = p_hist, so
+        # that without flattening this is today's reload branch bit for bit
+        q = np.where(hr == phr, pr, (pr / phr) * hr)
+        out[rel] = alpha_reload(q, hr, params)
     return out
 
 
@@ -250,7 +253,8 @@ def flattening_update(
     kappa = flat.slope * H / (flat.beta * _s0(params, sigma_y))
     u0 = np.arccosh(np.maximum(p0 / p[go], 1.0))
     ucap = np.arccosh(cap / p[go])
-    target = _j_integral(ph, u0, coeffs, H) + d_eps[go] * ph / kappa
+    with np.errstate(over="ignore"):  # a strain beyond any forming: full contact
+        target = _j_integral(ph, u0, coeffs, H) + d_eps[go] * (ph / kappa)
     u = _solve_j(ph, target, u0, ucap, coeffs, H)
     out[go] = np.maximum(np.minimum(p[go] * np.cosh(u), cap), p_f[go])
     return out

@@ -280,6 +280,24 @@ def test_hostile_input_is_refused_or_finite():
         flattening_curve(1e8, -0.1, P)
 
 
+def test_extreme_input_stays_finite_without_warnings():
+    """Pressures, histories and strains from the subnormals to the largest doubles, the validated
+    ranges' ends of slope and beta: finite results in [0, 1], no warning (warnings are errors)."""
+    rng = np.random.default_rng(7)
+    big = np.finfo(float).max
+    vals = np.array([0.0, 5e-324, 1e-300, 1e-6, 1.0, 1e5, 0.3 * H, H, 10 * H, 1e300, big])
+    for slope, beta in ((1e-4, 1e3), (10.0, 1e-3), (0.1, 1.0)):
+        P = law(slope=slope, beta=beta, continuous_reload=True)
+        p, ph, pf = (rng.choice(vals, 300) for _ in range(3))
+        d_eps = rng.choice([0.0, 1e-300, 1e-3, 0.5, 1e300, big], 300)
+        new = flattening_update(pf, ph, p, d_eps, P)
+        assert np.all(np.isfinite(new)) and np.all(new >= pf)
+        a = flattened_alpha(p, np.maximum(ph, p), new, P)
+        assert np.all(np.isfinite(a)) and np.all((a >= 0) & (a <= 1))
+        c = flattening_curve(np.where(p > 0, p, 1.0), np.where(d_eps < 1e300, d_eps, 1.0), P)
+        assert np.all(np.isfinite(c)) and np.all((c >= 0) & (c <= 1))
+
+
 # ----------------------------------------------------------------------------- Eq. F5
 @pytest.mark.parametrize("continuous", [False, True])
 @pytest.mark.parametrize("form", ["paper", "tabulated"])
