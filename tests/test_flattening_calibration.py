@@ -173,3 +173,17 @@ def test_bad_input_is_refused_before_any_sweep(tmp_path, capsys, monkeypatch):
     assert main(argv) == 2
     assert "--flattening derives the block from one workpiece/tool pair" in capsys.readouterr().err
     assert not (tmp_path / "o").exists()
+
+
+def test_a_measurement_the_model_cannot_describe_fails_the_run(tmp_path, capsys):
+    """Contact fractions below the calibrated first loading at every strain: beta would have to
+    vanish; the run fails (exit 1) and keeps its parameters as params.failed.json, saying why."""
+    data = tmp_path / "d.csv"
+    data.write_text("strain,alpha,p_Pa\n0.05,0.0,2e8\n0.1,0.0,2e8\n0.2,0.0,2e8\n")
+    out = tmp_path / "o"
+    assert main([*QUICK, "--flattening-data", str(data), "--no-progress", "--out", str(out)]) == 1
+    err = capsys.readouterr().err
+    assert "flattening: the fit of beta" in err and "on the bound" in err
+    doc = json.loads((out / "params.failed.json").read_text())
+    assert any("fit of beta" in p for p in doc["provenance"]["run"]["problems"])
+    assert not (out / "params.json").exists()
