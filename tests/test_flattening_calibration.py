@@ -6,6 +6,7 @@ beta recovered from curves of known beta, and the command's runs (grid 16: a few
 
 import json
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -137,6 +138,10 @@ def test_the_command_writes_the_block(run, capsys):
     assert summary["flattening"] == rec
     html = (out / "report.html").read_text()
     assert "Flattening under bulk strain" in html and 'data-key="flattening.slope"' in html
+    shown = re.findall(r'data-key="(flattening\.[^"]+)">([^<]*)<', html)
+    assert len(shown) == 10 and all(v not in ("", "-") for _, v in shown), shown
+    full = rec["full_contact"]["strain"]
+    assert flattening_curve(0.3 * P.H, [0.99 * full, 1.01 * full], P).tolist()[1] == 1.0
     assert (out / "flattening.csv").is_file() and (out / "flattening.png").is_file()
 
 

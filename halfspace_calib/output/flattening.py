@@ -72,7 +72,7 @@ def flattening_section(s, out):
         ("half_spacing.from_crossings_m.0", "half-spacing from x crossings [m] (not used)"),
         ("half_spacing.from_crossings_m.1", "half-spacing from y crossings [m] (not used)"),
         ("half_spacing.from_patches_m", "half-spacing from contact patches [m] (not used)"),
-        ("full_contact_strain_at_0.3H", "strain to full contact at 0.3 H"),
+        ("full_contact.strain", "strain to full contact at 0.3 H (Eq. F4)"),
     ]
     body = ["<h2>Flattening under bulk strain</h2><table><tr><th>quantity</th><th>value</th>"]
     body.append("<th>derived from</th></tr>")

@@ -318,7 +318,6 @@ def derive_flattening(cal, data: FlatteningData | None = None) -> tuple[Flatteni
     for f in TABLE_P:
         table[f"{f:g}H"] = flattening_curve(f * scene.H, np.array((0.0, *TABLE_EPS)), Pf).tolist()
     record["table"] = {"strains": [0.0, *TABLE_EPS], "alpha_at_p_over_H": table}
-    record["full_contact_strain_at_0.3H"] = float(
-        equivalent_strain(0.3 * scene.H, 2**40 * scene.H, Pf)
-    )
+    full = float(equivalent_strain(0.3 * scene.H, 2**40 * scene.H, Pf))
+    record["full_contact"] = {"p_over_H": 0.3, "strain": full}
     return block, record
