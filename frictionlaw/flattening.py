@@ -107,14 +107,23 @@ def _coeffs(params: "FrictionParams") -> NDArray[np.float64]:
     return sbmf_coeffs(params, 1.0)  # tau_max = 1: the kernel's tau is alpha1
 
 
-def _j_integral(ph: NDArray, u: NDArray, coeffs: NDArray, H: float) -> NDArray[np.float64]:
+def _panels(u_max: float) -> int:
+    """Panels of the ``J`` sum up to ``u_max``: at least ``_PANELS``, none wider than ``_WIDTH``."""
+    return max(_PANELS, math.ceil(u_max / _WIDTH))
+
+
+def _j_integral(
+    ph: NDArray, u: NDArray, coeffs: NDArray, H: float, panels: int | None = None
+) -> NDArray[np.float64]:
     """``J / H^2`` of Eq. F4 up to ``p_f = p cosh(u)``, pressures in units of ``H`` (``ph``).
 
     ``t = p cosh(v)`` turns ``J`` into ``p^3 int_0^u alpha1'(p cosh v) cosh v sinh(v)^2 dv``, a
     smooth integrand, summed by composite Gauss-Legendre (``_NODES`` per panel, at least
-    ``_PANELS`` panels, none wider than ``_WIDTH``).
+    ``_PANELS`` panels, none wider than ``_WIDTH``); a solve passes one ``panels`` for all its
+    calls, so that ``J`` is one function of ``u`` throughout.
     """
-    panels = max(_PANELS, math.ceil(float(u.max(initial=0.0)) / _WIDTH))
+    if panels is None:
+        panels = _panels(float(u.max(initial=0.0)))
     x, w = _rule(panels)
     v = u[:, None] * x[None, :]
     t = ph[:, None] * np.cosh(v)
@@ -253,41 +262,44 @@ def flattening_update(
     kappa = flat.slope * H / (flat.beta * _s0(params, sigma_y))
     u0 = np.arccosh(np.maximum(p0 / p[go], 1.0))
     ucap = np.arccosh(cap / p[go])
+    panels = _panels(float(ucap.max()))
     with np.errstate(over="ignore"):  # a strain beyond any forming: full contact
-        target = _j_integral(ph, u0, coeffs, H) + d_eps[go] * (ph / kappa)
-    u = _solve_j(ph, target, u0, ucap, coeffs, H)
+        target = _j_integral(ph, u0, coeffs, H, panels) + d_eps[go] * (ph / kappa)
+    u = _solve_j(ph, target, u0, ucap, coeffs, H, panels)
     out[go] = np.maximum(np.minimum(p[go] * np.cosh(u), cap), p_f[go])
     return out
 
 
-def _solve_j(ph, target, lo, hi, coeffs, H):
+def _solve_j(ph, target, lo, hi, coeffs, H, panels):
     """``u`` in ``[lo, hi]`` with ``J(u) = target`` (``hi`` where ``J(hi) <= target``).
 
     Safeguarded Newton in ``u`` (``dJ/du = p^3 alpha1'(p cosh u) cosh u sinh(u)^2``), bisection
-    where the step leaves the bracket; ``J`` increases with ``u``.
+    where the step leaves the bracket and every fifth step (so that the bracket shrinks even
+    where rounding makes Newton circle the root); ``J`` increases with ``u``.
     """
     lo, hi = lo.copy(), hi.copy()
-    full = _j_integral(ph, hi, coeffs, H) <= target
+    full = _j_integral(ph, hi, coeffs, H, panels) <= target
     u = np.where(full, hi, 0.5 * (lo + hi))
     act = ~full
-    for _ in range(100):
+    for it in range(300):
         if not act.any():
             break
         ua = u[act]
-        J = _j_integral(ph[act], ua, coeffs, H)
+        J = _j_integral(ph[act], ua, coeffs, H, panels)
         _, d = evaluate(K.CODE_SBMF, coeffs, ph[act] * np.cosh(ua) * H, 0.0)
         dJ = np.asarray(d) * H * ph[act] ** 3 * np.cosh(ua) * np.sinh(ua) ** 2
         below = J < target[act]
         la, ha = np.where(below, ua, lo[act]), np.where(below, hi[act], ua)
         with np.errstate(divide="ignore", invalid="ignore"):
             step = ua - (J - target[act]) / dJ
-        bad = ~np.isfinite(step) | (step <= la) | (step >= ha)
-        new = np.where(bad, 0.5 * (la + ha), step)
-        done = (np.abs(new - ua) <= 1e-14 * (1.0 + ua)) | (ha - la <= 1e-14 * (1.0 + ha))
+        bad = ~np.isfinite(step) | (step <= la) | (step >= ha) | (it % 5 == 4)
+        hit = np.abs(J - target[act]) <= 4e-16 * np.abs(target[act])  # ua is the root
+        new = np.where(hit, ua, np.where(bad, 0.5 * (la + ha), step))
+        done = hit | (np.abs(new - ua) <= 1e-14 * (1.0 + ua)) | (ha - la <= 1e-14 * (1.0 + ha))
         lo[act], hi[act], u[act] = la, ha, new
         idx = np.flatnonzero(act)
         act[idx[done]] = False
-    if act.any():  # bisection halves a bracket of at most ~60 in u: unreachable, but said if not
+    if act.any():  # every fifth step halves a bracket of at most ~60: unreachable, said if not
         raise RuntimeError(f"flattening: the J inversion did not converge at {act.sum()} nodes")
     return u
 
