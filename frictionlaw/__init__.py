@@ -5,6 +5,7 @@ Light by design: ``import frictionlaw`` loads numpy only; the numba kernels
 """
 
 from ._range import RangeCheck, check_pressure_range
+from .flattening import Flattening, flattening_curve
 from .law import alpha_first, alpha_reload, reload_jump, shear_limit, shear_limit_dp
 from .laws import LAW_NAMES, Coulomb, CoulombCap, SBMFLaw, Tresca, law_from_name
 from .params import FrictionParams, TangentialStiffness
@@ -23,6 +24,8 @@ __version__ = "0.1.0"
 __all__ = [
     "FrictionParams",
     "TangentialStiffness",
+    "Flattening",
+    "flattening_curve",
     "RangeCheck",
     "check_pressure_range",
     "alpha_first",

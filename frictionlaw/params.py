@@ -27,6 +27,7 @@ from typing import Any, cast
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._flattening_block import Flattening
 from ._io import atomic_write
 from ._shear_flow import check_k_against_sigma_y
 from .reload_form import RELOAD_FORMS, ReloadTable
@@ -50,7 +51,9 @@ FORMAT_NAME = "sbmf-friction-params"
 #: the version written when the file carries a ``reload_law`` object (2); files without one are
 #: written as version 1, which every earlier runtime reads (the paper's Eq. 25)
 FORMAT_VERSION = 2
-_READ_VERSIONS = (1, 2)
+#: the version written when the file carries a ``flattening`` object (issue 43)
+FLATTENING_FILE_VERSION = 3
+_READ_VERSIONS = (1, 2, 3)
 
 _UNITS = {
     "m": "1",
@@ -258,6 +261,9 @@ class FrictionParams:
         The multi-sample calibration's bands and per-sample laws (see
         :mod:`frictionlaw.uncertainty`); ``None`` otherwise. :meth:`edge_laws` and
         :meth:`sample_laws` give them as parameter sets.
+    flattening : Flattening, optional
+        Flattening of the asperities under bulk strain (:mod:`frictionlaw.flattening`);
+        ``None``: the law of the pressure alone.
     """
 
     m: float
@@ -276,6 +282,7 @@ class FrictionParams:
     k_t: TangentialStiffness | None = None
     provenance: dict = field(default_factory=dict, compare=False, hash=False, repr=False)
     uncertainty: Uncertainty | None = field(default=None, compare=False, hash=False, repr=False)
+    flattening: Flattening | None = None
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
@@ -315,6 +322,8 @@ class FrictionParams:
             raise ValueError("provenance must be a dict (a JSON object)")
         if self.uncertainty is not None and not isinstance(self.uncertainty, Uncertainty):
             raise ValueError("uncertainty must be an Uncertainty block or None")
+        if self.flattening is not None and not isinstance(self.flattening, Flattening):
+            raise ValueError("flattening must be a Flattening block or None")
 
     def _with_law(self, law: dict[str, float]) -> "FrictionParams":
         return self.replace(**{k: law[k] for k in LAW_KEYS}, uncertainty=None)
@@ -374,6 +383,7 @@ class FrictionParams:
         d.pop("reload_table")
         d.pop("k_t")
         d.pop("uncertainty")
+        d.pop("flattening")
         law = None
         if self.reload_table is not None:
             law = self.reload_table.to_dict(form)
@@ -395,6 +405,9 @@ class FrictionParams:
         doc["provenance"] = prov
         if self.uncertainty is not None:
             doc["uncertainty"] = self.uncertainty.to_dict()
+        if self.flattening is not None:
+            doc["version"] = FLATTENING_FILE_VERSION
+            doc["flattening"] = self.flattening.to_dict()
         return doc
 
     def to_json(self, path: str | os.PathLike[str]) -> Path:
@@ -431,6 +444,8 @@ class FrictionParams:
             )
         if version == 1 and "reload_law" in doc:
             raise ValueError(f"{source}: 'reload_law' needs version 2, the file says version 1")
+        if version < FLATTENING_FILE_VERSION and "flattening" in doc:
+            raise ValueError(f"{source}: 'flattening' needs version 3, the file says {version}")
         for key in ("units", "options", "provenance"):
             if not isinstance(doc.get(key, {}), dict):
                 raise ValueError(f"{source}: {key!r} must be a JSON object, got {doc[key]!r}")
@@ -463,6 +478,8 @@ class FrictionParams:
         k_t = None if k_doc is None else TangentialStiffness.from_dict(k_doc, source=source)
         u_doc = doc.get("uncertainty")
         unc = None if u_doc is None else Uncertainty.from_dict(u_doc, source=source)
+        f_doc = doc.get("flattening")
+        flat = None if f_doc is None else Flattening.from_dict(f_doc, source=source)
         form, table = "paper", None  # version 1: the paper's Eq. 25
         if "reload_law" in doc:
             form, table = ReloadTable.from_dict(doc["reload_law"], source=source)
@@ -476,6 +493,7 @@ class FrictionParams:
                 k_t=k_t,
                 provenance=doc.get("provenance", {}),
                 uncertainty=unc,
+                flattening=flat,
             )
         except ValueError as exc:
             raise ValueError(f"{source}: {exc}") from None

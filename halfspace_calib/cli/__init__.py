@@ -36,6 +36,12 @@ from ..pipeline.scene_surfaces import (
     ISO_SAMPLING_RATIO,
     MAX_DEFAULT_GRID,
 )
+from ._flattening import (
+    add_flattening_options,
+    flattening_input,
+    flattening_lines,
+    with_flattening,
+)
 from ._law import law_lines
 from ._paths import (
     FAILED_PARAMS,
@@ -342,6 +348,7 @@ def build_parser():
         help="the band from the resamples: t (pooled value -+ Student t x bootstrap standard "
         "error, the small-sample correction) or percentile (default t)",
     )
+    add_flattening_options(ap)
     add_common_options(ap)
     return ap
 
@@ -431,6 +438,7 @@ def main(argv=None):
     try:
         scene = scene_from_args(args)
         spec = sample_spec(args, scene)
+        flat = flattening_input(args, spec)
         if spec.multi:
             if args.after_contact is not None:
                 raise ValueError(
@@ -460,11 +468,7 @@ def main(argv=None):
                 except ValueError as exc:
                     return con.error(exc, 2)
             progress = not (args.quiet or args.no_progress)
-            cal = calibrate(
-                scene,
-                progress=progress,
-                surfaces=surfaces,
-            )
+            cal = with_flattening(calibrate(scene, progress=progress, surfaces=surfaces), *flat)
             write_outputs(cal, folder.tmp, clock=process_seconds)
             run_seconds = json.loads((folder.tmp / "summary.json").read_text())["command_seconds"]
             if hfit is not None:
@@ -493,6 +497,8 @@ def main(argv=None):
         f"plastic fraction {s['max_reload_plastic_fraction']:.4f}"
     )
     _print_effects(con, cal, out)
+    for line in flattening_lines(cal):
+        say(line)
     _print_resolution(con, cal.resolution)
     for note in cal.notes:  # what calibrate() decided on its own: stderr
         con.warn(f"halfspace-calib: note: {note}")

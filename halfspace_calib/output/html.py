@@ -13,6 +13,8 @@ from pathlib import Path
 
 from sbmf_cli.htmlpage import figure, number_cell, page
 
+from .flattening import flattening_section
+
 __all__ = ["write_report"]
 
 
@@ -158,6 +160,7 @@ def write_report(summary, out, images, title="Friction law calibration"):
         "<h2>Parameters and fit quality</h2>",
         _params_table(s),
         _uncertainty(s),
+        flattening_section(s, out),
         "<h2>Curves</h2>",
         "".join(figure(out / f, c) for f, c in images),
         "<h2>Resolution check</h2>",

@@ -202,6 +202,10 @@ def write_outputs(cal, out, *, clock=None):
     from .effects import write_effect_outputs
 
     write_effect_outputs(cal, out)
+    if getattr(cal, "flattening", None):
+        from .flattening import write_flattening
+
+        write_flattening(cal, out)
     summary = cal.summary()  # one record for summary.json and report.html
     if clock is not None:
         summary["command_seconds"] = clock()

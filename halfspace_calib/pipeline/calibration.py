@@ -92,6 +92,7 @@ class Calibration:
     reload_table: ReloadTableFit | None = None
     errors: dict = field(default_factory=dict)  # branch -> heldout.BranchErrors
     reload_form: str = "paper"  # the reload form the parameter file runs
+    flattening: dict | None = None  # what the flattening block was derived from (--flattening)
 
     def __repr__(self):
         """One line a notebook can show: the law, the fit quality, the sweep and the time."""
@@ -139,6 +140,8 @@ class Calibration:
         why = punch_edge_problem(self)
         if why:
             out.append(why)
+        if self.flattening and self.flattening.get("problem"):
+            out.append(f"flattening: {self.flattening['problem']}")
         for name, outcome in self.effects.items():
             out += REGISTRY[name].problems(outcome)
         return out
@@ -266,6 +269,7 @@ class Calibration:
             "resolution_check": None if self.resolution is None else self.resolution.as_dict(),
             "problems": self.problems(),
             "seconds": self.seconds,
+            "flattening": self.flattening,
         }
 
 
