@@ -339,3 +339,13 @@ def test_the_reload_branch_starts_from_the_flattened_fraction():
     Pj = law()
     jump = alpha_first(pf, Pj) - alpha_reload(pf, pf, Pj)
     assert a_f - flattened_alpha(ph * (1 - 1e-12), ph, pf, Pj) == pytest.approx(jump, rel=1e-6)
+
+
+def test_the_export_refuses_a_law_it_would_run_without_flattening(tmp_path):
+    """No host routine carries flattening yet: a file with the block is refused (exit 2)."""
+    from frictionlaw.export.cli import main
+
+    path = tmp_path / "params.json"
+    law().to_json(path)
+    assert main(["abaqus-fric", "--params", str(path), "--out", str(tmp_path / "x")]) == 2
+    assert not (tmp_path / "x").exists()

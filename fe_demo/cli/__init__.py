@@ -216,6 +216,12 @@ def _load_params(args):
     if reason:  # accepted: the run uses the object, and says so
         args.params_loaded = P
         print(f"fe-demo: WARNING: {args.params}: {reason}; run as asked", file=sys.stderr)
+    if P.flattening is not None:  # the FE demo passes no bulk strain to the law yet
+        print(
+            f"fe-demo: WARNING: {args.params} carries a flattening block; this run evaluates the "
+            "law without flattening (zero bulk strain)",
+            file=sys.stderr,
+        )
     if args.band or args.samples:
         args.band_laws = band_laws(P, "band" if args.band else "samples", args.params)
         args.band_level = P.uncertainty.level

@@ -88,6 +88,12 @@ def plan(target, params_path, *, units="SI", k_t=None, table_tol=1e-3, accept_fa
         )
     params_path = Path(params_path)
     params = FrictionParams.from_json(params_path, accept_failed=accept_failed)
+    if params.flattening is not None:
+        raise ValueError(
+            f"{params_path}: the file carries a flattening block (issue 43) and no host routine "
+            "evaluates flattening under bulk strain yet: an export would run the law without it; "
+            "export a calibration made without --flattening"
+        )
     sha = _sha256(params_path)
     us = UNIT_SYSTEMS[units]
     kt, table = record.form.decide(params, us, k_t, table_tol)
