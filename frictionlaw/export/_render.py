@@ -105,7 +105,7 @@ def texts(job, *, guards=True):
     """
     t = job.target
     words = (
-        (t.form.state_name, t.form.units_input)
+        (t.form.state_name, t.form.units_input, t.form.implicit)
         if isinstance(t.form, _targets.Routine)
         else ("", ("", ""))
     )
