@@ -186,9 +186,10 @@ UNIT_LIMIT_H = 100.0
 #: the PNEWDT a routine called on Newton iterates (FRIC) returns for an iterate above 100 H: the
 #: host retries the increment at this fraction of its size (Abaqus' and ccx's own cut-back factor)
 CUT_FACTOR = 0.25
-#: below this fraction of the size at which the increment first had an iterate above 100 H, a
-#: further iterate above 100 H stops the run (the unit message): three cut-backs by CUT_FACTOR
-#: take it to 1/64, within the five the hosts allow per increment (Abaqus' IA, ccx's ia)
+#: at this fraction of the size at which the increment first had an iterate above 100 H, the
+#: routine asks for no further cut-back (three cut-backs by CUT_FACTOR take it to 1/64, within the
+#: five the hosts allow per increment, Abaqus' IA and ccx's ia): the increment may converge, and
+#: a converged pressure above 100 H then stops the run
 CUT_FLOOR = 1.0 / 32.0
 
 
@@ -214,8 +215,8 @@ class GuardSpec:
         The unit system a pressure above ``p_unit`` points to (mm-t-s routine: SI).
     cut_factor, cut_floor : float
         A routine called on Newton iterates (``FRIC``): the ``PNEWDT`` it returns for an iterate
-        above ``p_unit``, and the fraction of the increment's size below which such an iterate
-        stops the run instead (:data:`CUT_FACTOR`, :data:`CUT_FLOOR`).
+        above ``p_unit``, and the fraction of the increment's size at which it asks for no
+        further cut-back (:data:`CUT_FACTOR`, :data:`CUT_FLOOR`).
     """
 
     code: int
@@ -235,9 +236,8 @@ class GuardSpec:
         3 a stated unit system other than the routine's (value: the stated number), 4 a
         pressure above ``100 H`` in the call (value: the pressure; the explicit hosts and
         ``SBMF_FRICTION``), 5 a pressure beyond the calibrated range (the one warning; value:
-        the pressure), 6 an iterate's pressure above ``100 H`` although the increment was cut
-        back to at most :data:`CUT_FLOOR` of its size (``FRIC``), 7 a converged pressure, the
-        committed ``p_hist``, above ``100 H`` (``FRIC``). ``state_name`` names the deck's
+        the pressure), 6 a converged pressure, the committed ``p_hist``, above ``100 H``
+        (``FRIC``). ``state_name`` names the deck's
         state count (``DEPVAR``), ``units_input`` is ``(name, where)`` of its unit value
         (``PROPS(1)``, ``the data line of *FRICTION, USER, PROPERTIES=1``): the fields of
         :class:`frictionlaw.export.Routine`. ``implicit``: the routine's host calls it on
@@ -279,12 +279,7 @@ class GuardSpec:
                 "extrapolated there. Written once per process; the largest pressure each "
                 "contact point carried is its p_hist (state variable 1)",
             ),
-            6: (
-                f"{pre}contact pressure ",
-                f"{limit} again after this increment was cut back to 1/{1 / CUT_FLOOR:g} of "
-                f"its size or less (PNEWDT = {CUT_FACTOR:g}): {units}",
-            ),
-            7: (f"{pre}converged contact pressure (p_hist, state variable 1) ", f"{limit}: {units}"),
+            6: (f"{pre}converged contact pressure (p_hist, state variable 1) ", f"{limit}: {units}"),
         }
 
 

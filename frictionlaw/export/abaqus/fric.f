@@ -14,9 +14,9 @@ C     system this routine was exported for, else an error message
 C     ({{ host.message_routine }}) and {{ host.exit_routine }}. The pressure checks act on what
 C     has converged: a committed p_hist (STATEV(1) at the start of the
 C     increment) above 100 H stops the run, one beyond the calibrated
-C     range gives one warning per process; an iterate's PRESS above
-C     100 H asks for a smaller increment (PNEWDT) and stops the run
-C     only once the increment is cut to 1/{{ (1 / guard.cut_floor) | round | int }} of its size or less.
+C     range gives one warning per process. An iterate's PRESS above
+C     100 H asks for a smaller increment (PNEWDT) until the increment
+C     is 1/{{ (1 / guard.cut_floor) | round | int }} of the size at which that first happened.
 C=======================================================================
       SUBROUTINE FRIC(LM,TAU,DDTDDG,DDTDDP,DSLIP,SED,SFD,
      1 DDTDDT,PNEWDT,STATEV,DGAM,TAULM,PRESS,DPRESS,DDPDDH,SLIP,
@@ -39,7 +39,7 @@ C
       DOUBLE PRECISION SBMF_KT, SBMF_CUTS
       EXTERNAL SBMF_KT, SBMF_CUTS
 C     guards: the PNEWDT of an iterate above 100 H, and the fraction of
-C     the increment's size at which such an iterate stops the run
+C     the increment's size below which no more is asked for
       DOUBLE PRECISION SBMFCB, SBMFCF
       PARAMETER (SBMFCB = {{ guard.cut_factor | double }})
       PARAMETER (SBMFCF = {{ guard.cut_floor | double }})
@@ -66,19 +66,17 @@ C     guards: the deck's state variables and unit system
 C     what has converged: the committed p_hist (STATEV(1) is passed in
 C     as at the start of the increment)
       IF (STATEV(1) .GT. SBMFPU) THEN
-        CALL SBMF_GUARD(7, STATEV(1))
+        CALL SBMF_GUARD(6, STATEV(1))
         RETURN
       END IF
       IF (STATEV(1) .GT. SBMFPM) CALL SBMF_GUARD(5, STATEV(1))
-C     an iterate above 100 H: a smaller increment, unless this one was
-C     cut back to SBMFCF of its size already (then the deck's units
-C     are not the routine's); the law still runs on the iterate
+C     an iterate above 100 H: a smaller increment, as long as this one
+C     is above SBMFCF of the size at which that first happened (below,
+C     the host's own limit would end the run: the increment is let
+C     converge, and a converged pressure above 100 H stops it above)
       IF (P .GT. SBMFPU) THEN
-        IF (SBMF_CUTS(KSTEP, KINC, DTIME) .LE. SBMFCF) THEN
-          CALL SBMF_GUARD(6, P)
-          RETURN
-        END IF
-        PNEWDT = MIN(PNEWDT, SBMFCB)
+        IF (SBMF_CUTS(KSTEP, KINC, DTIME) .GT. SBMFCF)
+     &    PNEWDT = MIN(PNEWDT, SBMFCB)
       END IF
 {% endif %}
       PH = STATEV(1)

@@ -9,7 +9,7 @@
 C=======================================================================
 C     1 for the first call with K in this process (or MPI rank), 0 for
 C     every later one: the guards' once-per-process flags (K = the
-C     message kind, 1..7). Static storage of the generated code (as
+C     message kind, 1..6). Static storage of the generated code (as
 C     FRIC's SBMF_CUTS), read and set with OpenMP atomics (an exchange),
 C     so that threads calling at once get one 1 between them when the
 C     routine is compiled with the host's OpenMP flag (ifort -qopenmp,
@@ -19,7 +19,7 @@ C=======================================================================
       INTEGER FUNCTION SBMF_ONCE(K)
       IMPLICIT NONE
       INTEGER K, N
-      INTEGER, SAVE :: SBMFDN(7) = 0
+      INTEGER, SAVE :: SBMFDN(6) = 0
 !$OMP ATOMIC READ
       N = SBMFDN(K)
       IF (N .EQ. 0) THEN
@@ -38,8 +38,7 @@ C     KIND 1: too few state variables (XV: their number); 2: the deck
 C     states no unit system; 3: it states another one (XV: the value
 C     stated); 4: a pressure above 100 H (XV: p); 5: a pressure beyond
 C     the calibrated range (XV: p; a warning, written once per
-C     process); FRIC: 6 an iterate above 100 H after the increment was
-C     cut back (XV: p), 7 a committed p_hist above 100 H (XV: p_hist).
+C     process); 6: a committed p_hist above 100 H (FRIC; XV: p_hist).
 C     Errors (all but 5) stop the analysis. MSG: 400 characters.
 C=======================================================================
       SUBROUTINE SBMF_MESSAGE(KIND, XV, MSG, NMSG)
