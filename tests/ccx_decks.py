@@ -299,18 +299,22 @@ def plastic_block(
     contact_print=("CSTR", "CSDV"),
     slope=1e6,
     si=False,
+    element="C3D8I",
+    plastic=True,
+    plate=(6, 4),
 ):
-    """A 12 x 8 x 4 mm elastic-plastic block (C3D8I, 6 x 4 x 2) on a 24 x 16 x 4 mm elastic
-    plate (C3D8, 6 x 4 x 1), mm-t-s (``si``: the same deck in m and Pa).
+    """A 12 x 8 x 4 mm elastic-plastic block (``element``, 6 x 4 x 2) on a 24 x 16 x 4 mm
+    elastic plate (C3D8, 6 x 4 x 1), mm-t-s (``si``: the same deck in m and Pa).
 
-    The block yields at 250 MPa and hardens linearly to 700 MPa at a plastic strain of 0.5;
-    its bottom is the slave surface. Each step of ``steps``, ``(pressure_MPa, ux_mm)``, ramps
+    The block yields at 250 MPa and hardens linearly to 700 MPa at a plastic strain of 0.5
+    (``plastic=False``: elastic); its bottom is the slave surface. ``plate``: the plate's
+    elements along x and y. Each step of ``steps``, ``(pressure_MPa, ux_mm)``, ramps
     the pressure on the block's top and the top's sideways displacement from the previous
     step's values, with automatic incrementation ``static`` (the ``*STATIC`` data line:
     initial increment, period, minimum, maximum).
     """
     ln, st = (1e-3, 1e6) if si else (1.0, 1.0)
-    npl, epl, ipl = _block((-6 * ln, -4 * ln, -4 * ln), (24 * ln, 16 * ln, 4 * ln), (6, 4, 1), 1, 1)
+    npl, epl, ipl = _block((-6 * ln, -4 * ln, -4 * ln), (24 * ln, 16 * ln, 4 * ln), (*plate, 1), 1, 1)
     nbl, ebl, ibl = _block((0, 0, 0), (12 * ln, 8 * ln, 4 * ln), (6, 4, 2), SLAVE0, 1001)
     name = interaction[0].split("NAME=")[1].strip()
     out = ["*HEADING", "elastic-plastic block on a plate", "*NODE"]
@@ -318,7 +322,7 @@ def plastic_block(
         out += [f"{k}, {x:.10g}, {y:.10g}, {z:.10g}" for k, (x, y, z) in nodes.items()]
     out.append("*ELEMENT, TYPE=C3D8, ELSET=EPLATE")
     out += [f"{e}, " + ", ".join(map(str, c)) for e, (_, c) in epl.items()]
-    out.append("*ELEMENT, TYPE=C3D8I, ELSET=EBLOCK")
+    out.append(f"*ELEMENT, TYPE={element}, ELSET=EBLOCK")
     out += [f"{e}, " + ", ".join(map(str, c)) for e, (_, c) in ebl.items()]
     out += ["*SURFACE, NAME=SMASTER", *[f"{e}, S2" for e in epl]]
     out += ["*SURFACE, NAME=SSLAVE", *[f"{e}, S1" for e, (k, _) in ebl.items() if k == 0]]
@@ -331,9 +335,7 @@ def plastic_block(
         "*MATERIAL, NAME=BLOCK",
         "*ELASTIC",
         f"{210000.0 * st:.10g}, 0.3",
-        "*PLASTIC",
-        f"{250.0 * st:.10g}, 0.",
-        f"{700.0 * st:.10g}, 0.5",
+        *(["*PLASTIC", f"{250.0 * st:.10g}, 0.", f"{700.0 * st:.10g}, 0.5"] if plastic else []),
         "*SOLID SECTION, ELSET=EPLATE, MATERIAL=PLATE",
         "*SOLID SECTION, ELSET=EBLOCK, MATERIAL=BLOCK",
         *interaction,
