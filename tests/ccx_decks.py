@@ -314,7 +314,9 @@ def plastic_block(
     initial increment, period, minimum, maximum).
     """
     ln, st = (1e-3, 1e6) if si else (1.0, 1.0)
-    npl, epl, ipl = _block((-6 * ln, -4 * ln, -4 * ln), (24 * ln, 16 * ln, 4 * ln), (*plate, 1), 1, 1)
+    npl, epl, ipl = _block(
+        (-6 * ln, -4 * ln, -4 * ln), (24 * ln, 16 * ln, 4 * ln), (*plate, 1), 1, 1
+    )
     nbl, ebl, ibl = _block((0, 0, 0), (12 * ln, 8 * ln, 4 * ln), (6, 4, 2), SLAVE0, 1001)
     name = interaction[0].split("NAME=")[1].strip()
     out = ["*HEADING", "elastic-plastic block on a plate", "*NODE"]

@@ -424,6 +424,12 @@ def test_sbmf_friction_returns_the_guards_status(tmp_path, params_files, target,
     # the outputs stay the law's (the caller stops on ierr < 0)
     want = fl.shear_limit(np.maximum(p / s, 0), 0.0, RANGED) * s
     np.testing.assert_allclose(np.abs(out["t"][:, 0]), want, rtol=1e-12)
+    # a committed history above 100 H: -6 (before -4), naming it as converged
+    ph = np.array([0.0, 1e3 * RANGED.H * s])
+    z = np.zeros((2, 1))
+    got = host(np.array([1e3, 1e3]) * s, ph, np.zeros(2), np.full((2, 1), 1e3), z, 1e30)
+    assert got["ierr"].tolist() == [0, -6]
+    assert "converged contact pressure (p_hist, state variable 1)" in host.message(6, ph[1])
     text = host.message(5, p[1])
     assert "is beyond the calibrated range" in text and "once per process" in text
     assert "this routine was exported for " + us.describe() in host.message(4, p[4])
