@@ -279,7 +279,10 @@ class GuardSpec:
                 "extrapolated there. Written once per process; the largest pressure each "
                 "contact point carried is its p_hist (state variable 1)",
             ),
-            6: (f"{pre}converged contact pressure (p_hist, state variable 1) ", f"{limit}: {units}"),
+            6: (
+                f"{pre}converged contact pressure (p_hist, state variable 1) ",
+                f"{limit}: {units}",
+            ),
         }
 
 
