@@ -41,6 +41,21 @@ def _block(origin, size, divisions, n0, e0):
     return nodes, elements, ids
 
 
+def _contact(interaction, contact, slope, tension):
+    """The interaction with its linear pressure-overclosure law (``slope``, ``tension`` in the
+    deck's units), the contact pair of SSLAVE on SMASTER and the fixed bottom NBASE."""
+    name = interaction[0].split("NAME=")[1].strip()
+    return [
+        *interaction,
+        "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR",
+        f"{slope:g}, {tension:g}",
+        f"*CONTACT PAIR, INTERACTION={name}, TYPE={contact}",
+        "SSLAVE, SMASTER",
+        "*BOUNDARY",
+        "NBASE, 1, 3, 0.",
+    ]
+
+
 def two_blocks(
     steps,
     interaction,
@@ -82,7 +97,6 @@ def two_blocks(
     ln, st = (1e-3, 1e6) if si else (1.0, 1.0)
     nb, eb, ib = _block((0, 0, -5 * ln), (20 * ln, 20 * ln, 5 * ln), (4, 4, 1), 1, 1)
     nt, et, it = _block((5 * ln, 5 * ln, 0), (10 * ln, 10 * ln, 5 * ln), (n, n, 2), SLAVE0, 1001)
-    name = interaction[0].split("NAME=")[1].strip()
     out = ["*HEADING", "two blocks: press, slide, unload, reload", "*NODE"]
     for nodes in (nb, nt):
         out += [f"{k}, {x:.10g}, {y:.10g}, {z:.10g}" for k, (x, y, z) in nodes.items()]
@@ -107,13 +121,7 @@ def two_blocks(
         f"{210000.0 * st:.10g}, 0.3",
         "*SOLID SECTION, ELSET=EBASE, MATERIAL=STEEL",
         "*SOLID SECTION, ELSET=EBLOCK, MATERIAL=STEEL",
-        *interaction,
-        "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR",
-        f"{slope * st / ln:g}, {0.01 * st:g}",
-        f"*CONTACT PAIR, INTERACTION={name}, TYPE={contact}",
-        "SSLAVE, SMASTER",
-        "*BOUNDARY",
-        "NBASE, 1, 3, 0.",
+        *_contact(interaction, contact, slope * st / ln, 0.01 * st),
     ]
     top = [e for e, (k, _) in et.items() if k == 1]
     for step in steps:
@@ -318,7 +326,6 @@ def plastic_block(
         (-6 * ln, -4 * ln, -4 * ln), (24 * ln, 16 * ln, 4 * ln), (*plate, 1), 1, 1
     )
     nbl, ebl, ibl = _block((0, 0, 0), (12 * ln, 8 * ln, 4 * ln), (6, 4, 2), SLAVE0, 1001)
-    name = interaction[0].split("NAME=")[1].strip()
     out = ["*HEADING", "elastic-plastic block on a plate", "*NODE"]
     for nodes in (npl, nbl):
         out += [f"{k}, {x:.10g}, {y:.10g}, {z:.10g}" for k, (x, y, z) in nodes.items()]
@@ -340,13 +347,7 @@ def plastic_block(
         *(["*PLASTIC", f"{250.0 * st:.10g}, 0.", f"{700.0 * st:.10g}, 0.5"] if plastic else []),
         "*SOLID SECTION, ELSET=EPLATE, MATERIAL=PLATE",
         "*SOLID SECTION, ELSET=EBLOCK, MATERIAL=BLOCK",
-        *interaction,
-        "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR",
-        f"{slope * st / ln:g}, {0.01 * st:g}",
-        f"*CONTACT PAIR, INTERACTION={name}, TYPE={contact}",
-        "SSLAVE, SMASTER",
-        "*BOUNDARY",
-        "NBASE, 1, 3, 0.",
+        *_contact(interaction, contact, slope * st / ln, 0.01 * st),
     ]
     top = [e for e, (k, _) in ebl.items() if k == 1]
     for p, ux in steps:
