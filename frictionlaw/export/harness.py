@@ -9,7 +9,8 @@ cases. ``ABA_PARAM.INC`` and ``vaba_param.inc`` are replaced by stubs with Abaqu
 content (implicit double precision), LS-DYNA's ``iounits.inc`` by a stub with its output units.
 The hosts' message and exit routines are emulated too (Abaqus' ``STDB_ABQERR``/``XIT`` and
 ``XPLB_ABQERR``/``XPLB_EXIT``, LS-DYNA's output units): a driver's :meth:`~FricLib.log` returns
-what the routine's guards wrote, :meth:`~FricLib.exits` how often it ended the analysis. The
+what the routine's guards wrote, :meth:`~FricLib.exits` how often it ended the analysis;
+:meth:`FricLib.increment` emulates Abaqus' automatic incrementation, acting on ``PNEWDT``. The
 deck's unit system (the routines' unit property, docs/fe_codes.md "Guards") is the driver's
 ``deck_units``: by default the one the routine was exported for. Needs ``gfortran``.
 
