@@ -41,6 +41,21 @@ def _block(origin, size, divisions, n0, e0):
     return nodes, elements, ids
 
 
+def _contact(interaction, contact, slope, tension):
+    """The interaction with its linear pressure-overclosure law (``slope``, ``tension`` in the
+    deck's units), the contact pair of SSLAVE on SMASTER and the fixed bottom NBASE."""
+    name = interaction[0].split("NAME=")[1].strip()
+    return [
+        *interaction,
+        "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR",
+        f"{slope:g}, {tension:g}",
+        f"*CONTACT PAIR, INTERACTION={name}, TYPE={contact}",
+        "SSLAVE, SMASTER",
+        "*BOUNDARY",
+        "NBASE, 1, 3, 0.",
+    ]
+
+
 def two_blocks(
     steps,
     interaction,
@@ -82,7 +97,6 @@ def two_blocks(
     ln, st = (1e-3, 1e6) if si else (1.0, 1.0)
     nb, eb, ib = _block((0, 0, -5 * ln), (20 * ln, 20 * ln, 5 * ln), (4, 4, 1), 1, 1)
     nt, et, it = _block((5 * ln, 5 * ln, 0), (10 * ln, 10 * ln, 5 * ln), (n, n, 2), SLAVE0, 1001)
-    name = interaction[0].split("NAME=")[1].strip()
     out = ["*HEADING", "two blocks: press, slide, unload, reload", "*NODE"]
     for nodes in (nb, nt):
         out += [f"{k}, {x:.10g}, {y:.10g}, {z:.10g}" for k, (x, y, z) in nodes.items()]
@@ -107,13 +121,7 @@ def two_blocks(
         f"{210000.0 * st:.10g}, 0.3",
         "*SOLID SECTION, ELSET=EBASE, MATERIAL=STEEL",
         "*SOLID SECTION, ELSET=EBLOCK, MATERIAL=STEEL",
-        *interaction,
-        "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR",
-        f"{slope * st / ln:g}, {0.01 * st:g}",
-        f"*CONTACT PAIR, INTERACTION={name}, TYPE={contact}",
-        "SSLAVE, SMASTER",
-        "*BOUNDARY",
-        "NBASE, 1, 3, 0.",
+        *_contact(interaction, contact, slope * st / ln, 0.01 * st),
     ]
     top = [e for e, (k, _) in et.items() if k == 1]
     for step in steps:
@@ -287,4 +295,65 @@ def ring(interaction, *, nr=12, nz=None, od=18.0, idia=9.0, h=6.0, reduction=0.3
         "U",
         "*END STEP",
     ]
+    return "\n".join(out) + "\n"
+
+
+def plastic_block(
+    steps,
+    interaction,
+    *,
+    contact="SURFACE TO SURFACE",
+    static="1., 1., 1e-6, 1.",
+    contact_print=("CSTR", "CSDV"),
+    slope=1e6,
+    si=False,
+    element="C3D8I",
+    plastic=True,
+    plate=(6, 4),
+):
+    """A 12 x 8 x 4 mm elastic-plastic block (``element``, 6 x 4 x 2) on a 24 x 16 x 4 mm
+    elastic plate (C3D8, 6 x 4 x 1), mm-t-s (``si``: the same deck in m and Pa).
+
+    The block yields at 250 MPa and hardens linearly to 700 MPa at a plastic strain of 0.5
+    (``plastic=False``: elastic); its bottom is the slave surface. ``plate``: the plate's
+    elements along x and y. Each step of ``steps``, ``(pressure_MPa, ux_mm)``, ramps
+    the pressure on the block's top and the top's sideways displacement from the previous
+    step's values, with automatic incrementation ``static`` (the ``*STATIC`` data line:
+    initial increment, period, minimum, maximum).
+    """
+    ln, st = (1e-3, 1e6) if si else (1.0, 1.0)
+    npl, epl, ipl = _block(
+        (-6 * ln, -4 * ln, -4 * ln), (24 * ln, 16 * ln, 4 * ln), (*plate, 1), 1, 1
+    )
+    nbl, ebl, ibl = _block((0, 0, 0), (12 * ln, 8 * ln, 4 * ln), (6, 4, 2), SLAVE0, 1001)
+    out = ["*HEADING", "elastic-plastic block on a plate", "*NODE"]
+    for nodes in (npl, nbl):
+        out += [f"{k}, {x:.10g}, {y:.10g}, {z:.10g}" for k, (x, y, z) in nodes.items()]
+    out.append("*ELEMENT, TYPE=C3D8, ELSET=EPLATE")
+    out += [f"{e}, " + ", ".join(map(str, c)) for e, (_, c) in epl.items()]
+    out.append(f"*ELEMENT, TYPE={element}, ELSET=EBLOCK")
+    out += [f"{e}, " + ", ".join(map(str, c)) for e, (_, c) in ebl.items()]
+    out += ["*SURFACE, NAME=SMASTER", *[f"{e}, S2" for e in epl]]
+    out += ["*SURFACE, NAME=SSLAVE", *[f"{e}, S1" for e, (k, _) in ebl.items() if k == 0]]
+    out += ["*NSET, NSET=NBASE", *[f"{v}," for v in ipl[0].ravel()]]
+    out += ["*NSET, NSET=NTOP", *[f"{v}," for v in ibl[-1].ravel()]]
+    out += [
+        "*MATERIAL, NAME=PLATE",
+        "*ELASTIC",
+        f"{210000.0 * st:.10g}, 0.3",
+        "*MATERIAL, NAME=BLOCK",
+        "*ELASTIC",
+        f"{210000.0 * st:.10g}, 0.3",
+        *(["*PLASTIC", f"{250.0 * st:.10g}, 0.", f"{700.0 * st:.10g}, 0.5"] if plastic else []),
+        "*SOLID SECTION, ELSET=EPLATE, MATERIAL=PLATE",
+        "*SOLID SECTION, ELSET=EBLOCK, MATERIAL=BLOCK",
+        *_contact(interaction, contact, slope * st / ln, 0.01 * st),
+    ]
+    top = [e for e, (k, _) in ebl.items() if k == 1]
+    for p, ux in steps:
+        out += ["*STEP, INC=1000", "*STATIC", static, "*BOUNDARY"]
+        out += [f"NTOP, 1, 1, {ux * ln:.10g}", "NTOP, 2, 2, 0."]
+        out += ["*DLOAD", *[f"{e}, P2, {p * st:.10g}" for e in top]]
+        out += ["*NODE PRINT, NSET=NTOP, TOTALS=ONLY", "RF", "*CONTACT PRINT"]
+        out += [", ".join(contact_print), "*END STEP"]
     return "\n".join(out) + "\n"

@@ -43,17 +43,19 @@ STEPS = [(400.0, 0.0), (400.0, 0.1), (150.0, 0.2), (300.0, 0.3), (500.0, 0.4)]
 FULL_SLIP = 1.5
 
 
-#: the deck lines of the docs and the README: DEPVAR, and the unit system the deck states
-#: (PROPERTIES=1, value 2: mm-t-s, the unit system of these decks and the exported routine)
-DOC_LINES = ["*SURFACE INTERACTION, NAME=SBMF", "*FRICTION, USER, DEPVAR=3, PROPERTIES=1", "2."]
+#: the CalculiX deck lines of the docs and the README: DEPVAR, and the unit system the deck
+#: names (PROPERTIES=1, MM-T-S: the unit system of these decks and the exported routine; a ccx
+#: without the patch cannot read the name and stops)
+DOC_LINES = ["*SURFACE INTERACTION, NAME=SBMF", "*FRICTION, USER, DEPVAR=3, PROPERTIES=1", "MM-T-S"]
 
 
 def _doc_lines():
-    """The Abaqus/Standard deck lines of docs/fe_codes.md, as printed there."""
+    """The CalculiX deck lines of docs/fe_codes.md, as printed there (the first three lines of
+    the section's deck)."""
     text = (ROOT / "docs" / "fe_codes.md").read_text(encoding="utf-8")
-    section = text.split("## Abaqus/Standard: `abaqus-fric`", 1)[1].split("\n## ", 1)[0]
+    section = text.split("## CalculiX: `calculix`", 1)[1].split("\n## ", 1)[0]
     block = section.split("\n    *SURFACE INTERACTION", 1)[1].split("\n\n", 1)[0]
-    lines = [ln.strip() for ln in ("    *SURFACE INTERACTION" + block).splitlines()]
+    lines = [ln.strip() for ln in ("    *SURFACE INTERACTION" + block).splitlines()][:3]
     assert lines == DOC_LINES, lines
     return lines
 
@@ -158,7 +160,8 @@ def test_export_writes_routine_patch_and_build_script(export_dir):
 def test_export_force_after_the_documented_build(ccx_work, tmp_path, capsys):
     """`bash ccx_sbmf/build.sh` keeps its build tree outside the export folder (here the one
     SBMF_CCX_WORK names, else a cache folder) and links `ccx` into it; `frictionlaw-export
-    --force` then replaces the export, binary included, but never a file of the user's."""
+    --force` then replaces the export, binary included, says so on stderr (also with
+    --quiet), but never removes a file of the user's."""
     out = tmp_path / "ccx_sbmf"
     args = ["calculix", "--params", str(EXAMPLE), "--out", str(out), "--units", "mm-t-s"]
     assert export_main([*args, "--quiet"]) == 0
@@ -169,8 +172,13 @@ def test_export_force_after_the_documented_build(ccx_work, tmp_path, capsys):
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.strip() == str(out / "ccx") and os.access(out / "ccx", os.X_OK)
     assert not (out / "ccx-build").exists()
+    capsys.readouterr()
     assert export_main([*args, "--quiet", "--force"]) == 0
     assert not (out / "ccx").exists() and (out / "sbmf_fric.f").is_file()
+    err = capsys.readouterr().err
+    assert f"removed {out / 'ccx'}" in err and "build.sh" in err, err
+    assert export_main([*args, "--quiet", "--force"]) == 0  # nothing built: nothing said
+    assert capsys.readouterr().err == ""
     (out / "job.inp").write_text("*HEADING\n")
     capsys.readouterr()
     assert export_main([*args, "--quiet", "--force"]) == 2
@@ -344,9 +352,17 @@ def test_decks_without_user_match_the_unpatched_ccx(ccx_work, ccx, interaction, 
     [
         (["*FRICTION, USER, DEPVAR=-1"], "DEPVAR must be"),
         (["*FRICTION, DEPVAR=3", "0.2, 1e5"], "need the parameter USER"),
-        (["*FRICTION, USER, DEPVAR=3, PROPERTIES=1", "1.0, 2.0"], "more values"),
+        (["*FRICTION, USER, DEPVAR=3, PROPERTIES=1", "MM-T-S, 2.0"], "more values"),
+        (["*FRICTION, USER, DEPVAR=3, PROPERTIES=1", "2."], "first property names the"),
+        (["*FRICTION, USER, DEPVAR=3, PROPERTIES=1", "MPA"], "first property names the"),
     ],
-    ids=["negative-depvar", "depvar-without-user", "too-many-properties"],
+    ids=[
+        "negative-depvar",
+        "depvar-without-user",
+        "too-many-properties",
+        "unit-number",
+        "unit-unknown",
+    ],
 )
 def test_bad_friction_cards_are_refused(ccx, friction, message, tmp_path):
     deck = two_blocks(STEPS[:1], ["*SURFACE INTERACTION, NAME=SI", *friction])

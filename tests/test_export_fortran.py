@@ -443,8 +443,11 @@ def run_generic(host, params, kt_spec, units, seed, nd, n=48, n_incr=6):
             kt = k_host if kt_spec.kind == "host" else expected_kt(params, kt_spec, units, p, 0, 1)
             ref = fl.traction_update(law, p, du, t_c, kt, state)
             out = host(p * s, ph_c, g1_c, du * ln, t_c * s, k_host * units.stiffness)
-            # the guards' status: -4 above 100 H (the caller must stop), else 0 (no p_range)
-            assert np.array_equal(out["ierr"], np.where(p * s > 100 * params.H * s, -4, 0))
+            # the guards' status: -6 for a committed p_hist above 100 H, else -4 for a pressure
+            # above it (the caller must stop, an implicit one may cut back), else 0 (no p_range)
+            limit = 100 * params.H * s
+            want = np.where(ph_c > limit, -6, np.where(p * s > limit, -4, 0))
+            assert np.array_equal(out["ierr"], want)
             m = same_branch(p, state.p_hist, units)
             scale = traction_scale(units, ref.traction, t_c, np.broadcast_to(kt, p.shape), du)
             assert_close(out["t"][m] / s, ref.traction[m], 1e-12, "traction", scale[m])

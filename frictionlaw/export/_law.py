@@ -29,6 +29,8 @@ __all__ = [
     "reload_spec",
     "GuardSpec",
     "guard_spec",
+    "CUT_FACTOR",
+    "CUT_FLOOR",
     "core_context",
     "header_lines",
 ]
@@ -181,6 +183,16 @@ def reload_spec(params, units):
 UNIT_LIMIT_H = 100.0
 
 
+#: the PNEWDT a routine called on Newton iterates (FRIC) returns for an iterate above 100 H: the
+#: host retries the increment at this fraction of its size (Abaqus' and ccx's own cut-back factor)
+CUT_FACTOR = 0.25
+#: at this fraction of the size at which the increment first had an iterate above 100 H, the
+#: routine asks for no further cut-back (three cut-backs by CUT_FACTOR take it to 1/64, within the
+#: five the hosts allow per increment, Abaqus' IA and ccx's ia): the increment may converge, and
+#: a converged pressure above 100 H then stops the run
+CUT_FLOOR = 1.0 / 32.0
+
+
 @dataclass(frozen=True)
 class GuardSpec:
     """What every generated routine checks before it runs the law (docs/fe_codes.md, "Guards").
@@ -201,6 +213,10 @@ class GuardSpec:
         records none, and no range warning is compiled in).
     other : str
         The unit system a pressure above ``p_unit`` points to (mm-t-s routine: SI).
+    cut_factor, cut_floor : float
+        A routine called on Newton iterates (``FRIC``): the ``PNEWDT`` it returns for an iterate
+        above ``p_unit``, and the fraction of the increment's size at which it asks for no
+        further cut-back (:data:`CUT_FACTOR`, :data:`CUT_FLOOR`).
     """
 
     code: int
@@ -209,23 +225,36 @@ class GuardSpec:
     p_unit: float
     p_max: float | None
     other: str
+    cut_factor: float = CUT_FACTOR
+    cut_floor: float = CUT_FLOOR
 
-    def messages(self, state_name, units_input):
+    def messages(self, state_name, units_input, implicit=False):
         """The messages of the guards, ``{kind: (text before the value, text after it)}``.
 
         Kinds (the ``KIND`` of the routines' ``SBMF_MESSAGE``): 1 too few state variables
         (value: their number), 2 no unit system stated (no value: the second text is None),
         3 a stated unit system other than the routine's (value: the stated number), 4 a
-        pressure above ``100 H`` (value: the pressure), 5 a pressure beyond the calibrated
-        range (the one warning; value: the pressure). ``state_name`` names the deck's state
-        count (``DEPVAR``), ``units_input`` is ``(name, where)`` of its unit value (``PROPS(1)``,
-        ``the data line of *FRICTION, USER, PROPERTIES=1``): the fields of
-        :class:`frictionlaw.export.Routine`.
+        pressure above ``100 H`` in the call (value: the pressure; the explicit hosts and
+        ``SBMF_FRICTION``), 5 a pressure beyond the calibrated range (the one warning; value:
+        the pressure), 6 a converged pressure, the committed ``p_hist``, above ``100 H``
+        (``FRIC``). ``state_name`` names the deck's
+        state count (``DEPVAR``), ``units_input`` is ``(name, where)`` of its unit value
+        (``PROPS(1)``, ``the data line of *FRICTION, USER, PROPERTIES=1``): the fields of
+        :class:`frictionlaw.export.Routine`. ``implicit``: the routine's host calls it on
+        Newton iterates and commits its state on convergence (``Routine.implicit``), so its
+        range warning names the committed ``p_hist``.
         """
         s = self.units.split("(")[1].split(",")[0]
         name, where = units_input
         pre = "SBMF friction: "
         top = "none" if self.p_max is None else f"{self.p_max:.6g} {s}"
+        units = f"this routine was exported for {self.units} and the model {self.other}"
+        limit = f" {s} > 100 H = {self.p_unit:.6g} {s}"
+        seen = (
+            "converged contact pressure (p_hist at the start of an increment) "
+            if implicit
+            else "contact pressure "
+        )
         return {
             1: (
                 f"{pre}{state_name} = ",
@@ -243,16 +272,16 @@ class GuardSpec:
                 f"({self.codes}): export the routine for the deck's units "
                 "(frictionlaw-export --units) or correct the deck",
             ),
-            4: (
-                f"{pre}contact pressure ",
-                f" {s} > 100 H = {self.p_unit:.6g} {s}: this routine was exported for "
-                f"{self.units} and the model {self.other}",
-            ),
+            4: (f"{pre}contact pressure ", f"{limit}: {units}"),
             5: (
-                f"{pre}contact pressure ",
+                f"{pre}{seen}",
                 f" {s} is beyond the calibrated range (p_max = {top}): the law is "
                 "extrapolated there. Written once per process; the largest pressure each "
                 "contact point carried is its p_hist (state variable 1)",
+            ),
+            6: (
+                f"{pre}converged contact pressure (p_hist, state variable 1) ",
+                f"{limit}: {units}",
             ),
         }
 

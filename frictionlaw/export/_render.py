@@ -24,11 +24,16 @@ __all__ = ["Job", "plan", "texts", "render", "export", "ExportResult"]
 
 @dataclass(frozen=True)
 class ExportResult:
-    """What :func:`export` wrote: the folder, its files, and the table (table targets)."""
+    """What :func:`export` wrote: the folder, its files, and the table (table targets).
+
+    ``removed``: what a later step had added to the earlier export in the folder (the target's
+    ``products``, CalculiX's ``ccx`` that ``build.sh`` linked) and the replacement removed.
+    """
 
     out: Path
     files: tuple
     table: object = None
+    removed: tuple = ()
 
 
 @dataclass(frozen=True)
@@ -111,7 +116,7 @@ def texts(job, *, guards=True):
     """
     t = job.target
     words = (
-        (t.form.state_name, t.form.units_input)
+        (t.form.state_name, t.form.units_input, t.form.implicit)
         if isinstance(t.form, _targets.Routine)
         else ("", ("", ""))
     )
@@ -186,7 +191,9 @@ def export(
     table_tol : float
         Table targets: bound on ``|tau_table - tau| / tau_max`` on first loading.
     force : bool
-        Replace an earlier export in ``out`` (never files the export did not write).
+        Replace an earlier export in ``out`` (never files the export did not write, but for
+        the target's products, such as the ``ccx`` CalculiX's ``build.sh`` links there: they
+        are removed with it and listed in ``ExportResult.removed``).
     accept_failed : bool
         Export a parameter file whose calibration failed or whose fit did not converge (refused
         otherwise, :func:`frictionlaw.params.fit_failure`).
@@ -196,6 +203,7 @@ def export(
     ExportResult
     """
     out = Path(out)
+    products = _targets.target(target).products
     with OutputFolder(
         out,
         command="frictionlaw-export",
@@ -203,8 +211,10 @@ def export(
         force=force,
         require_force=True,
         inputs=(params_path,),
-        products=_targets.target(target).products,
+        products=products,
     ) as folder:
+        # checked replaceable: what a later step added is removed with the earlier export
+        removed = tuple(out / name for name in products if (out / name).exists())
         files, table = render(
             target,
             params_path,
@@ -219,4 +229,4 @@ def export(
             if name in executable:
                 (folder.tmp / name).chmod(0o755)
         folder.commit()
-    return ExportResult(out, tuple(sorted(files)), table)
+    return ExportResult(out, tuple(sorted(files)), table, removed)

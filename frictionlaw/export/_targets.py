@@ -109,6 +109,12 @@ class Routine:
     status : bool
         The routine returns its guards' status to its caller (``IERR`` of the host-neutral
         ``SBMF_FRICTION``) instead of reaching the host through ``Host.guards``.
+    implicit : bool
+        The host calls the routine on every Newton iterate and keeps its state only when the
+        increment converges (Abaqus/Standard ``FRIC``, CalculiX): its guards act on the
+        committed ``p_hist`` and ask for a cut-back (``PNEWDT``) where an iterate's pressure is
+        above ``100 H`` (docs/fe_codes.md, "Guards"). False: every call commits (explicit
+        hosts), or the caller decides (``SBMF_FRICTION``).
     """
 
     stick: str
@@ -117,6 +123,7 @@ class Routine:
     state_name: str = "DEPVAR"
     units_input: tuple = ("PROPS(1)", "the data line of *FRICTION, USER, PROPERTIES=1")
     status: bool = False
+    implicit: bool = False
     #: the README's frame (it includes ``stick``, the target's section and ``tested``)
     frame: ClassVar[str] = "readme/routine.md"
     #: ``--k-t`` applies
@@ -277,7 +284,7 @@ for _record in (
         "sbmf_fric.f",
         "abaqus/fric.f",
         "abaqus/fric.md",
-        Routine(stick=_CHRLNGTH),
+        Routine(stick=_CHRLNGTH, implicit=True),
         harness=FRIC,
     ),
     Target(
@@ -371,7 +378,16 @@ for _record in (
         "sbmf_fric.f",
         "abaqus/fric.f",  # the abaqus-fric routine, unchanged
         "calculix/calculix.md",
-        Routine(stick=_CHRLNGTH, tested="calculix/tested.md"),
+        Routine(
+            stick=_CHRLNGTH,
+            tested="calculix/tested.md",
+            units_input=(
+                "PROPS(1)",
+                "the data line of *FRICTION, USER, PROPERTIES=1, in a ccx deck the name "
+                "MM-T-S (2.) or SI (1.)",
+            ),
+            implicit=True,
+        ),
         extras=(
             Extra("ABA_PARAM.INC", "abaqus/ABA_PARAM.INC"),
             Extra(

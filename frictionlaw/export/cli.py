@@ -103,6 +103,11 @@ def main(argv=None):
     except RuntimeError as exc:
         return con.error(f"the export failed: {exc}", 1)
     _warn_failed(con, args.params, args.accept_failed_fit)
+    for path in res.removed:
+        con.warn(
+            f"frictionlaw-export: removed {path}, built from the export it replaced; build it "
+            "again for the new one (build.sh in the folder)"
+        )
     con.result(f"wrote {', '.join(res.files)} to {res.out}")
     if res.table is not None:
         con.result(

@@ -9,7 +9,8 @@ cases. ``ABA_PARAM.INC`` and ``vaba_param.inc`` are replaced by stubs with Abaqu
 content (implicit double precision), LS-DYNA's ``iounits.inc`` by a stub with its output units.
 The hosts' message and exit routines are emulated too (Abaqus' ``STDB_ABQERR``/``XIT`` and
 ``XPLB_ABQERR``/``XPLB_EXIT``, LS-DYNA's output units): a driver's :meth:`~FricLib.log` returns
-what the routine's guards wrote, :meth:`~FricLib.exits` how often it ended the analysis. The
+what the routine's guards wrote, :meth:`~FricLib.exits` how often it ended the analysis;
+:meth:`FricLib.increment` emulates Abaqus' automatic incrementation, acting on ``PNEWDT``. The
 deck's unit system (the routines' unit property, docs/fe_codes.md "Guards") is the driver's
 ``deck_units``: by default the one the routine was exported for. Needs ``gfortran``.
 
@@ -31,6 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ._host_increment import Attempt, Increment, run_increment
 from ._law import UNIT_SYSTEMS, StiffnessSpec, core_context
 from ._templates import render_template, template_path
 
@@ -40,6 +42,8 @@ __all__ = [
     "build",
     "coulomb_source",
     "FricLib",
+    "Attempt",
+    "Increment",
     "VfricLib",
     "VfrictionLib",
     "UsrfrcLib",
@@ -263,7 +267,9 @@ class FricLib(_Host):
     """Abaqus/Standard ``FRIC`` called per contact point as Abaqus does.
 
     The unit property is ``PROPS(1)`` (``NPROPS = 0`` when ``deck_units`` is None). After an
-    error exit (``XIT``) the remaining points are not called: their outputs are NaN.
+    error exit (``XIT``) the remaining points are not called: their outputs are NaN. ``PNEWDT``
+    is set to a large value before each call (as Abaqus does) and returned per point;
+    :meth:`increment` emulates the automatic incrementation that acts on it.
     """
 
     def __init__(self, lib, deck_units=None):
@@ -271,12 +277,26 @@ class FricLib(_Host):
         self._fn = lib.h_fric
         self._fn.restype = None
 
-    def __call__(self, press, dgam, tau_start, statev_start, chrlngth, reps=1, out=None):
+    def __call__(
+        self,
+        press,
+        dgam,
+        tau_start,
+        statev_start,
+        chrlngth,
+        reps=1,
+        out=None,
+        *,
+        kstep=1,
+        kinc=1,
+        dtime=1.0,
+    ):
         """One iteration: every point gets the start-of-increment ``TAU`` and ``STATEV``.
 
         Arrays are (n,), (n, nd), (n, nd), (n, nstatv), (n,); returns a dict of outputs
         (``out``: a dict a former call returned, reused; ``reps``: the points called that many
-        times, for timing).
+        times, for timing). ``kstep``, ``kinc``, ``dtime``: the step, the increment and its
+        size (``KSTEP``, ``KINC``, ``DTIME``) of every call.
         """
         press, dgam, tau_start, sv = map(_f, (press, dgam, tau_start, statev_start))
         chr_ = _f(np.broadcast_to(chrlngth, press.shape))
@@ -292,6 +312,7 @@ class FricLib(_Host):
                 "lm": np.full(n, -1, np.int32),
                 "sed": np.full(n, np.nan),
                 "sfd": np.full(n, np.nan),
+                "pnewdt": np.full(n, np.nan),
             }
         else:  # a former call's outputs: DDTDDG back to the Fortran layout (a view)
             out = {**out, "ddtddg": out["ddtddg"].transpose(0, 2, 1)}
@@ -304,11 +325,27 @@ class FricLib(_Host):
             ctypes.c_int(reps),
             ctypes.c_int(nprops),
             _ptr(props),
+            ctypes.c_int(kstep),
+            ctypes.c_int(kinc),
+            ctypes.c_double(dtime),
             *map(_ptr, (press, dgam, tau_start, sv, chr_)),
             *map(_ptr, out.values()),
         )
         # Fortran DDTDDG(a, b) -> row-major [b, a] in memory: transposed to [a, b] (a view)
         return {**out, "ddtddg": out["ddtddg"].transpose(0, 2, 1)}
+
+    def increment(self, iterates, dgam, tau_start, statev_start, chrlngth, **options):
+        """One increment of Abaqus' automatic incrementation, acting on ``PNEWDT``.
+
+        ``iterates(dtime)`` gives the Newton iterates of an attempt of size ``dtime``: a
+        sequence of pressure arrays (n,), the last one its converged state. Every iterate calls
+        ``FRIC`` at every point with the start-of-increment ``TAU`` and ``STATEV``; a
+        ``PNEWDT < 1`` abandons the attempt and retries it at ``PNEWDT`` times its size.
+        ``options``: ``kstep``, ``kinc``, ``dtime`` (the first attempt's size; 1, 1, 1.0),
+        ``max_cutbacks`` (5, Abaqus' ``IA``). Returns an :class:`Increment` (its ``out``: the
+        converged iterate's outputs, whose ``statev`` the host commits).
+        """
+        return run_increment(self, iterates, dgam, tau_start, statev_start, chrlngth, **options)
 
 
 class VfricLib(_Host):

@@ -6,10 +6,10 @@
 #}
 C=======================================================================
 C     The guards' way to {{ host.name }}: {{ host.message_routine }}
-C     writes the message; an error (KIND 1-4) is written with LOP = -3
-C     and ends the analysis ({{ host.exit_routine }} after it, should
-C     the host return); the warning (KIND 5) with LOP = -1, once per
-C     process.
+C     writes the message; an error (every KIND but 5) is written with
+C     LOP = -3 and ends the analysis ({{ host.exit_routine }} after it,
+C     should the host return); the warning (KIND 5) with LOP = -1,
+C     once per process.
 C=======================================================================
       SUBROUTINE SBMF_GUARD(KIND, XV)
       IMPLICIT NONE

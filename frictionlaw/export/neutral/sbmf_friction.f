@@ -16,12 +16,16 @@ C          it only when the host accepts (converges) the increment.
 C          IERR, the guards' status, which the caller must check:
 C          0 fine; < 0 an error, the caller must stop the analysis:
 C          -2 IUNIT = 0 (no unit system stated), -3 IUNIT is not the
-C          unit system this routine was exported for, -4 P > 100 H
-C          (the deck's units are not the routine's); 5 a warning: the
-C          first P beyond the calibrated range in this process (once
-C          per process). The outputs are the law's in every case.
+C          unit system this routine was exported for, -6 PH > 100 H
+C          (a converged pressure: the deck's units are not the
+C          routine's), -4 P > 100 H (the same for an explicit caller;
+C          an implicit caller, whose P may be a Newton iterate, should
+C          take a smaller substep instead); 5 a warning: the first P
+C          beyond the calibrated range in this process (once per
+C          process). The outputs are the law's in every case.
 C          CALL SBMF_MESSAGE(ABS(IERR), XV, MSG, NMSG) gives the text
-C          (XV: DBLE(IUNIT) for -3, P for -4 and 5; MSG CHARACTER*400).
+C          (XV: DBLE(IUNIT) for -3, P for -4 and 5, PH for -6; MSG
+C          CHARACTER*400).
 C=======================================================================
       SUBROUTINE SBMF_FRICTION(ND, P, PH, G1H, DU, TOLD, KHOST, IUNIT,
      &                         TNEW, DTDDU, DTDP, ISTAT, PHNEW, G1NEW,
@@ -42,6 +46,8 @@ C     guards: the stated unit system, the pressure (the caller reports)
         IERR = -2
       ELSE IF (DBLE(IUNIT) .NE. SBMFU) THEN
         IERR = -3
+      ELSE IF (PH .GT. SBMFPU) THEN
+        IERR = -6
       ELSE IF (P .GT. SBMFPU) THEN
         IERR = -4
       ELSE IF (P .GT. SBMFPM) THEN
