@@ -12,6 +12,10 @@ continuous_reload : normalise Eq. 25 so that it meets Eq. 24 at ``p_hist``
 reload_form : ``"paper"`` (Eq. 25 with one ``C2, n2``) or ``"tabulated"`` (Eq. 25 with ``C2, n2``
     per calibrated ``p_hist`` and an exponent ``s2``, :mod:`frictionlaw.reload_form`)
 reload_table : the tabulated form's levels (:class:`~frictionlaw.reload_form.ReloadTable`)
+first_loading_form : ``"eq24"`` (the paper's Eq. 24 with ``C1, n1``) or ``"tabulated"`` (the
+    computed first loading interpolated, :mod:`frictionlaw.first_loading`)
+first_loading_table : the tabulated form's points
+    (:class:`~frictionlaw.first_loading.FirstLoadingTable`)
 geo_ratio : Eq. 26's geometric share, ``f(p) = geo_ratio k alpha(p)`` (0: Eqs. 24-25 alone)
 p_range : mean contact pressures (Pa) the calibration covered on first loading, ``(p_min, p_max)``
 k_t : calibrated tangential interface stiffness ``k_t(p)`` (Pa/m) as a table over ``p`` (Pa)
@@ -29,7 +33,9 @@ from numpy.typing import ArrayLike, NDArray
 
 from ._io import atomic_write
 from ._shear_flow import check_k_against_sigma_y
-from .reload_form import RELOAD_FORMS, ReloadTable
+from .first_loading import FirstLoadingTable
+from .forms import BRANCH_KEYS, FIRST_LOADING, RELOAD, BranchForm, branch_form, read_branch
+from .reload_form import ReloadTable
 from .uncertainty import LAW_KEYS, Uncertainty
 
 __all__ = [
@@ -47,10 +53,16 @@ __all__ = [
 ]
 
 FORMAT_NAME = "sbmf-friction-params"
-#: the version written when the file carries a ``reload_law`` object (2); files without one are
-#: written as version 1, which every earlier runtime reads (the paper's Eq. 25)
-FORMAT_VERSION = 2
-_READ_VERSIONS = (1, 2)
+#: the newest version: 3 when the file carries a ``first_loading_law`` object, 2 when it carries
+#: a ``reload_law`` object only, 1 with neither (the paper's Eqs. 24-25, which every earlier
+#: runtime reads): a file is written in the lowest version that expresses its content
+FORMAT_VERSION = 3
+_READ_VERSIONS = (1, 2, 3)
+#: the first version that may carry each optional object
+_SINCE = {"reload_law": 2, "first_loading_law": 3}
+#: objects planned for version 3 that this runtime cannot read yet: refused, never ignored
+#: (each changes the physics of the law)
+_UNREAD = {"flattening": "the tool flattening (issue 43)"}
 
 _UNITS = {
     "m": "1",
@@ -240,6 +252,14 @@ class FrictionParams:
     reload_table : ReloadTable, optional
         The calibrated levels of the tabulated form (required by it; kept, unused, with
         ``reload_form="paper"`` so that a calibration can be switched to the paper's form).
+    first_loading_form : str
+        The first-loading branch (:mod:`frictionlaw.forms`): ``"eq24"``, the paper's Eq. 24 with
+        ``C1, n1`` (the default, and the reading of every file written before the table
+        existed), or ``"tabulated"``, the computed first loading ``first_loading_table``
+        interpolated (:mod:`frictionlaw.first_loading`). The reload branch is scaled by
+        ``alpha1(p_hist)`` of the form that runs.
+    first_loading_table : FirstLoadingTable, optional
+        The computed first loading (required by ``"tabulated"``; kept, unused, with ``"eq24"``).
     geo_ratio : float
         Eq. 26's extra term for rough tools in ``[0, 10]``: ``tau = m [k alpha + f]`` with
         ``f = geo_ratio k alpha`` (the calibration finds ``tau_geo / tau_adh`` nearly independent
@@ -271,6 +291,8 @@ class FrictionParams:
     continuous_reload: bool = False
     reload_form: str = "paper"
     reload_table: ReloadTable | None = None
+    first_loading_form: str = "eq24"
+    first_loading_table: FirstLoadingTable | None = None
     geo_ratio: float = 0.0
     p_range: tuple | None = None
     k_t: TangentialStiffness | None = None
@@ -292,19 +314,9 @@ class FrictionParams:
                 f"continuous_reload must be True or False, got {self.continuous_reload!r}"
             )
         set_(self, "continuous_reload", bool(self.continuous_reload))
-        if self.reload_form not in RELOAD_FORMS:
-            raise ValueError(
-                f"reload_form must be one of {', '.join(RELOAD_FORMS)}, got {self.reload_form!r}"
-            )
-        if self.reload_table is not None:
-            if not isinstance(self.reload_table, ReloadTable):
-                raise ValueError(
-                    "reload_table must be a ReloadTable or None, got "
-                    f"{type(self.reload_table).__name__}"
-                )
-            self.reload_table.check_hardness(self.H)
-        elif self.reload_form == "tabulated":
-            raise ValueError("reload_form='tabulated' needs a reload_table (the calibrated levels)")
+        for branch in (RELOAD, FIRST_LOADING):
+            form = branch_form(branch, getattr(self, f"{branch}_form"))
+            form.check(getattr(self, f"{branch}_table"), self.H)
         set_(self, "geo_ratio", check_range("geo_ratio", self.geo_ratio, 0.0, 10.0))
         set_(self, "p_range", _check_p_range(self.p_range))
         if self.k_t is not None and not isinstance(self.k_t, TangentialStiffness):
@@ -318,6 +330,16 @@ class FrictionParams:
 
     def _with_law(self, law: dict[str, float]) -> "FrictionParams":
         return self.replace(**{k: law[k] for k in LAW_KEYS}, uncertainty=None)
+
+    def branch_forms(self) -> tuple[BranchForm, BranchForm]:
+        """The records of the forms that run, ``(first loading, reload)``.
+
+        Each a :class:`frictionlaw.forms.BranchForm`.
+        """
+        return (
+            branch_form(FIRST_LOADING, self.first_loading_form),
+            branch_form(RELOAD, self.reload_form),
+        )
 
     def edge_laws(self) -> dict[str, "FrictionParams"]:
         """``{"lower": FrictionParams, "upper": FrictionParams}``: the band's edge laws.
@@ -354,8 +376,14 @@ class FrictionParams:
 
     @property
     def mu_eff(self) -> float:
-        """Small-pressure Coulomb slope of Eq. 24, ``m k C1 / H`` (times ``1 + geo_ratio``)."""
-        return self.tau_max * self.C1 / self.H
+        """Small-pressure Coulomb slope ``tau / p`` at ``p -> 0`` of the first loading that runs.
+
+        Eq. 24: ``m k C1 / H``; the tabulated form: ``m k alpha_0 / p_0`` (its Coulomb line
+        below the lowest level); times ``1 + geo_ratio`` (Eq. 26).
+        """
+        slope0 = self.branch_forms()[0].slope0
+        assert slope0 is not None  # every first-loading form has one (BranchForm checks)
+        return self.tau_max * slope0(self)
 
     def replace(self, **changes: Any) -> "FrictionParams":
         """Return a copy with ``changes`` applied (validated again)."""
@@ -370,24 +398,25 @@ class FrictionParams:
         prov = d.pop("provenance")
         cont = d.pop("continuous_reload")
         p_range = d.pop("p_range")
-        form = d.pop("reload_form")
-        d.pop("reload_table")
+        for key in ("reload_form", "reload_table", "first_loading_form", "first_loading_table"):
+            d.pop(key)
         d.pop("k_t")
         d.pop("uncertainty")
-        law = None
-        if self.reload_table is not None:
-            law = self.reload_table.to_dict(form)
-        elif form != "paper":  # pragma: no cover - __post_init__ refuses it
-            raise ValueError(f"reload_form {form!r} without a reload_table")
+        laws = {}
+        for branch, key in BRANCH_KEYS.items():
+            data = getattr(self, f"{branch}_table")
+            if data is not None:
+                laws[key] = data.to_dict(getattr(self, f"{branch}_form"))
         doc = {
             "format": FORMAT_NAME,
-            "version": FORMAT_VERSION if law is not None else 1,
+            "version": max([1, *(_SINCE[k] for k in laws)]),
             "units": dict(_UNITS),
             "parameters": d,
             "options": {"continuous_reload": cont},
         }
-        if law is not None:
-            doc["reload_law"] = law
+        for key in ("reload_law", "first_loading_law"):
+            if key in laws:
+                doc[key] = laws[key]
         if p_range is not None:
             doc["calibrated_range"] = {"p_min": p_range[0], "p_max": p_range[1], "unit": "Pa"}
         if self.k_t is not None:
@@ -429,8 +458,19 @@ class FrictionParams:
                 f"{source}: unsupported version {version!r}; this runtime reads versions "
                 f"{', '.join(map(str, _READ_VERSIONS))} (an integer)"
             )
-        if version == 1 and "reload_law" in doc:
-            raise ValueError(f"{source}: 'reload_law' needs version 2, the file says version 1")
+        for key, since in _SINCE.items():
+            if key in doc and version < since:
+                raise ValueError(
+                    f"{source}: {key!r} needs version {since} or later, the file says version "
+                    f"{version}"
+                )
+        for key, what in _UNREAD.items():
+            if key in doc:
+                raise ValueError(
+                    f"{source}: {key!r} ({what}) is not read by this runtime; it changes the "
+                    "law, so the file is refused rather than run without it: use a runtime that "
+                    "reads it"
+                )
         for key in ("units", "options", "provenance"):
             if not isinstance(doc.get(key, {}), dict):
                 raise ValueError(f"{source}: {key!r} must be a JSON object, got {doc[key]!r}")
@@ -463,15 +503,16 @@ class FrictionParams:
         k_t = None if k_doc is None else TangentialStiffness.from_dict(k_doc, source=source)
         u_doc = doc.get("uncertainty")
         unc = None if u_doc is None else Uncertainty.from_dict(u_doc, source=source)
-        form, table = "paper", None  # version 1: the paper's Eq. 25
-        if "reload_law" in doc:
-            form, table = ReloadTable.from_dict(doc["reload_law"], source=source)
+        branches: dict[str, Any] = {}  # version 1: the paper's Eqs. 24-25
+        for branch, key in BRANCH_KEYS.items():
+            if key in doc:
+                form, data = read_branch(branch, doc[key], source)
+                branches[f"{branch}_form"], branches[f"{branch}_table"] = form, data
         try:
             return cls(
                 **par,
                 continuous_reload=opts.get("continuous_reload", False),
-                reload_form=form,
-                reload_table=table,
+                **branches,
                 p_range=p_range,
                 k_t=k_t,
                 provenance=doc.get("provenance", {}),
