@@ -147,6 +147,9 @@ C
 C
 {{ libm("log1p") }}
 C
+{% if first %}
+{% include first.template %}
+{% else %}
 C=======================================================================
 C     Eq. 24 (frictionlaw's sbmf_first_scalar): TAU = TMAX g(P C1/H;
 C     n1), DTAU = dTAU/dP; G1 = the cache value for p_hist = P,
@@ -179,6 +182,7 @@ C=======================================================================
       RETURN
       END
 C
+{% endif %}
 {% if reload %}
 {% include "core/sbmf_reload_table.f" %}
 {% else %}
@@ -201,16 +205,30 @@ C=======================================================================
 {% if continuous %}
       DOUBLE PRECISION LNX2H, LG2H, SCL
 {% endif %}
+{% if first %}
+      DOUBLE PRECISION SBMF_LPROD, SBMF_LNA1
+      EXTERNAL SBMF_LPROD, SBMF_LNA1
+{% if continuous %}
+      DOUBLE PRECISION SBMF_SMINL
+      EXTERNAL SBMF_SMINL
+{% endif %}
+      DOUBLE PRECISION TMAX, H, C2, XN2, C2H
+{% else %}
       DOUBLE PRECISION SBMF_LPROD, SBMF_SMINL
       EXTERNAL SBMF_LPROD, SBMF_SMINL
       DOUBLE PRECISION TMAX, H, C1, XN1, C2, XN2, C1H, C2H
+{% endif %}
       PARAMETER (TMAX = {{ law.TMAX | double }})
       PARAMETER (H = {{ law.H | double }})
+{% if not first %}
       PARAMETER (C1 = {{ law.C1 | double }})
       PARAMETER (XN1 = {{ law.XN1 | double }})
+{% endif %}
       PARAMETER (C2 = {{ law.C2 | double }})
       PARAMETER (XN2 = {{ law.XN2 | double }})
+{% if not first %}
       PARAMETER (C1H = C1/H)
+{% endif %}
       PARAMETER (C2H = C2/H)
       G1OUT = G1H
       IF (.NOT. (P .GT. 0.0D0 .AND. PH .GT. 0.0D0)) THEN
@@ -221,7 +239,11 @@ C=======================================================================
       IF (G1H .GT. 0.0D0) THEN
         LNA1H = -G1H
       ELSE
+{% if first %}
+        LNA1H = SBMF_LNA1(PH)
+{% else %}
         LNA1H = SBMF_SMINL(SBMF_LPROD(PH, C1H), XN1)
+{% endif %}
         G1OUT = -LNA1H
       END IF
       LNX2 = SBMF_LPROD(P, C2H) - LNA1H

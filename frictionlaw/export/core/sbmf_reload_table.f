@@ -146,15 +146,29 @@ C=======================================================================
 {% if continuous %}
       DOUBLE PRECISION LG2H
 {% endif %}
+{% if first %}
+      DOUBLE PRECISION SBMF_LNA1
+      EXTERNAL SBMF_LNA1
+{% if continuous %}
+      DOUBLE PRECISION SBMF_SMINL
+      EXTERNAL SBMF_SMINL
+{% endif %}
+      DOUBLE PRECISION TMAX, H, S2, LNH, LNDMAX
+{% else %}
       DOUBLE PRECISION SBMF_LPROD, SBMF_SMINL
       EXTERNAL SBMF_LPROD, SBMF_SMINL
       DOUBLE PRECISION TMAX, H, C1, XN1, S2, C1H, LNH, LNDMAX
+{% endif %}
       PARAMETER (TMAX = {{ law.TMAX | double }})
       PARAMETER (H = {{ law.H | double }})
+{% if not first %}
       PARAMETER (C1 = {{ law.C1 | double }})
       PARAMETER (XN1 = {{ law.XN1 | double }})
+{% endif %}
       PARAMETER (S2 = {{ reload.s2 | double }})
+{% if not first %}
       PARAMETER (C1H = C1/H)
+{% endif %}
 C     ln H, as the runtime's log(H) gives it
       PARAMETER (LNH = {{ ln_h | double }})
       PARAMETER (LNDMAX = {{ ln_d_max | double }})
@@ -170,7 +184,11 @@ C     ln Q0: below P/PH = Q0 the branch starts quadratically
       IF (G1H .GT. 0.0D0) THEN
         LNA1H = -G1H
       ELSE
+{% if first %}
+        LNA1H = SBMF_LNA1(PH)
+{% else %}
         LNA1H = SBMF_SMINL(SBMF_LPROD(PH, C1H), XN1)
+{% endif %}
         G1OUT = -LNA1H
       END IF
       X = PH/H
