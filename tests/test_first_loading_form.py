@@ -312,12 +312,3 @@ def test_bad_files_are_refused_naming_the_field(edit, field):
         FrictionParams.from_dict(doc, source="p.json")
     assert field in str(exc.value) and "p.json" in str(exc.value)
 
-
-def test_export_refuses_a_tabulated_first_loading(tmp_path, capsys):
-    from frictionlaw.export.cli import main
-
-    path = params().to_json(tmp_path / "p.json")
-    assert main(["abaqus-fric", "--params", str(path), "--out", str(tmp_path / "x")]) == 2
-    err = capsys.readouterr().err
-    assert "first loading form 'tabulated'" in err and "not carried by the Fortran" in err
-    assert not (tmp_path / "x").exists()
