@@ -2,12 +2,15 @@
   The law core of every generated Fortran routine (fixed form, IMPLICIT NONE, double
   precision), included at the end of each host's entry template. It follows
   frictionlaw._kernels statement by statement (smooth_min_log, log_product,
-  sbmf_first_scalar, sbmf_reload_scalar or, for the tabulated reload form, the routines of
-  core/sbmf_reload_table.f, traction_row), so that the compiled routine and the runtime agree
-  to rounding. Rendered with the values of frictionlaw.export._law.core_context: law (TMAX,
-  H, C1, XN1, C2, XN2 in the host's units), continuous (continuous_reload), reload (the
-  tabulated form's ReloadSpec: its knots and slopes as PARAMETER arrays, no DATA or SAVE; None
-  for the paper's Eq. 25), kt (the StiffnessSpec), ln_small, ln_sat (the smooth minimum's
+  sbmf_first_scalar or, for the tabulated first loading, the routines of the template its
+  record names (core/sbmf_first_table.f), sbmf_reload_scalar or, for the tabulated reload
+  form, the routines of core/sbmf_reload_table.f, traction_row), so that the compiled routine
+  and the runtime agree to rounding. Rendered with the values of
+  frictionlaw.export._law.core_context: law (TMAX, H, C1, XN1, C2, XN2 in the host's units),
+  continuous (continuous_reload), first (the first-loading form's FirstSpec: its knots and
+  slopes as PARAMETER arrays; None for Eq. 24), reload (the tabulated form's ReloadSpec: its
+  knots and slopes as PARAMETER arrays, no DATA or SAVE; None for the paper's Eq. 25), kt
+  (the StiffnessSpec), ln_small, ln_sat (the smooth minimum's
   branch points), ln_d_max (the tabulated form's bound on ln dtau/dp where it is formed in
   logs), ln_h (ln H in the host's unit). A new law form changes this file (or the one it
   includes) and core_context, nothing per target. At its end core/sbmf_guards.f (the guards'
@@ -188,10 +191,12 @@ C
 {% else %}
 C=======================================================================
 C     Eq. 25 below p_hist (frictionlaw's sbmf_reload_scalar):
-C     TAU = TMAX a1h g(x2; n2), a1h = alpha1(PH), x2 = P C2/(H a1h),
+C     TAU = TMAX a1h g(x2; n2), a1h = alpha1(PH) of the first loading
+C     that runs, x2 = P C2/(H a1h),
 {% if continuous %}
 C     all formed in logs (a1h -> 0 cannot overflow). Continuous
-C     variant: divided by g(x2(PH); n2) to meet Eq. 24 at PH.
+C     variant: divided by g(x2(PH); n2) to meet the first loading at
+C     PH.
 {% else %}
 C     all formed in logs (a1h -> 0 cannot overflow).
 {% endif %}
@@ -288,7 +293,8 @@ C       alpha1(PH) cancels
 C
 {% endif %}
 C=======================================================================
-C     Shear limit (Eqs. 24-26): Eq. 25 while P < PH, else Eq. 24;
+C     Shear limit (Eqs. 24-26): Eq. 25 while P < PH, else the first
+C     loading (SBMF_FIRST: Eq. 24 or the tabulated first loading);
 C     P <= 0 gives 0. G1OUT: the cache value for max(PH, P).
 C=======================================================================
       SUBROUTINE SBMF_SHEAR(P, PH, G1H, TAU, DTAU, G1OUT)
