@@ -111,8 +111,9 @@ def table_error(params, table_p, table_mu, n_check=200_000):
 
 
 def build_table(params, tol=1e-3):
-    """Pressures and coefficients so that the table's shear is within ``tol tau_max`` of the
-    first loading (``shear_limit`` at ``p_hist = 0``: the form the parameter file runs).
+    """Pressures and coefficients so that the table's shear is within ``tol tau_max`` of the law.
+
+    The law's first loading: ``shear_limit`` at ``p_hist = 0``, the form the parameter file runs.
 
     Parameters
     ----------
