@@ -356,7 +356,9 @@ def test_tabulated_first_loading_node_by_node(slide_first):
     """The tabulated first loading in ccx, node by node as above: first loading at the pressures
     ccx reaches beyond the old history (step 5), and the reload branch scaled by the table's
     alpha1(p_hist). The example file's Eq. 24 (C1 = 2, n1 = 2) is far from it: the check tells
-    the first-loading forms apart."""
+    the first-loading forms apart. Measured: within 2.1e-7 relative over 336 node-times (ccx
+    prints 7 digits), 44 of them on first loading between 416 and 680 MPa; Eq. 24 up to 32 %
+    away."""
     dat, params = slide_first
     eq24 = dataclasses.replace(params, first_loading_form="eq24")
     worst, off_eq24, checked, _, p_hist, first = _node_by_node(dat, params, eq24)
