@@ -311,4 +311,3 @@ def test_bad_files_are_refused_naming_the_field(edit, field):
     with pytest.raises(ValueError) as exc:
         FrictionParams.from_dict(doc, source="p.json")
     assert field in str(exc.value) and "p.json" in str(exc.value)
-

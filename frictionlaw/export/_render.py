@@ -47,7 +47,7 @@ class Job:
     kt : StiffnessSpec or None
         The stick stiffness source (None for a table).
     table : FrictionTable or None
-        Eq. 24's friction-coefficient table (table targets).
+        The first loading's friction-coefficient table (table targets).
     header : tuple of str
         The provenance lines every generated file starts with.
     law : dict
