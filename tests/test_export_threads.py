@@ -113,8 +113,9 @@ def atomic_only(body):
     return bad
 
 
-#: the k_t table's and the reload table's PARAMETER arrays are checked too
-KEYS = ("soft", "tab_flat")
+#: the k_t table's, the reload table's and the first-loading table's PARAMETER arrays are checked
+#: too
+KEYS = ("soft", "tab_flat", "first_bump")
 
 
 @pytest.fixture(scope="module")
@@ -319,7 +320,9 @@ def _concurrently(calls):
     + [("lsdyna-usrfrc", "SP", "soft"), ("lsdyna-usrfrc-mpp", "SP", "soft")]
     # the tabulated reload form: its core in an implicit, an explicit and an SP host routine
     + [("abaqus-fric", "DP", "tab_flat"), ("abaqus-vfriction", "DP", "tab_flat")]
-    + [("lsdyna-usrfrc", "SP", "tab_flat")],
+    + [("lsdyna-usrfrc", "SP", "tab_flat")]
+    # the tabulated first loading (under the tabulated reload form)
+    + [("abaqus-fric", "DP", "first_bump")],
 )
 def test_concurrent_calls_equal_serial(tmp_path_factory, params_files, target, prec, key):
     files, _ = exp.render(target, params_files[key], k_t=None if target != "lsdyna" else 5e12)

@@ -8,11 +8,12 @@ and activate them. See ``docs/fe_codes.md``.
 Targets: ``abaqus-fric``, ``abaqus-vfric``, ``abaqus-vfriction``, ``lsdyna-usrfrc``,
 ``lsdyna-usrfrc-mpp``, ``lsdyna``, ``ansys-userfric`` (Fortran), ``calculix`` (the ``abaqus-fric``
 routine with a patch for CalculiX 2.20 and the script that builds ``ccx`` with both),
-``abaqus-table``, ``lsdyna-table`` (Eq. 24 as a friction-coefficient table; no history).
+``abaqus-table``, ``lsdyna-table`` (the first loading, Eq. 24 or the tabulated form, as a
+friction-coefficient table; no history).
 
 Each target is one :class:`Target` record in :data:`REGISTRY`; its Fortran, README sections and
 table decks are template files shipped in this package (one folder per host, the law core in
-``core/sbmf_core.f``). :func:`render` and :func:`export` read the record alone; the command is
+``core/sbmf_core.f``, the tabulated first loading's part in ``core/sbmf_first_table.f``). :func:`render` and :func:`export` read the record alone; the command is
 :mod:`frictionlaw.export.cli`, the host emulation :mod:`frictionlaw.export.harness`.
 """
 

@@ -16,7 +16,7 @@ import numpy as np
 from sbmf_cli import ParameterError
 
 from .. import __version__
-from .._codes import Q_START
+from .._codes import FIRST_EQ24, FIRST_TABULATED, Q_START
 from ._origin import m_origin
 
 __all__ = [
@@ -27,6 +27,8 @@ __all__ = [
     "law_constants",
     "ReloadSpec",
     "reload_spec",
+    "FirstSpec",
+    "first_spec",
     "GuardSpec",
     "guard_spec",
     "CUT_FACTOR",
@@ -178,6 +180,76 @@ def reload_spec(params, units):
     )
 
 
+@dataclass(frozen=True)
+class FirstSpec:
+    """A first-loading form other than Eq. 24 as the Fortran core bakes it in.
+
+    The form's record (:class:`frictionlaw.forms.BranchForm`) lowers its data to the kernels'
+    block (:mod:`frictionlaw._kernels`, "Coefficient layout"); the core runs that block, so
+    ``u = ln(p_j / H)``, ``v = ln alpha_j`` and the slopes ``d = dv/du`` are exactly the
+    runtime's (dimensionless: no unit system changes them). ``template`` is the record's
+    ``export_template`` (``core/sbmf_first_table.f``), ``name`` and ``equation`` its words;
+    ``p`` (the levels in the host's stress unit) and ``alpha`` are read back from the knots for
+    the provenance and the README; ``mu`` is the Coulomb slope below the lowest level,
+    ``tau_max exp(v_0 - u_0) / H`` formed as the kernel forms it from ``tau_max`` and ``H`` in
+    the host's unit.
+    """
+
+    name: str
+    equation: str
+    template: str
+    p: tuple
+    alpha: tuple
+    u: tuple
+    v: tuple
+    d: tuple
+    mu: float
+
+    def describe(self, units):
+        """Lines for the provenance header: the form, its levels and the rule between them."""
+        s = units.stress_unit
+        return [
+            f"first-loading form: {self.name} ({self.equation})",
+            f"first-loading levels p ({s}): " + ", ".join(f"{v:.10g}" for v in self.p),
+            "first-loading alpha: " + ", ".join(f"{v:.10g}" for v in self.alpha),
+            "first-loading interpolation: monotone cubic Hermite (Fritsch-Carlson) of ln alpha "
+            "over ln(p/H) between the levels; below the first level the Coulomb line "
+            "alpha_0 p/p_0; above the last level the power law of the end slope "
+            f"(d ln alpha/d ln p = {self.d[-1]:.6g}), capped at alpha = 1",
+        ]
+
+
+def first_spec(params, units):
+    """The first-loading form's :class:`FirstSpec` in ``units``; None for Eq. 24.
+
+    ``ValueError`` if the form lowers to a kernel form the Fortran core does not carry.
+    """
+    form = params.branch_forms()[0]
+    code, block = form.lower(params.first_loading_table, params.H)
+    if code == FIRST_EQ24:
+        return None
+    nj = int(block[0]) if block.size else 0
+    if code != FIRST_TABULATED or nj < 2 or form.export_template is None:
+        raise ValueError(
+            f"the first-loading form {form.name!r} has no Fortran law core (kernel form {code}, "
+            f"{nj} levels, template {form.export_template!r})"
+        )
+    u, v, d = (tuple(block[1 + i * nj : 1 + (i + 1) * nj].tolist()) for i in range(3))
+    tm = params.tau_max * units.stress
+    h = params.H * units.stress
+    return FirstSpec(
+        form.name,
+        form.equation,
+        form.export_template,
+        tuple(h * math.exp(x) for x in u),
+        tuple(math.exp(x) for x in v),
+        u,
+        v,
+        d,
+        tm * math.exp(v[0] - u[0]) / h,
+    )
+
+
 #: a pressure above this multiple of H cannot be the model's (the deck's units are not the
 #: routine's); contact pressures stay below a few H in any forming model
 UNIT_LIMIT_H = 100.0
@@ -322,12 +394,13 @@ def core_context(params, units, kt):
     dict
         ``law`` (``TMAX, H, C1, XN1, C2, XN2`` in the host's units), ``continuous``
         (``params.continuous_reload``), ``reload`` (the tabulated reload form's
-        :class:`ReloadSpec`, None for the paper's Eq. 25), ``kt``, and ``ln_small``,
+        :class:`ReloadSpec`, None for the paper's Eq. 25), ``first`` (the first-loading form's
+        :class:`FirstSpec`, None for Eq. 24), ``kt``, and ``ln_small``,
         ``ln_sat``: the smooth minimum's branch points ``ln(1e-4)`` and ``ln(350)`` of
         ``frictionlaw._kernels``; ``ln_d_max``, the tabulated form's bound 700 on
         ``ln(dtau/dp)`` where it is formed in logs; ``ln_h``, ``ln H`` in the host's unit (as
-        the runtime's ``log(H)`` gives it, for the tabulated form's ``ln(p_hist/H)`` where the
-        quotient is not a normal double); ``ln_q_start``, ``ln Q_START``, below which the
+        the runtime's ``log(H)`` gives it, for the tabulated forms' ``ln(p_hist/H)`` and
+        ``ln(p/H)`` where the quotient is not a normal double); ``ln_q_start``, ``ln Q_START``, below which the
         tabulated branch starts quadratically; ``guard``, the :class:`GuardSpec` (the unit
         system, ``100 H``, ``p_max``) every routine checks.
     """
@@ -336,6 +409,7 @@ def core_context(params, units, kt):
         "law": law,
         "continuous": params.continuous_reload,
         "reload": reload_spec(params, units),
+        "first": first_spec(params, units),
         "kt": kt,
         "ln_small": math.log(1e-4),
         "ln_sat": math.log(350.0),
@@ -390,8 +464,15 @@ def header_lines(target, params, params_path, sha, units, kt):
         f"m={params.m!r} k={params.k * units.stress!r} {s}",
         *m_origin(params).header(),
         f"H={params.H * units.stress!r} {s} geo_ratio={params.geo_ratio!r}",
-        f"C1={params.C1!r} n1={params.n1!r}",
     ]
+    first = first_spec(params, units)
+    if first is None:
+        lines += [
+            "first-loading form: eq24 (Eq. 24, alpha1 = g(p C1/H; n1))",
+            f"C1={params.C1!r} n1={params.n1!r}",
+        ]
+    else:
+        lines += first.describe(units)
     spec = reload_spec(params, units)
     if spec is None:
         lines += [
@@ -403,7 +484,7 @@ def header_lines(target, params, params_path, sha, units, kt):
     lines += [
         f"continuous_reload={params.continuous_reload}",
         f"tau_max=m k (1+geo_ratio)={params.tau_max * units.stress!r} {s}",
-        f"mu_eff=tau_max C1/H={params.mu_eff!r}",
+        f"mu_eff={'tau_max C1/H' if first is None else 'tau_max alpha_0/p_0'}={params.mu_eff!r}",
     ]
     if params.p_range is not None:
         lo, hi = (v * units.stress for v in params.p_range)

@@ -52,7 +52,7 @@ class Job:
     kt : StiffnessSpec or None
         The stick stiffness source (None for a table).
     table : FrictionTable or None
-        Eq. 24's friction-coefficient table (table targets).
+        The first loading's friction-coefficient table (table targets).
     header : tuple of str
         The provenance lines every generated file starts with.
     law : dict
@@ -74,6 +74,26 @@ def _sha256(path):
         return hashlib.file_digest(fh, "sha256").hexdigest()
 
 
+def _check_exportable(params, path):
+    """``ValueError`` if a form the file runs has no law-core template (it would export wrong)."""
+    for form in params.branch_forms():
+        if form.export_template is None:
+            other = "eq24" if form.branch == "first_loading" else "paper"
+            raise ValueError(
+                f"{path}: its {form.branch.replace('_', ' ')} form {form.name!r} ({form.equation}) "
+                "is not carried by the Fortran law core yet, and an export would run another "
+                f"law: run the file in the Python runtime, or switch the form to {other!r} "
+                f"(FrictionParams.replace({form.branch}_form={other!r}) keeps the calibration's "
+                "table in the file) and export that"
+            )
+    if params.flattening is not None:
+        raise ValueError(
+            f"{path}: the file carries a flattening block (issue 43) and no host routine "
+            "evaluates flattening under bulk strain yet: an export would run the law without it; "
+            "export a calibration made without --flattening"
+        )
+
+
 def plan(target, params_path, *, units="SI", k_t=None, table_tol=1e-3, accept_failed=False):
     """Decide an export (:class:`Job`); raises ValueError (or FileNotFoundError) on bad input.
 
@@ -93,12 +113,7 @@ def plan(target, params_path, *, units="SI", k_t=None, table_tol=1e-3, accept_fa
         )
     params_path = Path(params_path)
     params = FrictionParams.from_json(params_path, accept_failed=accept_failed)
-    if params.flattening is not None:
-        raise ValueError(
-            f"{params_path}: the file carries a flattening block (issue 43) and no host routine "
-            "evaluates flattening under bulk strain yet: an export would run the law without it; "
-            "export a calibration made without --flattening"
-        )
+    _check_exportable(params, params_path)
     sha = _sha256(params_path)
     us = UNIT_SYSTEMS[units]
     kt, table = record.form.decide(params, us, k_t, table_tol)

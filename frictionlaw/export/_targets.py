@@ -4,8 +4,8 @@ A :class:`Target` says everything the export writes for a target and how it is t
 host, the generated file and its template, the README's host section, the file's comment style,
 the extra files, and the harness that drives the routine as the host does. Its ``form`` says
 what the file carries: a :class:`Routine` (the law with its history as a Fortran user routine;
-its entry template includes the law core ``core/sbmf_core.f``) or a :class:`Table` (Eq. 24 as
-a friction-coefficient table). Templates are named by their path below ``frictionlaw/export``
+its entry template includes the law core ``core/sbmf_core.f``) or a :class:`Table` (the first
+loading as a friction-coefficient table). Templates are named by their path below ``frictionlaw/export``
 (see :mod:`frictionlaw.export._templates`) or by an absolute path.
 
 Adding a target is one record here (or a :func:`register` call) and its templates; a new law
@@ -142,7 +142,8 @@ class Routine:
 class Table:
     """The first-loading law as a friction-coefficient table, a function of the pressure alone.
 
-    Eq. 24 only: a table carries no history.
+    The first loading of the form the parameter file runs (Eq. 24 or the tabulated first
+    loading): a table carries no history.
     """
 
     frame: ClassVar[str] = "readme/table.md"

@@ -2,12 +2,15 @@
   The law core of every generated Fortran routine (fixed form, IMPLICIT NONE, double
   precision), included at the end of each host's entry template. It follows
   frictionlaw._kernels statement by statement (smooth_min_log, log_product,
-  sbmf_first_scalar, sbmf_reload_scalar or, for the tabulated reload form, the routines of
-  core/sbmf_reload_table.f, traction_row), so that the compiled routine and the runtime agree
-  to rounding. Rendered with the values of frictionlaw.export._law.core_context: law (TMAX,
-  H, C1, XN1, C2, XN2 in the host's units), continuous (continuous_reload), reload (the
-  tabulated form's ReloadSpec: its knots and slopes as PARAMETER arrays, no DATA or SAVE; None
-  for the paper's Eq. 25), kt (the StiffnessSpec), ln_small, ln_sat (the smooth minimum's
+  sbmf_first_scalar or, for the tabulated first loading, the routines of the template its
+  record names (core/sbmf_first_table.f), sbmf_reload_scalar or, for the tabulated reload
+  form, the routines of core/sbmf_reload_table.f, traction_row), so that the compiled routine
+  and the runtime agree to rounding. Rendered with the values of
+  frictionlaw.export._law.core_context: law (TMAX, H, C1, XN1, C2, XN2 in the host's units),
+  continuous (continuous_reload), first (the first-loading form's FirstSpec: its knots and
+  slopes as PARAMETER arrays; None for Eq. 24), reload (the tabulated form's ReloadSpec: its
+  knots and slopes as PARAMETER arrays, no DATA or SAVE; None for the paper's Eq. 25), kt
+  (the StiffnessSpec), ln_small, ln_sat (the smooth minimum's
   branch points), ln_d_max (the tabulated form's bound on ln dtau/dp where it is formed in
   logs), ln_h (ln H in the host's unit). A new law form changes this file (or the one it
   includes) and core_context, nothing per target. At its end core/sbmf_guards.f (the guards'
@@ -147,6 +150,9 @@ C
 C
 {{ libm("log1p") }}
 C
+{% if first %}
+{% include first.template %}
+{% else %}
 C=======================================================================
 C     Eq. 24 (frictionlaw's sbmf_first_scalar): TAU = TMAX g(P C1/H;
 C     n1), DTAU = dTAU/dP; G1 = the cache value for p_hist = P,
@@ -179,15 +185,18 @@ C=======================================================================
       RETURN
       END
 C
+{% endif %}
 {% if reload %}
 {% include "core/sbmf_reload_table.f" %}
 {% else %}
 C=======================================================================
 C     Eq. 25 below p_hist (frictionlaw's sbmf_reload_scalar):
-C     TAU = TMAX a1h g(x2; n2), a1h = alpha1(PH), x2 = P C2/(H a1h),
+C     TAU = TMAX a1h g(x2; n2), a1h = alpha1(PH) of the first loading
+C     that runs, x2 = P C2/(H a1h),
 {% if continuous %}
 C     all formed in logs (a1h -> 0 cannot overflow). Continuous
-C     variant: divided by g(x2(PH); n2) to meet Eq. 24 at PH.
+C     variant: divided by g(x2(PH); n2) to meet the first loading at
+C     PH.
 {% else %}
 C     all formed in logs (a1h -> 0 cannot overflow).
 {% endif %}
@@ -201,16 +210,30 @@ C=======================================================================
 {% if continuous %}
       DOUBLE PRECISION LNX2H, LG2H, SCL
 {% endif %}
+{% if first %}
+      DOUBLE PRECISION SBMF_LPROD, SBMF_LNA1
+      EXTERNAL SBMF_LPROD, SBMF_LNA1
+{% if continuous %}
+      DOUBLE PRECISION SBMF_SMINL
+      EXTERNAL SBMF_SMINL
+{% endif %}
+      DOUBLE PRECISION TMAX, H, C2, XN2, C2H
+{% else %}
       DOUBLE PRECISION SBMF_LPROD, SBMF_SMINL
       EXTERNAL SBMF_LPROD, SBMF_SMINL
       DOUBLE PRECISION TMAX, H, C1, XN1, C2, XN2, C1H, C2H
+{% endif %}
       PARAMETER (TMAX = {{ law.TMAX | double }})
       PARAMETER (H = {{ law.H | double }})
+{% if not first %}
       PARAMETER (C1 = {{ law.C1 | double }})
       PARAMETER (XN1 = {{ law.XN1 | double }})
+{% endif %}
       PARAMETER (C2 = {{ law.C2 | double }})
       PARAMETER (XN2 = {{ law.XN2 | double }})
+{% if not first %}
       PARAMETER (C1H = C1/H)
+{% endif %}
       PARAMETER (C2H = C2/H)
       G1OUT = G1H
       IF (.NOT. (P .GT. 0.0D0 .AND. PH .GT. 0.0D0)) THEN
@@ -221,7 +244,11 @@ C=======================================================================
       IF (G1H .GT. 0.0D0) THEN
         LNA1H = -G1H
       ELSE
+{% if first %}
+        LNA1H = SBMF_LNA1(PH)
+{% else %}
         LNA1H = SBMF_SMINL(SBMF_LPROD(PH, C1H), XN1)
+{% endif %}
         G1OUT = -LNA1H
       END IF
       LNX2 = SBMF_LPROD(P, C2H) - LNA1H
@@ -266,7 +293,8 @@ C       alpha1(PH) cancels
 C
 {% endif %}
 C=======================================================================
-C     Shear limit (Eqs. 24-26): Eq. 25 while P < PH, else Eq. 24;
+C     Shear limit (Eqs. 24-26): Eq. 25 while P < PH, else the first
+C     loading (SBMF_FIRST: Eq. 24 or the tabulated first loading);
 C     P <= 0 gives 0. G1OUT: the cache value for max(PH, P).
 C=======================================================================
       SUBROUTINE SBMF_SHEAR(P, PH, G1H, TAU, DTAU, G1OUT)

@@ -4,8 +4,9 @@
   reload_form = "tabulated": SBMF_SMINS (frictionlaw._kernels.smooth_min_log_slope),
   SBMF_RTAB (reload_table_at) and SBMF_RELOAD (sbmf_reload_table_scalar), statement by
   statement. Rendered with core/sbmf_core.f's values (frictionlaw.export._law.core_context):
-  law, continuous, reload (the ReloadSpec: knots and slopes as PARAMETER arrays), ln_small,
-  ln_sat, ln_d_max, ln_h.
+  law, continuous, reload (the ReloadSpec: knots and slopes as PARAMETER arrays), first (None:
+  Eq. 24's alpha1(p_hist); else SBMF_LNA1 of the first-loading template), ln_small, ln_sat,
+  ln_d_max, ln_h.
 #}
 C=======================================================================
 C     ln G and the logarithmic slope SL = X dG/dX / G = 2Y/sinh(2Y) of
@@ -122,13 +123,15 @@ C
 C=======================================================================
 C     Eq. 25 tabulated over p_hist (frictionlaw's
 C     sbmf_reload_table_scalar): TAU = TMAX a1h g(x2; n2), a1h =
-C     alpha1(PH), (C2, n2) of the table at PH (SBMF_RTAB),
+C     alpha1(PH) of the first loading that runs, (C2, n2) of the
+C     table at PH (SBMF_RTAB),
 C     x2h = PH C2/(H a1h), x2 = x2h (P/PH)**S2 (below P/PH = Q0 a C1
 C     quadratic start, finite DTAU at P -> 0), all formed in logs:
 C     ln x2h = ln(PH/H) + ln C2 - ln a1h and ln(P/PH), one log of each
 C     quotient where it is a normal double (else of its terms).
 {% if continuous %}
-C     Continuous variant: divided by g(x2h; n2) to meet Eq. 24 at PH.
+C     Continuous variant: divided by g(x2h; n2) to meet the first
+C     loading at PH.
 {% endif %}
 C     DTAU = TAU SLP SL(x2)/P, SL = x2 g'/g (SBMF_SMINS), SLP =
 C     d ln x2/d ln P, held below the largest double;
@@ -146,15 +149,29 @@ C=======================================================================
 {% if continuous %}
       DOUBLE PRECISION LG2H
 {% endif %}
+{% if first %}
+      DOUBLE PRECISION SBMF_LNA1
+      EXTERNAL SBMF_LNA1
+{% if continuous %}
+      DOUBLE PRECISION SBMF_SMINL
+      EXTERNAL SBMF_SMINL
+{% endif %}
+      DOUBLE PRECISION TMAX, H, S2, LNH, LNDMAX
+{% else %}
       DOUBLE PRECISION SBMF_LPROD, SBMF_SMINL
       EXTERNAL SBMF_LPROD, SBMF_SMINL
       DOUBLE PRECISION TMAX, H, C1, XN1, S2, C1H, LNH, LNDMAX
+{% endif %}
       PARAMETER (TMAX = {{ law.TMAX | double }})
       PARAMETER (H = {{ law.H | double }})
+{% if not first %}
       PARAMETER (C1 = {{ law.C1 | double }})
       PARAMETER (XN1 = {{ law.XN1 | double }})
+{% endif %}
       PARAMETER (S2 = {{ reload.s2 | double }})
+{% if not first %}
       PARAMETER (C1H = C1/H)
+{% endif %}
 C     ln H, as the runtime's log(H) gives it
       PARAMETER (LNH = {{ ln_h | double }})
       PARAMETER (LNDMAX = {{ ln_d_max | double }})
@@ -170,7 +187,11 @@ C     ln Q0: below P/PH = Q0 the branch starts quadratically
       IF (G1H .GT. 0.0D0) THEN
         LNA1H = -G1H
       ELSE
+{% if first %}
+        LNA1H = SBMF_LNA1(PH)
+{% else %}
         LNA1H = SBMF_SMINL(SBMF_LPROD(PH, C1H), XN1)
+{% endif %}
         G1OUT = -LNA1H
       END IF
       X = PH/H
