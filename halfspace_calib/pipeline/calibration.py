@@ -31,7 +31,7 @@ from . import effects as _eff
 from . import heldout as _held
 from .conformity import punch_edge_problem
 from .fit import FirstLoadingFit, ReloadFit
-from .params import make_params
+from .params import make_params, timings_of
 from .registry import REGISTRY
 from .reload_table import ReloadTableFit
 from .resolution import ResolutionCheck, fit_sweeps, resolution_check
@@ -266,7 +266,30 @@ class Calibration:
             "resolution_check": None if self.resolution is None else self.resolution.as_dict(),
             "problems": self.problems(),
             "seconds": self.seconds,
+            "timings": self.timings(),
         }
+
+    def timings(self):
+        """``{what: seconds}``: the run's wall times, which ``params.json`` does not hold.
+
+        The calibration's whole time, its sweeps', and every time its records carry (the
+        tabulated reload fit, each effect, the resolution check) by their path in the
+        parameter file's provenance (:func:`~.params.timeless` leaves them out of it).
+        """
+        out = {"calibration": self.seconds, "sweeps": self.sweeps.seconds}
+        records = {
+            "fit": {
+                "reload_tabulated": None
+                if self.reload_table is None
+                else self.reload_table.summary()
+            },
+            "extra": {
+                "effects": _effects_record(self.effects),
+                "resolution_check": None if self.resolution is None else self.resolution.as_dict(),
+            },
+        }
+        out.update(timings_of(records))
+        return out
 
 
 def calibrate(scene=None, *, progress=True, surfaces=None):
