@@ -1,8 +1,25 @@
-"""``python -m halfspace_calib``: the calibration command line (same as ``halfspace-calib``)."""
+"""``halfspace-calib`` (and ``python -m halfspace_calib``): the entry point, light and at once.
+
+The command's modules load NumPy, SciPy, matplotlib and numba (seconds on a cold start); they are
+imported here inside :func:`sbmf_cli.interruptible`, so that Ctrl-C at any moment after the
+interpreter has started ends the command with one line and exit 130, and ``--version`` answers
+without them.
+"""
 
 import sys
 
-from .cli import main
+from sbmf_cli import interruptible, print_version
+
+
+@interruptible("halfspace-calib", "the calibration")
+def main(argv=None):
+    """Entry point of ``halfspace-calib``: :func:`halfspace_calib.cli.main`, interrupts handled."""
+    if print_version("halfspace-calib", argv):
+        return 0
+    from .cli import main as command
+
+    return command(argv)
+
 
 if __name__ == "__main__":
     sys.exit(main())

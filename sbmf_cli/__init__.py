@@ -37,6 +37,7 @@ from ._options import (
     add_version,
     flags_of,
     parse,
+    print_version,
     version,
 )
 from ._output import MARKER, OutputFolder, lock_path, read_marker
@@ -65,6 +66,7 @@ __all__ = [
     "interruptible",
     "lock_path",
     "parse",
+    "print_version",
     "process_pool",
     "process_seconds",
     "read_marker",

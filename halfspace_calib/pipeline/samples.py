@@ -473,14 +473,8 @@ class MultiCalibration:
             "edge_laws": u.edge_laws,
         }
         s["seconds"] = self.seconds["total"]
-        s["timings"] = {
-            **dict(self.seconds),
-            **{
-                f"samples.{n}.{k}": v
-                for n, c in self.calibrations.items()
-                for k, v in c.timings().items()
-            },
-        }
+        per = {f"{n}.{k}": v for n, c in self.calibrations.items() for k, v in c.timings().items()}
+        s["timings"] = dict(self.seconds) | {f"samples.{k}": v for k, v in per.items()}
         return s
 
 
