@@ -4,7 +4,9 @@ Each scene run, its files in the output folder and its console lines; ``cmd_*`` 
 code (0, or 1 when a run did not converge).
 """
 
+import hashlib
 import json
+from pathlib import Path
 
 import numpy as np
 
@@ -48,6 +50,7 @@ def _common_kw(args, law):
 
 
 def _label(law, args):
+    """The run's name in tables, legends and titles: the law and what tells its runs apart."""
     if law == "tresca":
         return f"tresca m={args.m:g}"
     if law == "coulomb":
@@ -55,8 +58,28 @@ def _label(law, args):
     if law == "cap":
         return f"cap mu={args.mu:g}"
     if law == "sbmf":
-        return "sbmf " + (args.params.name if args.params else "(example params)")
+        return sbmf_label(args.params)
     return "frictionless"
+
+
+def sbmf_label(path):
+    """``sbmf <folder>/<file> [sha256 prefix]``: two calibrations' ``params.json`` differ.
+
+    The shipped illustrative set is ``sbmf example law (illustrative)``.
+    """
+    if path is None:
+        return "sbmf example law (illustrative)"
+    path = Path(path)
+    digest = hashlib.sha256(path.read_bytes()).hexdigest()[:8]
+    where = f"{path.parent.name}/{path.name}" if path.parent.name else path.name
+    return f"sbmf {where} [{digest}]"
+
+
+def _folder_name(label):
+    """A run's subfolder, from its label (an sbmf run's is ``sbmf``)."""
+    if label.startswith("sbmf"):
+        return "sbmf"
+    return label.replace(" ", "_").replace("=", "")
 
 
 def write_run(folder, res, title):
@@ -69,13 +92,16 @@ def write_run(folder, res, title):
     if res.snapshots and len(res.snapshots) > 1:
         write_vtu_series(folder / "vtu", res.model.t, res.snapshots)
     info = dict(res.info)
+    h = res.history
     info.update(
+        run=title,
         converged=res.converged,
         message=res.message,
         stopped_at_height_reduction=res.model.height_reduction,
+        force_end_N=float(h["force"][-1]) if h else None,
+        increments_accepted=len(h["force"]) if h else 0,
         wall_time_s=res.wall_time,
     )
-    h = res.history
     if h and "inner_diameter_change" in h:  # a ring: what a ring test measures, at the end
         info["inner_diameter_change"] = float(h["inner_diameter_change"][-1])
         info["inner_diameter_min_change"] = float(h["inner_diameter_min_change"][-1])
@@ -215,7 +241,7 @@ def cmd_ring(args, con):
         kw = _common_kw(args, law)
         kw["m"] = m
         res = run_ring(law, reduction=args.reduction, remesh_below=args.remesh_below, **kw)
-        folder = args.out / lab.replace(" ", "_").replace("=", "") if len(runs) > 1 else args.out
+        folder = args.out / _folder_name(lab) if len(runs) > 1 else args.out
         write_run(folder, res, lab)
         if res.history:
             fe[lab] = (res.history["height_reduction"], res.history["inner_diameter_change"])
@@ -231,7 +257,7 @@ def cmd_ring(args, con):
             for a, b in zip(red, d, strict=True):
                 fh.write(f"{m:g},{a:.6g},{b:.6g}\n")
     for _law, _, lab in runs:  # the runs' reports again, now with the chart
-        folder = args.out / lab.replace(" ", "_").replace("=", "") if len(runs) > 1 else args.out
+        folder = args.out / _folder_name(lab) if len(runs) > 1 else args.out
         if (folder / "summary.json").is_file():
             write_run_report(folder, json.loads((folder / "summary.json").read_text()), lab)
     con.result(summary_table(rows))

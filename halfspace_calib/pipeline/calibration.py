@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from frictionlaw import FrictionParams, alpha_first
+from frictionlaw.describe import describe_law
 from sbmf_cli import Worded
 
 from . import effects as _eff
@@ -215,10 +216,17 @@ class Calibration:
         return float(np.max(j)) if np.size(j) else 0.0
 
     def summary(self):
-        """JSON-ready summary (also stored in the parameter file's provenance)."""
+        """JSON-ready summary (``summary.json``, ``report.html``).
+
+        ``law`` describes the law ``params.json`` runs (:func:`frictionlaw.describe.describe_law`:
+        each branch's form with its parameters or table and measured errors, the other form
+        beside it); ``C1, n1, C2, n2``, ``first_loading_r2`` and ``reload_r2`` (the paper's
+        Eq. 25, whichever form runs) are kept for the readers of earlier summaries.
+        """
         P = self.params
         floor = self.first.floor_record()
         return {
+            "law": describe_law(P).to_dict(),
             "C1": P.C1,
             "n1": P.n1,
             "C2": P.C2,
