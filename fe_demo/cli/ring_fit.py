@@ -53,10 +53,12 @@ def add_parser(sub, formatter):
         nargs="+",
         required=True,
         type=Path,
-        help="CSV file(s) with height_reduction and inner_diameter_change (mid-plane) or "
-        "inner_diameter_min_change, both fractions; rows of all files are pooled; comma or "
-        "semicolon separated, '# geometry:' and '# material:' lines state the test "
-        "(docs/getting_m.md) (required)",
+        help="CSV file(s) with the height reduction and the inner-diameter change (mid-plane, "
+        "or of the smallest inner diameter), as fe-demo's history.csv names them or as labs "
+        "write them in English or German ('height reduction (%%)', 'Höhenabnahme [%%]', "
+        "'ID change', ...), fractions or percent as the header says; rows of all files are "
+        "pooled; comma or semicolon separated, '# geometry:' and '# material:' lines state the "
+        "test (docs/getting_m.md) (required)",
     )
     p.add_argument(
         "--law", choices=("sbmf", "tresca"), default="sbmf", help="law whose m is fitted"
@@ -297,6 +299,8 @@ def run(args, con):
         return con.error(exc, 2)
     for line in inp.warnings:
         con.warn(line)
+    for note in inp.test.notes:
+        con.warn(f"fe-demo: note: {note}")
     progress = not (args.quiet or args.no_progress)
     with folder:
         try:
@@ -390,6 +394,7 @@ def _record(inp, fit, chart):
         "mesh": {"nr": kw["nr"], "nz": kw["nz"], "increments": kw["n_increments"]},
         "measured": list(test.sources),
         "measured_files": files,
+        "measured_notes": list(test.notes),
         "software": {"fe-demo": version()},
     }
 
