@@ -19,7 +19,9 @@ that they agree:
   non-empty folder, or one holding the run's input, is refused (exit 2), ``--force`` included;
 - Ctrl-C and SIGTERM end a run cleanly (:func:`interruptible`), workers of a local pool included
   (:func:`process_pool`), on the CPUs the process may use (:func:`available_cpus`);
-- reports are self-contained HTML pages (:mod:`sbmf_cli.htmlpage`).
+- reports are self-contained HTML pages (:mod:`sbmf_cli.htmlpage`);
+- every output names a column with its unit (:func:`column_name`: ``force_N``,
+  ``height_reduction_fraction``), and readers take old and new names (:func:`column_key`).
 
 Exit codes: 0 success, 1 the run failed, 2 bad input (no traceback).
 
@@ -49,6 +51,7 @@ from ._processes import (
     process_seconds,
     worker_ignores_interrupts,
 )
+from ._units import UNIT_SUFFIXES, column_key, column_name
 
 __all__ = [
     "Console",
@@ -58,10 +61,13 @@ __all__ = [
     "MARKER",
     "OutputFolder",
     "ParameterError",
+    "UNIT_SUFFIXES",
     "Worded",
     "add_common_options",
     "add_version",
     "available_cpus",
+    "column_key",
+    "column_name",
     "flags_of",
     "interruptible",
     "lock_path",

@@ -74,7 +74,7 @@ def test_upsetting_band_orders_the_force_and_report_agrees(params_file, tmp_path
     assert "force at 50 %:" in capsys.readouterr().out
     rows = _csv(out / "history.csv")
     assert list(rows[0]) == [
-        "height_reduction",
+        "height_reduction_fraction",
         "stage",
         "force_N",
         "force_lower_N",
@@ -89,7 +89,7 @@ def test_upsetting_band_orders_the_force_and_report_agrees(params_file, tmp_path
         assert lo == pytest.approx(min(fr)) and hi == pytest.approx(max(fr))
         # more friction needs more force while the die pressure is moderate (at larger
         # reductions on this 6-element mesh the runs cross, hence the min/max band)
-        if float(row["height_reduction"]) <= 0.25:
+        if float(row["height_reduction_fraction"]) <= 0.25:
             assert fr[1] < fr[0] < fr[2]
     s = json.loads((out / "summary.json").read_text())
     at = s["force_at"]["50 %"]
@@ -113,8 +113,8 @@ def test_ring_band_has_the_inner_diameter(params_file, tmp_path):
     assert d["lower"] <= d["central"] <= d["upper"] and d["upper"] > d["lower"]
     end = {n: _csv(out / n / "history.csv")[-1] for n in ("lower", "upper")}
     # more friction closes the hole more: the inner diameter grows less (or shrinks)
-    assert float(end["upper"]["inner_diameter_change"]) < float(
-        end["lower"]["inner_diameter_change"]
+    assert float(end["upper"]["inner_diameter_change_fraction"]) < float(
+        end["lower"]["inner_diameter_change_fraction"]
     )
     assert (out / "ring_band.png").is_file() and (out / "report.html").is_file()
 

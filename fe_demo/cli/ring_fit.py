@@ -341,7 +341,8 @@ def _summary(con, args, inp, fit, chart, record):
     )
     con.result(
         f"ring fit ({args.law}): m = {fit.m:.4f}  [{fit.m_lower:.4f}, {fit.m_upper:.4f}] at "
-        f"{100 * fit.band_level:g} %, rmse {100 * fit.rmse:.2f} points of {test.column}, "
+        f"{100 * fit.band_level:g} %, rmse {100 * fit.rmse:.2f} % (percentage points of "
+        f"{test.column}; ring_fit.json rmse_fraction {fit.rmse:.3g}), "
         f"{fit.n_points} points, {runs}"
     )
     if chart is not fit:
@@ -378,7 +379,7 @@ def _record(inp, fit, chart):
         "m_upper": fit.m_upper,
         "band_level": fit.band_level,
         "band_method": "linearised least squares: m -+ t(N-1) s / sqrt(sum (dd/dm)^2)",
-        "rmse": fit.rmse,
+        "rmse_fraction": fit.rmse,
         "n_points": fit.n_points,
         "column": test.column,
         "n_fe_runs": fit.n_fe_runs + (0 if chart is fit else chart.n_fe_runs),

@@ -82,6 +82,16 @@ def _folder_name(label):
     return label.replace(" ", "_").replace("=", "")
 
 
+#: the units of summary.json's numbers whose names do not state one (fractions: 0.5 for 50 %)
+SUMMARY_UNITS = {
+    "stopped_at_height_reduction": "fraction",
+    "inner_diameter_change": "fraction",
+    "inner_diameter_min_change": "fraction",
+    "force_end_N": "N",
+    "wall_time_s": "s",
+}
+
+
 def write_run(folder, res, title):
     """A run's files in ``folder``: history.csv, its plots, VTU series, summary.json, report.html."""
     folder.mkdir(parents=True, exist_ok=True)
@@ -105,6 +115,7 @@ def write_run(folder, res, title):
     if h and "inner_diameter_change" in h:  # a ring: what a ring test measures, at the end
         info["inner_diameter_change"] = float(h["inner_diameter_change"][-1])
         info["inner_diameter_min_change"] = float(h["inner_diameter_min_change"][-1])
+    info["units"] = {k: u for k, u in SUMMARY_UNITS.items() if k in info}
     (folder / "summary.json").write_text(json.dumps(info, indent=2, default=_jd) + "\n")
     write_run_report(folder, json.loads(json.dumps(info, default=_jd)), title)
 
@@ -138,7 +149,11 @@ def _report_run(con, label, res):
 
 
 def _summary_row(label, res, *, ring=False):
-    """One row of the console table (a ring's has the inner-diameter change in % after the force)."""
+    """One row of the console table: the reduction and a ring's inner-diameter change in %.
+
+    A person reads the table: percent, said in the header (``reduction_%``, ``ID_change_%``);
+    the files give fractions (``history.csv``: ``height_reduction_fraction``).
+    """
     h = res.history
     tm = res.info.get("timings", {})
     row = {
@@ -149,7 +164,7 @@ def _summary_row(label, res, *, ring=False):
         "newton": res.info.get("newton_iterations", 0),
         "cutbacks": sum("cut-back" in s for s in res.info.get("cutback_log", [])),
         "remesh": res.info.get("n_remesh", 0),
-        "reduction": float(h["height_reduction"][-1]) if h else 0.0,
+        "reduction_%": 100.0 * float(h["height_reduction"][-1]) if h else 0.0,
         "force_kN": float(h["force"][-1] / 1e3) if h else 0.0,
     }
     if ring:
@@ -252,7 +267,7 @@ def cmd_ring(args, con):
     chart, notes = _chart(args.reduction)
     plot_ring_chart(args.out / "ring_chart.png", chart, fe)
     with (args.out / "ring_chart_upper_bound.csv").open("w", encoding="utf-8") as fh:
-        fh.write("m,height_reduction,inner_diameter_change\n")
+        fh.write("m,height_reduction_fraction,inner_diameter_change_fraction\n")
         for m, (red, d) in chart.items():
             for a, b in zip(red, d, strict=True):
                 fh.write(f"{m:g},{a:.6g},{b:.6g}\n")
@@ -355,7 +370,9 @@ def cmd_band(args, con):
                 "law": {k: getattr(law, k) for k in ("C1", "n1", "C2", "n2")},
             },
         )
-    keys = [("force", "N")] + ([("inner_diameter_change", "1")] if args.scene == "ring" else [])
+    keys = [("force", "N")] + (
+        [("inner_diameter_change", "fraction")] if args.scene == "ring" else []
+    )
     mode = "band" if args.band else "samples"
     rec = write_band_outputs(
         args.out,
