@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 import pytest
-from realfiles import real_file
+from realfiles import needs_shared, real_file
 from reportcells import Cells, assert_page_agrees
 
 from frictionlaw import FrictionParams, alpha_first, alpha_reload
@@ -212,6 +212,7 @@ def _shared(name):
     return str(real_file(name))
 
 
+@needs_shared
 def test_cli_refuses_mixed_units_and_element_sizes(tmp_path, capsys):
     mnt, mp, mx = _shared("mnt-1.mnt"), _shared("metropro-1.dat"), _shared("matrix-3.txt")
     out = tmp_path / "c"
