@@ -8,18 +8,17 @@ without them.
 
 import sys
 
-from sbmf_cli import interruptible, print_version
+from sbmf_cli import light_entry
 
 
-@interruptible("fe-demo", "the FE run")
-def main(argv=None):
-    """Entry point of ``fe-demo``: :func:`fe_demo.cli.main` once interrupts are handled."""
-    if print_version("fe-demo", argv):
-        return 0
+def _command():
+    """The command's ``main`` (imports the command: NumPy, SciPy, numba)."""
     from .cli import main as command
 
-    return command(argv)
+    return command
 
+
+main = light_entry("fe-demo", "the FE run", _command)
 
 if __name__ == "__main__":
     sys.exit(main())

@@ -18,7 +18,7 @@ the ``halfspace-calib`` command (:mod:`halfspace_calib.__main__`) starts, answer
 and handles Ctrl-C before NumPy, SciPy and numba are loaded.
 """
 
-import importlib
+from sbmf_cli import lazy_names
 
 #: the public names and the module each comes from (imported on first use)
 _SOURCES = {
@@ -62,16 +62,4 @@ _SUBPACKAGES = ("cli", "common", "contact", "output", "pipeline", "studies", "to
 __all__: list[str] = sorted(_SOURCES, key=str.lower)
 
 
-def __getattr__(name):
-    """Import a public name (or a subpackage) on first use."""
-    if name in _SOURCES:
-        value = getattr(importlib.import_module(_SOURCES[name], __name__), name)
-        globals()[name] = value
-        return value
-    if name in _SUBPACKAGES:
-        return importlib.import_module(f".{name}", __name__)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__) | set(_SUBPACKAGES))
+__getattr__, __dir__ = lazy_names(__name__, _SOURCES, _SUBPACKAGES)

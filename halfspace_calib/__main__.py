@@ -8,18 +8,17 @@ without them.
 
 import sys
 
-from sbmf_cli import interruptible, print_version
+from sbmf_cli import light_entry
 
 
-@interruptible("halfspace-calib", "the calibration")
-def main(argv=None):
-    """Entry point of ``halfspace-calib``: :func:`halfspace_calib.cli.main`, interrupts handled."""
-    if print_version("halfspace-calib", argv):
-        return 0
+def _command():
+    """The command's ``main`` (imports the command: NumPy, SciPy, numba)."""
     from .cli import main as command
 
-    return command(argv)
+    return command
 
+
+main = light_entry("halfspace-calib", "the calibration", _command)
 
 if __name__ == "__main__":
     sys.exit(main())

@@ -211,3 +211,45 @@ def test_version_answers_at_once(command):
         best = min(best, time.perf_counter() - t0)
         assert run.returncode == 0 and run.stdout.strip().endswith(version()), run
     assert best < 2.0, f"{command}: --version took {best:.2f} s"
+
+
+SWALLOWED = r"""
+import os, signal, sys, time
+from sbmf_cli import interruptible
+
+class Swallow:
+    def __del__(self):  # the handler's exception is raised in here, and Python ignores it
+        os.kill(os.getpid(), signal.SIGINT)
+        for _ in range(100000):
+            pass
+
+@interruptible("demo", "the demo")
+def main(argv):
+    Swallow()
+    t0 = time.monotonic()
+    while time.monotonic() - t0 < 10:
+        time.sleep(0.01)
+    return 0
+
+sys.exit(main())
+"""
+
+
+def test_an_interrupt_python_swallowed_is_delivered_again(tmp_path):
+    """An interrupt raised where Python ignores exceptions (a ``__del__``, the import system's
+    weakref callbacks) is sent again once the run goes on: 130 within a second, not 0 after 10 s."""
+    t0 = time.monotonic()
+    run = subprocess.run(
+        [sys.executable, "-c", SWALLOWED],
+        capture_output=True,
+        text=True,
+        timeout=30,
+        preexec_fn=_default_sigint,
+        check=False,
+    )
+    took = time.monotonic() - t0
+    assert "Exception ignored" in run.stderr  # the first one was swallowed
+    assert run.returncode == 130 and took < 5, (run.returncode, took, run.stderr)
+    lines = [ln for ln in run.stderr.splitlines() if "interrupted by SIGINT" in ln]
+    assert lines == ["demo: interrupted by SIGINT during the demo; the output folder was not "
+                     "written (an earlier output there is unchanged)"]  # fmt: skip
