@@ -1,10 +1,4 @@
-"""``halfspace-calib`` (and ``python -m halfspace_calib``): the entry point, light and at once.
-
-The command's modules load NumPy, SciPy, matplotlib and numba (seconds on a cold start); they are
-imported here inside :func:`sbmf_cli.interruptible`, so that Ctrl-C at any moment after the
-interpreter has started ends the command with one line and exit 130, and ``--version`` answers
-without them.
-"""
+"""``halfspace-calib`` and ``python -m halfspace_calib``: :func:`halfspace_calib.cli.main` behind ``sbmf_cli.light_entry``."""
 
 import sys
 
@@ -12,10 +6,9 @@ from sbmf_cli import light_entry
 
 
 def _command():
-    """The command's ``main`` (imports the command: NumPy, SciPy, numba)."""
-    from .cli import main as command
+    from .cli import main
 
-    return command
+    return main
 
 
 main = light_entry("halfspace-calib", "the calibration", _command)

@@ -117,13 +117,10 @@ class _Interrupts:
         while not self.handled:
             time.sleep(step)
             quiet = 0.0 if _handling(self.main_ident) else quiet + step
-            if quiet >= REDELIVER_AFTER - 1e-9 and not self.handled:
+            signum = self.signum
+            if quiet >= REDELIVER_AFTER - 1e-9 and not self.handled and signum is not None:
                 quiet = 0.0
-                os.kill(os.getpid(), self.signum)
-
-
-def _raise_interrupted(signum, frame):
-    raise Interrupted(signum)
+                os.kill(os.getpid(), signum)
 
 
 def interruptible(prog, what):
