@@ -178,7 +178,10 @@ class FormDescription:
     r_squared: float | None = None
 
     def label(self) -> str:
-        """The form and its numbers on one line: ``Eq. 24: C1 = 1.024, n1 = 16.45``."""
+        """The form and its numbers on one line.
+
+        For example ``Eq. 24: C1 = 1.024, n1 = 16.45``.
+        """
         parts = [q.text() for q in self.parameters]
         if self.table is not None:
             (first, unit), *rest = self.table.columns
@@ -270,7 +273,10 @@ class LawDescription:
         raise KeyError(name)
 
     def forms_label(self) -> str:
-        """The forms that run, in a few words: ``Eq. 24 + Eq. 25 tabulated over p_hist``."""
+        """The forms that run, in a few words.
+
+        For example ``Eq. 24 + Eq. 25 tabulated over p_hist``.
+        """
         text = " + ".join(b.running.name for b in self.branches)
         return text + (" (continuous at p_hist)" if self.continuous_reload else "")
 
