@@ -311,7 +311,7 @@ def main(argv=None):
         out / f"ring3d_{args.contact}.csv",
         ccx_rows,
         delimiter=",",
-        header="height_reduction,force_N,inner_diameter_change",
+        header="height_reduction_fraction,force_N,inner_diameter_change_fraction",
         comments="",
     )
 

@@ -276,7 +276,34 @@ def _solver_info(model, hist):
     }
 
 
-def press(scene, run, axi, reduction, n_increments):
+def setup_info(axi, model, billet):
+    """The billet, its mesh and material as ``summary.json`` records them (SI units).
+
+    ``billet``: the scene's geometry (``{"shape": "cylinder", "diameter_m": ..., ...}``).
+    """
+    nr, nz = (int(n) - 1 for n in np.shape(axi.grid)) if axi.grid is not None else (None, None)
+    mat = model.mat
+    return {
+        "billet": dict(billet),
+        "mesh": {
+            "elements_radial": nr,
+            "elements_axial": nz,
+            "n_elements": axi.n_elements,
+            "n_nodes": model.n_nodes,
+            "element": "4-node axisymmetric quad, B-bar",
+        },
+        "material": {
+            "E_Pa": float(mat.E),
+            "nu": float(mat.nu),
+            "K_Pa": float(mat.K),
+            "eps0": float(mat.eps0),
+            "n": float(mat.n),
+            "flow_curve": "Swift: sigma_f = K (eps0 + eps_p)^n",
+        },
+    }
+
+
+def press(scene, run, axi, reduction, n_increments, billet=None):
     """A one-stage scene: the die pressed to ``(1 - reduction)`` of its height."""
     t0 = time.perf_counter()
     z_end = run.model.z_die * (1.0 - reduction)
@@ -290,6 +317,7 @@ def press(scene, run, axi, reduction, n_increments):
         "law_parameters": run.law.parameters(),
         "n_elements": axi.n_elements,
         "n_dof": 2 * model.n_nodes,
+        **setup_info(axi, model, billet or {"shape": scene}),
         **_solver_info(model, hist),
     }
     return SceneResult(ok, msg, hist, model, wall, snaps, info)

@@ -51,7 +51,8 @@ def run_upsetting(
     axi = cylinder_mesh(diameter, height, nr, nz)
     model = FormingModel(axi, material, spec.factory(), options or SolverOptions())
     settings = RunSettings(progress, snapshot_every, remesh_below)
-    return press("upsetting", Run(model, spec, settings), axi, red, n_inc)
+    billet = {"shape": "cylinder", "diameter_m": float(diameter), "height_m": float(height)}
+    return press("upsetting", Run(model, spec, settings), axi, red, n_inc, billet)
 
 
 def run_ring(
@@ -97,4 +98,10 @@ def run_ring(
         }
 
     settings = RunSettings(progress, snapshot_every, remesh_below)
-    return press("ring", Run(model, spec, settings, extra), axi, red, n_inc)
+    billet = {
+        "shape": "ring",
+        "outer_diameter_m": float(outer_diameter),
+        "inner_diameter_m": float(inner_diameter),
+        "height_m": float(height),
+    }
+    return press("ring", Run(model, spec, settings, extra), axi, red, n_inc, billet)

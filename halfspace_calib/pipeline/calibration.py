@@ -25,13 +25,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from frictionlaw import FrictionParams, alpha_first
+from frictionlaw.describe import describe_law
 from sbmf_cli import Worded
 
 from . import effects as _eff
 from . import heldout as _held
 from .conformity import punch_edge_problem
 from .fit import FirstLoadingFit, ReloadFit
-from .params import make_params
+from .params import make_params, timings_of
 from .registry import REGISTRY
 from .reload_table import ReloadTableFit
 from .resolution import ResolutionCheck, fit_sweeps, resolution_check
@@ -218,10 +219,17 @@ class Calibration:
         return float(np.max(j)) if np.size(j) else 0.0
 
     def summary(self):
-        """JSON-ready summary (also stored in the parameter file's provenance)."""
+        """JSON-ready summary (``summary.json``, ``report.html``).
+
+        ``law`` describes the law ``params.json`` runs (:func:`frictionlaw.describe.describe_law`:
+        each branch's form with its parameters or table and measured errors, the other form
+        beside it); ``C1, n1, C2, n2``, ``first_loading_r2`` and ``reload_r2`` (the paper's
+        Eq. 25, whichever form runs) are kept for the readers of earlier summaries.
+        """
         P = self.params
         floor = self.first.floor_record()
         return {
+            "law": describe_law(P).to_dict(),
             "C1": P.C1,
             "n1": P.n1,
             "C2": P.C2,
@@ -270,7 +278,30 @@ class Calibration:
             "problems": self.problems(),
             "seconds": self.seconds,
             "flattening": self.flattening,
+            "timings": self.timings(),
         }
+
+    def timings(self):
+        """``{what: seconds}``: the run's wall times, which ``params.json`` does not hold.
+
+        The calibration's whole time, its sweeps', and every time its records carry (the
+        tabulated reload fit, each effect, the resolution check) by their path in the
+        parameter file's provenance (:func:`~.params.timeless` leaves them out of it).
+        """
+        out = {"calibration": self.seconds, "sweeps": self.sweeps.seconds}
+        records = {
+            "fit": {
+                "reload_tabulated": None
+                if self.reload_table is None
+                else self.reload_table.summary()
+            },
+            "extra": {
+                "effects": _effects_record(self.effects),
+                "resolution_check": None if self.resolution is None else self.resolution.as_dict(),
+            },
+        }
+        out.update(timings_of(records))
+        return out
 
 
 def calibrate(scene=None, *, progress=True, surfaces=None):
