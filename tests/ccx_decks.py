@@ -13,7 +13,16 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["two_blocks", "two_zones", "slave_areas", "read_dat", "read_blocks", "ring", "SLAVE0", "SLAVE1"]
+__all__ = [
+    "two_blocks",
+    "two_zones",
+    "slave_areas",
+    "read_dat",
+    "read_blocks",
+    "ring",
+    "SLAVE0",
+    "SLAVE1",
+]
 
 #: first node number of the block (its bottom layer is the slave surface)
 SLAVE0 = 1001

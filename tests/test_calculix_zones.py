@@ -36,7 +36,11 @@ SLIDING = ((1.5, 3.0), (4.5, 5.0))
 
 
 def _interaction(name):
-    return [f"*SURFACE INTERACTION, NAME={name}", "*FRICTION, USER, DEPVAR=4, PROPERTIES=1", "MM-T-S"]
+    return [
+        f"*SURFACE INTERACTION, NAME={name}",
+        "*FRICTION, USER, DEPVAR=4, PROPERTIES=1",
+        "MM-T-S",
+    ]
 
 
 @pytest.fixture(scope="module")
@@ -54,7 +58,9 @@ def zoned_ccx(ccx_work, tmp_path_factory):  # noqa: F811
 
 
 def test_two_zone_deck_runs_each_pair_on_its_own_law(zoned_ccx, tmp_path):
-    dat = _run_ok(zoned_ccx, two_zones(STEPS, [_interaction("RIM"), _interaction("Flank")]), tmp_path)
+    dat = _run_ok(
+        zoned_ccx, two_zones(STEPS, [_interaction("RIM"), _interaction("Flank")]), tmp_path
+    )
     nodes = {SLAVE0 + k: RIM for k in range(16)} | {SLAVE1 + k: FLANK for k in range(16)}
     other = {id(RIM): FLANK, id(FLANK): RIM}
     p_hist, worst, off, checked, below, law_of = {}, 0.0, [], 0, 0, {}

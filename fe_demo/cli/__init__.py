@@ -246,7 +246,7 @@ def build_parser():
 def _check_options(args):
     """Refuse options the requested runs would not use; fill in the defaults of the rest."""
     if args.law is None:  # a parameter file is only used by the law that reads it
-        zoned = getattr(args, "zone", None) is not None
+        zoned = any(getattr(args, k, None) is not None for k in ("zone", "zone_from_radius"))
         args.law = "sbmf" if args.params is not None or zoned else args.default_law
     _check_law_options(args)
     _check_sweep_and_band(args)
