@@ -11,6 +11,7 @@ the cache, so a point that changes zone runs the new zone's law on its carried `
 """
 
 import ctypes
+import dataclasses
 import hashlib
 import re
 
@@ -58,7 +59,8 @@ TARGETS = [
 def files(tmp_path_factory):
     folder = tmp_path_factory.mktemp("zones")
     out = {}
-    for key, params in (("a", ZA), ("b", ZB), ("d", ZD)):
+    flat = dataclasses.replace(ZA, flattening=fl.Flattening(slope=0.05))
+    for key, params in (("a", ZA), ("b", ZB), ("d", ZD), ("flat", flat)):
         out[key] = folder / f"zone_{key}.json"
         params.to_json(out[key])
     return out
@@ -277,7 +279,7 @@ def test_header_and_readme_list_every_zone(files):
     for law, path in (("zone 1 'Rim'", files["a"]), ("zone 2 'Flank'", files["b"]),
                       ("law 3, the default", files["d"])):  # fmt: skip
         assert f"C {law}: parameter file {path.name}" in src
-    for path in files.values():
+    for path in (files["a"], files["b"], files["d"]):
         sha = hashlib.sha256(path.read_bytes()).hexdigest()
         assert sha in src and sha in readme
     assert "calibrated pressures: 10..760 MPa" not in src  # SI
@@ -303,6 +305,7 @@ def test_header_and_readme_list_every_zone(files):
         ("abaqus-fric", [("a", "a")], {"zone_by": "interface"}, "zone_by"),
         ("calculix", [("a", "a")], {"zone_by": "slave"}, "zone_by"),
         ("abaqus-fric", [], {"zone_by": "slave"}, "applies with"),
+        ("abaqus-fric", [("a", "a"), ("b", "flat")], {}, "carries a flattening block"),
     ],
 )
 def test_bad_zones_refused(files, target, zones, extra, match):

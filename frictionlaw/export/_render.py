@@ -109,7 +109,7 @@ def _check_exportable(params, path):
         raise ValueError(
             f"{path}: the file carries a flattening block (issue 43) and no host routine "
             "evaluates flattening under bulk strain yet: an export would run the law without it; "
-            "export a calibration made without --flattening"
+            "export a calibration without a flattening block"
         )
 
 
