@@ -196,7 +196,9 @@ def main(argv=None):
         sv0 = np.zeros((n, 3))
         for k in ("fric", "fric_noguard"):
             bufs[k] = libs[k](p0, du, t_old, sv0, chr_)
-        bufs["fric_zoned"] = libs["fric_zoned"](p0, du, t_old, np.zeros((n, 4)), chr_)
+        bufs["fric_zoned"] = libs["fric_zoned"](
+            p0, du, t_old, np.zeros((n, 4)), chr_, ciname="zone4"
+        )
         ref = fl.traction_update(law, p0, du, t_old, KT, fl.HistoryState(n))
         for branch, (p, ph) in data.items():
             state = fl.HistoryState(n, ph)
