@@ -5,6 +5,7 @@ while ``|t_tr| <= tau(p, p_hist)`` (stick), otherwise returned radially onto the
 limit circle (slip). Outputs include the consistent tangent for implicit hosts.
 """
 
+from types import ModuleType
 from typing import TYPE_CHECKING, NamedTuple, TypeAlias
 
 import numpy as np
@@ -172,7 +173,7 @@ def traction_update(
     return TractionResult(t_new, status, dt_ddu, dt_dp)
 
 
-def zoned_kernels():
+def zoned_kernels() -> ModuleType:
     """The zoned laws' numba kernels, imported on first use."""
     from . import _kernels_zones
 

@@ -16,6 +16,7 @@ exported routines compare the names their hosts pass (docs/fe_codes.md, "Zones")
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from types import ModuleType
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -56,7 +57,7 @@ def check_zone_ids(zone: ArrayLike, n: int, n_zones: int) -> NDArray[np.int64]:
     return np.ascontiguousarray(np.broadcast_to(z, (n,)), dtype=np.int64)
 
 
-def _kernels():
+def _kernels() -> ModuleType:
     from . import _kernels_zones
 
     return _kernels_zones
@@ -138,7 +139,7 @@ class ZonedLaw:
                 return i
         raise ValueError(f"zone {name!r} is none of this law's zones ({', '.join(self.names)})")
 
-    def law(self, name: str):
+    def law(self, name: str) -> "Coulomb | Tresca | CoulombCap | SBMFLaw":
         """The law of zone ``name``."""
         return self.laws[self.index(name)]
 

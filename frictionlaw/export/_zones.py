@@ -159,7 +159,7 @@ def check_zone_names(zones, key):
     """
     if len(zones) > MAX_ZONES:
         raise ParameterError(f"{{zones}}: at most {MAX_ZONES} zones, got {len(zones)}", "zones")
-    seen = {}
+    seen: dict[str, str] = {}
     for name, _ in zones:
         k = zone_key(name)
         if not k:
