@@ -236,31 +236,12 @@ def texts(job, *, guards=True):
     return files
 
 
-def render(
-    target,
-    params_path=None,
-    *,
-    zones=(),
-    zone_by=None,
-    units="SI",
-    k_t=None,
-    table_tol=1e-3,
-    accept_failed=False,
-):
+def render(target, params_path=None, **options):
     """The files of ``target`` as ``{name: text}`` plus the table (or None); writes nothing.
 
-    The arguments are those of :func:`export`.
+    The arguments are those of :func:`export` (``options``: its keyword arguments but ``force``).
     """
-    job = plan(
-        target,
-        params_path,
-        zones=zones,
-        zone_by=zone_by,
-        units=units,
-        k_t=k_t,
-        table_tol=table_tol,
-        accept_failed=accept_failed,
-    )
+    job = plan(target, params_path, **options)
     return texts(job), job.table
 
 

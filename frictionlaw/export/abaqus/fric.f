@@ -25,6 +25,7 @@ C     the run (no default law){% endif %}. STATEV(4) = the law that wrote
 C     STATEV(2) (DEPVAR >= 4): the cache is used only under that law;
 C     p_hist is the workpiece's and carries over from zone to zone.
 {% endif %}
+{% from "core/zone_pick.f" import pick with context %}
 C=======================================================================
       SUBROUTINE FRIC(LM,TAU,DDTDDG,DDTDDP,DSLIP,SED,SFD,
      1 DDTDDT,PNEWDT,STATEV,DGAM,TAULM,PRESS,DPRESS,DDPDDH,SLIP,
@@ -79,18 +80,10 @@ C     guards: the deck's state variables and unit system
       END IF
 {% endif %}
 {% if zones %}
-C     the zone's law ({{ zones.key.argument }}), its 100 H and calibrated range
-      IZ = SBMF_ZONE({{ zones.key.argument }})
-      IF (IZ .LT. 1) THEN
-{% if guards %}
-        CALL SBMF_ZGUARD({{ zones.key.argument }})
-{% endif %}
+{% call pick("SBMF_ZONE(" ~ zones.key.argument ~ ")", zones.key.argument) %}
         LM = 2
         RETURN
-      END IF
-      KZ = 10*IZ
-      SBMFPU = SBMFPZ(IZ)
-      SBMFPM = SBMFMZ(IZ)
+{% endcall %}
 {% endif %}
 {% if guards %}
 C     what has converged: the committed p_hist (STATEV(1) is passed in

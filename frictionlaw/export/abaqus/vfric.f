@@ -19,6 +19,7 @@ C     default law{% else %}a name no zone gives stops the run (no
 C     default law){% endif %}. statev(4,n) = the law that
 C     wrote the cache (DEPVAR >= 4); p_hist carries over between zones.
 {% endif %}
+{% from "core/zone_pick.f" import pick with context %}
 C=======================================================================
       subroutine vfric(
 C Write only -
@@ -75,22 +76,14 @@ C     guards: the deck's state variables and unit system
       end if
 {% endif %}
 {% if zones %}
-C     the zone's law ({{ zones.key.argument }}), its 100 H and calibrated range
-      iz = SBMF_ZONE({{ zones.key.argument }})
-      if (iz .lt. 1) then
-{% if guards %}
-        call SBMF_ZGUARD({{ zones.key.argument }})
-{% endif %}
+{% call pick("SBMF_ZONE(" ~ zones.key.argument ~ ")", zones.key.argument) %}
         do k = 1, nContact
           do ia = 1, nFricDir
             fTangential(ia, k) = 0.0d0
           end do
         end do
         return
-      end if
-      kz = 10*iz
-      SBMFPU = SBMFPZ(iz)
-      SBMFPM = SBMFMZ(iz)
+{% endcall %}
 {% endif %}
       do k = 1, nContact
         n = jConSecid(k)

@@ -21,6 +21,7 @@ C     {% if zones.default %}an interface no zone gives runs the default law{% el
 C     message (no default law){% endif %}. UH(4) = the
 C     law that wrote the cache (NH >= 4); p_hist carries over.
 {% endif %}
+{% from "core/zone_pick.f" import pick with context %}
 C=======================================================================
       SUBROUTINE USRFRC(FSTT,FDYN,UC,NC,PRS,TEMP,V,UH,NH,CRV,NNPCRV,
      & NOSL,ICTYPE,SIDE,TIME,NCYCLE,DT2,FRIC1,FRIC2,FRIC3,FRIC4,LSV,
@@ -52,18 +53,9 @@ C
       FSTT = 0.0
       FDYN = 0.0
 {% if zones %}
-C     the interface's law (NOSL), its 100 H and calibrated range
-      IZ = SBMF_ZONEN(NOSL)
-      IF (IZ .LT. 1) THEN
-{% if guards %}
-        WRITE (ZNAME, '(I0)') NOSL
-        CALL SBMF_ZGUARD(ZNAME)
-{% endif %}
+{% call pick("SBMF_ZONEN(NOSL)", "ZNAME", "WRITE (ZNAME, '(I0)') NOSL") %}
         RETURN
-      END IF
-      KZ = 10*IZ
-      SBMFPU = SBMFPZ(IZ)
-      SBMFPM = SBMFMZ(IZ)
+{% endcall %}
       USECAC = USECAC .AND. (NH .GE. 4)
 {% endif %}
 {% if guards %}

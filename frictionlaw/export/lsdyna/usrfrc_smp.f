@@ -32,6 +32,7 @@ C     {% if zones.default %}an interface no zone gives runs the default law{% el
 C     message (no default law){% endif %}. UFHIST(4, .)
 C     = the law that wrote the cache (NHV >= 4); p_hist carries over.
 {% endif %}
+{% from "core/zone_pick.f" import pick with context %}
 C=======================================================================
       SUBROUTINE USRFRC(NOSL,TIME,NCYCLE,DT2,INSV,AREAS,XS,YS,ZS,
      & LSV,IX1,IX2,IX3,IX4,AREAM,XX1,XX2,XX3,STFN,STF,FNI,
@@ -89,19 +90,10 @@ C     one refuses the law (no friction at any node, history unchanged)
       END IF
 {% endif %}
 {% if zones %}
-C     the interface's law (NOSL), its 100 H and calibrated range
-      IZ = SBMF_ZONEN(NOSL)
-      IF (IZ .LT. 1) THEN
-{% if guards %}
-        WRITE (ZNAME, '(I0)') NOSL
-        CALL SBMF_ZGUARD(ZNAME)
-{% endif %}
+{% call pick("SBMF_ZONEN(NOSL)", "ZNAME", "WRITE (ZNAME, '(I0)') NOSL") %}
         REFUSE = .TRUE.
         IZ = 1
-      END IF
-      KZ = 10*IZ
-      SBMFPU = SBMFPZ(IZ)
-      SBMFPM = SBMFMZ(IZ)
+{% endcall %}
       USECAC = USECAC .AND. (NHV .GE. 4)
 {% endif %}
       DO KK = 1, NIISV5

@@ -58,7 +58,7 @@ C=======================================================================
      &                           IUNIT, DEPS, SIGY, NSTATE, STATE,
      &                           TNEW, DTDDU, DTDP, ISTAT, IERR)
       IMPLICIT NONE
-      INTEGER IVERS, ND, IUNIT, NSTATE, ISTAT, IERR, A, B
+      INTEGER IVERS, ND, IUNIT, NSTATE, ISTAT, IERR
       CHARACTER*(*) ZONE
       DOUBLE PRECISION P, DU(ND), TOLD(ND), KHOST, DEPS, SIGY
       DOUBLE PRECISION STATE(NSTATE), TNEW(ND), DTDDU(ND, ND), DTDP(ND)
@@ -86,14 +86,7 @@ C     DEPS, SIGY: read by a law with a flattening block (none here)
       IZ = SBMF_ZONE(ZONE)
       IF (IZ .LT. 1) THEN
         IERR = -7
-        DO A = 1, ND
-          TNEW(A) = 0.0D0
-          DTDP(A) = 0.0D0
-          DO B = 1, ND
-            DTDDU(A, B) = 0.0D0
-          END DO
-        END DO
-        ISTAT = 0
+        CALL SBMF_OPEN(ND, TNEW, DTDDU, DTDP, ISTAT)
         RETURN
       END IF
       KZ = 10*IZ
@@ -128,14 +121,7 @@ C     guards: the stated unit system, the pressure (the caller reports)
       END IF
 {% endif %}
       IF (.NOT. (P .GT. 0.0D0)) THEN
-        DO A = 1, ND
-          TNEW(A) = 0.0D0
-          DTDP(A) = 0.0D0
-          DO B = 1, ND
-            DTDDU(A, B) = 0.0D0
-          END DO
-        END DO
-        ISTAT = 0
+        CALL SBMF_OPEN(ND, TNEW, DTDDU, DTDP, ISTAT)
         IF (NSTATE .GE. 3) STATE(3) = 0.0D0
         RETURN
       END IF
@@ -155,6 +141,22 @@ C     guards: the stated unit system, the pressure (the caller reports)
       RETURN
       END
 C
+C     No friction: zero traction and tangents, status 0 (open).
+      SUBROUTINE SBMF_OPEN(ND, TNEW, DTDDU, DTDP, ISTAT)
+      IMPLICIT NONE
+      INTEGER ND, ISTAT, A, B
+      DOUBLE PRECISION TNEW(ND), DTDDU(ND, ND), DTDP(ND)
+      DO A = 1, ND
+        TNEW(A) = 0.0D0
+        DTDP(A) = 0.0D0
+        DO B = 1, ND
+          DTDDU(A, B) = 0.0D0
+        END DO
+      END DO
+      ISTAT = 0
+      RETURN
+      END
+C
 C     The state count that gives every slot of SBMF_FRICTION_V's STATE
 C     (p_hist, its cache, the status, the law of the cache, the
 C     flattening state): allocate this many per contact point.
@@ -164,32 +166,7 @@ C     flattening state): allocate this many per contact point.
       RETURN
       END
 C
-C=======================================================================
-C     DEPRECATED (interface version 1; kept for one release): the entry
-C     of earlier exports, a thin wrapper of SBMF_FRICTION_V with a
-C     blank ZONE ({% if zones %}{% if zones.default %}the default law{% else %}no law: IERR = -7{% endif %}{% else %}the routine's one law{% endif %}), no bulk strain, the
-C     state PH, G1H in (committed) and PHNEW, G1NEW out (trial).
-C     IERR as SBMF_FRICTION_V's. New callers: SBMF_FRICTION_V.
-C=======================================================================
-      SUBROUTINE SBMF_FRICTION(ND, P, PH, G1H, DU, TOLD, KHOST, IUNIT,
-     &                         TNEW, DTDDU, DTDP, ISTAT, PHNEW, G1NEW,
-     &                         IERR)
-      IMPLICIT NONE
-      INTEGER ND, ISTAT, IUNIT, IERR
-      DOUBLE PRECISION P, PH, G1H, DU(ND), TOLD(ND), KHOST, TNEW(ND)
-      DOUBLE PRECISION DTDDU(ND, ND), DTDP(ND), PHNEW, G1NEW
-      DOUBLE PRECISION STATE(3)
-      STATE(1) = PH
-      STATE(2) = G1H
-      STATE(3) = 0.0D0
-      CALL SBMF_FRICTION_V(2, ' ', ND, P, DU, TOLD, KHOST, IUNIT,
-     &                     0.0D0, 0.0D0, 3, STATE, TNEW, DTDDU, DTDP,
-     &                     ISTAT, IERR)
-      PHNEW = STATE(1)
-      G1NEW = STATE(2)
-      RETURN
-      END
-C
+{% include "neutral/sbmf_friction_v1.f" %}
 {% if not zones %}
 C     The message of status -7 (a zoned routine's name no law covers):
 C     this routine has one law for every name and never returns -7;

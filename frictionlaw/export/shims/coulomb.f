@@ -33,25 +33,7 @@ C     SBMF_FRICTION wrapper, SBMF_ZMESSAGE), with the same calls.
       RETURN
       END
 C
-      SUBROUTINE SBMF_FRICTION(ND, P, PH, G1H, DU, TOLD, KHOST, IUNIT,
-     &                         TNEW, DTDDU, DTDP, ISTAT, PHNEW, G1NEW,
-     &                         IERR)
-      IMPLICIT NONE
-      INTEGER ND, ISTAT, IUNIT, IERR
-      DOUBLE PRECISION P, PH, G1H, DU(ND), TOLD(ND), KHOST, TNEW(ND)
-      DOUBLE PRECISION DTDDU(ND, ND), DTDP(ND), PHNEW, G1NEW
-      DOUBLE PRECISION STATE(3)
-      STATE(1) = PH
-      STATE(2) = G1H
-      STATE(3) = 0.0D0
-      CALL SBMF_FRICTION_V(2, ' ', ND, P, DU, TOLD, KHOST, IUNIT,
-     &                     0.0D0, 0.0D0, 3, STATE, TNEW, DTDDU, DTDP,
-     &                     ISTAT, IERR)
-      PHNEW = STATE(1)
-      G1NEW = STATE(2)
-      RETURN
-      END
-C
+{% include "neutral/sbmf_friction_v1.f" %}
       SUBROUTINE SBMF_ZMESSAGE(NAME, MSG, NMSG)
       IMPLICIT NONE
       CHARACTER*(*) NAME, MSG
