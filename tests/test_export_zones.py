@@ -312,3 +312,63 @@ def test_bad_zones_refused(files, target, zones, extra, match):
     zones = [(n, files[f]) for n, f in zones]
     with pytest.raises(ValueError, match=match):
         exp.render(target, files["d"], zones=zones, **extra)
+
+
+@pytest.mark.parametrize(
+    "target, zone_by, names_kw",
+    [("abaqus-fric", "master", "msname"), ("abaqus-vfric", "slave", "surf_sec")],
+)
+def test_zone_by_the_surfaces_names(tmp_path, files, target, zone_by, names_kw):
+    """``--zone-by slave|master``: the routine compares the surface's name, not the
+    interaction's (which then names nothing)."""
+    files_, _ = exp.render(
+        target, None, zones=[("TOOL-A", files["a"]), ("TOOL-B", files["b"])], zone_by=zone_by
+    )
+    src = {n: t for n, t in files_.items() if n.endswith(".f")}
+    host, _ = exp.target(target).harness.load(src, tmp_path / "zb", name=f"zb_{zone_by}")
+    p, p_hist = points(np.random.default_rng(11), 32)
+    n = p.size
+    for surface, params in (("tool-b", ZB), ("Tool-A ", ZA)):
+        st = np.zeros((n, 4))
+        st[:, 0] = p_hist
+        if target == "abaqus-fric":
+            out = host(p, np.full((n, 1), 1e3), np.zeros((n, 1)), st, 1e-3, ciname="X", **{
+                names_kw: surface})  # fmt: skip
+            tau = np.abs(out["tau"][:, 0])
+        else:
+            tau = -host(p, np.full(n, 1e300), np.ones(n), st, surf_int="X", **{names_kw: surface})[
+                :, 0
+            ]
+        np.testing.assert_allclose(tau, fl.shear_limit(p, p_hist, params), rtol=1e-10)
+    assert all(lop == -1 for lop, _ in host.log()) and host.exits() == 0  # range warnings only
+    assert (
+        f"chosen by {'MSNAME' if zone_by == 'master' else 'surfSec'}"
+        in src[exp.target(target).file]
+    )
+
+
+def test_command_line_zones(tmp_path, files, capsys):
+    """Exit 0 with zones and no --params; exit 2 for bad zones, before anything is written."""
+    from frictionlaw.export.cli import main
+
+    out = tmp_path / "fric"
+    z = ["--zone", f"rim={files['a']}", "--zone", f"flank={files['b']}"]
+    assert main(["abaqus-fric", "--out", str(out), "--quiet", *z]) == 0
+    assert (out / "sbmf_fric.f").is_file() and "zones: 2, chosen by CINAME" in (
+        out / "sbmf_fric.f"
+    ).read_text()
+    capsys.readouterr()
+    for args, match in (
+        ([], "give --params"),
+        (["--zone", "rim"], "--zone takes NAME=PARAMS.json"),
+        (["--zone", f"rim={tmp_path / 'none.json'}"], "none.json"),
+        ([*z, "--zone", f"RIM ={files['d']}"], "are the same when trimmed"),
+        (["--params", str(files["d"]), "--zone-by", "slave"], "--zone-by applies with --zone"),
+        ([*z, "--zone-by", "interface"], "--zone-by must be one of interaction, slave, master"),
+    ):
+        bad = tmp_path / "bad"
+        assert main(["abaqus-fric", "--out", str(bad), *args]) == 2, args
+        assert match in capsys.readouterr().err, (args, match)
+        assert not bad.exists()
+    assert main(["ansys-userfric", "--out", str(tmp_path / "an"), *z]) == 2
+    assert "userfric is not public" in capsys.readouterr().err

@@ -117,7 +117,7 @@ def _zone_key(record, zones, zone_by):
     """The :class:`ZoneKey` a zoned export of ``record`` chooses by (ParameterError if none)."""
     if not zones:
         if zone_by is not None:
-            raise ParameterError("{zone_by} applies with {zones} only", "zone_by")
+            raise ParameterError("{zone_by} applies with {zones} only", "zone_by", "zones")
         return None
     keys = record.form.zone_keys
     if not keys:
@@ -166,7 +166,7 @@ def plan(
     key = _zone_key(record, zones, zone_by)
     if params_path is None and not zones:
         raise ParameterError(
-            "give {params_path} (the law) or {zones} (a law per zone)", "params_path"
+            "give {params_path} (the law) or {zones} (a law per zone)", "params_path", "zones"
         )
     if zones:
         check_zone_names(zones, key)

@@ -54,7 +54,8 @@ def build_parser():
         "--params",
         default=None,
         help="params.json from the calibration: the law (with --zone: the default law for every "
-        "name no zone gives; left out, such a name stops the run)",
+        "name no zone gives; left out, such a name stops the run; default: none, then --zone "
+        "must give the laws)",
     )
     ap.add_argument(
         "--zone",
@@ -68,9 +69,9 @@ def build_parser():
     ap.add_argument(
         "--zone-by",
         default=None,
-        help="which name a zoned routine compares: interaction (default; Abaqus CINAME, surfInt; "
+        help="which name a zoned routine compares: interaction (Abaqus CINAME, surfInt; "
         "CalculiX CINAME), slave or master (Abaqus: the surfaces' names); LS-DYNA: interface "
-        "(NOSL) only",
+        "(NOSL) only (default: the target's first, interaction or interface)",
     )
     ap.add_argument("--out", required=True, help="output folder (must not exist unless --force)")
     ap.add_argument("--units", default="SI", help="SI (Pa, m) or mm-t-s (MPa, mm)")
