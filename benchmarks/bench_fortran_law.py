@@ -29,6 +29,13 @@ calibrated range (up to 760 MPa), so the loading nodes above it take the range c
 path (the once-per-process flag read) at every call. ``guard_cost_*`` is the median over the
 rounds of guarded / unguarded - 1.
 
+The cost of choosing a zone's law (issue 42): ``FRIC`` and the host-neutral ``SBMF_FRICTION_V``
+exported with four zones of equal name length (``ZONE1`` .. ``ZONE4``, each the paper form's law,
+so that only the choosing differs), called with ``zone4`` (the last compared: the worst of the
+four) and ``STATEV(4)``/``STATE(4)`` holding the zone (the cache is read), against the one-law
+routine of the same law in the same rounds: ``zoned_over_one_fric``, ``zoned_over_one_v``, the
+medians over the rounds of the ratio within a round.
+
 Run: python benchmarks/bench_fortran_law.py [--nodes 200000] [--repeat 5] [--reload-fraction 0.5]
 [--out benchmarks/results/fortran_law.csv]. Writes the CSV and prints a table.
 """
@@ -126,6 +133,10 @@ def libraries(workdir):
         libs[key], _ = record.harness.load(files, workdir / key, name=key)
     files, _ = exp.render("abaqus-fric", workdir / "params_paper.json")
     libs["fric"], _ = exp.target("abaqus-fric").harness.load(files, workdir / "fric", name="fric")
+    zones = [(f"ZONE{i}", workdir / "params_paper.json") for i in range(1, 5)]
+    for target, key in (("abaqus-fric", "fric_zoned"), ("lsdyna", "v_zoned")):
+        files, _ = exp.render(target, None, zones=zones)
+        libs[key], _ = exp.target(target).harness.load(files, workdir / key, name=key)
     return libs
 
 
@@ -185,6 +196,9 @@ def main(argv=None):
         sv0 = np.zeros((n, 3))
         for k in ("fric", "fric_noguard"):
             bufs[k] = libs[k](p0, du, t_old, sv0, chr_)
+        bufs["fric_zoned"] = libs["fric_zoned"](
+            p0, du, t_old, np.zeros((n, 4)), chr_, ciname="zone4"
+        )
         ref = fl.traction_update(law, p0, du, t_old, KT, fl.HistoryState(n))
         for branch, (p, ph) in data.items():
             state = fl.HistoryState(n, ph)
@@ -221,6 +235,20 @@ def main(argv=None):
                     p, du, t_old, sv, chr_, reps=reps, out=bufs[k]
                 )
 
+            # the cost of choosing a zone: four zones, the last one's name, its cache in use
+            sv4 = np.stack([ph, g1, np.zeros(n), np.full(n, 4.0)], 1)
+            calls["fortran_fric_zoned"] = lambda p=p, sv=sv4: libs["fric_zoned"](
+                p, du, t_old, sv, chr_, reps=reps, out=bufs["fric_zoned"], ciname="zone4"
+            )
+            st5 = np.stack([ph, g1, np.zeros(n), np.full(n, 4.0), np.zeros(n)], 1)
+            one5 = np.stack([ph, g1, np.zeros(n), np.ones(n), np.zeros(n)], 1)
+            calls["fortran_v"] = lambda p=p, st=one5: libs["paper"].friction(
+                "zone4", p, st.copy(), du, t_old, KT, reps=reps
+            )
+            calls["fortran_v_zoned"] = lambda p=p, st=st5: libs["v_zoned"].friction(
+                "zone4", p, st.copy(), du, t_old, KT, reps=reps
+            )
+
             def numba_run(p=p, state=state):
                 for _ in range(reps):
                     fl.traction_update(law, p, du, t_old, KT, state, parallel=False, out=ref)
@@ -245,6 +273,8 @@ def main(argv=None):
                 median_ratio(rounds, "fortran_fric", "fortran_fric_noguard") - 1
             )
             row["beyond_p_max"] = float(np.mean(p > PARAMS.p_range[1]))
+            row["zoned_over_one_fric"] = median_ratio(rounds, "fortran_fric_zoned", "fortran_fric")
+            row["zoned_over_one_v"] = median_ratio(rounds, "fortran_v_zoned", "fortran_v")
             if "fortran_sbmf_nocache" in times:
                 row["tab_over_paper_nocache"] = (
                     times["fortran_sbmf_tab_nocache"] / times["fortran_sbmf_nocache"]
@@ -281,6 +311,11 @@ def main(argv=None):
         "guard_cost_sbmf",
         "guard_cost_fric",
         "beyond_p_max",
+        "fortran_fric_zoned",
+        "zoned_over_one_fric",
+        "fortran_v",
+        "fortran_v_zoned",
+        "zoned_over_one_v",
     ]
     out = args.out
     out.parent.mkdir(parents=True, exist_ok=True)

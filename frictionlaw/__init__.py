@@ -18,6 +18,7 @@ from .traction import (
     traction_update,
     traction_update_force,
 )
+from .zones import ZonedLaw, zone_key
 
 __version__ = "0.1.0"
 
@@ -39,6 +40,8 @@ __all__ = [
     "SBMFLaw",
     "LAW_NAMES",
     "law_from_name",
+    "ZonedLaw",
+    "zone_key",
     "HistoryState",
     "TractionResult",
     "traction_update",

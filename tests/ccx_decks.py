@@ -13,10 +13,21 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["two_blocks", "slave_areas", "read_dat", "read_blocks", "ring", "SLAVE0"]
+__all__ = [
+    "two_blocks",
+    "two_zones",
+    "slave_areas",
+    "read_dat",
+    "read_blocks",
+    "ring",
+    "SLAVE0",
+    "SLAVE1",
+]
 
 #: first node number of the block (its bottom layer is the slave surface)
 SLAVE0 = 1001
+#: first node number of :func:`two_zones`' second block
+SLAVE1 = 2001
 
 
 def _block(origin, size, divisions, n0, e0):
@@ -138,6 +149,64 @@ def two_blocks(
         if contact_file:
             out += ["*CONTACT FILE", ", ".join(contact_file)]
         out.append("*END STEP")
+    return "\n".join(out) + "\n"
+
+
+def two_zones(steps, interactions, *, slope=1e6):
+    """Two blocks side by side on one base, each its own contact pair and interaction (mm, MPa).
+
+    Two tool zones (issue 42): the 10 x 10 x 5 mm blocks of :func:`two_blocks` at x = 2..12 and
+    18..28 mm on a 30 x 20 x 5 mm base, each bottom face the slave surface of a node-to-surface
+    contact pair with the base's top, the first with interaction ``interactions[0]``, the second
+    with ``interactions[1]`` (each a list of lines from its ``*SURFACE INTERACTION, NAME=...``,
+    as in :func:`two_blocks`). Both tops are pressed and moved alike (``steps`` as there); slave
+    nodes from :data:`SLAVE0` and :data:`SLAVE1`, their areas :func:`slave_areas`.
+    """
+    nb, eb, ib = _block((0, 0, -5), (30, 20, 5), (6, 4, 1), 1, 1)
+    blocks = [
+        _block((x0, 5, 0), (10, 10, 5), (3, 3, 2), n0, e0)
+        for x0, n0, e0 in ((2, SLAVE0, 1001), (18, SLAVE1, 2001))
+    ]
+    out = ["*HEADING", "two zones: two blocks, two contact pairs", "*NODE"]
+    for nodes in (nb, *(b[0] for b in blocks)):
+        out += [f"{k}, {x:.10g}, {y:.10g}, {z:.10g}" for k, (x, y, z) in nodes.items()]
+    for elset, els in (("EBASE", eb), ("EBLOCKA", blocks[0][1]), ("EBLOCKB", blocks[1][1])):
+        out.append(f"*ELEMENT, TYPE=C3D8, ELSET={elset}")
+        out += [f"{e}, " + ", ".join(map(str, c)) for e, (_, c) in els.items()]
+    out.append("*SURFACE, NAME=SMASTER")
+    out += [f"{e}, S2" for e, (k, _) in eb.items() if k == 0]
+    out.append("*NSET, NSET=NBASE")
+    out += [f"{v}," for v in ib[0].ravel()]
+    out.append("*NSET, NSET=NTOP")
+    for _, _, ids in blocks:
+        out += [f"{v}," for v in ids[-1].ravel()]
+    for tag, (_, els, _) in zip("AB", blocks, strict=True):
+        out.append(f"*SURFACE, NAME=SSLAVE{tag}")
+        out += [f"{e}, S1" for e, (k, _) in els.items() if k == 0]
+    out += [
+        "*MATERIAL, NAME=STEEL",
+        "*ELASTIC",
+        "210000., 0.3",
+        "*SOLID SECTION, ELSET=EBASE, MATERIAL=STEEL",
+        "*SOLID SECTION, ELSET=EBLOCKA, MATERIAL=STEEL",
+        "*SOLID SECTION, ELSET=EBLOCKB, MATERIAL=STEEL",
+    ]
+    for tag, inter in zip("AB", interactions, strict=True):
+        name = inter[0].split("NAME=")[1].strip()
+        out += [
+            *inter,
+            "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR",
+            f"{slope:g}, 0.01",
+            f"*CONTACT PAIR, INTERACTION={name}, TYPE=NODE TO SURFACE",
+            f"SSLAVE{tag}, SMASTER",
+        ]
+    out += ["*BOUNDARY", "NBASE, 1, 3, 0."]
+    top = [e for b in blocks for e, (k, _) in b[1].items() if k == 1]
+    for p, ux in steps:
+        out += ["*STEP, INC=200", "*STATIC", "0.1, 1.0, 1e-5, 0.25", "*BOUNDARY"]
+        out += [f"NTOP, 1, 1, {ux:.10g}", "NTOP, 2, 2, 0.", "*DLOAD"]
+        out += [f"{e}, P2, {p:.10g}" for e in top]
+        out += ["*NODE PRINT, NSET=NTOP", "RF", "*CONTACT PRINT", "CSTR, CSDV", "*END STEP"]
     return "\n".join(out) + "\n"
 
 

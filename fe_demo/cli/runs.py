@@ -49,6 +49,12 @@ def _common_kw(args, law):
     }
 
 
+def _zone_kw(args, law):
+    """``{"zones": ...}`` of a zoned die (``--zone``, upsetting and ring), else ``{}``."""
+    zones = getattr(args, "zones_loaded", ())
+    return {"zones": zones} if zones and law == "sbmf" else {}
+
+
 def _label(law, args):
     """The run's name in tables, legends and titles: the law and what tells its runs apart."""
     if law == "tresca":
@@ -58,7 +64,10 @@ def _label(law, args):
     if law == "cap":
         return f"cap mu={args.mu:g}"
     if law == "sbmf":
-        return sbmf_label(args.params)
+        lab = sbmf_label(args.params)
+        for name, _, r in getattr(args, "zones_loaded", ()):
+            lab += f" + {name} from r={r * 1e3:g} mm"
+        return lab
     return "frictionless"
 
 
@@ -140,6 +149,17 @@ def _report_run(con, label, res):
             con.warn(f"fe-demo: WARNING: {line}")
         else:
             con.result(line)
+    h = res.history
+    zones = res.info.get("law_parameters", {}).get("zones", ())
+    if zones and h:
+        con.result(
+            f"[{label}] contact nodes per die zone at the end: "
+            + ", ".join(
+                f"{z['zone']} (from r = {z['from_radius_m'] * 1e3:g} mm) "
+                f"{int(h['n_contact_' + z['zone']][-1])}"
+                for z in zones
+            )
+        )
     kt = res.info.get("tangential_stiffness", {})
     if kt.get("k_t_min_Pa_per_m") is not None:
         con.result(
@@ -184,7 +204,7 @@ def cmd_upsetting(args, con):
     results, rows = {}, []
     ok = True
     for law in laws:
-        kw = _common_kw(args, law)
+        kw = _common_kw(args, law) | _zone_kw(args, law)
         res = run_upsetting(
             law,
             diameter=args.diameter,
@@ -253,7 +273,7 @@ def cmd_ring(args, con):
     rows, fe = [], {}
     ok = True
     for law, m, lab in runs:
-        kw = _common_kw(args, law)
+        kw = _common_kw(args, law) | _zone_kw(args, law)
         kw["m"] = m
         res = run_ring(law, reduction=args.reduction, remesh_below=args.remesh_below, **kw)
         folder = args.out / _folder_name(lab) if len(runs) > 1 else args.out

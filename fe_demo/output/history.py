@@ -69,8 +69,11 @@ def csv_header(key):
 
     Counts, flags and named ratios keep their bare names.
 
-    Raises ``ValueError`` for a column without a declared unit in :data:`HISTORY_UNITS`.
+    Raises ``ValueError`` for a column without a declared unit in :data:`HISTORY_UNITS`;
+    ``n_contact_<zone>`` (contact nodes per zone of a zoned die) is a count.
     """
+    if key.startswith("n_contact_"):  # contact nodes per zone of the die (a count)
+        return key
     try:
         unit = HISTORY_UNITS[key]
     except KeyError:

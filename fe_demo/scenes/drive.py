@@ -21,6 +21,7 @@ from .calibrated_range import range_columns, range_summary
 from .laws import law_parameters, make_law_factory
 from .result import SceneResult
 from .slab import slab_pressure_coulomb, slab_pressure_law, slab_pressure_tresca
+from .zones import radial_zones
 
 __all__ = ["LawSpec", "ProgressBar", "RunSettings", "Run", "drive", "press"]
 
@@ -39,18 +40,32 @@ class LawSpec:
     m: float = 0.3
     tau_max: float | None = None
     params: object = None
+    zones: tuple = ()
 
     def factory(self):
-        """``factory(model) -> law`` for the model (:func:`fe_demo.scenes.laws.make_law_factory`)."""
-        return make_law_factory(
+        """``factory(model) -> law`` for the model (:func:`fe_demo.scenes.laws.make_law_factory`).
+
+        With ``zones`` (``(name, params, radius)`` each; law ``sbmf`` only) the die's
+        :class:`fe_demo.scenes.zones.RadialZones`: this law inside, each zone's from its radius.
+        """
+        base = make_law_factory(
             self.name, mu=self.mu, m=self.m, tau_max=self.tau_max, params=self.params
         )
+        if not self.zones:
+            return base
+        if self.name != "sbmf":
+            raise ValueError(f"zones need the law sbmf (the die's default law), got {self.name!r}")
+        die = radial_zones(base(None), self.zones)  # sbmf: a fixed law, whatever the model
+        return lambda model: die
 
     def parameters(self):
-        """The law's parameters as ``summary.json`` records them."""
-        return law_parameters(
+        """The law's parameters as ``summary.json`` records them (and the die's zones)."""
+        out = law_parameters(
             self.name, mu=self.mu, m=self.m, tau_max=self.tau_max, params=self.params
         )
+        if self.zones:
+            out["zones"] = self.factory()(None).describe()
+        return out
 
 
 @dataclass(frozen=True)
@@ -121,7 +136,8 @@ def _record(model, law):
     elif law.name == "coulomb":
         slab = float(slab_pressure_coulomb(sf, law.mu, d, h, form="exact"))
     elif fe_law is not None:  # cap, sbmf (first loading): integrate the slab equation
-        slab = float(slab_pressure_law(sf, lambda p: fe_law.shear_limit(p, 0.0)[0], d, h))
+        one = fe_law.default_law() if hasattr(fe_law, "zone_at") else fe_law  # zones: the die's
+        slab = float(slab_pressure_law(sf, lambda p: one.shear_limit(p, 0.0)[0], d, h))
     else:
         slab = sf
     ph = np.asarray(model.contact.state.p_hist)
@@ -144,6 +160,10 @@ def _record(model, law):
         "n_reload_eq25": int(below.sum()),
     }
     row.update(range_columns(model))
+    zone = model.contact.zone
+    if hasattr(fe_law, "zone_at") and zone is not None:  # contact nodes per zone of the die
+        for i, name in enumerate(fe_law.law.names):
+            row[f"n_contact_{name}"] = int(np.count_nonzero(active & (zone == i)))
     return row
 
 

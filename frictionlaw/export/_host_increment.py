@@ -71,6 +71,7 @@ def run_increment(
     kinc=1,
     dtime=1.0,
     max_cutbacks=5,
+    names=None,
 ):
     """One increment of automatic incrementation around ``fric`` (a :class:`FricLib`).
 
@@ -78,7 +79,8 @@ def run_increment(
     the last one the converged state. Every iterate calls ``FRIC`` at every point with the
     start-of-increment ``TAU`` and ``STATEV``; a ``PNEWDT < 1`` from any call abandons the
     attempt after that iteration and retries the increment at ``dtime * min(PNEWDT)``, at most
-    ``max_cutbacks`` times (Abaqus' ``IA``, ccx's ``ia``: 5). Returns an :class:`Increment`.
+    ``max_cutbacks`` times (Abaqus' ``IA``, ccx's ``ia``: 5); ``names``: the names every call
+    passes (``{"ciname": ...}``). Returns an :class:`Increment`.
     """
     attempts = []
     for _ in range(max_cutbacks + 1):
@@ -86,7 +88,15 @@ def run_increment(
         for press in iterates(dtime):
             press = np.asarray(press, dtype=float)
             out = fric(
-                press, dgam, tau_start, statev_start, chrlngth, kstep=kstep, kinc=kinc, dtime=dtime
+                press,
+                dgam,
+                tau_start,
+                statev_start,
+                chrlngth,
+                kstep=kstep,
+                kinc=kinc,
+                dtime=dtime,
+                **(names or {}),
             )
             p_max = max(p_max, float(press.max()))
             exits = fric.exits()

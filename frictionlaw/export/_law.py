@@ -33,7 +33,11 @@ __all__ = [
     "guard_spec",
     "CUT_FACTOR",
     "CUT_FLOOR",
+    "CoreLaw",
+    "core_law",
     "core_context",
+    "shared_constants",
+    "law_lines",
     "header_lines",
 ]
 
@@ -300,7 +304,7 @@ class GuardSpec:
     cut_factor: float = CUT_FACTOR
     cut_floor: float = CUT_FLOOR
 
-    def messages(self, state_name, units_input, implicit=False):
+    def messages(self, state_name, units_input, implicit=False, zone=None):
         """The messages of the guards, ``{kind: (text before the value, text after it)}``.
 
         Kinds (the ``KIND`` of the routines' ``SBMF_MESSAGE``): 1 too few state variables
@@ -314,11 +318,18 @@ class GuardSpec:
         (``PROPS(1)``, ``the data line of *FRICTION, USER, PROPERTIES=1``): the fields of
         :class:`frictionlaw.export.Routine`. ``implicit``: the routine's host calls it on
         Newton iterates and commits its state on convergence (``Routine.implicit``), so its
-        range warning names the committed ``p_hist``.
+        range warning names the committed ``p_hist``. ``zone``: the label of the law in a
+        zoned export (``zone 'rim' (rim.json)``), which its messages name (``""``: a zoned
+        routine's deck-wide messages), and the state count that keeps the cache's law (4).
         """
         s = self.units.split("(")[1].split(",")[0]
         name, where = units_input
-        pre = "SBMF friction: "
+        pre = f"SBMF friction: {zone}: " if zone else "SBMF friction: "
+        n_state = (
+            "3 (p_hist, its cache, the status)"
+            if zone is None
+            else ("4 (p_hist, its cache, the status, the law that wrote the cache)")
+        )
         top = "none" if self.p_max is None else f"{self.p_max:.6g} {s}"
         units = f"this routine was exported for {self.units} and the model {self.other}"
         limit = f" {s} > 100 H = {self.p_unit:.6g} {s}"
@@ -331,7 +342,7 @@ class GuardSpec:
             1: (
                 f"{pre}{state_name} = ",
                 ", but the routine needs at least 1 state variable (1: p_hist); set "
-                f"{state_name} to 3 (p_hist, its cache, the status)",
+                f"{state_name} to {n_state}",
             ),
             2: (
                 f"{pre}the deck does not state its unit system; this routine was exported "
@@ -378,6 +389,54 @@ def guard_spec(params, units):
     )
 
 
+@dataclass(frozen=True)
+class CoreLaw:
+    """One law as ``core/sbmf_law.f`` renders it: its routines' prefix and its values.
+
+    Attributes
+    ----------
+    prefix : str
+        The prefix of its routines' names, five characters (``SBMF_`` for an export's one law:
+        ``SBMF_SHEAR``; ``SZ01_``, ``SZ02_``, ... for the laws of a zoned export).
+    law : dict
+        ``TMAX, H, C1, XN1, C2, XN2`` in the host's units (:func:`law_constants`).
+    continuous : bool
+        ``params.continuous_reload``.
+    reload, first : ReloadSpec or None, FirstSpec or None
+        The tabulated forms (None: Eq. 25 of the paper, Eq. 24).
+    kt : StiffnessSpec
+        The stick stiffness source.
+    ln_h : float
+        ``ln H`` in the host's unit, as the runtime's ``log(H)`` gives it.
+    guard : GuardSpec
+        What the routine checks for this law (its ``100 H``, its ``p_max``).
+    """
+
+    prefix: str
+    law: dict
+    continuous: bool
+    reload: "ReloadSpec | None"
+    first: "FirstSpec | None"
+    kt: StiffnessSpec
+    ln_h: float
+    guard: GuardSpec
+
+
+def core_law(params, units, kt, prefix="SBMF_"):
+    """The :class:`CoreLaw` of ``params`` in ``units`` with the stick stiffness ``kt``."""
+    law = law_constants(params, units)
+    return CoreLaw(
+        prefix,
+        law,
+        params.continuous_reload,
+        reload_spec(params, units),
+        first_spec(params, units),
+        kt,
+        math.log(law["H"]),
+        guard_spec(params, units),
+    )
+
+
 def core_context(params, units, kt):
     """The values ``core/sbmf_core.f`` (the law core of every Fortran target) is rendered with.
 
@@ -392,31 +451,45 @@ def core_context(params, units, kt):
     Returns
     -------
     dict
-        ``law`` (``TMAX, H, C1, XN1, C2, XN2`` in the host's units), ``continuous``
-        (``params.continuous_reload``), ``reload`` (the tabulated reload form's
-        :class:`ReloadSpec`, None for the paper's Eq. 25), ``first`` (the first-loading form's
-        :class:`FirstSpec`, None for Eq. 24), ``kt``, and ``ln_small``,
-        ``ln_sat``: the smooth minimum's branch points ``ln(1e-4)`` and ``ln(350)`` of
-        ``frictionlaw._kernels``; ``ln_d_max``, the tabulated form's bound 700 on
-        ``ln(dtau/dp)`` where it is formed in logs; ``ln_h``, ``ln H`` in the host's unit (as
-        the runtime's ``log(H)`` gives it, for the tabulated forms' ``ln(p_hist/H)`` and
-        ``ln(p/H)`` where the quotient is not a normal double); ``ln_q_start``, ``ln Q_START``, below which the
-        tabulated branch starts quadratically; ``guard``, the :class:`GuardSpec` (the unit
-        system, ``100 H``, ``p_max``) every routine checks.
+        ``laws``: the one :class:`CoreLaw` (``core/sbmf_law.f`` is rendered once per law;
+        a zoned export has several, :func:`frictionlaw.export._zones.zoned_context`);
+        ``zones``: None (one law everywhere); the law's values at the top level too (the
+        entry templates and READMEs read them): ``law`` (``TMAX, H, C1, XN1, C2, XN2`` in the
+        host's units), ``continuous`` (``params.continuous_reload``), ``reload`` (the tabulated
+        reload form's :class:`ReloadSpec`, None for the paper's Eq. 25), ``first`` (the
+        first-loading form's :class:`FirstSpec`, None for Eq. 24), ``kt``, ``ln_h`` (``ln H``
+        in the host's unit, as the runtime's ``log(H)`` gives it, for the tabulated forms'
+        ``ln(p_hist/H)`` and ``ln(p/H)`` where the quotient is not a normal double),
+        ``guard``, the :class:`GuardSpec` (the unit system, ``100 H``, ``p_max``) every
+        routine checks; and the shared constants :func:`shared_constants`.
     """
-    law = law_constants(params, units)
+    one = core_law(params, units, kt)
     return {
-        "law": law,
-        "continuous": params.continuous_reload,
-        "reload": reload_spec(params, units),
-        "first": first_spec(params, units),
+        "laws": (one,),
+        "zones": None,
+        "law": one.law,
+        "continuous": one.continuous,
+        "reload": one.reload,
+        "first": one.first,
         "kt": kt,
+        "ln_h": one.ln_h,
+        "guard": one.guard,
+        **shared_constants(),
+    }
+
+
+def shared_constants():
+    """The constants every law's routines share.
+
+    ``ln_small``, ``ln_sat`` (the smooth minimum's branch points ``ln(1e-4)``, ``ln(350)`` of ``frictionlaw._kernels``), ``ln_d_max`` (the
+    tabulated form's bound 700 on ``ln(dtau/dp)`` where it is formed in logs), ``ln_q_start``
+    (``ln Q_START``, below which the tabulated branch starts quadratically).
+    """
+    return {
         "ln_small": math.log(1e-4),
         "ln_sat": math.log(350.0),
         "ln_d_max": 700.0,
-        "ln_h": math.log(law["H"]),
         "ln_q_start": math.log(Q_START),
-        "guard": guard_spec(params, units),
     }
 
 
@@ -454,13 +527,20 @@ def _fit_summary(params):
 
 def header_lines(target, params, params_path, sha, units, kt):
     """Provenance lines (without comment markers)."""
-    s = units.stress_unit
-    lines = [
+    return [
         f"SBMF friction law (Eqs. 24-26), target {target}",
         f"generated by frictionlaw-export {__version__}; do not edit by hand",
         f"parameter file: {Path(params_path).name}",
         f"sha256: {sha}",
-        f"units: {units.name} (stress {s}, length {units.length_unit})",
+        f"units: {units.name} (stress {units.stress_unit}, length {units.length_unit})",
+        *law_lines(params, units, kt),
+    ]
+
+
+def law_lines(params, units, kt):
+    """The provenance lines of one law: its parameters, forms, origin, range and fit."""
+    s = units.stress_unit
+    lines = [
         f"m={params.m!r} k={params.k * units.stress!r} {s}",
         *m_origin(params).header(),
         f"H={params.H * units.stress!r} {s} geo_ratio={params.geo_ratio!r}",

@@ -17,6 +17,15 @@ C     increment) above 100 H stops the run, one beyond the calibrated
 C     range gives one warning per process. An iterate's PRESS above
 C     100 H asks for a smaller increment (PNEWDT) until the increment
 C     is 1/{{ (1 / guard.cut_floor) | round | int }} of the size at which that first happened.
+{% if zones %}
+C     Zones: the law of the name in {{ zones.key.argument }}, compared trimmed
+C     and case-insensitive (SBMF_ZONE); {% if zones.default %}a name no zone gives
+C     runs the default law{% else %}a name no zone gives stops
+C     the run (no default law){% endif %}. STATEV(4) = the law that wrote
+C     STATEV(2) (DEPVAR >= 4): the cache is used only under that law;
+C     p_hist is the workpiece's and carries over from zone to zone.
+{% endif %}
+{% from "core/zone_pick.f" import pick with context %}
 C=======================================================================
       SUBROUTINE FRIC(LM,TAU,DDTDDG,DDTDDP,DSLIP,SED,SFD,
      1 DDTDDT,PNEWDT,STATEV,DGAM,TAULM,PRESS,DPRESS,DDPDDH,SLIP,
@@ -36,8 +45,14 @@ C
       DOUBLE PRECISION P, PH, G1H, G1NEW, TLIM, DTAU, XKT, KFALL
       DOUBLE PRECISION TOLD(2), TNEW(2), DTDDU(2,2), DTDP(2)
       INTEGER ISTAT, IA, IB
+{% if zones %}
+      DOUBLE PRECISION SBMF_ZKT, SBMF_CUTS
+      INTEGER SBMF_ZONE
+      EXTERNAL SBMF_ZKT, SBMF_CUTS, SBMF_ZONE
+{% else %}
       DOUBLE PRECISION SBMF_KT, SBMF_CUTS
       EXTERNAL SBMF_KT, SBMF_CUTS
+{% endif %}
 C     guards: the PNEWDT of an iterate above 100 H, and the fraction of
 C     the increment's size below which no more is asked for
       DOUBLE PRECISION SBMFCB, SBMFCF
@@ -63,13 +78,21 @@ C     guards: the deck's state variables and unit system
         CALL SBMF_GUARD(3, PROPS(1))
         RETURN
       END IF
+{% endif %}
+{% if zones %}
+{% call pick("SBMF_ZONE(" ~ zones.key.argument ~ ")", zones.key.argument) %}
+        LM = 2
+        RETURN
+{% endcall %}
+{% endif %}
+{% if guards %}
 C     what has converged: the committed p_hist (STATEV(1) is passed in
 C     as at the start of the increment)
       IF (STATEV(1) .GT. SBMFPU) THEN
-        CALL SBMF_GUARD(6, STATEV(1))
+        CALL SBMF_GUARD(6{{ " + KZ" if zones else "" }}, STATEV(1))
         RETURN
       END IF
-      IF (STATEV(1) .GT. SBMFPM) CALL SBMF_GUARD(5, STATEV(1))
+      IF (STATEV(1) .GT. SBMFPM) CALL SBMF_GUARD(5{{ " + KZ" if zones else "" }}, STATEV(1))
 C     an iterate above 100 H: a smaller increment, as long as this one
 C     is above SBMFCF of the size at which that first happened (below,
 C     the host's own limit would end the run: the increment is let
@@ -81,7 +104,14 @@ C     converge, and a converged pressure above 100 H stops it above)
 {% endif %}
       PH = STATEV(1)
       G1H = -1.0D0
+{% if zones %}
+C     the cache is this law's only if STATEV(4) says so
+      IF (NSTATV .GE. 4) THEN
+        IF (STATEV(4) .EQ. DBLE(IZ)) G1H = STATEV(2)
+      END IF
+{% else %}
       IF (NSTATV .GE. 2) G1H = STATEV(2)
+{% endif %}
       SED = 0.0D0
       SFD = 0.0D0
       DO IA = 1, NFDIR
@@ -102,9 +132,15 @@ C       open (no pressure): no friction, history unchanged
         IF (NSTATV .GE. 3) STATEV(3) = 0.0D0
         RETURN
       END IF
+{% if zones %}
+      CALL SBMF_ZSHEAR(IZ, P, PH, G1H, TLIM, DTAU, G1NEW)
+      KFALL = MAX(TLIM, TINY(1.0D0))/(FSLIP*CHRLNGTH)
+      XKT = SBMF_ZKT(IZ, P, KFALL)
+{% else %}
       CALL SBMF_SHEAR(P, PH, G1H, TLIM, DTAU, G1NEW)
       KFALL = MAX(TLIM, TINY(1.0D0))/(FSLIP*CHRLNGTH)
       XKT = SBMF_KT(P, KFALL)
+{% endif %}
       DO IA = 1, NFDIR
         TOLD(IA) = TAU(IA)
       END DO
@@ -127,6 +163,9 @@ C     trial history max(p_hist, p): kept by Abaqus only if converged
       STATEV(1) = MAX(PH, P)
       IF (NSTATV .GE. 2) STATEV(2) = G1NEW
       IF (NSTATV .GE. 3) STATEV(3) = DBLE(ISTAT)
+{% if zones %}
+      IF (NSTATV .GE. 4) STATEV(4) = DBLE(IZ)
+{% endif %}
       RETURN
       END
 C

@@ -1,9 +1,9 @@
 {#
   The tabulated first loading's part of the law core (frictionlaw.first_loading), included by
-  core/sbmf_core.f in place of Eq. 24's SBMF_FIRST when the parameter file selects
+  core/sbmf_core.f in place of Eq. 24's {{ zp }}FIRST when the parameter file selects
   first_loading_form = "tabulated" (the template its record names,
-  frictionlaw.forms.BranchForm.export_template): SBMF_LRAT (frictionlaw._kernels.log_ratio),
-  SBMF_FTAB (first_table_log), SBMF_LNA1 (ln_alpha1) and SBMF_FIRST
+  frictionlaw.forms.BranchForm.export_template): {{ zp }}LRAT (frictionlaw._kernels.log_ratio),
+  {{ zp }}FTAB (first_table_log), {{ zp }}LNA1 (ln_alpha1) and {{ zp }}FIRST
   (sbmf_first_table_scalar), statement by statement. Rendered with core/sbmf_core.f's values
   (frictionlaw.export._law.core_context): law, first (the FirstSpec: the knots u = ln(p_j/H),
   v = ln alpha_j and the slopes d = dv/du as PARAMETER arrays, exactly the runtime's
@@ -13,7 +13,7 @@ C=======================================================================
 C     ln(P/H) for P > 0 (frictionlaw's log_ratio): one log of the
 C     quotient where it is a normal double, else ln P - ln H.
 C=======================================================================
-      DOUBLE PRECISION FUNCTION SBMF_LRAT(P)
+      DOUBLE PRECISION FUNCTION {{ zp }}LRAT(P)
       IMPLICIT NONE
       DOUBLE PRECISION P, X
       DOUBLE PRECISION H, LNH
@@ -22,9 +22,9 @@ C     ln H, as the runtime's log(H) gives it
       PARAMETER (LNH = {{ ln_h | double }})
       X = P/H
       IF (1.0D-300 .LT. X .AND. X .LT. 1.0D+300) THEN
-        SBMF_LRAT = LOG(X)
+        {{ zp }}LRAT = LOG(X)
       ELSE
-        SBMF_LRAT = LOG(P) - LNH
+        {{ zp }}LRAT = LOG(P) - LNH
       END IF
       RETURN
       END
@@ -39,7 +39,7 @@ C     first loading; above the top level the power law of its end
 C     slope, V(NJ) + D(NJ) (LNQ - U(NJ)), capped at ln alpha = 0
 C     (slope 0 there).
 C=======================================================================
-      SUBROUTINE SBMF_FTAB(LNQ, LNA, S)
+      SUBROUTINE {{ zp }}FTAB(LNQ, LNA, S)
       IMPLICIT NONE
       DOUBLE PRECISION LNQ, LNA, S
       DOUBLE PRECISION HK, T, W, Y0, Y1, D0, D1
@@ -95,12 +95,12 @@ C
 C     ln alpha1(PH), PH > 0, of the tabulated first loading
 C     (frictionlaw's ln_alpha1): what the reload branch is scaled by,
 C     and the cache -ln alpha1(p_hist) negated.
-      DOUBLE PRECISION FUNCTION SBMF_LNA1(PH)
+      DOUBLE PRECISION FUNCTION {{ zp }}LNA1(PH)
       IMPLICIT NONE
       DOUBLE PRECISION PH, S
-      DOUBLE PRECISION SBMF_LRAT
-      EXTERNAL SBMF_LRAT
-      CALL SBMF_FTAB(SBMF_LRAT(PH), SBMF_LNA1, S)
+      DOUBLE PRECISION {{ zp }}LRAT
+      EXTERNAL {{ zp }}LRAT
+      CALL {{ zp }}FTAB({{ zp }}LRAT(PH), {{ zp }}LNA1, S)
       RETURN
       END
 C
@@ -110,21 +110,21 @@ C     sbmf_first_table_scalar), P > 0: TAU = TMAX alpha1(P), DTAU =
 C     dTAU/dP = TAU (d ln alpha1/d ln P)/P, held below the largest
 C     double; below the lowest level the Coulomb line TAU = XMU P,
 C     XMU = TMAX alpha_0/p_0 (exact for every tiny P). G1 = the cache
-C     value for p_hist = P, -ln alpha1(P) (SBMF_LNA1's statements).
+C     value for p_hist = P, -ln alpha1(P) ({{ zp }}LNA1's statements).
 C=======================================================================
-      SUBROUTINE SBMF_FIRST(P, TAU, DTAU, G1)
+      SUBROUTINE {{ zp }}FIRST(P, TAU, DTAU, G1)
       IMPLICIT NONE
       DOUBLE PRECISION P, TAU, DTAU, G1
       DOUBLE PRECISION LNQ, LNA, S
-      DOUBLE PRECISION SBMF_LRAT
-      EXTERNAL SBMF_LRAT
+      DOUBLE PRECISION {{ zp }}LRAT
+      EXTERNAL {{ zp }}LRAT
       DOUBLE PRECISION TMAX, U0, XMU
       PARAMETER (TMAX = {{ law.TMAX | double }})
       PARAMETER (U0 = {{ first.u[0] | double }})
 C     TMAX exp(V(1) - U(1))/H, as the runtime forms it
       PARAMETER (XMU = {{ first.mu | double }})
-      LNQ = SBMF_LRAT(P)
-      CALL SBMF_FTAB(LNQ, LNA, S)
+      LNQ = {{ zp }}LRAT(P)
+      CALL {{ zp }}FTAB(LNQ, LNA, S)
       G1 = -LNA
       IF (.NOT. (LNQ .GT. U0)) THEN
         TAU = P*XMU

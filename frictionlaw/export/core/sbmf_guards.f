@@ -19,7 +19,7 @@ C=======================================================================
       INTEGER FUNCTION SBMF_ONCE(K)
       IMPLICIT NONE
       INTEGER K, N
-      INTEGER, SAVE :: SBMFDN(6) = 0
+      INTEGER, SAVE :: SBMFDN({{ guard_kinds }}) = 0
 !$OMP ATOMIC READ
       N = SBMFDN(K)
       IF (N .EQ. 0) THEN
