@@ -290,11 +290,12 @@ def _files_plan(scene, roles, n, check_sampling):
     scans = tuple(Scan.read(scene, r) for r in roles)
     raw = [scan.surface for scan in scans]
     _check_size_option(scene.size, scans, raw)
-    for scan, s in zip(scans, raw, strict=True):  # the lateral scale, as Rq checks the heights'
-        scale = ScanScale(
-            f"{scan.role} {scan.path}", scan.role, s.size, s.provenance["rms_slope_scan"]
+    for scan, s in zip(scans, raw, strict=True):  # the height unit, then the lateral scale
+        _check_rq(s.provenance["path"], scan.role, s.provenance["rq_scan"])
+        slope = s.provenance["rms_slope_scan"]
+        check_scan(
+            ScanScale(f"{scan.role} {scan.path}", scan.role, s.size, slope), scene.smooth_pair
         )
-        check_scan(scale, scene.smooth_pair)
     side = _side(scene.crop_size, raw)
     pitch = max(v for s in raw for v in (s.dx, s.dy))
     lam, lam_source = _lambda_s(scene.lambda_s, raw, side, pitch)
@@ -488,7 +489,6 @@ def _on_grid(plan):
         path = s.provenance["path"]
         if plan.check_sampling:
             _check_element(path, plan.element, (s.dx, s.dy), plan.grid, plan.lambda_s)
-        _check_rq(path, scan.role, s.provenance["rq_scan"])
     return dataclasses.replace(plan, block=block, notes=notes)
 
 
