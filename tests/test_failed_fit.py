@@ -96,7 +96,7 @@ def test_full_contact_at_the_first_level_fails_the_run(flat_pair, capsys):
     doc = json.loads((base / "o" / "params.failed.json").read_text())
     (problem,) = doc["provenance"]["run"]["problems"]
     assert problem.startswith("full contact at the first load level: alpha = 1.000 at 10 MPa")
-    assert "0.2 x 0.2 m, RMS slope 0.00064" in problem and "1000x too large" in problem
+    assert "0.2 x 0.2 m, RMS slope 0.00064" in problem and "lateral size too large" in problem
     assert "smooth_pair=True" in problem  # the Python names in the file, the flags on stderr
     assert "--smooth-pair" in cap.err and "--workpiece-size" in cap.err
     prov = doc["provenance"]["extra"]

@@ -144,20 +144,29 @@ def scan_slope(surface):
 
 
 def _mistake(scale, flat=False):
-    """``(text, names)``: the likely unit mistake of ``scale`` in words, and what corrects it."""
+    """``(text, names)``: the likely unit mistake of ``scale`` in words, and what corrects it.
+
+    ``flat``: the contact says the surfaces are too flat (:func:`full_contact_problem`); the
+    scan itself may look plausible, so no factor is guessed.
+    """
     k = scale.factor(flat)
     role = scale.role
     lx, ly = scale.size
     wide = k > 1
-    times = f"{max(k, 1 / k):.0f}"
+    times = f"{max(k, 1 / k):.0f}x " if scale.implausible() else ""
     text = (
-        f"most likely a lateral size {times}x too {'large' if wide else 'small'} (a size typed in "
+        f"most likely a lateral size {times}too {'large' if wide else 'small'} (a size typed in "
         f"{'m instead of mm' if wide else 'mm instead of um'}, or a header whose pixel is read in "
-        f"the wrong unit), or heights in the wrong unit; with the size "
-        f"{'divided' if wide else 'multiplied'} by {times} the scan would be "
-        f"{_length(lx / k, ly / k)} with RMS slope {scale.slope * k:.3g}. Correct the size with "
-        f"{{{role}_size}} (LX [LY] in m; it overrides the file's own) or check the height unit "
-        f"({{{role}_unit}} / {{unit}})"
+        f"the wrong unit), or heights in the wrong unit"
+    )
+    if times:
+        text += (
+            f"; with the size {'divided' if wide else 'multiplied'} by {times.strip()[:-1]} the "
+            f"scan would be {_length(lx / k, ly / k)} with RMS slope {scale.slope * k:.3g}"
+        )
+    text += (
+        f". Correct the size with {{{role}_size}} (LX [LY] in m; it overrides the file's own) "
+        f"or check the height unit ({{{role}_unit}} / {{unit}})"
     )
     return text, (f"{role}_size", f"{role}_unit", "unit")
 
