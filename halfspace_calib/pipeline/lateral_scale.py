@@ -34,10 +34,11 @@ Both are lifted for a pair the user states is that smooth (``Scene.smooth_pair``
   of ``Sdq`` 0.2 degrees (0.0035) 7x. The ceiling, 3 (``tan`` 72 degrees, the acceptance
   angle of an NA 0.95 objective), is 18x the steepest file; a scan beyond it is most likely
   1000x too narrow.
-- A scan steeper than about 0.5 at its own pixel (an AFM scan can be) passes the floor even
-  1000x too wide; against a file of the same wrong scale its contact is full at the first level
-  (the second check), against the synthetic partner, which is generated on the patch it is given
-  and dominates the contact, neither check can tell (docs/measured_surfaces.md).
+- A lateral scaling keeps every ratio of a scan, so no check of one file can tell a size 1000x
+  too large from a smoother surface at a coarser pixel but by these absolute ranges: a scan
+  steeper than about 0.5 at its own pixel (an AFM scan can be) passes the floor 1000x too wide
+  and, unless its contact is full at the first level, calibrates (measured in
+  docs/measured_surfaces.md: matrix-3's heights x 4 as a 10 mm scan, exit 0).
 """
 
 from __future__ import annotations
