@@ -12,6 +12,12 @@ FORM_TABULATED = 1
 #: the tabulated form's x2 starts quadratically below p / p_hist = Q_START (finite d tau / dp)
 Q_START = 0.01
 
+# the first-loading form of codes 3 and 4 (the block after the reload table, frictionlaw.law)
+FIRST_EQ24 = 0
+FIRST_TABULATED = 1
+#: coeffs index of the first slot after the header and s2, K (the reload table's z[0])
+TABLE_START = 10
+
 STATUS_OPEN = 0
 STATUS_STICK = 1
 STATUS_SLIP = 2

@@ -1,27 +1,43 @@
-"""Numba kernels of the runtime law (private).
+"""Numba kernels of the runtime law (private): dispatch, array kernels, the return map.
 
-All numba code of :mod:`frictionlaw` lives here. Every kernel has an explicit
-signature, ``cache=True`` and no ``fastmath``. There is a scalar kernel for each
-operation, which a host's own ``@njit`` loop can call, and array kernels (serial
-and ``prange`` parallel) built on the scalar ones. The independent NumPy oracle
-that the tests compare against is :mod:`frictionlaw._reference`.
+All numba code of :mod:`frictionlaw` lives in this module and in
+:mod:`frictionlaw._kernels_branches` (the scalar kernels of the law's branches, re-exported
+here). Every kernel has an explicit signature, ``cache=True`` and no ``fastmath``. There is a
+scalar kernel for each operation, which a host's own ``@njit`` loop can call, and array kernels
+(serial and ``prange`` parallel) built on the scalar ones. The independent NumPy oracle that the
+tests compare against is :mod:`frictionlaw._reference`.
 
-Law codes and coefficient layout (``coeffs`` is one contiguous float64 array, of length 8
-but for the tabulated reload form):
+Law codes:
 
-====  ===========  =====================================================
+====  ===========  =========================================
 code  law          coeffs
-====  ===========  =====================================================
+====  ===========  =========================================
 0     Coulomb      ``[mu]``
 1     Tresca       ``[tau_max]`` (``m k``)
 2     Coulomb+cap  ``[mu, tau_max]``
-3     SBMF         ``[tau_max, H, C1, n1, C2, n2, continuous, form]``, and with
-                   ``form = 1`` (tabulated reload, :mod:`frictionlaw.reload_form`)
-                   ``s2, K, z[K], lnC2[K], dlnC2[K], lnn2[K], dlnn2[K]``
-4     Eq. 25 only  as SBMF
-====  ===========  =====================================================
+3     SBMF         the SBMF layout below
+4     Eq. 25 only  as SBMF (the reload branch whatever ``p`` is)
+====  ===========  =========================================
 
-``form = 0`` (or an 8-slot array) is the paper's Eq. 25 with ``C2, n2``.
+Coefficient layout of the SBMF law (one contiguous float64 array, :func:`frictionlaw.law.sbmf_coeffs`)
+
+=====================  ==========================================================================
+slots                  content
+=====================  ==========================================================================
+0-7 (header)           ``tau_max, H, C1, n1, C2, n2, continuous, reload form`` (0 paper, 1 tabulated)
+8, 9                   ``s2, K``: the tabulated reload form's exponent and levels (``1, 0`` when
+                       the paper's form runs and a first-loading block follows)
+10 .. 10+5K-1          ``z[K], lnC2[K], dlnC2[K], lnn2[K], dlnn2[K]`` (:mod:`frictionlaw.reload_form`)
+f0 = 10+5K             first-loading form (0 Eq. 24, 1 tabulated): absent for Eq. 24
+f0+1                   ``J``, the tabulated first loading's levels
+f0+2 .. f0+2+3J-1      ``u[J] = ln(p_j / H)``, ``v[J] = ln alpha_j``, ``d[J] = dv/du`` at the knots
+                       (:mod:`frictionlaw.first_loading`)
+=====================  ==========================================================================
+
+An 8-slot array is Eq. 24 with the paper's Eq. 25; ``10 + 5 K`` slots Eq. 24 with the tabulated
+reload form; a first-loading block makes ``12 + 5 K + 3 J``. Every knot is dimensionless (``z``,
+``u``, ``v``), so no unit system changes the blocks. The reload branch is scaled by
+``alpha1(p_hist)`` of the first-loading form that runs (:func:`ln_alpha1`).
 """
 
 import math
@@ -35,280 +51,55 @@ from ._codes import (
     CODE_SBMF_RELOAD,
     CODE_TRESCA,
     FORM_TABULATED,
-    Q_START,
     STATUS_OPEN,
     STATUS_SLIP,
     STATUS_STICK,
 )
-
-_Y_SATURATED = 350.0  # tanh(y) == 1 and 2y/sinh(2y) < 1e-300 beyond
-
-_opts = dict(nopython=True, cache=True, nogil=True, error_model="numpy")
-
-
-_LN_Y_SMALL = math.log(1e-4)  # series of ln(tanh(y)/y) below
-_LN_Y_SATURATED = math.log(_Y_SATURATED)
-
-
-@nb.jit(types.UniTuple(float64, 4)(float64, float64), **_opts)
-def smooth_min_log(lnx, n):
-    """Smooth minimum ``g(x) = tanh(x**n) ** (1/n)`` of ``x`` and 1 from ``ln x`` (Eqs. 24-25).
-
-    Returns ``(g, g / x, dg/dx, ln g)``. Working from ``ln x`` means that no ``x`` that
-    under- or overflows a double (a subnormal pressure times ``C/H``, or ``p_hist`` huge) is
-    ever formed: ``y = x**n = exp(n ln x)``. For ``y < 1`` it is evaluated as
-    ``g = x (tanh(y)/y) ** (1/n)`` so that the small-``x`` limit ``g -> x`` survives any ``n``
-    (``y`` may underflow to 0), and as ``exp(ln tanh(y) / n)`` above; ``tanh`` and
-    ``dg/dx = (g/x) 2y/sinh(2y)`` both come from one ``expm1(-2y)``.
-    ``ln x = +inf`` gives ``(1, 0, 0, 0)``.
-    """
-    lny = n * lnx
-    if lny < _LN_Y_SMALL:
-        # ln(tanh(y)/y) = -y^2/3 + 7 y^4/90 + O(y^6); z/sinh(z) = 1 - z^2/6 + O(z^4), z = 2y
-        y = math.exp(lny)
-        y2 = y * y
-        lngox = (-y2 / 3.0 + 7.0 * y2 * y2 / 90.0) / n
-        gox = math.exp(lngox)
-        return math.exp(lnx) * gox, gox, gox * (1.0 - 2.0 * y2 / 3.0), lnx + lngox
-    if lny > _LN_Y_SATURATED:
-        return 1.0, math.exp(-lnx), 0.0, 0.0
-    y = math.exp(lny)
-    em = math.expm1(-2.0 * y)  # e - 1 with e = exp(-2y), accurate for small y
-    two_e = 2.0 + em  # 1 + e
-    t = -em / two_e  # tanh(y)
-    s = 4.0 * y * (1.0 + em) / (-em * two_e)  # 2y / sinh(2y)
-    if y < 1.0:
-        lngox = math.log(t / y) / n
-        gox = math.exp(lngox)
-        return math.exp(lnx) * gox, gox, gox * s, lnx + lngox
-    lng = math.log1p(-2.0 * (1.0 + em) / two_e) / n
-    gox = math.exp(lng - lnx)
-    return math.exp(lng), gox, gox * s, lng
-
-
-@nb.jit(types.UniTuple(float64, 2)(float64, float64), **_opts)
-def smooth_min_log_slope(lnx, n):
-    """``(ln g, d ln g / d ln x)`` of the smooth minimum ``g = tanh(x**n) ** (1/n)`` from ``ln x``.
-
-    ``ln g`` by the statements of :func:`smooth_min_log` (bitwise its fourth value), and the
-    logarithmic slope ``x g'/g = 2y/sinh(2y)`` (``y = x**n``): the factor that
-    :func:`smooth_min_log` multiplies ``g/x`` by to give ``dg/dx``, ``1 - 2y^2/3`` on its series
-    branch and 0 in saturation. Neither ``g`` nor ``g/x`` is formed (one or two ``exp`` less):
-    for a caller that needs ``ln g`` and ``dg/dx`` only through ``g' = (g/x) x g'/g``.
-    """
-    lny = n * lnx
-    if lny < _LN_Y_SMALL:
-        y = math.exp(lny)
-        y2 = y * y
-        return lnx + (-y2 / 3.0 + 7.0 * y2 * y2 / 90.0) / n, 1.0 - 2.0 * y2 / 3.0
-    if lny > _LN_Y_SATURATED:
-        return 0.0, 0.0
-    y = math.exp(lny)
-    em = math.expm1(-2.0 * y)
-    two_e = 2.0 + em
-    s = 4.0 * y * (1.0 + em) / (-em * two_e)
-    if y < 1.0:
-        return lnx + math.log((-em / two_e) / y) / n, s
-    return math.log1p(-2.0 * (1.0 + em) / two_e) / n, s
-
-
-@nb.jit(float64(float64, float64), **_opts)
-def log_product(p, c):
-    """``ln(p c)`` for ``p, c > 0`` without forming an under- or overflowing product."""
-    x = p * c
-    if 1e-300 < x < 1e300:
-        return math.log(x)
-    return math.log(p) + math.log(c)
-
-
-@nb.jit(types.UniTuple(float64, 3)(float64, float64), **_opts)
-def smooth_min_scalar(x, n):
-    """:func:`smooth_min_log` from ``x``: ``(g, g / x, dg/dx)``; ``x <= 0`` gives ``(0, 1, 1)``."""
-    if not x > 0.0:
-        return 0.0, 1.0, 1.0
-    g, gox, dg, _ = smooth_min_log(math.log(x), n)
-    return g, gox, dg
-
-
-@nb.jit(types.UniTuple(float64, 2)(float64, float64, float64, float64, float64), **_opts)
-def sbmf_first_scalar(p, tau_max, H, C1, n1):
-    """Eq. 24: ``(tau, dtau/dp)`` with ``tau = tau_max g(p C1 / H; n1)``; 0 for ``p <= 0``."""
-    if not p > 0.0:
-        return 0.0, 0.0
-    c1 = C1 / H
-    lnx1 = log_product(p, c1)
-    g, gox, dg, _ = smooth_min_log(lnx1, n1)
-    if lnx1 < 0.0:
-        tau = p * (tau_max * c1) * gox  # full precision for tiny p
-    else:
-        tau = tau_max * g
-    return min(tau, tau_max), tau_max * c1 * dg
-
-
-@nb.jit(
-    types.UniTuple(float64, 2)(
-        float64, float64, float64, float64, float64, float64, float64, float64, float64
-    ),
-    **_opts,
+from ._kernels_branches import (
+    _RO,
+    _RO2,
+    _opts,
+    first_offset,
+    first_table_log,
+    ln_alpha1,
+    log_product,
+    log_ratio,
+    reload_paper_log,
+    reload_table_at,
+    sbmf_first_scalar,
+    sbmf_first_table_scalar,
+    sbmf_reload_scalar,
+    sbmf_reload_table_scalar,
+    smooth_min_log,
+    smooth_min_log_slope,
+    smooth_min_scalar,
 )
-def sbmf_reload_scalar(p, p_hist, tau_max, H, C1, n1, C2, n2, continuous):
-    """Eq. 25: ``(tau, dtau/dp)`` on the un-/reload branch below ``p_hist``.
 
-    ``tau = tau_max a1h g(x2; n2)`` with ``a1h = alpha1(p_hist)`` and
-    ``x2 = p C2 / (H a1h)``; divided by ``g(x2(p_hist); n2)`` when
-    ``continuous != 0`` so that it meets Eq. 24 at ``p_hist``. ``x2`` is formed
-    in logs, so that ``a1h -> 0`` cannot overflow; the limit there is ``tau -> 0``.
-    Bounded by ``tau_max a1h`` (``p <= p_hist``) and by ``tau_max`` (``p > p_hist``, where
-    the continuous variant, extrapolated, would exceed a contact ratio of 1).
-    """
-    if not (p > 0.0 and p_hist > 0.0):
-        return 0.0, 0.0
-    c2 = C2 / H
-    _, _, _, lna1h = smooth_min_log(log_product(p_hist, C1 / H), n1)
-    lnx2 = log_product(p, c2) - lna1h
-    g2, gox2, dg2, lng2 = smooth_min_log(lnx2, n2)
-    lng2h = 0.0
-    if continuous != 0.0:
-        _, _, _, lng2h = smooth_min_log(log_product(p_hist, c2) - lna1h, n2)
-    scale = math.exp(-lng2h)
-    if continuous != 0.0:  # in logs: g2 and g2h may both be below the smallest double
-        tau = tau_max * math.exp(lna1h + lng2 - lng2h)
-    elif lnx2 < 0.0:
-        tau = p * (tau_max * c2) * gox2  # alpha1(p_hist) cancels
-    else:
-        tau = tau_max * math.exp(lna1h) * g2
-    dtau = tau_max * c2 * dg2 * scale
-    cap = tau_max * math.exp(lna1h) if p <= p_hist else tau_max
-    if tau >= cap:
-        return cap, (0.0 if p > p_hist else dtau)
-    return tau, dtau
-
-
-# Inputs are typed read-only: numba converts a writable array to these safely, so read-only
-# arrays (a HistoryState's p_hist view, a host's frozen coeffs) are accepted as well.
-_RO = types.Array(float64, 1, "C", readonly=True)
-_RO2 = types.Array(float64, 2, "C", readonly=True)
-
-_TAB = 10  # coeffs index of z[0] in the tabulated reload form
-_LN_Q_START = math.log(Q_START)  # below it the tabulated branch's x2 starts quadratically
-_LN_D_MAX = 700.0  # bound on ln(dtau/dp / (tau_max s2 x g'/g)) where it is formed in logs
-_D_MAX = 1.7976931348623157e308  # the largest double: dtau/dp is held below it
-
-
-@nb.jit(types.UniTuple(float64, 2)(_RO, float64), **_opts)
-def reload_table_at(coeffs, x):
-    """``(ln C2, ln n2)`` of the tabulated reload form at ``x = p_hist / H``.
-
-    The monotone cubic Hermite interpolant over ``z = -ln(1 - x)`` whose knots and slopes
-    ``coeffs`` carries (:func:`frictionlaw.reload_form.pchip_slopes`); the first level's values
-    up to it, the last level's from it on (``x >= 1`` included). ``z`` is ``-log1p(-x)`` formed
-    from ``log`` (Kahan's ``log(u) x / (u - 1)``, ``u = 1 - x`` rounded: within a few ulps of
-    ``log1p``, whose libm version costs about three ``log`` here).
-    """
-    k = int(coeffs[9])
-    zk = _TAB
-    c0 = _TAB + k
-    n0 = _TAB + 3 * k
-    if k == 1 or not x < 1.0:
-        j = 0 if k == 1 else k - 1
-        return coeffs[c0 + j], coeffs[n0 + j]
-    u = 1.0 - x
-    z = x if u == 1.0 else -math.log(u) * (x / (1.0 - u))
-    if not z > coeffs[zk]:
-        return coeffs[c0], coeffs[n0]
-    if not z < coeffs[zk + k - 1]:
-        return coeffs[c0 + k - 1], coeffs[n0 + k - 1]
-    j = 0
-    while j < k - 2 and z >= coeffs[zk + j + 1]:
-        j += 1
-    h = coeffs[zk + j + 1] - coeffs[zk + j]
-    t = (z - coeffs[zk + j]) / h
-    u = 1.0 - t
-    h00 = (1.0 + 2.0 * t) * u * u
-    h10 = t * u * u * h
-    h01 = t * t * (3.0 - 2.0 * t)
-    h11 = t * t * (t - 1.0) * h
-    lnc = (
-        h00 * coeffs[c0 + j]
-        + h10 * coeffs[c0 + k + j]
-        + h01 * coeffs[c0 + j + 1]
-        + h11 * coeffs[c0 + k + j + 1]
-    )
-    lnn = (
-        h00 * coeffs[n0 + j]
-        + h10 * coeffs[n0 + k + j]
-        + h01 * coeffs[n0 + j + 1]
-        + h11 * coeffs[n0 + k + j + 1]
-    )
-    return lnc, lnn
-
-
-@nb.jit(types.UniTuple(float64, 2)(float64, float64, _RO), **_opts)
-def sbmf_reload_table_scalar(p, p_hist, coeffs):
-    """Eq. 25, tabulated over ``p_hist``: ``(tau, dtau/dp)`` on the un-/reload branch.
-
-    ``tau = tau_max a1h g(x2; n2)`` with ``a1h = alpha1(p_hist)``, ``(C2, n2)`` of the table at
-    ``p_hist`` (:func:`reload_table_at`), ``x2h = p_hist C2 / (H a1h)`` and
-    ``x2 = x2h (p / p_hist) ** s2`` (below ``p / p_hist = q0 = Q_START`` the C1 quadratic start
-    ``x2h q0**s2 (a t + b t**2)``, ``t = q / q0``, ``a = 2 - s2``, ``b = s2 - 1``, so that
-    ``d tau / dp`` stays finite at ``p -> 0``); divided by ``g(x2h; n2)`` when ``continuous != 0``
-    so that it meets Eq. 24 at ``p_hist``. All in logs, as :func:`sbmf_reload_scalar`:
-    ``ln x2h = ln(p_hist / H) + ln C2 - ln a1h`` and ``ln(p / p_hist)``, each one ``log`` of the
-    quotient where it is a normal double (else of its terms); ``tau = tau_max exp(ln a1h +
-    ln g2 [- ln g2h])``.
-    ``dtau/dp = tau m (x2 g'/g)(x2) / p`` with ``m = d ln x2 / d ln p`` (``s2``, below ``q0``
-    ``1 + b t / (a + b t)``) and the logarithmic slope of :func:`smooth_min_log_slope`; held
-    below the largest double; where ``tau s2 x2 g'/g`` is below 1e-290 (``tau`` subnormal or 0:
-    ``p_hist`` below about 1e-290 Pa) it is formed in logs instead, its logarithm held below 700.
-    Bounded by ``tau_max a1h`` (``p <= p_hist``; the comparison made in logs, so that the bound
-    is formed only where it applies) and by ``tau_max`` (``p > p_hist``).
-    """
-    if not (p > 0.0 and p_hist > 0.0):
-        return 0.0, 0.0
-    tau_max = coeffs[0]
-    H = coeffs[1]
-    _, _, _, lna1h = smooth_min_log(log_product(p_hist, coeffs[2] / H), coeffs[3])
-    x = p_hist / H
-    lnc2, lnn2 = reload_table_at(coeffs, x)
-    n2 = math.exp(lnn2)
-    s2 = coeffs[8]
-    if 1e-300 < x < 1e300:
-        lnx2h = math.log(x) + lnc2 - lna1h
-    else:
-        lnx2h = math.log(p_hist) - math.log(H) + lnc2 - lna1h
-    q = p / p_hist
-    if 1e-300 < q < 1e300:
-        lnq = math.log(q)
-    else:
-        lnq = math.log(p) - math.log(p_hist)
-    slope = s2  # d ln x2 / d ln p
-    if lnq < _LN_Q_START:
-        # below q0 = p / p_hist of 0.01: the C1 quadratic start q0**s2 (a t + b t**2),
-        # t = q / q0, a = 2 - s2, b = s2 - 1 (finite d tau/dp at p -> 0; q**s2 itself for s2 = 1, 2)
-        t = math.exp(lnq - _LN_Q_START)
-        u = (2.0 - s2) + (s2 - 1.0) * t
-        lnx2 = lnx2h + s2 * _LN_Q_START + (lnq - _LN_Q_START) + math.log(u)
-        slope = 1.0 + (s2 - 1.0) * t / u
-    else:
-        lnx2 = lnx2h + s2 * lnq
-    lng2, sl2 = smooth_min_log_slope(lnx2, n2)
-    lng2h = 0.0
-    if coeffs[6] != 0.0:
-        _, _, _, lng2h = smooth_min_log(lnx2h, n2)
-    lnt = lna1h + lng2 - lng2h
-    tau = tau_max * math.exp(lnt)
-    if p > p_hist and tau >= tau_max:
-        return tau_max, 0.0
-    d = tau * (slope * sl2)
-    if d > 1e-290:
-        dtau = min(d / p, _D_MAX)
-    elif sl2 > 0.0:
-        dtau = min(tau_max * slope * sl2 * math.exp(min(lnt - math.log(p), _LN_D_MAX)), _D_MAX)
-    else:
-        dtau = 0.0
-    if p <= p_hist and lnt >= lna1h:  # tau >= tau_max a1h (exp is monotone)
-        return tau_max * math.exp(lna1h), dtau
-    return tau, dtau
+__all__ = [
+    "first_offset",
+    "first_table_log",
+    "ln_alpha1",
+    "log_product",
+    "log_ratio",
+    "reload_paper_log",
+    "reload_table_at",
+    "sbmf_first_scalar",
+    "sbmf_first_table_scalar",
+    "sbmf_reload_scalar",
+    "sbmf_reload_table_scalar",
+    "smooth_min_log",
+    "smooth_min_log_slope",
+    "smooth_min_scalar",
+    "sbmf_shear_scalar",
+    "first_scalar",
+    "shear_scalar",
+    "shear_array",
+    "shear_array_parallel",
+    "traction_row",
+    "traction_scalar",
+    "traction_array",
+    "traction_array_parallel",
+]
 
 
 @nb.jit(
@@ -322,6 +113,15 @@ def sbmf_shear_scalar(p, p_hist, tau_max, H, C1, n1, C2, n2, continuous):
     if p < p_hist:
         return sbmf_reload_scalar(p, p_hist, tau_max, H, C1, n1, C2, n2, continuous)
     return sbmf_first_scalar(p, tau_max, H, C1, n1)
+
+
+@nb.jit(types.UniTuple(float64, 2)(_RO, float64), **_opts)
+def first_scalar(coeffs, p):
+    """First loading ``(tau, dtau/dp)`` of the form ``coeffs`` carries: Eq. 24 or the table."""
+    f0 = first_offset(coeffs)
+    if f0 < 0:
+        return sbmf_first_scalar(p, coeffs[0], coeffs[1], coeffs[2], coeffs[3])
+    return sbmf_first_table_scalar(p, coeffs, f0)
 
 
 @nb.jit(
@@ -347,7 +147,17 @@ def shear_scalar(code, coeffs, p, p_hist):
     if coeffs.shape[0] > 9 and coeffs[7] == FORM_TABULATED:
         if code == CODE_SBMF_RELOAD or p < p_hist:
             return sbmf_reload_table_scalar(p, p_hist, coeffs)
-        return sbmf_first_scalar(p, coeffs[0], coeffs[1], coeffs[2], coeffs[3])
+        return first_scalar(coeffs, p)
+    f0 = first_offset(coeffs)
+    if f0 >= 0:  # the paper's Eq. 25 on the tabulated first loading
+        if code == CODE_SBMF_RELOAD or p < p_hist:
+            if not p_hist > 0.0:
+                return 0.0, 0.0
+            lna1h = first_table_log(coeffs, f0, log_ratio(p_hist, coeffs[1]))[0]
+            return reload_paper_log(
+                p, p_hist, lna1h, coeffs[0], coeffs[1], coeffs[4], coeffs[5], coeffs[6]
+            )
+        return sbmf_first_table_scalar(p, coeffs, f0)
     if code == CODE_SBMF_RELOAD:
         return sbmf_reload_scalar(
             p, p_hist, coeffs[0], coeffs[1], coeffs[2], coeffs[3], coeffs[4], coeffs[5], coeffs[6]

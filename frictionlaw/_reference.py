@@ -13,6 +13,7 @@ __all__ = [
     "ln_smooth_min",
     "smooth_min",
     "alpha_first",
+    "alpha_first_tabulated",
     "alpha_reload",
     "alpha_reload_tabulated",
     "sbmf_shear",
@@ -66,16 +67,49 @@ def alpha_first(p, C1, n1, H):
     return out
 
 
-def alpha_reload(p, p_hist, C1, n1, C2, n2, H, continuous=False):
+def alpha_first_tabulated(p, p_knots, alpha_knots, slopes, H):
+    """The tabulated first loading ``alpha1(p)`` with the knot slopes given (``dv/du``).
+
+    ``v = ln alpha`` over ``u = ln(p / H)``: the cubic through the knots in its power form
+    ``v0 + t (h d0 + t (3 dv - h (2 d0 + d1) + t (h (d0 + d1) - 2 dv)))``, ``dv = v1 - v0``;
+    below the first knot ``alpha_0 p / p_0``; above the last ``alpha_{J-1} (p / p_{J-1}) **
+    d_{J-1}``, at most 1. 0 for ``p <= 0``. (The tests take the slopes from SciPy's
+    ``PchipInterpolator``.)
+    """
+    p = np.asarray(p, float)
+    pk = np.asarray(p_knots, float)
+    uk = np.log(pk) - np.log(H)
+    vk = np.log(np.asarray(alpha_knots, float))
+    dk = np.asarray(slopes, float)
+    out = np.zeros(p.shape)
+    pos = p > 0
+    with np.errstate(divide="ignore", over="ignore", invalid="ignore", under="ignore"):
+        u = np.log(p[pos]) - np.log(H)
+        j = np.clip(np.searchsorted(uk, u) - 1, 0, uk.size - 2)
+        h = uk[j + 1] - uk[j]
+        t = (u - uk[j]) / h
+        dv = vk[j + 1] - vk[j]
+        c2 = 3.0 * dv - h * (2.0 * dk[j] + dk[j + 1])
+        c3 = h * (dk[j] + dk[j + 1]) - 2.0 * dv
+        inner = vk[j] + t * (h * dk[j] + t * (c2 + t * c3))
+        above = vk[-1] + np.where(dk[-1] > 0, dk[-1] * (u - uk[-1]), 0.0)
+        ln_a = np.where(u <= uk[0], vk[0] + (u - uk[0]), np.where(u >= uk[-1], above, inner))
+        out[pos] = np.exp(np.minimum(ln_a, 0.0))
+    return out
+
+
+def alpha_reload(p, p_hist, C1, n1, C2, n2, H, continuous=False, ln_a1h=None):
     """Eq. 25's contact ratio ``alpha2(p; p_hist)`` (optionally normalised at ``p_hist``).
 
     The continuous variant, extrapolated to ``p > p_hist``, is capped at a contact ratio of 1.
+    ``ln_a1h``: ``ln alpha1(p_hist)`` of another first-loading form (broadcast like ``p``);
+    ``None``: Eq. 24's with ``C1, n1``.
     """
     p, p_hist = np.broadcast_arrays(np.asarray(p, float), np.asarray(p_hist, float))
     out = np.zeros(p.shape)
     ok = (p > 0) & (p_hist > 0)
     ph = p_hist[ok]
-    ln_a1h = ln_smooth_min(_ln_x(ph, C1, H), n1)
+    ln_a1h = _ln_a1h(ph, C1, n1, H, ln_a1h, ok, p.shape)
     ln_val = ln_a1h + ln_smooth_min(_ln_x(p[ok], C2, H) - ln_a1h, n2)
     if continuous:
         ln_val = ln_val - ln_smooth_min(_ln_x(ph, C2, H) - ln_a1h, n2)
@@ -84,20 +118,27 @@ def alpha_reload(p, p_hist, C1, n1, C2, n2, H, continuous=False):
     return out
 
 
-def alpha_reload_tabulated(p, p_hist, C1, n1, H, C2, n2, s2, continuous=False):
+def _ln_a1h(ph, C1, n1, H, given, ok, shape):
+    if given is None:
+        return ln_smooth_min(_ln_x(ph, C1, H), n1)
+    return np.broadcast_to(np.asarray(given, float), shape)[ok]
+
+
+def alpha_reload_tabulated(p, p_hist, C1, n1, H, C2, n2, s2, continuous=False, ln_a1h=None):
     """The tabulated form's ``alpha2(p; p_hist)`` with ``C2``, ``n2`` given per point.
 
     ``C2`` and ``n2`` are the table's values at each ``p_hist`` (the tests take them from
     SciPy's ``PchipInterpolator``); ``x2 = (p_hist C2 / (H a1h)) r(p / p_hist)``, ``r(q) =
     q**s2`` and below ``q0 = Q_START`` the quadratic start ``q0**s2 (t (2 - s2) + t**2 (s2 - 1))``,
     ``t = q / q0``. Capped
-    at a contact ratio of 1, 0 where ``p <= 0`` or ``p_hist <= 0``.
+    at a contact ratio of 1, 0 where ``p <= 0`` or ``p_hist <= 0``. ``ln_a1h`` as in
+    :func:`alpha_reload`.
     """
     p, p_hist, C2, n2 = np.broadcast_arrays(*(np.asarray(v, float) for v in (p, p_hist, C2, n2)))
     out = np.zeros(p.shape)
     ok = (p > 0) & (p_hist > 0)
     ph, c2, nn = p_hist[ok], C2[ok], n2[ok]
-    ln_a1h = ln_smooth_min(_ln_x(ph, C1, H), n1)
+    ln_a1h = _ln_a1h(ph, C1, n1, H, ln_a1h, ok, p.shape)
     ln_x2h = _ln_x(ph, c2, H) - ln_a1h
     # x2 = x2h r(q): q**s2, below q0 the quadratic q0**s2 (t (2 - s2) + t**2 (s2 - 1)), t = q/q0
     lnq = np.log(p[ok]) - np.log(ph)

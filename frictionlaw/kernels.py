@@ -22,7 +22,9 @@ from ._codes import (
     STATUS_STICK,
 )
 from ._kernels import (
+    first_scalar,
     sbmf_first_scalar,
+    sbmf_first_table_scalar,
     sbmf_reload_scalar,
     sbmf_shear_scalar,
     shear_array,
@@ -43,7 +45,9 @@ __all__ = [
     "STATUS_OPEN",
     "STATUS_SLIP",
     "STATUS_STICK",
+    "first_scalar",
     "sbmf_first_scalar",
+    "sbmf_first_table_scalar",
     "sbmf_reload_scalar",
     "sbmf_shear_scalar",
     "shear_array",

@@ -64,15 +64,18 @@ def as_float_array(name: str, value: ArrayLike) -> NDArray[np.float64]:
 def sbmf_coeffs(params: "FrictionParams", tau_max: float | None = None) -> NDArray[np.float64]:
     """Kernel coefficient vector of the SBMF law (layout in :mod:`frictionlaw._kernels`).
 
-    The paper's form fills 8 slots; the tabulated reload form appends ``s2``, the number of
-    levels ``K`` and the interpolant (``z``, ``ln C2`` and its slopes, ``ln n2`` and its
-    slopes: ``10 + 5 K`` slots in all). One contiguous float64 array in every case.
+    The header fills 8 slots (Eq. 24 with the paper's Eq. 25: nothing more); the reload form
+    that runs appends its block (the tabulated form: ``s2``, the number of levels ``K`` and the
+    interpolant, ``2 + 5 K`` slots), then a first-loading form other than Eq. 24 its code and
+    block (the tabulated form: ``J``, ``u``, ``v``, ``d``: ``2 + 3 J`` slots; with the paper's
+    reload form after the placeholder ``s2 = 1, K = 0``). Each block is what the form's record
+    (:class:`frictionlaw.forms.BranchForm`) lowers its data to. One contiguous float64 array.
     """
     tm = params.tau_max if tau_max is None else tau_max
-    table = params.reload_table if params.reload_form == "tabulated" else None
-    k = 0 if table is None else len(table.p_hist)
-    c = np.zeros(8 if table is None else 10 + 5 * k)
-    c[:7] = (
+    first, reload = params.branch_forms()
+    rcode, rblock = reload.lower(params.reload_table, params.H)
+    fcode, fblock = first.lower(params.first_loading_table, params.H)
+    head = [
         tm,
         params.H,
         params.C1,
@@ -80,14 +83,13 @@ def sbmf_coeffs(params: "FrictionParams", tau_max: float | None = None) -> NDArr
         params.C2,
         params.n2,
         float(params.continuous_reload),
-    )
-    if table is not None:
-        kn = table.knots(params.H)
-        c[7] = float(K.FORM_TABULATED)
-        c[8] = table.s2
-        c[9] = float(k)
-        c[10:] = np.concatenate([kn["z"], kn["lnC2"], kn["dlnC2"], kn["lnn2"], kn["dlnn2"]])
-    return c
+        float(rcode),
+    ]
+    if fcode == K.FIRST_EQ24:
+        return np.concatenate([head, rblock]).astype(np.float64)
+    if rblock.size == 0:
+        rblock = np.array([1.0, 0.0])  # s2 = 1, K = 0: no reload table
+    return np.concatenate([head, rblock, [float(fcode)], fblock]).astype(np.float64)
 
 
 def evaluate(
@@ -124,16 +126,18 @@ def evaluate(
 
 
 def alpha_first(p: ArrayLike, params: "FrictionParams") -> FloatOrArray:
-    """Contact ratio on first loading, ``alpha1(p) = g(p C1 / H; n1)``, 0 for ``p <= 0``.
+    """Contact ratio on first loading ``alpha1(p)`` of the form that runs, 0 for ``p <= 0``.
 
-    This is Eq. 24.
+    This is Eq. 24, ``alpha1(p) = g(p C1 / H; n1)``, with ``first_loading_form="eq24"``, and
+    the computed first loading interpolated with ``"tabulated"``
+    (:mod:`frictionlaw.first_loading`).
 
     Parameters
     ----------
     p : float or array_like
         Contact pressure in Pa.
     params : FrictionParams
-        Law parameters (``C1``, ``n1``, ``H`` are used).
+        Law parameters (``C1``, ``n1``, ``H`` or the first-loading table are used).
     """
     return evaluate(K.CODE_SBMF, sbmf_coeffs(params, 1.0), p, 0.0)[0]
 
@@ -141,7 +145,8 @@ def alpha_first(p: ArrayLike, params: "FrictionParams") -> FloatOrArray:
 def alpha_reload(p: ArrayLike, p_hist: ArrayLike, params: "FrictionParams") -> FloatOrArray:
     """Reload contact ratio ``alpha2 = alpha1(p_hist) g(p C2 / (H alpha1(p_hist)); n2)``.
 
-    This is Eq. 25.
+    This is Eq. 25 (or its tabulated form, :mod:`frictionlaw.reload_form`), with
+    ``alpha1(p_hist)`` of the first-loading form that runs.
 
     Evaluated on the reload branch whatever ``p`` is. With
     ``params.continuous_reload`` it is divided by its value at ``p = p_hist``,
@@ -154,10 +159,10 @@ def alpha_reload(p: ArrayLike, p_hist: ArrayLike, params: "FrictionParams") -> F
 def shear_limit(p: ArrayLike, p_hist: ArrayLike, params: "FrictionParams") -> FloatOrArray:
     """Friction shear limit ``tau`` (Pa) of the paper's law at ``p`` after the history ``p_hist``.
 
-    It evaluates Eqs. 24-25.
+    It evaluates Eqs. 24-25 (in the forms ``params`` runs).
 
     ``tau = m k alpha2(p)`` (Eq. 25) while ``p < p_hist``, else
-    ``tau = m k alpha1(p)`` (Eq. 24). ``p <= 0`` gives 0.
+    ``tau = m k alpha1(p)`` (Eq. 24 or the tabulated first loading). ``p <= 0`` gives 0.
     """
     return evaluate(K.CODE_SBMF, sbmf_coeffs(params), p, p_hist)[0]
 

@@ -12,6 +12,10 @@ continuous_reload : normalise Eq. 25 so that it meets Eq. 24 at ``p_hist``
 reload_form : ``"paper"`` (Eq. 25 with one ``C2, n2``) or ``"tabulated"`` (Eq. 25 with ``C2, n2``
     per calibrated ``p_hist`` and an exponent ``s2``, :mod:`frictionlaw.reload_form`)
 reload_table : the tabulated form's levels (:class:`~frictionlaw.reload_form.ReloadTable`)
+first_loading_form : ``"eq24"`` (the paper's Eq. 24 with ``C1, n1``) or ``"tabulated"`` (the
+    computed first loading interpolated, :mod:`frictionlaw.first_loading`)
+first_loading_table : the tabulated form's points
+    (:class:`~frictionlaw.first_loading.FirstLoadingTable`)
 geo_ratio : Eq. 26's geometric share, ``f(p) = geo_ratio k alpha(p)`` (0: Eqs. 24-25 alone)
 p_range : mean contact pressures (Pa) the calibration covered on first loading, ``(p_min, p_max)``
 k_t : calibrated tangential interface stiffness ``k_t(p)`` (Pa/m) as a table over ``p`` (Pa)
@@ -25,11 +29,14 @@ from pathlib import Path
 from typing import Any, cast
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
 
+from ._flattening_block import Flattening
 from ._io import atomic_write
 from ._shear_flow import check_k_against_sigma_y
-from .reload_form import RELOAD_FORMS, ReloadTable
+from ._stiffness import K_T_FORMAT_VERSION, TangentialStiffness
+from .first_loading import FirstLoadingTable
+from .forms import BRANCH_KEYS, FIRST_LOADING, RELOAD, BranchForm, branch_form, read_branch
+from .reload_form import ReloadTable
 from .uncertainty import LAW_KEYS, Uncertainty
 
 __all__ = [
@@ -47,10 +54,16 @@ __all__ = [
 ]
 
 FORMAT_NAME = "sbmf-friction-params"
-#: the version written when the file carries a ``reload_law`` object (2); files without one are
-#: written as version 1, which every earlier runtime reads (the paper's Eq. 25)
-FORMAT_VERSION = 2
-_READ_VERSIONS = (1, 2)
+#: the newest version: 3 when the file carries a ``first_loading_law`` object, 2 when it carries
+#: a ``reload_law`` object only, 1 with neither (the paper's Eqs. 24-25, which every earlier
+#: runtime reads): a file is written in the lowest version that expresses its content
+FORMAT_VERSION = 3
+_READ_VERSIONS = (1, 2, 3)
+#: the first version that may carry each optional object
+_SINCE = {"reload_law": 2, "first_loading_law": 3, "flattening": 3}
+#: objects planned for a version that this runtime cannot read yet: refused, never ignored
+#: (each changes the physics of the law); none at present
+_UNREAD: dict[str, str] = {}
 
 _UNITS = {
     "m": "1",
@@ -76,9 +89,6 @@ _RANGE_NOTE = (
     " (the validated range: physical values lie well inside it, and within it the law stays "
     "finite for every pressure and history)"
 )
-
-#: version of the optional ``tangential_stiffness`` object inside a parameter file
-K_T_FORMAT_VERSION = 1
 
 
 def check_range(
@@ -107,90 +117,6 @@ def check_range(
     if not ok:
         raise ValueError(f"{name} must be in {rng}, got {value!r}{note}")
     return v
-
-
-def _positive_table(name: str, values: object) -> tuple[float, ...]:
-    try:
-        arr = np.asarray(values, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a list of real numbers, got {values!r}") from None
-    if arr.ndim != 1 or arr.size < 1:
-        raise ValueError(f"{name} must be a non-empty 1-D list, got shape {arr.shape}")
-    if not np.all(np.isfinite(arr)) or np.any(arr <= 0.0):
-        raise ValueError(f"{name} must hold finite values in (0, inf), got {values!r}")
-    return tuple(float(v) for v in arr)
-
-
-@dataclass(frozen=True)
-class TangentialStiffness:
-    """Calibrated tangential interface stiffness ``k_t(p)`` of the roughness layer.
-
-    A table of the stiffness (Pa/m, traction per slip) at the calibration's pressures (Pa),
-    evaluated by log-log interpolation between the points and held constant beyond the
-    first and last point (no extrapolation of a power law outside the calibrated range).
-    It is the penalty ``k_t`` of :func:`frictionlaw.traction_update` per node at its pressure.
-
-    Parameters
-    ----------
-    p : sequence of float
-        Mean contact pressures (Pa), strictly increasing, ``> 0``.
-    k_t : sequence of float
-        Stiffness at each pressure (Pa/m), ``> 0``, same length as ``p``.
-    """
-
-    p: tuple
-    k_t: tuple
-
-    def __post_init__(self) -> None:
-        p = _positive_table("k_t table p", self.p)
-        k = _positive_table("k_t table k_t", self.k_t)
-        if len(p) != len(k):
-            raise ValueError(f"k_t table: p has {len(p)} values, k_t has {len(k)}; need equal")
-        if any(b <= a for a, b in zip(p, p[1:], strict=False)):
-            raise ValueError(f"k_t table p must be strictly increasing, got {p}")
-        object.__setattr__(self, "p", p)
-        object.__setattr__(self, "k_t", k)
-
-    def __call__(self, p: ArrayLike) -> NDArray[np.float64]:
-        """``k_t`` (Pa/m) at pressures ``p`` (Pa); ``p <= 0`` gets the lowest tabulated value."""
-        p = np.asarray(p, dtype=float)
-        lp = np.log(np.clip(p, self.p[0], self.p[-1]))
-        k = np.exp(np.interp(lp, np.log(self.p), np.log(self.k_t)))
-        k = np.where(p <= self.p[0], self.k_t[0], k)
-        return np.where(p >= self.p[-1], self.k_t[-1], k)
-
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON object (with its own version and units)."""
-        return {
-            "version": K_T_FORMAT_VERSION,
-            "units": {"p": "Pa", "k_t": "Pa/m"},
-            "interpolation": "log-log, constant beyond the end points",
-            "p": list(self.p),
-            "k_t": list(self.k_t),
-        }
-
-    @classmethod
-    def from_dict(cls, doc: object, *, source: str = "<dict>") -> "TangentialStiffness":
-        """Build from :meth:`to_dict`'s object; raises ``ValueError`` if malformed."""
-        where = f"{source}: tangential_stiffness"
-        if not isinstance(doc, dict):
-            raise ValueError(f"{where} must be a JSON object")
-        version = doc.get("version")
-        if type(version) is not int or version != K_T_FORMAT_VERSION:
-            raise ValueError(
-                f"{where}: unsupported version {version!r}; this runtime reads {K_T_FORMAT_VERSION}"
-            )
-        units = doc.get("units", {})
-        if not isinstance(units, dict) or units.get("p", "Pa") != "Pa":
-            raise ValueError(f"{where}: p must be given in 'Pa'")
-        if units.get("k_t", "Pa/m") != "Pa/m":
-            raise ValueError(f"{where}: k_t must be given in 'Pa/m'")
-        try:
-            return cls(p=doc["p"], k_t=doc["k_t"])
-        except KeyError as exc:
-            raise ValueError(f"{where}: missing {exc.args[0]!r}") from None
-        except ValueError as exc:
-            raise ValueError(f"{where}: {exc}") from None
 
 
 def _check_p_range(p_range: Any) -> tuple[float, float] | None:
@@ -240,6 +166,14 @@ class FrictionParams:
     reload_table : ReloadTable, optional
         The calibrated levels of the tabulated form (required by it; kept, unused, with
         ``reload_form="paper"`` so that a calibration can be switched to the paper's form).
+    first_loading_form : str
+        The first-loading branch (:mod:`frictionlaw.forms`): ``"eq24"``, the paper's Eq. 24 with
+        ``C1, n1`` (the default, and the reading of every file written before the table
+        existed), or ``"tabulated"``, the computed first loading ``first_loading_table``
+        interpolated (:mod:`frictionlaw.first_loading`). The reload branch is scaled by
+        ``alpha1(p_hist)`` of the form that runs.
+    first_loading_table : FirstLoadingTable, optional
+        The computed first loading (required by ``"tabulated"``; kept, unused, with ``"eq24"``).
     geo_ratio : float
         Eq. 26's extra term for rough tools in ``[0, 10]``: ``tau = m [k alpha + f]`` with
         ``f = geo_ratio k alpha`` (the calibration finds ``tau_geo / tau_adh`` nearly independent
@@ -258,6 +192,9 @@ class FrictionParams:
         The multi-sample calibration's bands and per-sample laws (see
         :mod:`frictionlaw.uncertainty`); ``None`` otherwise. :meth:`edge_laws` and
         :meth:`sample_laws` give them as parameter sets.
+    flattening : Flattening, optional
+        Flattening of the asperities under bulk strain (:mod:`frictionlaw.flattening`);
+        ``None``: the law of the pressure alone.
     """
 
     m: float
@@ -271,11 +208,14 @@ class FrictionParams:
     continuous_reload: bool = False
     reload_form: str = "paper"
     reload_table: ReloadTable | None = None
+    first_loading_form: str = "eq24"
+    first_loading_table: FirstLoadingTable | None = None
     geo_ratio: float = 0.0
     p_range: tuple | None = None
     k_t: TangentialStiffness | None = None
     provenance: dict = field(default_factory=dict, compare=False, hash=False, repr=False)
     uncertainty: Uncertainty | None = field(default=None, compare=False, hash=False, repr=False)
+    flattening: Flattening | None = None
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
@@ -292,19 +232,9 @@ class FrictionParams:
                 f"continuous_reload must be True or False, got {self.continuous_reload!r}"
             )
         set_(self, "continuous_reload", bool(self.continuous_reload))
-        if self.reload_form not in RELOAD_FORMS:
-            raise ValueError(
-                f"reload_form must be one of {', '.join(RELOAD_FORMS)}, got {self.reload_form!r}"
-            )
-        if self.reload_table is not None:
-            if not isinstance(self.reload_table, ReloadTable):
-                raise ValueError(
-                    "reload_table must be a ReloadTable or None, got "
-                    f"{type(self.reload_table).__name__}"
-                )
-            self.reload_table.check_hardness(self.H)
-        elif self.reload_form == "tabulated":
-            raise ValueError("reload_form='tabulated' needs a reload_table (the calibrated levels)")
+        for branch in (RELOAD, FIRST_LOADING):
+            form = branch_form(branch, getattr(self, f"{branch}_form"))
+            form.check(getattr(self, f"{branch}_table"), self.H)
         set_(self, "geo_ratio", check_range("geo_ratio", self.geo_ratio, 0.0, 10.0))
         set_(self, "p_range", _check_p_range(self.p_range))
         if self.k_t is not None and not isinstance(self.k_t, TangentialStiffness):
@@ -315,9 +245,21 @@ class FrictionParams:
             raise ValueError("provenance must be a dict (a JSON object)")
         if self.uncertainty is not None and not isinstance(self.uncertainty, Uncertainty):
             raise ValueError("uncertainty must be an Uncertainty block or None")
+        if self.flattening is not None and not isinstance(self.flattening, Flattening):
+            raise ValueError("flattening must be a Flattening block or None")
 
     def _with_law(self, law: dict[str, float]) -> "FrictionParams":
         return self.replace(**{k: law[k] for k in LAW_KEYS}, uncertainty=None)
+
+    def branch_forms(self) -> tuple[BranchForm, BranchForm]:
+        """The records of the forms that run, ``(first loading, reload)``.
+
+        Each a :class:`frictionlaw.forms.BranchForm`.
+        """
+        return (
+            branch_form(FIRST_LOADING, self.first_loading_form),
+            branch_form(RELOAD, self.reload_form),
+        )
 
     def edge_laws(self) -> dict[str, "FrictionParams"]:
         """``{"lower": FrictionParams, "upper": FrictionParams}``: the band's edge laws.
@@ -354,8 +296,14 @@ class FrictionParams:
 
     @property
     def mu_eff(self) -> float:
-        """Small-pressure Coulomb slope of Eq. 24, ``m k C1 / H`` (times ``1 + geo_ratio``)."""
-        return self.tau_max * self.C1 / self.H
+        """Small-pressure Coulomb slope ``tau / p`` at ``p -> 0`` of the first loading that runs.
+
+        Eq. 24: ``m k C1 / H``; the tabulated form: ``m k alpha_0 / p_0`` (its Coulomb line
+        below the lowest level); times ``1 + geo_ratio`` (Eq. 26).
+        """
+        slope0 = self.branch_forms()[0].slope0
+        assert slope0 is not None  # every first-loading form has one (BranchForm checks)
+        return self.tau_max * slope0(self)
 
     def replace(self, **changes: Any) -> "FrictionParams":
         """Return a copy with ``changes`` applied (validated again)."""
@@ -370,24 +318,29 @@ class FrictionParams:
         prov = d.pop("provenance")
         cont = d.pop("continuous_reload")
         p_range = d.pop("p_range")
-        form = d.pop("reload_form")
-        d.pop("reload_table")
+        for key in ("reload_form", "reload_table", "first_loading_form", "first_loading_table"):
+            d.pop(key)
         d.pop("k_t")
         d.pop("uncertainty")
-        law = None
-        if self.reload_table is not None:
-            law = self.reload_table.to_dict(form)
-        elif form != "paper":  # pragma: no cover - __post_init__ refuses it
-            raise ValueError(f"reload_form {form!r} without a reload_table")
+        d.pop("flattening")
+        laws = {}
+        for branch, key in BRANCH_KEYS.items():
+            data = getattr(self, f"{branch}_table")
+            if data is not None:
+                laws[key] = data.to_dict(getattr(self, f"{branch}_form"))
         doc = {
             "format": FORMAT_NAME,
-            "version": FORMAT_VERSION if law is not None else 1,
+            "version": max(
+                [1, *(_SINCE[k] for k in laws)]
+                + ([_SINCE["flattening"]] if self.flattening else [])
+            ),
             "units": dict(_UNITS),
             "parameters": d,
             "options": {"continuous_reload": cont},
         }
-        if law is not None:
-            doc["reload_law"] = law
+        for key in ("reload_law", "first_loading_law"):
+            if key in laws:
+                doc[key] = laws[key]
         if p_range is not None:
             doc["calibrated_range"] = {"p_min": p_range[0], "p_max": p_range[1], "unit": "Pa"}
         if self.k_t is not None:
@@ -395,6 +348,8 @@ class FrictionParams:
         doc["provenance"] = prov
         if self.uncertainty is not None:
             doc["uncertainty"] = self.uncertainty.to_dict()
+        if self.flattening is not None:
+            doc["flattening"] = self.flattening.to_dict()
         return doc
 
     def to_json(self, path: str | os.PathLike[str]) -> Path:
@@ -429,8 +384,19 @@ class FrictionParams:
                 f"{source}: unsupported version {version!r}; this runtime reads versions "
                 f"{', '.join(map(str, _READ_VERSIONS))} (an integer)"
             )
-        if version == 1 and "reload_law" in doc:
-            raise ValueError(f"{source}: 'reload_law' needs version 2, the file says version 1")
+        for key, since in _SINCE.items():
+            if key in doc and version < since:
+                raise ValueError(
+                    f"{source}: {key!r} needs version {since} or later, the file says version "
+                    f"{version}"
+                )
+        for key, what in _UNREAD.items():
+            if key in doc:
+                raise ValueError(
+                    f"{source}: {key!r} ({what}) is not read by this runtime; it changes the "
+                    "law, so the file is refused rather than run without it: use a runtime that "
+                    "reads it"
+                )
         for key in ("units", "options", "provenance"):
             if not isinstance(doc.get(key, {}), dict):
                 raise ValueError(f"{source}: {key!r} must be a JSON object, got {doc[key]!r}")
@@ -463,19 +429,23 @@ class FrictionParams:
         k_t = None if k_doc is None else TangentialStiffness.from_dict(k_doc, source=source)
         u_doc = doc.get("uncertainty")
         unc = None if u_doc is None else Uncertainty.from_dict(u_doc, source=source)
-        form, table = "paper", None  # version 1: the paper's Eq. 25
-        if "reload_law" in doc:
-            form, table = ReloadTable.from_dict(doc["reload_law"], source=source)
+        f_doc = doc.get("flattening")
+        flat = None if f_doc is None else Flattening.from_dict(f_doc, source=source)
+        branches: dict[str, Any] = {}  # version 1: the paper's Eqs. 24-25
+        for branch, key in BRANCH_KEYS.items():
+            if key in doc:
+                form, data = read_branch(branch, doc[key], source)
+                branches[f"{branch}_form"], branches[f"{branch}_table"] = form, data
         try:
             return cls(
                 **par,
                 continuous_reload=opts.get("continuous_reload", False),
-                reload_form=form,
-                reload_table=table,
+                **branches,
                 p_range=p_range,
                 k_t=k_t,
                 provenance=doc.get("provenance", {}),
                 uncertainty=unc,
+                flattening=flat,
             )
         except ValueError as exc:
             raise ValueError(f"{source}: {exc}") from None

@@ -146,7 +146,7 @@ def _levels(name: str, values: object, lo: float, hi: float) -> tuple[float, ...
 
 @dataclass(frozen=True)
 class ReloadTable:
-    """Eq. 25's parameters per calibrated load level, for the ``"tabulated"`` reload form.
+    """The tabulated reload form's parameters: ``C2``, ``n2`` per calibrated load level and ``s2``.
 
     Parameters
     ----------
@@ -235,14 +235,12 @@ class ReloadTable:
         }
 
     @classmethod
-    def from_dict(cls, doc: object, *, source: str = "<dict>") -> "tuple[str, ReloadTable | None]":
-        """``(form, table)`` from a ``reload_law`` object; ``ValueError`` naming the field."""
+    def from_dict(cls, doc: dict, *, source: str = "<dict>") -> "ReloadTable":
+        """The table of a ``reload_law`` object; ``ValueError`` naming the field.
+
+        The object's ``form`` is read by :func:`frictionlaw.forms.read_branch`.
+        """
         where = f"{source}: reload_law"
-        if not isinstance(doc, dict):
-            raise ValueError(f"{where} must be a JSON object")
-        form = doc.get("form")
-        if form not in RELOAD_FORMS:
-            raise ValueError(f"{where}.form must be one of {', '.join(RELOAD_FORMS)}; got {form!r}")
         version = doc.get("version")
         if type(version) is not int or version != RELOAD_TABLE_VERSION:
             raise ValueError(
@@ -252,12 +250,9 @@ class ReloadTable:
         units = doc.get("units", {})
         if not isinstance(units, dict) or units.get("p_hist", "Pa") != "Pa":
             raise ValueError(f"{where}.p_hist must be given in 'Pa'")
-        if "p_hist" not in doc and form == "paper":
-            return form, None
         try:
-            table = cls(p_hist=doc["p_hist"], C2=doc["C2"], n2=doc["n2"], s2=doc.get("s2", 1.0))
+            return cls(p_hist=doc["p_hist"], C2=doc["C2"], n2=doc["n2"], s2=doc.get("s2", 1.0))
         except KeyError as exc:
             raise ValueError(f"{where}: missing {exc.args[0]!r}") from None
         except ValueError as exc:
             raise ValueError(f"{where}: {exc}") from None
-        return form, table

@@ -73,7 +73,8 @@ def test_malformed_files_raise_clear_errors(tmp_path):
     with pytest.raises(ValueError, match="not valid JSON"):
         FrictionParams.from_json(f)
     for mutate, msg in [
-        (lambda d: d.update(version=3), "unsupported version 3"),
+        (lambda d: d.update(version=4), "unsupported version 4"),
+        (lambda d: d.update(version=3.0), "unsupported version 3.0"),
         (lambda d: d.update(format="other"), "'format' must be"),
         (lambda d: d["parameters"].pop("C2"), "missing parameters"),
         (lambda d: d["units"].update(H="MPa"), "H must be given in 'Pa'"),

@@ -54,6 +54,7 @@ from .. import topography as _surf
 from ..common.jobs import run_jobs
 from ..topography import chain
 from .calibration import Calibration, calibrate
+from .params import timeless
 from .scene_surfaces import SceneSurfaces, load_scene_surfaces, run_plan
 from .surface_plan import MAX_DEFAULT_GRID, SyntheticSource, plan_surfaces
 from .sweeps import FailedLevel, SweepResult
@@ -472,7 +473,8 @@ class MultiCalibration:
             "edge_laws": u.edge_laws,
         }
         s["seconds"] = self.seconds["total"]
-        s["timings"] = dict(self.seconds)
+        per = {f"{n}.{k}": v for n, c in self.calibrations.items() for k, v in c.timings().items()}
+        s["timings"] = dict(self.seconds) | {f"samples.{k}": v for k, v in per.items()}
         return s
 
 
@@ -548,7 +550,7 @@ def calibrate_samples(scene, spec, *, samples=None, progress=True):
         reload_form=form,
         reload_table=None if table is None else table.table,
         p_range=(float(p_all.min()), float(p_all.max())),
-        provenance=prov,
+        provenance=timeless(prov),
     )
     unc = bootstrap_uncertainty(
         curves,

@@ -1,0 +1,134 @@
+"""The forms of the law's branches as records: a new form is one record and no other edit.
+
+A dummy first-loading form, a log-log straight line through two points (the lowest and the top
+level), is registered with its runtime record (frictionlaw.forms); it lowers to the tabulated
+kernel form with two knots, so no kernel is edited. It then runs in the runtime law, round-trips
+through params.json, and is refused by the export (no Fortran template).
+"""
+
+import json
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pytest
+
+from frictionlaw import FrictionParams, alpha_first, alpha_reload, shear_limit_dp
+from frictionlaw import forms as F
+from frictionlaw.first_loading import FirstLoadingTable
+
+H = 800e6
+
+
+@dataclass(frozen=True)
+class TwoPoints:
+    """The dummy form's data: ``alpha`` at two pressures (Pa), a power law between them."""
+
+    p: tuple
+    alpha: tuple
+
+    def check_hardness(self, H):
+        if self.p[1] >= H:
+            raise ValueError(f"two-point first loading p must lie below H = {H:g} Pa")
+
+    def to_dict(self, form):
+        return {"form": form, "version": 1, "p": list(self.p), "alpha": list(self.alpha)}
+
+    @classmethod
+    def from_dict(cls, doc, *, source="<dict>"):
+        return cls(tuple(doc["p"]), tuple(doc["alpha"]))
+
+    def exponent(self):
+        return math.log(self.alpha[1] / self.alpha[0]) / math.log(self.p[1] / self.p[0])
+
+
+def _lower(data, H):
+    """Onto the tabulated kernel form: a two-knot table is the log-log straight line."""
+    return F.branch_form(F.FIRST_LOADING, "tabulated").lower(
+        FirstLoadingTable(data.p, data.alpha), H
+    )
+
+
+DUMMY = F.BranchForm(
+    "two-points",
+    F.FIRST_LOADING,
+    "a power law through the lowest and the top level",
+    TwoPoints,
+    _lower,
+    slope0=lambda params: params.first_loading_table.alpha[0] / params.first_loading_table.p[0],
+    export_template=None,
+)
+
+
+@pytest.fixture
+def dummy():
+    F.register(DUMMY)
+    yield DUMMY
+    F.unregister(F.FIRST_LOADING, DUMMY.name)
+
+
+def law(data, **kw):
+    return FrictionParams(
+        m=0.5,
+        sigma_y=H / 2.8,
+        H=H,
+        C1=1.0,
+        n1=2.0,
+        C2=3.0,
+        n2=1.0,
+        first_loading_form="two-points",
+        first_loading_table=data,
+        **kw,
+    )
+
+
+def test_a_registered_form_runs_in_the_runtime_and_the_file(dummy, tmp_path):
+    data = TwoPoints((10e6, 700e6), (0.02, 0.9))
+    P = law(data)
+    s = data.exponent()
+    p = np.array([1e3, 5e6, 10e6, 50e6, 300e6, 700e6])
+    want = np.where(p <= 10e6, 0.02 * p / 10e6, 0.02 * (p / 10e6) ** s)
+    np.testing.assert_allclose(alpha_first(p, P), want, rtol=1e-13)
+    np.testing.assert_allclose(
+        shear_limit_dp(p[2:], 0.0, P)[1:], P.tau_max * want[3:] * s / p[3:], rtol=1e-12
+    )
+    assert P.mu_eff == pytest.approx(P.tau_max * 0.02 / 10e6)
+    # the reload branch is scaled by the form's alpha1(p_hist)
+    a1h = 0.02 * (300e6 / 10e6) ** s
+    want_r = a1h * np.tanh(3.0 * 100e6 / (H * a1h))
+    assert alpha_reload(100e6, 300e6, P) == pytest.approx(want_r, rel=1e-12)
+    path = P.to_json(tmp_path / "p.json")
+    doc = json.loads(path.read_text())
+    assert doc["version"] == 3 and doc["first_loading_law"]["form"] == "two-points"
+    Q = FrictionParams.from_json(path)
+    assert Q == P and Q.first_loading_table == data
+
+
+def test_a_registered_form_is_refused_by_the_export_without_a_template(dummy, tmp_path, capsys):
+    from frictionlaw.export.cli import main
+
+    path = law(TwoPoints((10e6, 700e6), (0.02, 0.9))).to_json(tmp_path / "p.json")
+    assert main(["lsdyna", "--params", str(path), "--out", str(tmp_path / "x")]) == 2
+    assert "first loading form 'two-points'" in capsys.readouterr().err
+
+
+def test_the_registry_checks_its_records(dummy):
+    with pytest.raises(ValueError, match="registered already"):
+        F.register(DUMMY)
+    with pytest.raises(ValueError, match="needs slope0"):
+        F.BranchForm("x", F.FIRST_LOADING, "x", None, _lower)
+    with pytest.raises(ValueError, match="built-in"):
+        F.unregister(F.FIRST_LOADING, "eq24")
+    with pytest.raises(ValueError, match="must be a TwoPoints"):
+        law(FirstLoadingTable((10e6, 700e6), (0.02, 0.9)))
+    assert F.form_names(F.FIRST_LOADING) == ("eq24", "tabulated", "two-points")
+
+
+def test_without_the_record_the_file_is_refused_naming_the_form(tmp_path):
+    F.register(DUMMY)
+    try:
+        path = law(TwoPoints((10e6, 700e6), (0.02, 0.9))).to_json(tmp_path / "p.json")
+    finally:
+        F.unregister(F.FIRST_LOADING, DUMMY.name)
+    with pytest.raises(ValueError, match="first_loading_law.form must be one of eq24, tabulated"):
+        FrictionParams.from_json(path)
