@@ -132,3 +132,91 @@ def test_without_the_record_the_file_is_refused_naming_the_form(tmp_path):
         F.unregister(F.FIRST_LOADING, DUMMY.name)
     with pytest.raises(ValueError, match="first_loading_law.form must be one of eq24, tabulated"):
         FrictionParams.from_json(path)
+
+
+# -- the calibration side: the same dummy form fitted, chosen and written ---------------------
+
+
+class TwoPointsFit:
+    """The dummy form's fit: the lowest and the top computed point."""
+
+    success = True
+    at_bound = ()
+
+    def __init__(self, p, alpha, H):
+        i, j = int(np.argmin(p)), int(np.argmax(p))
+        self.data = TwoPoints((float(p[i]), float(p[j])), (float(alpha[i]), float(alpha[j])))
+        law = FrictionParams(
+            m=1.0, sigma_y=H, H=H, C1=1.0, n1=1.0, C2=1.0, n2=1.0,
+            first_loading_form="two-points", first_loading_table=self.data,
+        )  # fmt: skip
+        self.residuals = alpha_first(p, law) - alpha
+
+    def summary(self):
+        return {"form": "two-points", "p": list(self.data.p), "alpha": list(self.data.alpha)}
+
+
+@pytest.fixture
+def calibrated_dummy(dummy):
+    from halfspace_calib.pipeline import forms as CF
+    from halfspace_calib.pipeline import heldout as HO
+
+    def predict(fit, p, ctx):
+        return alpha_first(p, law(fit.data).replace(H=ctx.H, sigma_y=ctx.H / 2.8))
+
+    def heldout(p, alpha, fit, ctx):
+        def refit_predict(keep, p_out):
+            return predict(TwoPointsFit(p[keep], alpha[keep], ctx.H), p_out, ctx)
+
+        return HO.level_errors(p, alpha, fit.residuals, refit_predict, "two-points")
+
+    rec = CF.FormCalibration(
+        "two-points",
+        F.FIRST_LOADING,
+        fit=lambda p, alpha, ctx: TwoPointsFit(p, alpha, ctx.H),
+        predict=predict,
+        heldout=heldout,
+        runtime=lambda fit: fit.data,
+        candidate=False,
+    )
+    CF.register(rec)
+    yield rec
+    CF.unregister(F.FIRST_LOADING, "two-points")
+
+
+def test_a_registered_form_is_calibrated_written_and_run(calibrated_dummy, tmp_path):
+    from halfspace_calib.pipeline.calibration import Scene, calibrate
+
+    scene = Scene(
+        grid=16,
+        pressures=(20e6, 100e6, 300e6, 600e6),
+        reload_fractions=(0.25, 0.5, 0.8),
+        first_loading_form="two-points",
+        heldout_tol=0.5,  # a power law through two points: what is tested is the plumbing
+    )
+    cal = calibrate(scene, progress=False)
+    P = cal.params
+    assert cal.first_loading_form == P.first_loading_form == "two-points"
+    p, a = cal.sweeps.loading
+    data = P.first_loading_table
+    assert data.p == (20e6, 600e6) and data.alpha == (a[0], a[-1])
+    # the reload forms were fitted on the dummy form's alpha1(p_hist)
+    assert cal.reload.first == ("two-points", data)
+    assert "first_loading_eq24" in cal.errors and cal.errors["first_loading"].form == "two-points"
+    Q = FrictionParams.from_json(P.to_json(tmp_path / "params.json"))
+    assert Q == P and Q.first_loading_table == data
+    s = data.exponent()
+    np.testing.assert_allclose(
+        alpha_first(np.array([50e6, 300e6]), Q),
+        a[0] * (np.array([50e6, 300e6]) / 20e6) ** s,
+        rtol=1e-12,
+    )
+    assert Q.mu_eff == pytest.approx(Q.tau_max * a[0] / 20e6, rel=1e-12)
+
+
+def test_a_scene_takes_only_registered_forms(calibrated_dummy):
+    from halfspace_calib.pipeline.calibration import Scene
+
+    assert Scene(grid=16, first_loading_form="two-points").first_loading_form == "two-points"
+    with pytest.raises(ValueError, match="first_loading_form must be one of auto, eq24, tabulated"):
+        Scene(grid=16, first_loading_form="spline")

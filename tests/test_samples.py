@@ -26,7 +26,7 @@ from halfspace_calib.pipeline.samples import (
     pair_files,
     synthetic_population,
 )
-from halfspace_calib.pipeline.uncertainty import bootstrap_uncertainty, curves_of, pooled_fit
+from halfspace_calib.pipeline.uncertainty import bootstrap_uncertainty, curves_of, pooled_law
 
 K, GRID = 4, 32
 PROBES = (100e6, 300e6, 600e6)
@@ -87,10 +87,14 @@ def test_pooled_law_is_the_fit_to_all_points_and_matches_the_whole_surface(popul
     from halfspace_calib.pipeline.fit import fit_first_loading
 
     f = fit_first_loading(p, mean, P.H, floor_to=0.99 * P.H)  # the default bound, as pooled
+    eq24 = P.replace(first_loading_form="eq24")  # the header beside the form that runs
     for q in PROBES:
-        assert float(alpha_first(q, P)) == pytest.approx(
-            float(alpha_first(q, P.replace(C1=f.C1, n1=f.n1))), rel=2e-3
+        assert float(alpha_first(q, eq24)) == pytest.approx(
+            float(alpha_first(q, eq24.replace(C1=f.C1, n1=f.n1))), rel=2e-3
         )
+    # the tabulated first loading that runs is the mean curve itself (a monotone one)
+    assert P.first_loading_form == "tabulated" and P.first_loading_table.p == tuple(p)
+    np.testing.assert_allclose(P.first_loading_table.alpha, mean, rtol=1e-12)
     # the pooled law of the mirror-bounded patches against the periodic calibration of the
     # whole surface: measured 0.44-0.57 % on first loading, 0.2 % on the reload at half of
     # 600 MPa (against the isolated, DC-FFT, whole: 2.2-2.7 % and 14 %; docs/uncertainty.md);
@@ -144,8 +148,8 @@ def test_band_coverage_over_sub_samplings(population):
     hits, n = 0, 0
     for r in range(16):
         sub = [curves[i] for i in rng.choice(len(curves), 5, replace=False)]
-        f, rl = pooled_fit(sub, truth.H, alpha_floor=0.99)  # the default bound, as the truth
-        cen = truth.replace(C1=f.C1, n1=f.n1, C2=rl.C2, n2=rl.n2, uncertainty=None)
+        scene = mc.pooled.scene  # the truth's forms and the default bound
+        cen = pooled_law(scene, sub).apply(truth).replace(uncertainty=None)
         u = bootstrap_uncertainty(sub, cen, n_bootstrap=50, seed=r, floor_to=0.99 * truth.H)
         for q in PROBES:
             _, lo, hi = u.band("tau_first").at(q)

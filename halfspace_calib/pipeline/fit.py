@@ -4,7 +4,9 @@
   curve ``alpha_rc(p_mean)``.
 * :func:`fit_reload`: ``C2, n2`` of Eq. 25's ``alpha2(p)`` from all un-/reloading curves
   together (each measured at ``p < p_hist`` on the surface deformed at ``p_hist``), with
-  ``C1, n1`` fixed; ``continuous=True`` fits the runtime's continuous variant
+  the first loading fixed (``C1, n1`` of Eq. 24, or ``first``: the first-loading form that
+  runs, whose ``alpha1(p_hist)`` scales the branch); ``continuous=True`` fits the runtime's
+  continuous variant
   (``FrictionParams(continuous_reload=True)``), whose reload branch meets Eq. 24 at
   ``p_hist``: the fit constrained to have no jump.
 * :func:`make_params`: the :class:`frictionlaw.FrictionParams` with the calibration's
@@ -34,6 +36,7 @@ from frictionlaw.params import C_RANGE, N_RANGE
 from ..common.blas import serial_blas
 from ..common.checks import positive
 from .alpha_bound import bound_record, floor_fit, floor_violation
+from .fit_data import ReloadCurve, _bounds, _curve, _data
 
 __all__ = [
     "C_BOUNDS",
@@ -180,6 +183,9 @@ class ReloadFit(FitResult):
         The first-loading parameters held fixed.
     continuous : bool
         Fitted the continuous variant (``FrictionParams.continuous_reload``).
+    first : tuple or None
+        ``(form, data)`` of the first-loading form whose ``alpha1(p_hist)`` scaled the branch
+        (``FrictionParams.first_loading_form`` and ``first_loading_table``); ``None``: Eq. 24.
     p_hist : ndarray
         The curves' ``p_hist`` (Pa).
     jump : ndarray
@@ -192,6 +198,7 @@ class ReloadFit(FitResult):
     continuous: bool = False
     p_hist: np.ndarray = field(default_factory=lambda: np.zeros(0))
     jump: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    first: tuple | None = None
 
     @property
     def C2(self):
@@ -206,7 +213,7 @@ class ReloadFit(FitResult):
     @property
     def jump_relative(self):
         """Jump relative to ``alpha1(p_hist)`` (the shear's relative drop at ``p_hist``)."""
-        a1 = alpha_first(self.p_hist, _law(self.H, self.C1, self.n1))
+        a1 = alpha_first(self.p_hist, _law(self.H, self.C1, self.n1, first=self.first))
         return self.jump / a1
 
     def summary(self):
@@ -220,92 +227,24 @@ class ReloadFit(FitResult):
         return d
 
 
-@dataclass(frozen=True)
-class ReloadCurve:
-    """One un-/reloading curve: ``alpha`` at pressures ``p < p_hist`` (Pa)."""
-
-    p_hist: float
-    p: np.ndarray
-    alpha: np.ndarray
-
-
-# -- validation -------------------------------------------------------------------------
+# -- validation (the checks live in .fit_data) ------------------------------------------
 
 
 def _finite_or_none(v):
     return float(v) if math.isfinite(v) else None
 
 
-def _bounds(name, b, allowed):
-    """``(lo, hi)`` with ``0 < lo < hi``, inside ``allowed`` (FrictionParams' validated range)."""
-    try:
-        lo, hi = (float(x) for x in b)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a pair (lo, hi) with 0 < lo < hi, got {b!r}") from None
-    if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo < hi):
-        raise ValueError(f"{name} must be a pair (lo, hi) with 0 < lo < hi < inf, got {b!r}")
-    if lo < allowed[0] or hi > allowed[1]:
-        raise ValueError(
-            f"{name} must lie within [{allowed[0]:g}, {allowed[1]:g}] (the law's validated "
-            f"range), got {b!r}"
-        )
-    return lo, hi
-
-
-def _data(p, alpha, p_name="p", alpha_name="alpha"):
-    p = np.asarray(p, dtype=np.float64)
-    alpha = np.asarray(alpha, dtype=np.float64)
-    if p.ndim != 1 or alpha.ndim != 1:
-        raise ValueError(f"{p_name} and {alpha_name} must be 1-D arrays")
-    if p.shape != alpha.shape:
-        raise ValueError(
-            f"{alpha_name} must have the same length as {p_name}: {alpha.size} != {p.size}"
-        )
-    if not np.isfinite(p).all():
-        raise ValueError(f"{p_name} must be finite (no NaN or inf)")
-    if not np.isfinite(alpha).all():
-        raise ValueError(f"{alpha_name} must be finite (no NaN or inf)")
-    if (p <= 0).any():
-        raise ValueError(f"{p_name} must be > 0 (Pa), got min {p.min():g}")
-    if ((alpha < 0) | (alpha > 1)).any():
-        raise ValueError(
-            f"{alpha_name} must be in [0, 1] (a contact ratio), got range "
-            f"[{alpha.min():g}, {alpha.max():g}]"
-        )
-    return p, alpha
-
-
-def _curve(i, c):
-    if isinstance(c, ReloadCurve):
-        ph, p, a = c.p_hist, c.p, c.alpha
-    elif isinstance(c, dict):
-        try:
-            ph, p, a = c["p_hist"], c["p"], c["alpha"]
-        except KeyError as exc:
-            raise ValueError(f"curves[{i}] lacks key {exc}") from None
-    else:
-        try:
-            ph, p, a = c
-        except (TypeError, ValueError):
-            raise ValueError(
-                f"curves[{i}] must be a ReloadCurve, a dict or a tuple (p_hist, p, alpha)"
-            ) from None
-    ph = positive(f"curves[{i}].p_hist", ph)
-    p, a = _data(p, a, f"curves[{i}].p", f"curves[{i}].alpha")
-    if (p >= ph).any():
-        raise ValueError(
-            f"curves[{i}].p must be < p_hist = {ph:g} Pa (reloading), got max {p.max():g}"
-        )
-    return ReloadCurve(ph, p, a)
-
-
 # -- model --------------------------------------------------------------------------------
 
 
-def _law(H, C1, n1, C2=1.0, n2=1.0, continuous=False):
-    """A FrictionParams for evaluating alpha (``m``, ``sigma_y``, ``k`` do not enter alpha)."""
+def _law(H, C1, n1, C2=1.0, n2=1.0, continuous=False, first=None):
+    """A FrictionParams for evaluating alpha (``m``, ``sigma_y``, ``k`` do not enter alpha).
+
+    ``first``: ``(form, data)`` of the first-loading form that runs (``None``: Eq. 24).
+    """
+    kw = {} if first is None else {"first_loading_form": first[0], "first_loading_table": first[1]}
     return FrictionParams(
-        m=1.0, sigma_y=H, H=H, C1=C1, n1=n1, C2=C2, n2=n2, continuous_reload=continuous
+        m=1.0, sigma_y=H, H=H, C1=C1, n1=n1, C2=C2, n2=n2, continuous_reload=continuous, **kw
     )
 
 
@@ -525,7 +464,16 @@ def fit_first_loading(
 
 @serial_blas
 def fit_reload(
-    curves, H, C1, n1, *, continuous=False, relative=False, C_bounds=C_BOUNDS, n_bounds=N_BOUNDS
+    curves,
+    H,
+    C1,
+    n1,
+    *,
+    continuous=False,
+    relative=False,
+    C_bounds=C_BOUNDS,
+    n_bounds=N_BOUNDS,
+    first=None,
 ):
     """Fit ``C2, n2`` of the reload contact ratio to all un-/reloading curves together.
 
@@ -544,6 +492,10 @@ def fit_reload(
         Hardness (Pa).
     C1, n1 : float
         First-loading parameters (from :func:`fit_first_loading`).
+    first : tuple, optional
+        ``(form, data)`` of the first-loading form that runs (``FrictionParams``'s
+        ``first_loading_form``, ``first_loading_table``): its ``alpha1(p_hist)`` scales the
+        branch. ``None``: Eq. 24 with ``C1, n1``.
     continuous : bool
         Fit the continuous variant (``FrictionParams(continuous_reload=True)``): Eq. 25
         normalised to meet Eq. 24 at ``p_hist``, i.e. the fit constrained to zero jump.
@@ -575,12 +527,12 @@ def fit_reload(
     w = _weights(alpha, relative)
 
     def model(c, n):
-        return alpha_reload(p, ph, _law(H, C1, n1, c, n, cont))
+        return alpha_reload(p, ph, _law(H, C1, n1, c, n, cont, first))
 
     fit = _fit_c_n(model, p, alpha, w, H, cb, nb, ("C2", "n2"))
     params = fit["params"]
     p_hist = np.array([c.p_hist for c in cs])
-    law = _law(H, C1, n1, params["C2"], params["n2"], cont)
+    law = _law(H, C1, n1, params["C2"], params["n2"], cont, first)
     jump = np.atleast_1d(reload_jump(law, p_hist)) / law.tau_max  # the jump in alpha
     return ReloadFit(
         **fit,
@@ -589,4 +541,5 @@ def fit_reload(
         continuous=cont,
         p_hist=p_hist,
         jump=jump,
+        first=first,
     )
