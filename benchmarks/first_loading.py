@@ -18,6 +18,9 @@ left out, refitted, predicted) and held out (the second sweep's points):
   the Coulomb line: the lead's first proposal);
 * ``pchip-alpha``: a monotone cubic of ``alpha`` itself over ``ln p``.
 
+The nearly conforming scans against themselves (``--self-files``: metropro-1, mnt-1) run too:
+there the curve already bends at the lowest level and the forms differ most.
+
 Then the reload branch on the tabulated first loading, continuous (the default) and with the
 jump, against the earlier default (Eq. 24 with the jump): run-own and held-out max ``|d alpha|``,
 the largest drop of ``tau`` at ``p_hist`` and the largest dip of a reload curve below first
@@ -49,6 +52,7 @@ from halfspace_calib.pipeline.params import make_params
 from halfspace_calib.pipeline.scene_surfaces import load_scene_surfaces
 
 FORMS = ("eq24", "eq24-power", "tabulated", "tabulated-C1", "pchip-alpha")
+SELF_FILES = ("metropro-1.dat", "mnt-1.mnt")
 VARIANTS = (
     ("tabulated + continuous (default)", dict(first_loading_form="auto", continuous_reload=True)),
     ("tabulated + jump", dict(first_loading_form="auto", continuous_reload=False)),
@@ -211,6 +215,12 @@ def main(argv=None):
     ap.add_argument("--grid", type=int, default=128, help="grid of the default scene (default 128)")
     ap.add_argument("--folder", default=None, help="folder of measured files (default: none)")
     ap.add_argument("--files", default=",".join(FILES), help="files of --folder to run")
+    ap.add_argument(
+        "--self-files",
+        default=",".join(SELF_FILES),
+        help="files of --folder also run against themselves (the nearly conforming pairs, where "
+        "the first-loading forms differ most; default: " + ",".join(SELF_FILES) + ")",
+    )
     a = ap.parse_args(argv)
     cases = [(f"default-{a.grid}", Scene(grid=a.grid, workers=1))]
     if a.folder:
@@ -218,6 +228,9 @@ def main(argv=None):
             kw = {"max_undefined": 0.95} if name.startswith("sur-3") else {}
             f = str(Path(a.folder) / name)
             cases.append((f"{name} x tool", Scene(workpiece=f, workers=1, **kw)))
+        for name in (n for n in a.self_files.split(",") if n):
+            f = str(Path(a.folder) / name)
+            cases.append((f"{name} x itself", Scene(workpiece=f, tool=f, workers=1)))
     first, reload = [], []
     for case, scene in cases:
         r1, r2 = run_case(case, scene)

@@ -31,7 +31,7 @@ from typing import Any, cast
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._io import atomic_write
+from ._io import atomic_write, read_versioned
 from ._shear_flow import check_k_against_sigma_y
 from .first_loading import FirstLoadingTable
 from .forms import BRANCH_KEYS, FIRST_LOADING, RELOAD, BranchForm, branch_form, read_branch
@@ -187,22 +187,13 @@ class TangentialStiffness:
         where = f"{source}: tangential_stiffness"
         if not isinstance(doc, dict):
             raise ValueError(f"{where} must be a JSON object")
-        version = doc.get("version")
-        if type(version) is not int or version != K_T_FORMAT_VERSION:
-            raise ValueError(
-                f"{where}: unsupported version {version!r}; this runtime reads {K_T_FORMAT_VERSION}"
-            )
-        units = doc.get("units", {})
-        if not isinstance(units, dict) or units.get("p", "Pa") != "Pa":
-            raise ValueError(f"{where}: p must be given in 'Pa'")
-        if units.get("k_t", "Pa/m") != "Pa/m":
-            raise ValueError(f"{where}: k_t must be given in 'Pa/m'")
-        try:
-            return cls(p=doc["p"], k_t=doc["k_t"])
-        except KeyError as exc:
-            raise ValueError(f"{where}: missing {exc.args[0]!r}") from None
-        except ValueError as exc:
-            raise ValueError(f"{where}: {exc}") from None
+        return read_versioned(
+            doc,
+            where,
+            K_T_FORMAT_VERSION,
+            {"p": "Pa", "k_t": "Pa/m"},
+            lambda d: cls(p=d["p"], k_t=d["k_t"]),
+        )
 
 
 def _check_p_range(p_range: Any) -> tuple[float, float] | None:

@@ -79,10 +79,14 @@ def test_fit_quality_and_parameter_file(cal, tmp_path):
     for name in nb:
         for got, ref in zip(lines(nb[name]), lines(figs[name]), strict=True):
             np.testing.assert_array_equal(got[1], ref[1])
-    (xp, yp), (xl, yl) = lines(figs["alpha_first_loading.png"])
+    # the points, the law that runs and, beside the tabulated first loading, Eq. 24
+    (xp, yp), (xl, yl), (x24, y24) = lines(figs["alpha_first_loading.png"])
     np.testing.assert_allclose(xp * 1e6, p, rtol=1e-15)
     np.testing.assert_array_equal(yp, alpha)
+    assert P.first_loading_form == "tabulated"
     np.testing.assert_allclose(yl, alpha_first(xl * 1e6, P), rtol=1e-12)
+    eq24 = P.replace(first_loading_form="eq24")
+    np.testing.assert_allclose(y24, alpha_first(x24 * 1e6, eq24), rtol=1e-12)
     rl = lines(figs["alpha_reload.png"])
     curves = cal.sweeps.reload_curves()
     assert len(rl) == 1 + 2 * len(curves)

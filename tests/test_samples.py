@@ -19,6 +19,7 @@ from frictionlaw import FrictionParams, alpha_first, alpha_reload
 from frictionlaw.uncertainty import UNCERTAINTY_VERSION
 from halfspace_calib.cli import main
 from halfspace_calib.pipeline.calibration import Scene, calibrate
+from halfspace_calib.pipeline.first_table import monotone_increasing
 from halfspace_calib.pipeline.samples import (
     SampleSpec,
     calibrate_samples,
@@ -128,6 +129,17 @@ def test_band_holds_the_pooled_law_is_narrower_than_the_samples_and_edge_laws_fo
         assert abs(_tau1(edges["upper"], q) - hi) < 0.3 * (hi - lo)
     mu = u.parameters["mu_eff"]
     assert mu.central == pytest.approx(P.mu_eff, rel=1e-12) and mu.lower < mu.central < mu.upper
+    # issue 37: the band, its edge laws and the sample laws run the forms the pooled law runs
+    assert u.version == 2 and (P.first_loading_form, P.reload_form) == ("tabulated",) * 2
+    for L in [*P.sample_laws().values(), *edges.values()]:
+        assert (L.first_loading_form, L.reload_form) == (P.first_loading_form, P.reload_form)
+        assert L.reload_table.s2 == P.reload_table.s2  # one exponent for the band
+    for e, k in (("lower", 1), ("upper", 2)):  # the edge's table is the band's edge at each level
+        got = alpha_first(np.array(P.first_loading_table.p), edges[e])
+        band = [u.band("alpha_first").at(q)[k] for q in P.first_loading_table.p]
+        levels = np.array(P.first_loading_table.p)
+        want = np.clip(monotone_increasing(band), levels / P.H, 1.0)
+        np.testing.assert_allclose(got, want, atol=1e-12)
     for ph in {c.p_hist for c in mc.pooled.sweeps.reload_curves()}:
         r = u.band("tau_reload", ph)
         assert all(lo <= c <= hi for c, lo, hi in zip(r.central, r.lower, r.upper, strict=True))

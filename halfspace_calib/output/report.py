@@ -13,8 +13,8 @@ __all__ = ["REPORT_IMAGES", "calibration_figures", "write_outputs", "write_plots
 
 #: the plots of every calibration and their captions in report.html
 REPORT_IMAGES = [
-    ("alpha_first_loading.png", "First loading: half-space model and Eq. 24"),
-    ("alpha_reload.png", "Un-/reloading curves and Eq. 25"),
+    ("alpha_first_loading.png", "First loading: half-space model, the law and Eq. 24"),
+    ("alpha_reload.png", "Un-/reloading curves and the law's reload branch"),
     ("roughness.png", "Workpiece roughness after unloading (Figs. 3-4)"),
     ("pressure_map.png", "Contact pressure map at the highest load"),
 ]
@@ -101,7 +101,13 @@ def calibration_figures(cal):
     pp = np.linspace(0, max(p.max() * 1.1, 1.0), 300)
     fig, ax = _axes((6, 4.2))
     ax.plot(p / MPa, a, "o", label="half-space model")
-    ax.plot(pp / MPa, alpha_first(pp, P), "-", label=f"Eq. 24: C1={P.C1:.3g}, n1={P.n1:.3g}")
+    eq24 = f"Eq. 24: C1={P.C1:.3g}, n1={P.n1:.3g}"
+    if P.first_loading_form == "eq24":
+        ax.plot(pp / MPa, alpha_first(pp, P), "-", label=eq24)
+    else:
+        label = f"the law ({P.first_loading_form} first loading)"
+        ax.plot(pp / MPa, alpha_first(pp, P), "-", label=label)
+        ax.plot(pp / MPa, alpha_first(pp, P.replace(first_loading_form="eq24")), ":", label=eq24)
     ax.set(
         xlabel="p_mean [MPa]",
         ylabel="alpha_rc = A_real / A0",
@@ -112,7 +118,7 @@ def calibration_figures(cal):
     figs["alpha_first_loading.png"] = fig
 
     fig, ax = _axes((6, 4.2))
-    ax.plot(pp / MPa, alpha_first(pp, P), "k-", lw=1, label="Eq. 24 (first loading)")
+    ax.plot(pp / MPa, alpha_first(pp, P), "k-", lw=1, label="first loading")
     hists = []  # several samples share a p_hist: one colour and one fitted curve each
     for c in cal.sweeps.reload_curves():
         new = c.p_hist not in hists
@@ -126,7 +132,7 @@ def calibration_figures(cal):
                 alpha_reload(q, c.p_hist, P),
                 "-",
                 color=col,
-                label=f"Eq. 25, p_hist={c.p_hist / MPa:.0f} MPa",
+                label=f"law ({P.reload_form}), p_hist={c.p_hist / MPa:.0f} MPa",
             )
     ax.set(
         xlabel="p_mean [MPa]",

@@ -59,7 +59,9 @@ class FitContext:
     ``H`` (Pa); ``floor_to``: Eq. 24's bound ``alpha1 >= p / H`` up to it (Pa, ``None``: not
     imposed); ``continuous``: the reload branch's continuous variant; ``C1, n1``: Eq. 24's fit
     (always made: the file's header); ``first``: ``(form, data)`` of the first-loading form that
-    runs, whose ``alpha1(p_hist)`` scales the reload branch (``None``: Eq. 24).
+    runs, whose ``alpha1(p_hist)`` scales the reload branch (``None``: Eq. 24); ``p_range``: the
+    first loading's pressures (Pa), the histories on which the paper's Eq. 25 is kept from lying
+    below the first loading (:func:`~.fit.fit_reload`'s ``dip_range``).
     """
 
     H: float
@@ -68,6 +70,7 @@ class FitContext:
     C1: float = math.nan
     n1: float = math.nan
     first: tuple | None = None
+    p_range: tuple | None = None
 
     @classmethod
     def of(cls, scene):
@@ -215,41 +218,50 @@ def _fitted(branch, wanted):
 def _branch_law(branch, wanted, fits, errors):
     names = list(fits)
     form = wanted if wanted != "auto" else choose(errors, [n for n in names if n in errors])
-    out = {branch: dataclasses.replace(errors[form], branch=branch)}
-    for n in names:
-        if n != form:
-            out[f"{branch}_{n}"] = dataclasses.replace(errors[n], branch=f"{branch}_{n}")
+    out = {}
+    for n in (n for n in names if n in errors):
+        key = branch if n == form else f"{branch}_{n}"
+        out[key] = dataclasses.replace(errors[n], branch=key)
     return BranchLaw(branch, form, fits, out)
 
 
-def first_loading_law(scene, p, alpha, ctx=None):
+def _check_heldout(wanted, heldout):
+    if not heldout and wanted == "auto":
+        raise ValueError("the auto form is chosen by held-out error: heldout=False needs a form")
+
+
+def first_loading_law(scene, p, alpha, ctx=None, *, heldout=True):
     """The first-loading forms of ``scene.first_loading_form`` fitted to ``(p, alpha)``.
 
     Returns a :class:`BranchLaw`; Eq. 24 is always fitted (``fits["eq24"]``: the file's
-    ``C1, n1``).
+    ``C1, n1``). ``heldout=False`` skips the held-out refits (no errors; a named form only).
     """
     ctx = FitContext.of(scene) if ctx is None else ctx
     wanted = scene.first_loading_form
+    _check_heldout(wanted, heldout)
     fits, errors = {}, {}
     for name in _fitted(_rt.FIRST_LOADING, wanted):
         rec = calibration_form(_rt.FIRST_LOADING, name)
         fits[name] = rec.fit(p, alpha, ctx)
-        errors[name] = rec.heldout(p, alpha, fits[name], ctx)
+        if heldout:
+            errors[name] = rec.heldout(p, alpha, fits[name], ctx)
     return _branch_law(_rt.FIRST_LOADING, wanted, fits, errors)
 
 
-def reload_law(scene, curves, ctx):
+def reload_law(scene, curves, ctx, *, heldout=True):
     """The reload forms of ``scene.reload_form`` fitted to ``curves`` on ``ctx``'s first loading.
 
     Returns a :class:`BranchLaw`; the paper's Eq. 25 is always fitted (``fits["paper"]``: the
-    file's ``C2, n2``).
+    file's ``C2, n2``). ``heldout=False`` as :func:`first_loading_law`.
     """
     wanted = scene.reload_form
+    _check_heldout(wanted, heldout)
     fits, errors = {}, {}
     for name in _fitted(_rt.RELOAD, wanted):
         rec = calibration_form(_rt.RELOAD, name)
         fits[name] = rec.fit(curves, ctx)
-        errors[name] = rec.heldout(curves, fits[name], ctx)
+        if heldout:
+            errors[name] = rec.heldout(curves, fits[name], ctx)
     return _branch_law(_rt.RELOAD, wanted, fits, errors)
 
 
@@ -298,22 +310,24 @@ class FittedLaw:
         )
 
 
-def fit_law(scene, p, alpha, curves):
+def fit_law(scene, p, alpha, curves, *, heldout=True):
     """Fit both branches as ``scene`` asks: a :class:`FittedLaw`.
 
     The first-loading forms first (:func:`first_loading_law`); the reload forms then on
     ``alpha1(p_hist)`` of the first-loading form that runs (:func:`reload_law`). Used by a
-    calibration and by the pooled law of several samples.
+    calibration and by the pooled law of several samples. ``heldout=False``: the fits alone,
+    without their held-out refits (named forms only; the errors are then empty).
     """
-    first = first_loading_law(scene, p, alpha)
+    first = first_loading_law(scene, p, alpha, heldout=heldout)
     eq24 = first.fits["eq24"]
     ctx = dataclasses.replace(
         FitContext.of(scene),
         C1=eq24.C1,
         n1=eq24.n1,
         first=None if first.form == "eq24" else first.runtime(),
+        p_range=(float(min(p)), float(max(p))),
     )
-    return FittedLaw(first, reload_law(scene, curves, ctx), ctx)
+    return FittedLaw(first, reload_law(scene, curves, ctx, heldout=heldout), ctx)
 
 
 # -- the built-in forms -------------------------------------------------------------------
@@ -371,11 +385,24 @@ register(
         "paper",
         _rt.RELOAD,
         fit=lambda curves, ctx: _fit.fit_reload(
-            curves, ctx.H, ctx.C1, ctx.n1, continuous=ctx.continuous, first=ctx.first
+            curves,
+            ctx.H,
+            ctx.C1,
+            ctx.n1,
+            continuous=ctx.continuous,
+            first=ctx.first,
+            dip_range=ctx.p_range,
         ),
         predict=_paper_predict,
         heldout=lambda curves, fit, ctx: _held.reload_errors(
-            curves, ctx.H, ctx.C1, ctx.n1, fit, ctx.continuous, first=ctx.first
+            curves,
+            ctx.H,
+            ctx.C1,
+            ctx.n1,
+            fit,
+            ctx.continuous,
+            first=ctx.first,
+            dip_range=ctx.p_range,
         ),
         runtime=lambda fit: None,
     )

@@ -192,16 +192,22 @@ def first_loading_errors(p, alpha, H, first, floor_to=None):
     return level_errors(p, alpha, first.residuals, refit_predict, "eq24")
 
 
-def reload_errors(curves, H, C1, n1, reload, continuous=False, branch="reload", first=None):
+def reload_errors(
+    curves, H, C1, n1, reload, continuous=False, branch="reload", first=None, dip_range=None
+):
     """:class:`BranchErrors` of the paper's Eq. 25: each interior curve left out and predicted.
 
-    ``first``: the first-loading form that runs (``None``: Eq. 24 with ``C1, n1``).
+    ``first``: the first-loading form that runs (``None``: Eq. 24 with ``C1, n1``);
+    ``dip_range``: the fit's constraint on its curves below first loading, as the fit's own
+    (:func:`~.fit.fit_reload`).
     """
     cs = sorted(curves, key=lambda c: c.p_hist)
 
     def predict(j):
         rest = [c for i, c in enumerate(cs) if i != j]
-        f = _fit.fit_reload(rest, H, C1, n1, continuous=continuous, first=first)
+        f = _fit.fit_reload(
+            rest, H, C1, n1, continuous=continuous, first=first, dip_range=dip_range
+        )
         law = _fit._law(H, C1, n1, f.C2, f.n2, continuous, first)
         return alpha_reload(cs[j].p, cs[j].p_hist, law) - cs[j].alpha
 

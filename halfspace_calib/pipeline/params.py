@@ -10,7 +10,7 @@ from frictionlaw import FrictionParams
 from ..common.checks import positive
 from .fit import FirstLoadingFit, ReloadFit
 
-__all__ = ["make_params"]
+__all__ = ["fit_record", "make_params"]
 
 
 def _plain(obj, where="provenance"):
@@ -82,7 +82,7 @@ def _summaries(fits, names):
     return out
 
 
-def _fit_record(first, reload, table, form=None, law=None):
+def fit_record(first, reload, table, form=None, law=None):
     """``provenance["fit"]``: each branch's fit summary.
 
     ``converged`` is the optimiser's verdict (what :func:`frictionlaw.params.fit_failure` refuses a
@@ -216,7 +216,7 @@ def make_params(
         "tolerance": _plain(tolerance, "tolerance"),
         "pressures": _plain(pressures, "pressures"),
         "material": _plain(material, "material"),
-        "fit": _fit_record(first, reload, reload_table, reload_form, law),
+        "fit": fit_record(first, reload, reload_table, reload_form, law),
         "inputs": _input_notes(k, p_range),
     }
     if errors is not None:

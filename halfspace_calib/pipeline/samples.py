@@ -55,6 +55,7 @@ from ..common.jobs import run_jobs
 from ..topography import chain
 from .calibration import Calibration, calibrate
 from .law_checks import law_checks
+from .params import fit_record
 from .scene_surfaces import SceneSurfaces, load_scene_surfaces, run_plan
 from .surface_plan import MAX_DEFAULT_GRID, SyntheticSource, plan_surfaces
 from .sweeps import FailedLevel, SweepResult
@@ -512,7 +513,7 @@ def calibrate_samples(scene, spec, *, samples=None, progress=True):
     first, reload = law.eq24, law.paper
     p_all = np.concatenate([c.p for c in curves])
     prov = dict(ref.params.provenance)
-    prov["fit"] = _pooled_fit_record(law)
+    prov["fit"] = fit_record(law.eq24, law.paper, law.table, law=law)
     prov["errors"] = {
         "heldout_tol": ref.scene.heldout_tol,
         **{k: e.summary() for k, e in law.errors.items()},
@@ -572,16 +573,6 @@ def calibrate_samples(scene, spec, *, samples=None, progress=True):
     )
     secs = {"samples": t1 - t0, "bootstrap": t2 - t1, "total": time.perf_counter() - t0}
     return MultiCalibration(pooled, spec, list(samples), run.calibrations, run.failed, unc, secs)
-
-
-def _pooled_fit_record(law):
-    """``provenance["fit"]`` of the pooled law: the forms that run, the others beside them."""
-    rec = {}
-    for branch in (law.first, law.reload):
-        for name, fit in branch.fits.items():
-            key = branch.branch if name == branch.form else f"{branch.branch}_{name}"
-            rec[key] = fit.summary()
-    return rec
 
 
 def _records(samples):

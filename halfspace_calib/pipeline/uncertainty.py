@@ -99,18 +99,18 @@ def curves_of(name, sweeps):
 
 
 @serial_blas
-def pooled_law(scene, samples):
+def pooled_law(scene, samples, *, heldout=True):
     """The pooled law: both branches fitted as ``scene`` asks to all samples' points at once.
 
     A :class:`~.forms.FittedLaw` (:func:`~.forms.fit_law`): the first loading to every point,
     the reload forms to every sample's points pooled per load level (:func:`pooled_curves`), on
     ``alpha1(p_hist)`` of the first-loading form that runs; each form's errors against all
     points, in sample and with each interior level left out. ``FittedLaw.apply`` gives the
-    parameter set.
+    parameter set. ``heldout=False``: the fits alone (the scene's forms named, not ``auto``).
     """
     p = np.concatenate([s.p for s in samples])
     a = np.concatenate([s.alpha for s in samples])
-    return _forms.fit_law(scene, p, a, pooled_curves(samples))
+    return _forms.fit_law(scene, p, a, pooled_curves(samples), heldout=heldout)
 
 
 def pooled_curves(samples):
