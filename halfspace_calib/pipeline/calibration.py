@@ -189,10 +189,15 @@ class Calibration:
             )
         below = self.checks.get("reload_below_first") or {}
         if below.get("max", 0.0) > DIP_TOL:
+            where = (
+                "below the lowest reload level, where the reload branch is extrapolated"
+                if below.get("calibrated_max", 0.0) <= DIP_TOL
+                else "within the calibrated histories"
+            )
             out.append(
                 f"a reload curve of the law lies {below['max']:.3g} in alpha below its first "
-                f"loading (p_hist {below['p_hist'] / 1e6:.4g} MPa, p {below['p'] / 1e6:.4g} MPa); "
-                "the model's lie above it"
+                f"loading (p_hist {below['p_hist'] / 1e6:.4g} MPa, p {below['p'] / 1e6:.4g} MPa, "
+                f"{where}); the model's lie above it"
             )
         p_full = _held.full_contact_pressure(*self.sweeps.loading, self.scene.H)
         if p_full is not None:
