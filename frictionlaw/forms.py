@@ -233,7 +233,7 @@ register(
         FirstLoadingTable,
         _lower_first_table,
         slope0=_table_slope0,
-        export_template=None,  # the Fortran law core does not carry it yet
+        export_template="core/sbmf_first_table.f",
     )
 )
 register(
