@@ -79,10 +79,9 @@ def _axes(figsize):
 
 def _beside(law, branch, P):
     """``[(form description, P running that form)]`` of the forms beside the one that runs."""
-    from frictionlaw.describe import FORMS
+    from frictionlaw.forms import branch_form
 
-    out = [(f, FORMS[branch][f.form].switch) for f in law.branch(branch).others]
-    return [(f, switch(P)) for f, switch in out if switch is not None]
+    return [(f, branch_form(branch, f.form).switch(P)) for f in law.branch(branch).others]
 
 
 def calibration_figures(cal):
