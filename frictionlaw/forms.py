@@ -293,11 +293,9 @@ def _table_slope0(params: Any) -> float:
     return math.nan if table is None else float(table.slope0)
 
 
-def _eq24_symbols(P: Any) -> Description:
-    return (
-        Quantity("C1", P.C1, "1", "Eq. 24: slope of alpha1 against p / H at small p"),
-        Quantity("n1", P.n1, "1", "Eq. 24: sharpness of the corner towards alpha1 = 1"),
-    ), None
+def _file_symbols(*symbols: tuple[str, str]) -> Callable[[Any], Description]:
+    """The description of a form run from the file's own parameters, ``(name, meaning)`` each."""
+    return lambda P: (tuple(Quantity(n, getattr(P, n), "1", m) for n, m in symbols), None)
 
 
 def _first_table_symbols(P: Any) -> Description:
@@ -310,13 +308,6 @@ def _first_table_symbols(P: Any) -> Description:
         "monotone cubic Hermite of ln alpha over ln p; the Coulomb line below the lowest "
         "level, the power law of the end slope capped at 1 above the top one",
     )
-
-
-def _paper_symbols(P: Any) -> Description:
-    return (
-        Quantity("C2", P.C2, "1", "Eq. 25: one C2 for every p_hist"),
-        Quantity("n2", P.n2, "1", "Eq. 25: one n2 for every p_hist"),
-    ), None
 
 
 def _reload_table_symbols(P: Any) -> Description:
@@ -346,7 +337,10 @@ register(
         slope0=_eq24_slope0,
         export_template="core/sbmf_core.f",
         label="Eq. 24",
-        describe=_eq24_symbols,
+        describe=_file_symbols(
+            ("C1", "Eq. 24: slope of alpha1 against p / H at small p"),
+            ("n1", "Eq. 24: sharpness of the corner towards alpha1 = 1"),
+        ),
     )
 )
 register(
@@ -371,7 +365,9 @@ register(
         _lower_none(K.FORM_PAPER),
         export_template="core/sbmf_core.f",
         label="the paper's Eq. 25",
-        describe=_paper_symbols,
+        describe=_file_symbols(
+            ("C2", "Eq. 25: one C2 for every p_hist"), ("n2", "Eq. 25: one n2 for every p_hist")
+        ),
     )
 )
 register(
