@@ -23,6 +23,7 @@ Writes benchmarks/results/uncertainty_coverage.csv / .md and prints the table.
 
 import argparse
 import csv
+import dataclasses
 import math
 import time
 from pathlib import Path
@@ -43,7 +44,7 @@ from halfspace_calib.pipeline.uncertainty import (
     band_limits,
     bootstrap_laws,
     curves_of,
-    pooled_fit,
+    pooled_law,
 )
 
 RESULTS = Path(__file__).parent / "results"
@@ -100,6 +101,12 @@ def main(argv=None):
     names = [f"tau_first({p / 1e6:g} MPa)" for p in PROBES] + [
         f"tau_reload({pr / 1e6:g} MPa after {ph / 1e6:g})"
     ]
+    # every draw's pooled law in the truth's forms (issue 37: the band of the law the file runs)
+    forms_scene = dataclasses.replace(
+        mc.pooled.scene,
+        first_loading_form=truth.first_loading_form,
+        reload_form=truth.reload_form,
+    )
     rng = np.random.default_rng(1)
     rows = []
     t_cov = {}
@@ -109,12 +116,10 @@ def main(argv=None):
         t0 = time.perf_counter()
         for r in range(a.repeats):
             sub = [curves[i] for i in rng.choice(len(curves), n, replace=True)]
-            f, rl = pooled_fit(sub, truth.H, alpha_floor=scene.alpha_floor)
-            cen = truth.replace(C1=f.C1, n1=f.n1, C2=rl.C2, n2=rl.n2, uncertainty=None)
+            cen = pooled_law(forms_scene, sub, heldout=False).apply(truth)
+            cen = cen.replace(uncertainty=None)
             boot = bootstrap_laws(sub, cen, n_bootstrap=a.boot, seed=1000 * n + r, floor_to=floor)
-            stack = np.array(
-                [_taus(cen.replace(C1=c1, n1=n1, C2=c2, n2=n2), pr, ph) for c1, n1, c2, n2 in boot]
-            )
+            stack = np.array([_taus(law, pr, ph) for law in boot])
             c = _taus(cen, pr, ph)
             for m in BAND_METHODS:
                 lo, hi = band_limits(stack, c, n, a.level, m)

@@ -235,7 +235,10 @@ def main(argv=None):
     # 1. calibrate (the built-in default scene) unless a parameter file is given
     params = args.params
     if params is None:
-        _run([py, "-m", "halfspace_calib", "--out", out / "calibration", "--quiet"])
+        # Eq. 24 on first loading: the Fortran law core does not carry the tabulated form yet
+        # (frictionlaw-export refuses such a file, naming the form)
+        calib = ["--first-loading-form", "eq24", "--out", out / "calibration", "--quiet"]
+        _run([py, "-m", "halfspace_calib", *calib])
         params = out / "calibration" / "params.json"
     params = Path(params).resolve()
 

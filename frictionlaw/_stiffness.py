@@ -6,6 +6,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._io import read_versioned
+
 __all__ = ["TangentialStiffness", "K_T_FORMAT_VERSION"]
 
 #: version of the optional ``tangential_stiffness`` object inside a parameter file
@@ -78,19 +80,10 @@ class TangentialStiffness:
         where = f"{source}: tangential_stiffness"
         if not isinstance(doc, dict):
             raise ValueError(f"{where} must be a JSON object")
-        version = doc.get("version")
-        if type(version) is not int or version != K_T_FORMAT_VERSION:
-            raise ValueError(
-                f"{where}: unsupported version {version!r}; this runtime reads {K_T_FORMAT_VERSION}"
-            )
-        units = doc.get("units", {})
-        if not isinstance(units, dict) or units.get("p", "Pa") != "Pa":
-            raise ValueError(f"{where}: p must be given in 'Pa'")
-        if units.get("k_t", "Pa/m") != "Pa/m":
-            raise ValueError(f"{where}: k_t must be given in 'Pa/m'")
-        try:
-            return cls(p=doc["p"], k_t=doc["k_t"])
-        except KeyError as exc:
-            raise ValueError(f"{where}: missing {exc.args[0]!r}") from None
-        except ValueError as exc:
-            raise ValueError(f"{where}: {exc}") from None
+        return read_versioned(
+            doc,
+            where,
+            K_T_FORMAT_VERSION,
+            {"p": "Pa", "k_t": "Pa/m"},
+            lambda d: cls(p=d["p"], k_t=d["k_t"]),
+        )

@@ -10,12 +10,12 @@ console, ``summary.json``, ``report.html`` and plot titles; ``fe-demo``'s ``summ
 its measured errors (in sample, held out, extrapolated; ``provenance.errors``), then the forms
 beside it, each the same way.
 
-A new form of a branch is one :class:`Form` record (:func:`register_form`): its name, what it
-reads of a :class:`~frictionlaw.FrictionParams` (its parameters, its table) and how to run the
-same parameters with it (for a comparison curve); which form a branch runs is the branch's
-:class:`Branch` record. The errors are found by branch and form in the file's provenance, so a
-form whose calibration records them (``provenance.errors.<branch...>.form``) gets them without
-another edit.
+The forms are the runtime's records (:class:`frictionlaw.forms.BranchForm`): each carries its
+description (``label``, ``equation``, and ``describe``: its symbols and table for a parameter
+set), so a new form registered once (:func:`frictionlaw.forms.register`) runs, is written and
+is described with no other edit. A form is listed where the parameter set carries it (a form
+without data always; one with data where the branch's table is of its type). The errors are
+found by branch and form in the file's provenance (``provenance.errors.<branch...>.form``).
 
 Standard library and :mod:`frictionlaw` only; nothing here is loaded by ``import frictionlaw``.
 """
@@ -24,17 +24,17 @@ from __future__ import annotations
 
 import hashlib
 import math
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from . import forms as _forms
+from .forms import FormTable, Quantity
+
 __all__ = [
     "BRANCHES",
-    "FORMS",
     "Branch",
     "BranchDescription",
-    "Form",
     "FormDescription",
     "FormErrors",
     "FormTable",
@@ -42,54 +42,9 @@ __all__ = [
     "LawSource",
     "Quantity",
     "describe_law",
-    "register_form",
 ]
 
 MPa = 1e6
-
-
-@dataclass(frozen=True)
-class Quantity:
-    """One number of the law: its name, value (SI), unit (``"1"``: dimensionless), meaning."""
-
-    name: str
-    value: float
-    unit: str
-    meaning: str
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready record."""
-        return {"value": self.value, "unit": self.unit, "meaning": self.meaning}
-
-    def text(self) -> str:
-        """``name = value`` with the unit a reader expects (Pa shown as MPa)."""
-        if self.unit == "Pa":
-            return f"{self.name} = {self.value / MPa:.4g} MPa"
-        unit = "" if self.unit == "1" else f" {self.unit}"
-        return f"{self.name} = {self.value:.4g}{unit}"
-
-
-@dataclass(frozen=True)
-class FormTable:
-    """A form's table: one row per level, each column with its unit (SI)."""
-
-    columns: tuple[tuple[str, str], ...]
-    rows: tuple[tuple[float, ...], ...]
-    interpolation: str
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready record."""
-        return {
-            "columns": [{"name": n, "unit": u} for n, u in self.columns],
-            "rows": [list(r) for r in self.rows],
-            "interpolation": self.interpolation,
-        }
-
-    def span(self, column: str) -> tuple[float, float]:
-        """Smallest and largest value of ``column``."""
-        i = [n for n, _ in self.columns].index(column)
-        vals = [r[i] for r in self.rows]
-        return min(vals), max(vals)
 
 
 @dataclass(frozen=True)
@@ -98,7 +53,8 @@ class FormErrors:
 
     ``heldout_max`` / ``heldout_rms``: each interior load level left out, refitted and predicted
     (``None`` with fewer than 3 levels); ``extrapolation``: ``(top level in Pa, max)`` predicted
-    from the levels below it.
+    from the levels below it; ``extrapolation_below``: ``(lowest level in Pa, max)`` predicted
+    from the levels above it (``None`` where not recorded).
     """
 
     in_sample_max: float
@@ -107,11 +63,12 @@ class FormErrors:
     heldout_rms: float | None
     extrapolation: tuple[float, float] | None
     n_points: int
+    extrapolation_below: tuple[float, float] | None = None
 
     @classmethod
     def from_record(cls, rec: dict[str, Any]) -> FormErrors:
         """From a ``provenance.errors`` entry (``BranchErrors.summary()``)."""
-        ext = rec.get("extrapolation")
+        ext, low = rec.get("extrapolation"), rec.get("extrapolation_below")
         return cls(
             in_sample_max=float(rec["in_sample_max"]),
             in_sample_rms=float(rec["in_sample_rms"]),
@@ -119,6 +76,7 @@ class FormErrors:
             heldout_rms=_opt(rec.get("heldout_rms")),
             extrapolation=None if not ext else (float(ext["level"]), float(ext["max_abs"])),
             n_points=int(rec.get("n_points", 0)),
+            extrapolation_below=None if not low else (float(low["level"]), float(low["max_abs"])),
         )
 
     @property
@@ -136,6 +94,9 @@ class FormErrors:
             "in_sample_max": self.in_sample_max,
             "in_sample_rms": self.in_sample_rms,
             "extrapolation": None if ext is None else {"level_Pa": ext[0], "max_abs": ext[1]},
+            "extrapolation_below": None
+            if self.extrapolation_below is None
+            else {"level_Pa": self.extrapolation_below[0], "max_abs": self.extrapolation_below[1]},
             "n_points": self.n_points,
         }
 
@@ -150,6 +111,9 @@ class FormErrors:
         if self.extrapolation is not None:
             lv, e = self.extrapolation
             out += f", top level {lv / MPa:.4g} MPa extrapolated {e:.4f}"
+        if self.extrapolation_below is not None:
+            lv, e = self.extrapolation_below
+            out += f", lowest {lv / MPa:.4g} MPa {e:.4f}"
         return out
 
 
@@ -344,137 +308,24 @@ def _wrap(text: str, width: int) -> str:
     return "\n".join(out)
 
 
-# -- the forms ------------------------------------------------------------------------------------
-#: what a form's describer returns: ``(name, parameters, table)``, or ``None`` where the file
-#: carries no such form
-Parts = tuple[str, tuple[Quantity, ...], FormTable | None]
-
-
+# -- the branches ---------------------------------------------------------------------------------
 @dataclass(frozen=True)
-class Form:
-    """One form of one branch of the law, as reports describe it.
+class Branch:
+    """A branch of the law as reports list it: its name and title.
 
-    Attributes
-    ----------
-    branch : str
-        ``"first_loading"`` or ``"reload"``.
-    form : str
-        The form's name in the file and in ``provenance.errors`` (``"eq24"``, ``"paper"``,
-        ``"tabulated"``).
-    describe : callable
-        ``describe(params) -> (name, parameters, table)`` or ``None`` where the parameter set
-        carries no such form.
-    switch : callable, optional
-        ``switch(params) -> FrictionParams``: the same parameters running this form (the
-        comparison curves of a plot); ``None`` where the form cannot be switched to.
+    The form a parameter set runs on it is ``params.<branch>_form``; its forms are the runtime's
+    records (:mod:`frictionlaw.forms`), each with its description.
     """
 
     branch: str
-    form: str
-    describe: Callable[[Any], Parts | None]
-    switch: Callable[[Any], Any] | None = None
-
-
-@dataclass(frozen=True)
-class Branch:
-    """A branch of the law: its title and which form a parameter set runs on it."""
-
-    branch: str
     title: str
-    running: Callable[[Any], str]
 
 
-def _eq24(P: Any) -> Parts:
-    return (
-        "Eq. 24",
-        (
-            Quantity("C1", P.C1, "1", "Eq. 24: slope of alpha1 against p / H at small p"),
-            Quantity("n1", P.n1, "1", "Eq. 24: sharpness of the corner towards alpha1 = 1"),
-        ),
-        None,
-    )
-
-
-def _paper(P: Any) -> Parts:
-    return (
-        "the paper's Eq. 25",
-        (
-            Quantity("C2", P.C2, "1", "Eq. 25: one C2 for every p_hist"),
-            Quantity("n2", P.n2, "1", "Eq. 25: one n2 for every p_hist"),
-        ),
-        None,
-    )
-
-
-def _tabulated(P: Any) -> Parts | None:
-    t = P.reload_table
-    if t is None:
-        return None
-    rows = tuple(
-        (float(p), float(c), float(n)) for p, c, n in zip(t.p_hist, t.C2, t.n2, strict=True)
-    )
-    return (
-        "Eq. 25 tabulated over p_hist",
-        (Quantity("s2", t.s2, "1", "exponent of p / p_hist in x2 (1: the paper's form)"),),
-        FormTable(
-            (("p_hist", "Pa"), ("C2", "1"), ("n2", "1")),
-            rows,
-            "monotone cubic Hermite of ln C2, ln n2 over -ln(1 - p_hist / H); constant beyond "
-            "the first and the last level",
-        ),
-    )
-
-
-def _first_tabulated(P: Any) -> Parts | None:
-    t = P.first_loading_table
-    if t is None:
-        return None
-    return (
-        "the computed first loading, tabulated",
-        (
-            Quantity(
-                "mu_eff", P.mu_eff, "1", "Coulomb slope below the lowest level (tau / p there)"
-            ),
-        ),
-        FormTable(
-            (("p", "Pa"), ("alpha", "1")),
-            tuple((float(p), float(a)) for p, a in zip(t.p, t.alpha, strict=True)),
-            "monotone cubic Hermite of ln alpha over ln p; the Coulomb line below the lowest "
-            "level, the power law of the end slope capped at 1 above the top one",
-        ),
-    )
-
-
-#: the forms reports know, by branch and form (:func:`register_form` adds one)
-FORMS: dict[str, dict[str, Form]] = {"first_loading": {}, "reload": {}}
 #: the branches of the law, in the order reports list them
 BRANCHES: dict[str, Branch] = {
-    "first_loading": Branch(
-        "first_loading", "first loading (p >= p_hist)", lambda P: P.first_loading_form
-    ),
-    "reload": Branch("reload", "un-/reloading (p < p_hist)", lambda P: P.reload_form),
+    "first_loading": Branch("first_loading", "first loading (p >= p_hist)"),
+    "reload": Branch("reload", "un-/reloading (p < p_hist)"),
 }
-
-
-def register_form(form: Form) -> Form:
-    """Add (or replace) a form of a branch; returns it."""
-    if form.branch not in BRANCHES:
-        raise ValueError(f"branch must be one of {', '.join(BRANCHES)}, got {form.branch!r}")
-    FORMS.setdefault(form.branch, {})[form.form] = form
-    return form
-
-
-register_form(Form("first_loading", "eq24", _eq24, lambda P: P.replace(first_loading_form="eq24")))
-register_form(
-    Form(
-        "first_loading",
-        "tabulated",
-        _first_tabulated,
-        lambda P: P.replace(first_loading_form="tabulated"),
-    )
-)
-register_form(Form("reload", "paper", _paper, lambda P: P.replace(reload_form="paper")))
-register_form(Form("reload", "tabulated", _tabulated, lambda P: P.replace(reload_form="tabulated")))
 
 
 # -- the description --------------------------------------------------------------------------------
@@ -550,23 +401,22 @@ def describe_law(params: Any, source: LawSource | str | Path | None = None) -> L
     prov = params.provenance if isinstance(params.provenance, dict) else {}
     branches = []
     for name, branch in BRANCHES.items():
-        running = branch.running(params)
+        running = getattr(params, f"{name}_form")
         forms = []
-        for form in FORMS.get(name, {}).values():
-            parts = form.describe(params)
-            if parts is None:
+        for form in (_forms.branch_form(name, n) for n in _forms.form_names(name)):
+            if not form.carried(params):
                 continue
-            label, quantities, table = parts
+            quantities, table = form.description(params)
             forms.append(
                 FormDescription(
                     branch=name,
-                    form=form.form,
-                    name=label,
-                    runs=form.form == running,
+                    form=form.name,
+                    name=form.label,
+                    runs=form.name == running,
                     parameters=quantities,
                     table=table,
-                    errors=_errors_of(prov, name, form.form),
-                    r_squared=_r_squared_of(prov, name, form.form),
+                    errors=_errors_of(prov, name, form.name),
+                    r_squared=_r_squared_of(prov, name, form.name),
                 )
             )
         forms.sort(key=lambda f: not f.runs)
@@ -579,7 +429,12 @@ def describe_law(params: Any, source: LawSource | str | Path | None = None) -> L
         branches=tuple(branches),
         inputs=_inputs(params),
         derived=(
-            Quantity("mu_eff", params.mu_eff, "1", "Coulomb slope at small p: m k C1 / H"),
+            Quantity(
+                "mu_eff",
+                params.mu_eff,
+                "1",
+                "Coulomb slope tau / p at small p of the first loading that runs",
+            ),
             Quantity("tau_max", params.tau_max, "Pa", "cap at large p: m k (1 + geo_ratio)"),
         ),
         continuous_reload=params.continuous_reload,

@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ._io import read_versioned
 from .reload_form import pchip_slopes
 
 __all__ = ["FIRST_LOADING_TABLE_VERSION", "P_MIN_H", "FirstLoadingTable"]
@@ -149,21 +150,10 @@ class FirstLoadingTable:
     @classmethod
     def from_dict(cls, doc: dict, *, source: str = "<dict>") -> "FirstLoadingTable":
         """The table of a ``first_loading_law`` object; ``ValueError`` naming the field."""
-        where = f"{source}: first_loading_law"
-        version = doc.get("version")
-        if type(version) is not int or version != FIRST_LOADING_TABLE_VERSION:
-            raise ValueError(
-                f"{where}.version: unsupported {version!r}; this runtime reads "
-                f"{FIRST_LOADING_TABLE_VERSION}"
-            )
-        units = doc.get("units", {})
-        if not isinstance(units, dict) or units.get("p", "Pa") != "Pa":
-            raise ValueError(f"{where}.p must be given in 'Pa'")
-        if units.get("alpha", "1") != "1":
-            raise ValueError(f"{where}.alpha must be a contact ratio (unit '1')")
-        try:
-            return cls(p=doc["p"], alpha=doc["alpha"])
-        except KeyError as exc:
-            raise ValueError(f"{where}: missing {exc.args[0]!r}") from None
-        except ValueError as exc:
-            raise ValueError(f"{where}: {exc}") from None
+        return read_versioned(
+            doc,
+            f"{source}: first_loading_law",
+            FIRST_LOADING_TABLE_VERSION,
+            {"p": "Pa", "alpha": "1"},
+            lambda d: cls(p=d["p"], alpha=d["alpha"]),
+        )

@@ -248,8 +248,14 @@ class FrictionParams:
         if self.flattening is not None and not isinstance(self.flattening, Flattening):
             raise ValueError("flattening must be a Flattening block or None")
 
-    def _with_law(self, law: dict[str, float]) -> "FrictionParams":
-        return self.replace(**{k: law[k] for k in LAW_KEYS}, uncertainty=None)
+    def _with_law(self, law: Any) -> "FrictionParams":
+        """A copy running a band law (:class:`~frictionlaw.uncertainty.BandLaw`, ``SampleLaw``)."""
+        kw: dict[str, Any] = {k: getattr(law, k) for k in LAW_KEYS}
+        for branch in (FIRST_LOADING, RELOAD):
+            form = getattr(law, branch)
+            if form is not None:
+                kw[f"{branch}_form"], kw[f"{branch}_table"] = form
+        return self.replace(**kw, uncertainty=None)
 
     def branch_forms(self) -> tuple[BranchForm, BranchForm]:
         """The records of the forms that run, ``(first loading, reload)``.
@@ -264,8 +270,9 @@ class FrictionParams:
     def edge_laws(self) -> dict[str, "FrictionParams"]:
         """``{"lower": FrictionParams, "upper": FrictionParams}``: the band's edge laws.
 
-        Same ``m, sigma_y, H, k`` and options, ``C1, n1, C2, n2`` fitted to the lower and upper
-        edge of the uncertainty band. ``ValueError`` if the file has no uncertainty block.
+        Same ``m, sigma_y, H, k`` and options, the law (``C1, n1, C2, n2`` and the tabulated
+        forms the file runs) fitted to the lower and upper edge of the uncertainty band.
+        ``ValueError`` if the file has no uncertainty block.
         """
         if self.uncertainty is None:
             raise ValueError(
@@ -278,10 +285,7 @@ class FrictionParams:
         """``{sample name: FrictionParams}``: every sample's own law (uncertainty block)."""
         if self.uncertainty is None:
             raise ValueError("these parameters have no uncertainty block (one sample)")
-        return {
-            s.name: self._with_law({k: getattr(s, k) for k in LAW_KEYS})
-            for s in self.uncertainty.samples
-        }
+        return {s.name: self._with_law(s) for s in self.uncertainty.samples}
 
     @property
     def tau_max(self) -> float:

@@ -34,6 +34,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._io import read_versioned
+
 __all__ = [
     "RELOAD_FORMS",
     "RELOAD_TABLE_VERSION",
@@ -240,19 +242,10 @@ class ReloadTable:
 
         The object's ``form`` is read by :func:`frictionlaw.forms.read_branch`.
         """
-        where = f"{source}: reload_law"
-        version = doc.get("version")
-        if type(version) is not int or version != RELOAD_TABLE_VERSION:
-            raise ValueError(
-                f"{where}.version: unsupported {version!r}; this runtime reads "
-                f"{RELOAD_TABLE_VERSION}"
-            )
-        units = doc.get("units", {})
-        if not isinstance(units, dict) or units.get("p_hist", "Pa") != "Pa":
-            raise ValueError(f"{where}.p_hist must be given in 'Pa'")
-        try:
-            return cls(p_hist=doc["p_hist"], C2=doc["C2"], n2=doc["n2"], s2=doc.get("s2", 1.0))
-        except KeyError as exc:
-            raise ValueError(f"{where}: missing {exc.args[0]!r}") from None
-        except ValueError as exc:
-            raise ValueError(f"{where}: {exc}") from None
+        return read_versioned(
+            doc,
+            f"{source}: reload_law",
+            RELOAD_TABLE_VERSION,
+            {"p_hist": "Pa"},
+            lambda d: cls(p_hist=d["p_hist"], C2=d["C2"], n2=d["n2"], s2=d.get("s2", 1.0)),
+        )

@@ -3,11 +3,13 @@
 A calibration from several surface samples (patches or scans of one sheet) writes, besides the
 pooled law, a versioned ``uncertainty`` object into ``params.json``:
 
-* ``samples``: every sample's own fitted ``C1, n1, C2, n2`` (the spread of the next patch);
+* ``samples``: every sample's own fitted law (the spread of the next patch): ``C1, n1, C2, n2``
+  and, where the file runs a tabulated form, that form's data (``first_loading_law``,
+  ``reload_law``, as in the parameter file);
 * ``parameters``: the pooled value of ``C1, n1, C2, n2, mu_eff`` and its bootstrap interval;
 * ``bands``: pointwise bootstrap bands (at ``level``, default 90 %) of ``alpha(p)`` and
   ``tau(p)`` on first loading and on the reload branch at a few ``p_hist``;
-* ``edge_laws``: two parameter sets (``lower``, ``upper``) whose Eq. 24-25 curves follow the
+* ``edge_laws``: two laws (``lower``, ``upper``) in the forms the file runs, fitted to the
   band's lower and upper edges, so that an FE code can run the band's edges as laws.
 
 The band is a *confidence* band of the pooled (population-mean) law: bootstrap over the samples
@@ -15,17 +17,23 @@ with replacement, the pooled fit redone on every resample, percentile interval. 
 single next sample is wider; it is in ``samples``.
 
 :class:`Uncertainty` reads and writes that block; :class:`~frictionlaw.FrictionParams` carries
-one (or ``None``) and gives the edge and sample laws as parameter sets. A file whose block has a
-newer ``version`` is read without it (the law itself is unchanged). Numpy-free, like the file.
+one (or ``None``) and gives the edge and sample laws as parameter sets. Version 2 carries the
+tabulated forms' data of each law (:class:`BandLaw`); it is written only when a law has some, so
+that a band of the paper's equations stays version 1. A file whose block has a newer
+``version`` is read without it (the law itself is unchanged).
 """
 
 import math
 from dataclasses import dataclass
+from typing import Any
+
+from .forms import BRANCH_KEYS, read_branch
 
 __all__ = [
     "UNCERTAINTY_FORMAT",
     "UNCERTAINTY_VERSION",
     "LAW_KEYS",
+    "BandLaw",
     "Band",
     "Interval",
     "SampleLaw",
@@ -33,7 +41,8 @@ __all__ = [
 ]
 
 UNCERTAINTY_FORMAT = "sbmf-friction-uncertainty"
-UNCERTAINTY_VERSION = 1
+UNCERTAINTY_VERSION = 2
+_READ_VERSIONS = (1, 2)
 #: the fitted parameters of one law (Eqs. 24-25)
 LAW_KEYS = ("C1", "n1", "C2", "n2")
 #: quantities a band may describe, with their unit
@@ -54,7 +63,42 @@ def _law(source, where, d):
     missing = [k for k in LAW_KEYS if k not in d]
     if missing:
         raise ValueError(f"{source}: uncertainty {where} is missing {missing}")
-    return {k: _num(source, f"{where}.{k}", d[k], positive=True) for k in LAW_KEYS}
+    out: dict[str, Any] = {k: _num(source, f"{where}.{k}", d[k], positive=True) for k in LAW_KEYS}
+    for branch, key in BRANCH_KEYS.items():
+        if key in d:
+            out[branch] = read_branch(branch, d[key], f"{source}: uncertainty {where}")
+    return out
+
+
+def _branches_dict(law):
+    out = {}
+    for branch, key in BRANCH_KEYS.items():
+        form = getattr(law, branch)
+        if form is not None and form[1] is not None:
+            out[key] = form[1].to_dict(form[0])
+    return out
+
+
+@dataclass(frozen=True)
+class BandLaw:
+    """One law of a band (an edge law): ``C1, n1, C2, n2`` and the tabulated forms' data.
+
+    ``first_loading`` / ``reload``: ``(form, data)`` of the branch's form, as
+    ``FrictionParams``'s ``first_loading_form, first_loading_table`` (``reload_form,
+    reload_table``); ``None``: the branch is the file's own (a block of version 1, or the
+    paper's equation).
+    """
+
+    C1: float
+    n1: float
+    C2: float
+    n2: float
+    first_loading: tuple | None = None
+    reload: tuple | None = None
+
+    def to_dict(self):
+        """JSON-ready dict."""
+        return {**{k: getattr(self, k) for k in LAW_KEYS}, **_branches_dict(self)}
 
 
 @dataclass(frozen=True)
@@ -72,17 +116,23 @@ class Interval:
 
 @dataclass(frozen=True)
 class SampleLaw:
-    """One sample's own fit: its name (file, patch) and ``C1, n1, C2, n2``."""
+    """One sample's own fit: its name (file, patch) and its law (as :class:`BandLaw`)."""
 
     name: str
     C1: float
     n1: float
     C2: float
     n2: float
+    first_loading: tuple | None = None
+    reload: tuple | None = None
 
     def to_dict(self):
         """JSON-ready dict."""
-        return {"name": self.name, **{k: getattr(self, k) for k in LAW_KEYS}}
+        return {
+            "name": self.name,
+            **{k: getattr(self, k) for k in LAW_KEYS},
+            **_branches_dict(self),
+        }
 
 
 @dataclass(frozen=True)
@@ -151,7 +201,8 @@ class Uncertainty:
     parameters : dict
         ``C1, n1, C2, n2, mu_eff`` -> :class:`Interval`.
     edge_laws : dict
-        ``"lower"`` / ``"upper"`` -> ``{C1, n1, C2, n2}``: the laws fitted to the band's edges.
+        ``"lower"`` / ``"upper"`` -> :class:`BandLaw`: the laws fitted to the band's edges (a
+        dict ``{C1, n1, C2, n2}`` is taken as one).
     bands : tuple of Band
         First-loading and reload bands of ``alpha`` and ``tau``.
     """
@@ -170,6 +221,16 @@ class Uncertainty:
             raise ValueError(f"uncertainty level must be in (0, 1), got {self.level!r}")
         if set(self.edge_laws) != {"lower", "upper"}:
             raise ValueError("uncertainty edge_laws must hold 'lower' and 'upper'")
+        edges = {
+            k: v if isinstance(v, BandLaw) else BandLaw(**v) for k, v in self.edge_laws.items()
+        }
+        object.__setattr__(self, "edge_laws", edges)
+
+    @property
+    def version(self):
+        """The block's version: 2 when a law carries a tabulated form's data, else 1."""
+        laws = [*self.samples, *self.edge_laws.values()]
+        return 2 if any(_branches_dict(x) for x in laws) else 1
 
     def band(self, quantity, p_hist=None):
         """The :class:`Band` of ``quantity`` (at ``p_hist`` for a reload band)."""
@@ -190,7 +251,7 @@ class Uncertainty:
         """JSON-ready dict (the block as written into ``params.json``)."""
         return {
             "format": UNCERTAINTY_FORMAT,
-            "version": UNCERTAINTY_VERSION,
+            "version": self.version,
             "level": self.level,
             "method": self.method,
             "n_bootstrap": self.n_bootstrap,
@@ -198,7 +259,7 @@ class Uncertainty:
             "n_samples": len(self.samples),
             "samples": [s.to_dict() for s in self.samples],
             "parameters": {k: v.to_dict() for k, v in self.parameters.items()},
-            "edge_laws": {k: dict(v) for k, v in self.edge_laws.items()},
+            "edge_laws": {k: v.to_dict() for k, v in self.edge_laws.items()},
             "bands": [b.to_dict() for b in self.bands],
         }
 
@@ -215,7 +276,7 @@ class Uncertainty:
         version = doc.get("version")
         if type(version) is not int or version < 1:
             raise ValueError(f"{source}: uncertainty version must be an integer >= 1")
-        if version > UNCERTAINTY_VERSION:
+        if version not in _READ_VERSIONS:
             return None
         try:
             level = _num(source, "level", doc["level"], positive=True)
@@ -233,7 +294,9 @@ class Uncertainty:
                         for f in ("central", "lower", "upper")
                     )
                 )
-            edges = {k: _law(source, f"edge_laws.{k}", v) for k, v in doc["edge_laws"].items()}
+            edges = {
+                k: BandLaw(**_law(source, f"edge_laws.{k}", v)) for k, v in doc["edge_laws"].items()
+            }
             bands = []
             for i, b in enumerate(doc["bands"]):
                 q = b["quantity"]

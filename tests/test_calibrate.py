@@ -79,10 +79,14 @@ def test_fit_quality_and_parameter_file(cal, tmp_path):
     for name in nb:
         for got, ref in zip(lines(nb[name]), lines(figs[name]), strict=True):
             np.testing.assert_array_equal(got[1], ref[1])
-    (xp, yp), (xl, yl) = lines(figs["alpha_first_loading.png"])
+    # the points, the law that runs and, beside the tabulated first loading, Eq. 24
+    (xp, yp), (xl, yl), (x24, y24) = lines(figs["alpha_first_loading.png"])
     np.testing.assert_allclose(xp * 1e6, p, rtol=1e-15)
     np.testing.assert_array_equal(yp, alpha)
+    assert P.first_loading_form == "tabulated"
     np.testing.assert_allclose(yl, alpha_first(xl * 1e6, P), rtol=1e-12)
+    eq24 = P.replace(first_loading_form="eq24")
+    np.testing.assert_allclose(y24, alpha_first(x24 * 1e6, eq24), rtol=1e-12)
     rl = lines(figs["alpha_reload.png"])
     curves = cal.sweeps.reload_curves()
     # the form that runs through each level's points, then the form beside it (dotted)
@@ -206,15 +210,30 @@ def test_default_scene_parameters_are_pinned():
     alpha1 >= p / H up to 0.99 H (before: 10-600 MPa, unconstrained: C1 1.047, n1 2.867,
     C2 7.444, n2 0.575, R^2 0.9998 / 0.993, mu_eff 0.0935; the paper option reproduces them,
     tests/test_calibration_regression.py).
+
+    Issue 37: the file runs the computed first loading (tabulated) and the continuous reload
+    branch; the paper's C2, n2 (the header) are fitted on that alpha1(p_hist) (before, on Eq. 24
+    and with the jump: 17.549, 0.4090, R^2 0.9549; mu_eff of Eq. 24 0.09141).
     """
     cal = calibrate(Scene(), progress=False)
     P = cal.params
+    assert (P.first_loading_form, P.reload_form, P.continuous_reload) == ("tabulated",) * 2 + (
+        True,
+    )
     got = np.array([P.C1, P.n1, P.C2, P.n2])
-    np.testing.assert_allclose(got, [1.0238, 16.454, 17.549, 0.4090], rtol=1e-3)
+    np.testing.assert_allclose(got, [1.0238, 16.454, 17.863, 0.3956], rtol=1e-3)
     assert cal.first.r_squared == pytest.approx(0.99954, abs=1e-5)
-    assert cal.reload.r_squared == pytest.approx(0.9549, abs=1e-3)
-    assert P.mu_eff == pytest.approx(0.09141, abs=5e-5)
+    assert cal.reload.r_squared == pytest.approx(0.9524, abs=1e-3)
+    # mu_eff of the tabulated form: tau_max alpha(10 MPa) / 10 MPa; Eq. 24's beside it
+    alpha0 = P.first_loading_table.alpha[0]
+    assert alpha0 == pytest.approx(0.015015, abs=2e-6) and P.first_loading_table.p[0] == 10e6
+    assert P.mu_eff == pytest.approx(P.tau_max * alpha0 / 10e6, rel=1e-12)
+    assert P.tau_max * P.C1 / P.H == pytest.approx(0.09141, abs=5e-5)
     assert P.p_range == (10e6, 760e6)
+    s = cal.summary()
+    assert s["errors"]["first_loading"]["heldout_max"] < 0.005
+    assert s["errors"]["reload"]["heldout_max"] < 0.02
+    assert s["max_jump_relative"] < 1e-12 and s["reload_below_first"]["max"] < 1e-3
     # the bound: active (the unconstrained optimum has alpha1(H) = 0.976), cost 1.9e-4 in R^2
     fl = cal.summary()["alpha_floor"]
     assert fl["active"] and fl["max_violation_to_p_max"] == 0.0

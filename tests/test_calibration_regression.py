@@ -11,7 +11,9 @@ Issue 26 extended the default sweep to 760 MPa (0.95 H) and bounds the fit of Eq
 solver, so it calibrates the scene those references were computed with: the paper's pressures
 (``PAPER_PRESSURES``) and the unconstrained fit (``alpha_floor=None``); the references stand.
 Issue 31 made the tabulated reload form the default; the references are of the paper's Eq. 25,
-so the test runs that form (``reload_form="paper"``).
+so the test runs that form (``reload_form="paper"``). Issue 37 made the tabulated first loading
+and the continuous reload branch the default; the references are of Eq. 24 and Eq. 25 as
+printed (``first_loading_form="eq24"``, ``continuous_reload=False``).
 """
 
 import pytest
@@ -41,7 +43,14 @@ REFERENCE = {
 
 @pytest.mark.parametrize("grid", sorted(REFERENCE))
 def test_shear_limit_unchanged(grid):
-    scene = Scene(grid=grid, pressures=PAPER_PRESSURES, alpha_floor=None, reload_form="paper")
+    scene = Scene(
+        grid=grid,
+        pressures=PAPER_PRESSURES,
+        alpha_floor=None,
+        reload_form="paper",
+        first_loading_form="eq24",
+        continuous_reload=False,
+    )
     cal = calibrate(scene, progress=False)
     assert not cal.problems()
     for (p, p_hist), ref in REFERENCE[grid].items():

@@ -38,6 +38,7 @@ def failed_run(tmp_path_factory):
     out = base / "calibration"
     scan = str(base / "scan.npy")
     argv = ["--workpiece", scan, "--tool", scan, "--size", "2e-3", "--unit", "m"]
+    argv += ["--first-loading-form", "eq24"]  # what the export carries (its test below)
     rc = calib([*argv, "--grid", "32", "--heldout-tol", "1e-4", "--quiet", "--out", str(out)])
     return rc, out
 

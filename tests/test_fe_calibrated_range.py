@@ -8,7 +8,7 @@ import pytest
 from fe_demo.cli import main
 from fe_demo.scenes import run_multistage, run_ring, run_upsetting
 from fe_demo.solver.contact import DieContact
-from frictionlaw import FrictionParams, SBMFLaw, TangentialStiffness
+from frictionlaw import FrictionParams, SBMFLaw, TangentialStiffness, alpha_first
 from halfspace_calib.pipeline.calibration import Scene, calibrate
 from halfspace_calib.pipeline.scene import PAPER_PRESSURES
 
@@ -44,7 +44,7 @@ def test_calibration_records_range_and_k_t(calibrated):
     assert "extrapolated" in notes["calibrated_range"]
 
 
-def test_upsetting_reports_the_nodes_beyond_the_range(upset):
+def test_upsetting_reports_the_nodes_beyond_the_range(upset, calibrated):
     assert upset.converged
     rec = upset.info["calibrated_range"]
     assert (rec["p_min_Pa"], rec["p_max_Pa"]) == (10e6, 600e6)
@@ -59,7 +59,11 @@ def test_upsetting_reports_the_nodes_beyond_the_range(upset):
     assert end["n_above_H"] == np.count_nonzero(p >= H) > 0
     assert end["n_hist_above_range"] == np.count_nonzero((ph > 600e6) & (ph < H))
     assert end["n_hist_above_H"] == np.count_nonzero(ph >= H)
-    assert rec["H_Pa"] == H and 0.9 < rec["alpha1_at_H"] < 1.0
+    # the law's alpha1 at H: the tabulated first loading extrapolates the 600 MPa level's power
+    # law, capped at 1 (Eq. 24 stays below 1: tanh(C1**n1)**(1/n1))
+    P = FrictionParams.from_json(calibrated)
+    assert rec["H_Pa"] == H and rec["alpha1_at_H"] == pytest.approx(float(alpha_first(H, P)))
+    assert 0.9 < rec["alpha1_at_H"] <= 1.0
     assert rec["max_over_run"]["n_above_range"] > 0  # some increment had extrapolated nodes
     assert end["p_peak"] == p.max() and end["p_hist_peak"] == ph.max()
     assert end["p_peak_over_p_max"] == pytest.approx(p.max() / 600e6, rel=1e-15)

@@ -148,7 +148,10 @@ def test_the_command_writes_the_block(run, capsys):
 def test_without_the_option_nothing_changes(tmp_path):
     assert main([*QUICK, "--no-progress", "--out", str(tmp_path / "o")]) == 0
     doc = json.loads((tmp_path / "o" / "params.json").read_text())
-    assert "flattening" not in doc and doc["version"] == 2
+    # the version the law's forms need (3 for the tabulated first loading), not the flattening's
+    assert "flattening" not in doc and "first_loading_law" in doc and doc["version"] == 3
+    P = FrictionParams.from_dict(doc)
+    assert P.replace(first_loading_form="eq24", first_loading_table=None).to_dict()["version"] == 2
     assert json.loads((tmp_path / "o" / "summary.json").read_text())["flattening"] is None
     assert not (tmp_path / "o" / "flattening.csv").exists()
 

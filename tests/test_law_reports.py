@@ -4,7 +4,8 @@ A calibration runs one form per branch and keeps the other reload form beside it
 ``summary.json``, ``report.html`` and the plot titles name the form that runs, its parameters or
 table and its held-out error, and give the other form as the comparison it is; ``fe-demo``'s
 ``summary.json`` and ``report.html`` name the same law with its source. All built from one
-description (:mod:`frictionlaw.describe`), which a new form extends with one record.
+description (:mod:`frictionlaw.describe`) of the runtime's form records, which a new form
+extends with one record (tests/test_branch_forms.py).
 """
 
 import hashlib
@@ -18,19 +19,11 @@ from reportcells import Cells, assert_page_agrees
 from fe_demo.__main__ import main as fe_demo
 from fe_demo.output.figures import die_profile_figure, robust_limit
 from frictionlaw import FrictionParams
-from frictionlaw.describe import (
-    BRANCHES,
-    FORMS,
-    Branch,
-    Form,
-    FormTable,
-    Quantity,
-    describe_law,
-    register_form,
-)
+from frictionlaw.describe import Quantity, describe_law
 from halfspace_calib.__main__ import main as calibrate
-from sbmf_cli.htmlpage import law_section
 
+#: the name reports give each first-loading form
+FIRST = {"eq24": "Eq. 24", "tabulated": "the computed first loading, tabulated"}
 SMALL = [
     "--grid", "32",
     "--pressures", "25e6,100e6,200e6,400e6,600e6",
@@ -79,14 +72,14 @@ def test_summary_and_report_name_the_form_that_runs(runs, form, other):
         assert [r[1] for r in table["rows"]] == list(P.reload_table.C2)
         assert reload["forms"]["tabulated"]["parameters"]["s2"]["value"] == P.reload_table.s2
     assert reload["forms"]["paper"]["parameters"]["C2"]["value"] == P.C2
-    assert s["law"]["forms"].startswith("Eq. 24 + ")
+    assert s["law"]["forms"].startswith(FIRST[P.first_loading_form] + " + ")
     raw = (runs[form] / "report.html").read_text(encoding="utf-8")
     page_text = html.unescape(raw)
     name = {"tabulated": "Eq. 25 tabulated over p_hist", "paper": "the paper's Eq. 25"}
     assert f"{name[running]}: runs" in page_text
-    assert ("beside it for comparison, not run" in page_text) == bool(other)
-    if other:
-        assert f"{name[other]}: beside it for comparison, not run" in page_text
+    for n in name:  # the reload form beside the one that runs, if any
+        beside = f"{name[n]}: beside it for comparison, not run" in page_text
+        assert beside == (n == other)
     page = Cells(raw)
     assert_page_agrees(page, s)
     # the paper's pair is shown only as that form's parameters, never as the law's
@@ -101,7 +94,8 @@ def test_the_console_names_the_form_that_runs_and_the_one_beside_it(runs, tmp_pa
     assert calibrate([*SMALL, "--out", str(out)]) == 0
     text = capsys.readouterr().out
     s, P = _read(out)
-    assert "the law the parameter file runs: Eq. 24 + Eq. 25 tabulated over p_hist" in text
+    forms = f"{FIRST[P.first_loading_form]} + Eq. 25 tabulated over p_hist"
+    assert f"the law the parameter file runs: {forms}" in text
     held = s["errors"]["reload"]["heldout_max"]
     assert f"s2 = {P.reload_table.s2:.4g}" in text and f"held out max {held:.4f}" in text
     assert f"beside it, not run: the paper's Eq. 25: C2 = {P.C2:.4g}, n2 = {P.n2:.4g}" in text
@@ -117,7 +111,10 @@ def test_fe_demo_names_the_law_that_runs_its_source_and_the_force_in_kn(runs, tm
     assert lp["sha256"] == sha and lp["reload_form"] == "tabulated"
     law = lp["law"]
     assert law["source"] == {"path": str(params), "sha256": sha}
-    assert law["forms"] == "Eq. 24 + Eq. 25 tabulated over p_hist"
+    P = FrictionParams.from_json(params)
+    assert law["forms"] == f"{FIRST[P.first_loading_form]} + Eq. 25 tabulated over p_hist" + (
+        " (continuous at p_hist)" if P.continuous_reload else ""
+    )
     assert law["branches"]["reload"]["runs"] == "tabulated"
     # the run's label tells calibrations apart: folder, file and the sha256's first digits
     assert s["run"] == f"sbmf calibration/params.json [{sha[:8]}]"
@@ -138,47 +135,6 @@ def test_fe_demo_names_the_law_that_runs_its_source_and_the_force_in_kn(runs, tm
     ):
         assert key in page.cells, key
     assert "at height reduction 30.0 % (the end of the run)" in text
-
-
-def test_a_new_form_plugs_in_with_one_record(runs, monkeypatch):
-    """A first-loading table registered as one record: described, run, its errors found."""
-    monkeypatch.setattr("frictionlaw.describe.FORMS", {k: dict(v) for k, v in FORMS.items()})
-    monkeypatch.setitem(
-        BRANCHES, "first_loading", Branch("first_loading", "first loading", lambda P: "table")
-    )
-    import frictionlaw.describe as d
-
-    def table(P):
-        rows = ((1e8, 0.1), (5e8, 0.6))
-        return "alpha1 tabulated", (), FormTable((("p", "Pa"), ("alpha1", "1")), rows, "linear")
-
-    register_form(Form("first_loading", "table", table))
-    assert "table" in d.FORMS["first_loading"] and "table" not in FORMS["first_loading"]
-    P = FrictionParams.from_json(runs["auto"] / "params.json")
-    prov = dict(P.provenance)
-    prov["errors"] = dict(prov["errors"])
-    prov["errors"]["first_loading_eq24"] = prov["errors"]["first_loading"]
-    prov["errors"]["first_loading"] = {
-        "form": "table",
-        "in_sample_max": 0.001,
-        "in_sample_rms": 0.0005,
-        "heldout_max": 0.012,
-        "heldout_rms": 0.006,
-        "extrapolation": None,
-        "n_points": 5,
-    }
-    law = describe_law(P.replace(provenance=prov))
-    first = law.branch("first_loading")
-    assert [f.form for f in first.forms] == ["table", "eq24"]
-    assert first.running.errors.heldout_max == 0.012
-    assert (
-        first.others[0].errors.heldout_max == P.provenance["errors"]["first_loading"]["heldout_max"]
-    )
-    assert law.forms_label().startswith("alpha1 tabulated + ")
-    assert "levels 100-500 MPa" in first.running.label()
-    text = html.unescape(law_section(law.to_dict()))
-    assert "alpha1 tabulated: runs" in text and "Eq. 24: beside it for comparison" in text
-    assert "beside it Eq. 24: held out max |d alpha|" in law.title("first_loading")
 
 
 def test_a_file_switched_to_the_other_form_is_described_with_that_forms_errors(runs):

@@ -23,6 +23,7 @@ CALIB = [
     "--pressures", "1e8,2e8,3e8,5e8",
     "--reload-fractions", "0.3,0.6",
     "--heldout-tol", "0.5",  # a toy grid: the acceptance is tested in test_failed_fit
+    "--first-loading-form", "eq24",  # the export (below) carries Eq. 24
     "--quiet",
 ]  # fmt: skip
 FE = ["upsetting", "--nr", "4", "--increments", "2", "--vtu-every", "0", "--quiet"]

@@ -143,8 +143,8 @@ def test_readme_shared_files_skip_count_is_true(tmp_path):
 
 
 def test_readme_default_run_figures_are_a_fresh_runs(tmp_path):
-    """The default calibration's parameters and Eq. 25 jump in the README are what a fresh run of
-    ``halfspace-calib`` gives now (the reload-law work changes them: this test says so)."""
+    """The default calibration's parameters and its drop at p_hist in the README are what a fresh
+    run of ``halfspace-calib`` gives now (the law's work changes them: this test says so)."""
     import json
 
     from halfspace_calib.cli import main
@@ -155,10 +155,12 @@ def test_readme_default_run_figures_are_a_fresh_runs(tmp_path):
     P = json.loads((out / "params.json").read_text())["parameters"]
     text = " ".join(_readme().split())
     default = re.search(
-        r"Default scene \(128\^2.*?`C1 = ([\d.]+), n1 = ([\d.]+)` \(R\^2 ([\d.]+)\); the reload "
-        r"branch tabulated over (\d+) levels with `s2 = ([\d.]+)`, held-out max `\|d alpha\|` "
-        r"([\d.]+) \(the paper's one pair beside it: `C2 = ([\d.]+), n2 = ([\d.]+)` \(R\^2 "
-        r"([\d.]+)\), held out ([\d.]+)\); `mu_eff = ([\d.]+)` with `m = ([\d.]+)`",
+        r"Default scene \(128\^2.*?the first loading runs the computed points \(tabulated\), "
+        r"held-out max `\|d alpha\|` ([\d.]+) \(Eq. 24 beside it.*?: `C1 = ([\d.]+), n1 = "
+        r"([\d.]+)` \(R\^2 ([\d.]+)\), held out ([\d.]+)\); the continuous reload branch "
+        r"tabulated over (\d+) levels with `s2 = ([\d.]+)`, held-out max `\|d alpha\|` ([\d.]+) "
+        r"\(the paper's one pair beside it: `C2 = ([\d.]+), n2 = ([\d.]+)` \(R\^2 ([\d.]+)\), "
+        r"held out ([\d.]+)\); `mu_eff = ([\d.]+)` with `m = ([\d.]+)`",
         text,
     )
     assert default, "README must give the default scene's parameters"
@@ -167,10 +169,13 @@ def test_readme_default_run_figures_are_a_fresh_runs(tmp_path):
         digits = len(shown.split(".")[1]) if "." in shown else 0
         return f"{value:.{digits}f}" == shown
 
-    C1, n1, r1, levels, s2, held, C2, n2, r2, held_p, mu, m = default.groups()
+    held1, C1, n1, r1, held24, levels, s2, held, C2, n2, r2, held_p, mu, m = default.groups()
     err = s["errors"]
+    assert (s["first_loading_form"], s["continuous_reload"]) == ("tabulated", True)
     got = {
+        "first held out": (held1, err["first_loading"]["heldout_max"]),
         "C1": (C1, P["C1"]), "n1": (n1, P["n1"]), "first R^2": (r1, s["first_loading_r2"]),
+        "held out, Eq. 24": (held24, err["first_loading_eq24"]["heldout_max"]),
         "levels": (levels, len(s["errors"]["reload"]["heldout"]) + 2), "s2": (s2, s["s2"]),
         "held out": (held, err["reload"]["heldout_max"]),
         "C2": (C2, P["C2"]), "n2": (n2, P["n2"]), "reload R^2": (r2, s["reload_r2"]),

@@ -19,6 +19,7 @@ from frictionlaw import FrictionParams, alpha_first, alpha_reload
 from frictionlaw.uncertainty import UNCERTAINTY_VERSION
 from halfspace_calib.cli import main
 from halfspace_calib.pipeline.calibration import Scene, calibrate
+from halfspace_calib.pipeline.first_table import monotone_increasing
 from halfspace_calib.pipeline.samples import (
     SampleSpec,
     calibrate_samples,
@@ -26,7 +27,7 @@ from halfspace_calib.pipeline.samples import (
     pair_files,
     synthetic_population,
 )
-from halfspace_calib.pipeline.uncertainty import bootstrap_uncertainty, curves_of, pooled_fit
+from halfspace_calib.pipeline.uncertainty import bootstrap_uncertainty, curves_of, pooled_law
 
 K, GRID = 4, 32
 PROBES = (100e6, 300e6, 600e6)
@@ -87,10 +88,14 @@ def test_pooled_law_is_the_fit_to_all_points_and_matches_the_whole_surface(popul
     from halfspace_calib.pipeline.fit import fit_first_loading
 
     f = fit_first_loading(p, mean, P.H, floor_to=0.99 * P.H)  # the default bound, as pooled
+    eq24 = P.replace(first_loading_form="eq24")  # the header beside the form that runs
     for q in PROBES:
-        assert float(alpha_first(q, P)) == pytest.approx(
-            float(alpha_first(q, P.replace(C1=f.C1, n1=f.n1))), rel=2e-3
+        assert float(alpha_first(q, eq24)) == pytest.approx(
+            float(alpha_first(q, eq24.replace(C1=f.C1, n1=f.n1))), rel=2e-3
         )
+    # the tabulated first loading that runs is the mean curve itself (a monotone one)
+    assert P.first_loading_form == "tabulated" and P.first_loading_table.p == tuple(p)
+    np.testing.assert_allclose(P.first_loading_table.alpha, mean, rtol=1e-12)
     # the pooled law of the mirror-bounded patches against the periodic calibration of the
     # whole surface: measured 0.44-0.57 % on first loading, 0.2 % on the reload at half of
     # 600 MPa (against the isolated, DC-FFT, whole: 2.2-2.7 % and 14 %; docs/uncertainty.md);
@@ -124,6 +129,17 @@ def test_band_holds_the_pooled_law_is_narrower_than_the_samples_and_edge_laws_fo
         assert abs(_tau1(edges["upper"], q) - hi) < 0.3 * (hi - lo)
     mu = u.parameters["mu_eff"]
     assert mu.central == pytest.approx(P.mu_eff, rel=1e-12) and mu.lower < mu.central < mu.upper
+    # issue 37: the band, its edge laws and the sample laws run the forms the pooled law runs
+    assert u.version == 2 and (P.first_loading_form, P.reload_form) == ("tabulated",) * 2
+    for L in [*P.sample_laws().values(), *edges.values()]:
+        assert (L.first_loading_form, L.reload_form) == (P.first_loading_form, P.reload_form)
+        assert L.reload_table.s2 == P.reload_table.s2  # one exponent for the band
+    for e, k in (("lower", 1), ("upper", 2)):  # the edge's table is the band's edge at each level
+        got = alpha_first(np.array(P.first_loading_table.p), edges[e])
+        band = [u.band("alpha_first").at(q)[k] for q in P.first_loading_table.p]
+        levels = np.array(P.first_loading_table.p)
+        want = np.clip(monotone_increasing(band), levels / P.H, 1.0)
+        np.testing.assert_allclose(got, want, atol=1e-12)
     for ph in {c.p_hist for c in mc.pooled.sweeps.reload_curves()}:
         r = u.band("tau_reload", ph)
         assert all(lo <= c <= hi for c, lo, hi in zip(r.central, r.lower, r.upper, strict=True))
@@ -144,8 +160,8 @@ def test_band_coverage_over_sub_samplings(population):
     hits, n = 0, 0
     for r in range(16):
         sub = [curves[i] for i in rng.choice(len(curves), 5, replace=False)]
-        f, rl = pooled_fit(sub, truth.H, alpha_floor=0.99)  # the default bound, as the truth
-        cen = truth.replace(C1=f.C1, n1=f.n1, C2=rl.C2, n2=rl.n2, uncertainty=None)
+        scene = mc.pooled.scene  # the truth's forms and the default bound
+        cen = pooled_law(scene, sub).apply(truth).replace(uncertainty=None)
         u = bootstrap_uncertainty(sub, cen, n_bootstrap=50, seed=r, floor_to=0.99 * truth.H)
         for q in PROBES:
             _, lo, hi = u.band("tau_first").at(q)

@@ -43,7 +43,7 @@ from ._flattening import (
     flattening_lines,
     with_flattening,
 )
-from ._law import law_lines
+from ._law import add_law_options, law_lines
 from ._paths import (
     after_contact,
     exit_code,
@@ -289,27 +289,7 @@ def build_parser():
         help="contact ratio of the fits: element count, or the count corrected with the contact "
         "perimeter (Yastrebov et al. 2017; default: count)",
     )
-    g.add_argument(
-        "--continuous-reload",
-        action="store_true",
-        default=None,
-        help="fit the continuous Eq. 25 (no jump at p_hist; default: with the jump)",
-    )
-    g.add_argument(
-        "--reload-form",
-        choices=["auto", "tabulated", "paper"],
-        help="the reload branch of params.json: Eq. 25 with C2, n2 per load level "
-        "(tabulated), the paper's one C2, n2 (paper), or whichever predicts the held-out load "
-        "levels better (auto); the other form's error is reported beside it (default: "
-        + _D["reload_form"]
-        + ")",
-    )
-    g.add_argument(
-        "--heldout-tol",
-        type=float,
-        help="largest held-out |d alpha| of a branch (each interior load level left out, "
-        f"refitted and predicted); beyond it the run fails (default: {_D['heldout_tol']:g})",
-    )
+    add_law_options(g, _D)
     g.add_argument(
         "--workers",
         type=int,
@@ -404,6 +384,7 @@ def scene_from_args(args):
             "reload_surface",
             "contact_area",
             "continuous_reload",
+            "first_loading_form",
             "reload_form",
             "heldout_tol",
             "workers",

@@ -21,7 +21,6 @@ from ..pipeline.hardness import (
     read_after_contact,
     roughness_of_scans,
 )
-from ..pipeline.heldout import GROSS_MISS
 
 #: files that mark a folder as a calibration output (a rerun may replace it)
 
@@ -202,11 +201,17 @@ def mark_failed(folder, problems):
     src.unlink()
 
 
+#: a branch that misses the model by this much in alpha has most likely been given a wrong input
+#: (a size or unit typed wrong) rather than fitted poorly: the failure message names the likely
+#: causes
+COLLAPSED = 0.15
+
+
 def failure_hint(problems):
     """Likely causes of a collapsed fit (a branch missing by >= 0.15 in alpha), for RUN FAILED."""
     text = " ".join(map(str, problems))
     miss = [float(v) for v in re.findall(r"\|d alpha\| = ([0-9.eE+-]+)", text)]
-    if not miss or max(miss) < GROSS_MISS:  # only a collapsed fit, not one that is merely poor
+    if not miss or max(miss) < COLLAPSED:  # only a collapsed fit, not one that is merely poor
         return None
     return (
         "likely causes of a collapsed fit: a lateral --size in the wrong unit for the heights "

@@ -77,6 +77,13 @@ def _axes(figsize):
     return fig, fig.subplots()
 
 
+def _beside(law, branch, P):
+    """``[(form description, P running that form)]`` of the forms beside the one that runs."""
+    from frictionlaw.forms import branch_form
+
+    return [(f, branch_form(branch, f.form).switch(P)) for f in law.branch(branch).others]
+
+
 def calibration_figures(cal):
     """The calibration's figures, for a notebook: nothing is written, pyplot is not touched.
 
@@ -97,7 +104,7 @@ def calibration_figures(cal):
     figs = {}
 
     from frictionlaw import alpha_first, alpha_reload
-    from frictionlaw.describe import FORMS, describe_law
+    from frictionlaw.describe import describe_law
 
     P = cal.params
     law = describe_law(P)
@@ -108,6 +115,8 @@ def calibration_figures(cal):
     fig, ax = _axes((6.4, 4.6))
     ax.plot(p / MPa, a, "o", label="half-space model")
     ax.plot(pp / MPa, alpha_first(pp, P), "-", label=f"{first.label()} (runs)")
+    for f, other in _beside(law, "first_loading", P):  # for comparison
+        ax.plot(pp / MPa, alpha_first(pp, other), ":", label=f"{f.label()}, beside it (not run)")
     ax.set(xlabel="p_mean [MPa]", ylabel="alpha_rc = A_real / A0")
     ax.set_title(law.title("first_loading"), fontsize=9)
     ax.grid(alpha=0.3)
@@ -116,8 +125,7 @@ def calibration_figures(cal):
 
     reload = law.branch("reload")
     runs = reload.running
-    beside = [(f, FORMS["reload"][f.form].switch) for f in reload.others]
-    beside = [(f, switch(P)) for f, switch in beside if switch is not None]
+    beside = _beside(law, "reload", P)
     fig, ax = _axes((6.4, 4.8))
     ax.plot(pp / MPa, alpha_first(pp, P), "k-", lw=1, label=f"{first.name} (first loading)")
     hists = []  # several samples share a p_hist: one colour and one fitted curve each

@@ -22,21 +22,21 @@ import dataclasses
 import time
 from dataclasses import dataclass, field
 
-import numpy as np
-
-from frictionlaw import FrictionParams, alpha_first
+from frictionlaw import FrictionParams
 from frictionlaw.describe import describe_law
 from sbmf_cli import Worded
 
 from . import effects as _eff
+from . import forms as _forms
 from . import heldout as _held
 from .conformity import punch_edge_problem
 from .fit import FirstLoadingFit, ReloadFit
 from .lateral_scale import full_contact_problem, scale_record
+from .law_checks import DIP_TOL, JUMP_TOL, law_checks
 from .params import make_params, timings_of
 from .registry import REGISTRY
 from .reload_table import ReloadTableFit
-from .resolution import ResolutionCheck, fit_sweeps, resolution_check
+from .resolution import ResolutionCheck, check_sweeps, fit_sweeps, resolution_check
 from .scene import MIN_TOL, Scene, load_scene
 from .scene_surfaces import SceneSurfaces, load_scene_surfaces
 from .sweeps import SweepResult, run_sweeps, scene_surfaces
@@ -56,6 +56,8 @@ __all__ = [
 
 #: R^2 below this is reported (information only since issue 31: the held-out error decides)
 R2_MIN = 0.9
+#: the forms of the first-loading branch in the console's words
+_FORM_WORDS = {"tabulated": "tabulated: the computed points, monotone cubic in ln p"}
 
 
 #: why a scene's boundary is what it is (the defaults; any other combination was chosen)
@@ -73,11 +75,15 @@ _BOUNDARY_REASON = {
 class Calibration:
     """Result of :func:`calibrate`: the parameters, the fits and the sweeps behind them.
 
-    ``reload`` is the fit of the paper's Eq. 25 (one ``C2, n2``), made in every calibration;
-    ``reload_table`` the tabulated form's (``None`` with ``scene.reload_form == "paper"``);
-    ``reload_form`` the form the parameter file runs; ``errors`` the measured errors of each
-    branch (:mod:`.heldout`): ``"first_loading"``, ``"reload"`` (the form the file runs) and the
-    other form's beside it, ``"reload_paper"`` or ``"reload_tabulated"``.
+    ``first`` is the fit of the paper's Eq. 24 (``C1, n1``) and ``reload`` of its Eq. 25 (one
+    ``C2, n2``, on ``alpha1(p_hist)`` of the first-loading form that runs), both made in every
+    calibration; ``first_loading_form`` / ``reload_form`` the forms the parameter file runs
+    (:mod:`.forms`), ``first_fits`` every first-loading form's fit by name and ``reload_table``
+    the tabulated reload form's (``None`` when not fitted); ``errors`` the measured errors of
+    each branch (:mod:`.heldout`): ``"first_loading"`` and ``"reload"`` (the forms the file
+    runs) and each other form's beside them (``"first_loading_eq24"``, ``"reload_paper"``, ...);
+    ``checks`` the law's drop at ``p_hist`` and its reload curves below first loading
+    (:func:`.law_checks.law_checks`).
     """
 
     params: FrictionParams
@@ -94,6 +100,9 @@ class Calibration:
     reload_table: ReloadTableFit | None = None
     errors: dict = field(default_factory=dict)  # branch -> heldout.BranchErrors
     reload_form: str = "paper"  # the reload form the parameter file runs
+    first_loading_form: str = "eq24"  # the first-loading form the parameter file runs
+    first_fits: dict = field(default_factory=dict)  # name -> fit of each first-loading form
+    checks: dict = field(default_factory=dict)  # law_checks: jump at p_hist, reload below first
     flattening: dict | None = None  # what the flattening block was derived from (--flattening)
 
     def __repr__(self):
@@ -110,9 +119,9 @@ class Calibration:
     def problems(self):
         """Why the run failed, one sentence each (empty if it did not).
 
-        A failed or non-converged load level or solve; a branch whose measured error exceeds
-        ``scene.heldout_tol`` (:mod:`.heldout`: held out for the reload branch, in sample for
-        Eq. 24; R^2 is reported, it does not decide), with the
+        A failed or non-converged load level or solve; a branch whose held-out error exceeds
+        ``scene.heldout_tol`` (:mod:`.heldout`: one acceptance for both branches; R^2 is
+        reported, it does not decide), with the
         parameters that ended on a bound named, since the bound then keeps the law from the
         data; a fit whose optimiser did not converge; why a reload fit failed on a nearly
         conforming isolated patch (:func:`~.conformity.punch_edge_problem`); full contact at
@@ -136,10 +145,10 @@ class Calibration:
             err = self.errors.get(key)
             if err is not None and err.exceeds(tol):
                 msg = err.problem(tol, name)
-                if fit.at_bound:
+                if getattr(fit, "at_bound", ()):
                     msg += f" ({', '.join(fit.at_bound)} on a bound)"
                 out.append(msg)
-            if not fit.success:
+            if not getattr(fit, "success", True):
                 out.append(f"{name} fit did not converge: {fit.message}")
         why = punch_edge_problem(self)
         if why:
@@ -155,10 +164,14 @@ class Calibration:
 
     def _branches(self):
         """``(errors key, name, fit)`` of the branches the parameter file runs."""
+        first = ("first_loading", "first loading (Eq. 24)", self.first)
+        if self.first_loading_form != "eq24":
+            name = f"first loading ({_FORM_WORDS.get(self.first_loading_form, self.first_loading_form)})"
+            first = ("first_loading", name, self.first_fits[self.first_loading_form])
         reload = ("reload", "reload (Eq. 25)", self.reload)
         if self.reload_form == "tabulated":
             reload = ("reload", "reload (Eq. 25 tabulated over p_hist)", self.reload_table)
-        return [("first_loading", "first loading (Eq. 24)", self.first), reload]
+        return [first, reload]
 
     def fit_notes(self):
         """What the fits report without failing: parameters on a bound, R^2, full contact."""
@@ -166,10 +179,7 @@ class Calibration:
         tol = self.scene.heldout_tol
         for key, name, fit in self._branches():
             err = self.errors.get(key)
-            warn = "" if err is None else err.warning(tol, name)
-            if warn:
-                out.append(warn)
-            if fit.at_bound and not (err is not None and err.exceeds(tol)):
+            if getattr(fit, "at_bound", ()) and not (err is not None and err.exceeds(tol)):
                 out.append(
                     f"{name}: {', '.join(fit.at_bound)} ended on a bound; the measured error "
                     f"stays within {tol:g}, so the data are described with it there"
@@ -180,6 +190,25 @@ class Calibration:
                     f"{name}: R^2 = {fit.r_squared:.3g} (information: R^2 does not judge a "
                     "curve with little variance; the measured error does)"
                 )
+        jump = self.checks.get("max_jump_relative", 0.0)
+        if jump > JUMP_TOL:
+            out.append(
+                f"the law drops by {100 * jump:.2g} % of tau just below p_hist "
+                f"({self.checks['jump_at_p_hist'] / 1e6:.4g} MPa), where the model's reload "
+                "curve meets first loading: the continuous variant has no drop"
+            )
+        below = self.checks.get("reload_below_first") or {}
+        if below.get("max", 0.0) > DIP_TOL:
+            where = (
+                "below the lowest reload level, where the reload branch is extrapolated"
+                if below.get("calibrated_max", 0.0) <= DIP_TOL
+                else "within the calibrated histories"
+            )
+            out.append(
+                f"a reload curve of the law lies {below['max']:.3g} in alpha below its first "
+                f"loading (p_hist {below['p_hist'] / 1e6:.4g} MPa, p {below['p'] / 1e6:.4g} MPa, "
+                f"{where}); the model's lie above it"
+            )
         p_full = _held.full_contact_pressure(*self.sweeps.loading, self.scene.H)
         if p_full is not None:
             out.append(
@@ -216,15 +245,6 @@ class Calibration:
         """The report lines of each effect (``print_effects`` prints them), through the registry."""
         return [line for n, o in self.effects.items() for line in REGISTRY[n].lines(o, out)]
 
-    def _max_jump_relative(self):
-        """The largest jump at ``p_hist`` relative to Eq. 24 there, of the branch that runs."""
-        if self.reload_form != "tabulated":
-            j = self.reload.jump_relative
-        else:
-            ph = np.asarray(self.reload_table.table.p_hist)
-            j = self.reload_table.jump / np.atleast_1d(alpha_first(ph, self.params))
-        return float(np.max(j)) if np.size(j) else 0.0
-
     def summary(self):
         """JSON-ready summary (``summary.json``, ``report.html``).
 
@@ -246,7 +266,9 @@ class Calibration:
             "H": P.H,
             "mu_eff": P.mu_eff,
             "tau_max": P.tau_max,
+            "first_loading_form": P.first_loading_form,
             "reload_form": P.reload_form,
+            "continuous_reload": P.continuous_reload,
             "s2": P.reload_table.s2 if P.reload_table is not None else None,
             "errors": {k: e.summary() for k, e in self.errors.items()},
             "heldout_tol": self.scene.heldout_tol,
@@ -266,7 +288,8 @@ class Calibration:
                 "first_loading": self.first.degenerate,
                 "reload": self.reload.degenerate,
             },
-            "max_jump_relative": self._max_jump_relative(),
+            "max_jump_relative": self.checks.get("max_jump_relative", 0.0),
+            "reload_below_first": self.checks.get("reload_below_first"),
             "failed_levels": [dataclasses.asdict(f) for f in self.sweeps.failed],
             "not_converged": [dataclasses.asdict(nc) for nc in self.sweeps.not_converged()],
             "max_reload_pressure_over_H": self.sweeps.max_reload_pressure() / self.scene.H,
@@ -335,15 +358,13 @@ def _calibrate(scene, progress, surfaces):
     if scene.from_files and scene.lambda_s is None:  # the resolution check keeps this lambda_s
         scene = dataclasses.replace(scene, lambda_s=surfs.lambda_s)
     sweeps = run_sweeps(scene, progress=progress, surfaces=surfs)
-    p, _ = sweeps.loading
-    first, reload = fit_sweeps(scene, sweeps)
-    form, table, errors = _held.reload_law(
-        scene, *sweeps.loading, sweeps.reload_curves(), first, reload
-    )
+    p, alpha = check_sweeps(sweeps)
+    law = _forms.fit_law(scene, p, alpha, sweeps.reload_curves())
+    first, reload = law.eq24, law.paper
     wp, tl = sweeps.surfaces["workpiece"], sweeps.surfaces["tool"]
     effects = _run_effects(scene, sweeps, surfs, progress)
     resolution = (
-        resolution_check(scene, first, reload, sweeps, progress=progress)
+        resolution_check(scene, *fit_sweeps(scene, sweeps), sweeps, progress=progress)
         if scene.resolution_check
         else None
     )
@@ -398,9 +419,7 @@ def _calibrate(scene, progress, surfaces):
         },
         p_range=(float(p.min()), float(p.max())),
         k_t=_eff.stiffness_table(effects.get("tangential")),
-        reload_table=table,
-        reload_form=form,
-        errors=errors,
+        law=law,
         heldout_tol=scene.heldout_tol,
     )
     if "inclined" in effects:
@@ -416,9 +435,12 @@ def _calibrate(scene, progress, surfaces):
         surfs.files,
         resolution,
         warnings=tuple(surfs.notes),
-        reload_table=table,
-        errors=errors,
-        reload_form=form,
+        reload_table=law.table,
+        errors=law.errors,
+        reload_form=law.reload.form,
+        first_loading_form=law.first.form,
+        first_fits=dict(law.first.fits),
+        checks=law_checks(params, sweeps.reload_curves()),
     )
 
 

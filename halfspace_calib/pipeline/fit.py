@@ -4,7 +4,9 @@
   curve ``alpha_rc(p_mean)``.
 * :func:`fit_reload`: ``C2, n2`` of Eq. 25's ``alpha2(p)`` from all un-/reloading curves
   together (each measured at ``p < p_hist`` on the surface deformed at ``p_hist``), with
-  ``C1, n1`` fixed; ``continuous=True`` fits the runtime's continuous variant
+  the first loading fixed (``C1, n1`` of Eq. 24, or ``first``: the first-loading form that
+  runs, whose ``alpha1(p_hist)`` scales the branch); ``continuous=True`` fits the runtime's
+  continuous variant
   (``FrictionParams(continuous_reload=True)``), whose reload branch meets Eq. 24 at
   ``p_hist``: the fit constrained to have no jump.
 * :func:`make_params`: the :class:`frictionlaw.FrictionParams` with the calibration's
@@ -26,7 +28,6 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.optimize import least_squares
 
 from frictionlaw import FrictionParams, alpha_first, alpha_reload, reload_jump
 from frictionlaw.params import C_RANGE, N_RANGE
@@ -34,6 +35,9 @@ from frictionlaw.params import C_RANGE, N_RANGE
 from ..common.blas import serial_blas
 from ..common.checks import positive
 from .alpha_bound import bound_record, floor_fit, floor_violation
+from .fit_data import ReloadCurve, _bounds, _curve, _data
+from .law_checks import DIP_TOL
+from .lsq import R2_MIN, _degenerate, _fit_c_n, _fit_fields, _r_squared, _solve, _weights
 
 __all__ = [
     "C_BOUNDS",
@@ -52,12 +56,6 @@ __all__ = [
 C_BOUNDS = (1e-3, 1e3)
 #: default bounds of n1, n2: from a very round to a sharp corner of the smooth minimum
 N_BOUNDS = (0.2, 50.0)
-#: a fit whose R^2 is below this is degenerate: the law explains less than 90 % of the variance
-#: of alpha (calibrations reach 0.99-0.9998; constant data give 0, decreasing data < 0)
-R2_MIN = 0.9
-
-_N_GRID = (0.5, 1.0, 2.0, 4.0, 8.0, 16.0)
-_C_GRID = tuple(np.geomspace(0.25, 4.0, 9))
 
 
 @dataclass(frozen=True)
@@ -180,6 +178,9 @@ class ReloadFit(FitResult):
         The first-loading parameters held fixed.
     continuous : bool
         Fitted the continuous variant (``FrictionParams.continuous_reload``).
+    first : tuple or None
+        ``(form, data)`` of the first-loading form whose ``alpha1(p_hist)`` scaled the branch
+        (``FrictionParams.first_loading_form`` and ``first_loading_table``); ``None``: Eq. 24.
     p_hist : ndarray
         The curves' ``p_hist`` (Pa).
     jump : ndarray
@@ -192,6 +193,8 @@ class ReloadFit(FitResult):
     continuous: bool = False
     p_hist: np.ndarray = field(default_factory=lambda: np.zeros(0))
     jump: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    first: tuple | None = None
+    dip_constrained: bool = False
 
     @property
     def C2(self):
@@ -206,13 +209,14 @@ class ReloadFit(FitResult):
     @property
     def jump_relative(self):
         """Jump relative to ``alpha1(p_hist)`` (the shear's relative drop at ``p_hist``)."""
-        a1 = alpha_first(self.p_hist, _law(self.H, self.C1, self.n1))
+        a1 = alpha_first(self.p_hist, _law(self.H, self.C1, self.n1, first=self.first))
         return self.jump / a1
 
     def summary(self):
         """JSON-ready dict of the fit quality and the jumps."""
         d = super().summary()
         d["continuous"] = self.continuous
+        d["dip_constrained"] = self.dip_constrained
         d["jump"] = [
             {"p_hist": float(ph), "jump_alpha": float(j), "jump_relative": float(r)}
             for ph, j, r in zip(self.p_hist, self.jump, self.jump_relative, strict=True)
@@ -220,207 +224,25 @@ class ReloadFit(FitResult):
         return d
 
 
-@dataclass(frozen=True)
-class ReloadCurve:
-    """One un-/reloading curve: ``alpha`` at pressures ``p < p_hist`` (Pa)."""
-
-    p_hist: float
-    p: np.ndarray
-    alpha: np.ndarray
-
-
-# -- validation -------------------------------------------------------------------------
+# -- validation (the checks live in .fit_data) ------------------------------------------
 
 
 def _finite_or_none(v):
     return float(v) if math.isfinite(v) else None
 
 
-def _bounds(name, b, allowed):
-    """``(lo, hi)`` with ``0 < lo < hi``, inside ``allowed`` (FrictionParams' validated range)."""
-    try:
-        lo, hi = (float(x) for x in b)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a pair (lo, hi) with 0 < lo < hi, got {b!r}") from None
-    if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo < hi):
-        raise ValueError(f"{name} must be a pair (lo, hi) with 0 < lo < hi < inf, got {b!r}")
-    if lo < allowed[0] or hi > allowed[1]:
-        raise ValueError(
-            f"{name} must lie within [{allowed[0]:g}, {allowed[1]:g}] (the law's validated "
-            f"range), got {b!r}"
-        )
-    return lo, hi
-
-
-def _data(p, alpha, p_name="p", alpha_name="alpha"):
-    p = np.asarray(p, dtype=np.float64)
-    alpha = np.asarray(alpha, dtype=np.float64)
-    if p.ndim != 1 or alpha.ndim != 1:
-        raise ValueError(f"{p_name} and {alpha_name} must be 1-D arrays")
-    if p.shape != alpha.shape:
-        raise ValueError(
-            f"{alpha_name} must have the same length as {p_name}: {alpha.size} != {p.size}"
-        )
-    if not np.isfinite(p).all():
-        raise ValueError(f"{p_name} must be finite (no NaN or inf)")
-    if not np.isfinite(alpha).all():
-        raise ValueError(f"{alpha_name} must be finite (no NaN or inf)")
-    if (p <= 0).any():
-        raise ValueError(f"{p_name} must be > 0 (Pa), got min {p.min():g}")
-    if ((alpha < 0) | (alpha > 1)).any():
-        raise ValueError(
-            f"{alpha_name} must be in [0, 1] (a contact ratio), got range "
-            f"[{alpha.min():g}, {alpha.max():g}]"
-        )
-    return p, alpha
-
-
-def _curve(i, c):
-    if isinstance(c, ReloadCurve):
-        ph, p, a = c.p_hist, c.p, c.alpha
-    elif isinstance(c, dict):
-        try:
-            ph, p, a = c["p_hist"], c["p"], c["alpha"]
-        except KeyError as exc:
-            raise ValueError(f"curves[{i}] lacks key {exc}") from None
-    else:
-        try:
-            ph, p, a = c
-        except (TypeError, ValueError):
-            raise ValueError(
-                f"curves[{i}] must be a ReloadCurve, a dict or a tuple (p_hist, p, alpha)"
-            ) from None
-    ph = positive(f"curves[{i}].p_hist", ph)
-    p, a = _data(p, a, f"curves[{i}].p", f"curves[{i}].alpha")
-    if (p >= ph).any():
-        raise ValueError(
-            f"curves[{i}].p must be < p_hist = {ph:g} Pa (reloading), got max {p.max():g}"
-        )
-    return ReloadCurve(ph, p, a)
-
-
 # -- model --------------------------------------------------------------------------------
 
 
-def _law(H, C1, n1, C2=1.0, n2=1.0, continuous=False):
-    """A FrictionParams for evaluating alpha (``m``, ``sigma_y``, ``k`` do not enter alpha)."""
-    return FrictionParams(
-        m=1.0, sigma_y=H, H=H, C1=C1, n1=n1, C2=C2, n2=n2, continuous_reload=continuous
-    )
+def _law(H, C1, n1, C2=1.0, n2=1.0, continuous=False, first=None):
+    """A FrictionParams for evaluating alpha (``m``, ``sigma_y``, ``k`` do not enter alpha).
 
-
-def _weights(alpha, relative):
-    if not relative:
-        return np.ones_like(alpha)
-    if (alpha <= 0).any():
-        raise ValueError("alpha must be > 0 for a relative fit (relative=True)")
-    return 1.0 / alpha
-
-
-def _r_squared(res, alpha):
-    ss_tot = float(np.sum((alpha - alpha.mean()) ** 2))
-    ss_res = float(np.sum(res**2))
-    return 1.0 - ss_res / ss_tot if ss_tot > 0 else 0.0
-
-
-def _solve(residual, x_start, lb, ub, names):
-    """Bounded least squares in log-parameters; returns params, stderr, sol, note."""
-    x0 = np.clip(np.log(x_start), np.log(lb) + 1e-9, np.log(ub) - 1e-9)
-    sol = least_squares(
-        residual,
-        x0,
-        bounds=(np.log(lb), np.log(ub)),
-        method="trf",
-        jac="3-point",
-        ftol=1e-14,
-        xtol=1e-14,
-        gtol=1e-14,
-        max_nfev=2000,
-    )
-    vals = np.exp(sol.x)
-    res = sol.fun
-    dof = max(res.size - len(names), 1)
-    s2 = float(res @ res) / dof
-    jtj = sol.jac.T @ sol.jac
-    try:
-        cov = np.linalg.inv(jtj) * s2 if np.linalg.cond(jtj) < 1e14 else None
-    except np.linalg.LinAlgError:
-        cov = None
-    stderr = {}
-    for i, nm in enumerate(names):
-        var = math.inf if cov is None else float(cov[i, i])
-        stderr[nm] = float(vals[i] * math.sqrt(var)) if 0 <= var < math.inf else math.inf
-    at = tuple(
-        nm
-        for i, nm in enumerate(names)
-        if sol.active_mask[i] != 0 or np.isclose(vals[i], (lb[i], ub[i]), rtol=1e-6).any()
-    )
-    msg = sol.message
-    if at:
-        msg += f" Note: {', '.join(at)} ended on a bound; the data do not fix it within them."
-    params = {nm: float(v) for nm, v in zip(names, vals, strict=True)}
-    return params, stderr, sol, at, msg
-
-
-def _start(cost, c_slope, n_bounds, c_bounds):
-    """Best point of a coarse (C, n) grid around the small-pressure slope estimate."""
-    best, arg = math.inf, (c_slope, 1.0)
-    for cm in _C_GRID:
-        c = min(max(c_slope * cm, c_bounds[0]), c_bounds[1])
-        for n in _N_GRID:
-            n = min(max(n, n_bounds[0]), n_bounds[1])
-            v = cost(c, n)
-            if v < best:
-                best, arg = v, (c, n)
-    return arg
-
-
-def _fit_c_n(model, p, alpha, w, H, cb, nb, names):
-    """Weighted (``w``) least squares of a law ``model(C, n)`` to ``alpha`` at ``p``.
-
-    ``cb``, ``nb`` bound ``C`` and ``n``. The start is the best point of :func:`_start` around
-    the slope ``C = max(alpha H / p)`` (``alpha1 <= p C1 / H``, tight at small ``p``;
-    ``alpha2 ~ p C2 / H`` at small ``p``). Returns the :class:`FitResult` fields as a dict,
-    the parameters under ``names``.
+    ``first``: ``(form, data)`` of the first-loading form that runs (``None``: Eq. 24).
     """
-
-    def residual(x):
-        return (model(*np.exp(x)) - alpha) * w
-
-    c_slope = float(np.max(alpha * H / p)) or 1.0
-    start = _start(lambda c, n: float(np.sum(((model(c, n) - alpha) * w) ** 2)), c_slope, nb, cb)
-    lb, ub = np.array([cb[0], nb[0]]), np.array([cb[1], nb[1]])
-    params, stderr, sol, at, msg = _solve(residual, start, lb, ub, names)
-    res = model(params[names[0]], params[names[1]]) - alpha
-    r2 = _r_squared(res, alpha)
-    return dict(
-        params=params,
-        stderr=stderr,
-        residuals=res,
-        r_squared=r2,
-        rmse=float(np.sqrt(np.mean(res**2))),
-        success=bool(sol.success),
-        message=msg,
-        nfev=int(sol.nfev),
-        at_bound=at,
-        H=H,
-        degenerate=_degenerate(params, at, lb, ub, r2, alpha),
+    kw = {} if first is None else {"first_loading_form": first[0], "first_loading_table": first[1]}
+    return FrictionParams(
+        m=1.0, sigma_y=H, H=H, C1=C1, n1=n1, C2=C2, n2=n2, continuous_reload=continuous, **kw
     )
-
-
-def _degenerate(params, at_bound, lb, ub, r2, alpha):
-    """Why a fit is not usable (``""`` if it is): parameters on a bound, ``R^2 < R2_MIN``."""
-    why = []
-    for i, (name, value) in enumerate(params.items()):
-        if name in at_bound:
-            bound = lb[i] if abs(value - lb[i]) <= abs(value - ub[i]) else ub[i]
-            why.append(f"{name} ended on its bound {bound:g}")
-    if not r2 >= R2_MIN:
-        if np.ptp(alpha) == 0:
-            why.append(f"R^2 = {r2:.3g} < {R2_MIN}: alpha is constant, there is nothing to fit")
-        else:
-            why.append(f"R^2 = {r2:.3g} < {R2_MIN}: the model explains too little of the data")
-    return "; ".join(why)
 
 
 @serial_blas
@@ -525,7 +347,17 @@ def fit_first_loading(
 
 @serial_blas
 def fit_reload(
-    curves, H, C1, n1, *, continuous=False, relative=False, C_bounds=C_BOUNDS, n_bounds=N_BOUNDS
+    curves,
+    H,
+    C1,
+    n1,
+    *,
+    continuous=False,
+    relative=False,
+    C_bounds=C_BOUNDS,
+    n_bounds=N_BOUNDS,
+    first=None,
+    dip_range=None,
 ):
     """Fit ``C2, n2`` of the reload contact ratio to all un-/reloading curves together.
 
@@ -544,6 +376,10 @@ def fit_reload(
         Hardness (Pa).
     C1, n1 : float
         First-loading parameters (from :func:`fit_first_loading`).
+    first : tuple, optional
+        ``(form, data)`` of the first-loading form that runs (``FrictionParams``'s
+        ``first_loading_form``, ``first_loading_table``): its ``alpha1(p_hist)`` scales the
+        branch. ``None``: Eq. 24 with ``C1, n1``.
     continuous : bool
         Fit the continuous variant (``FrictionParams(continuous_reload=True)``): Eq. 25
         normalised to meet Eq. 24 at ``p_hist``, i.e. the fit constrained to zero jump.
@@ -551,6 +387,11 @@ def fit_reload(
         Minimise relative residuals (see :func:`fit_first_loading`).
     C_bounds, n_bounds : (float, float)
         Bounds of ``C2`` and ``n2``.
+    dip_range : (float, float), optional
+        ``(p_min, p_max)`` (Pa) of the histories on which no reload curve of the law may lie
+        below the first loading by more than :data:`~.law_checks.DIP_TOL` in ``alpha``: if the
+        fit's curves do (checked on 24 histories x 19 pressures), it is refitted with that as a
+        penalty (``dip_constrained``); ``None``: not checked.
 
     Returns
     -------
@@ -575,12 +416,17 @@ def fit_reload(
     w = _weights(alpha, relative)
 
     def model(c, n):
-        return alpha_reload(p, ph, _law(H, C1, n1, c, n, cont))
+        return alpha_reload(p, ph, _law(H, C1, n1, c, n, cont, first))
 
     fit = _fit_c_n(model, p, alpha, w, H, cb, nb, ("C2", "n2"))
+    dip = None
+    if dip_range is not None:
+        dip = _Dip(H, C1, n1, cont, first, dip_range)
+        if dip.worst(**fit["params"]) > DIP_TOL:
+            fit = _fit_no_dip(fit, model, alpha, w, cb, nb, dip)
     params = fit["params"]
     p_hist = np.array([c.p_hist for c in cs])
-    law = _law(H, C1, n1, params["C2"], params["n2"], cont)
+    law = _law(H, C1, n1, params["C2"], params["n2"], cont, first)
     jump = np.atleast_1d(reload_jump(law, p_hist)) / law.tau_max  # the jump in alpha
     return ReloadFit(
         **fit,
@@ -589,4 +435,59 @@ def fit_reload(
         continuous=cont,
         p_hist=p_hist,
         jump=jump,
+        first=first,
+        dip_constrained=dip is not None and dip.used,
     )
+
+
+#: the penalty starts at this fraction of DIP_TOL (the dense grid of the law's checks lies between
+#: the fit's grid points)
+_DIP_MARGIN = 0.25
+
+
+class _Dip:
+    """How far the reload curves of Eq. 25 lie below the first loading, on a grid of histories."""
+
+    def __init__(self, H, C1, n1, cont, first, dip_range):
+        ph = np.geomspace(*dip_range, 24)
+        q = np.concatenate(
+            [np.geomspace(1e-3, 0.02, 5, endpoint=False), np.linspace(0.02, 0.99, 14)]
+        )
+        self.PH = np.repeat(ph, q.size)
+        self.P = self.PH * np.tile(q, ph.size)
+        self.a1 = alpha_first(self.P, _law(H, C1, n1, first=first))
+        self.law = lambda c, n: _law(H, C1, n1, c, n, cont, first)
+        self.used = False
+
+    def below(self, C2, n2):
+        """``alpha1 - alpha2`` at every grid point."""
+        return self.a1 - alpha_reload(self.P, self.PH, self.law(C2, n2))
+
+    def worst(self, C2, n2):
+        return float(np.max(self.below(C2, n2)))
+
+
+def _fit_no_dip(fit, model, alpha, w, cb, nb, dip):
+    """The fit again with the reload curves' dip below first loading as a penalty.
+
+    Residuals ``10 max(0, alpha1 - alpha2 - DIP_TOL / 4)`` on the grid are appended to the
+    data's, from the unconstrained optimum; the data's residuals and R^2 are reported.
+    """
+    dip.used = True
+
+    def residual(x):
+        c, n = np.exp(x)
+        pen = 10.0 * np.maximum(dip.below(c, n) - _DIP_MARGIN * DIP_TOL, 0.0)
+        return np.concatenate([(model(c, n) - alpha) * w, pen])
+
+    lb, ub = np.array([cb[0], nb[0]]), np.array([cb[1], nb[1]])
+    start = np.array([fit["params"]["C2"], fit["params"]["n2"]])
+    names = ("C2", "n2")
+    out = _fit_fields(model, alpha, fit["H"], lb, ub, names, _solve(residual, start, lb, ub, names))
+    worst = dip.worst(out["params"]["C2"], out["params"]["n2"])
+    out["message"] += (
+        f" Constrained: its reload curves below first loading by at most {worst:.3g} in alpha "
+        f"(unconstrained: R^2 {fit['r_squared']:.4g})."
+    )
+    out["nfev"] += fit["nfev"]
+    return out

@@ -10,7 +10,7 @@ from frictionlaw import FrictionParams
 from ..common.checks import positive
 from .fit import FirstLoadingFit, ReloadFit
 
-__all__ = ["make_params", "timeless", "timings_of"]
+__all__ = ["fit_record", "make_params", "timeless", "timings_of"]
 
 
 def _is_timing(key):
@@ -110,8 +110,9 @@ def _input_notes(k, p_range):
             else "input: shear flow stress given explicitly (Pa); the law uses k, sigma_y only "
             "bounds it (k / sigma_y in [1/2, 2/3])"
         ),
-        "fitted": "C1, n1 (Eq. 24) and C2, n2 (Eq. 25) from the half-space contact ratios; "
-        "geo_ratio and k_t when those effects ran",
+        "fitted": "C1, n1 (Eq. 24) and C2, n2 (Eq. 25) from the half-space contact ratios, and "
+        "the tabulated forms (first_loading_law, reload_law) when fitted; geo_ratio and k_t "
+        "when those effects ran",
     }
     if p_range is not None:
         notes["calibrated_range"] = (
@@ -121,26 +122,38 @@ def _input_notes(k, p_range):
     return notes
 
 
-def _fit_record(first, reload, table, form=None):
+def _summaries(fits, names):
+    out = {}
+    for name in names:
+        fit = fits[name]
+        rec = fit.summary() if hasattr(fit, "summary") else {}
+        rec["converged"] = bool(getattr(fit, "success", True))
+        out[name] = rec
+    return out
+
+
+def fit_record(first, reload, table, form=None, law=None):
     """``provenance["fit"]``: each branch's fit summary.
 
     ``converged`` is the optimiser's verdict (what :func:`frictionlaw.params.fit_failure` refuses a
     file on); whether the law was accepted is the measured error's (``provenance["errors"]``, and
-    ``run.status`` when the command failed). ``reload`` is the branch the file runs; beside a
-    tabulated form the paper's Eq. 25 is ``reload_paper``.
+    ``run.status`` when the command failed). ``first_loading`` and ``reload`` are the forms the
+    file runs; every other form fitted is beside them (``first_loading_eq24``,
+    ``reload_paper``, ``reload_tabulated``).
     """
-    rec = {"first_loading": first.summary()}
-    rec["first_loading"]["converged"] = bool(first.success)
-    paper = reload.summary()
-    paper["converged"] = bool(reload.success)
-    if table is None:
-        rec["reload"] = paper
-    elif form == "paper":
-        rec["reload"] = paper
-        rec["reload_tabulated"] = table.summary()
-    else:
-        rec["reload"] = table.summary()
-        rec["reload_paper"] = paper
+    firsts = {"eq24": first} if law is None else law.first.fits
+    reloads = {"paper": reload, **({} if table is None else {"tabulated": table})}
+    if law is not None:
+        reloads = law.reload.fits
+    run = {"first_loading": "eq24" if law is None else law.first.form}
+    run["reload"] = (
+        (form or ("paper" if table is None else "tabulated")) if law is None else law.reload.form
+    )
+    rec = {}
+    for branch, fits in (("first_loading", firsts), ("reload", reloads)):
+        summ = _summaries(fits, fits)
+        rec[branch] = summ.pop(run[branch])
+        rec.update({f"{branch}_{name}": v for name, v in summ.items()})
     return rec
 
 
@@ -164,6 +177,7 @@ def make_params(
     errors=None,
     heldout_tol=None,
     reload_form=None,
+    law=None,
 ):
     """Assemble the calibrated :class:`frictionlaw.FrictionParams` with its provenance.
 
@@ -201,6 +215,10 @@ def make_params(
         ``"paper"``); a table is kept with the paper's form, so that a user can switch.
     errors : dict, optional
         Branch -> :class:`~.heldout.BranchErrors`, recorded under ``provenance["errors"]``.
+    law : FittedLaw, optional
+        Both branches' fitted forms (:func:`~.forms.fit_law`): the file runs the forms it chose
+        (``reload_table``, ``reload_form`` and ``errors`` are taken from it), with the tables
+        fitted beside kept.
     heldout_tol : float, optional
         The tolerance the errors were judged against (recorded with them).
 
@@ -227,6 +245,10 @@ def make_params(
         raise ValueError(
             "reload_table was fitted with other C1, n1, H or continuous than first and reload"
         )
+    first_loading = ("eq24", None)
+    if law is not None:
+        reload_table, reload_form, errors = law.table, law.reload.form, law.errors
+        first_loading = law.first.runtime()
     if H is None:
         H = first.H
     elif positive("H", H) != first.H:
@@ -244,7 +266,7 @@ def make_params(
         "tolerance": _plain(tolerance, "tolerance"),
         "pressures": _plain(pressures, "pressures"),
         "material": _plain(material, "material"),
-        "fit": _fit_record(first, reload, reload_table, reload_form),
+        "fit": fit_record(first, reload, reload_table, reload_form, law),
         "inputs": _input_notes(k, p_range),
     }
     if errors is not None:
@@ -266,6 +288,8 @@ def make_params(
         continuous_reload=reload.continuous,
         reload_form=reload_form or ("paper" if reload_table is None else "tabulated"),
         reload_table=None if reload_table is None else reload_table.table,
+        first_loading_form=first_loading[0],
+        first_loading_table=first_loading[1],
         p_range=p_range,
         k_t=k_t,
         provenance=timeless(_plain(prov)),

@@ -9,7 +9,7 @@ from . import fit as _fit
 from .scene_surfaces import load_scene_surfaces
 from .sweeps import run_sweeps
 
-__all__ = ["RESOLUTION_TOL", "ResolutionCheck", "fit_sweeps", "resolution_check"]
+__all__ = ["RESOLUTION_TOL", "ResolutionCheck", "check_sweeps", "fit_sweeps", "resolution_check"]
 
 #: relative change between the chosen grid and half of it above which the check warns
 RESOLUTION_TOL = 0.10
@@ -74,8 +74,8 @@ def _alpha_points(sweeps):
     return pts
 
 
-def fit_sweeps(scene, sweeps):
-    """``(first, reload)`` fits of the sweeps; ``RuntimeError`` if too few solves converged."""
+def check_sweeps(sweeps):
+    """``(p, alpha)`` of the first loading; ``RuntimeError`` if too few solves converged to fit."""
     p, alpha = sweeps.loading
     curves = sweeps.reload_curves()
     if p.size < 3 or not curves:
@@ -88,6 +88,16 @@ def fit_sweeps(scene, sweeps):
                 if not lv.loading.converged
             )
         )
+    return p, alpha
+
+
+def fit_sweeps(scene, sweeps):
+    """``(first, reload)``: Eqs. 24-25 fitted to the sweeps (what the resolution check compares).
+
+    ``RuntimeError`` if too few solves converged (:func:`check_sweeps`).
+    """
+    p, alpha = check_sweeps(sweeps)
+    curves = sweeps.reload_curves()
     floor_to = None if scene.alpha_floor is None else scene.alpha_floor * scene.H
     first = _fit.fit_first_loading(p, alpha, scene.H, floor_to=floor_to)
     reload = _fit.fit_reload(

@@ -54,7 +54,8 @@ from .. import topography as _surf
 from ..common.jobs import run_jobs
 from ..topography import chain
 from .calibration import Calibration, calibrate
-from .params import timeless
+from .law_checks import law_checks
+from .params import fit_record, timeless
 from .scene_surfaces import SceneSurfaces, load_scene_surfaces, run_plan
 from .surface_plan import MAX_DEFAULT_GRID, SyntheticSource, plan_surfaces
 from .sweeps import FailedLevel, SweepResult
@@ -66,8 +67,8 @@ from .uncertainty import (
     bootstrap_uncertainty,
     check_band_method,
     curves_of,
-    pooled_fit,
-    pooled_reload_law,
+    pooled_curves,
+    pooled_law,
 )
 
 __all__ = [
@@ -432,17 +433,16 @@ class MultiCalibration:
 
         The pooled fits' ``R^2`` and held-out errors are not criteria: they also measure the
         samples' spread (each sample's own acceptance is). A pooled fit that did not converge is;
-        so is a pooled parameter on a bound of the paper's form when the file runs it.
+        so is a pooled parameter on a bound of the paper's equation when the file runs it.
         """
         out = [f"sample {n} failed: {e}" for n, e in self.failed.items()]
         for n, c in self.calibrations.items():
             out += [f"sample {n}: {p}" for p in c.problems()]
-        tabulated = self.pooled.reload_form == "tabulated"
-        reload = self.pooled.reload_table if tabulated else self.pooled.reload
-        for name, fit in (("first loading", self.pooled.first), ("reload", reload)):
-            if fit.at_bound and not (tabulated and fit is reload):
+        for _, name, fit in self.pooled._branches():
+            paper = fit is self.pooled.first or fit is self.pooled.reload
+            if paper and fit.at_bound:
                 out.append(f"pooled {name} fit: {', '.join(fit.at_bound)} ended on a bound")
-            elif not fit.success:
+            elif not getattr(fit, "success", True):
                 out.append(f"pooled {name} fit did not converge: {fit.message}")
         return out
 
@@ -470,7 +470,7 @@ class MultiCalibration:
                 )
                 for p in _report_pressures(u)
             },
-            "edge_laws": u.edge_laws,
+            "edge_laws": {k: v.to_dict() for k, v in u.edge_laws.items()},
         }
         s["seconds"] = self.seconds["total"]
         per = {f"{n}.{k}": v for n, c in self.calibrations.items() for k, v in c.timings().items()}
@@ -510,25 +510,14 @@ def calibrate_samples(scene, spec, *, samples=None, progress=True):
     cals = [run.calibrations[s.name] for s in ok]
     curves = [curves_of(s.name, c.sweeps) for s, c in zip(ok, cals, strict=True)]
     ref = cals[0]
-    first, reload = pooled_fit(
-        curves,
-        ref.scene.H,
-        continuous=ref.scene.continuous_reload,
-        alpha_floor=ref.scene.alpha_floor,
-    )
-    form, table, errors = pooled_reload_law(ref.scene, curves, first, reload)
+    law = pooled_law(ref.scene, curves)
+    first, reload = law.eq24, law.paper
     p_all = np.concatenate([c.p for c in curves])
     prov = dict(ref.params.provenance)
-    prov["fit"] = {"first_loading": first.summary(), "reload": reload.summary()}
-    if table is not None:
-        runs, beside = (reload.summary(), table.summary())
-        other = "reload_tabulated"
-        if form == "tabulated":
-            runs, beside, other = beside, runs, "reload_paper"
-        prov["fit"] = {"first_loading": first.summary(), "reload": runs, other: beside}
+    prov["fit"] = fit_record(law.eq24, law.paper, law.table, law=law)
     prov["errors"] = {
         "heldout_tol": ref.scene.heldout_tol,
-        **{k: e.summary() for k, e in errors.items()},
+        **{k: e.summary() for k, e in law.errors.items()},
     }
     prov["surfaces"] = {"note": "several samples: see samples and extra.files"}
     extra = dict(prov.get("extra", {}))
@@ -540,17 +529,11 @@ def calibrate_samples(scene, spec, *, samples=None, progress=True):
         "patches": spec.patches,
         "names": [s.name for s in samples],
         "failed": dict(run.failed),
-        "pooled_fit": "Eqs. 24-25 fitted to all calibrated samples' points at once",
+        "pooled_fit": "the law fitted to all calibrated samples' points at once, in the forms a "
+        "single calibration chooses",
     }
-    central = ref.params.replace(
-        C1=first.C1,
-        n1=first.n1,
-        C2=reload.C2,
-        n2=reload.n2,
-        reload_form=form,
-        reload_table=None if table is None else table.table,
-        p_range=(float(p_all.min()), float(p_all.max())),
-        provenance=timeless(prov),
+    central = law.apply(ref.params).replace(
+        p_range=(float(p_all.min()), float(p_all.max())), provenance=timeless(prov)
     )
     unc = bootstrap_uncertainty(
         curves,
@@ -558,7 +541,6 @@ def calibrate_samples(scene, spec, *, samples=None, progress=True):
         level=spec.level,
         n_bootstrap=spec.n_bootstrap,
         seed=spec.seed,
-        continuous=ref.scene.continuous_reload,
         method=spec.band_method,
         floor_to=None if ref.scene.alpha_floor is None else ref.scene.alpha_floor * ref.scene.H,
     )
@@ -583,9 +565,12 @@ def calibrate_samples(scene, spec, *, samples=None, progress=True):
         {},
         tuple(r for c in cals for r in c.files),
         None,
-        reload_table=table,
-        errors=errors,
-        reload_form=form,
+        reload_table=law.table,
+        errors=law.errors,
+        reload_form=law.reload.form,
+        first_loading_form=law.first.form,
+        first_fits=dict(law.first.fits),
+        checks=law_checks(params, pooled_curves(curves)),
     )
     secs = {"samples": t1 - t0, "bootstrap": t2 - t1, "total": time.perf_counter() - t0}
     return MultiCalibration(pooled, spec, list(samples), run.calibrations, run.failed, unc, secs)

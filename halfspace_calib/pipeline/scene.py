@@ -14,13 +14,12 @@ import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
-from frictionlaw.reload_form import RELOAD_FORMS
-
 from ..common.checks import in_range, tresca_factor
 from ..contact.influence import BOUNDARIES
 from ..contact.materials import Materials, SolverSettings, sigma_y_from_hardness
 from ..contact.normal import composite_modulus
 from . import effects as _eff
+from .forms import form_names
 from .heldout import HELDOUT_TOL
 from .scene_surfaces import MAX_UNDEFINED, SYNTHETIC_GRID, check_memory
 
@@ -158,11 +157,16 @@ class Scene:
     Eq. 24 cannot reach 1 at ``H`` itself; ``None``: unconstrained, the fit before issue 26;
     :func:`~halfspace_calib.pipeline.fit.fit_first_loading`'s ``floor_to``).
 
-    ``reload_form``: the reload branch the parameter file runs: ``"auto"`` (the default: both
-    forms fitted, the one with the smaller held-out error runs), ``"tabulated"`` (Eq. 25 with
-    ``C2, n2`` per load level, :mod:`frictionlaw.reload_form`) or ``"paper"``
-    (one ``C2, n2``); the paper's form is fitted and its error reported either way.
-    ``heldout_tol``: the largest held-out ``|d alpha|`` a branch may have
+    ``first_loading_form``: the first-loading branch the parameter file runs (:mod:`.forms`):
+    ``"auto"`` (the default: every candidate fitted, the one with the smallest held-out error
+    runs), ``"tabulated"`` (the computed first loading interpolated,
+    :mod:`frictionlaw.first_loading`) or ``"eq24"`` (the paper's ``C1, n1``); Eq. 24 is fitted
+    and its error reported either way. ``reload_form``: the reload branch, likewise: ``"auto"``,
+    ``"tabulated"`` (Eq. 25 with ``C2, n2`` per load level, :mod:`frictionlaw.reload_form`) or
+    ``"paper"`` (one ``C2, n2``); the reload forms are fitted on ``alpha1(p_hist)`` of the
+    first-loading form that runs. ``continuous_reload`` (default ``True``): the reload branch
+    meets the first loading at ``p_hist`` (no drop there), fitted in that variant.
+    ``heldout_tol``: the largest held-out ``|d alpha|`` either branch may have
     (:mod:`~halfspace_calib.pipeline.heldout`); beyond it the run fails.
 
     ``H_source`` says where ``H`` came from for the parameter file (``None``: Table 1's value
@@ -212,7 +216,8 @@ class Scene:
     volume_conservation: bool = True
     reload_surface: str = "plastic"
     contact_area: str = "count"
-    continuous_reload: bool = False
+    continuous_reload: bool = True
+    first_loading_form: str = "auto"
     reload_form: str = "auto"
     heldout_tol: float = HELDOUT_TOL
     alpha_floor: float | None = ALPHA_FLOOR
@@ -371,11 +376,15 @@ class Scene:
                 )
 
     def _validate_reload_law(self):
-        """The reload law's form and the acceptance's tolerance (issue 31)."""
-        forms = ("auto", *RELOAD_FORMS)
-        if self.reload_form not in forms:
+        """The branches' forms (issues 31, 37) and the acceptance's tolerance."""
+        for branch in ("first_loading", "reload"):
+            forms = ("auto", *form_names(branch))
+            value = getattr(self, f"{branch}_form")
+            if value not in forms:
+                raise ValueError(f"{branch}_form must be one of {', '.join(forms)}, got {value!r}")
+        if not isinstance(self.continuous_reload, bool):
             raise ValueError(
-                f"reload_form must be one of {', '.join(forms)}, got {self.reload_form!r}"
+                f"continuous_reload must be True or False, got {self.continuous_reload!r}"
             )
         ht = self.heldout_tol
         if not (isinstance(ht, (int, float)) and not isinstance(ht, bool) and 1e-4 <= ht <= 1):
