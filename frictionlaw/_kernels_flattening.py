@@ -26,7 +26,8 @@ interval only: with ``t = p cosh(v)`` the equivalent strain of Eq. F4 grows by
 by Newton's method, its first step in ``w = sinh(u)^3 / 3`` (``dJ/dw = alpha1'``: exact for a law
 linear in ``p``, from below where ``alpha1`` is concave) and the next ones in ``u``, each step's
 interval summed by Gauss-Legendre
-panels no wider than 0.5 in ``v`` (the reference's rule; fewer nodes on narrow intervals), bisection where a step leaves the
+panels no wider than 0.5 in ``v`` (the reference's rule; fewer nodes on narrow intervals; split at
+the tabulated first loading's levels, where its slope has kinks), bisection where a step leaves the
 bracket or every eighth step. Every kernel has an explicit signature, ``cache=True`` and no
 ``fastmath``; serial and ``prange`` array kernels are separate functions.
 """
@@ -38,13 +39,14 @@ import numpy as np
 from numba import float64, int8, int64, types
 
 from ._codes import CODE_SBMF_RELOAD
-from ._kernels import first_scalar, return_map_row, shear_scalar
+from ._kernels import first_offset, first_scalar, return_map_row, shear_scalar
 from ._kernels_branches import _RO, _RO2, _opts
 
 __all__ = [
     "FLAT_HEAD",
     "P_MIN_RATIO",
     "alpha1_inverse",
+    "flat_panels",
     "flat_quad",
     "flattening_solve",
     "flattening_scalar",
@@ -110,14 +112,12 @@ def alpha1_inverse(c1, a, lo, hi):
 
 
 @nb.jit(types.UniTuple(float64, 2)(_RO, float64, float64, float64), **_opts)
-def flat_quad(c1, p, ua, ub):
-    """``(int alpha1'(p cosh v) cosh v sinh(v)^2 dv, int alpha1'(p cosh v) cosh v dv)``, ``ua..ub``.
+def flat_panels(c1, p, ua, ub):
+    """The two integrals of :func:`flat_quad` over ``ua..ub`` where the integrand is smooth.
 
-    Both integrals at once (the second is the tangent's, Eq. F6's ``d p_f / d p``) by
-    Gauss-Legendre on equal panels no wider than 0.5 in ``v``: 8 nodes a panel, 4 on an interval
-    narrower than 0.05 and 2 below 7e-4 (the Newton corrections), each within about 1e-13 of the
-    panel's integral for an integrand whose derivatives grow as ``6^k``; ``ub < ua`` gives the
-    negatives.
+    Gauss-Legendre on equal panels no wider than 0.5 in ``v``: 8 nodes a panel, 4 on an
+    interval narrower than 0.05 and 2 below 7e-4 (the Newton corrections), each within about
+    1e-13 of the panel's integral for an integrand whose derivatives grow as ``6^k``.
     """
     span = ub - ua
     n = max(1, int(math.ceil(abs(span) / _WIDTH)))
@@ -140,6 +140,54 @@ def flat_quad(c1, p, ua, ub):
             s1 += _GW[j] * (d * ch * sh * sh)
             s2 += _GW[j] * (d * ch)
     return 0.5 * h * s1, 0.5 * h * s2
+
+
+@nb.jit(types.UniTuple(float64, 2)(_RO, float64, float64, float64), **_opts)
+def flat_quad(c1, p, ua, ub):
+    """``(int alpha1'(p cosh v) cosh v sinh(v)^2 dv, int alpha1'(p cosh v) cosh v dv)``, ``ua..ub``.
+
+    Both integrals at once (the second is the tangent's, Eq. F6's ``d p_f / d p``);
+    ``ub < ua`` gives their negatives. Eq. 24's ``alpha1'`` is smooth: :func:`flat_panels` over
+    the interval. The tabulated first loading's is continuous with kinks in its slope at the
+    levels and where its top extension reaches a contact fraction of 1: the interval is split
+    there (at ``v = acosh(p_j / p)``) and each piece summed by :func:`flat_panels`.
+    """
+    sign = 1.0
+    lo = ua
+    hi = ub
+    if hi < lo:
+        sign = -1.0
+        lo = ub
+        hi = ua
+    f0 = first_offset(c1)
+    if f0 < 0:
+        s1, s2 = flat_panels(c1, p, lo, hi)
+        return sign * s1, sign * s2
+    nj = int(c1[f0 + 1])
+    H = c1[1]
+    s1 = 0.0
+    s2 = 0.0
+    a = lo
+    for j in range(nj + 1):
+        if j < nj:
+            tk = H * math.exp(c1[f0 + 2 + j])
+        else:  # where the top level's power law reaches ln alpha = 0
+            dtop = c1[f0 + 1 + 3 * nj]
+            if not dtop > 0.0:
+                break
+            tk = H * math.exp(c1[f0 + 1 + nj] - c1[f0 + 1 + 2 * nj] / dtop)
+        if not tk > p:
+            continue
+        vk = math.acosh(tk / p)
+        if vk >= hi:
+            break
+        if vk > a:
+            r1, r2 = flat_panels(c1, p, a, vk)
+            s1 += r1
+            s2 += r2
+            a = vk
+    r1, r2 = flat_panels(c1, p, a, hi)
+    return sign * (s1 + r1), sign * (s2 + r2)
 
 
 @nb.jit(types.UniTuple(float64, 2)(_RO, float64, float64, float64, float64), **_opts)
@@ -208,9 +256,7 @@ def flattening_solve(c1, p, P0, D, cap):
     return P, (D + Ic) / (ch * math.sinh(u))
 
 
-@nb.jit(
-    types.UniTuple(float64, 3)(_RO, float64, float64, float64, float64, float64), **_opts
-)
+@nb.jit(types.UniTuple(float64, 3)(_RO, float64, float64, float64, float64, float64), **_opts)
 def flattening_scalar(fdata, p, p_hist, alpha_f, d_eps, sigy):
     """One node's flattening over a strain increment (Eq. F6): ``(alpha_f', p_f, dalpha/dp)``.
 

@@ -126,7 +126,7 @@ class SBMFLaw(_Law):
     @property
     def flattening_data(self) -> NDArray[np.float64]:  # type: ignore[override]
         """The flattening kernels' data of the file's block (empty without one; read-only)."""
-        return self._flattening_data  # type: ignore[attr-defined,no-any-return]
+        return self._flattening_data  # type: ignore[attr-defined]
 
     @property
     def coeffs(self) -> NDArray[np.float64]:
