@@ -25,6 +25,7 @@ __all__ = [
     "law_parameters",
     "example_params",
     "EXAMPLE_PARAMS_PATH",
+    "EXAMPLE_FLATTENING_PATH",
 ]
 
 LAWS = ("none", *LAW_NAMES)
@@ -41,6 +42,8 @@ LAW_OPTIONS = {
 
 #: illustrative (not calibrated) SBMF parameter file shipped with the demo
 EXAMPLE_PARAMS_PATH = Path(__file__).parents[1] / "data" / "sbmf_example.json"
+#: the same illustrative law with an illustrative flattening block (``fe-demo ... --flattening``)
+EXAMPLE_FLATTENING_PATH = Path(__file__).parents[1] / "data" / "sbmf_example_flattening.json"
 
 
 def example_params():
