@@ -49,13 +49,17 @@ def cases(n, rng):
     a_flat = s.alpha_f_trial.copy()
     zero = np.zeros(n)
     inc = np.full(n, 0.002)
-    return p, ph, {
-        "without": (None, zero),
-        "zero strain": (zero, zero),
-        "flattened, no strain": (zero, a_flat),
-        "strain, virgin": (inc, zero),
-        "strain, flattened": (inc, a_flat),
-    }
+    return (
+        p,
+        ph,
+        {
+            "without": (None, zero),
+            "zero strain": (zero, zero),
+            "flattened, no strain": (zero, a_flat),
+            "strain, virgin": (inc, zero),
+            "strain, flattened": (inc, a_flat),
+        },
+    )
 
 
 def main(argv=None):
