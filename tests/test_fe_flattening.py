@@ -2,8 +2,8 @@
 
 The surface projection keeps a uniform Gauss-point field and reads a die node's first element
 layer; a run with flattening flattens where the die's bulk has flowed (the contact fraction at
-the die rises above the law's alpha1(p) and reaches 1, which raises the friction and the mean
-die pressure); a cut-back leaves the flattened fraction as committed; the command runs the law
+the die rises above the law's alpha1(p) and reaches 1, which raises the friction, the mean
+die pressure and the force); a cut-back leaves the flattened fraction as committed; the command runs the law
 with and without and reports both; bad options are refused before any run (exit 2).
 """
 
@@ -55,9 +55,10 @@ def test_upsetting_with_flattening_flattens_at_the_die_and_raises_the_die_pressu
     assert h1["alpha_f_max"][-1] == pytest.approx(1.0, abs=1e-12)
     assert np.all(np.diff(h1["alpha_f_max"]) >= 0) and np.all(h1["eps_p_die_mean"] > 0)
     # more friction at the die: a steeper friction hill, a higher mean die pressure throughout
-    # (the force is that times the contact area, which the higher friction keeps smaller: the
-    # face slides less; on this coarse mesh the force ends 0.9 % lower, docs/fe_demo.md)
-    assert np.all(h1["avg_pressure"] > 1.01 * h0["avg_pressure"])
+    # (+8 to +11 % here) and a higher force (+3.6 % at the end; the contact area, which the
+    # higher friction keeps smaller, takes part of it back: docs/fe_demo.md)
+    assert np.all(h1["avg_pressure"] > 1.05 * h0["avg_pressure"])
+    assert np.all(h1["force"] > 1.02 * h0["force"])
     assert h1["contact_radius"][-1] < h0["contact_radius"][-1]
     assert with_.info["law_parameters"]["flattening_run"] is True
     # the flattened fraction is carried by the die's state: beyond alpha1(p_hist) at the die
@@ -98,7 +99,7 @@ def test_cli_flattening_runs_with_and_without(tmp_path, capsys):
         assert "alpha_die_mean_fraction" in head and "eps_p_die_mean" in head
     r = rec["with_flattening"]
     assert r == rec["without_flattening"]
-    assert r["force_end_with_N"] > 0 and r["force_end_without_N"] > 0
+    assert r["force_end_with_N"] > r["force_end_without_N"] > 0  # the issue's check, small
     assert r["alpha_die_mean_end_with"] > r["alpha_die_mean_end_without"]
     assert (out / "flattening.png").is_file()
 

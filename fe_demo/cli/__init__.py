@@ -120,7 +120,8 @@ def _add_common(p, *, law, nr, increments, reduction, out):
         action="store_true",
         help="flattening of the asperities under bulk strain (law sbmf; docs/flattening.md): run "
         "the law with and without the die nodes' plastic strain passed to the --params file's "
-        "flattening block (without --params: the shipped example with an illustrative block) "
+        "flattening block (without --params: the shipped params.json of halfspace-calib "
+        "--flattening with its defaults) "
         "and compare the contact fraction at the die and the force (default: off)",
     )
     g = p.add_mutually_exclusive_group()

@@ -42,7 +42,9 @@ LAW_OPTIONS = {
 
 #: illustrative (not calibrated) SBMF parameter file shipped with the demo
 EXAMPLE_PARAMS_PATH = Path(__file__).parents[1] / "data" / "sbmf_example.json"
-#: the same illustrative law with an illustrative flattening block (``fe-demo ... --flattening``)
+#: ``fe-demo ... --flattening`` without ``--params``: the ``params.json`` of ``halfspace-calib
+#: --flattening`` with every other option at its default (the synthetic DC04-like surfaces),
+#: byte for byte as that command writes it
 EXAMPLE_FLATTENING_PATH = Path(__file__).parents[1] / "data" / "sbmf_example_flattening.json"
 
 

@@ -20,17 +20,25 @@ C          DEPS (the point's bulk plastic strain increment of the
 C          increment, >= 0) and SIGY (its current flow stress, host
 C          stress unit; <= 0: the parameter file's sigma_y): the
 C          flattening of the asperities under bulk strain (issue 43),
-C          read where the law has a flattening block ({% if flat %}this one
-C          has: the trial fraction goes to STATE(5){% else %}this one has
-C          none: accepted and not used{% endif %}),
+{% if flat %}
+C          read by this law's flattening block (the trial fraction
+C          goes to STATE(5)),
+{% else %}
+C          read where the law has a flattening block (this one has
+C          none: accepted and not used),
+{% endif %}
 C          NSTATE (the caller's state count: SBMF_NSTATE() gives every
 C          slot, at least 1),
 C          STATE(NSTATE): the committed state (as at the start of the
 C          increment): 1 p_hist, 2 cache -ln alpha1(p_hist) (<= 0:
 C          recompute), 3 status of the last call, 4 the law (zone
 C          number) that wrote the cache, 5 the flattened contact
-C          fraction alpha_f (0: never flattened; {% if flat %}read and written
-C          here{% else %}kept as passed: this law has no flattening block{% endif %}).
+{% if flat %}
+C          fraction alpha_f (0: never flattened; read and written).
+{% else %}
+C          fraction alpha_f (0: never flattened; kept as passed: this
+C          law has no flattening block).
+{% endif %}
 C     Out: STATE: the trial state, which the caller stores only when
 C          the host accepts (converges) the increment; TNEW(ND),
 C          DTDDU(ND,ND), DTDP(ND), ISTAT (0 open, 1 stick, 2 slip).
