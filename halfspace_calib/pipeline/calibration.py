@@ -32,6 +32,7 @@ from . import effects as _eff
 from . import heldout as _held
 from .conformity import punch_edge_problem
 from .fit import FirstLoadingFit, ReloadFit
+from .lateral_scale import full_contact_problem, scale_record
 from .params import make_params, timings_of
 from .registry import REGISTRY
 from .reload_table import ReloadTableFit
@@ -114,7 +115,9 @@ class Calibration:
         Eq. 24; R^2 is reported, it does not decide), with the
         parameters that ended on a bound named, since the bound then keeps the law from the
         data; a fit whose optimiser did not converge; why a reload fit failed on a nearly
-        conforming isolated patch (:func:`~.conformity.punch_edge_problem`); failed
+        conforming isolated patch (:func:`~.conformity.punch_edge_problem`); full contact at
+        the first load level below 0.05 H (:func:`~.lateral_scale.full_contact_problem`: most
+        likely a lateral size in the wrong unit; not with ``scene.smooth_pair``); failed
         effect solves. A parameter on a bound with the error within the tolerance is a note
         (:meth:`fit_notes`), not a failure: the data are described with it there.
         """
@@ -143,6 +146,9 @@ class Calibration:
             out.append(why)
         if self.flattening and self.flattening.get("problem"):
             out.append(f"flattening: {self.flattening['problem']}")
+        flat = full_contact_problem(self)  # a lateral size in the wrong unit (issue 38)
+        if flat:
+            out.append(flat)
         for name, outcome in self.effects.items():
             out += REGISTRY[name].problems(outcome)
         return out
@@ -180,7 +186,8 @@ class Calibration:
                 f"full contact from low pressure: alpha >= {_held.FULL_CONTACT_ALPHA:g} at "
                 f"{p_full / 1e6:.4g} MPa (<= {_held.FULL_CONTACT_P:g} H): the law is Tresca's "
                 "from there on; if that is not expected, check the scan's lateral size and "
-                "height unit (--size, --unit: a scan too wide for its heights is nearly flat)"
+                "height unit (--size, --workpiece-size, --tool-size, --unit: a scan too wide for "
+                "its heights is nearly flat)"
             )
         return out
 
@@ -386,6 +393,7 @@ def _calibrate(scene, progress, surfaces):
             "files": surfs.records(),
             "length_scale": surfs.scale_record(),
             "hardness": {"H": scene.H, "source": scene.hardness_source},
+            "lateral_scale": scale_record(scene.smooth_pair),
             "resolution_check": None if resolution is None else resolution.as_dict(),
         },
         p_range=(float(p.min()), float(p.max())),
