@@ -96,6 +96,7 @@ __all__ = [
     "shear_array",
     "shear_array_parallel",
     "traction_row",
+    "return_map_row",
     "traction_scalar",
     "traction_array",
     "traction_array_parallel",
@@ -202,9 +203,23 @@ def _traction_row_sig(coeffs_type):
     )
 
 
-@nb.jit([_traction_row_sig(float64[::1]), _traction_row_sig(_RO)], **_opts)
-def traction_row(code, coeffs, p, p_hist, du, t_old, k_t, t_new, dt_ddu, dt_dp, i):
-    """Stick/slip return map at node ``i`` (row ``i`` of the 2-D arrays); returns the status.
+@nb.jit(
+    int64(
+        float64,
+        float64,
+        float64,
+        _RO2,
+        _RO2,
+        float64,
+        float64[:, ::1],
+        float64[:, :, ::1],
+        float64[:, ::1],
+        int64,
+    ),
+    **_opts,
+)
+def return_map_row(tau, dtau, p, du, t_old, k_t, t_new, dt_ddu, dt_dp, i):
+    """Stick/slip return map at node ``i`` with the shear limit ``tau`` and its ``dtau/dp``.
 
     Trial ``t_tr = t_old + k_t du``. Open (``p <= 0``): ``t = 0``, status 0.
     Stick (``|t_tr| <= tau``, ``tau > 0``): ``t = t_tr``, tangent ``dt/ddu = k_t I``, status 1.
@@ -212,7 +227,6 @@ def traction_row(code, coeffs, p, p_hist, du, t_old, k_t, t_new, dt_ddu, dt_dp, 
     ``dt/dp = dtau/dp n``, status 2; with ``tau = 0`` the traction and the tangent are 0.
     ``|t_tr|`` is a scaled norm (no under- or overflow of ``|t|^2``); a trial that overflows
     a double is formed as ``t_tr / s`` with ``s = max(k_t, |t_old|)`` (it slips).
-    ``p_hist`` is the committed history.
     Rows are indexed in place (no per-node array views: they cost ~100 ns a node).
     """
     nd = du.shape[1]
@@ -224,7 +238,6 @@ def traction_row(code, coeffs, p, p_hist, du, t_old, k_t, t_new, dt_ddu, dt_dp, 
         for a in range(nd):
             t_new[i, a] = 0.0
         return STATUS_OPEN
-    tau, dtau = shear_scalar(code, coeffs, p, p_hist)
     vmax = 0.0
     for a in range(nd):
         v = t_old[i, a] + k_t * du[i, a]
@@ -254,6 +267,7 @@ def traction_row(code, coeffs, p, p_hist, du, t_old, k_t, t_new, dt_ddu, dt_dp, 
         return STATUS_STICK
     if vmax == 0.0:  # tau = 0 and no trial traction: t = 0, zero tangent
         return STATUS_SLIP
+
     # slip: radial return onto the limit circle (|t_tr| > tau >= 0)
     f = kscale * ((tau / vmax) / r)
     for a in range(nd):
@@ -265,6 +279,17 @@ def traction_row(code, coeffs, p, p_hist, du, t_old, k_t, t_new, dt_ddu, dt_dp, 
     for a in range(nd):
         t_new[i, a] *= tau
     return STATUS_SLIP
+
+
+@nb.jit([_traction_row_sig(float64[::1]), _traction_row_sig(_RO)], **_opts)
+def traction_row(code, coeffs, p, p_hist, du, t_old, k_t, t_new, dt_ddu, dt_dp, i):
+    """Stick/slip return map at node ``i`` (row ``i`` of the 2-D arrays); returns the status.
+
+    The shear limit ``(tau, dtau/dp)`` of law ``code`` at ``p`` after the committed history
+    ``p_hist`` (:func:`shear_scalar`; 0 for ``p <= 0``), then :func:`return_map_row`.
+    """
+    tau, dtau = shear_scalar(code, coeffs, p, p_hist)
+    return return_map_row(tau, dtau, p, du, t_old, k_t, t_new, dt_ddu, dt_dp, i)
 
 
 @nb.jit(

@@ -60,6 +60,8 @@ __all__ = [
     "flattened_alpha",
     "flattening_update",
     "flattening_curve",
+    "flattening_pressure",
+    "flattening_data",
 ]
 
 #: below this ``p / H`` a node does not flatten (the strain it would need exceeds any forming)
@@ -302,6 +304,53 @@ def _solve_j(ph, target, lo, hi, coeffs, H, panels):
     if act.any():  # every fifth step halves a bracket of at most ~60: unreachable, said if not
         raise RuntimeError(f"flattening: the J inversion did not converge at {act.sum()} nodes")
     return u
+
+
+def flattening_pressure(alpha: ArrayLike, params: "FrictionParams") -> NDArray[np.float64]:
+    """The flattening pressure ``p_f`` of a flattened contact fraction: ``alpha1(p_f) = alpha``.
+
+    The runtime's state is the fraction (``HistoryState.alpha_f``, the workpiece's whatever law
+    runs); Eqs. F5 and F6 read it as this pressure of the law at hand. 0 for ``alpha <= 0``;
+    the pressure from which ``alpha1`` is 1 to rounding (the largest ``p_f`` of Eq. F6) where
+    ``alpha`` reaches ``alpha1`` there. Bisection in ``ln p`` to 1e-15, NumPy, vectorised.
+    """
+    a = as_float_array("alpha", alpha)
+    if not (np.all(np.isfinite(a)) and np.all(a >= 0) and np.all(a <= 1)):
+        raise ValueError("alpha must be a contact fraction in [0, 1]")
+    coeffs = _coeffs(params)
+    cap = _p_cap(params, coeffs)
+    flat = a.ravel()
+    out = np.zeros(flat.size)
+    top = np.asarray(evaluate(K.CODE_SBMF, coeffs, cap, 0.0)[0])
+    full = flat >= top
+    out[full] = cap
+    go = (flat > 0) & ~full
+    if go.any():
+        lo = np.full(go.sum(), math.log(1e-300))
+        hi = np.full(go.sum(), math.log(cap))
+        target = flat[go]
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            below = np.asarray(evaluate(K.CODE_SBMF, coeffs, np.exp(mid), 0.0)[0]) < target
+            lo, hi = np.where(below, mid, lo), np.where(below, hi, mid)
+            if np.all(hi - lo <= 1e-15 * np.maximum(1.0, np.abs(hi))):
+                break
+        out[go] = np.exp(0.5 * (lo + hi))
+    return out.reshape(a.shape)
+
+
+def flattening_data(params: "FrictionParams") -> NDArray[np.float64]:
+    """The flattening data the runtime's kernels read (layout in ``_kernels_flattening``).
+
+    ``[tan(theta), beta, s0 = 2 k, sigma_y, p_cap, *coeffs]`` with the law's coefficients at
+    ``tau_max = 1``; an empty array for a law without a ``flattening`` block.
+    """
+    flat = getattr(params, "flattening", None)
+    if flat is None:
+        return np.zeros(0)
+    coeffs = _coeffs(params)
+    head = [flat.slope, flat.beta, _s0(params, None), float(params.sigma_y), _p_cap(params, coeffs)]
+    return np.concatenate([head, coeffs]).astype(np.float64)
 
 
 def flattening_curve(

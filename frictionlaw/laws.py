@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _codes as K
+from .flattening import flattening_data
 from .law import FloatOrArray, evaluate, sbmf_coeffs
 from .params import FrictionParams, check_range
 
@@ -27,6 +28,13 @@ __all__ = ["Coulomb", "Tresca", "CoulombCap", "SBMFLaw", "LAW_NAMES", "law_from_
 class _Law:
     code: int
     uses_history = False
+    #: the data of the flattening kernels (empty: no flattening under bulk strain)
+    flattening_data: NDArray[np.float64] = np.zeros(0)
+
+    @property
+    def uses_flattening(self) -> bool:
+        """True for a law with a flattening block (it reads the bulk strain increment)."""
+        return self.flattening_data.size > 0
 
     @property
     def coeffs(self) -> NDArray[np.float64]:
@@ -111,6 +119,14 @@ class SBMFLaw(_Law):
     def __post_init__(self) -> None:
         if not isinstance(self.params, FrictionParams):
             raise ValueError("params must be a FrictionParams instance")
+        data = flattening_data(self.params)
+        data.flags.writeable = False
+        object.__setattr__(self, "_flattening_data", data)
+
+    @property
+    def flattening_data(self) -> NDArray[np.float64]:  # type: ignore[override]
+        """The flattening kernels' data of the file's block (empty without one; read-only)."""
+        return self._flattening_data  # type: ignore[attr-defined]
 
     @property
     def coeffs(self) -> NDArray[np.float64]:

@@ -5,6 +5,11 @@ an increment; each evaluation proposes a *trial* history ``max(p_hist, p)`` from
 the *committed* one, so iterations never ratchet it. The host calls
 :meth:`HistoryState.commit` once the increment is accepted, or
 :meth:`HistoryState.rollback` on a cut-back.
+
+Beside ``p_hist`` each node carries its flattening state (issue 43, docs/flattening.md): the
+flattened contact fraction ``alpha_f`` (0 for a surface never flattened), under the same rules:
+a traction update with the bulk strain increment writes the trial fraction from the committed
+one, the commit keeps it, a cut-back discards it, remeshing and restarts carry it.
 """
 
 import os
@@ -20,7 +25,7 @@ from .law import as_float_array
 __all__ = ["HistoryState"]
 
 _RESTART_FORMAT = "sbmf-friction-restart"
-_RESTART_VERSION = 1
+_RESTART_VERSION = 2  # 2: with alpha_f; version 1 files (p_hist only) are read too
 
 
 class HistoryState:
@@ -33,9 +38,17 @@ class HistoryState:
         (which it must then equal).
     p_hist : array_like, optional
         Initial committed history (finite, ``>= 0``); zeros by default.
+    alpha_f : array_like, optional
+        Initial committed flattened contact fraction (in ``[0, 1]``, one per node); zeros
+        (never flattened) by default.
     """
 
-    def __init__(self, n_nodes: int | None = None, p_hist: ArrayLike | None = None) -> None:
+    def __init__(
+        self,
+        n_nodes: int | None = None,
+        p_hist: ArrayLike | None = None,
+        alpha_f: ArrayLike | None = None,
+    ) -> None:
         if p_hist is None:
             committed = np.zeros(_count("n_nodes", 0 if n_nodes is None else n_nodes))
         else:
@@ -46,6 +59,11 @@ class HistoryState:
                 )
         self._committed = committed
         self._trial = committed.copy()
+        if alpha_f is None:
+            self._a_committed = np.zeros(committed.size)
+        else:
+            self._a_committed = _check_fraction(alpha_f, committed.size).copy()
+        self._a_trial = self._a_committed.copy()
 
     @property
     def n_nodes(self) -> int:
@@ -77,6 +95,24 @@ class HistoryState:
         v.flags.writeable = False
         return v
 
+    @property
+    def alpha_f(self) -> NDArray[np.float64]:
+        """Committed flattened contact fraction (read-only view; 0: never flattened)."""
+        v = self._a_committed.view()
+        v.flags.writeable = False
+        return v
+
+    @property
+    def alpha_f_trial(self) -> NDArray[np.float64]:
+        """Trial flattened contact fraction of the current increment (read-only view)."""
+        v = self._a_trial.view()
+        v.flags.writeable = False
+        return v
+
+    def flattening_arrays(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """``(committed, trial)`` ``alpha_f`` arrays themselves (no copy), for the kernels."""
+        return self._a_committed, self._a_trial
+
     def propose(self, p: ArrayLike) -> None:
         """Set the trial history to ``max(committed, p)`` (``p <= 0`` leaves it as committed)."""
         p = as_float_array("p", p)
@@ -87,18 +123,20 @@ class HistoryState:
         np.maximum(self._committed, np.where(p > 0, p, 0.0), out=self._trial)
 
     def commit(self) -> None:
-        """Accept the increment: the trial history becomes the committed one."""
+        """Accept the increment: the trial history (and ``alpha_f``) becomes the committed one."""
         self._committed[:] = self._trial
+        self._a_committed[:] = self._a_trial
 
     def rollback(self) -> None:
-        """Discard the trial history (cut-back): back to the committed one."""
+        """Discard the trial history and ``alpha_f`` (cut-back): back to the committed ones."""
         self._trial[:] = self._committed
+        self._a_trial[:] = self._a_committed
 
     def resize(self, n_nodes: int) -> None:
-        """Grow (new nodes get ``p_hist = 0``) or shrink to ``n_nodes`` nodes."""
+        """Grow (new nodes get ``p_hist = 0``, ``alpha_f = 0``) or shrink to ``n_nodes`` nodes."""
         n = _count("n_nodes", n_nodes)
         old = self.n_nodes
-        for name in ("_committed", "_trial"):
+        for name in _ARRAYS:
             arr = getattr(self, name)
             new = np.zeros(n)
             new[: min(n, old)] = arr[: min(n, old)]
@@ -115,14 +153,14 @@ class HistoryState:
         """Renumber nodes: new node ``i`` takes old node ``index_map[i]``; ``-1`` means a new node.
 
         For remeshing: the host gives, for each new node, the old node it inherits
-        (nearest node or a transfer of its choice).
+        (nearest node or a transfer of its choice); ``alpha_f`` goes with ``p_hist``.
         """
         idx = np.asarray(index_map)
         if idx.ndim != 1 or not np.issubdtype(idx.dtype, np.integer):
             raise ValueError("index_map must be a 1-D integer array")
         if idx.size and (idx.min() < -1 or idx.max() >= self.n_nodes):
             raise ValueError(f"index_map entries must be in [-1, {self.n_nodes - 1}]")
-        for name in ("_committed", "_trial"):
+        for name in _ARRAYS:
             arr = getattr(self, name)
             new = np.zeros(idx.size)
             keep = idx >= 0
@@ -130,7 +168,7 @@ class HistoryState:
             setattr(self, name, new)
 
     def save(self, path: str | os.PathLike[str]) -> Path:
-        """Write the committed history to a restart file (``.npz``, atomic)."""
+        """Write the committed history and ``alpha_f`` to a restart file (``.npz``, atomic)."""
 
         def write(fh: IO[bytes]) -> None:
             np.savez(
@@ -138,6 +176,7 @@ class HistoryState:
                 format=np.array(_RESTART_FORMAT),
                 version=np.array(_RESTART_VERSION),
                 p_hist=self._committed,
+                alpha_f=self._a_committed,
             )
 
         return atomic_write(path, write)
@@ -148,7 +187,9 @@ class HistoryState:
 
         Raises ``ValueError`` naming ``path`` for anything but such a file: unreadable,
         truncated or damaged archives, missing fields, a format, version (an integer) or
-        ``p_hist`` (finite, ``>= 0``, 1-D) that is not what :meth:`save` writes.
+        ``p_hist`` (finite, ``>= 0``, 1-D) or ``alpha_f`` (in ``[0, 1]``, one per node) that is
+        not what :meth:`save` writes. A version 1 file (``p_hist`` alone, written before the
+        flattening state) reads with ``alpha_f = 0``.
         """
         try:
             with open(path, "rb") as fh, np.load(fh, allow_pickle=False) as data:
@@ -156,6 +197,7 @@ class HistoryState:
                 if missing:
                     raise ValueError(f"{path}: not a friction restart file (missing {missing})")
                 fmt, ver, p_hist = data["format"], data["version"], data["p_hist"]
+                alpha_f = data["alpha_f"] if "alpha_f" in data.files else None
         except ValueError as exc:
             if str(exc).startswith(f"{path}:"):
                 raise
@@ -169,14 +211,19 @@ class HistoryState:
             raise ValueError(f"{path}: format {fmt!r} is not {_RESTART_FORMAT!r}")
         if ver.shape != () or ver.dtype.kind not in "iu":
             raise ValueError(f"{path}: version must be an integer, got {ver!r}")
-        if int(ver) != _RESTART_VERSION:
+        if int(ver) not in (1, _RESTART_VERSION):
             raise ValueError(
-                f"{path}: unsupported restart version {int(ver)}, expected {_RESTART_VERSION}"
+                f"{path}: unsupported restart version {int(ver)}, expected 1 or {_RESTART_VERSION}"
             )
+        if int(ver) == _RESTART_VERSION and alpha_f is None:
+            raise ValueError(f"{path}: a version {_RESTART_VERSION} restart file without alpha_f")
         try:
-            return cls(p_hist=p_hist)
+            return cls(p_hist=p_hist, alpha_f=alpha_f)
         except ValueError as exc:
             raise ValueError(f"{path}: {exc}") from None
+
+
+_ARRAYS = ("_committed", "_trial", "_a_committed", "_a_trial")
 
 
 def _count(name: str, value: object) -> int:
@@ -196,4 +243,13 @@ def _check_hist(p_hist: ArrayLike) -> NDArray[np.float64]:
         raise ValueError("p_hist must be finite")
     if (arr < 0).any():
         raise ValueError("p_hist must be >= 0")
+    return arr
+
+
+def _check_fraction(alpha_f: ArrayLike, n: int) -> NDArray[np.float64]:
+    arr = as_float_array("alpha_f", alpha_f)
+    if arr.shape != (n,):
+        raise ValueError(f"alpha_f must have one value per node, shape ({n},), got {arr.shape}")
+    if not (np.isfinite(arr).all() and (arr >= 0).all() and (arr <= 1).all()):
+        raise ValueError("alpha_f must be contact fractions in [0, 1]")
     return arr

@@ -72,6 +72,8 @@ def traction_update(
     parallel: bool | None = None,
     out: "TractionResult | None" = None,
     zone: ArrayLike | None = None,
+    d_eps: ArrayLike | None = None,
+    sigma_y: ArrayLike | None = None,
 ) -> "TractionResult":
     """Stick/slip traction update at every contact node (stress based).
 
@@ -101,6 +103,18 @@ def traction_update(
         Each node's zone id (an index into ``law.laws``), for a :class:`~frictionlaw.ZonedLaw`
         only (required there, refused for any other law). The node's ``p_hist`` is its own
         whatever zone it is in (docs/runtime.md, "Zones").
+    d_eps : float or array_like, shape (n,), optional
+        Each node's bulk equivalent plastic strain increment of the increment (``>= 0``,
+        finite): the flattening of the asperities under bulk strain (docs/flattening.md, Eqs.
+        F5-F6) for a law with a ``flattening`` block (a :class:`~frictionlaw.ZonedLaw`: its zones
+        with one; refused for laws without). The node's flattened fraction ``alpha_f`` is read
+        from the state's committed one and the trial one written, like ``p_hist``; the shear
+        uses the trial fraction (its ``dt_dp`` includes the update's ``d alpha / d p`` on first
+        loading). ``None`` (or all zeros with ``alpha_f = 0``): the law as calibrated, bit for bit.
+    sigma_y : float or array_like, shape (n,), optional
+        The bulk's current flow stress per node (Pa, in ``[1e3, 1e13]``), with ``d_eps`` only:
+        it scales the layer's flow stress ``2 k`` by ``sigma_y`` over the file's (how strain
+        rate and hardening enter); the file's ``sigma_y`` by default.
 
     Returns
     -------
@@ -114,6 +128,8 @@ def traction_update(
         raise ValueError("p must be finite (it becomes the node's trial p_hist)")
     n = p.size
     zoned = _zoned(law, zone, n)
+    if sigma_y is not None and d_eps is None:
+        raise ValueError("sigma_y applies with d_eps only (the flattening's flow stress)")
     squeeze = np.ndim(slip_increment) == 1
     du = _as_2d("slip_increment", slip_increment, n)
     t_old = _as_2d("traction_old", traction_old, n)
@@ -146,26 +162,28 @@ def traction_update(
     p_trial = state.trial_array() if history and state is not None else np.empty(n)
     if parallel is None:
         parallel = n >= PARALLEL_THRESHOLD
-    if zoned is not None:
+    tail = (du, t_old, kt, t_new, status, dt_ddu, dt_dp, p_trial)
+    if d_eps is not None:
+        de, sy, (a_c, a_t) = _flattening_inputs(law, d_eps, sigma_y, state, n)
+        fk = flattening_kernels()
+        if zoned is not None:
+            zdata = law.kernel_data()  # type: ignore[union-attr]
+            fdata = law.flattening_kernel_data()  # type: ignore[union-attr]
+            fkern = (
+                fk.traction_array_zoned_flat_parallel if parallel else fk.traction_array_zoned_flat
+            )
+            fhead: tuple = (*zdata, *fdata, zoned)
+        else:
+            fkern = fk.traction_array_flat_parallel if parallel else fk.traction_array_flat
+            fhead = (int(law.code), law.coeffs, law.flattening_data)  # type: ignore[union-attr]
+        fkern(*fhead, np.ascontiguousarray(p), p_hist, a_c, de, sy, *tail, a_t)
+    elif zoned is not None:
         zk = zoned_kernels()
         zkern = zk.traction_array_zoned_parallel if parallel else zk.traction_array_zoned
-        head: tuple = (*law.kernel_data(), zoned)  # type: ignore[union-attr]
+        zkern(*law.kernel_data(), zoned, np.ascontiguousarray(p), p_hist, *tail)  # type: ignore[union-attr]
     else:
-        zkern = kernels().traction_array_parallel if parallel else kernels().traction_array
-        head = (int(law.code), law.coeffs)  # type: ignore[union-attr]
-    zkern(
-        *head,
-        np.ascontiguousarray(p),
-        p_hist,
-        du,
-        t_old,
-        kt,
-        t_new,
-        status,
-        dt_ddu,
-        dt_dp,
-        p_trial,
-    )
+        kern = kernels().traction_array_parallel if parallel else kernels().traction_array
+        kern(int(law.code), law.coeffs, np.ascontiguousarray(p), p_hist, *tail)  # type: ignore[union-attr]
     if out is not None:
         return out
     if squeeze:
@@ -178,6 +196,48 @@ def zoned_kernels() -> ModuleType:
     from . import _kernels_zones
 
     return _kernels_zones
+
+
+def flattening_kernels() -> ModuleType:
+    """The flattening kernels (issue 43), imported on first use."""
+    from . import _kernels_flattening
+
+    return _kernels_flattening
+
+
+def _flattening_inputs(
+    law: object, d_eps: ArrayLike, sigma_y: ArrayLike | None, state: "HistoryState | None", n: int
+) -> tuple[NDArray[np.float64], NDArray[np.float64], tuple[NDArray, NDArray]]:
+    """``(d_eps, sigy, (alpha_f committed, trial))`` checked for the flattening kernels.
+
+    ``sigy`` is 0 where the file's ``sigma_y`` applies. Without a state every node is a virgin
+    surface (``alpha_f = 0``) and the trial fraction goes to a scratch array.
+    """
+    if not getattr(law, "uses_flattening", False):
+        raise ValueError(
+            "d_eps applies to a law with a flattening block (FrictionParams.flattening, "
+            "docs/flattening.md); this law has none"
+        )
+    de = as_float_array("d_eps", d_eps)
+    if de.shape not in ((), (1,), (n,)):
+        raise ValueError(f"d_eps must be a scalar or have shape ({n},), got shape {de.shape}")
+    if not (np.isfinite(de).all() and (de >= 0).all()):
+        raise ValueError("d_eps must be finite and >= 0 (a plastic strain increment)")
+    de = np.ascontiguousarray(np.broadcast_to(de, (n,)), dtype=np.float64)
+    if sigma_y is None:
+        sy = np.zeros(n)
+    else:
+        sy = as_float_array("sigma_y", sigma_y)
+        if sy.shape not in ((), (1,), (n,)):
+            raise ValueError(f"sigma_y must be a scalar or have shape ({n},), got {sy.shape}")
+        if not (np.isfinite(sy).all() and (sy >= 1e3).all() and (sy <= 1e13).all()):
+            raise ValueError("sigma_y must be in [1e3, 1e13] Pa (the bulk's flow stress)")
+        sy = np.ascontiguousarray(np.broadcast_to(sy, (n,)), dtype=np.float64)
+    if state is None:
+        return de, sy, (np.zeros(n), np.empty(n))
+    if state.n_nodes != n:
+        raise ValueError(f"state has {state.n_nodes} nodes, p has {n}")
+    return de, sy, state.flattening_arrays()
 
 
 def _zoned(law: object, zone: ArrayLike | None, n: int) -> NDArray[np.int64] | None:
@@ -232,6 +292,8 @@ def traction_update_force(
     parallel: bool | None = None,
     out: "TractionResult | None" = None,
     zone: ArrayLike | None = None,
+    d_eps: ArrayLike | None = None,
+    sigma_y: ArrayLike | None = None,
 ) -> "TractionResult":
     """Force-based adapter (Abaqus/Explicit VFRIC style): forces and nodal areas in, forces out.
 
@@ -251,7 +313,7 @@ def traction_update_force(
         Tangential force of the last accepted increment (N).
     k_force : float or array_like, shape (n,)
         Tangential penalty stiffness (N/m), ``> 0``.
-    state, parallel, zone : optional
+    state, parallel, zone, d_eps, sigma_y : optional
         As in :func:`traction_update`.
     out : TractionResult, optional
         As in :func:`traction_update`: filled with this function's outputs (the forces
@@ -284,7 +346,17 @@ def traction_update_force(
     if not np.isfinite(k_t).all():
         raise ValueError("k_force / area must be finite (k_force must be finite and > 0)")
     res = traction_update(
-        law, p, slip_increment, t_old, k_t, state, parallel=parallel, out=out, zone=zone
+        law,
+        p,
+        slip_increment,
+        t_old,
+        k_t,
+        state,
+        parallel=parallel,
+        out=out,
+        zone=zone,
+        d_eps=d_eps,
+        sigma_y=sigma_y,
     )
     a2 = area[:, None] if res.traction.ndim == 2 else area
     a3 = area[:, None, None] if res.dt_dslip.ndim == 3 else area

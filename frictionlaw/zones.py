@@ -10,7 +10,10 @@ law with the node's own ``p_hist``.
 ``p_hist`` is the workpiece's: the largest pressure the node's surface has carried, whichever
 zone carried it. A node that moves to another zone keeps its ``p_hist`` and is evaluated with
 the new zone's law (its ``alpha1(p_hist)`` recomputed from that law); nothing of the old zone's
-law travels with it. Names are compared trimmed and case-insensitive (:func:`zone_key`), as the
+law travels with it. The flattening state (issue 43) is the workpiece's too, and it is the
+flattened contact *fraction* ``alpha_f`` that travels: a zone with a flattening block reads it
+as its own law's pressure ``p_f`` (``alpha1(p_f) = alpha_f`` of that law) and grows it; a zone
+without one runs its calibrated law and leaves ``alpha_f`` as it came. Names are compared trimmed and case-insensitive (:func:`zone_key`), as the
 exported routines compare the names their hosts pass (docs/fe_codes.md, "Zones").
 """
 
@@ -83,6 +86,8 @@ class ZonedLaw:
     _codes: NDArray[np.int64] = field(init=False, repr=False, compare=False)
     _offsets: NDArray[np.int64] = field(init=False, repr=False, compare=False)
     _coeffs: NDArray[np.float64] = field(init=False, repr=False, compare=False)
+    _f_offsets: NDArray[np.int64] = field(init=False, repr=False, compare=False)
+    _fdata: NDArray[np.float64] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         names, laws = tuple(self.names), tuple(self.laws)
@@ -105,12 +110,16 @@ class ZonedLaw:
                 )
         coeffs = [np.ascontiguousarray(law.coeffs, dtype=np.float64) for law in laws]
         offsets = np.concatenate([[0], np.cumsum([c.size for c in coeffs])]).astype(np.int64)
+        fdata = [np.ascontiguousarray(law.flattening_data, dtype=np.float64) for law in laws]
+        f_offsets = np.concatenate([[0], np.cumsum([d.size for d in fdata])]).astype(np.int64)
         for name, value in (
             ("names", names),
             ("laws", laws),
             ("_codes", np.array([law.code for law in laws], dtype=np.int64)),
             ("_offsets", offsets),
             ("_coeffs", np.concatenate(coeffs)),
+            ("_f_offsets", f_offsets),
+            ("_fdata", np.concatenate(fdata)),
         ):
             if isinstance(value, np.ndarray):
                 value.flags.writeable = False
@@ -131,6 +140,11 @@ class ZonedLaw:
         """True if any zone's law uses ``p_hist``."""
         return any(law.uses_history for law in self.laws)
 
+    @property
+    def uses_flattening(self) -> bool:
+        """True if any zone's law has a flattening block (it reads the bulk strain increment)."""
+        return any(law.uses_flattening for law in self.laws)
+
     def index(self, name: str) -> int:
         """The zone id of ``name`` (trimmed, case-insensitive); ValueError naming it if none."""
         key = zone_key(name)
@@ -146,6 +160,10 @@ class ZonedLaw:
     def kernel_data(self) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]]:
         """``(codes, offsets, coeffs)``: the packed laws the zoned kernels read (read-only)."""
         return self._codes, self._offsets, self._coeffs
+
+    def flattening_kernel_data(self) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
+        """``(f_offsets, fdata)``: each zone's flattening data (an empty slice: none; read-only)."""
+        return self._f_offsets, self._fdata
 
     def shear_limit(
         self, p: ArrayLike, p_hist: ArrayLike, zone: ArrayLike, *, parallel: bool | None = None

@@ -341,11 +341,16 @@ def test_the_reload_branch_starts_from_the_flattened_fraction():
     assert a_f - flattened_alpha(ph * (1 - 1e-12), ph, pf, Pj) == pytest.approx(jump, rel=1e-6)
 
 
-def test_the_export_refuses_a_law_it_would_run_without_flattening(tmp_path):
-    """No host routine carries flattening yet: a file with the block is refused (exit 2)."""
+def test_the_export_says_where_a_host_runs_the_law_without_flattening(tmp_path):
+    """Abaqus' FRIC gets no bulk strain: exported (exit 0), its README says the block is not run;
+    a table of the pressure alone cannot carry the block: refused (exit 2), nothing written."""
     from frictionlaw.export.cli import main
 
     path = tmp_path / "params.json"
     law().to_json(path)
-    assert main(["abaqus-fric", "--params", str(path), "--out", str(tmp_path / "x")]) == 2
-    assert not (tmp_path / "x").exists()
+    assert main(["abaqus-fric", "--params", str(path), "--out", str(tmp_path / "x")]) == 0
+    readme = (tmp_path / "x" / "README.md").read_text(encoding="utf-8")
+    assert "flattening block (issue 43) is not run" in readme
+    assert "runs without flattening" in readme
+    assert main(["abaqus-table", "--params", str(path), "--out", str(tmp_path / "t")]) == 2
+    assert not (tmp_path / "t").exists()

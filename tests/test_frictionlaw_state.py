@@ -47,12 +47,21 @@ def test_restart_file_round_trip_and_errors(tmp_path):
     with pytest.raises(ValueError, match="not a friction restart file"):
         HistoryState.load(tmp_path / "bad.npz")
     np.savez(
+        tmp_path / "v3.npz",
+        format=np.array("sbmf-friction-restart"),
+        version=np.array(3),
+        p_hist=np.zeros(2),
+    )
+    with pytest.raises(ValueError, match="unsupported restart version 3"):
+        HistoryState.load(tmp_path / "v3.npz")
+    # a version 2 file carries alpha_f; without it, it is refused naming it
+    np.savez(
         tmp_path / "v2.npz",
         format=np.array("sbmf-friction-restart"),
         version=np.array(2),
         p_hist=np.zeros(2),
     )
-    with pytest.raises(ValueError, match="unsupported restart version 2"):
+    with pytest.raises(ValueError, match="without alpha_f"):
         HistoryState.load(tmp_path / "v2.npz")
 
 

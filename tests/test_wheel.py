@@ -43,6 +43,7 @@ def test_wheel_and_sdist_carry_data_licence_and_type_marker(dist):
     for member in (
         "frictionlaw/py.typed",
         "fe_demo/data/sbmf_example.json",
+        "fe_demo/data/sbmf_example_flattening.json",
         "sbmf_cli/__init__.py",  # the command layer every console script imports
         "sbmf_cli/htmlpage.py",
     ):

@@ -36,7 +36,7 @@ from sbmf_cli import (
 
 from ..analysis.band import band_laws
 from ..analysis.ring_chart import CHART_M
-from ..scenes.laws import LAW_OPTIONS, LAWS
+from ..scenes.laws import EXAMPLE_FLATTENING_PATH, LAW_OPTIONS, LAWS
 from ..scenes.zones import check_radial_zones
 from . import ring_fit
 from .runs import cmd_band, cmd_multistage, cmd_ring, cmd_upsetting
@@ -115,6 +115,15 @@ def _add_common(p, *, law, nr, increments, reduction, out):
         "--vtu-every", type=int, default=5, help="VTU snapshot every N increments (0: none)"
     )
     add_common_options(p)
+    p.add_argument(
+        "--flattening",
+        action="store_true",
+        help="flattening of the asperities under bulk strain (law sbmf; docs/flattening.md): run "
+        "the law with and without the die nodes' plastic strain passed to the --params file's "
+        "flattening block (without --params: the shipped params.json of halfspace-calib "
+        "--flattening with its defaults) "
+        "and compare the contact fraction at the die and the force (default: off)",
+    )
     g = p.add_mutually_exclusive_group()
     g.add_argument(
         "--band",
@@ -247,8 +256,10 @@ def _check_options(args):
     """Refuse options the requested runs would not use; fill in the defaults of the rest."""
     if args.law is None:  # a parameter file is only used by the law that reads it
         zoned = any(getattr(args, k, None) is not None for k in ("zone", "zone_from_radius"))
-        args.law = "sbmf" if args.params is not None or zoned else args.default_law
+        given = args.params is not None or zoned or args.flattening
+        args.law = "sbmf" if given else args.default_law
     _check_law_options(args)
+    _check_flattening(args)
     _check_sweep_and_band(args)
     _check_zones(args)
     args.m_given = args.m is not None
@@ -256,6 +267,20 @@ def _check_options(args):
     args.m = _M if args.m is None else args.m
     if args.params is not None:
         _load_params(args)
+
+
+def _check_flattening(args):
+    """``--flattening`` runs the law sbmf alone; without ``--params``, the shipped example's."""
+    if not args.flattening:
+        return
+    if args.law != "sbmf":
+        raise ValueError(
+            f"--flattening needs --law sbmf (the law that flattens), got --law {args.law}"
+        )
+    if args.band or args.samples:
+        raise ValueError(f"--flattening is not used with {'--band' if args.band else '--samples'}")
+    if args.params is None:
+        args.params = EXAMPLE_FLATTENING_PATH
 
 
 def _check_law_options(args):
@@ -295,10 +320,16 @@ def _load_params(args):
     if reason:  # accepted: the run uses the object, and says so
         args.params_loaded = P
         print(f"fe-demo: WARNING: {args.params}: {reason}; run as asked", file=sys.stderr)
-    if P.flattening is not None:  # the FE demo passes no bulk strain to the law yet
+    if P.flattening is None and args.flattening:
+        raise ValueError(
+            f"--flattening: {args.params} has no flattening block (calibrate with "
+            "halfspace-calib --flattening, docs/flattening.md)"
+        )
+    if P.flattening is not None and not args.flattening:
         print(
             f"fe-demo: WARNING: {args.params} carries a flattening block; this run evaluates the "
-            "law without flattening (zero bulk strain)",
+            "law without flattening (zero bulk strain; --flattening passes the die's plastic "
+            "strain to it)",
             file=sys.stderr,
         )
     if args.band or args.samples:

@@ -22,6 +22,7 @@ from ..output import (
     write_vtu_series,
 )
 from ..output.band import write_band_outputs
+from ..output.flattening import flattening_record, plot_flattening
 from ..output.reports import range_lines, write_run_report
 from ..scenes import contact_profile, run_multistage, run_ring, run_upsetting
 from ..scenes.laws import LAWS
@@ -53,6 +54,56 @@ def _zone_kw(args, law):
     """``{"zones": ...}`` of a zoned die (``--zone``, upsetting and ring), else ``{}``."""
     zones = getattr(args, "zones_loaded", ())
     return {"zones": zones} if zones and law == "sbmf" else {}
+
+
+def _variants(args):
+    """The flattening variants of each run: ``[None]``, or without and with (``--flattening``)."""
+    return [False, True] if getattr(args, "flattening", False) else [None]
+
+
+def _flat_name(variant):
+    """A run's label suffix and subfolder for its flattening variant (``None``: none)."""
+    if variant is None:
+        return "", None
+    return (
+        (" with flattening", "with_flattening")
+        if variant
+        else (
+            " without flattening",
+            "without_flattening",
+        )
+    )
+
+
+def write_flattening(con, out, pairs):
+    """A flattening comparison's files: ``flattening.png`` in ``out``, each pair's record.
+
+    ``pairs``: ``[(label, (folder, result) without, (folder, result) with)]``; each run's
+    ``summary.json`` and ``report.html`` get the pair's ``flattening`` record, the console a line.
+    """
+    curves = {}
+    for label, (f0, r0), (f1, r1) in pairs:
+        rec = flattening_record(r0.history, r1.history)
+        for folder, res, lab in ((f0, r0, " without"), (f1, r1, " with")):
+            curves[label + lab] = res.history
+            path = folder / "summary.json"
+            if path.is_file():
+                info = json.loads(path.read_text()) | {"flattening": rec}
+                path.write_text(json.dumps(info, indent=2, default=_jd) + "\n")
+        if rec["force_end_with_N"] is not None and rec["force_end_without_N"]:
+            con.result(
+                f"[{label}] flattening: die force at the end {rec['force_end_without_N'] / 1e3:.4g} kN "
+                f"without, {rec['force_end_with_N'] / 1e3:.4g} kN with "
+                f"({100 * rec['force_change_fraction']:+.2f} %); mean contact fraction at the die "
+                f"{rec['alpha_die_mean_end_without']:.3f} -> {rec['alpha_die_mean_end_with']:.3f} at "
+                f"a mean plastic strain of {rec['eps_p_die_mean_end_with']:.3f} there"
+            )
+    out.mkdir(parents=True, exist_ok=True)
+    plot_flattening(out / "flattening.png", curves)
+    for label, (f0, _), (f1, _) in pairs:  # the reports again, now with the figure
+        for folder, lab in ((f0, label + " without flattening"), (f1, label + " with flattening")):
+            if (folder / "summary.json").is_file():
+                write_run_report(folder, json.loads((folder / "summary.json").read_text()), lab)
 
 
 def _label(law, args):
@@ -201,25 +252,32 @@ def _summary_row(label, res, *, ring=False):
 def cmd_upsetting(args, con):
     """``fe-demo upsetting``: one run per law (``--law all``: every law side by side)."""
     laws = [w for w in LAWS if w != "none"] if args.law == "all" else [args.law]
-    results, rows = {}, []
+    results, rows, flat = {}, [], {}
     ok = True
     for law in laws:
-        kw = _common_kw(args, law) | _zone_kw(args, law)
-        res = run_upsetting(
-            law,
-            diameter=args.diameter,
-            height=args.height,
-            reduction=args.reduction,
-            remesh_below=args.remesh_below,
-            **kw,
-        )
-        lab = _label(law, args)
-        folder = args.out / law if len(laws) > 1 else args.out
-        write_run(folder, res, lab)
-        results[lab] = (res.history, contact_profile(res.model)) if res.history else None
-        rows.append(_summary_row(lab, res))
-        ok &= res.converged
-        _report_run(con, lab, res)
+        for variant in _variants(args):
+            kw = _common_kw(args, law) | _zone_kw(args, law)
+            res = run_upsetting(
+                law,
+                diameter=args.diameter,
+                height=args.height,
+                reduction=args.reduction,
+                remesh_below=args.remesh_below,
+                flattening=variant,
+                **kw,
+            )
+            suffix, sub = _flat_name(variant)
+            lab = _label(law, args) + suffix
+            folder = args.out / law if len(laws) > 1 else args.out
+            folder = folder / sub if sub else folder
+            write_run(folder, res, lab)
+            results[lab] = (res.history, contact_profile(res.model)) if res.history else None
+            rows.append(_summary_row(lab, res))
+            ok &= res.converged
+            _report_run(con, lab, res)
+            flat.setdefault(_label(law, args), []).append((folder, res))
+    if getattr(args, "flattening", False):
+        write_flattening(con, args.out, [(k, *v) for k, v in flat.items()])
     if len(laws) > 1:
         done = {k: v for k, v in results.items() if v is not None}
         if done:
@@ -270,19 +328,31 @@ def cmd_ring(args, con):
         runs = [(law, args.m, _label(law, args)) for law in LAWS if law != "none"]
     else:
         runs.append((args.law, args.m, _label(args.law, args)))
-    rows, fe = [], {}
+    rows, fe, flat, folders = [], {}, {}, []
     ok = True
-    for law, m, lab in runs:
-        kw = _common_kw(args, law) | _zone_kw(args, law)
-        kw["m"] = m
-        res = run_ring(law, reduction=args.reduction, remesh_below=args.remesh_below, **kw)
-        folder = args.out / _folder_name(lab) if len(runs) > 1 else args.out
-        write_run(folder, res, lab)
-        if res.history:
-            fe[lab] = (res.history["height_reduction"], res.history["inner_diameter_change"])
-        rows.append(_summary_row(lab, res, ring=True))
-        ok &= res.converged
-        _report_run(con, lab, res)
+    for law, m, base in runs:
+        for variant in _variants(args):
+            kw = _common_kw(args, law) | _zone_kw(args, law)
+            kw["m"] = m
+            res = run_ring(
+                law,
+                reduction=args.reduction,
+                remesh_below=args.remesh_below,
+                flattening=variant,
+                **kw,
+            )
+            suffix, sub = _flat_name(variant)
+            lab = base + suffix
+            folder = args.out / _folder_name(base) if len(runs) > 1 else args.out
+            folder = folder / sub if sub else folder
+            write_run(folder, res, lab)
+            folders.append((folder, lab))
+            if res.history:
+                fe[lab] = (res.history["height_reduction"], res.history["inner_diameter_change"])
+            rows.append(_summary_row(lab, res, ring=True))
+            ok &= res.converged
+            _report_run(con, lab, res)
+            flat.setdefault(base, []).append((folder, res))
     args.out.mkdir(parents=True, exist_ok=True)
     chart, notes = _chart(args.reduction)
     plot_ring_chart(args.out / "ring_chart.png", chart, fe)
@@ -291,10 +361,11 @@ def cmd_ring(args, con):
         for m, (red, d) in chart.items():
             for a, b in zip(red, d, strict=True):
                 fh.write(f"{m:g},{a:.6g},{b:.6g}\n")
-    for _law, _, lab in runs:  # the runs' reports again, now with the chart
-        folder = args.out / _folder_name(lab) if len(runs) > 1 else args.out
+    for folder, lab in folders:  # the runs' reports again, now with the chart
         if (folder / "summary.json").is_file():
             write_run_report(folder, json.loads((folder / "summary.json").read_text()), lab)
+    if getattr(args, "flattening", False):
+        write_flattening(con, args.out, [(k, *v) for k, v in flat.items()])
     con.result(summary_table(rows))
     for note in notes:
         con.result(note)
@@ -304,20 +375,27 @@ def cmd_ring(args, con):
 def cmd_multistage(args, con):
     """``fe-demo multistage``: each law with and without ``p_hist``."""
     laws = [w for w in LAWS if w != "none"] if args.law == "all" else [args.law]
-    rows, curves = [], {}
+    rows, curves, flat = [], {}, {}
     ok = True
-    for law, reset in ((w, r) for w in laws for r in (False, True)):
+    runs = [(w, r, v) for w in laws for v in _variants(args) for r in (False, True)]
+    for law, reset, variant in runs:
         kw = _common_kw(args, law)
         res = run_multistage(
             law,
             first_reduction=args.first_reduction,
             reduction=args.reduction,
             reset_history=reset,
+            flattening=variant,
             **kw,
         )
-        lab = _label(law, args) + (" without p_hist" if reset else " with p_hist")
+        suffix, fsub = _flat_name(variant)
+        hist_lab = " without p_hist" if reset else " with p_hist"
+        lab = _label(law, args) + hist_lab + suffix
         sub = args.out / law if len(laws) > 1 else args.out
-        write_run(sub / ("no_history" if reset else "with_history"), res, lab)
+        sub = sub / fsub if fsub else sub
+        folder = sub / ("no_history" if reset else "with_history")
+        write_run(folder, res, lab)
+        flat.setdefault(_label(law, args) + hist_lab, []).append((folder, res))
         prof = res.info.get("recontact_profile")
         if prof is not None and not reset:
             plot_recontact(sub / "recontact_friction.png", prof)
@@ -326,6 +404,8 @@ def cmd_multistage(args, con):
         rows.append(_summary_row(lab, res))
         ok &= res.converged
         _report_run(con, lab, res)
+    if getattr(args, "flattening", False):
+        write_flattening(con, args.out, [(k, *v) for k, v in flat.items()])
     if curves:
         plot_force_stroke(
             args.out / "multistage_force.png",

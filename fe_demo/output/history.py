@@ -61,6 +61,9 @@ HISTORY_UNITS = {
     "p_peak_over_p_max": "1",
     "n_above_H": "1",
     "n_hist_above_H": "1",
+    "alpha_die_mean": "fraction",
+    "alpha_f_max": "fraction",
+    "eps_p_die_mean": "1",
 }
 
 

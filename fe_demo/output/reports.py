@@ -7,6 +7,8 @@ from pathlib import Path
 
 from sbmf_cli.htmlpage import figure, law_section, number_cell, page
 
+from .flattening import flattening_section
+
 __all__ = ["range_lines", "write_band_report", "write_run_report"]
 
 
@@ -165,6 +167,7 @@ def write_run_report(folder, info, title):
         "<h2>Result</h2>",
         _result(info),
         figure(folder / "force_stroke.png", "die force against height reduction"),
+        flattening_section(info, _upward(folder, "flattening.png")),
         "<h2>Friction law</h2>",
         _law(info),
         "<h2>Billet, mesh, material and run</h2>",
@@ -178,6 +181,14 @@ def write_run_report(folder, info, title):
     for fname, cap in (("../ring_chart.png", "ring chart"), ("ring_chart.png", "ring chart")):
         body.append(figure(folder / fname, cap))
     (folder / "report.html").write_text(page(f"fe-demo: {title}", body), encoding="utf-8")
+
+
+def _upward(folder, name):
+    """``folder/name`` or the first of its parents' (two levels up) that exists."""
+    for base in (folder, folder.parent, folder.parent.parent):
+        if (base / name).is_file():
+            return base / name
+    return folder / name
 
 
 def write_band_report(out, rec, images):

@@ -33,6 +33,9 @@ class LawSpec:
     ``name`` in ``none, coulomb, tresca, cap, sbmf``; ``mu`` (Coulomb, cap), ``m`` (Tresca,
     cap's default cap), ``tau_max`` (cap, Pa), ``params`` (sbmf: a ``FrictionParams``, a JSON
     path, or ``None`` for the shipped illustrative set); see :mod:`fe_demo.scenes.laws`.
+    ``flattening`` (issue 43): ``True`` passes the die nodes' bulk plastic strain to a law with
+    a flattening block, ``False`` is the same law without it in a comparison (both record the
+    contact fraction against the strain at the die), ``None`` (default) neither.
     """
 
     name: str = "sbmf"
@@ -41,6 +44,7 @@ class LawSpec:
     tau_max: float | None = None
     params: object = None
     zones: tuple = ()
+    flattening: bool | None = None
 
     def factory(self):
         """``factory(model) -> law`` for the model (:func:`fe_demo.scenes.laws.make_law_factory`).
@@ -58,6 +62,18 @@ class LawSpec:
         die = radial_zones(base(None), self.zones)  # sbmf: a fixed law, whatever the model
         return lambda model: die
 
+    def check_flattening(self):
+        """``ValueError`` unless a flattening run has a law with a flattening block."""
+        if not self.flattening:
+            return
+        law = self.factory()(None) if self.name == "sbmf" else None
+        law = getattr(law, "law", law)  # a zoned die: its ZonedLaw
+        if not getattr(law, "uses_flattening", False):
+            raise ValueError(
+                "flattening needs the law sbmf with a parameter file that carries a flattening "
+                "block (halfspace-calib --flattening; docs/flattening.md)"
+            )
+
     def parameters(self):
         """The law's parameters as ``summary.json`` records them (and the die's zones)."""
         out = law_parameters(
@@ -65,6 +81,8 @@ class LawSpec:
         )
         if self.zones:
             out["zones"] = self.factory()(None).describe()
+        if self.flattening is not None:
+            out["flattening_run"] = bool(self.flattening)
         return out
 
 
@@ -160,11 +178,29 @@ def _record(model, law):
         "n_reload_eq25": int(below.sum()),
     }
     row.update(range_columns(model))
+    if law.flattening is not None:  # a flattening comparison: fraction against strain at the die
+        row.update(_die_fraction(model, active))
     zone = model.contact.zone
     if hasattr(fe_law, "zone_at") and zone is not None:  # contact nodes per zone of the die
         for i, name in enumerate(fe_law.law.names):
             row[f"n_contact_{name}"] = int(np.count_nonzero(active & (zone == i)))
     return row
+
+
+def _die_fraction(model, active):
+    """Area-weighted means over the die's contact nodes: contact fraction and plastic strain."""
+    if not active.any():
+        return {"alpha_die_mean": 0.0, "eps_p_die_mean": 0.0, "alpha_f_max": 0.0}
+    from ..solver.contact import nodal_areas
+
+    c = model.contact
+    area = nodal_areas(model.x, model.axi.boundary_edges, c.nodes)[active]
+    eps = model.surface_plastic_strain()[active]
+    return {
+        "alpha_die_mean": float(np.average(c.alpha[active], weights=area)),
+        "eps_p_die_mean": float(np.average(eps, weights=area)),
+        "alpha_f_max": float(c.state.alpha_f.max()),
+    }
 
 
 def _row(run, res, partial):

@@ -25,6 +25,7 @@ __all__ = [
     "law_parameters",
     "example_params",
     "EXAMPLE_PARAMS_PATH",
+    "EXAMPLE_FLATTENING_PATH",
 ]
 
 LAWS = ("none", *LAW_NAMES)
@@ -41,6 +42,10 @@ LAW_OPTIONS = {
 
 #: illustrative (not calibrated) SBMF parameter file shipped with the demo
 EXAMPLE_PARAMS_PATH = Path(__file__).parents[1] / "data" / "sbmf_example.json"
+#: ``fe-demo ... --flattening`` without ``--params``: the ``params.json`` of ``halfspace-calib
+#: --flattening`` with every other option at its default (the synthetic DC04-like surfaces),
+#: byte for byte as that command writes it
+EXAMPLE_FLATTENING_PATH = Path(__file__).parents[1] / "data" / "sbmf_example_flattening.json"
 
 
 def example_params():

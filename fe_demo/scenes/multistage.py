@@ -42,6 +42,7 @@ def run_multistage(
     options=None,
     progress=False,
     snapshot_every=0,
+    flattening=None,
 ):
     """Upset to ``first_reduction``, unload (springback, contact opens), reload to ``reduction``.
 
@@ -51,16 +52,20 @@ def run_multistage(
     ``reset_history=True`` the committed ``p_hist`` is wiped after unloading (a law
     without history), for comparison. Adds the columns ``stage`` (1 load, 2 unload,
     3 reload) and ``tau_diff_eq25`` (largest ``|tau(p, p_hist) - tau(p, 0)|`` over the
-    contact nodes, Pa: how much Eq. 25 changes the friction limit).
+    contact nodes, Pa: how much Eq. 25 changes the friction limit). ``flattening`` as in
+    :func:`fe_demo.scenes.press.run_upsetting` (``reset_history`` wipes ``alpha_f`` too).
     """
     r1 = _check_reduction(first_reduction)
     r2 = _check_reduction(reduction)
     if r2 <= r1:
         raise ValueError("reduction must exceed first_reduction")
     n_inc = _check_inc(n_increments)
-    spec = LawSpec(law, mu, m, tau_max, params)
+    spec = LawSpec(law, mu, m, tau_max, params, flattening=flattening)
+    spec.check_flattening()
     axi = cylinder_mesh(diameter, height, nr, nz)
-    model = FormingModel(axi, material, spec.factory(), options or SolverOptions())
+    model = FormingModel(
+        axi, material, spec.factory(), options or SolverOptions(), flattening=bool(flattening)
+    )
     stage = {"k": 1}
     best = {"n": -1, "profile": None}
 

@@ -27,6 +27,7 @@ def run_upsetting(
     snapshot_every=0,
     remesh_below=0.0,
     zones=(),
+    flattening=None,
 ):
     """Cylinder upsetting between flat dies (``remesh_below`` as in :func:`run_ring`).
 
@@ -51,12 +52,21 @@ def run_upsetting(
     :mod:`fe_demo.scenes.zones`); the history gets ``n_contact_<zone>`` (contact nodes per
     zone, ``die`` the inner one), the slab column stays the inner law's, and the
     calibrated-range columns are left out (each zone has its own range).
+
+    ``flattening`` (issue 43): ``True`` passes each die node's bulk plastic strain increment to
+    a law with a flattening block (``sbmf``), ``False`` runs that law without it for a
+    comparison; both add the columns ``alpha_die_mean`` (area-weighted mean contact fraction
+    over the contact nodes), ``eps_p_die_mean`` (their mean equivalent plastic strain) and
+    ``alpha_f_max`` (the largest flattened fraction). ``None`` (default): neither.
     """
     red = _check_reduction(reduction)
     n_inc = _check_inc(n_increments)
-    spec = LawSpec(law, mu, m, tau_max, params, tuple(zones))
+    spec = LawSpec(law, mu, m, tau_max, params, tuple(zones), flattening)
+    spec.check_flattening()
     axi = cylinder_mesh(diameter, height, nr, nz)
-    model = FormingModel(axi, material, spec.factory(), options or SolverOptions())
+    model = FormingModel(
+        axi, material, spec.factory(), options or SolverOptions(), flattening=bool(flattening)
+    )
     settings = RunSettings(progress, snapshot_every, remesh_below)
     billet = {"shape": "cylinder", "diameter_m": float(diameter), "height_m": float(height)}
     return press("upsetting", Run(model, spec, settings), axi, red, n_inc, billet)
@@ -82,6 +92,7 @@ def run_ring(
     snapshot_every=0,
     remesh_below=0.0,
     zones=(),
+    flattening=None,
 ):
     """Ring compression (standard 6:3:2 ring by default).
 
@@ -89,13 +100,16 @@ def run_ring(
     element's smallest corner sine falls below it.
 
     Adds the column ``inner_diameter_change``: ``(D_i - D_i0) / D_i0`` of the inner
-    surface at the mid-plane. ``zones`` as in :func:`run_upsetting`.
+    surface at the mid-plane. ``zones`` and ``flattening`` as in :func:`run_upsetting`.
     """
     red = _check_reduction(reduction)
     n_inc = _check_inc(n_increments)
-    spec = LawSpec(law, mu, m, tau_max, params, tuple(zones))
+    spec = LawSpec(law, mu, m, tau_max, params, tuple(zones), flattening)
+    spec.check_flattening()
     axi = ring_mesh(outer_diameter, inner_diameter, height, nr, nz)
-    model = FormingModel(axi, material, spec.factory(), options or SolverOptions())
+    model = FormingModel(
+        axi, material, spec.factory(), options or SolverOptions(), flattening=bool(flattening)
+    )
     node = axi.inner_mid_node
     r0 = float(model.X0[node, 0])
 

@@ -18,6 +18,14 @@ Zones (issue 42): a law with ``zone_at(r)`` (``fe_demo.scenes.zones.RadialZones`
 with a law per ring; each node runs the law of the zone under it at the start of the increment
 with its own ``p_hist`` (:class:`frictionlaw.ZonedLaw`, ``traction_update(..., zone=)``).
 
+Flattening (issue 43): a die with ``flattening = True`` passes each node's bulk plastic strain
+increment of the increment and the bulk's current flow stress to the law
+(``traction_update(..., d_eps=, sigma_y=)``), which flattens the node's asperities (its
+``alpha_f`` in the :class:`frictionlaw.HistoryState`, under the same trial/commit rules as
+``p_hist``). The model gives both at the contact nodes by :func:`surface_projection`: the lumped
+L2 projection of the Gauss-point values of the elements around each node, which for a node on
+the die is its first element layer.
+
 Stick stiffness: the penalty ``eps_t`` (the demo passes ``eps_n``) unless the law's
 parameter file carries a calibrated ``k_t(p)`` table (:class:`frictionlaw.TangentialStiffness`);
 then every node gets ``k_t`` at its pressure at the start of the increment (the last
@@ -34,7 +42,7 @@ import numpy as np
 
 from frictionlaw import HistoryState, traction_update
 
-__all__ = ["nodal_areas", "DieContact", "ContactEval", "FREEZE_AFTER"]
+__all__ = ["nodal_areas", "surface_projection", "DieContact", "ContactEval", "FREEZE_AFTER"]
 
 #: branch flips of a node within one increment after which its branch is frozen on Eq. 24
 FREEZE_AFTER = 3
@@ -57,6 +65,22 @@ def nodal_areas(x, edges, nodes):
     np.add.at(area, a, 2 * np.pi * L * (2 * ra + rb) / 6.0)
     np.add.at(area, b, 2 * np.pi * L * (ra + 2 * rb) / 6.0)
     return area[nodes]
+
+
+def surface_projection(t, N, dV, values, nodes):
+    """Gauss-point ``values`` carried to ``nodes``: ``sum N_a dV v / sum N_a dV`` over their elements.
+
+    The lumped L2 projection of an element field onto the nodes, restricted to ``nodes`` (a die
+    node's elements are its first layer under the die). ``t`` (4, n_elements) connectivity, ``N``
+    (4, n_q) shape functions at the Gauss points, ``dV`` and ``values`` (n_elements, n_q).
+    """
+    w = dV @ N.T  # (n_elements, 4): each element's weight at its corner nodes
+    v = (dV * values) @ N.T
+    idx = t.T.ravel()
+    n = int(max(idx.max(), np.max(nodes))) + 1
+    num = np.bincount(idx, v.ravel(), minlength=n)
+    den = np.bincount(idx, w.ravel(), minlength=n)
+    return num[nodes] / np.where(den[nodes] > 0, den[nodes], 1.0)
 
 
 @dataclass
@@ -86,9 +110,11 @@ class DieContact:
         Normal penalty (Pa/m).
     eps_t : float
         Tangential (stick) penalty ``k_t`` (Pa/m).
+    flattening : bool
+        Pass the bulk strain increment to the law (its flattening block; :meth:`evaluate`).
     """
 
-    def __init__(self, nodes, law, eps_n, eps_t):
+    def __init__(self, nodes, law, eps_n, eps_t, flattening=False):
         self.nodes = np.asarray(nodes)
         self.law = law
         self.eps_n = float(eps_n)
@@ -101,6 +127,8 @@ class DieContact:
         self._reset_branches()
         self.n_frozen = 0  # node evaluations on a frozen first-loading branch (summary.json)
         self.zone = None  # on a zoned die: each node's zone at the last evaluation
+        self.flattening = bool(flattening)
+        self.alpha = np.zeros(self.nodes.size)  # contact fraction of the last accepted increment
 
     def _reset_branches(self):
         """Forget the branch flips of the increment (after a commit or a cut-back)."""
@@ -168,7 +196,7 @@ class DieContact:
             "eps_n_Pa_per_m": self.eps_n,
         }
 
-    def evaluate(self, z, z_die, dur, area, r=None):
+    def evaluate(self, z, z_die, dur, area, r=None, d_eps=None, sigma_y=None):
         """Pressure, friction traction and their residual/tangent contributions.
 
         Parameters
@@ -184,7 +212,12 @@ class DieContact:
         r : ndarray, optional
             Radii of the candidate nodes at the start of the increment (m): on a zoned die the
             zone under each node (:meth:`zones_at`).
+        d_eps, sigma_y : ndarray, optional
+            The bulk's plastic strain increment of the increment and its flow stress (Pa) at the
+            nodes, for a die with ``flattening`` (required there, refused otherwise).
         """
+        if self.flattening != (d_eps is not None):
+            raise ValueError("d_eps is given exactly when the die runs the flattening")
         g = z - z_die
         active = g > 0
         p = np.where(active, self.eps_n * g, 0.0)
@@ -200,15 +233,13 @@ class DieContact:
             self.state.propose(p)
         else:
             law, zone = self.zones_at(r)
+            state = self._history(p, active)
+            kw = {} if d_eps is None else {"d_eps": d_eps, "sigma_y": sigma_y}
             res = traction_update(
-                law,
-                p,
-                dur,
-                self.tau_old,
-                self.stick_stiffness(zone),
-                *self._history(p, active),
-                zone=zone,
+                law, p, dur, self.tau_old, self.stick_stiffness(zone), state, zone=zone, **kw
             )
+            if state is not self.state and d_eps is not None:  # a frozen branch's own state
+                self.state.flattening_arrays()[1][:] = state.alpha_f_trial
             tau, status = res.traction, res.status
             fr = tau * area
             krr = res.dt_dslip * area
@@ -234,17 +265,17 @@ class DieContact:
         if not getattr(self.law, "uses_history", False) or getattr(
             params, "continuous_reload", False
         ):
-            return (self.state,)  # no history, or no jump to chatter across
+            return self.state  # no history, or no jump to chatter across
         hist = self.state.committed_array()
         below = active & (p < hist)
         self._flips += below != self._below
         self._below = below
         frozen = below & (self._flips >= FREEZE_AFTER)
         if not frozen.any():
-            return (self.state,)
+            return self.state
         self.n_frozen += int(frozen.sum())
         self.state.propose(p)  # the real trial history, max(p_hist, p)
-        return (HistoryState(p_hist=np.where(frozen, p, hist)),)
+        return HistoryState(p_hist=np.where(frozen, p, hist), alpha_f=self.state.alpha_f)
 
     def commit(self, ev):
         """Accept the increment: traction becomes the old traction, ``p_hist`` is committed."""
@@ -254,6 +285,8 @@ class DieContact:
             self.k_t_used = (min(lo, float(kt.min())), max(hi, float(kt.max())))
         self.tau_old = np.where(ev.p > 0, ev.tau, 0.0)
         self.p_old = np.maximum(ev.p, 0.0)
+        if self.law is not None:
+            self.alpha = contact_fraction(self.law, ev.p, self.state, self.zone)
         self.state.commit()
         self._reset_branches()
 
@@ -265,3 +298,28 @@ class DieContact:
         """Cut-back: discard the trial ``p_hist``."""
         self.state.rollback()
         self._reset_branches()
+
+
+def contact_fraction(law, p, state, zone=None):
+    """Each node's contact fraction at ``p`` (Eq. F5 with its trial ``alpha_f``; 0 if open).
+
+    ``tau / tau_max`` of its law's shear limit after the committed ``p_hist`` (and the trial
+    flattened fraction of a flattening run): the SBMF law's ``alpha``; for the other laws the
+    ratio of the limit to the cap where they have one, else 0. On a zoned die each node's zone.
+    """
+    from frictionlaw.flattening import flattened_alpha, flattening_pressure
+
+    one = law.law.laws if hasattr(law, "zone_at") else (law,)
+    out = np.zeros(p.shape)
+    ph = state.committed_array()
+    af = state.alpha_f_trial
+    for i, w in enumerate(one):
+        here = p > 0
+        if zone is not None and hasattr(law, "zone_at"):
+            here &= zone == i
+        P = getattr(w, "params", None)
+        if P is None or not here.any():
+            continue
+        pf = flattening_pressure(af[here], P) if P.flattening is not None else 0.0 * af[here]
+        out[here] = flattened_alpha(p[here], ph[here], pf, P)
+    return out

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from .contact import DieContact, nodal_areas
+from .contact import DieContact, nodal_areas, surface_projection
 from .element import (
     Assembler,
     check_kernels,
@@ -144,9 +144,12 @@ class FormingModel:
         (so that Tresca's ``k`` can follow the current flow stress); ``None`` for
         frictionless dies.
     options : SolverOptions
+    flattening : bool
+        Pass each die node's bulk plastic strain increment and flow stress to the law (its
+        flattening block, issue 43; :class:`~fe_demo.solver.contact.DieContact`).
     """
 
-    def __init__(self, axi, material=DC04, law_factory=None, options=None):
+    def __init__(self, axi, material=DC04, law_factory=None, options=None, flattening=False):
         self.axi = axi
         self.mat = material
         self.opt = options or SolverOptions()
@@ -172,7 +175,7 @@ class FormingModel:
         h_min = float(np.sqrt((kin.dV / (2 * np.pi * np.maximum(kin.r, 1e-30))).sum(1).min()))
         eps = self.opt.penalty_factor * material.E / h_min
         self.f_floor = 1e-3 * material.sigma_y0 * np.pi * float(self.x[:, 0].max()) ** 2
-        self.contact = DieContact(axi.contact_nodes, None, eps, eps)
+        self.contact = DieContact(axi.contact_nodes, None, eps, eps, flattening)
         self.du_last = None
         self.dz_last = None
         self.accepted = None
@@ -237,7 +240,9 @@ class FormingModel:
         R = self.asm.vector(internal_force(kin1, sig, kern))
         ref = float(_norm(R[self.free]))
         nodes = self.contact.nodes
-        ev = self.contact.evaluate(x1[nodes, 1], z_die, du[2 * nodes], area, self.x[nodes, 0])
+        ev = self.contact.evaluate(
+            x1[nodes, 1], z_die, du[2 * nodes], area, self.x[nodes, 0], **self._bulk(kin1, ep)
+        )
         R[2 * nodes + 1] += ev.fz
         R[2 * nodes] += ev.fr
         R[~self.free] = 0.0
@@ -248,6 +253,25 @@ class FormingModel:
         trial.kin = kin1
         trial.D = D
         return trial, R
+
+    def _bulk(self, kin, ep):
+        """``d_eps``, ``sigma_y`` at the die nodes for a flattening run (else ``{}``).
+
+        The increment's equivalent plastic strain (trial ``ep`` less the committed) and the
+        flow stress at the trial strain, each carried from the Gauss points of the node's
+        elements by :func:`~fe_demo.solver.contact.surface_projection`.
+        """
+        if not self.contact.flattening:
+            return {}
+        nodes = self.contact.nodes
+        d_eps = surface_projection(self.t, kin.N, kin.dV, ep - self.eps_p, nodes)
+        eps = surface_projection(self.t, kin.N, kin.dV, ep, nodes)
+        return {"d_eps": np.maximum(d_eps, 0.0), "sigma_y": self.mat.flow_stress(eps)}
+
+    def surface_plastic_strain(self):
+        """Equivalent plastic strain at the die nodes (accepted state), projected as :meth:`_bulk`."""
+        kin = kinematics(self.x, self.t)
+        return surface_projection(self.t, kin.N, kin.dV, self.eps_p, self.contact.nodes)
 
     def _tangent(self, trial):
         """Global tangent at ``trial``: material part plus the contact terms."""
@@ -331,6 +355,11 @@ class FormingModel:
             trial, R = best
             du = trial.du
             if trial.norm <= self.opt.rtol * trial.ref:
+                if cand is not best and self.contact.flattening:
+                    # the state's trial alpha_f is the last evaluation's: evaluate the accepted
+                    # candidate again (p_hist's trial has the same lag without flattening, where
+                    # it is left as it was: max(p_hist, p) of a neighbouring line-search step)
+                    trial, R = self._evaluate(du, z_die, area)
                 return trial, it, "converged"
         return (
             None,

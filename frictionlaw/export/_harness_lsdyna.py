@@ -53,12 +53,29 @@ class UsrfrcLib(_LsdynaHost):
         self._fn.restype = None
 
     def __call__(
-        self, active, ilbsv, fni, areas, stfk, sfacn3, d, rn, fdat, fxyz, ufhist, *, nosl=1
+        self,
+        active,
+        ilbsv,
+        fni,
+        areas,
+        stfk,
+        sfacn3,
+        d,
+        rn,
+        fdat,
+        fxyz,
+        ufhist,
+        *,
+        nosl=1,
+        ufeps=None,
+        ncycle=1,
     ):
         """``fdat`` (n, 5), ``fxyz`` (n, 3), ``ufhist`` (n_hist, nhv) are updated in place.
 
         ``active``: 0-based indices of the active slave nodes (LS-DYNA's ``iisv5``);
-        ``ilbsv``: 0-based history row of each slave node; ``nosl``: the interface number.
+        ``ilbsv``: 0-based history row of each slave node; ``nosl``: the interface number;
+        ``ufeps``: the element data per history row (n_hist, neps), its column 0 the plastic
+        strain (None: ``NEPS = 1`` of zeros); ``ncycle``: the cycle number.
         """
         dt = self.dtype
         for a in (fdat, fxyz, ufhist):
@@ -70,6 +87,7 @@ class UsrfrcLib(_LsdynaHost):
         ilb = np.ascontiguousarray(np.asarray(ilbsv) + 1, dtype=np.int32)
         ins = [_host(v, dt) for v in (fni, areas, stfk, [sfacn3], d, rn)]
         nua, ua = self._props(dt)
+        eps = np.zeros((ufhist.shape[0], 1), dt) if ufeps is None else _host(ufeps, dt)
         self._fn(
             ctypes.c_int(n),
             ctypes.c_int(iact.size),
@@ -83,6 +101,9 @@ class UsrfrcLib(_LsdynaHost):
             _ptr(fxyz),
             _ptr(ufhist),
             ctypes.c_int(nosl),
+            ctypes.c_int(eps.shape[1] if eps.ndim == 2 else 1),
+            _ptr(np.ascontiguousarray(eps)),
+            ctypes.c_int(ncycle),
         )
 
 
@@ -97,10 +118,11 @@ class UsrfrcMppLib(_LsdynaHost):
         self._fn = lib.h_usrfrc_mpp
         self._fn.restype = None
 
-    def __call__(self, prs, uh, *, nosl=1):
+    def __call__(self, prs, uh, *, nosl=1, ue=None, ncycle=1):
         """``uh`` (n, nh) of the host REAL is updated in place; returns (n, 2) (``FSTT, FDYN``).
 
-        ``nosl``: the interface number every call passes.
+        ``nosl``: the interface number every call passes; ``ue``: the element data per node
+        (n, ne), its column 0 the plastic strain (None: ``NE = 0``); ``ncycle``: the cycle.
         """
         dt = self.dtype
         if not (uh.flags.c_contiguous and uh.dtype == dt):
@@ -109,6 +131,7 @@ class UsrfrcMppLib(_LsdynaHost):
         n, nh = uh.shape
         mu = np.empty((n, 2), dt)
         nuc, uc = self._props(dt)
+        ue_ = np.zeros((n, 1), dt) if ue is None else np.ascontiguousarray(_host(ue, dt))
         self._fn(
             ctypes.c_int(n),
             ctypes.c_int(nh),
@@ -118,6 +141,9 @@ class UsrfrcMppLib(_LsdynaHost):
             _ptr(uh),
             _ptr(mu),
             ctypes.c_int(nosl),
+            ctypes.c_int(0 if ue is None else ue_.shape[1]),
+            _ptr(ue_),
+            ctypes.c_int(ncycle),
         )
         return mu
 

@@ -17,6 +17,7 @@ from sbmf_cli import ParameterError
 
 from .. import __version__
 from .._codes import FIRST_EQ24, FIRST_TABULATED, Q_START
+from ._flat import FlatSpec, flat_spec
 from ._origin import m_origin
 
 __all__ = [
@@ -410,6 +411,8 @@ class CoreLaw:
         ``ln H`` in the host's unit, as the runtime's ``log(H)`` gives it.
     guard : GuardSpec
         What the routine checks for this law (its ``100 H``, its ``p_max``).
+    flat : FlatSpec or None
+        The flattening block (``core/sbmf_flat.f``, issue 43); None without one.
     """
 
     prefix: str
@@ -420,6 +423,7 @@ class CoreLaw:
     kt: StiffnessSpec
     ln_h: float
     guard: GuardSpec
+    flat: "FlatSpec | None" = None
 
 
 def core_law(params, units, kt, prefix="SBMF_"):
@@ -434,6 +438,7 @@ def core_law(params, units, kt, prefix="SBMF_"):
         kt,
         math.log(law["H"]),
         guard_spec(params, units),
+        flat_spec(params, units),
     )
 
 
@@ -474,6 +479,7 @@ def core_context(params, units, kt):
         "kt": kt,
         "ln_h": one.ln_h,
         "guard": one.guard,
+        "flat": one.flat,
         **shared_constants(),
     }
 

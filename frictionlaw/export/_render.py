@@ -105,11 +105,28 @@ def _check_exportable(params, path):
                 f"(FrictionParams.replace({form.branch}_form={other!r}) keeps the calibration's "
                 "table in the file) and export that"
             )
-    if params.flattening is not None:
+
+
+def _check_flattening(record, laws, zones):
+    """``ValueError`` where a file's flattening block (issue 43) would be lost without a word.
+
+    Every routine target carries it (running it, or saying once that its host passes no bulk
+    strain); a table (a law of the pressure alone) and a zoned routine (not yet) do not.
+    """
+    flat = [law for law in laws if law.params.flattening is not None]
+    if not flat:
+        return
+    path = flat[0].path
+    if not isinstance(record.form, _targets.Routine):
         raise ValueError(
-            f"{path}: the file carries a flattening block (issue 43) and no host routine "
-            "evaluates flattening under bulk strain yet: an export would run the law without it; "
-            "export a calibration without a flattening block"
+            f"{path}: the file carries a flattening block (issue 43): {record.name} writes a "
+            "table of the pressure alone, which cannot carry it; export a routine target, or "
+            "a calibration without the block"
+        )
+    if zones:
+        raise ValueError(
+            f"{path}: the file carries a flattening block (issue 43): zoned routines do not "
+            "carry it yet; export the zone's law alone, or a calibration without the block"
         )
 
 
@@ -174,6 +191,7 @@ def plan(
     laws, table = plan_laws(
         params_path, zones, key, us, k_t, accept_failed=accept_failed, check=_check_exportable
     )
+    _check_flattening(record, laws, zones)
     params, sha = laws[0].params, laws[0].sha
     if table is None:
         kt, ftable = record.form.decide(params, us, k_t, table_tol)
@@ -224,6 +242,8 @@ def texts(job, *, guards=True):
     if "guard_text" in context:
         if isinstance(t.form, _targets.Routine) and t.form.status:
             context["guard_text"][8] = VERSION_MESSAGE
+        if context.get("flat") is not None:  # kind 9: the law runs without its flattening
+            context["guard_text"][9] = ("SBMF friction: " + t.form.no_strain, None)
         context["guard_kinds"] = max(*context["guard_text"], 7 if job.zones else 6)
     text = comment_block(job.header, t.style.comment, t.style.columns)
     text += render_template(t.template, **context)

@@ -121,6 +121,14 @@ class Routine:
         (``--zone-by`` chooses another); empty: the target takes no zones.
     zone_refusal : str
         Why the target takes no zones (the message of a zoned export it refuses).
+    bulk_strain : str
+        How the host gives the routine the bulk plastic strain under a contact point, which a
+        parameter file's flattening block reads (issue 43; the README says it); empty: it
+        gives none.
+    no_strain : str
+        The warning (the guards' kind 9, once per process) of a routine whose law has a
+        flattening block but whose host, or deck, gives it no bulk strain: the law then runs
+        without flattening.
     """
 
     stick: str
@@ -132,6 +140,8 @@ class Routine:
     implicit: bool = False
     zone_keys: tuple = ()
     zone_refusal: str = "takes no zones"
+    bulk_strain: str = ""
+    no_strain: str = ""
     #: the README's frame (it includes ``stick``, the target's section and ``tested``)
     frame: ClassVar[str] = "readme/routine.md"
     #: ``--k-t`` applies
@@ -305,6 +315,13 @@ _CALCULIX_KEYS = (
 )
 
 # -- the targets -------------------------------------------------------------------------------
+_NOT_RUN = "the parameter file's flattening block (issue 43) is not run: "
+_WITHOUT = ": the law runs without flattening under bulk strain (written once per process)"
+_ABAQUS_NO_STRAIN = (
+    "{routine} receives no plastic strain of the underlying element (its arguments carry "
+    "the contact point's pressure, slip, temperature and predefined fields; GETVRM, which "
+    "reads material points, is callable from USDFLD and UVARM only)"
+)
 _CHRLNGTH = "abaqus/stick_chrlngth.md"
 _STICK_FORCE = "abaqus/stick_force.md"
 _KHOST = "neutral/stick_khost.md"
@@ -316,7 +333,12 @@ for _record in (
         "sbmf_fric.f",
         "abaqus/fric.f",
         "abaqus/fric.md",
-        Routine(stick=_CHRLNGTH, implicit=True, zone_keys=_FRIC_KEYS),
+        Routine(
+            stick=_CHRLNGTH,
+            implicit=True,
+            zone_keys=_FRIC_KEYS,
+            no_strain=_NOT_RUN + _ABAQUS_NO_STRAIN.format(routine="FRIC") + _WITHOUT,
+        ),
         harness=FRIC,
     ),
     Target(
@@ -330,6 +352,7 @@ for _record in (
             state_name="DEPVAR (nStateVar)",
             units_input=("props(1)", "the data line of *FRICTION, USER=VFRIC, PROPERTIES=1"),
             zone_keys=_EXPLICIT_KEYS,
+            no_strain=_NOT_RUN + _ABAQUS_NO_STRAIN.format(routine="VFRIC") + _WITHOUT,
         ),
         harness=VFRIC,
     ),
@@ -345,6 +368,7 @@ for _record in (
             state_name="DEPVAR (nStates)",
             units_input=("props(1)", "the data line of *FRICTION, USER=VFRICTION, PROPERTIES=1"),
             zone_keys=_EXPLICIT_KEYS,
+            no_strain=_NOT_RUN + _ABAQUS_NO_STRAIN.format(routine="VFRICTION") + _WITHOUT,
         ),
         harness=VFRICTION,
     ),
@@ -360,6 +384,13 @@ for _record in (
             state_name="NHV (user friction history variables)",
             units_input=("UA(1)", "the first user parameter of *USER_INTERFACE_FRICTION"),
             zone_keys=_LSDYNA_KEYS,
+            bulk_strain="UFEPS(1, ILBSV(II)), the plastic strain of the slave node's element "
+            "that LS-DYNA passes (NEPS >= 1); its increment between consecutive cycles in "
+            "contact, UFHIST(5..7, .) holding the flattened fraction, the plastic strain and "
+            "the cycle of the last call (NHV >= 7)",
+            no_strain=_NOT_RUN + "the deck gives no element plastic strain (NEPS = 0) or too "
+            "few history variables (NHV < 7; 5-7 hold the flattened fraction, the plastic "
+            "strain and the cycle of the last call)" + _WITHOUT,
         ),
         harness=USRFRC,
     ),
@@ -375,6 +406,13 @@ for _record in (
             state_name="NH (user friction history variables)",
             units_input=("UC(1)", "the first user parameter of *USER_INTERFACE_FRICTION"),
             zone_keys=_LSDYNA_KEYS,
+            bulk_strain="UE(1), the plastic strain of the slave node's element that LS-DYNA "
+            "passes (NE >= 1; LSTC's sample: not for SOFT = 4); its increment between "
+            "consecutive cycles in contact, UH(5..7) holding the flattened fraction, the "
+            "plastic strain and the cycle of the last call (NH >= 7)",
+            no_strain=_NOT_RUN + "the deck gives no element plastic strain (NE = 0) or too "
+            "few history variables (NH < 7; 5-7 hold the flattened fraction, the plastic "
+            "strain and the cycle of the last call)" + _WITHOUT,
         ),
         harness=USRFRC_MPP,
     ),
@@ -391,6 +429,11 @@ for _record in (
             units_input=("IUNIT", "SBMF_FRICTION's argument, from the deck's user parameters"),
             status=True,
             zone_keys=_NEUTRAL_KEYS,
+            bulk_strain="DEPS and SIGY, the arguments of SBMF_FRICTION_V (the caller's bulk "
+            "plastic strain increment and flow stress under the point), STATE(5) the "
+            "flattened fraction (NSTATE >= 5)",
+            no_strain=_NOT_RUN + "NSTATE < 5 leaves no state slot for the flattened fraction "
+            "(STATE(5))" + _WITHOUT + " (IERR = 9)",
         ),
         harness=SBMF_FRICTION,
     ),
@@ -409,6 +452,11 @@ for _record in (
             zone_refusal="takes no zones: the argument list of ANSYS' userfric is not public, so "
             "which name of the contact the host could pass is not known (docs/fe_codes.md, "
             "ANSYS); export one routine per parameter file",
+            bulk_strain="DEPS and SIGY, the arguments of SBMF_FRICTION_V (the caller's bulk "
+            "plastic strain increment and flow stress under the point), STATE(5) the "
+            "flattened fraction (NSTATE >= 5)",
+            no_strain=_NOT_RUN + "NSTATE < 5 leaves no state slot for the flattened fraction "
+            "(STATE(5))" + _WITHOUT + " (IERR = 9)",
         ),
         harness=SBMF_FRICTION,
     ),
@@ -428,6 +476,8 @@ for _record in (
             ),
             implicit=True,
             zone_keys=_CALCULIX_KEYS,
+            no_strain=_NOT_RUN + "the patched ccx passes FRIC no plastic strain of the slave "
+            "element (FRIC's Abaqus argument list has none to carry it)" + _WITHOUT,
         ),
         extras=(
             Extra("ABA_PARAM.INC", "abaqus/ABA_PARAM.INC"),

@@ -239,6 +239,7 @@ def zoned_context(table):
         "kt": first.kt,
         "ln_h": first.ln_h,
         "guard": first.guard,
+        "flat": None,  # a zoned export of a flattening block is refused (_render.plan)
         **shared_constants(),
     }
 

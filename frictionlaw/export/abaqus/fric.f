@@ -78,6 +78,11 @@ C     guards: the deck's state variables and unit system
         CALL SBMF_GUARD(3, PROPS(1))
         RETURN
       END IF
+{% if flat %}
+C     the flattening block: no bulk strain reaches FRIC (a warning,
+C     once per process; the law runs without it)
+      CALL SBMF_GUARD(9, 0.0D0)
+{% endif %}
 {% endif %}
 {% if zones %}
 {% call pick("SBMF_ZONE(" ~ zones.key.argument ~ ")", zones.key.argument) %}

@@ -9,8 +9,9 @@ C=======================================================================
 C     The guards' way to {{ host.name }}: {{ host.message_routine }}
 C     writes the message; an error (every KIND but 5) is written with
 C     LOP = -3 and ends the analysis ({{ host.exit_routine }} after it,
-C     should the host return); the warning (KIND 5) with LOP = -1,
-C     once per process.
+C     should the host return); the warnings (KIND 5, and 9: the law
+C     runs without its flattening block) with LOP = -1, once per
+C     process.
 {% if zones %}
 C     Zones: KIND + 10 i for law i.
 {% endif %}
@@ -26,7 +27,7 @@ C=======================================================================
       INTV(1) = KIND
       REALV(1) = XV
       CHARV(1) = 'SBMF'
-      IF (MOD(KIND, 10) .EQ. 5) THEN
+      IF (MOD(KIND, 10) .EQ. 5 .OR. KIND .EQ. 9) THEN
         IF (SBMF_ONCE(KIND) .EQ. 0) RETURN
         CALL SBMF_MESSAGE(KIND, XV, MSG, NMSG)
         CALL {{ host.message_routine }}(-1, MSG(1:NMSG), INTV, REALV,

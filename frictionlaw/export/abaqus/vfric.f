@@ -74,6 +74,11 @@ C     guards: the deck's state variables and unit system
         call SBMF_GUARD(3, dble(props(1)))
         return
       end if
+{% if flat %}
+C     the flattening block: no bulk strain reaches this routine (a
+C     warning, once per process; the law runs without it)
+      call SBMF_GUARD(9, 0.0d0)
+{% endif %}
 {% endif %}
 {% if zones %}
 {% call pick("SBMF_ZONE(" ~ zones.key.argument ~ ")", zones.key.argument) %}

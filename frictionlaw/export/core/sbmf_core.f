@@ -151,7 +151,7 @@ C
 {{ libm("log1p") }}
 C
 {% for L in laws %}
-{% with zp=L.prefix, law=L.law, continuous=L.continuous, first=L.first, reload=L.reload, kt=L.kt, ln_h=L.ln_h %}
+{% with zp=L.prefix, law=L.law, continuous=L.continuous, first=L.first, reload=L.reload, kt=L.kt, ln_h=L.ln_h, flat=L.flat %}
 {% include "core/sbmf_law.f" %}
 {% endwith %}
 {% endfor %}

@@ -5,8 +5,9 @@
   branch selection and the stick stiffness, each routine named with the law's prefix zp
   (SBMF_ for an export's one law: SBMF_FIRST, SBMF_RELOAD, SBMF_SHEAR, SBMF_KT; SZ01_, SZ02_,
   ... for the laws of a zoned export, which core/sbmf_zones.f chooses from). Context (the law's
-  CoreLaw, frictionlaw.export._law): zp, law, continuous, first, reload, kt, ln_h; and the
-  shared ln_small, ln_sat, ln_d_max, ln_q_start.
+  CoreLaw, frictionlaw.export._law): zp, law, continuous, first, reload, kt, ln_h, flat (the
+  flattening block's FlatSpec: core/sbmf_flat.f follows; None without one); and the shared
+  ln_small, ln_sat, ln_d_max, ln_q_start.
 #}
 {% if first %}
 {% include first.template %}
@@ -236,4 +237,7 @@ C=======================================================================
       RETURN
       END
 C
+{% endif %}
+{% if flat %}
+{% include "core/sbmf_flat.f" %}
 {% endif %}

@@ -11,7 +11,8 @@ C     per process (MPP: per rank) to the terminal, d3hsp and messag
 C     (the units of LS-DYNA's iounits.inc, as LSTC's sample routines
 C     in dyn21.f write theirs). LS-DYNA documents no error exit for
 C     user routines: after an error (KIND 1-4) the caller applies no
-C     friction (the law is refused); KIND 5 is a warning.
+C     friction (the law is refused); KIND 5 is a warning, and so is 9
+C     (the law runs without its flattening block).
 {% if zones %}
 C     Zones: KIND + 10 i for law i.
 {% endif %}
@@ -30,7 +31,7 @@ C=======================================================================
         IU = IOTTY
         IF (J .EQ. 2) IU = IOHSP
         IF (J .EQ. 3) IU = IOMSG
-        IF (MOD(KIND, 10) .EQ. 5) THEN
+        IF (MOD(KIND, 10) .EQ. 5 .OR. KIND .EQ. 9) THEN
           WRITE (IU, '(A, A)') ' *** Warning: ', MSG(1:NMSG)
         ELSE
           WRITE (IU, '(A, A)') ' *** Error: ', MSG(1:NMSG)

@@ -15,6 +15,14 @@ C     exported for, p <= 100 H, else FSTT = FDYN = 0 (no friction,
 C     history unchanged) with one message per process (terminal,
 C     d3hsp, messag: iounits.inc); p beyond the calibrated range: one
 C     warning per process.
+{% if flat %}
+C     Flattening under bulk strain (the file's flattening block): the
+C     slave node's element plastic strain UE(1) (NE >= 1), its
+C     increment since the last cycle in contact, UH(5) = the flattened
+C     contact fraction, UH(6) = the plastic strain and UH(7) =
+C     MOD(cycle, 2**20) + 1 of the last call in contact (NH >= 7).
+C     Without them the law runs without flattening, said once.
+{% endif %}
 {% if zones %}
 C     Zones: the law of the interface number NOSL ({{ zones.laws | length }} laws);
 C     {% if zones.default %}an interface no zone gives runs the default law{% else %}an interface no zone gives: no friction on it and one
@@ -41,6 +49,10 @@ C
       DOUBLE PRECISION P, PH, PHNEW, G1H, G1NEW, TLIM, DTAU, XMU, HR
       REAL RPH
       LOGICAL USECAC
+{% if flat %}
+      DOUBLE PRECISION AF, ANEW, DEPS
+      REAL RA
+{% endif %}
 {% if zones %}
       CHARACTER*12 ZNAME
       INTEGER SBMF_ZONEN
@@ -84,6 +96,28 @@ C     guards: a failed one refuses the law (no friction, no history)
         IF (DBLE(UH(4)) .EQ. DBLE(IZ)) G1H = DBLE(UH(2))
       END IF
       CALL SBMF_ZSHEAR(IZ, P, PH, G1H, TLIM, DTAU, G1NEW)
+{% elif flat %}
+      IF (USECAC) G1H = DBLE(UH(2))
+      IF (NE .GE. 1 .AND. NH .GE. 7) THEN
+        AF = MIN(MAX(DBLE(UH(5)), 0.0D0), 1.0D0)
+C       the strain since the last cycle, if the point was in contact
+C       then (else it starts counting now)
+        DEPS = 0.0D0
+        IF (NINT(UH(7)) .EQ. MOD(NCYCLE - 1, 1048576) + 1)
+     &    DEPS = MAX(DBLE(UE(1)) - DBLE(UH(6)), 0.0D0)
+        CALL SBMF_FSHR(P, PH, AF, DEPS, 0.0D0, G1H, TLIM, DTAU, G1NEW,
+     &                 ANEW)
+        RA = REAL(ANEW)
+        IF (DBLE(RA) .GT. ANEW) RA = NEAREST(RA, -1.0)
+        UH(5) = RA
+        UH(6) = UE(1)
+        UH(7) = REAL(MOD(NCYCLE, 1048576) + 1)
+      ELSE
+{% if guards %}
+        CALL SBMF_GUARD(9, 0.0D0)
+{% endif %}
+        CALL SBMF_SHEAR(P, PH, G1H, TLIM, DTAU, G1NEW)
+      END IF
 {% else %}
       IF (USECAC) G1H = DBLE(UH(2))
       CALL SBMF_SHEAR(P, PH, G1H, TLIM, DTAU, G1NEW)

@@ -26,6 +26,15 @@ C     the unit system this routine was exported for, else no friction
 C     at any node; p > 100 H: no friction at that node; each with one
 C     message per process (terminal, d3hsp, messag: iounits.inc).
 C     p beyond the calibrated range: one warning per process.
+{% if flat %}
+C     Flattening under bulk strain (the file's flattening block): the
+C     slave node's element plastic strain UFEPS(1, ILBSV(II)) (NEPS >=
+C     1), its increment since the last cycle in contact, UFHIST(5, .)
+C     = the flattened contact fraction, UFHIST(6, .) = the plastic
+C     strain and UFHIST(7, .) = MOD(cycle, 2**20) + 1 of the last call
+C     in contact (NHV >= 7). Without them the law runs without
+C     flattening and says so once (a warning).
+{% endif %}
 {% if zones %}
 C     Zones: the law of the interface number NOSL ({{ zones.laws | length }} laws);
 C     {% if zones.default %}an interface no zone gives runs the default law{% else %}an interface no zone gives: no friction on it and one
@@ -50,7 +59,7 @@ C=======================================================================
       REAL XX3(*), STFN(*), STF(*), FNI(*), DX(*), DY(*), DZ(*), UA(*)
       REAL RN1(*), RN2(*), RN3(*), FDAT(5,*), FXIS(*), FYIS(*)
       REAL FZIS(*), SS(*), TT(*), STFK(*), FRC(2,*), PLD(2,*), TEMP(*)
-      REAL TEMP_BOT(*), TEMP_TOP(*), UFHIST(NHV,*), UFEPS(*)
+      REAL TEMP_BOT(*), TEMP_TOP(*), UFHIST(NHV,*), UFEPS(NEPS,*)
       CHARACTER*(*) SIDE
 C
       INTEGER KK, II, IH, A, ISTAT
@@ -59,6 +68,11 @@ C
       DOUBLE PRECISION TOLD(3), TNEW(3), DTDDU(3,3), DTDP(3)
       REAL RPH
       LOGICAL USECAC, REFUSE
+{% if flat %}
+      DOUBLE PRECISION AF, ANEW, DEPS
+      REAL RA
+      LOGICAL FLATOK
+{% endif %}
 {% if zones %}
       CHARACTER*12 ZNAME
       DOUBLE PRECISION SBMF_ZKT
@@ -95,6 +109,14 @@ C     one refuses the law (no friction at any node, history unchanged)
         IZ = 1
 {% endcall %}
       USECAC = USECAC .AND. (NHV .GE. 4)
+{% endif %}
+{% if flat %}
+C     the flattening needs the element plastic strain and 3 more
+C     history variables: without them the law without it, said once
+      FLATOK = NEPS .GE. 1 .AND. NHV .GE. 7
+{% if guards %}
+      IF (.NOT. (FLATOK .OR. REFUSE)) CALL SBMF_GUARD(9, 0.0D0)
+{% endif %}
 {% endif %}
       DO KK = 1, NIISV5
         II = IISV5(KK)
@@ -166,6 +188,19 @@ C       a calibrated k_t (table or --k-t) replaces the penalty's
         END DO
 {% if zones %}
         CALL SBMF_ZSHEAR(IZ, P, PH, G1H, TLIM, DTAU, G1NEW)
+{% elif flat %}
+        IF (FLATOK) THEN
+          AF = MIN(MAX(DBLE(UFHIST(5, IH)), 0.0D0), 1.0D0)
+C         the strain since the last cycle, if the point was in contact
+C         then (else it starts counting now)
+          DEPS = 0.0D0
+          IF (NINT(UFHIST(7, IH)) .EQ. MOD(NCYCLE - 1, 1048576) + 1)
+     &      DEPS = MAX(DBLE(UFEPS(1, IH)) - DBLE(UFHIST(6, IH)), 0.0D0)
+          CALL SBMF_FSHR(P, PH, AF, DEPS, 0.0D0, G1H, TLIM, DTAU,
+     &                   G1NEW, ANEW)
+        ELSE
+          CALL SBMF_SHEAR(P, PH, G1H, TLIM, DTAU, G1NEW)
+        END IF
 {% else %}
         CALL SBMF_SHEAR(P, PH, G1H, TLIM, DTAU, G1NEW)
 {% endif %}
@@ -194,6 +229,16 @@ C         stored rounded down: a constant pressure stays on Eq. 24
           UFHIST(2, IH) = 0.0
         END IF
         IF (NHV .GE. 3) UFHIST(3, IH) = REAL(ISTAT)
+{% if flat %}
+        IF (FLATOK) THEN
+C         stored rounded down (the fraction never falls), as p_hist
+          RA = REAL(ANEW)
+          IF (DBLE(RA) .GT. ANEW) RA = NEAREST(RA, -1.0)
+          UFHIST(5, IH) = RA
+          UFHIST(6, IH) = UFEPS(1, IH)
+          UFHIST(7, IH) = REAL(MOD(NCYCLE, 1048576) + 1)
+        END IF
+{% endif %}
       END DO
       RETURN
       END

@@ -19,17 +19,26 @@ C          2 mm-t-s (MPa, mm); 0: the deck states none),
 C          DEPS (the point's bulk plastic strain increment of the
 C          increment, >= 0) and SIGY (its current flow stress, host
 C          stress unit; <= 0: the parameter file's sigma_y): the
-C          flattening of the asperities under bulk strain (issue 43)
-C          reads them where the law has a flattening block; no law
-C          this routine carries has one, so they are accepted and not
-C          used,
+C          flattening of the asperities under bulk strain (issue 43),
+{% if flat %}
+C          read by this law's flattening block (the trial fraction
+C          goes to STATE(5)),
+{% else %}
+C          read where the law has a flattening block (this one has
+C          none: accepted and not used),
+{% endif %}
 C          NSTATE (the caller's state count: SBMF_NSTATE() gives every
 C          slot, at least 1),
 C          STATE(NSTATE): the committed state (as at the start of the
 C          increment): 1 p_hist, 2 cache -ln alpha1(p_hist) (<= 0:
 C          recompute), 3 status of the last call, 4 the law (zone
-C          number) that wrote the cache, 5 the flattening state
-C          (reserved: kept as passed until a law flattens).
+C          number) that wrote the cache, 5 the flattened contact
+{% if flat %}
+C          fraction alpha_f (0: never flattened; read and written).
+{% else %}
+C          fraction alpha_f (0: never flattened; kept as passed: this
+C          law has no flattening block).
+{% endif %}
 C     Out: STATE: the trial state, which the caller stores only when
 C          the host accepts (converges) the increment; TNEW(ND),
 C          DTDDU(ND,ND), DTDP(ND), ISTAT (0 open, 1 stick, 2 slip).
@@ -42,7 +51,10 @@ C          routine's), -4 P > 100 H (the same for an explicit caller;
 C          an implicit caller, whose P may be a Newton iterate, should
 C          take a smaller substep instead), -7 a ZONE no law covers,
 C          -8 another IVERS; 5 a warning: the first P beyond the
-C          calibrated range in this process (once per process).
+C          calibrated range in this process (once per process); 9 a
+C          warning: the law has a flattening block and NSTATE < 5
+C          leaves no slot for its state, so it runs without
+C          flattening (once per process).
 {% if zones %}
 C          In this zoned routine the codes of -4, 5 and -6 carry the
 C          zone's law i as -(4 + 10 i), 5 + 10 i, -(6 + 10 i):
@@ -63,6 +75,9 @@ C=======================================================================
       DOUBLE PRECISION P, DU(ND), TOLD(ND), KHOST, DEPS, SIGY
       DOUBLE PRECISION STATE(NSTATE), TNEW(ND), DTDDU(ND, ND), DTDP(ND)
       DOUBLE PRECISION PH, G1H, G1NEW, TLIM, DTAU, XKT
+{% if flat %}
+      DOUBLE PRECISION AF, ANEW
+{% endif %}
       INTEGER SBMF_ONCE
 {% if zones %}
       DOUBLE PRECISION SBMF_ZKT
@@ -80,8 +95,10 @@ C=======================================================================
         IERR = -8
         RETURN
       END IF
+{% if not flat %}
 C     DEPS, SIGY: read by a law with a flattening block (none here)
       IF (DEPS .LT. 0.0D0 .AND. SIGY .LT. 0.0D0) CONTINUE
+{% endif %}
 {% if zones %}
       IZ = SBMF_ZONE(ZONE)
       IF (IZ .LT. 1) THEN
@@ -128,6 +145,20 @@ C     guards: the stated unit system, the pressure (the caller reports)
 {% if zones %}
       CALL SBMF_ZSHEAR(IZ, P, PH, G1H, TLIM, DTAU, G1NEW)
       XKT = SBMF_ZKT(IZ, P, KHOST)
+{% elif flat %}
+      IF (NSTATE .GE. 5) THEN
+        AF = STATE(5)
+        CALL SBMF_FSHR(P, PH, AF, DEPS, SIGY, G1H, TLIM, DTAU, G1NEW,
+     &                 ANEW)
+        STATE(5) = ANEW
+      ELSE
+C       no slot for the flattened fraction: the law without flattening
+        IF (DEPS .GT. 0.0D0 .AND. IERR .EQ. 0) THEN
+          IF (SBMF_ONCE(9) .EQ. 1) IERR = 9
+        END IF
+        CALL SBMF_SHEAR(P, PH, G1H, TLIM, DTAU, G1NEW)
+      END IF
+      XKT = SBMF_KT(P, KHOST)
 {% else %}
       CALL SBMF_SHEAR(P, PH, G1H, TLIM, DTAU, G1NEW)
       XKT = SBMF_KT(P, KHOST)

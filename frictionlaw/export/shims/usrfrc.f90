@@ -1,17 +1,18 @@
 subroutine h_usrfrc(n, nact, nhv, nua, ua_in, iact, ilb, fni, areas, stfk, sfac, d, rn, fdat, &
-                    fxyz, ufhist, nosl_in) bind(c, name='h_usrfrc')
+                    fxyz, ufhist, nosl_in, neps_in, ufeps_in, ncycle_in) bind(c, name='h_usrfrc')
   use iso_c_binding
   implicit none
-  integer(c_int), value :: n, nact, nhv, nua, nosl_in
+  integer(c_int), value :: n, nact, nhv, nua, nosl_in, neps_in, ncycle_in
   real, intent(in) :: ua_in(max(nua, 1))
   integer(c_int), intent(in) :: iact(nact), ilb(n)
   real, intent(in) :: fni(n), areas(n), stfk(n), sfac(1), d(3, n), rn(3, n)
   real, intent(inout) :: fdat(5, n), fxyz(3, n), ufhist(max(nhv, 1), n)
+  real, intent(in) :: ufeps_in(max(neps_in, 1), n)
   integer :: iisv5(nact), ilbsv(n), insv(n), lsv(n), iseg(n), ix(n), npc(1), lcf(1), isurf(1)
   integer :: nosl, ncycle, ninput, niisv5, numnp, nhvd, neps, i
   real :: dx(n), dy(n), dz(n), rn1(n), rn2(n), rn3(n), fx(n), fy(n), fz(n), ss(n), tt(n)
   real :: xs(n), aream(n), xx(4 * n), stfn(n), stf(n), ua(max(nua, 1)), frc(2, n), pld(2, 1), temp(1)
-  real :: ufeps(1), time, dt2, fdt2, fric1, fric2, fric3, fric4, bignum, sfacn3
+  real :: ufeps(max(neps_in, 1), n), time, dt2, fdt2, fric1, fric2, fric3, fric4, bignum, sfacn3
   do i = 1, nact
     iisv5(i) = iact(i)
   end do
@@ -33,9 +34,10 @@ subroutine h_usrfrc(n, nact, nhv, nua, ua_in, iact, ilb, fni, areas, stfk, sfac,
     tt(i) = -0.5
   end do
   xs = 0.; aream = 1.; xx = 0.; stfn = 1.; stf = 1.; ua = ua_in; frc = 1.; pld = 0.; temp = 0.
-  ufeps = 0.; time = 0.; dt2 = 1.e-6; fdt2 = 1.e6; fric1 = 0.1; fric2 = 0.1; fric3 = 0.
+  ufeps = ufeps_in; time = 0.; dt2 = 1.e-6; fdt2 = 1.e6; fric1 = 0.1; fric2 = 0.1; fric3 = 0.
   fric4 = 0.; bignum = 0.; npc = 1; lcf = 0; isurf = 0; iseg = 0
-  nosl = nosl_in; ncycle = 1; ninput = nua; niisv5 = nact; numnp = n; nhvd = nhv; neps = 1
+  nosl = nosl_in; ncycle = ncycle_in; ninput = nua; niisv5 = nact; numnp = n; nhvd = nhv
+  neps = neps_in
   sfacn3 = sfac(1)
   call usrfrc(nosl, time, ncycle, dt2, insv, areas, xs, xs, xs, lsv, ix, ix, ix, ix, aream, &
               xx, xx, xx, stfn, stf, fni, dx, dy, dz, fdt2, ninput, ua, 'master', iisv5, &

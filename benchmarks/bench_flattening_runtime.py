@@ -1,0 +1,126 @@
+"""Cost of the flattening under bulk strain in the runtime: the traction update with and without.
+
+The same SBMF law (with a ``flattening`` block), the same nodes (pressures 0.05-0.6 H, half of
+them below a history, 2 slip directions, a HistoryState) and the same output buffers, timed in
+turn in one run, best of ``--repeat`` rounds, serial and parallel kernels. Cases:
+
+- ``without``: ``traction_update`` without ``d_eps`` (today's law, the baseline);
+- ``zero strain``: ``d_eps = 0`` on a virgin surface (the law bit for bit);
+- ``flattened, no strain``: ``d_eps = 0`` on surfaces flattened beyond their pressure;
+- ``strain, virgin``: ``d_eps = 0.002`` (an FE increment's strain) on a virgin surface;
+- ``strain, flattened``: ``d_eps = 0.002`` on flattened surfaces (the steady state of a run).
+
+Ratios are the case's time over the baseline's in the same round, the median over rounds.
+Run: python benchmarks/bench_flattening_runtime.py [--nodes 100000] [--repeat 7]
+Writes benchmarks/results/flattening_runtime.csv and prints a table.
+"""
+
+import argparse
+import csv
+import time
+from pathlib import Path
+
+import numba
+import numpy as np
+from _provenance import run_record
+
+import frictionlaw as fl
+
+H = 800e6
+P = fl.FrictionParams(
+    m=0.7,
+    sigma_y=H / 2.8,
+    H=H,
+    C1=1.05,
+    n1=2.87,
+    C2=7.44,
+    n2=0.575,
+    flattening=fl.Flattening(slope=0.05),
+)
+
+
+def cases(n, rng):
+    p = rng.uniform(0.05, 0.6, n) * H
+    ph = np.where(rng.random(n) < 0.5, p * rng.uniform(1.0, 1.5, n), 0.0)
+    law = fl.SBMFLaw(P)
+    # flattened surfaces: the state after 0.05 of strain at the node's pressure
+    s = fl.HistoryState(p_hist=ph)
+    fl.traction_update(law, p, np.ones(n), np.zeros(n), 1e20, s, d_eps=0.05)
+    a_flat = s.alpha_f_trial.copy()
+    zero = np.zeros(n)
+    inc = np.full(n, 0.002)
+    return (
+        p,
+        ph,
+        {
+            "without": (None, zero),
+            "zero strain": (zero, zero),
+            "flattened, no strain": (zero, a_flat),
+            "strain, virgin": (inc, zero),
+            "strain, flattened": (inc, a_flat),
+        },
+    )
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--nodes", type=int, default=100_000)
+    ap.add_argument("--repeat", type=int, default=7)
+    ap.add_argument(
+        "--out", default=str(Path(__file__).parent / "results" / "flattening_runtime.csv")
+    )
+    args = ap.parse_args(argv)
+    rng = np.random.default_rng(0)
+    n = args.nodes
+    p, ph, runs = cases(n, rng)
+    law = fl.SBMFLaw(P)
+    du = rng.normal(size=(n, 2)) * 1e-6
+    t_old = rng.normal(size=(n, 2)) * 3e7
+    kt = np.full(n, 1e13)
+    out = fl.traction_update(law, p, du, t_old, kt)
+    rows = []
+    print(f"threads: numba {numba.get_num_threads()}; {n} nodes, best of {args.repeat}")
+    for parallel in (False, True):
+        states = {k: fl.HistoryState(p_hist=ph, alpha_f=a) for k, (_, a) in runs.items()}
+
+        def call(key, parallel=parallel, states=states):
+            d_eps = runs[key][0]
+            t0 = time.perf_counter()
+            fl.traction_update(
+                law, p, du, t_old, kt, states[key], parallel=parallel, out=out, d_eps=d_eps
+            )
+            return time.perf_counter() - t0
+
+        for key in runs:  # warm-up (JIT)
+            call(key)
+        times = {k: [] for k in runs}
+        for _ in range(args.repeat):
+            for key in runs:
+                times[key].append(call(key))
+        base = np.array(times["without"])
+        for key, t in times.items():
+            t = np.array(t)
+            row = {
+                "kernels": "parallel" if parallel else "serial",
+                "case": key,
+                "nodes": n,
+                "ns_per_node": 1e9 * t.min() / n,
+                "ratio_to_without": float(np.median(t / base)),
+            }
+            rows.append(row)
+            print(
+                f"{row['kernels']:8} {key:22} {row['ns_per_node']:9.1f} ns/node "
+                f"{row['ratio_to_without']:7.2f}x"
+            )
+    path = Path(args.out)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with path.open("w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    print(f"wrote {path}")
+
+
+if __name__ == "__main__":
+    with run_record(__file__):
+        main()

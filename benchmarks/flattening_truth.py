@@ -1,0 +1,179 @@
+"""The flattening law against the FE asperity truth (issue 43): nothing fitted to it.
+
+Reads part B's table of the contact fraction against bulk strain at constant pressure
+(``benchmarks/asperity_flattening.py``'s CSV: wedges of 3-10 deg and a measured row, pressures
+0.05-0.6 H, strains 0-0.5, a plane-strain elastic-perfectly plastic strip under a rigid
+frictionless flat) and puts the law's ``frictionlaw.flattening_curve`` beside it. The law of
+each profile is built from the truth's inputs only:
+
+- ``H``: the truth's hardness, ``(2 + pi) k`` with ``k = sigma_y / sqrt(3)`` (its von Mises
+  material); the law's ``k`` the same ``sigma_y / sqrt(3)``, so the layer's ``s0 = 2 k`` is the
+  strip's plane-strain flow stress;
+- ``alpha1``: the truth's own contact fraction after pressing alone (its strain-0 column) as the
+  tabulated first loading, so that the comparison measures the flattening model and not the
+  first loading (the law equals the truth at zero strain by construction);
+- the flattening block: ``tan(theta)`` the wedge's flank slope (the measured row: its RMS slope),
+  ``beta = 1``, the model's default. Nothing is fitted to the truth's strain columns.
+
+Run: python benchmarks/flattening_truth.py [--truth CSV]
+Writes benchmarks/results/flattening_truth.csv, .md and .png.
+"""
+
+import argparse
+import csv
+import math
+from pathlib import Path
+
+import numpy as np
+from _provenance import run_record
+
+import frictionlaw as fl
+from frictionlaw.first_loading import FirstLoadingTable
+
+RESULTS = Path(__file__).parent / "results"
+BAR = 0.05  # the issue's bar on |alpha_law - alpha_truth|
+
+
+def read_truth(path):
+    """``{(profile, slope_deg): {p_over_H: {strain: alpha}}}`` and the material's ``sigma_y``."""
+    out = {}
+    for r in csv.DictReader(Path(path).open(encoding="utf-8")):
+        key = (r["profile"], float(r["slope_deg"]))
+        row = out.setdefault(key, {}).setdefault(float(r["p_over_H"]), {})
+        row[float(r["strain"])] = float(r["alpha"])
+        H = float(r["p_Pa"]) / float(r["p_over_H"])
+    return out, H
+
+
+def law_of(table, slope_deg, H):
+    """The law built from the truth's inputs (module text); nothing from its strain columns."""
+    sigma_y = H * math.sqrt(3) / (2 + math.pi)
+    ps = sorted(table)
+    first = FirstLoadingTable(p=tuple(p * H for p in ps), alpha=tuple(table[p][0.0] for p in ps))
+    return fl.FrictionParams(
+        m=1.0,
+        sigma_y=sigma_y,
+        H=H,
+        k=sigma_y / math.sqrt(3),
+        C1=1.0,
+        n1=2.0,
+        C2=3.0,
+        n2=1.0,
+        first_loading_form="tabulated",
+        first_loading_table=first,
+        flattening=fl.Flattening(slope=math.tan(math.radians(slope_deg))),
+    )
+
+
+def strain_at(strains, alpha, level):
+    """The strain at which ``alpha`` first reaches ``level`` (linear between points; nan if never)."""
+    for i in range(1, len(strains)):
+        if alpha[i] >= level > alpha[i - 1]:
+            w = (level - alpha[i - 1]) / (alpha[i] - alpha[i - 1])
+            return strains[i - 1] + w * (strains[i] - strains[i - 1])
+    return math.nan
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--truth", default=str(RESULTS / "asperity_flattening.csv"))
+    ap.add_argument("--out", default=str(RESULTS / "flattening_truth"))
+    args = ap.parse_args(argv)
+    truth, H = read_truth(args.truth)
+    rows, summary = [], []
+    for (name, deg), table in truth.items():
+        P = law_of(table, deg, H)
+        for p_over_H, col in sorted(table.items()):
+            strains = sorted(col)
+            a_true = np.array([col[e] for e in strains])
+            a_law = fl.flattening_curve(p_over_H * H, strains, P)
+            for e, t, w in zip(strains, a_true, a_law, strict=True):
+                rows.append(
+                    {
+                        "profile": name,
+                        "slope_deg": deg,
+                        "p_over_H": p_over_H,
+                        "strain": e,
+                        "alpha_truth": t,
+                        "alpha_law": float(w),
+                        "difference": float(w - t),
+                    }
+                )
+            d = a_law - a_true
+            k = int(np.argmax(np.abs(d)))
+            summary.append(
+                {
+                    "profile": name,
+                    "p_over_H": p_over_H,
+                    "max_abs_difference": float(np.abs(d).max()),
+                    "at_strain": strains[k],
+                    "strain_to_half_truth": strain_at(strains, a_true, 0.5),
+                    "strain_to_half_law": strain_at(strains, a_law, 0.5),
+                    "strain_to_0.9_truth": strain_at(strains, a_true, 0.9),
+                    "strain_to_0.9_law": strain_at(strains, a_law, 0.9),
+                }
+            )
+    out = Path(args.out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    with out.with_suffix(".csv").open("w", newline="", encoding="utf-8") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    worst = max(s["max_abs_difference"] for s in summary)
+    n_pass = sum(s["max_abs_difference"] <= BAR for s in summary)
+    lines = [
+        "# The flattening law against the FE asperity truth (nothing fitted)",
+        "",
+        f"`benchmarks/flattening_truth.py`, truth `{Path(args.truth).name}`; H = {H / 1e6:.1f} MPa;"
+        f" the law: the truth's pressing-alone alpha as alpha1, tan(theta) of the profile, beta = 1.",
+        "",
+        f"**Largest |alpha_law - alpha_truth|: {worst:.3f}** (the bar: {BAR}); "
+        f"{n_pass} of {len(summary)} pressure-profile curves within it.",
+        "",
+        "| profile | p / H | max abs difference | at strain | strain to alpha 0.5: truth | law "
+        "| strain to 0.9: truth | law |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for s in summary:
+        lines.append(
+            f"| {s['profile']} | {s['p_over_H']:g} | {s['max_abs_difference']:.3f} | "
+            f"{s['at_strain']:g} | {s['strain_to_half_truth']:.4f} | {s['strain_to_half_law']:.4f} | "
+            f"{s['strain_to_0.9_truth']:.4f} | {s['strain_to_0.9_law']:.4f} |"
+        )
+    out.with_suffix(".md").write_text("\n".join(lines) + "\n", encoding="utf-8")
+    _figure(truth, rows, out.with_suffix(".png"))
+    print("\n".join(lines))
+
+
+def _figure(truth, rows, path):
+    from matplotlib.figure import Figure
+
+    keys = list(truth)
+    ncol = 3
+    nrow = -(-len(keys) // ncol)
+    fig = Figure(figsize=(12, 3.4 * nrow))
+    axes = np.atleast_1d(fig.subplots(nrow, ncol, sharey=True)).ravel()
+    for ax in axes[len(keys) :]:
+        ax.set_visible(False)
+    for ax, (name, deg) in zip(axes, keys, strict=False):
+        for i, p in enumerate(sorted(truth[(name, deg)])):
+            sel = [r for r in rows if r["profile"] == name and r["p_over_H"] == p]
+            e = [r["strain"] for r in sel]
+            c = f"C{i}"
+            ax.plot(e, [r["alpha_truth"] for r in sel], "o", color=c, ms=3)
+            ax.plot(e, [r["alpha_law"] for r in sel], "-", color=c, label=f"p/H {p:g}")
+        ax.set_xscale("symlog", linthresh=0.005)
+        ax.set_xlabel("bulk strain (1)")
+        ax.set_title(f"{name}", fontsize=9)
+        ax.grid(alpha=0.3)
+    for ax in axes[::ncol]:
+        ax.set_ylabel("contact fraction alpha (1)")
+    axes[0].legend(fontsize=7)
+    fig.suptitle("FE asperity truth (dots) and the flattening law (lines), nothing fitted")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+
+
+if __name__ == "__main__":
+    with run_record(__file__):
+        main()

@@ -1,0 +1,523 @@
+"""Numba kernels of the flattening under bulk strain (private): the update and the law with it.
+
+The per-node update of Eq. F6 and the contact fraction of Eq. F5 (docs/flattening.md), written
+for the traction update: a node's flattening state is its *flattened contact fraction*
+``alpha_f`` (0 for a surface never flattened), the workpiece's, whatever law runs. The NumPy
+reference the tests compare against is :func:`frictionlaw.flattening.flattening_update` and
+:func:`frictionlaw.flattening.flattened_alpha` (through :func:`~frictionlaw.flattening.
+flattening_pressure`, the pressure ``p_f`` whose ``alpha1`` is ``alpha_f``).
+
+Flattening data of a law (one contiguous float64 array, :func:`frictionlaw.law.flattening_data`)
+
+=====  ==========================================================================================
+slot   content
+=====  ==========================================================================================
+0      ``tan(theta)``, the asperities' flank slope
+1      ``beta``, the layer factor
+2      ``s0 = 2 k``, the layer's in-plane flow stress of the file (Pa)
+3      ``sigma_y`` of the file (Pa): the host's flow stress ``sigy`` scales ``s0`` by ``sigy / sigma_y``
+4      the pressure from which ``alpha1`` is 1 to rounding (Pa), the largest flattening pressure
+5 ..   the law's coefficient array with ``tau_max = 1`` (its ``shear_scalar`` is ``alpha1``)
+=====  ==========================================================================================
+
+An empty array is a law without flattening. The update solves Eq. F6 on the increment's own
+interval only: with ``t = p cosh(v)`` the equivalent strain of Eq. F4 grows by
+``int_u0^u1 alpha1'(p cosh v) cosh v sinh(v)^2 dv = D``, ``D = d_eps beta s0 / (tan(theta) p^2)``,
+by Newton's method, its first step in ``w = sinh(u)^3 / 3`` (``dJ/dw = alpha1'``: exact for a law
+linear in ``p``, from below where ``alpha1`` is concave) and the next ones in ``u``, each step's
+interval summed by Gauss-Legendre
+panels no wider than 0.5 in ``v`` (the reference's rule; fewer nodes on narrow intervals; split at
+the tabulated first loading's levels, where its slope has kinks), bisection where a step leaves the
+bracket or every eighth step. Every kernel has an explicit signature, ``cache=True`` and no
+``fastmath``; serial and ``prange`` array kernels are separate functions.
+"""
+
+import math
+
+import numba as nb
+import numpy as np
+from numba import float64, int8, int64, types
+
+from ._codes import CODE_SBMF_RELOAD
+from ._kernels import first_offset, first_scalar, return_map_row, shear_scalar
+from ._kernels_branches import _RO, _RO2, _opts
+
+__all__ = [
+    "FLAT_HEAD",
+    "P_MIN_RATIO",
+    "alpha1_inverse",
+    "flat_panels",
+    "flat_quad",
+    "flattening_solve",
+    "flattening_scalar",
+    "flat_shear_scalar",
+    "flattening_array",
+    "traction_array_flat",
+    "traction_array_flat_parallel",
+    "traction_array_zoned_flat",
+    "traction_array_zoned_flat_parallel",
+]
+
+#: slots before the law's ``tau_max = 1`` coefficients in a law's flattening data
+FLAT_HEAD = 5
+#: below this ``p / H`` a node does not flatten (as :data:`frictionlaw.flattening.P_MIN_RATIO`)
+P_MIN_RATIO = 1e-12
+#: Gauss-Legendre nodes and weights of the 2-, 4- and 8-point rules, one after the other
+_GX, _GW = (
+    np.ascontiguousarray(np.concatenate(r))
+    for r in zip(*(np.polynomial.legendre.leggauss(m) for m in (2, 4, 8)), strict=True)
+)
+_WIDTH = 0.5  # the widest panel in v, as the reference's
+_NARROW = (7e-4, 0.05)  # the widest interval of the 2- and of the 4-point rule
+_ROI = types.Array(int64, 1, "C", readonly=True)
+
+
+@nb.jit(float64(_RO, float64, float64, float64), **_opts)
+def alpha1_inverse(c1, a, lo, hi):
+    """The pressure ``P`` in ``[lo, hi]`` with ``alpha1(P) = a`` (``c1``: ``tau_max = 1``).
+
+    ``alpha1(lo) < a``; ``hi`` where ``alpha1(hi) <= a``. Safeguarded Newton in ``ln P`` on
+    ``ln alpha1`` (concave for Eq. 24, so from below it stays below), bisection in ``ln P`` where
+    a step leaves the bracket; to 1e-15 in ``ln P``.
+    """
+    if not a < first_scalar(c1, hi)[0]:
+        return hi
+    ln_a = math.log(a)
+    ylo = math.log(lo)
+    yhi = math.log(hi)
+    y = ylo
+    for it in range(200):
+        P = math.exp(y)
+        al, d = first_scalar(c1, P)
+        if not al > 0.0:
+            g = -math.inf
+        else:
+            g = math.log(al) - ln_a
+        if g == 0.0:
+            return P
+        if g < 0.0:
+            ylo = y
+        else:
+            yhi = y
+        s = P * d / al if al > 0.0 else 0.0
+        yn = y - g / s if s > 0.0 else math.nan
+        if abs(yn - y) <= 1e-15 * (1.0 + abs(y)):  # converged: the rest is below rounding
+            return math.exp(yn)
+        if not (ylo < yn < yhi) or it % 8 == 7:
+            yn = 0.5 * (ylo + yhi)
+        if abs(yn - y) <= 1e-15 * (1.0 + abs(y)) or yhi - ylo <= 1e-15 * (1.0 + abs(yhi)):
+            return math.exp(yn)
+        y = yn
+    return math.exp(y)
+
+
+@nb.jit(types.UniTuple(float64, 2)(_RO, float64, float64, float64), **_opts)
+def flat_panels(c1, p, ua, ub):
+    """The two integrals of :func:`flat_quad` over ``ua..ub`` where the integrand is smooth.
+
+    Gauss-Legendre on equal panels no wider than 0.5 in ``v``: 8 nodes a panel, 4 on an
+    interval narrower than 0.05 and 2 below 7e-4 (the Newton corrections), each within about
+    1e-13 of the panel's integral for an integrand whose derivatives grow as ``6^k``.
+    """
+    span = ub - ua
+    n = max(1, int(math.ceil(abs(span) / _WIDTH)))
+    h = span / n
+    if abs(h) <= _NARROW[0]:
+        k0, m = 0, 2
+    elif abs(h) <= _NARROW[1]:
+        k0, m = 2, 4
+    else:
+        k0, m = 6, 8
+    s1 = 0.0
+    s2 = 0.0
+    for k in range(n):
+        mid = ua + (k + 0.5) * h
+        for j in range(k0, k0 + m):
+            v = mid + 0.5 * h * _GX[j]
+            ch = math.cosh(v)
+            sh = math.sinh(v)
+            d = first_scalar(c1, p * ch)[1]
+            s1 += _GW[j] * (d * ch * sh * sh)
+            s2 += _GW[j] * (d * ch)
+    return 0.5 * h * s1, 0.5 * h * s2
+
+
+@nb.jit(types.UniTuple(float64, 2)(_RO, float64, float64, float64), **_opts)
+def flat_quad(c1, p, ua, ub):
+    """``(int alpha1'(p cosh v) cosh v sinh(v)^2 dv, int alpha1'(p cosh v) cosh v dv)``, ``ua..ub``.
+
+    Both integrals at once (the second is the tangent's, Eq. F6's ``d p_f / d p``);
+    ``ub < ua`` gives their negatives. Eq. 24's ``alpha1'`` is smooth: :func:`flat_panels` over
+    the interval. The tabulated first loading's is continuous with kinks in its slope at the
+    levels and where its top extension reaches a contact fraction of 1: the interval is split
+    there (at ``v = acosh(p_j / p)``) and each piece summed by :func:`flat_panels`.
+    """
+    sign = 1.0
+    lo = ua
+    hi = ub
+    if hi < lo:
+        sign = -1.0
+        lo = ub
+        hi = ua
+    f0 = first_offset(c1)
+    if f0 < 0:
+        s1, s2 = flat_panels(c1, p, lo, hi)
+        return sign * s1, sign * s2
+    nj = int(c1[f0 + 1])
+    H = c1[1]
+    s1 = 0.0
+    s2 = 0.0
+    a = lo
+    for j in range(nj + 1):
+        if j < nj:
+            tk = H * math.exp(c1[f0 + 2 + j])
+        else:  # where the top level's power law reaches ln alpha = 0
+            dtop = c1[f0 + 1 + 3 * nj]
+            if not dtop > 0.0:
+                break
+            tk = H * math.exp(c1[f0 + 1 + nj] - c1[f0 + 1 + 2 * nj] / dtop)
+        if not tk > p:
+            continue
+        vk = math.acosh(tk / p)
+        if vk >= hi:
+            break
+        if vk > a:
+            r1, r2 = flat_panels(c1, p, a, vk)
+            s1 += r1
+            s2 += r2
+            a = vk
+    r1, r2 = flat_panels(c1, p, a, hi)
+    return sign * (s1 + r1), sign * (s2 + r2)
+
+
+@nb.jit(types.UniTuple(float64, 2)(_RO, float64, float64, float64, float64), **_opts)
+def flattening_solve(c1, p, P0, D, cap):
+    """Eq. F6 from ``P0``: ``(P, d alpha1(P) / d p)`` with ``int_u0^u1 ... = D`` (module text).
+
+    ``P = p cosh(u1)`` (``cap`` where the strain reaches full contact); the second value is the
+    consistent tangent of the update, ``alpha1'(P) dP/dp = (D + int alpha1' cosh v dv) /
+    (cosh u1 sinh u1)`` (0 at ``cap``).
+    """
+    u0 = math.acosh(max(P0 / p, 1.0))
+    ucap = math.acosh(cap / p)
+    u = u0
+    F = 0.0  # the integral from u0 to u
+    Ic = 0.0
+    lo = u0
+    hi = ucap
+    hi_checked = False  # F(hi) >= D is known
+    for it in range(200):
+        r = D - F
+        if it > 0 and abs(r) <= 1e-15 * D:
+            break
+        ch = math.cosh(u)
+        sh = math.sinh(u)
+        d = first_scalar(c1, p * ch)[1]
+        un = math.nan
+        if it == 0:  # Newton in w = sinh(u)^3 / 3 (dF/dw = alpha1'): the step from u0
+            if d > 0.0:
+                wn = sh * sh * sh / 3.0 + r / d
+                if wn > 0.0:
+                    un = math.asinh((3.0 * wn) ** (1.0 / 3.0))
+        elif d > 0.0:  # then in u itself (dF/du = alpha1' cosh u sinh(u)^2): no cube root
+            un = u + r / (d * ch * sh * sh)
+            if abs(un - u) <= 1e-7 * (1.0 + u) and lo < un < hi:
+                # the last step: the integrand is linear over it to 3 (un - u)^2 relative,
+                # below 1e-13, so F + r and the tangent's integral by its value at u
+                Ic += (un - u) * d * ch
+                u = un
+                break
+        if not un < hi:
+            un = hi if not hi_checked else 0.5 * (lo + hi)
+        elif not un > lo or (it % 8 == 7 and hi_checked):
+            un = 0.5 * (lo + hi)
+        dF, dI = flat_quad(c1, p, u, un)
+        Fn = F + dF
+        In = Ic + dI
+        if un == ucap and not hi_checked:
+            if not Fn > D:
+                return cap, 0.0
+            hi_checked = True
+        if Fn < D:
+            lo = un
+        else:
+            hi = un
+            hi_checked = True
+        step = abs(un - u)
+        u = un
+        F = Fn
+        Ic = In
+        if step <= 1e-14 * (1.0 + u) or (hi_checked and hi - lo <= 1e-14 * (1.0 + hi)):
+            break
+    ch = math.cosh(u)
+    P = min(p * ch, cap)
+    if not P < cap:
+        return cap, 0.0
+    return P, (D + Ic) / (ch * math.sinh(u))
+
+
+@nb.jit(types.UniTuple(float64, 3)(_RO, float64, float64, float64, float64, float64), **_opts)
+def flattening_scalar(fdata, p, p_hist, alpha_f, d_eps, sigy):
+    """One node's flattening over a strain increment (Eq. F6): ``(alpha_f', p_f, dalpha/dp)``.
+
+    From the committed fraction ``alpha_f`` and history ``p_hist``, at the pressure ``p`` with the
+    bulk's plastic strain increment ``d_eps`` (and flow stress ``sigy``, ``<= 0``: the file's):
+    ``P0 = max(p_f, p_hist, p)`` (``p_f`` the pressure whose ``alpha1`` is ``alpha_f``), then F6.
+    Returns the trial fraction (never below ``alpha_f``), its flattening pressure where it was
+    needed and the node is flattened beyond ``max(p_hist, p)`` (else 0), and the update's
+    ``d alpha / d p`` (0 without one). ``d_eps = 0``, ``p <= 1e-12 H`` and a surface in full contact leave
+    ``alpha_f`` as it is.
+    """
+    c1 = fdata[FLAT_HEAD:]
+    cap = fdata[4]
+    H = c1[1]
+    if not (d_eps > 0.0 and p > P_MIN_RATIO * H):
+        return alpha_f, 0.0, 0.0
+    P0 = max(p_hist, p)
+    pf = 0.0
+    if alpha_f > 0.0 and alpha_f > first_scalar(c1, P0)[0]:
+        P0 = alpha1_inverse(c1, alpha_f, P0, cap)
+        pf = P0
+    if not P0 < cap:
+        return alpha_f, pf, 0.0
+    s0 = fdata[2]
+    if sigy > 0.0:
+        s0 = s0 * (sigy / fdata[3])
+    x = p / H
+    D = d_eps * fdata[1] * (s0 / H) / (fdata[0] * x * x) / H  # 1/Pa, as the integrals
+    P, dadp = flattening_solve(c1, p, P0, D, cap)
+    aP = first_scalar(c1, P)[0]
+    if aP > alpha_f:
+        return aP, P, dadp
+    return alpha_f, pf, 0.0
+
+
+@nb.jit(
+    types.UniTuple(float64, 3)(int64, _RO, _RO, float64, float64, float64, float64, float64),
+    **_opts,
+)
+def flat_shear_scalar(code, coeffs, fdata, p, p_hist, alpha_f, d_eps, sigy):
+    """``(tau, dtau/dp, alpha_f')`` of law ``code`` with the flattening of Eq. F5 and F6.
+
+    Without flattening data, or with ``alpha_f = 0`` and ``d_eps = 0``: :func:`shear_scalar`
+    itself (bit for bit) and ``alpha_f`` unchanged. Otherwise the trial fraction ``a`` of
+    :func:`flattening_scalar`, then Eq. F5 with ``p_hist``: for ``p >= p_hist`` the larger of
+    ``tau_max alpha1(p)`` and ``tau_max a`` (``dtau/dp`` the update's there); below it the law
+    itself where ``a <= alpha1(p_hist)``, else its reload branch of the level ``p_f`` at
+    ``p p_f / p_hist`` (``dtau/dp`` at that fixed level).
+    """
+    if fdata.shape[0] == 0 or not p > 0.0 or (d_eps == 0.0 and alpha_f == 0.0):
+        t, d = shear_scalar(code, coeffs, p, p_hist)
+        return t, d, alpha_f
+    a, pf, dadp = flattening_scalar(fdata, p, p_hist, alpha_f, d_eps, sigy)
+    tm = coeffs[0]
+    if p >= p_hist:
+        t1, d1 = first_scalar(coeffs, p)
+        ta = tm * a
+        if ta > t1:
+            return ta, tm * dadp, a
+        return t1, d1, a
+    c1 = fdata[FLAT_HEAD:]
+    if not a > first_scalar(c1, p_hist)[0]:
+        t, d = shear_scalar(code, coeffs, p, p_hist)
+        return t, d, a
+    if not pf > p_hist:
+        pf = alpha1_inverse(c1, a, p_hist, fdata[4])
+    t, d = shear_scalar(CODE_SBMF_RELOAD, coeffs, (p / p_hist) * pf, pf)
+    return t, d * (pf / p_hist), a
+
+
+@nb.jit(types.void(_RO, _RO, _RO, _RO, _RO, _RO, float64[::1], float64[::1]), **_opts)
+def flattening_array(fdata, p, p_hist, alpha_f, d_eps, sigy, alpha_out, p_f):
+    """:func:`flattening_scalar` at every node: the trial fraction and flattening pressure."""
+    for i in range(p.shape[0]):
+        a, pf, _ = flattening_scalar(fdata, p[i], p_hist[i], alpha_f[i], d_eps[i], sigy[i])
+        alpha_out[i] = a
+        p_f[i] = pf
+
+
+_traction_flat_sig = types.void(
+    int64,
+    _RO,
+    _RO,
+    _RO,
+    _RO,
+    _RO,
+    _RO,
+    _RO,
+    _RO2,
+    _RO2,
+    _RO,
+    float64[:, ::1],
+    int8[::1],
+    float64[:, :, ::1],
+    float64[:, ::1],
+    float64[::1],
+    float64[::1],
+)
+
+
+@nb.jit(_traction_flat_sig, **_opts)
+def traction_array_flat(
+    code,
+    coeffs,
+    fdata,
+    p,
+    p_hist,
+    alpha_f,
+    d_eps,
+    sigy,
+    du,
+    t_old,
+    k_t,
+    t_new,
+    status,
+    dt_ddu,
+    dt_dp,
+    p_trial,
+    a_trial,
+):
+    """The return map with the flattened law at every node; trial ``p_hist`` and ``alpha_f``."""
+    for i in range(p.shape[0]):
+        tau, dtau, a = flat_shear_scalar(
+            code, coeffs, fdata, p[i], p_hist[i], alpha_f[i], d_eps[i], sigy[i]
+        )
+        status[i] = return_map_row(tau, dtau, p[i], du, t_old, k_t[i], t_new, dt_ddu, dt_dp, i)
+        p_trial[i] = max(p_hist[i], p[i]) if p[i] > 0.0 else p_hist[i]
+        a_trial[i] = a
+
+
+@nb.jit(_traction_flat_sig, parallel=True, **_opts)
+def traction_array_flat_parallel(
+    code,
+    coeffs,
+    fdata,
+    p,
+    p_hist,
+    alpha_f,
+    d_eps,
+    sigy,
+    du,
+    t_old,
+    k_t,
+    t_new,
+    status,
+    dt_ddu,
+    dt_dp,
+    p_trial,
+    a_trial,
+):
+    """As :func:`traction_array_flat`, threads over the nodes."""
+    for i in nb.prange(p.shape[0]):
+        tau, dtau, a = flat_shear_scalar(
+            code, coeffs, fdata, p[i], p_hist[i], alpha_f[i], d_eps[i], sigy[i]
+        )
+        status[i] = return_map_row(tau, dtau, p[i], du, t_old, k_t[i], t_new, dt_ddu, dt_dp, i)
+        p_trial[i] = max(p_hist[i], p[i]) if p[i] > 0.0 else p_hist[i]
+        a_trial[i] = a
+
+
+_zoned_flat_sig = types.void(
+    _ROI,
+    _ROI,
+    _RO,
+    _ROI,
+    _RO,
+    _ROI,
+    _RO,
+    _RO,
+    _RO,
+    _RO,
+    _RO,
+    _RO2,
+    _RO2,
+    _RO,
+    float64[:, ::1],
+    int8[::1],
+    float64[:, :, ::1],
+    float64[:, ::1],
+    float64[::1],
+    float64[::1],
+)
+
+
+@nb.jit(_zoned_flat_sig, **_opts)
+def traction_array_zoned_flat(
+    codes,
+    offsets,
+    coeffs,
+    f_offsets,
+    fdata,
+    zone,
+    p,
+    p_hist,
+    alpha_f,
+    d_eps,
+    sigy,
+    du,
+    t_old,
+    k_t,
+    t_new,
+    status,
+    dt_ddu,
+    dt_dp,
+    p_trial,
+    a_trial,
+):
+    """Each node's zone law with that zone's flattening (none: the law, ``alpha_f`` kept)."""
+    for i in range(p.shape[0]):
+        z = zone[i]
+        tau, dtau, a = flat_shear_scalar(
+            codes[z],
+            coeffs[offsets[z] : offsets[z + 1]],
+            fdata[f_offsets[z] : f_offsets[z + 1]],
+            p[i],
+            p_hist[i],
+            alpha_f[i],
+            d_eps[i],
+            sigy[i],
+        )
+        status[i] = return_map_row(tau, dtau, p[i], du, t_old, k_t[i], t_new, dt_ddu, dt_dp, i)
+        p_trial[i] = max(p_hist[i], p[i]) if p[i] > 0.0 else p_hist[i]
+        a_trial[i] = a
+
+
+@nb.jit(_zoned_flat_sig, parallel=True, **_opts)
+def traction_array_zoned_flat_parallel(
+    codes,
+    offsets,
+    coeffs,
+    f_offsets,
+    fdata,
+    zone,
+    p,
+    p_hist,
+    alpha_f,
+    d_eps,
+    sigy,
+    du,
+    t_old,
+    k_t,
+    t_new,
+    status,
+    dt_ddu,
+    dt_dp,
+    p_trial,
+    a_trial,
+):
+    """As :func:`traction_array_zoned_flat`, threads over the nodes."""
+    for i in nb.prange(p.shape[0]):
+        z = zone[i]
+        tau, dtau, a = flat_shear_scalar(
+            codes[z],
+            coeffs[offsets[z] : offsets[z + 1]],
+            fdata[f_offsets[z] : f_offsets[z + 1]],
+            p[i],
+            p_hist[i],
+            alpha_f[i],
+            d_eps[i],
+            sigy[i],
+        )
+        status[i] = return_map_row(tau, dtau, p[i], du, t_old, k_t[i], t_new, dt_ddu, dt_dp, i)
+        p_trial[i] = max(p_hist[i], p[i]) if p[i] > 0.0 else p_hist[i]
+        a_trial[i] = a

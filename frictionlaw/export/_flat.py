@@ -1,0 +1,87 @@
+"""The flattening under bulk strain in the Fortran routines (issue 43; private).
+
+:class:`FlatSpec` holds what ``core/sbmf_flat.f`` (the law's flattening routines, a port of
+:mod:`frictionlaw._kernels_flattening`) is rendered with, in the host's units; each target's
+:class:`~frictionlaw.export.Routine` says how its host gives the bulk strain (``flattening``) or
+why it cannot (its kind-9 message, written once per process, and the law then runs without).
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..flattening import flattening_data
+
+__all__ = ["FlatSpec", "flat_spec", "FLAT_STATE_NEUTRAL", "FLAT_STATE_LSDYNA"]
+
+#: the state slot of the flattened fraction in SBMF_FRICTION_V's STATE
+FLAT_STATE_NEUTRAL = 5
+#: LS-DYNA's history slots: the fraction, the plastic strain and the cycle of the last call
+FLAT_STATE_LSDYNA = (5, 6, 7)
+
+
+@dataclass(frozen=True)
+class FlatSpec:
+    """A law's flattening block as the Fortran routines carry it (host units).
+
+    Attributes
+    ----------
+    slope, beta : float
+        ``tan(theta)`` and ``beta`` of the block.
+    s0 : float
+        The layer's flow stress ``2 k`` of the file (host stress unit).
+    sigma_y : float
+        The file's ``sigma_y`` (host stress unit): a host's flow stress scales ``s0`` by it.
+    cap : float
+        The pressure from which ``alpha1`` is 1 to rounding (host stress unit), the runtime's.
+    p_min : float
+        ``1e-12 H``: below it nothing flattens (host stress unit).
+    gx, gw : tuple of float
+        The 2-, 4- and 8-point Gauss-Legendre nodes and weights, one after the other.
+    width, narrow : float, (float, float)
+        The widest panel in ``v`` and the widest interval of the 2- and 4-point rules.
+    """
+
+    slope: float
+    beta: float
+    s0: float
+    sigma_y: float
+    cap: float
+    p_min: float
+    gx: tuple
+    gw: tuple
+    width: float
+    narrow: tuple
+
+
+def flat_spec(params, units):
+    """The :class:`FlatSpec` of ``params`` in ``units`` (None without a flattening block).
+
+    ``ValueError`` for ``m = 0`` (``tau_max = 0``: no friction to flatten; the routines read
+    ``alpha1`` as the first loading's shear over ``tau_max``).
+    """
+    data = flattening_data(params)
+    if data.size == 0:
+        return None
+    from .. import _kernels_flattening as K  # the rules the kernels integrate by (numba loads)
+
+    if not params.tau_max > 0:
+        raise ValueError(
+            "a flattening block with m = 0: the law has no friction to flatten; export the "
+            "file without its flattening block"
+        )
+    s = units.stress
+    slope, beta, s0, sigma_y, cap = (float(v) for v in data[: K.FLAT_HEAD])
+    H = params.H * s
+    return FlatSpec(
+        slope,
+        beta,
+        s0 * s,
+        sigma_y * s,
+        cap * s,
+        float(np.float64(K.P_MIN_RATIO) * np.float64(H)),
+        tuple(float(x) for x in K._GX),
+        tuple(float(w) for w in K._GW),
+        float(K._WIDTH),
+        tuple(float(x) for x in K._NARROW),
+    )

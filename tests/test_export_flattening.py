@@ -1,0 +1,264 @@
+"""The flattening under bulk strain in the exported routines (issue 43 part C), host emulation.
+
+Where the host gives the bulk plastic strain (the host-neutral SBMF_FRICTION_V's DEPS, SIGY;
+LS-DYNA's element plastic strain, UFEPS in SMP and UE in MPP), the routine flattens as the
+runtime's traction update does with the same strain increments (1e-12 relative in double
+precision, 1e-6 in LS-DYNA's single precision, where the history is stored rounded down);
+where it does not (Abaqus' FRIC, VFRIC, VFRICTION, the patched CalculiX, a deck without the
+state slots) it says so once and runs the law without flattening. Tables and zoned exports of a
+file with a flattening block are refused.
+"""
+
+import re
+
+import numpy as np
+import pytest
+
+import frictionlaw as fl
+from frictionlaw import export as exp
+from frictionlaw.export import harness
+from frictionlaw.first_loading import FirstLoadingTable
+from frictionlaw.reload_form import ReloadTable
+
+pytestmark = pytest.mark.skipif(harness.gfortran() is None, reason="needs gfortran")
+
+H = 8e8
+BASE = dict(m=0.5, sigma_y=H / 2.8, H=H, C1=1.05, n1=2.87, C2=7.44, n2=0.575)
+FORMS = {
+    "eq24-paper": {},
+    "tabulated": dict(
+        first_loading_form="tabulated",
+        first_loading_table=FirstLoadingTable(
+            p=(2e7, 5e7, 1e8, 2e8, 3e8, 4e8, 6e8, 7.6e8),
+            alpha=(0.026, 0.064, 0.127, 0.25, 0.37, 0.48, 0.66, 0.79),
+        ),
+        reload_form="tabulated",
+        reload_table=ReloadTable((1e8, 4e8, 7e8), (3.0, 6.0, 12.0), (0.5, 1.0, 2.0), 0.7),
+        continuous_reload=True,
+    ),
+}
+
+
+def law(form="eq24-paper"):
+    return fl.FrictionParams(**BASE, **FORMS[form], flattening=fl.Flattening(slope=0.05))
+
+
+def load(tmp_path, target, params, *, units="SI", prec="DP", name=None):
+    path = tmp_path / f"{name or target}.json"
+    params.to_json(path)
+    files, _ = exp.render(target, path, units=units)
+    src = {n: t for n, t in files.items() if n.endswith(".f")}
+    tag = re.sub(r"[^a-z0-9]", "_", f"f_{name or target}_{units}_{prec}".lower())
+    options, flags = {}, ("-O2",)
+    if "usrfrc" in target:
+        flags = (*flags, *harness.HOST_PRECISION_FLAGS[prec])
+        options["dtype"] = np.float32 if prec == "SP" else np.float64
+    host, warnings = exp.target(target).harness.load(
+        src, tmp_path / tag, name=tag, flags=flags, **options
+    )
+    assert "Error" not in warnings
+    return host, files
+
+
+def grid():
+    p = np.array([0.01, 0.05, 0.1, 0.3, 0.6, 0.9]) * H
+    g = np.meshgrid(p, [0.0, 0.5, 1.0, 2.0], [0.0, 0.2, 0.5, 0.8], [0, 1e-3, 0.01, 0.1], [0, 1])
+    p, fac, af, de, sy = (a.ravel() for a in g)
+    return p, fac * p, af, de, np.where(sy > 0, 2.0 * BASE["sigma_y"], 0.0)
+
+
+def runtime(params, p, ph, af, de, sigy):
+    """The runtime's traction update at slipping points: (|tau|, dtau/dp, trial alpha_f)."""
+    n = p.size
+    st = fl.HistoryState(p_hist=ph, alpha_f=af)
+    sy = np.where(sigy > 0, sigy, params.sigma_y)
+    res = fl.traction_update(
+        fl.SBMFLaw(params), p, np.ones(n), np.zeros(n), 1e30, st, d_eps=de, sigma_y=sy
+    )
+    return np.abs(res.traction), res.dt_dp, st.alpha_f_trial.copy()
+
+
+@pytest.mark.parametrize("form", FORMS)
+def test_neutral_entry_flattens_as_the_runtime(tmp_path, form):
+    P = law(form)
+    host, files = load(tmp_path, "lsdyna", P, name=f"neutral_{form}")
+    assert "STATE(5)" in files["README.md"] and "DEPS" in files["README.md"]
+    p, ph, af, de, sy = grid()
+    n = p.size
+    state = np.zeros((n, 5))
+    state[:, 0], state[:, 4] = ph, af
+    out = host.friction("", p, state, np.ones((n, 1)), np.zeros((n, 1)), 1e30, deps=de, sigy=sy)
+    tau, dtdp, a_ref = runtime(P, p, ph, af, de, sy)
+    assert np.all(out["ierr"] == 0)
+    assert np.allclose(np.abs(out["t"][:, 0]), tau, rtol=1e-12, atol=0)
+    assert np.allclose(np.abs(out["dt_dp"][:, 0]), np.abs(dtdp), rtol=1e-12, atol=1e-300)
+    assert np.allclose(state[:, 4], a_ref, rtol=1e-12, atol=0)
+    assert np.array_equal(state[:, 0], np.maximum(ph, p))
+
+
+def test_neutral_entry_in_mm_t_s_and_without_strain(tmp_path):
+    P = law()
+    host, _ = load(tmp_path, "lsdyna", P, units="mm-t-s", name="neutral_mm")
+    p, ph, af, de, sy = grid()
+    n = p.size
+    state = np.zeros((n, 5))
+    state[:, 0], state[:, 4] = ph * 1e-6, af
+    out = host.friction(
+        "", p * 1e-6, state, np.ones((n, 1)), np.zeros((n, 1)), 1e30, deps=de, sigy=sy * 1e-6
+    )
+    tau, _, a_ref = runtime(P, p, ph, af, de, sy)
+    assert np.allclose(np.abs(out["t"][:, 0]) * 1e6, tau, rtol=1e-12, atol=0)
+    assert np.allclose(state[:, 4], a_ref, rtol=1e-12, atol=0)
+    # no strain on a surface never flattened: the law without a flattening block, bit for bit
+    plain, _ = load(tmp_path, "lsdyna", fl.FrictionParams(**BASE), units="mm-t-s", name="plain")
+    s1, s2 = (np.zeros((n, 5)) for _ in range(2))
+    s1[:, 0] = s2[:, 0] = ph * 1e-6
+    o1 = host.friction("", p * 1e-6, s1, np.ones((n, 1)), np.zeros((n, 1)), 1e30)
+    o2 = plain.friction("", p * 1e-6, s2, np.ones((n, 1)), np.zeros((n, 1)), 1e30)
+    for k in ("t", "dt_ddu", "dt_dp", "status"):
+        assert np.array_equal(o1[k], o2[k]), k
+    assert np.array_equal(s1, s2)
+
+
+def test_neutral_entry_without_the_state_slot_says_so_once(tmp_path):
+    P = law()
+    host, _ = load(tmp_path, "lsdyna", P, name="neutral_slot")
+    p = np.array([0.1, 0.2, 0.3]) * H
+    state = np.zeros((3, 4))
+    out = host.friction("", p, state, np.ones((3, 1)), np.zeros((3, 1)), 1e30, deps=0.05)
+    assert out["ierr"].tolist() == [9, 0, 0]
+    assert np.allclose(np.abs(out["t"][:, 0]), fl.shear_limit(p, 0.0, P), rtol=1e-12)
+    assert "NSTATE < 5" in host.message(9)
+
+
+@pytest.mark.parametrize("prec", ["DP", "SP"])
+def test_lsdyna_usrfrc_flattens_over_cycles(tmp_path, prec):
+    """SMP and MPP: the element plastic strain's increments between cycles in contact."""
+    P = law()
+    smp, _ = load(tmp_path, "lsdyna-usrfrc", P, prec=prec)
+    mpp, _ = load(tmp_path, "lsdyna-usrfrc-mpp", P, prec=prec)
+    dt = np.float32 if prec == "SP" else np.float64
+    tol = 1e-12 if prec == "DP" else 2e-6
+    n = 4
+    p = np.array([0.05, 0.1, 0.3, 0.5]) * H
+    area = np.full(n, 1e-6)
+    ufhist = np.zeros((n, 7), dt)
+    uh = np.zeros((n, 7), dt)
+    fdat = np.zeros((n, 5), dt)
+    state = fl.HistoryState(n)
+    rn = np.tile([0.0, 0.0, 1.0], (n, 1))
+    d = np.tile([1.0, 0.0, 0.0], (n, 1))
+    eps = np.zeros(n)
+    prev_on = np.zeros(n, bool)
+    for cycle, (step, on) in enumerate(
+        [(0.0, [1, 1, 1, 1]), (0.02, [1, 1, 1, 1]), (0.05, [1, 0, 1, 1]), (0.05, [1, 1, 1, 1])],
+        start=1,
+    ):
+        eps = eps + step
+        on = np.array(on, bool)
+        act = np.flatnonzero(on)
+        fni = np.where(on, -p * area, 0.0)
+        smp(
+            act,
+            np.arange(n),
+            fni,
+            area,
+            np.full(n, 1e6),
+            1.0,
+            d,
+            rn,
+            fdat,
+            np.zeros((n, 3), dt),
+            ufhist,
+            ufeps=eps[:, None].astype(dt),
+            ncycle=cycle,
+        )
+        mu = mpp(np.where(on, p, 0.0), uh, ue=eps[:, None].astype(dt), ncycle=cycle)
+        # the runtime: the strain of this cycle counts where the point was in contact before
+        de = np.where(on & prev_on, step, 0.0)
+        af = state.alpha_f.copy()
+        st = fl.HistoryState(p_hist=state.p_hist, alpha_f=af)
+        fl.traction_update(
+            fl.SBMFLaw(P), np.where(on, p, 0.0), np.ones(n), np.zeros(n), 1e30, st, d_eps=de
+        )
+        st.commit()
+        state = st
+        if cycle == 1:
+            assert np.all(state.alpha_f == 0)  # nothing before: nothing counts
+        if cycle >= 2:
+            assert np.any(state.alpha_f > fl.alpha_first(p, P) + 0.01)
+        for got in (ufhist[:, 4], uh[:, 4]):
+            assert np.allclose(got.astype(float), state.alpha_f, rtol=tol, atol=0)
+            if prec == "SP":  # stored rounded down: never above the runtime's
+                assert np.all(got.astype(float) <= state.alpha_f)
+        tau = fl.SBMFLaw(P).shear_limit(p, 0.0)[0]
+        lim = P.tau_max * np.maximum(state.alpha_f, fl.alpha_first(p, P))
+        assert np.allclose(np.abs(fdat[on, 2]) / area[on], lim[on], rtol=tol)
+        assert np.allclose(mu[on, 0].astype(float) * p[on], lim[on], rtol=tol)
+        assert np.all(lim >= tau * (1 - 1e-12))
+        prev_on = on
+    assert smp.log()["messag"] == [] and mpp.log()["messag"] == []
+
+
+def test_lsdyna_without_strain_or_slots_says_so_once(tmp_path):
+    P = law()
+    smp, _ = load(tmp_path, "lsdyna-usrfrc", P, name="smp_few")
+    mpp, _ = load(tmp_path, "lsdyna-usrfrc-mpp", P, name="mpp_few")
+    n = 2
+    p = np.array([0.1, 0.3]) * H
+    area = np.full(n, 1e-6)
+    for _ in range(2):
+        fdat = np.zeros((n, 5))
+        uf = np.zeros((n, 4))
+        smp(
+            np.arange(n),
+            np.arange(n),
+            -p * area,
+            area,
+            np.full(n, 1e6),
+            1.0,
+            np.tile([1.0, 0, 0], (n, 1)),
+            np.tile([0, 0, 1.0], (n, 1)),
+            fdat,
+            np.zeros((n, 3)),
+            uf,
+            ufeps=np.full((n, 1), 0.1),
+        )
+        mu = mpp(p, np.zeros((n, 7)))  # NE = 0: no element data
+        lim = fl.shear_limit(p, 0.0, P)
+        assert np.allclose(np.abs(fdat[:, 2]) / area, lim, rtol=1e-12)
+        assert np.allclose(mu[:, 0] * p, lim, rtol=1e-12)
+    for host in (smp, mpp):
+        warn = [x for x in host.log()["messag"] if "flattening block" in x]
+        assert len(warn) == 1 and "Warning" in warn[0]
+        assert "NHV < 7" in warn[0] or "NH < 7" in warn[0]
+
+
+@pytest.mark.parametrize("target", ["abaqus-fric", "calculix", "abaqus-vfric", "abaqus-vfriction"])
+def test_hosts_without_bulk_strain_say_so_once_and_run_the_law(tmp_path, target):
+    P = law()
+    host, files = load(tmp_path, target, P)
+    readme = files["README.md"]
+    assert "flattening" in readme
+    p = np.array([0.1, 0.3]) * H
+    for _ in range(3):
+        if target in ("abaqus-fric", "calculix"):
+            out = host(p, np.full((2, 1), 1e3), np.zeros((2, 1)), np.zeros((2, 3)), 1e-3)
+            tau = np.abs(out["tau"][:, 0])
+        else:  # Abaqus/Explicit: forces over the nodal area, a stick force far above
+            state = np.zeros((2, 3)) if target == "abaqus-vfric" else np.zeros((2, 1, 3))
+            ft = host(p * 1e-6, np.full(2, 1e9), np.full(2, 1e-6), state)
+            tau = np.abs(ft[:, 0]) / 1e-6
+        assert np.allclose(tau, fl.shear_limit(p, 0.0, P), rtol=1e-12)
+    log = [t for lop, t in host.log() if "flattening block" in t]
+    assert len(log) == 1 and host.exits() == 0
+    assert "runs without flattening" in log[0]
+
+
+def test_tables_and_zones_refuse_a_flattening_file(tmp_path):
+    path = law().to_json(tmp_path / "flat.json")
+    for target in ("abaqus-table", "lsdyna-table"):
+        with pytest.raises(ValueError, match="table of the pressure alone"):
+            exp.render(target, path)
+    with pytest.raises(ValueError, match="zoned routines do not carry it yet"):
+        exp.render("abaqus-fric", None, zones=[("rim", path)])

@@ -1,0 +1,124 @@
+"""Flattening under bulk strain in fe-demo (issue 43 part C): the die nodes' strain to the law.
+
+The surface projection keeps a uniform Gauss-point field and reads a die node's first element
+layer; a run with flattening flattens where the die's bulk has flowed (the contact fraction at
+the die rises above the law's alpha1(p) and reaches 1, which raises the friction, the mean
+die pressure and the force); a cut-back leaves the flattened fraction as committed; the command runs the law
+with and without and reports both; bad options are refused before any run (exit 2).
+"""
+
+import json
+
+import numpy as np
+import pytest
+
+import frictionlaw as fl
+from fe_demo.cli import main
+from fe_demo.scenes import run_upsetting
+from fe_demo.scenes.laws import EXAMPLE_FLATTENING_PATH, example_params
+from fe_demo.solver.contact import DieContact, surface_projection
+from fe_demo.solver.element import kinematics
+from fe_demo.solver.mesh import cylinder_mesh
+
+FLAT = fl.FrictionParams.from_json(EXAMPLE_FLATTENING_PATH)
+KW = dict(nr=8, n_increments=10, reduction=0.4)
+
+
+def test_surface_projection_keeps_a_uniform_field_and_reads_the_first_layer():
+    axi = cylinder_mesh(20e-3, 10e-3, 6, 4)
+    x, t = axi.mesh.p.T, axi.mesh.t
+    kin = kinematics(x, t)
+    nodes = axi.contact_nodes
+    uniform = surface_projection(t, kin.N, kin.dV, np.full(kin.dV.shape, 0.3), nodes)
+    assert np.allclose(uniform, 0.3, rtol=1e-14)
+    # a field linear in z at the Gauss points: a top node reads its first element layer (a
+    # convex mean of its Gauss points, 1.25 mm deep), the same at every top node
+    zq = np.einsum("an,ae->en", kin.N, x[t, 1])
+    top = nodes[x[nodes, 1] == x[:, 1].max()]
+    v = surface_projection(t, kin.N, kin.dV, zq, top)
+    assert np.all((v < 5e-3) & (v > 5e-3 - 1.25e-3)) and np.ptp(v) < 1e-15
+
+
+def test_upsetting_with_flattening_flattens_at_the_die_and_raises_the_die_pressure():
+    without = run_upsetting("sbmf", params=FLAT, flattening=False, **KW)
+    with_ = run_upsetting("sbmf", params=FLAT, flattening=True, **KW)
+    assert without.converged and with_.converged
+    h0, h1 = without.history, with_.history
+    # without: the contact fraction is the law's alpha1(p) alone, nothing flattened
+    assert np.all(h0["alpha_f_max"] == 0.0)
+    c = without.model.contact
+    on = without.model.accepted.p > 0
+    assert np.allclose(c.alpha[on], fl.alpha_first(without.model.accepted.p[on], FLAT), rtol=1e-12)
+    # with: flattened beyond alpha1(p) wherever the die's bulk flowed, to full contact here
+    assert np.all(h1["alpha_die_mean"] >= h0["alpha_die_mean"] - 1e-12)
+    assert h1["alpha_die_mean"][0] > h0["alpha_die_mean"][0] + 0.05
+    assert h1["alpha_f_max"][-1] == pytest.approx(1.0, abs=1e-12)
+    assert np.all(np.diff(h1["alpha_f_max"]) >= 0) and np.all(h1["eps_p_die_mean"] > 0)
+    # more friction at the die: a steeper friction hill, a higher mean die pressure throughout
+    # (+8 to +11 % here) and a higher force (+3.6 % at the end; the contact area, which the
+    # higher friction keeps smaller, takes part of it back: docs/fe_demo.md)
+    assert np.all(h1["avg_pressure"] > 1.05 * h0["avg_pressure"])
+    assert np.all(h1["force"] > 1.02 * h0["force"])
+    assert h1["contact_radius"][-1] < h0["contact_radius"][-1]
+    assert with_.info["law_parameters"]["flattening_run"] is True
+    # the flattened fraction is carried by the die's state: beyond alpha1(p_hist) at the die
+    st = with_.model.contact.state
+    hit = st.alpha_f > 0
+    assert hit.any() and np.all(st.alpha_f[hit] >= fl.alpha_first(st.p_hist[hit], FLAT) - 1e-12)
+
+
+def test_a_cut_back_leaves_the_flattened_fraction_as_committed():
+    law = fl.SBMFLaw(FLAT)
+    die = DieContact(np.arange(3), law, 1e15, 1e15, flattening=True)
+    z = np.full(3, 1e-7)  # penetration 1e-7 m: p = 1e8 Pa
+    kw = dict(d_eps=np.array([0.0, 0.01, 0.1]), sigma_y=np.full(3, FLAT.sigma_y))
+    ev = die.evaluate(z, 0.0, np.zeros(3), np.ones(3), **kw)
+    trial = die.state.alpha_f_trial.copy()
+    assert trial[0] == 0.0 and 0 < trial[1] < trial[2] <= 1.0
+    die.rollback()
+    assert np.array_equal(die.state.alpha_f_trial, np.zeros(3))
+    die.evaluate(z, 0.0, np.zeros(3), np.ones(3), **kw)
+    die.commit(ev)
+    assert np.array_equal(die.state.alpha_f, trial)
+    with pytest.raises(ValueError, match="d_eps is given exactly when"):
+        die.evaluate(z, 0.0, np.zeros(3), np.ones(3))
+    # the flattening needs a law with the block
+    with pytest.raises(ValueError, match="flattening needs the law sbmf"):
+        run_upsetting("sbmf", params=example_params(), flattening=True, **KW)
+
+
+def test_cli_flattening_runs_with_and_without(tmp_path, capsys):
+    out = tmp_path / "ups"
+    assert main(["upsetting", "--flattening", *_small(), "--out", str(out), "--quiet"]) == 0
+    rec = {}
+    for sub in ("without_flattening", "with_flattening"):
+        info = json.loads((out / sub / "summary.json").read_text())
+        rec[sub] = info["flattening"]
+        assert "Flattening under bulk strain" in (out / sub / "report.html").read_text()
+        head = (out / sub / "history.csv").read_text().splitlines()[0]
+        assert "alpha_die_mean_fraction" in head and "eps_p_die_mean" in head
+    r = rec["with_flattening"]
+    assert r == rec["without_flattening"]
+    assert r["force_end_with_N"] > r["force_end_without_N"] > 0  # the issue's check, small
+    assert r["alpha_die_mean_end_with"] > r["alpha_die_mean_end_without"]
+    assert (out / "flattening.png").is_file()
+
+
+def test_cli_flattening_options_are_checked(tmp_path, capsys):
+    plain = tmp_path / "plain.json"
+    example_params().to_json(plain)
+    for argv, msg in (
+        (["--params", str(plain)], "has no flattening block"),
+        (["--law", "tresca"], "--flattening needs --law sbmf"),
+    ):
+        code = main(["upsetting", "--flattening", *argv, "--out", str(tmp_path / "x")])
+        assert code == 2 and msg in capsys.readouterr().err
+        assert not (tmp_path / "x").exists()
+    # a file with a block without --flattening: run without it, and said once
+    code = main(["upsetting", "--params", str(EXAMPLE_FLATTENING_PATH), *_small()])
+    err = capsys.readouterr().err
+    assert code == 0 and err.count("carries a flattening block") == 1
+
+
+def _small():
+    return ["--nr", "6", "--increments", "5", "--reduction", "0.3", "--vtu-every", "0"]
