@@ -9,6 +9,7 @@ state slots) it says so once and runs the law without flattening. Tables and zon
 file with a flattening block are refused.
 """
 
+import dataclasses
 import re
 
 import numpy as np
@@ -46,7 +47,8 @@ def law(form="eq24-paper"):
 def load(tmp_path, target, params, *, units="SI", prec="DP", name=None):
     path = tmp_path / f"{name or target}.json"
     params.to_json(path)
-    files, _ = exp.render(target, path, units=units)
+    carries = bool(exp.target(target).form.bulk_strain) or params.flattening is None
+    files, _ = exp.render(target, path, units=units, without_flattening=not carries)
     src = {n: t for n, t in files.items() if n.endswith(".f")}
     tag = re.sub(r"[^a-z0-9]", "_", f"f_{name or target}_{units}_{prec}".lower())
     options, flags = {}, ("-O2",)
@@ -253,6 +255,26 @@ def test_hosts_without_bulk_strain_say_so_once_and_run_the_law(tmp_path, target)
     log = [t for lop, t in host.log() if "flattening block" in t]
     assert len(log) == 1 and host.exits() == 0
     assert "runs without flattening" in log[0]
+
+
+def test_hosts_without_bulk_strain_need_the_users_word_and_the_option_is_never_ignored(tmp_path):
+    """A host that passes no bulk strain would drop the flattening: refused unless the user says
+    so (--without-flattening); the option where nothing is dropped is refused too."""
+    from frictionlaw.export.cli import main
+
+    flat = law().to_json(tmp_path / "flat.json")
+    plain = dataclasses.replace(law(), flattening=None).to_json(tmp_path / "plain.json")
+    for target in ("abaqus-fric", "abaqus-vfric", "abaqus-vfriction", "calculix"):
+        with pytest.raises(ValueError, match="passes no bulk plastic strain"):
+            exp.render(target, flat)
+        assert exp.render(target, flat, without_flattening=True)[0]
+    with pytest.raises(ValueError, match="runs the flattening"):
+        exp.render("lsdyna-usrfrc", flat, without_flattening=True)
+    with pytest.raises(ValueError, match="has none"):
+        exp.render("abaqus-fric", plain, without_flattening=True)
+    base = ["abaqus-fric", "--params", str(flat), "--out"]
+    assert main([*base, str(tmp_path / "a")]) == 2 and not (tmp_path / "a").exists()
+    assert main([*base, str(tmp_path / "b"), "--without-flattening"]) == 0
 
 
 def test_tables_and_zones_refuse_a_flattening_file(tmp_path):

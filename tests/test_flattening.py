@@ -342,13 +342,16 @@ def test_the_reload_branch_starts_from_the_flattened_fraction():
 
 
 def test_the_export_says_where_a_host_runs_the_law_without_flattening(tmp_path):
-    """Abaqus' FRIC gets no bulk strain: exported (exit 0), its README says the block is not run;
+    """Abaqus' FRIC gets no bulk strain: exported with --without-flattening (exit 0; refused with
+    exit 2 without it), its README says the block is not run;
     a table of the pressure alone cannot carry the block: refused (exit 2), nothing written."""
     from frictionlaw.export.cli import main
 
     path = tmp_path / "params.json"
     law().to_json(path)
-    assert main(["abaqus-fric", "--params", str(path), "--out", str(tmp_path / "x")]) == 0
+    base = ["abaqus-fric", "--params", str(path), "--out", str(tmp_path / "x")]
+    assert main(base) == 2 and not (tmp_path / "x").exists()  # only with the user's word
+    assert main([*base, "--without-flattening"]) == 0
     readme = (tmp_path / "x" / "README.md").read_text(encoding="utf-8")
     assert "flattening block (issue 43) is not run" in readme
     assert "runs without flattening" in readme

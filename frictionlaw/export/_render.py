@@ -107,14 +107,23 @@ def _check_exportable(params, path):
             )
 
 
-def _check_flattening(record, laws, zones):
+def _check_flattening(record, laws, zones, without_flattening=False):
     """``ValueError`` where a file's flattening block (issue 43) would be lost without a word.
 
-    Every routine target carries it (running it, or saying once that its host passes no bulk
-    strain); a table (a law of the pressure alone) and a zoned routine (not yet) do not.
+    A routine whose host passes the bulk strain runs it; a routine whose host passes none
+    (Abaqus FRIC, VFRIC, VFRICTION, CalculiX) runs the law without it only when the user says so
+    (``without_flattening``; the routine then also says it once at run time); a table (a law of
+    the pressure alone) and a zoned routine (not yet) cannot carry it. ``without_flattening``
+    where nothing would be dropped is refused too (no option silently ignored).
     """
     flat = [law for law in laws if law.params.flattening is not None]
     if not flat:
+        if without_flattening:
+            raise ParameterError(
+                "{without_flattening} applies to a parameter file with a flattening block "
+                "(halfspace-calib --flattening); this one has none: leave it out",
+                "without_flattening",
+            )
         return
     path = flat[0].path
     if not isinstance(record.form, _targets.Routine):
@@ -127,6 +136,20 @@ def _check_flattening(record, laws, zones):
         raise ValueError(
             f"{path}: the file carries a flattening block (issue 43): zoned routines do not "
             "carry it yet; export the zone's law alone, or a calibration without the block"
+        )
+    if record.form.bulk_strain and without_flattening:
+        raise ParameterError(
+            f"{{without_flattening}}: {record.name} runs the flattening (its host passes the "
+            "bulk strain); leave the option out",
+            "without_flattening",
+        )
+    if not record.form.bulk_strain and not without_flattening:
+        raise ParameterError(
+            f"{path}: the file carries a flattening block (issue 43), but {record.name}'s host "
+            "passes no bulk plastic strain to the routine, so the law would run without it: "
+            "give {without_flattening} to export it that way, or export for a host that "
+            "passes the strain (lsdyna-usrfrc, lsdyna-usrfrc-mpp, lsdyna, ansys-userfric)",
+            "without_flattening",
         )
 
 
@@ -161,6 +184,7 @@ def plan(
     k_t=None,
     table_tol=1e-3,
     accept_failed=False,
+    without_flattening=False,
 ):
     """Decide an export (:class:`Job`); raises ValueError (or FileNotFoundError) on bad input.
 
@@ -191,7 +215,7 @@ def plan(
     laws, table = plan_laws(
         params_path, zones, key, us, k_t, accept_failed=accept_failed, check=_check_exportable
     )
-    _check_flattening(record, laws, zones)
+    _check_flattening(record, laws, zones, without_flattening)
     params, sha = laws[0].params, laws[0].sha
     if table is None:
         kt, ftable = record.form.decide(params, us, k_t, table_tol)
@@ -277,6 +301,7 @@ def export(
     table_tol=1e-3,
     force=False,
     accept_failed=False,
+    without_flattening=False,
 ):
     """Write ``target``'s files for the parameter file ``params_path`` into the folder ``out``.
 
@@ -313,6 +338,10 @@ def export(
     accept_failed : bool
         Export a parameter file whose calibration failed or whose fit did not converge (refused
         otherwise, :func:`frictionlaw.params.fit_failure`).
+    without_flattening : bool
+        Export a file with a flattening block (issue 43) for a host that passes no bulk strain
+        (Abaqus FRIC, VFRIC, VFRICTION, CalculiX): the routine runs the law without the
+        flattening and says so once. Refused without it, and refused where nothing is dropped.
 
     Returns
     -------
@@ -342,6 +371,7 @@ def export(
             k_t=k_t,
             table_tol=table_tol,
             accept_failed=accept_failed,
+            without_flattening=without_flattening,
         )
         executable = {e.name for e in _targets.target(target).extras if e.executable}
         for name, text in files.items():

@@ -99,6 +99,14 @@ def build_parser():
         help="export a parameter file whose calibration failed or whose fit did not converge "
         "(refused otherwise; a warning is printed)",
     )
+    ap.add_argument(
+        "--without-flattening",
+        action="store_true",
+        help="export a parameter file with a flattening block (halfspace-calib --flattening) for "
+        "a host that passes no bulk strain (abaqus-fric, abaqus-vfric, abaqus-vfriction, "
+        "calculix): the routine runs the law without the flattening and says so once (refused "
+        "otherwise; default: off)",
+    )
     add_common_options(ap, progress=False)
     return ap
 
@@ -128,6 +136,7 @@ def main(argv=None):
             table_tol=args.table_tol,
             force=args.force,
             accept_failed=args.accept_failed_fit,
+            without_flattening=args.without_flattening,
         )
     except (ValueError, FileNotFoundError, IsADirectoryError) as exc:
         return con.error(exc, 2)
