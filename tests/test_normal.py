@@ -425,6 +425,34 @@ def test_kernels_against_numpy(pmax_is_inf):
     assert K.dot_free(g, z, p, pmax) == pytest.approx(np.dot(g[free], z[free]), rel=1e-12)
 
 
+@pytest.mark.parametrize(
+    "q, target",
+    [
+        ((236294556.12002784, 147632542.5886099), 1299825455.186936),
+        ((535674106.5603882, 150752807.9812582), 1025141079.0777335),
+    ],
+)
+def test_load_restoration_ends_when_the_cap_test_and_its_threshold_disagree_by_an_ulp(q, target):
+    """Water filling whose first factor ``c`` gives ``c * max(q) == pmax`` after rounding while
+    ``pmax / c > max(q)``: the capped set must still grow (it looped forever on a real file's
+    solve). Run in a child process so that a livelock fails instead of hanging the suite."""
+    import subprocess
+    import sys
+
+    code = (
+        "import numpy as np; from halfspace_calib.contact import _kernels as K; "
+        f"q = np.array({list(q)!r}); ok, c, n = K.restore_load(q, {target!r}, 800e6); "
+        "print(ok, repr(float(c)), n, repr(float(q[0])), repr(float(q[1])))"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=True
+    ).stdout.split()
+    assert out[0] == "True" and int(out[2]) == 2  # one pass finds the cap, the second checks
+    c, q0, q1 = float(out[1]), float(out[3]), float(out[4])
+    assert q0 == 800e6 and q1 == pytest.approx(target - 800e6, rel=1e-12)
+    assert c == pytest.approx((target - 800e6) / q[1], rel=1e-12)
+
+
 @pytest.mark.parametrize("H", [None, 0.5])
 def test_project_box_sum_kernel_against_numpy_bisection(H):
     """The numba projection against an independent NumPy oracle (bisection on ``lam``)."""

@@ -201,7 +201,10 @@ def restore_load(q, target, pmax):
             return False, 0.0, passes  # underflow: a tiny target on a large support
         if c * mfree < pmax:
             break
-        thr = pmax / c  # the elements that pass the cap at this c (at least the largest one)
+        # the elements that pass the cap at this c, at least the largest free one: in floating
+        # point c * mfree >= pmax does not imply pmax / c <= mfree (1 ulp), and without the
+        # min the capped set stayed the same and the loop never ended (sur-3 at 48^2)
+        thr = min(pmax / c, mfree)
     for k in range(q.size):
         qk = q[k]
         if qk >= thr:
