@@ -163,6 +163,11 @@ class Scene:
     meets the first loading at ``p_hist`` (no drop there), fitted in that variant.
     ``heldout_tol``: the largest held-out ``|d alpha|`` either branch may have
     (:mod:`~halfspace_calib.pipeline.heldout`); beyond it the run fails.
+    ``adaptive_levels``: place the load levels where the computed ``alpha`` changes, within the
+    range of ``pressures`` (:mod:`~halfspace_calib.pipeline.levels`: refined to
+    ``heldout_tol / 10`` in first loading and ``/ 2`` in reload); ``False`` computes
+    ``pressures`` as given; ``None`` (the default) refines the default pressures and computes
+    given ones as given.
 
     ``H_source`` says where ``H`` came from for the parameter file (``None``: Table 1's value
     or "given"; :mod:`halfspace_calib.pipeline.hardness` sets it when H is fitted to
@@ -213,6 +218,7 @@ class Scene:
     reload_form: str = "auto"
     heldout_tol: float = HELDOUT_TOL
     alpha_floor: float | None = ALPHA_FLOOR
+    adaptive_levels: bool | None = None
     workers: int | None = None
     scheduler: str | None = None
     effects: tuple = ("normal",)
@@ -240,6 +246,8 @@ class Scene:
         if "inclined" in self.effects and synthetic and self.measured_n is None:
             # the inclined patches need the measured grid: calibrate on the same random field
             put("measured_n", 4 * self.grid if isinstance(self.grid, int) else None)
+        if self.adaptive_levels is None:  # the default range is refined, given levels are not
+            put("adaptive_levels", self.pressures == DEFAULT_PRESSURES)
         if self.pressures == DEFAULT_PRESSURES and isinstance(self.H, (int, float)) and self.H > 0:
             put("pressures", default_pressures(self.H))  # the default sweep follows H
         if isinstance(self.pressures, str):  # a scene file's pressures = "paper"
@@ -373,6 +381,11 @@ class Scene:
             value = getattr(self, f"{branch}_form")
             if value not in forms:
                 raise ValueError(f"{branch}_form must be one of {', '.join(forms)}, got {value!r}")
+        if not isinstance(self.adaptive_levels, bool):
+            raise ValueError(
+                f"adaptive_levels must be True, False or None (refine the default range), got "
+                f"{self.adaptive_levels!r}"
+            )
         if not isinstance(self.continuous_reload, bool):
             raise ValueError(
                 f"continuous_reload must be True or False, got {self.continuous_reload!r}"
