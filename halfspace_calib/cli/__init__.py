@@ -193,10 +193,13 @@ def build_parser():
         "--pressures",
         type=_pressures,
         help="first-loading p_mean list in Pa, comma separated, or 'paper' for the paper's "
-        "10-600 MPa (default: "
-        + ",".join(f"{p:g}" for p in _D["pressures"])
-        + " for H = 800 MPa; for another H the paper's pressures below 0.85 H, then 0.875 H "
-        "and 0.95 H)",
+        "10-600 MPa: computed as given, no refinement (default: the range "
+        + f"{min(_D['pressures']) / 1e6:g}-{max(_D['pressures']) / 1e6:g} MPa"
+        + " for H = 800 MPa, for another H up to 0.95 H, its levels placed where alpha changes: "
+        "the ends and --reload-from first, then each interval's midpoint while the law "
+        "interpolated from the other levels misses it by more than --heldout-tol / 10 (and "
+        "0.5 %%) in first loading or --heldout-tol / 2 in reload; not in full contact, alpha >= "
+        "0.995)",
     )
     g.add_argument(
         "--reload-fractions",

@@ -49,7 +49,9 @@ def add_law_options(g, _D):
         "have on a load level it did not see (each interior level left out, the branch refitted "
         "and the level predicted; first loading: the points at one pressure, reload: one reload "
         "curve); beyond it the run fails with exit 1. The extrapolations above the top level and "
-        f"below the lowest are reported, they do not decide (default: {_D['heldout_tol']:g})",
+        f"below the lowest are reported, they do not decide; with the default pressures it also "
+        "sets how finely the levels are placed: heldout_tol / 10 in first loading, / 2 in "
+        f"reload (default: {_D['heldout_tol']:g})",
     )
 
 
@@ -122,4 +124,6 @@ def law_lines(cal, s):
         "alpha"
     )
     lines += [f"  note: {n}" for n in s["fit_notes"]]
+    if cal.sweeps.plan is not None:
+        lines += ["  " + line for line in cal.sweeps.plan.lines()]
     return lines

@@ -268,6 +268,7 @@ class Calibration:
             "max_jump_relative": self.checks.get("max_jump_relative", 0.0),
             "reload_below_first": self.checks.get("reload_below_first"),
             "failed_levels": [dataclasses.asdict(f) for f in self.sweeps.failed],
+            "levels": None if self.sweeps.plan is None else self.sweeps.plan.as_dict(),
             "not_converged": [dataclasses.asdict(nc) for nc in self.sweeps.not_converged()],
             "max_reload_pressure_over_H": self.sweeps.max_reload_pressure() / self.scene.H,
             "max_reload_plastic_fraction": self.sweeps.max_reload_plastic_fraction(),
@@ -338,7 +339,9 @@ def _calibrate(scene, progress, surfaces):
         },
         tolerance=scene.tol,
         pressures={
-            "loading": list(scene.pressures),
+            "loading": [lv.p_hist for lv in sweeps.levels],
+            "range": [min(scene.pressures), max(scene.pressures)],
+            "adaptive_levels": scene.adaptive_levels,
             "reload_fractions": list(scene.reload_fractions),
             "reload_from": scene.reload_from,
         },

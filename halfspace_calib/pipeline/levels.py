@@ -11,7 +11,7 @@ and stops in full contact or where the law is within a tolerance.
   predicted from every other computed level by the form the scene runs (its calibration
   record's fit and prediction, :mod:`.forms`; ``"auto"`` checks with the tabulated forms, the
   interpolating candidates). First loading: ``|alpha_law(m) - alpha(m)|`` against
-  ``heldout_tol / 10`` (:data:`FIRST_SHARE`); reload (``m >= reload_from``, two other histories
+  ``heldout_tol / 10`` (:data:`FIRST_SHARE`) and ``0.005 alpha`` (:data:`FIRST_REL`); reload (``m >= reload_from``, two other histories
   or more): the largest ``|d alpha|`` of ``m``'s reload curve against ``heldout_tol / 2``
   (:data:`RELOAD_SHARE`). A miss refines both halves; within both tolerances the interval is
   settled.
@@ -50,6 +50,8 @@ __all__ = [
     "MIN_RATIO",
     "MAX_LEVELS",
     "FIRST_SHARE",
+    "FIRST_REL",
+    "QUANTUM",
     "RELOAD_SHARE",
     "LevelReason",
     "LevelPlan",
@@ -71,6 +73,11 @@ MIN_RATIO = 1.1
 MAX_LEVELS = 24
 #: the first loading's refinement tolerance as a share of ``heldout_tol``
 FIRST_SHARE = 0.1
+#: the first loading's relative refinement tolerance (``|d alpha| / alpha``: low pressures,
+#: where ``alpha`` is small and ``mu_eff`` is read)
+FIRST_REL = 0.005
+#: the relative tolerance applies to misses of more than this many elements' share of alpha
+QUANTUM = 4
 #: the reload curves' refinement tolerance as a share of ``heldout_tol``
 RELOAD_SHARE = 0.5
 
@@ -115,8 +122,8 @@ class LevelPlan:
             ]
         out = [
             f"load levels: {len(self.levels)} computed where alpha changes (refined to "
-            f"{self.tol_first:g} in first loading, {self.tol_reload:g} in reload, "
-            "heldout_tol / 10 and / 2):"
+            f"{self.tol_first:g} and {100 * FIRST_REL:g} % in first loading, {self.tol_reload:g} "
+            "in reload: heldout_tol / 10 and / 2):"
         ]
         out += [
             f"  {r.p / 1e6:g} MPa{' (+reload)' if r.reload else ''}: {r.reason}"
@@ -233,11 +240,13 @@ def _curves(results):
 
 
 # ----------------------------------------------------------------------------- refinement
-def adaptive_levels(scene, run_round):
+def adaptive_levels(scene, run_round, n_elements):
     """Refine the scene's load levels where the computed ``alpha`` changes (module docstring).
 
     ``run_round(pressures)``: computes the levels ``pressures`` (a reload curve at those at or
-    above ``scene.reload_from``) and returns ``{p: LevelResult}`` (failed levels left out).
+    above ``scene.reload_from``) and returns ``{p: LevelResult}`` (failed levels left out);
+    ``n_elements``: the solver grid's elements (a miss within :data:`QUANTUM` of them is the
+    grid's resolution of ``alpha``, not the law's).
     Returns ``(results, plan)``: every computed level's result by pressure and the
     :class:`LevelPlan`.
     """
@@ -263,7 +272,7 @@ def adaptive_levels(scene, run_round):
                 m, rnd, f"checks {a / 1e6:.4g}-{b / 1e6:.4g} MPa", m >= scene.reload_from
             )
         results.update(run_round(mids))
-        opened = _judge(scene, todo, mids, results, reasons, decisions, tol1, tol2)
+        opened = _judge(scene, todo, mids, results, reasons, decisions, (tol1, tol2, n_elements))
     levels = tuple(reasons[p] for p in sorted(results))
     return results, LevelPlan(True, levels, tuple(decisions), tol1, tol2)
 
@@ -313,8 +322,9 @@ def _minimum_below(alpha, todo, decisions, n):
     return [(a, b)]
 
 
-def _judge(scene, todo, mids, results, reasons, decisions, tol1, tol2):
+def _judge(scene, todo, mids, results, reasons, decisions, tols):
     """Each checked interval refined (both halves open) or settled, with the reason."""
+    tol1, tol2, n_elements = tols
     ok = {p: lv for p, lv in results.items() if lv.loading.converged}
     ps = np.array(sorted(ok))
     alphas = np.array([ok[p].loading.alpha for p in ps])
@@ -327,15 +337,18 @@ def _judge(scene, todo, mids, results, reasons, decisions, tol1, tol2):
             decisions.append(f"{span}: the midpoint {m / 1e6:.4g} MPa failed; not refined")
             continue
         d1 = _first_miss(scene, ps, alphas, m)
+        rel = d1 / max(ok[m].loading.alpha, 1e-300)
+        if d1 <= QUANTUM / n_elements:  # within a few elements: the grid's resolution of alpha
+            rel = 0.0
         d2 = d2s.get(m, 0.0)
-        what = f"first loading misses {d1:.2g}" + (
+        what = f"first loading misses {d1:.2g} ({100 * rel:.2g} %)" + (
             f", reload {d2:.2g}" if m >= scene.reload_from else ""
         )
-        if d1 > tol1 or d2 > tol2:
+        if d1 > tol1 or rel > FIRST_REL or d2 > tol2:
             opened += [(a, m), (m, b)]
             decisions.append(
                 f"{span}: refined at {m / 1e6:.4g} MPa, the law interpolated from the other "
-                f"levels {what} (tolerances {tol1:g}, {tol2:g})"
+                f"levels {what} (tolerances {tol1:g} and {100 * FIRST_REL:g} %, {tol2:g})"
             )
             reasons[m] = dataclasses.replace(reasons[m], reason=f"refines {span}: {what}")
         else:
