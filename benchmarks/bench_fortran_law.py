@@ -11,6 +11,11 @@ tabulated form (8 levels from 100 to 760 MPa, C2 4.5..84, n2 0.95..0.29, s2 0.7)
 from its own parameter file and timed on the same nodes; ``tab_over_paper`` is the ratio of
 their best times, ``tab_over_paper_median`` the median over the rounds of the ratio within a
 round (the two timed one after the other, so that a slow phase of the machine hits both).
+Both first-loading forms (issue 37): Eq. 24 and the tabulated first loading (11 levels from 10 to
+760 MPa, the default sweep's; the contact ratios of the same Eq. 24 there, so that only the
+form differs), under either reload form: ``first_over_eq24`` (paper reload) and
+``first_over_eq24_tab`` (tabulated reload) are the medians over the rounds of the ratio within
+a round, each form with the committed cache its own routine writes for ``p_hist``.
 2 tangential directions; best of several rounds, the variants timed in turn in every round, in
 CPU time of the calling thread (``time.thread_time``: the routines run in that thread; on the
 shared 2-core machine the wall clock also counts the time the thread waits for a core, which
@@ -23,6 +28,13 @@ Abaqus' ``FRIC`` (its shim calls it per point as Abaqus does). The parameter fil
 calibrated range (up to 760 MPa), so the loading nodes above it take the range check's slow
 path (the once-per-process flag read) at every call. ``guard_cost_*`` is the median over the
 rounds of guarded / unguarded - 1.
+
+The cost of choosing a zone's law (issue 42): ``FRIC`` and the host-neutral ``SBMF_FRICTION_V``
+exported with four zones of equal name length (``ZONE1`` .. ``ZONE4``, each the paper form's law,
+so that only the choosing differs), called with ``zone4`` (the last compared: the worst of the
+four) and ``STATEV(4)``/``STATE(4)`` holding the zone (the cache is read), against the one-law
+routine of the same law in the same rounds: ``zoned_over_one_fric``, ``zoned_over_one_v``, the
+medians over the rounds of the ratio within a round.
 
 Run: python benchmarks/bench_fortran_law.py [--nodes 200000] [--repeat 5] [--reload-fraction 0.5]
 [--out benchmarks/results/fortran_law.csv]. Writes the CSV and prints a table.
@@ -42,6 +54,7 @@ import frictionlaw as fl
 from frictionlaw import export as exp
 from frictionlaw.export import harness
 from frictionlaw.export._render import plan, texts
+from frictionlaw.first_loading import FirstLoadingTable
 from frictionlaw.reload_form import ReloadTable
 
 H = 800e6
@@ -66,6 +79,18 @@ TABULATED = dataclasses.replace(
         s2=0.7,
     ),
 )
+#: the tabulated first loading: Eq. 24 of PARAMS at the default sweep's levels (issue 37)
+_LEVELS = (10e6, 25e6, 50e6, 100e6, 200e6, 300e6, 400e6, 500e6, 600e6, 700e6, 760e6)
+FIRST = {
+    name: dataclasses.replace(
+        law,
+        first_loading_form="tabulated",
+        first_loading_table=FirstLoadingTable(
+            p=_LEVELS, alpha=tuple(fl.alpha_first(np.array(_LEVELS), PARAMS))
+        ),
+    )
+    for name, law in (("first", PARAMS), ("first_tab", TABULATED))
+}
 KT = 1e13
 
 
@@ -93,7 +118,8 @@ def libraries(workdir):
     guards' pairs: ``SBMF_FRICTION`` and ``FRIC`` of the paper form with and without guards."""
     entry = exp.target("lsdyna").harness  # the host-neutral SBMF_FRICTION
     libs = {}
-    for name, params in (("paper", PARAMS), ("tab", TABULATED)):
+    forms = (("paper", PARAMS), ("tab", TABULATED), *FIRST.items())
+    for name, params in forms:
         params.to_json(workdir / f"params_{name}.json")
         files, _ = exp.render("lsdyna", workdir / f"params_{name}.json")
         libs[name], _ = entry.load(files, workdir / name, name=f"sbmf_{name}")
@@ -107,6 +133,10 @@ def libraries(workdir):
         libs[key], _ = record.harness.load(files, workdir / key, name=key)
     files, _ = exp.render("abaqus-fric", workdir / "params_paper.json")
     libs["fric"], _ = exp.target("abaqus-fric").harness.load(files, workdir / "fric", name="fric")
+    zones = [(f"ZONE{i}", workdir / "params_paper.json") for i in range(1, 5)]
+    for target, key in (("abaqus-fric", "fric_zoned"), ("lsdyna", "v_zoned")):
+        files, _ = exp.render(target, None, zones=zones)
+        libs[key], _ = exp.target(target).harness.load(files, workdir / key, name=key)
     return libs
 
 
@@ -160,24 +190,34 @@ def main(argv=None):
         libs = libraries(Path(tmp))
         data, du, t_old = cases(n, rng, args.reload_fraction)
         p0, h0 = data["loading"]
-        neutral = ("paper", "tab", "coulomb", "paper_noguard")
+        neutral = ("paper", "tab", "first", "first_tab", "coulomb", "paper_noguard")
         bufs = {k: libs[k](p0, h0, -np.ones(n), du, t_old, KT) for k in neutral}
         chr_ = np.full(n, 1e-3)
         sv0 = np.zeros((n, 3))
         for k in ("fric", "fric_noguard"):
             bufs[k] = libs[k](p0, du, t_old, sv0, chr_)
+        bufs["fric_zoned"] = libs["fric_zoned"](
+            p0, du, t_old, np.zeros((n, 4)), chr_, ciname="zone4"
+        )
         ref = fl.traction_update(law, p0, du, t_old, KT, fl.HistoryState(n))
         for branch, (p, ph) in data.items():
             state = fl.HistoryState(n, ph)
-            # the committed cache a host holds for p_hist (Eq. 24's, the same in both forms)
+            # the committed cache a host holds for p_hist (Eq. 24's, the same in both reload
+            # forms; the tabulated first loading's its own)
             g1 = cache_of(libs["paper"], ph, n)
+            g1f = cache_of(libs["first"], ph, n)
             calls = {
                 "fortran_coulomb": lambda p=p, ph=ph: libs["coulomb"](
                     p, ph, -np.ones(n), du, t_old, KT, reps=reps, out=bufs["coulomb"]
                 ),
             }
-            for form, col in (("paper", "fortran_sbmf"), ("tab", "fortran_sbmf_tab")):
-                calls[col] = lambda g=g1, p=p, ph=ph, f=form: libs[f](
+            for form, col, g1c in (
+                ("paper", "fortran_sbmf", g1),
+                ("tab", "fortran_sbmf_tab", g1),
+                ("first", "fortran_first", g1f),
+                ("first_tab", "fortran_first_tab", g1f),
+            ):
+                calls[col] = lambda g=g1c, p=p, ph=ph, f=form: libs[f](
                     p, ph, g, du, t_old, KT, reps=reps, out=bufs[f]
                 )
                 if branch != "loading":
@@ -195,6 +235,20 @@ def main(argv=None):
                     p, du, t_old, sv, chr_, reps=reps, out=bufs[k]
                 )
 
+            # the cost of choosing a zone: four zones, the last one's name, its cache in use
+            sv4 = np.stack([ph, g1, np.zeros(n), np.full(n, 4.0)], 1)
+            calls["fortran_fric_zoned"] = lambda p=p, sv=sv4: libs["fric_zoned"](
+                p, du, t_old, sv, chr_, reps=reps, out=bufs["fric_zoned"], ciname="zone4"
+            )
+            st5 = np.stack([ph, g1, np.zeros(n), np.full(n, 4.0), np.zeros(n)], 1)
+            one5 = np.stack([ph, g1, np.zeros(n), np.ones(n), np.zeros(n)], 1)
+            calls["fortran_v"] = lambda p=p, st=one5: libs["paper"].friction(
+                "zone4", p, st.copy(), du, t_old, KT, reps=reps
+            )
+            calls["fortran_v_zoned"] = lambda p=p, st=st5: libs["v_zoned"].friction(
+                "zone4", p, st.copy(), du, t_old, KT, reps=reps
+            )
+
             def numba_run(p=p, state=state):
                 for _ in range(reps):
                     fl.traction_update(law, p, du, t_old, KT, state, parallel=False, out=ref)
@@ -207,6 +261,10 @@ def main(argv=None):
             row["sbmf_over_coulomb"] = times["fortran_sbmf"] / times["fortran_coulomb"]
             row["tab_over_paper"] = times["fortran_sbmf_tab"] / times["fortran_sbmf"]
             row["tab_over_paper_median"] = median_ratio(rounds, "fortran_sbmf_tab", "fortran_sbmf")
+            row["first_over_eq24"] = median_ratio(rounds, "fortran_first", "fortran_sbmf")
+            row["first_over_eq24_tab"] = median_ratio(
+                rounds, "fortran_first_tab", "fortran_sbmf_tab"
+            )
             row["numba_over_fortran"] = times["numba_serial"] / times["fortran_sbmf"]
             row["guard_cost_sbmf"] = (
                 median_ratio(rounds, "fortran_sbmf", "fortran_sbmf_noguard") - 1.0
@@ -215,11 +273,16 @@ def main(argv=None):
                 median_ratio(rounds, "fortran_fric", "fortran_fric_noguard") - 1
             )
             row["beyond_p_max"] = float(np.mean(p > PARAMS.p_range[1]))
+            row["zoned_over_one_fric"] = median_ratio(rounds, "fortran_fric_zoned", "fortran_fric")
+            row["zoned_over_one_v"] = median_ratio(rounds, "fortran_v_zoned", "fortran_v")
             if "fortran_sbmf_nocache" in times:
                 row["tab_over_paper_nocache"] = (
                     times["fortran_sbmf_tab_nocache"] / times["fortran_sbmf_nocache"]
                 )
                 row["cache_gain"] = times["fortran_sbmf_nocache"] / times["fortran_sbmf"]
+                row["first_over_eq24_nocache"] = median_ratio(
+                    rounds, "fortran_first_nocache", "fortran_sbmf_nocache"
+                )
             rows.append(row)
     cols = [
         "branch",
@@ -234,6 +297,12 @@ def main(argv=None):
         "tab_over_paper",
         "tab_over_paper_median",
         "tab_over_paper_nocache",
+        "fortran_first",
+        "fortran_first_nocache",
+        "fortran_first_tab",
+        "first_over_eq24",
+        "first_over_eq24_tab",
+        "first_over_eq24_nocache",
         "numba_over_fortran",
         "cache_gain",
         "fortran_sbmf_noguard",
@@ -242,6 +311,11 @@ def main(argv=None):
         "guard_cost_sbmf",
         "guard_cost_fric",
         "beyond_p_max",
+        "fortran_fric_zoned",
+        "zoned_over_one_fric",
+        "fortran_v",
+        "fortran_v_zoned",
+        "zoned_over_one_v",
     ]
     out = args.out
     out.parent.mkdir(parents=True, exist_ok=True)

@@ -146,10 +146,11 @@ def ring_deck(*, nr=12, nth=12, nz=8, reduction=0.5, n_inc=50, contact="n2f", sl
         "*SURFACE INTERACTION, NAME=SBMF",
         "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR",
         f"{slope:g}, 0.01",
-        # DEPVAR: p_hist, its cache, the status; the one property: the deck's unit system,
-        # 2 = mm-t-s (the routine checks it against the units it was exported for)
+        # DEPVAR: p_hist, its cache, the status; the one property: the deck's unit system by
+        # name, MM-T-S (PROPS(1) = 2., which the routine checks against the units it was
+        # exported for; a ccx without the patch cannot read the name and stops)
         "*FRICTION, USER, DEPVAR=3, PROPERTIES=1",
-        "2.",
+        "MM-T-S",
         "*CONTACT PAIR, INTERACTION=SBMF, TYPE="
         + ("SURFACE TO SURFACE" if contact == "f2f" else "NODE TO SURFACE"),
         "SRING, SDIE",
@@ -313,7 +314,7 @@ def main(argv=None):
         out / f"ring3d_{args.contact}.csv",
         ccx_rows,
         delimiter=",",
-        header="height_reduction,force_N,inner_diameter_change",
+        header="height_reduction_fraction,force_N,inner_diameter_change_fraction",
         comments="",
     )
 

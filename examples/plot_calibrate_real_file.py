@@ -18,6 +18,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from frictionlaw import alpha_first
+from frictionlaw.describe import describe_law
 from halfspace_calib import Scene, calibrate
 
 repo = Path(os.environ.get("SBMF_REPO", Path.cwd()))
@@ -31,8 +32,10 @@ scene = Scene(
 )
 cal = calibrate(scene, progress=False)
 params = cal.params
-print(f"C1 = {params.C1:.3f}, n1 = {params.n1:.3f}, C2 = {params.C2:.3f}, n2 = {params.n2:.3f}")
-print(f"mu_eff = {params.mu_eff:.4f}, first-loading R^2 = {cal.first.r_squared:.5f}")
+# the law the parameters run: each branch's form with its parameters (or table) and its measured
+# errors, then the form beside it, as every report of the law gives it
+print("\n".join(describe_law(params).lines()))
+print(f"mu_eff = {params.mu_eff:.4f}")
 
 # %%
 # The contact ratio against pressure: the half-space solves and the fitted Eq. 24.

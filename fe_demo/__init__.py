@@ -10,18 +10,29 @@ Never imports ``halfspace_calib``: calibrated parameters come in as a JSON file
   ``run_multistage``), their laws and run specification;
 - :mod:`fe_demo.analysis`: the ring fit of ``m``, the ring chart, the law's band;
 - :mod:`fe_demo.cli`: the ``fe-demo`` console script.
+
+Importing the package loads none of it: each name is imported on first use (PEP 562), so that
+the ``fe-demo`` command (:mod:`fe_demo.__main__`) starts, answers ``--version`` and handles
+Ctrl-C before NumPy, SciPy and numba are loaded.
 """
 
-from .scenes import SceneResult, run_multistage, run_ring, run_upsetting
-from .solver import DC04, FormingModel, Material, SolverOptions
+from sbmf_cli import lazy_names
 
-__all__ = [
-    "DC04",
-    "Material",
-    "FormingModel",
-    "SolverOptions",
-    "SceneResult",
-    "run_upsetting",
-    "run_ring",
-    "run_multistage",
-]
+#: the public names and the module each comes from (imported on first use)
+_SOURCES = {
+    "DC04": ".solver",
+    "Material": ".solver",
+    "FormingModel": ".solver",
+    "SolverOptions": ".solver",
+    "SceneResult": ".scenes",
+    "run_upsetting": ".scenes",
+    "run_ring": ".scenes",
+    "run_multistage": ".scenes",
+}
+#: the subpackages, as attributes (``fe_demo.scenes``), imported on first use
+_SUBPACKAGES = ("analysis", "cli", "output", "scenes", "solver")
+
+__all__ = list(_SOURCES)
+
+
+__getattr__, __dir__ = lazy_names(__name__, _SOURCES, _SUBPACKAGES)

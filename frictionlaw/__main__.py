@@ -7,15 +7,13 @@ import argparse
 import math
 import sys
 
-import numpy as np
-
-from sbmf_cli import Console, HelpFormatter, add_version, parse
-
-from . import FrictionParams, alpha_first, reload_jump, shear_limit
+from sbmf_cli import Console, HelpFormatter, add_version, light_entry, parse
 
 
 def default_params():
     """DC04-like demo parameters (Table 1 hardness; C, n of the order the calibration gives)."""
+    from . import FrictionParams
+
     return FrictionParams(m=0.7, sigma_y=800e6 / 2.8, H=800e6, C1=1.0, n1=2.0, C2=2.5, n2=2.0)
 
 
@@ -35,8 +33,12 @@ def build_parser():
     return ap
 
 
-def main(argv=None):
-    """Entry point; returns 0, or 2 for bad input."""
+def run(argv=None):
+    """The command; returns 0, or 2 for bad input (:data:`main` is the console script)."""
+    import numpy as np
+
+    from . import FrictionParams, alpha_first, reload_jump, shear_limit
+
     args, code = parse(build_parser(), argv)
     if args is None:
         return code
@@ -48,15 +50,17 @@ def main(argv=None):
     except (OSError, ValueError, TypeError, KeyError) as exc:
         return con.error(f"--params {args.params}: {exc}", 2)
     print(
-        f"m={params.m:g} k={(params.k or 0.0) / 1e6:.1f} MPa H={params.H / 1e6:.0f} MPa "
-        f"C1={params.C1:g} n1={params.n1:g} C2={params.C2:g} n2={params.n2:g}"
+        f"m={params.m:g} k={(params.k or 0.0) / 1e6:.1f} MPa H={params.H / 1e6:.0f} MPa; "
+        f"first loading {params.first_loading_form}, reload {params.reload_form}"
+        + (f" (C1={params.C1:g} n1={params.n1:g}" if params.first_loading_form == "eq24" else " (")
+        + (f" C2={params.C2:g} n2={params.n2:g})" if params.reload_form == "paper" else ")")
     )
     print(
         f"Coulomb slope at p->0: mu_eff = {params.mu_eff:.4f}; cap m k = {params.tau_max / 1e6:.1f} MPa"
     )
     ph = args.p_hist
     print(
-        f"{'p [MPa]':>8} {'alpha1':>8} {'tau Eq24 [MPa]':>15} {f'tau reload, p_hist={ph / 1e6:.0f} MPa':>28}"
+        f"{'p [MPa]':>8} {'alpha1':>8} {'tau first [MPa]':>15} {f'tau reload, p_hist={ph / 1e6:.0f} MPa':>28}"
     )
     for p in np.linspace(0, 1000e6, 11):
         t1 = shear_limit(p, 0.0, params)
@@ -65,6 +69,9 @@ def main(argv=None):
     print(f"Eq. 25 jump at p_hist = {ph / 1e6:.0f} MPa: {reload_jump(params, ph) / 1e6:.3f} MPa")
     return 0
 
+
+#: the console script: ``--version`` and Ctrl-C handled before NumPy loads
+main = light_entry("frictionlaw-demo", "the demo", lambda: run)
 
 if __name__ == "__main__":
     sys.exit(main())

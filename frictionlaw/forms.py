@@ -7,7 +7,10 @@ forms. A :class:`BranchForm` says everything the runtime needs of one form: its 
 ``C1, n1`` or ``C2, n2`` alone), how that data lowers to the kernels' coefficient block (the
 layout in :mod:`frictionlaw._kernels`), the small-pressure slope ``alpha1 / p`` (first
 loading: ``mu_eff = tau_max`` times it) and the template of the Fortran law core that exports
-it (``None``: not exported yet; ``frictionlaw-export`` refuses such a file).
+it (``None``: not exported yet; ``frictionlaw-export`` refuses such a file), and its
+description for reports: its label, its equation in words and its symbols and table for a
+parameter set (:class:`Quantity`, :class:`FormTable`; :mod:`frictionlaw.describe` reads them
+from here, so there is one registry of forms).
 
 The four built-in forms:
 
@@ -21,7 +24,8 @@ reload           tabulated  :class:`ReloadTable`              ``FORM_TABULATED``
 ===============  =========  ================================  ===========================
 
 A new form is one :func:`register` call (tests/test_branch_forms.py registers one that lowers
-to the tabulated kernel form, and runs it from a calibration through ``params.json``).
+to the tabulated kernel form, and runs and describes it from a calibration through
+``params.json``).
 """
 
 import math
@@ -41,6 +45,8 @@ __all__ = [
     "RELOAD",
     "BRANCH_KEYS",
     "BranchForm",
+    "FormTable",
+    "Quantity",
     "register",
     "unregister",
     "branch_form",
@@ -57,6 +63,55 @@ BRANCH_KEYS = {FIRST_LOADING: "first_loading_law", RELOAD: "reload_law"}
 #: the paper's form, so that a calibration can be switched)
 _KEPT: dict[str, type[Any]] = {FIRST_LOADING: FirstLoadingTable, RELOAD: ReloadTable}
 _EMPTY = np.zeros(0)
+MPa = 1e6
+
+
+@dataclass(frozen=True)
+class Quantity:
+    """One number of the law: its name, value (SI), unit (``"1"``: dimensionless), meaning."""
+
+    name: str
+    value: float
+    unit: str
+    meaning: str
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready record."""
+        return {"value": self.value, "unit": self.unit, "meaning": self.meaning}
+
+    def text(self) -> str:
+        """``name = value`` with the unit a reader expects (Pa shown as MPa)."""
+        if self.unit == "Pa":
+            return f"{self.name} = {self.value / MPa:.4g} MPa"
+        unit = "" if self.unit == "1" else f" {self.unit}"
+        return f"{self.name} = {self.value:.4g}{unit}"
+
+
+@dataclass(frozen=True)
+class FormTable:
+    """A form's table: one row per level, each column with its unit (SI)."""
+
+    columns: tuple[tuple[str, str], ...]
+    rows: tuple[tuple[float, ...], ...]
+    interpolation: str
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready record."""
+        return {
+            "columns": [{"name": n, "unit": u} for n, u in self.columns],
+            "rows": [list(r) for r in self.rows],
+            "interpolation": self.interpolation,
+        }
+
+    def span(self, column: str) -> tuple[float, float]:
+        """Smallest and largest value of ``column``."""
+        i = [n for n, _ in self.columns].index(column)
+        vals = [r[i] for r in self.rows]
+        return min(vals), max(vals)
+
+
+#: a form's description of a parameter set: its symbols (with their values) and its table
+Description = tuple[tuple[Quantity, ...], FormTable | None]
 
 
 @dataclass(frozen=True)
@@ -84,6 +139,12 @@ class BranchForm:
     export_template : str or None
         The Fortran law-core template that exports the form (``frictionlaw/export/core``);
         ``None``: no export target carries it yet.
+    label : str
+        Its name in reports (``"Eq. 24"``); empty: ``equation``.
+    describe : callable or None
+        ``describe(params) -> (symbols, table)``: its :class:`Quantity` values and its
+        :class:`FormTable` (or ``None``) for a parameter set that carries it (reports,
+        :mod:`frictionlaw.describe`); ``None``: no symbols, no table.
     """
 
     name: str
@@ -93,12 +154,32 @@ class BranchForm:
     lower: Callable[[Any, float], tuple[int, NDArray[np.float64]]]
     slope0: Callable[[Any], float] | None = None  # of a FrictionParams (not imported: a circle)
     export_template: str | None = None
+    label: str = ""
+    describe: Callable[[Any], Description] | None = None
 
     def __post_init__(self) -> None:
+        if not self.label:
+            object.__setattr__(self, "label", self.equation)
         if self.branch not in BRANCH_KEYS:
             raise ValueError(f"branch must be one of {', '.join(BRANCH_KEYS)}, got {self.branch!r}")
         if self.branch == FIRST_LOADING and self.slope0 is None:
             raise ValueError(f"first-loading form {self.name!r} needs slope0 (mu_eff)")
+
+    def carried(self, params: Any) -> bool:
+        """Whether ``params`` can run this form: no data needed, or its table is of its type."""
+        return self.data is None or isinstance(getattr(params, f"{self.branch}_table"), self.data)
+
+    def description(self, params: Any) -> Description:
+        """``(symbols, table)`` of this form in ``params`` (reports)."""
+        return ((), None) if self.describe is None else self.describe(params)
+
+    def switch(self, params: Any) -> Any:
+        """The same parameters running this form (a comparison curve); needs :meth:`carried`."""
+        kw: dict[str, Any] = {f"{self.branch}_form": self.name}
+        data = getattr(params, f"{self.branch}_table")
+        if self.data is None and data is not None and not isinstance(data, _KEPT[self.branch]):
+            kw[f"{self.branch}_table"] = None  # another form's data, which this one cannot keep
+        return params.replace(**kw)
 
     def check(self, data: Any, H: float) -> None:
         """``ValueError`` unless ``data`` is what this form runs (and lies below ``H``).
@@ -212,6 +293,47 @@ def _table_slope0(params: Any) -> float:
     return math.nan if table is None else float(table.slope0)
 
 
+def _eq24_symbols(P: Any) -> Description:
+    return (
+        Quantity("C1", P.C1, "1", "Eq. 24: slope of alpha1 against p / H at small p"),
+        Quantity("n1", P.n1, "1", "Eq. 24: sharpness of the corner towards alpha1 = 1"),
+    ), None
+
+
+def _first_table_symbols(P: Any) -> Description:
+    t = P.first_loading_table
+    return (
+        Quantity("mu_eff", P.mu_eff, "1", "Coulomb slope below the lowest level (tau / p there)"),
+    ), FormTable(
+        (("p", "Pa"), ("alpha", "1")),
+        tuple((float(p), float(a)) for p, a in zip(t.p, t.alpha, strict=True)),
+        "monotone cubic Hermite of ln alpha over ln p; the Coulomb line below the lowest "
+        "level, the power law of the end slope capped at 1 above the top one",
+    )
+
+
+def _paper_symbols(P: Any) -> Description:
+    return (
+        Quantity("C2", P.C2, "1", "Eq. 25: one C2 for every p_hist"),
+        Quantity("n2", P.n2, "1", "Eq. 25: one n2 for every p_hist"),
+    ), None
+
+
+def _reload_table_symbols(P: Any) -> Description:
+    t = P.reload_table
+    rows = tuple(
+        (float(p), float(c), float(n)) for p, c, n in zip(t.p_hist, t.C2, t.n2, strict=True)
+    )
+    return (Quantity("s2", t.s2, "1", "exponent of p / p_hist in x2 (1: the paper's form)"),), (
+        FormTable(
+            (("p_hist", "Pa"), ("C2", "1"), ("n2", "1")),
+            rows,
+            "monotone cubic Hermite of ln C2, ln n2 over -ln(1 - p_hist / H); constant beyond "
+            "the first and the last level",
+        )
+    )
+
+
 _BUILTIN = {FIRST_LOADING: ("eq24", "tabulated"), RELOAD: ("paper", "tabulated")}
 
 register(
@@ -223,6 +345,8 @@ register(
         _lower_none(K.FIRST_EQ24),
         slope0=_eq24_slope0,
         export_template="core/sbmf_core.f",
+        label="Eq. 24",
+        describe=_eq24_symbols,
     )
 )
 register(
@@ -233,7 +357,9 @@ register(
         FirstLoadingTable,
         _lower_first_table,
         slope0=_table_slope0,
-        export_template=None,  # the Fortran law core does not carry it yet
+        export_template="core/sbmf_first_table.f",
+        label="the computed first loading, tabulated",
+        describe=_first_table_symbols,
     )
 )
 register(
@@ -244,6 +370,8 @@ register(
         None,
         _lower_none(K.FORM_PAPER),
         export_template="core/sbmf_core.f",
+        label="the paper's Eq. 25",
+        describe=_paper_symbols,
     )
 )
 register(
@@ -254,5 +382,7 @@ register(
         ReloadTable,
         _lower_reload_table,
         export_template="core/sbmf_reload_table.f",
+        label="Eq. 25 tabulated over p_hist",
+        describe=_reload_table_symbols,
     )
 )

@@ -29,10 +29,11 @@ from pathlib import Path
 from typing import Any, cast
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
 
-from ._io import atomic_write, read_versioned
+from ._flattening_block import Flattening
+from ._io import atomic_write
 from ._shear_flow import check_k_against_sigma_y
+from ._stiffness import K_T_FORMAT_VERSION, TangentialStiffness
 from .first_loading import FirstLoadingTable
 from .forms import BRANCH_KEYS, FIRST_LOADING, RELOAD, BranchForm, branch_form, read_branch
 from .reload_form import ReloadTable
@@ -59,10 +60,10 @@ FORMAT_NAME = "sbmf-friction-params"
 FORMAT_VERSION = 3
 _READ_VERSIONS = (1, 2, 3)
 #: the first version that may carry each optional object
-_SINCE = {"reload_law": 2, "first_loading_law": 3}
-#: objects planned for version 3 that this runtime cannot read yet: refused, never ignored
-#: (each changes the physics of the law)
-_UNREAD = {"flattening": "the tool flattening (issue 43)"}
+_SINCE = {"reload_law": 2, "first_loading_law": 3, "flattening": 3}
+#: objects planned for a version that this runtime cannot read yet: refused, never ignored
+#: (each changes the physics of the law); none at present
+_UNREAD: dict[str, str] = {}
 
 _UNITS = {
     "m": "1",
@@ -88,9 +89,6 @@ _RANGE_NOTE = (
     " (the validated range: physical values lie well inside it, and within it the law stays "
     "finite for every pressure and history)"
 )
-
-#: version of the optional ``tangential_stiffness`` object inside a parameter file
-K_T_FORMAT_VERSION = 1
 
 
 def check_range(
@@ -119,81 +117,6 @@ def check_range(
     if not ok:
         raise ValueError(f"{name} must be in {rng}, got {value!r}{note}")
     return v
-
-
-def _positive_table(name: str, values: object) -> tuple[float, ...]:
-    try:
-        arr = np.asarray(values, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a list of real numbers, got {values!r}") from None
-    if arr.ndim != 1 or arr.size < 1:
-        raise ValueError(f"{name} must be a non-empty 1-D list, got shape {arr.shape}")
-    if not np.all(np.isfinite(arr)) or np.any(arr <= 0.0):
-        raise ValueError(f"{name} must hold finite values in (0, inf), got {values!r}")
-    return tuple(float(v) for v in arr)
-
-
-@dataclass(frozen=True)
-class TangentialStiffness:
-    """Calibrated tangential interface stiffness ``k_t(p)`` of the roughness layer.
-
-    A table of the stiffness (Pa/m, traction per slip) at the calibration's pressures (Pa),
-    evaluated by log-log interpolation between the points and held constant beyond the
-    first and last point (no extrapolation of a power law outside the calibrated range).
-    It is the penalty ``k_t`` of :func:`frictionlaw.traction_update` per node at its pressure.
-
-    Parameters
-    ----------
-    p : sequence of float
-        Mean contact pressures (Pa), strictly increasing, ``> 0``.
-    k_t : sequence of float
-        Stiffness at each pressure (Pa/m), ``> 0``, same length as ``p``.
-    """
-
-    p: tuple
-    k_t: tuple
-
-    def __post_init__(self) -> None:
-        p = _positive_table("k_t table p", self.p)
-        k = _positive_table("k_t table k_t", self.k_t)
-        if len(p) != len(k):
-            raise ValueError(f"k_t table: p has {len(p)} values, k_t has {len(k)}; need equal")
-        if any(b <= a for a, b in zip(p, p[1:], strict=False)):
-            raise ValueError(f"k_t table p must be strictly increasing, got {p}")
-        object.__setattr__(self, "p", p)
-        object.__setattr__(self, "k_t", k)
-
-    def __call__(self, p: ArrayLike) -> NDArray[np.float64]:
-        """``k_t`` (Pa/m) at pressures ``p`` (Pa); ``p <= 0`` gets the lowest tabulated value."""
-        p = np.asarray(p, dtype=float)
-        lp = np.log(np.clip(p, self.p[0], self.p[-1]))
-        k = np.exp(np.interp(lp, np.log(self.p), np.log(self.k_t)))
-        k = np.where(p <= self.p[0], self.k_t[0], k)
-        return np.where(p >= self.p[-1], self.k_t[-1], k)
-
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON object (with its own version and units)."""
-        return {
-            "version": K_T_FORMAT_VERSION,
-            "units": {"p": "Pa", "k_t": "Pa/m"},
-            "interpolation": "log-log, constant beyond the end points",
-            "p": list(self.p),
-            "k_t": list(self.k_t),
-        }
-
-    @classmethod
-    def from_dict(cls, doc: object, *, source: str = "<dict>") -> "TangentialStiffness":
-        """Build from :meth:`to_dict`'s object; raises ``ValueError`` if malformed."""
-        where = f"{source}: tangential_stiffness"
-        if not isinstance(doc, dict):
-            raise ValueError(f"{where} must be a JSON object")
-        return read_versioned(
-            doc,
-            where,
-            K_T_FORMAT_VERSION,
-            {"p": "Pa", "k_t": "Pa/m"},
-            lambda d: cls(p=d["p"], k_t=d["k_t"]),
-        )
 
 
 def _check_p_range(p_range: Any) -> tuple[float, float] | None:
@@ -269,6 +192,9 @@ class FrictionParams:
         The multi-sample calibration's bands and per-sample laws (see
         :mod:`frictionlaw.uncertainty`); ``None`` otherwise. :meth:`edge_laws` and
         :meth:`sample_laws` give them as parameter sets.
+    flattening : Flattening, optional
+        Flattening of the asperities under bulk strain (:mod:`frictionlaw.flattening`);
+        ``None``: the law of the pressure alone.
     """
 
     m: float
@@ -289,6 +215,7 @@ class FrictionParams:
     k_t: TangentialStiffness | None = None
     provenance: dict = field(default_factory=dict, compare=False, hash=False, repr=False)
     uncertainty: Uncertainty | None = field(default=None, compare=False, hash=False, repr=False)
+    flattening: Flattening | None = None
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
@@ -318,6 +245,8 @@ class FrictionParams:
             raise ValueError("provenance must be a dict (a JSON object)")
         if self.uncertainty is not None and not isinstance(self.uncertainty, Uncertainty):
             raise ValueError("uncertainty must be an Uncertainty block or None")
+        if self.flattening is not None and not isinstance(self.flattening, Flattening):
+            raise ValueError("flattening must be a Flattening block or None")
 
     def _with_law(self, law: Any) -> "FrictionParams":
         """A copy running a band law (:class:`~frictionlaw.uncertainty.BandLaw`, ``SampleLaw``)."""
@@ -397,6 +326,7 @@ class FrictionParams:
             d.pop(key)
         d.pop("k_t")
         d.pop("uncertainty")
+        d.pop("flattening")
         laws = {}
         for branch, key in BRANCH_KEYS.items():
             data = getattr(self, f"{branch}_table")
@@ -404,7 +334,10 @@ class FrictionParams:
                 laws[key] = data.to_dict(getattr(self, f"{branch}_form"))
         doc = {
             "format": FORMAT_NAME,
-            "version": max([1, *(_SINCE[k] for k in laws)]),
+            "version": max(
+                [1, *(_SINCE[k] for k in laws)]
+                + ([_SINCE["flattening"]] if self.flattening else [])
+            ),
             "units": dict(_UNITS),
             "parameters": d,
             "options": {"continuous_reload": cont},
@@ -419,6 +352,8 @@ class FrictionParams:
         doc["provenance"] = prov
         if self.uncertainty is not None:
             doc["uncertainty"] = self.uncertainty.to_dict()
+        if self.flattening is not None:
+            doc["flattening"] = self.flattening.to_dict()
         return doc
 
     def to_json(self, path: str | os.PathLike[str]) -> Path:
@@ -498,6 +433,8 @@ class FrictionParams:
         k_t = None if k_doc is None else TangentialStiffness.from_dict(k_doc, source=source)
         u_doc = doc.get("uncertainty")
         unc = None if u_doc is None else Uncertainty.from_dict(u_doc, source=source)
+        f_doc = doc.get("flattening")
+        flat = None if f_doc is None else Flattening.from_dict(f_doc, source=source)
         branches: dict[str, Any] = {}  # version 1: the paper's Eqs. 24-25
         for branch, key in BRANCH_KEYS.items():
             if key in doc:
@@ -512,6 +449,7 @@ class FrictionParams:
                 k_t=k_t,
                 provenance=doc.get("provenance", {}),
                 uncertainty=unc,
+                flattening=flat,
             )
         except ValueError as exc:
             raise ValueError(f"{source}: {exc}") from None

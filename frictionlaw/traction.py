@@ -5,6 +5,7 @@ while ``|t_tr| <= tau(p, p_hist)`` (stick), otherwise returned radially onto the
 limit circle (slip). Outputs include the consistent tangent for implicit hosts.
 """
 
+from types import ModuleType
 from typing import TYPE_CHECKING, NamedTuple, TypeAlias
 
 import numpy as np
@@ -16,9 +17,10 @@ from .law import PARALLEL_THRESHOLD, as_float_array, kernels
 if TYPE_CHECKING:
     from .laws import Coulomb, CoulombCap, SBMFLaw, Tresca
     from .state import HistoryState
+    from .zones import ZonedLaw
 
     #: the laws a traction update takes
-    Law: TypeAlias = Coulomb | Tresca | CoulombCap | SBMFLaw
+    Law: TypeAlias = Coulomb | Tresca | CoulombCap | SBMFLaw | ZonedLaw
 
 __all__ = ["TractionResult", "traction_update", "traction_update_force", "OPEN", "STICK", "SLIP"]
 
@@ -69,13 +71,14 @@ def traction_update(
     *,
     parallel: bool | None = None,
     out: "TractionResult | None" = None,
+    zone: ArrayLike | None = None,
 ) -> "TractionResult":
     """Stick/slip traction update at every contact node (stress based).
 
     Parameters
     ----------
-    law : Coulomb, Tresca, CoulombCap or SBMFLaw
-        The friction law.
+    law : Coulomb, Tresca, CoulombCap, SBMFLaw or ZonedLaw
+        The friction law (a :class:`frictionlaw.ZonedLaw`: each node runs its zone's law).
     p : array_like, shape (n,)
         Contact pressure (Pa), finite; ``p <= 0`` is an open node (zero traction).
     slip_increment : array_like, shape (n,), (n, 1) or (n, 2)
@@ -94,6 +97,10 @@ def traction_update(
     out : TractionResult, optional
         Arrays to write the result into (a previous result of the same shapes), so that a
         host's Newton loop allocates nothing per call; C-contiguous, float64 (status int8).
+    zone : array_like of int, shape (n,), optional
+        Each node's zone id (an index into ``law.laws``), for a :class:`~frictionlaw.ZonedLaw`
+        only (required there, refused for any other law). The node's ``p_hist`` is its own
+        whatever zone it is in (docs/runtime.md, "Zones").
 
     Returns
     -------
@@ -106,6 +113,7 @@ def traction_update(
     if not np.isfinite(p).all():
         raise ValueError("p must be finite (it becomes the node's trial p_hist)")
     n = p.size
+    zoned = _zoned(law, zone, n)
     squeeze = np.ndim(slip_increment) == 1
     du = _as_2d("slip_increment", slip_increment, n)
     t_old = _as_2d("traction_old", traction_old, n)
@@ -138,10 +146,15 @@ def traction_update(
     p_trial = state.trial_array() if history and state is not None else np.empty(n)
     if parallel is None:
         parallel = n >= PARALLEL_THRESHOLD
-    kern = kernels().traction_array_parallel if parallel else kernels().traction_array
-    kern(
-        int(law.code),
-        law.coeffs,
+    if zoned is not None:
+        zk = zoned_kernels()
+        zkern = zk.traction_array_zoned_parallel if parallel else zk.traction_array_zoned
+        head: tuple = (*law.kernel_data(), zoned)  # type: ignore[union-attr]
+    else:
+        zkern = kernels().traction_array_parallel if parallel else kernels().traction_array
+        head = (int(law.code), law.coeffs)  # type: ignore[union-attr]
+    zkern(
+        *head,
         np.ascontiguousarray(p),
         p_hist,
         du,
@@ -158,6 +171,28 @@ def traction_update(
     if squeeze:
         return TractionResult(t_new[:, 0], status, dt_ddu[:, 0, 0], dt_dp[:, 0])
     return TractionResult(t_new, status, dt_ddu, dt_dp)
+
+
+def zoned_kernels() -> ModuleType:
+    """The zoned laws' numba kernels, imported on first use."""
+    from . import _kernels_zones
+
+    return _kernels_zones
+
+
+def _zoned(law: object, zone: ArrayLike | None, n: int) -> NDArray[np.int64] | None:
+    """The checked zone ids of a zoned law; None for a one-law update (``zone`` refused there)."""
+    from .zones import ZonedLaw, check_zone_ids
+
+    if isinstance(law, ZonedLaw):
+        if zone is None:
+            raise ValueError(
+                f"zone is required with a ZonedLaw: one zone id per node in [0, {law.n_zones - 1}]"
+            )
+        return check_zone_ids(zone, n, law.n_zones)
+    if zone is not None:
+        raise ValueError("zone applies to a ZonedLaw only (this law is the same at every node)")
+    return None
 
 
 def _out_views(out: object, n: int, d: int, squeeze: bool) -> list[NDArray]:
@@ -196,6 +231,7 @@ def traction_update_force(
     *,
     parallel: bool | None = None,
     out: "TractionResult | None" = None,
+    zone: ArrayLike | None = None,
 ) -> "TractionResult":
     """Force-based adapter (Abaqus/Explicit VFRIC style): forces and nodal areas in, forces out.
 
@@ -215,7 +251,7 @@ def traction_update_force(
         Tangential force of the last accepted increment (N).
     k_force : float or array_like, shape (n,)
         Tangential penalty stiffness (N/m), ``> 0``.
-    state, parallel : optional
+    state, parallel, zone : optional
         As in :func:`traction_update`.
     out : TractionResult, optional
         As in :func:`traction_update`: filled with this function's outputs (the forces
@@ -247,7 +283,9 @@ def traction_update_force(
         raise ValueError("force_old / area must be finite (force_old must be finite)")
     if not np.isfinite(k_t).all():
         raise ValueError("k_force / area must be finite (k_force must be finite and > 0)")
-    res = traction_update(law, p, slip_increment, t_old, k_t, state, parallel=parallel, out=out)
+    res = traction_update(
+        law, p, slip_increment, t_old, k_t, state, parallel=parallel, out=out, zone=zone
+    )
     a2 = area[:, None] if res.traction.ndim == 2 else area
     a3 = area[:, None, None] if res.dt_dslip.ndim == 3 else area
     np.multiply(res.traction, a2, out=res.traction)

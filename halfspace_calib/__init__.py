@@ -12,69 +12,54 @@ Sec. 2-3 of the paper: surfaces in, ``FrictionParams`` JSON out. Start with ``do
   :class:`Materials` and a :class:`SolverSettings` record
 - subpackages, one way down: ``cli`` -> ``pipeline`` -> ``output`` -> ``studies`` ->
   ``contact`` / ``topography`` -> ``common``
+
+Importing the package loads none of it: each name is imported on first use (PEP 562), so that
+the ``halfspace-calib`` command (:mod:`halfspace_calib.__main__`) starts, answers ``--version``
+and handles Ctrl-C before NumPy, SciPy and numba are loaded.
 """
 
-from .contact.influence import InfluenceOperator, love_coefficients, normal_operator
-from .contact.materials import Materials, SolverSettings, sigma_y_from_hardness
-from .contact.normal import (
-    NormalResult,
-    composite_heights,
-    composite_modulus,
-    solve_normal,
-    solve_normal_pair,
-)
-from .contact.tangential import solve_tangential, tau_adh_full_sliding
-from .output.report import calibration_figures, write_outputs
-from .pipeline.calibration import Calibration, calibrate
-from .pipeline.fit import fit_first_loading, fit_reload
-from .pipeline.params import make_params
-from .pipeline.scene import Scene, load_scene
-from .studies.geometric import geometric_study
-from .studies.sliding import sliding_sweep
-from .studies.sliding_study import sliding_study
-from .topography import (
-    Surface,
-    block_average,
-    dc04_edt_like,
-    level,
-    read_surface,
-    roughness,
-    self_affine,
-    tool_like,
-)
+from sbmf_cli import lazy_names
 
-__all__: list[str] = [
-    "calibration_figures",
-    "Calibration",
-    "InfluenceOperator",
-    "Materials",
-    "NormalResult",
-    "Scene",
-    "SolverSettings",
-    "Surface",
-    "block_average",
-    "calibrate",
-    "composite_heights",
-    "composite_modulus",
-    "dc04_edt_like",
-    "fit_first_loading",
-    "fit_reload",
-    "geometric_study",
-    "level",
-    "load_scene",
-    "love_coefficients",
-    "make_params",
-    "normal_operator",
-    "read_surface",
-    "roughness",
-    "self_affine",
-    "sigma_y_from_hardness",
-    "sliding_study",
-    "sliding_sweep",
-    "solve_normal",
-    "solve_normal_pair",
-    "solve_tangential",
-    "tau_adh_full_sliding",
-    "tool_like",
-    "write_outputs",
-]
+#: the public names and the module each comes from (imported on first use)
+_SOURCES = {
+    "block_average": ".topography",
+    "calibrate": ".pipeline.calibration",
+    "Calibration": ".pipeline.calibration",
+    "calibration_figures": ".output.report",
+    "composite_heights": ".contact.normal",
+    "composite_modulus": ".contact.normal",
+    "dc04_edt_like": ".topography",
+    "fit_first_loading": ".pipeline.fit",
+    "fit_reload": ".pipeline.fit",
+    "geometric_study": ".studies.geometric",
+    "InfluenceOperator": ".contact.influence",
+    "level": ".topography",
+    "load_scene": ".pipeline.scene",
+    "love_coefficients": ".contact.influence",
+    "make_params": ".pipeline.params",
+    "Materials": ".contact.materials",
+    "normal_operator": ".contact.influence",
+    "NormalResult": ".contact.normal",
+    "read_surface": ".topography",
+    "roughness": ".topography",
+    "Scene": ".pipeline.scene",
+    "self_affine": ".topography",
+    "sigma_y_from_hardness": ".contact.materials",
+    "sliding_study": ".studies.sliding_study",
+    "sliding_sweep": ".studies.sliding",
+    "solve_normal": ".contact.normal",
+    "solve_normal_pair": ".contact.normal",
+    "solve_tangential": ".contact.tangential",
+    "SolverSettings": ".contact.materials",
+    "Surface": ".topography",
+    "tau_adh_full_sliding": ".contact.tangential",
+    "tool_like": ".topography",
+    "write_outputs": ".output.report",
+}
+#: the subpackages, as attributes (``halfspace_calib.pipeline``), imported on first use
+_SUBPACKAGES = ("cli", "common", "contact", "output", "pipeline", "studies", "topography")
+
+__all__: list[str] = sorted(_SOURCES, key=str.lower)
+
+
+__getattr__, __dir__ = lazy_names(__name__, _SOURCES, _SUBPACKAGES)

@@ -19,55 +19,51 @@ that they agree:
   non-empty folder, or one holding the run's input, is refused (exit 2), ``--force`` included;
 - Ctrl-C and SIGTERM end a run cleanly (:func:`interruptible`), workers of a local pool included
   (:func:`process_pool`), on the CPUs the process may use (:func:`available_cpus`);
-- reports are self-contained HTML pages (:mod:`sbmf_cli.htmlpage`).
+- reports are self-contained HTML pages (:mod:`sbmf_cli.htmlpage`);
+- every output names a column with its unit (:func:`column_name`: ``force_N``,
+  ``height_reduction_fraction``), and readers take old and new names (:func:`column_key`).
 
 Exit codes: 0 success, 1 the run failed, 2 bad input (no traceback).
 
 A package of its own, standard library only and importing nothing of the project: the bottom
 floor every package may import, and outside the runtime law's import path (``import
 frictionlaw`` does not load it; an FE code that calls the law per node never carries it).
+
+The names are imported on first use (PEP 562): a command's light entry point
+(:func:`light_entry`) loads only what it needs before it handles Ctrl-C.
 """
 
-from ._console import Console
-from ._errors import ParameterError, Worded
-from ._options import (
-    DISTRIBUTION,
-    HelpFormatter,
-    add_common_options,
-    add_version,
-    flags_of,
-    parse,
-    version,
-)
-from ._output import MARKER, OutputFolder, lock_path, read_marker
-from ._processes import (
-    Interrupted,
-    available_cpus,
-    interruptible,
-    process_pool,
-    process_seconds,
-    worker_ignores_interrupts,
-)
+from ._entry import lazy_names
 
-__all__ = [
-    "Console",
-    "DISTRIBUTION",
-    "HelpFormatter",
-    "Interrupted",
-    "MARKER",
-    "OutputFolder",
-    "ParameterError",
-    "Worded",
-    "add_common_options",
-    "add_version",
-    "available_cpus",
-    "flags_of",
-    "interruptible",
-    "lock_path",
-    "parse",
-    "process_pool",
-    "process_seconds",
-    "read_marker",
-    "version",
-    "worker_ignores_interrupts",
-]
+#: the public names and the module each comes from (imported on first use)
+_SOURCES = {
+    "add_common_options": "._options",
+    "add_version": "._options",
+    "available_cpus": "._processes",
+    "column_key": "._units",
+    "column_name": "._units",
+    "Console": "._console",
+    "DISTRIBUTION": "._options",
+    "flags_of": "._options",
+    "HelpFormatter": "._options",
+    "Interrupted": "._processes",
+    "interruptible": "._processes",
+    "light_entry": "._entry",
+    "lock_path": "._output",
+    "MARKER": "._output",
+    "OutputFolder": "._output",
+    "ParameterError": "._errors",
+    "parse": "._options",
+    "print_version": "._options",
+    "process_pool": "._processes",
+    "process_seconds": "._processes",
+    "read_marker": "._output",
+    "UNIT_SUFFIXES": "._units",
+    "version": "._options",
+    "Worded": "._errors",
+    "worker_ignores_interrupts": "._processes",
+}
+
+__all__ = sorted([*_SOURCES, "lazy_names"], key=str.lower)
+
+__getattr__, __dir__ = lazy_names(__name__, _SOURCES)

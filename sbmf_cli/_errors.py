@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
-__all__ = ["ParameterError", "Worded"]
+import signal
+
+__all__ = ["ParameterError", "Worded", "interrupted_line"]
 
 
 def _render(template, names, flags, python):
@@ -75,3 +77,11 @@ class ParameterError(ValueError):
 
     def __reduce__(self):  # the error crosses process boundaries with its names
         return _rebuild, (self.template, self.names, self.python)
+
+
+def interrupted_line(prog, what, signum):
+    """The one line an interrupted command prints (stderr)."""
+    return (
+        f"{prog}: interrupted by {signal.Signals(signum).name} during {what}; the output folder "
+        "was not written (an earlier output there is unchanged)"
+    )

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from importlib import metadata
 
 __all__ = [
@@ -12,6 +13,7 @@ __all__ = [
     "add_version",
     "flags_of",
     "parse",
+    "print_version",
     "version",
 ]
 
@@ -76,6 +78,23 @@ def add_version(parser):
     parser.add_argument(
         "--version", action="version", version=f"%(prog)s {version()}", help="print the version"
     )
+
+
+def print_version(prog, argv=None):
+    """Print ``<prog> <version>`` and return True if ``argv`` asks for ``--version``, else False.
+
+    What ``--version`` (:func:`add_version`) prints, before any of the command is imported: a
+    command's light entry point (``halfspace_calib.__main__``, ``fe_demo.__main__``) answers it
+    without loading NumPy, SciPy or numba. ``argv``: the arguments (``sys.argv[1:]`` if None);
+    a ``--version`` after ``--`` is an argument, not the option.
+    """
+    args = sys.argv[1:] if argv is None else [str(a) for a in argv]
+    if "--" in args:
+        args = args[: args.index("--")]
+    if "--version" not in args:
+        return False
+    print(f"{prog} {version()}")
+    return True
 
 
 def parse(parser, argv=None):

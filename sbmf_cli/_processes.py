@@ -12,6 +12,8 @@ import threading
 import time
 from concurrent.futures import ProcessPoolExecutor
 
+from ._errors import interrupted_line
+
 __all__ = [
     "Interrupted",
     "available_cpus",
@@ -67,8 +69,58 @@ class Interrupted(BaseException):
         self.signum = signum
 
 
-def _raise_interrupted(signum, frame):
-    raise Interrupted(signum)
+#: how long the main thread may run on, handling no exception, after an interrupt was raised
+#: before the interrupt counts as swallowed and is delivered again (s)
+REDELIVER_AFTER = 0.2
+
+
+def _handling(main_ident):
+    """Whether the main thread is handling an exception now (in an ``except`` or ``finally``)."""
+    current = getattr(sys, "_current_exceptions", None)
+    if current is None:  # pragma: no cover - not CPython: never count an interrupt as lost
+        return True
+    exc = current().get(main_ident)
+    return exc is not None and (exc[0] is not None if isinstance(exc, tuple) else True)
+
+
+class _Interrupts:
+    """The signal handlers of one interruptible run, which make sure an interrupt arrives.
+
+    Python runs a signal's handler at the next instruction of the main thread, wherever that is;
+    an exception raised inside a weakref callback or a ``__del__`` (the import system runs such
+    callbacks all the time) is printed as "Exception ignored" and the program goes on: a Ctrl-C
+    during the imports of numba was lost that way in 1 of 4 runs. So the handler raises and
+    watches: where the main thread runs on for :data:`REDELIVER_AFTER` seconds without handling
+    any exception (not unwinding through ``finally`` or ``except`` blocks, where the run cleans
+    up), the interrupt was swallowed and the signal is sent again. An interrupt swallowed at
+    the very end, after the command returned, makes the run interrupted all the same.
+    """
+
+    def __init__(self):
+        self.signum = None  # the interrupt raised last
+        self.handled = False
+        self.watcher = None
+        self.main_ident = threading.main_thread().ident
+
+    def __call__(self, signum, frame):
+        self.signum = signum
+        if self.watcher is None:
+            self.watcher = threading.Thread(target=self._watch, daemon=True)
+            self.watcher.start()
+        if signum == signal.SIGINT:
+            raise KeyboardInterrupt
+        raise Interrupted(signum)
+
+    def _watch(self):
+        quiet = 0.0
+        step = REDELIVER_AFTER / 4
+        while not self.handled:
+            time.sleep(step)
+            quiet = 0.0 if _handling(self.main_ident) else quiet + step
+            signum = self.signum
+            if quiet >= REDELIVER_AFTER - 1e-9 and not self.handled and signum is not None:
+                quiet = 0.0
+                os.kill(os.getpid(), signum)
 
 
 def interruptible(prog, what):
@@ -78,28 +130,36 @@ def interruptible(prog, what):
     main process (SIGTERM through :class:`Interrupted`); the run's own cleanup runs on the way
     out (its temporary output folder is deleted, an earlier output is left as it was, worker
     processes are ended by the pool), and the command prints one line and returns
-    ``128 + signal number`` (130 for SIGINT, 143 for SIGTERM), without a traceback.
+    ``128 + signal number`` (130 for SIGINT, 143 for SIGTERM), without a traceback. An
+    interrupt that Python swallowed (raised inside a weakref callback of the import system) is
+    delivered again (:class:`_Interrupts`). A SIGINT the process was started to ignore (a
+    background job) stays ignored.
     """
 
     def wrap(main):
         @functools.wraps(main)
         def run(argv=None):
             in_main = threading.current_thread() is threading.main_thread()
-            old = signal.signal(signal.SIGTERM, _raise_interrupted) if in_main else None
+            handler = _Interrupts()
+            old = {}
+            if in_main:
+                old[signal.SIGTERM] = signal.signal(signal.SIGTERM, handler)
+                current = signal.getsignal(signal.SIGINT)
+                if current is signal.default_int_handler or isinstance(current, _Interrupts):
+                    old[signal.SIGINT] = signal.signal(signal.SIGINT, handler)
             try:
-                return main(argv)
+                code = main(argv)
+                if handler.signum is None:
+                    return code
+                signum = handler.signum  # swallowed, and the run went on to its end
             except (KeyboardInterrupt, Interrupted) as exc:
                 signum = getattr(exc, "signum", signal.SIGINT)
-                name = signal.Signals(signum).name
-                print(
-                    f"{prog}: interrupted by {name} during {what}; the output folder was not "
-                    "written (an earlier output there is unchanged)",
-                    file=sys.stderr,
-                )
-                return 128 + int(signum)
             finally:
-                if in_main:
-                    signal.signal(signal.SIGTERM, old)
+                handler.handled = True
+                for sig, previous in old.items():
+                    signal.signal(sig, previous)
+            print(interrupted_line(prog, what, signum), file=sys.stderr)
+            return 128 + int(signum)
 
         return run
 

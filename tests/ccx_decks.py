@@ -13,10 +13,21 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["two_blocks", "slave_areas", "read_dat", "read_blocks", "ring", "SLAVE0"]
+__all__ = [
+    "two_blocks",
+    "two_zones",
+    "slave_areas",
+    "read_dat",
+    "read_blocks",
+    "ring",
+    "SLAVE0",
+    "SLAVE1",
+]
 
 #: first node number of the block (its bottom layer is the slave surface)
 SLAVE0 = 1001
+#: first node number of :func:`two_zones`' second block
+SLAVE1 = 2001
 
 
 def _block(origin, size, divisions, n0, e0):
@@ -39,6 +50,21 @@ def _block(origin, size, divisions, n0, e0):
                 elements[e] = (k, [int(v) for v in conn])
                 e += 1
     return nodes, elements, ids
+
+
+def _contact(interaction, contact, slope, tension):
+    """The interaction with its linear pressure-overclosure law (``slope``, ``tension`` in the
+    deck's units), the contact pair of SSLAVE on SMASTER and the fixed bottom NBASE."""
+    name = interaction[0].split("NAME=")[1].strip()
+    return [
+        *interaction,
+        "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR",
+        f"{slope:g}, {tension:g}",
+        f"*CONTACT PAIR, INTERACTION={name}, TYPE={contact}",
+        "SSLAVE, SMASTER",
+        "*BOUNDARY",
+        "NBASE, 1, 3, 0.",
+    ]
 
 
 def two_blocks(
@@ -82,7 +108,6 @@ def two_blocks(
     ln, st = (1e-3, 1e6) if si else (1.0, 1.0)
     nb, eb, ib = _block((0, 0, -5 * ln), (20 * ln, 20 * ln, 5 * ln), (4, 4, 1), 1, 1)
     nt, et, it = _block((5 * ln, 5 * ln, 0), (10 * ln, 10 * ln, 5 * ln), (n, n, 2), SLAVE0, 1001)
-    name = interaction[0].split("NAME=")[1].strip()
     out = ["*HEADING", "two blocks: press, slide, unload, reload", "*NODE"]
     for nodes in (nb, nt):
         out += [f"{k}, {x:.10g}, {y:.10g}, {z:.10g}" for k, (x, y, z) in nodes.items()]
@@ -107,13 +132,7 @@ def two_blocks(
         f"{210000.0 * st:.10g}, 0.3",
         "*SOLID SECTION, ELSET=EBASE, MATERIAL=STEEL",
         "*SOLID SECTION, ELSET=EBLOCK, MATERIAL=STEEL",
-        *interaction,
-        "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR",
-        f"{slope * st / ln:g}, {0.01 * st:g}",
-        f"*CONTACT PAIR, INTERACTION={name}, TYPE={contact}",
-        "SSLAVE, SMASTER",
-        "*BOUNDARY",
-        "NBASE, 1, 3, 0.",
+        *_contact(interaction, contact, slope * st / ln, 0.01 * st),
     ]
     top = [e for e, (k, _) in et.items() if k == 1]
     for step in steps:
@@ -130,6 +149,64 @@ def two_blocks(
         if contact_file:
             out += ["*CONTACT FILE", ", ".join(contact_file)]
         out.append("*END STEP")
+    return "\n".join(out) + "\n"
+
+
+def two_zones(steps, interactions, *, slope=1e6):
+    """Two blocks side by side on one base, each its own contact pair and interaction (mm, MPa).
+
+    Two tool zones (issue 42): the 10 x 10 x 5 mm blocks of :func:`two_blocks` at x = 2..12 and
+    18..28 mm on a 30 x 20 x 5 mm base, each bottom face the slave surface of a node-to-surface
+    contact pair with the base's top, the first with interaction ``interactions[0]``, the second
+    with ``interactions[1]`` (each a list of lines from its ``*SURFACE INTERACTION, NAME=...``,
+    as in :func:`two_blocks`). Both tops are pressed and moved alike (``steps`` as there); slave
+    nodes from :data:`SLAVE0` and :data:`SLAVE1`, their areas :func:`slave_areas`.
+    """
+    nb, eb, ib = _block((0, 0, -5), (30, 20, 5), (6, 4, 1), 1, 1)
+    blocks = [
+        _block((x0, 5, 0), (10, 10, 5), (3, 3, 2), n0, e0)
+        for x0, n0, e0 in ((2, SLAVE0, 1001), (18, SLAVE1, 2001))
+    ]
+    out = ["*HEADING", "two zones: two blocks, two contact pairs", "*NODE"]
+    for nodes in (nb, *(b[0] for b in blocks)):
+        out += [f"{k}, {x:.10g}, {y:.10g}, {z:.10g}" for k, (x, y, z) in nodes.items()]
+    for elset, els in (("EBASE", eb), ("EBLOCKA", blocks[0][1]), ("EBLOCKB", blocks[1][1])):
+        out.append(f"*ELEMENT, TYPE=C3D8, ELSET={elset}")
+        out += [f"{e}, " + ", ".join(map(str, c)) for e, (_, c) in els.items()]
+    out.append("*SURFACE, NAME=SMASTER")
+    out += [f"{e}, S2" for e, (k, _) in eb.items() if k == 0]
+    out.append("*NSET, NSET=NBASE")
+    out += [f"{v}," for v in ib[0].ravel()]
+    out.append("*NSET, NSET=NTOP")
+    for _, _, ids in blocks:
+        out += [f"{v}," for v in ids[-1].ravel()]
+    for tag, (_, els, _) in zip("AB", blocks, strict=True):
+        out.append(f"*SURFACE, NAME=SSLAVE{tag}")
+        out += [f"{e}, S1" for e, (k, _) in els.items() if k == 0]
+    out += [
+        "*MATERIAL, NAME=STEEL",
+        "*ELASTIC",
+        "210000., 0.3",
+        "*SOLID SECTION, ELSET=EBASE, MATERIAL=STEEL",
+        "*SOLID SECTION, ELSET=EBLOCKA, MATERIAL=STEEL",
+        "*SOLID SECTION, ELSET=EBLOCKB, MATERIAL=STEEL",
+    ]
+    for tag, inter in zip("AB", interactions, strict=True):
+        name = inter[0].split("NAME=")[1].strip()
+        out += [
+            *inter,
+            "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR",
+            f"{slope:g}, 0.01",
+            f"*CONTACT PAIR, INTERACTION={name}, TYPE=NODE TO SURFACE",
+            f"SSLAVE{tag}, SMASTER",
+        ]
+    out += ["*BOUNDARY", "NBASE, 1, 3, 0."]
+    top = [e for b in blocks for e, (k, _) in b[1].items() if k == 1]
+    for p, ux in steps:
+        out += ["*STEP, INC=200", "*STATIC", "0.1, 1.0, 1e-5, 0.25", "*BOUNDARY"]
+        out += [f"NTOP, 1, 1, {ux:.10g}", "NTOP, 2, 2, 0.", "*DLOAD"]
+        out += [f"{e}, P2, {p:.10g}" for e in top]
+        out += ["*NODE PRINT, NSET=NTOP", "RF", "*CONTACT PRINT", "CSTR, CSDV", "*END STEP"]
     return "\n".join(out) + "\n"
 
 
@@ -287,4 +364,65 @@ def ring(interaction, *, nr=12, nz=None, od=18.0, idia=9.0, h=6.0, reduction=0.3
         "U",
         "*END STEP",
     ]
+    return "\n".join(out) + "\n"
+
+
+def plastic_block(
+    steps,
+    interaction,
+    *,
+    contact="SURFACE TO SURFACE",
+    static="1., 1., 1e-6, 1.",
+    contact_print=("CSTR", "CSDV"),
+    slope=1e6,
+    si=False,
+    element="C3D8I",
+    plastic=True,
+    plate=(6, 4),
+):
+    """A 12 x 8 x 4 mm elastic-plastic block (``element``, 6 x 4 x 2) on a 24 x 16 x 4 mm
+    elastic plate (C3D8, 6 x 4 x 1), mm-t-s (``si``: the same deck in m and Pa).
+
+    The block yields at 250 MPa and hardens linearly to 700 MPa at a plastic strain of 0.5
+    (``plastic=False``: elastic); its bottom is the slave surface. ``plate``: the plate's
+    elements along x and y. Each step of ``steps``, ``(pressure_MPa, ux_mm)``, ramps
+    the pressure on the block's top and the top's sideways displacement from the previous
+    step's values, with automatic incrementation ``static`` (the ``*STATIC`` data line:
+    initial increment, period, minimum, maximum).
+    """
+    ln, st = (1e-3, 1e6) if si else (1.0, 1.0)
+    npl, epl, ipl = _block(
+        (-6 * ln, -4 * ln, -4 * ln), (24 * ln, 16 * ln, 4 * ln), (*plate, 1), 1, 1
+    )
+    nbl, ebl, ibl = _block((0, 0, 0), (12 * ln, 8 * ln, 4 * ln), (6, 4, 2), SLAVE0, 1001)
+    out = ["*HEADING", "elastic-plastic block on a plate", "*NODE"]
+    for nodes in (npl, nbl):
+        out += [f"{k}, {x:.10g}, {y:.10g}, {z:.10g}" for k, (x, y, z) in nodes.items()]
+    out.append("*ELEMENT, TYPE=C3D8, ELSET=EPLATE")
+    out += [f"{e}, " + ", ".join(map(str, c)) for e, (_, c) in epl.items()]
+    out.append(f"*ELEMENT, TYPE={element}, ELSET=EBLOCK")
+    out += [f"{e}, " + ", ".join(map(str, c)) for e, (_, c) in ebl.items()]
+    out += ["*SURFACE, NAME=SMASTER", *[f"{e}, S2" for e in epl]]
+    out += ["*SURFACE, NAME=SSLAVE", *[f"{e}, S1" for e, (k, _) in ebl.items() if k == 0]]
+    out += ["*NSET, NSET=NBASE", *[f"{v}," for v in ipl[0].ravel()]]
+    out += ["*NSET, NSET=NTOP", *[f"{v}," for v in ibl[-1].ravel()]]
+    out += [
+        "*MATERIAL, NAME=PLATE",
+        "*ELASTIC",
+        f"{210000.0 * st:.10g}, 0.3",
+        "*MATERIAL, NAME=BLOCK",
+        "*ELASTIC",
+        f"{210000.0 * st:.10g}, 0.3",
+        *(["*PLASTIC", f"{250.0 * st:.10g}, 0.", f"{700.0 * st:.10g}, 0.5"] if plastic else []),
+        "*SOLID SECTION, ELSET=EPLATE, MATERIAL=PLATE",
+        "*SOLID SECTION, ELSET=EBLOCK, MATERIAL=BLOCK",
+        *_contact(interaction, contact, slope * st / ln, 0.01 * st),
+    ]
+    top = [e for e, (k, _) in ebl.items() if k == 1]
+    for p, ux in steps:
+        out += ["*STEP, INC=1000", "*STATIC", static, "*BOUNDARY"]
+        out += [f"NTOP, 1, 1, {ux * ln:.10g}", "NTOP, 2, 2, 0."]
+        out += ["*DLOAD", *[f"{e}, P2, {p * st:.10g}" for e in top]]
+        out += ["*NODE PRINT, NSET=NTOP, TOTALS=ONLY", "RF", "*CONTACT PRINT"]
+        out += [", ".join(contact_print), "*END STEP"]
     return "\n".join(out) + "\n"

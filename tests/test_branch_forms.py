@@ -3,7 +3,10 @@
 A dummy first-loading form, a log-log straight line through two points (the lowest and the top
 level), is registered with its runtime record (frictionlaw.forms); it lowers to the tabulated
 kernel form with two knots, so no kernel is edited. It then runs in the runtime law, round-trips
-through params.json, and is refused by the export (no Fortran template).
+through params.json, is described in every report (its label and symbols are part of the
+record: frictionlaw.describe reads them from there), and is refused by the export (no Fortran
+template). The calibration side registers its fit, prediction and held-out refit, and the form
+is calibrated, chosen, written and described with its measured errors.
 """
 
 import json
@@ -15,6 +18,7 @@ import pytest
 
 from frictionlaw import FrictionParams, alpha_first, alpha_reload, shear_limit_dp
 from frictionlaw import forms as F
+from frictionlaw.describe import describe_law
 from frictionlaw.first_loading import FirstLoadingTable
 
 H = 800e6
@@ -57,6 +61,15 @@ DUMMY = F.BranchForm(
     _lower,
     slope0=lambda params: params.first_loading_table.alpha[0] / params.first_loading_table.p[0],
     export_template=None,
+    label="a two-point power law",
+    describe=lambda P: (
+        (F.Quantity("s", P.first_loading_table.exponent(), "1", "exponent of the power law"),),
+        F.FormTable(
+            (("p", "Pa"), ("alpha", "1")),
+            tuple(zip(P.first_loading_table.p, P.first_loading_table.alpha, strict=True)),
+            "a power law between the two points, Coulomb below the first",
+        ),
+    ),
 )
 
 
@@ -102,6 +115,19 @@ def test_a_registered_form_runs_in_the_runtime_and_the_file(dummy, tmp_path):
     assert doc["version"] == 3 and doc["first_loading_law"]["form"] == "two-points"
     Q = FrictionParams.from_json(path)
     assert Q == P and Q.first_loading_table == data
+    # described from the same record: its label, symbol and table; Eq. 24 beside it (C1, n1),
+    # the tabulated form not (the file carries no FirstLoadingTable)
+    first = describe_law(Q).branch("first_loading")
+    assert [f.form for f in first.forms] == ["two-points", "eq24"]
+    run = first.running
+    assert run.name == "a two-point power law" and run.errors is None
+    assert run.parameters[0].value == pytest.approx(s, rel=1e-15)
+    assert run.table.rows == ((10e6, 0.02), (700e6, 0.9))
+    assert run.label() == f"a two-point power law: 2 levels 10-700 MPa, alpha 0.02-0.9, s = {s:.4g}"
+    eq24 = F.branch_form(F.FIRST_LOADING, "eq24").switch(Q)
+    plain = FrictionParams(m=0.5, sigma_y=H / 2.8, H=H, C1=1.0, n1=2.0, C2=3.0, n2=1.0)
+    assert eq24.first_loading_form == "eq24"
+    assert alpha_first(300e6, eq24) == alpha_first(300e6, plain)
 
 
 def test_a_registered_form_is_refused_by_the_export_without_a_template(dummy, tmp_path, capsys):
@@ -212,6 +238,15 @@ def test_a_registered_form_is_calibrated_written_and_run(calibrated_dummy, tmp_p
         rtol=1e-12,
     )
     assert Q.mu_eff == pytest.approx(Q.tau_max * a[0] / 20e6, rel=1e-12)
+    # every report names it, with the errors the calibration measured, Eq. 24 beside it
+    first = describe_law(Q).branch("first_loading")
+    assert first.running.form == "two-points" and first.others[0].form == "eq24"
+    held = {
+        k: cal.errors[k].summary()["heldout_max"] for k in ("first_loading", "first_loading_eq24")
+    }
+    assert first.running.errors.heldout_max == held["first_loading"]
+    assert first.others[0].errors.heldout_max == held["first_loading_eq24"]
+    assert cal.summary()["law"]["forms"].startswith("a two-point power law + ")
 
 
 def test_a_scene_takes_only_registered_forms(calibrated_dummy):

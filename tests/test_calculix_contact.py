@@ -15,7 +15,10 @@ Real ccx runs of the patched build (see tests/test_calculix.py for the build and
   ``XIT``, KSTEP, KINC, TIME and DTIME as ccx's increments, PNEWDT as a cut-back;
 - the routine's guards: a deck that states no unit system or another one than the routine's
   (both directions) and an SI model under an mm-t-s routine stop ccx with the routine's message
-  (exit 201); a pressure beyond the calibrated range warns once (two threads).
+  (exit 201; the SI model after the routine's cut-backs, on its converged pressure); a
+  converged pressure beyond the calibrated range warns once (two threads). Automatic
+  incrementation through iterates above 100 H, Debian's stock ccx on the documented deck and
+  face-to-face history at several GPa: tests/test_calculix_runs.py.
 """
 
 import json
@@ -371,7 +374,7 @@ def test_a_routine_states_the_depvar_it_needs(export_dir, ccx_work, tmp_path):
     routine.write_text(src.replace("      FRIC_DEPVAR = 1\n", "      FRIC_DEPVAR = 3\n"))
     binary = _link(ccx_work, routine, tmp_path / "ccx")
     short = [(400.0, 0.0, {"static": "0.5, 1.0, 1e-5, 0.5"})]
-    friction = ["*FRICTION, USER, DEPVAR=2, PROPERTIES=1", "2."]
+    friction = ["*FRICTION, USER, DEPVAR=2, PROPERTIES=1", "MM-T-S"]
     deck = two_blocks(short, ["*SURFACE INTERACTION, NAME=SBMF", *friction])
     proc, _ = _run(binary, deck, tmp_path / "two")
     assert proc.returncode != 0 and re.search(r"USER needs DEPVAR\s+>= 3", proc.stdout)
@@ -470,7 +473,7 @@ def _export(tmp_path, name, params, units):
     "friction, message",
     [
         (
-            ["*FRICTION, USER, DEPVAR=3, PROPERTIES=1", "1."],
+            ["*FRICTION, USER, DEPVAR=3, PROPERTIES=1", "SI"],
             "SBMF friction: the deck states the unit system PROPS(1) = 1, but this routine was "
             "exported for mm-t-s (MPa, mm), PROPS(1) = 2",
         ),
@@ -506,43 +509,55 @@ def test_an_si_routine_in_an_mm_deck_stops(ccx_work, tmp_path):
 
 
 def test_an_si_model_under_an_mm_routine_stops_on_its_pressure(ccx, tmp_path):
-    """The same blocks in SI (m, Pa) under the mm-t-s routine, the deck wrongly stating
-    mm-t-s: the first contact pressure (tens of MPa, in Pa) is far above 100 H = 80000 (MPa)."""
+    """The same blocks in SI (m, Pa) under the mm-t-s routine, the deck wrongly naming
+    mm-t-s: every iterate's pressure (in Pa) is far above 100 H = 80000 (MPa). The routine asks
+    for cut-backs (PNEWDT = 0.25) until the increment is at most 1/32 of its size (three, to
+    1/64), the increment then converges at pressures still above 100 H, and the next call stops
+    ccx with the unit message naming that converged pressure."""
     deck = two_blocks(STEPS[:1], _doc_lines(), si=True)
     proc, _ = _run(ccx, deck, tmp_path)
     assert proc.returncode == 201 and "Job finished" not in proc.stdout
     m = re.search(
-        r"\*ERROR in a user routine: SBMF friction: contact pressure (\S+) MPa > 100 H = 80000 "
-        r"MPa: this routine was exported for mm-t-s \(MPa, mm\) and the model looks SI "
-        r"\(Pa, m\)",
+        r"\*ERROR in a user routine: SBMF friction: converged contact pressure \(p_hist, state "
+        r"variable 1\) (\S+) MPa > 100 H = 80000 MPa: this routine was exported for mm-t-s "
+        r"\(MPa, mm\) and the model looks SI \(Pa, m\)",
         proc.stdout,
     )
     assert m, proc.stdout[-1500:]
-    assert float(m.group(1)) > 1e6  # a pressure in Pa
+    assert float(m.group(1)) > 1e5  # a pressure in Pa
+    assert proc.stdout.count("asks for a smaller increment: PNEWDT = 2.5") == 3
+    sizes = [r[6] for r in _sta(tmp_path) if r[:2] == (1, 1)]  # the converged attempt
+    assert sizes == [pytest.approx(0.1 / 64)]
 
 
 def test_beyond_the_calibrated_range_ccx_warns_once(ccx_work, tmp_path):
     """The example law with a calibrated range up to 300 MPa, the blocks pressed to 400 and
-    500 MPa on two threads: the run finishes, with one warning naming p_max, the pressure
-    beyond it, and where the largest pressures are (p_hist)."""
+    500 MPa on two threads: the run finishes, with one warning naming p_max, a converged
+    pressure beyond it (a p_hist at the start of an increment, which ccx printed), and where
+    the largest pressures are (p_hist)."""
     doc = json.loads(EXAMPLE.read_text())
     doc["calibrated_range"] = {"p_min": 10e6, "p_max": 300e6, "unit": "Pa"}
     params = tmp_path / "params.json"
     params.write_text(json.dumps(doc))
     out = _export(tmp_path, "ranged", params, "mm-t-s")
     binary = _link(ccx_work, out / "sbmf_fric.f", tmp_path / "ccx")
-    proc, dat = _run(binary, two_blocks(STEPS, _doc_lines()), tmp_path / "run", threads=2)
+    deck = two_blocks(STEPS, _doc_lines(), contact_print=("CSTR", "CSDV"))
+    proc, dat = _run(binary, deck, tmp_path / "run", threads=2)
     assert proc.returncode == 0 and "Job finished" in proc.stdout, proc.stdout[-2000:]
     warns = re.findall(r"\*WARNING in a user routine: (SBMF friction: .*)", proc.stdout)
     assert len(warns) == 1, warns
     m = re.fullmatch(
-        r"SBMF friction: contact pressure (\S+) MPa is beyond the calibrated range \(p_max = "
-        r"300 MPa\): the law is extrapolated there. Written once per process; the largest "
-        r"pressure each contact point carried is its p_hist \(state variable 1\)",
+        r"SBMF friction: converged contact pressure \(p_hist at the start of an increment\) "
+        r"(\S+) MPa is beyond the calibrated range \(p_max = 300 MPa\): the law is "
+        r"extrapolated there. Written once per process; the largest pressure each contact point "
+        r"carried is its p_hist \(state variable 1\)",
         warns[0],
     )
     assert m, warns[0]
-    assert float(m.group(1)) > 300
+    named = float(m.group(1))
+    # a converged history: one of the p_hist ccx printed, beyond p_max
+    printed = {row[1] for _, b in read_blocks(dat) for row in b["sdv"]}
+    assert named > 300 and min(abs(named - v) for v in printed) <= 1e-5 * named
     # the run went on: the largest pressures printed reach beyond p_max
     p_top = max(max(v[0] for v in c.values()) for _, _, c in read_dat(dat))
     assert p_top > 400

@@ -89,12 +89,20 @@ def test_fit_quality_and_parameter_file(cal, tmp_path):
     np.testing.assert_allclose(y24, alpha_first(x24 * 1e6, eq24), rtol=1e-12)
     rl = lines(figs["alpha_reload.png"])
     curves = cal.sweeps.reload_curves()
-    assert len(rl) == 1 + 2 * len(curves)
+    # the form that runs through each level's points, then the form beside it (dotted)
+    assert P.reload_form == "tabulated" and len(rl) == 1 + 3 * len(curves)
+    other = P.replace(reload_form="paper")
     for i, c in enumerate(curves):
         (xc, yc), (xe, ye) = rl[1 + 2 * i], rl[2 + 2 * i]
         np.testing.assert_allclose(xc * 1e6, c.p, rtol=1e-15)
         np.testing.assert_array_equal(yc, c.alpha)
         np.testing.assert_allclose(ye, alpha_reload(xe * 1e6, c.p_hist, P), rtol=1e-12)
+        xo, yo = rl[1 + 2 * len(curves) + i]
+        np.testing.assert_allclose(yo, alpha_reload(xo * 1e6, c.p_hist, other), rtol=1e-12)
+    title = figs["alpha_reload.png"].axes[0].get_title()
+    assert "Eq. 25 tabulated over p_hist" in title and f"s2 = {P.reload_table.s2:.4g}" in title
+    held = cal.errors["reload"].heldout_max
+    assert f"held out max |d alpha| {held:.3g}" in title and "beside it the paper's Eq. 25" in title
     with open(tmp_path / "roughness.csv") as fh:
         table = [[float(v) for v in r.values()] for r in csv.DictReader(fh)]
     (_, ra), (_, rq_line) = lines(figs["roughness.png"])

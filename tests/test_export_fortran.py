@@ -6,7 +6,9 @@ library with a shim that calls the documented entry point for many contact point
 increment, kept only when the increment converges, discarded on a cut-back) and compares every
 iteration node by node with ``frictionlaw.traction_update`` + ``HistoryState``. Both reload
 forms: the paper's Eq. 25 (``default``, ``soft``, ``sharp``) and the tabulated form (``tab``,
-``tab_flat``, tests/reload_tables.py), whose pressures also hit the table's levels.
+``tab_flat``, tests/reload_tables.py), whose pressures also hit the table's levels; both
+first-loading forms: Eq. 24 and the tabulated first loading (``first_*``, on either reload
+form), whose pressures hit its levels too.
 """
 
 import dataclasses
@@ -17,7 +19,7 @@ import pytest
 from default_params import DEFAULT
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from reload_tables import FLAT, PAIR, SINGLE, STRONG, levels
+from reload_tables import FIRST, FLAT, PAIR, SINGLE, STRONG, levels
 
 import frictionlaw as fl
 import frictionlaw.export as exp
@@ -65,6 +67,35 @@ PARAM_SETS = {
         **DEFAULT, reload_form="tabulated", reload_table=dataclasses.replace(STRONG, s2=S2_RANGE[0])
     ),
 }
+# the tabulated first loading (tests/reload_tables.py, FIRST) on either reload form: the default
+# scene's, the bump with the tabulated reload form (continuous, Eq. 26, k_t table), full contact
+# from 100 MPa and from the first level (the one-level reload table), the two-level table, the
+# flat top below full contact
+for _key, _first, _extra in (
+    ("first_default", "default", {}),
+    (
+        "first_bump",
+        "bump",
+        dict(
+            reload_form="tabulated",
+            reload_table=STRONG,
+            continuous_reload=True,
+            geo_ratio=0.3,
+            k_t=KT_TABLE,
+        ),
+    ),
+    ("first_full", "early_full", dict(continuous_reload=True)),
+    (
+        "first_one",
+        "full",
+        dict(reload_form="tabulated", reload_table=SINGLE, continuous_reload=True),
+    ),
+    ("first_pair", "pair", dict(reload_form="tabulated", reload_table=PAIR)),
+    ("first_flat", "flat", {}),
+):
+    PARAM_SETS[_key] = fl.FrictionParams(
+        **DEFAULT, first_loading_form="tabulated", first_loading_table=FIRST[_first], **_extra
+    )
 UNITS = exp.UNIT_SYSTEMS
 TINY = np.finfo(float).tiny
 FSLIP = 0.005
@@ -205,12 +236,15 @@ def host_floor(factor):
 
 
 def traction_scale(units, ref_t, t_old, kt, du):
-    """SI: the traction itself. mm-t-s: the largest term of ``t_old + k_t du`` too, because the
-    unit conversion perturbs the inputs by an ulp and the stick update may cancel."""
+    """SI: the traction itself, and a few ulps of the largest term of ``t_old + k_t du``: a
+    ``k_t`` interpolated in logs from a calibrated table agrees with the runtime's to an ulp, and
+    the stick update may cancel (a node with terms of 1.35e6 Pa and a traction of 196 Pa: 1.2e-12
+    of the traction, 2 ulps of the terms). mm-t-s: the largest term itself, because the unit
+    conversion perturbs the inputs by an ulp too."""
     scale = np.max(np.abs(ref_t), axis=1)
-    if units.name == "SI":
-        return scale
     terms = np.maximum(np.max(np.abs(t_old), axis=1), np.max(np.abs(kt[:, None] * du), axis=1))
+    if units.name == "SI":
+        return np.maximum(scale, terms * (4.0 * np.finfo(float).eps / 1e-12))
     return np.maximum(scale, terms)
 
 
@@ -239,17 +273,21 @@ def check_cache(params, p_hist, cache):
     The runtime's Eq. 25 now works from ``ln alpha1(p_hist)`` (``smooth_min_log``), so the
     routine caches that logarithm (negated, so that ``<= 0`` still means "recompute") instead
     of ``alpha1 / x1`` or ``alpha1``; ``|d ln alpha1| <= 1e-12`` is the old ``rtol=1e-12`` on
-    ``alpha1``. Where ``alpha1`` underflows (``x1 <= 1e-300``) the exact small-``x1`` limit
-    ``alpha1 = x1 (1 + O(x1**(2 n1)))`` is the reference: ``-ln alpha1 = -ln(p_hist C1 / H)``.
+    ``alpha1``. Where ``alpha1`` underflows (``x1 <= 1e-300``, ``x1 = p_hist s0`` with the
+    form's small-pressure slope ``s0 = lim alpha1 / p``: ``C1 / H`` of Eq. 24, ``alpha_0 / p_0``
+    of the tabulated first loading) the exact small-``x1`` limit ``alpha1 = x1 (1 + O(x1**(2
+    n1)))`` (the tabulated form's Coulomb line: exactly ``x1``) is the reference:
+    ``-ln alpha1 = -ln(p_hist s0)``.
     """
     on = p_hist > 0
     assert np.all(cache[on] >= 0)
-    x1 = p_hist[on] * params.C1 / params.H
+    s0 = params.branch_forms()[0].slope0(params)
+    x1 = p_hist[on] * s0
     ok = x1 > 1e-300
     a1 = fl.alpha_first(p_hist[on][ok], params)
     np.testing.assert_allclose(-cache[on][ok], np.log(a1), rtol=0, atol=1e-12)
     tiny = ~ok
-    want = -(np.log(p_hist[on][tiny]) + np.log(params.C1 / params.H))
+    want = -(np.log(p_hist[on][tiny]) + np.log(s0))
     np.testing.assert_allclose(cache[on][tiny], want, rtol=1e-12)
 
 
@@ -322,7 +360,9 @@ def run_fric(host, params, kt_spec, units, seed, nd, nstatv, n=48, n_incr=6):
 
 
 @pytest.mark.parametrize("units", ["SI", "mm-t-s"])
-@pytest.mark.parametrize("key", ["default", "soft", "sharp", "tab", "tab_flat"])
+@pytest.mark.parametrize(
+    "key", ["default", "soft", "sharp", "tab", "tab_flat", "first_bump", "first_full"]
+)
 def test_fric_compiles_cleanly(tmp_path_factory, key, units):
     _, warnings = lib_for(tmp_path_factory, "abaqus-fric", key, units)
     # only the documented interface's unused arguments may warn
@@ -347,6 +387,8 @@ FRIC_CASES = st.tuples(
         ("tab", "mm-t-s", None),
         ("tab_flat", "SI", None),
         ("tab_flat", "mm-t-s", 5e12),
+        ("first_bump", "mm-t-s", None),
+        ("first_full", "SI", None),
     ],
 )
 @settings(
@@ -411,6 +453,7 @@ def run_vfric(host, params, units, seed, nsv, n=48, n_incr=8):
         ("tab", "SI"),
         ("tab", "mm-t-s"),
         ("tab_flat", "SI"),
+        ("first_one", "mm-t-s"),
     ],
 )
 @settings(
@@ -443,8 +486,11 @@ def run_generic(host, params, kt_spec, units, seed, nd, n=48, n_incr=6):
             kt = k_host if kt_spec.kind == "host" else expected_kt(params, kt_spec, units, p, 0, 1)
             ref = fl.traction_update(law, p, du, t_c, kt, state)
             out = host(p * s, ph_c, g1_c, du * ln, t_c * s, k_host * units.stiffness)
-            # the guards' status: -4 above 100 H (the caller must stop), else 0 (no p_range)
-            assert np.array_equal(out["ierr"], np.where(p * s > 100 * params.H * s, -4, 0))
+            # the guards' status: -6 for a committed p_hist above 100 H, else -4 for a pressure
+            # above it (the caller must stop, an implicit one may cut back), else 0 (no p_range)
+            limit = 100 * params.H * s
+            want = np.where(ph_c > limit, -6, np.where(p * s > limit, -4, 0))
+            assert np.array_equal(out["ierr"], want)
             m = same_branch(p, state.p_hist, units)
             scale = traction_scale(units, ref.traction, t_c, np.broadcast_to(kt, p.shape), du)
             assert_close(out["t"][m] / s, ref.traction[m], 1e-12, "traction", scale[m])
@@ -472,7 +518,15 @@ def run_generic(host, params, kt_spec, units, seed, nd, n=48, n_incr=6):
 
 @pytest.mark.parametrize("target", ["lsdyna", "ansys-userfric"])
 @pytest.mark.parametrize(
-    "key,units", [("default", "SI"), ("soft", "mm-t-s"), ("tab", "SI"), ("tab_flat", "mm-t-s")]
+    "key,units",
+    [
+        ("default", "SI"),
+        ("soft", "mm-t-s"),
+        ("tab", "SI"),
+        ("tab_flat", "mm-t-s"),
+        ("first_pair", "SI"),
+        ("first_flat", "mm-t-s"),
+    ],
 )
 @settings(
     max_examples=10, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]

@@ -3,8 +3,12 @@
 Every Fortran target checks, before it runs the law, what the deck gave it: enough state
 variables, the unit system it states (the unit property, 1 SI, 2 mm-t-s) against the one the
 routine was exported for, and that no pressure exceeds 100 H (then the deck's units are not
-the routine's); a pressure beyond the calibrated range gives one warning per process. How
-each host hears of it (docs/fe_codes.md, "Guards"):
+the routine's); a pressure beyond the calibrated range gives one warning per process. The
+explicit hosts' routines check the increment's pressure (every increment commits); ``FRIC``
+(Abaqus/Standard, CalculiX), called on Newton iterates, checks what has converged, the
+committed ``p_hist``, and asks for a smaller increment (``PNEWDT``) where an iterate is above
+100 H (issue 40; the harness emulates the cut-backs). How each host hears of it
+(docs/fe_codes.md, "Guards"):
 
 - Abaqus/Standard and CalculiX (``FRIC``): ``STDB_ABQERR`` with ``LOP = -3``, then ``XIT``;
   the warning with ``LOP = -1``. Abaqus/Explicit (``VFRIC``, ``VFRICTION``): ``XPLB_ABQERR``,
@@ -218,14 +222,24 @@ def test_the_deck_must_state_the_routines_unit_system(tmp_path, params_files, ta
 
 @pytest.mark.parametrize("target,prec", DROP_IN)
 def test_a_pressure_above_100_h_names_both_unit_systems(tmp_path, params_files, target, prec):
-    """An mm-t-s routine in an SI deck: 300 MPa arrives as 3e8 'MPa' (the issue's case)."""
+    """An mm-t-s routine in an SI deck: 300 MPa arrives as 3e8 'MPa' (the issue's case).
+
+    The explicit hosts' routines see the increment's pressure; ``FRIC`` the committed
+    ``p_hist`` (``STATEV(1)`` at the start of the increment), so it is driven with 3e8 as the
+    converged history of the second point."""
     host = fresh(tmp_path, params_files["plain"], target, "mm-t-s", prec)
     p = np.array([50.0, 3e8, 100.0])
-    tau, ph = drive(target, host, p)
+    committed = target in ABAQUS
+    tau, ph = drive(target, host, p, p_hist=np.where(p > 1e6, p, 0.0) if committed else None)
     msgs, _, exits = messages(target, host)
     assert len(msgs) == 1
+    what = (
+        "converged contact pressure \\(p_hist, state variable 1\\)"
+        if committed
+        else "contact pressure"
+    )
     assert re.fullmatch(
-        r"SBMF friction: contact pressure 3[.]00000E\+08 MPa > 100 H = 80000 MPa: this routine "
+        rf"SBMF friction: {what} 3[.]00000E\+08 MPa > 100 H = 80000 MPa: this routine "
         r"was exported for mm-t-s \(MPa, mm\) and the model looks SI \(Pa, m\)",
         msgs[0],
     ), msgs[0]
@@ -238,10 +252,79 @@ def test_a_pressure_above_100_h_names_both_unit_systems(tmp_path, params_files, 
         np.testing.assert_allclose(tau[0], law[0], rtol=1e-12)
     # an SI routine has no unit system beyond it: the message says the deck's is not Pa
     host = fresh(tmp_path, params_files["plain"], target, "SI", prec)
-    drive(target, host, np.array([1e13]))
+    drive(target, host, np.array([1e13]), p_hist=np.array([1e13]) if committed else None)
     msg = messages(target, host)[0][0]
     assert "> 100 H = 8e+10 Pa: this routine was exported for SI (Pa, m)" in msg
     assert "does not use Pa" in msg
+
+
+# -- FRIC on Newton iterates: cut-backs (the harness emulates Abaqus' incrementation) ----------
+def _increment(host, iterates, p_hist=0.0, kinc=1, dtime=1.0):
+    """One emulated increment of ``FRIC`` at one point, sliding far, from ``p_hist``."""
+    sv = np.array([[p_hist, 0.0, 0.0]])
+    return host.increment(
+        iterates, np.full((1, 2), 1e3), np.zeros((1, 2)), sv, 1e-3, kinc=kinc, dtime=dtime
+    )
+
+
+@pytest.mark.parametrize("target", ABAQUS)
+def test_an_iterate_above_100_h_asks_for_a_smaller_increment(tmp_path, params_files, target):
+    """A Newton iterate overshoots to 320 GPa at the increment's full size (the issue's case:
+    iterates above 100 H, converged pressures of a few hundred MPa): FRIC returns
+    ``PNEWDT = 0.25``, the host retries at a quarter, twice, and the increment converges at
+    400 MPa with nothing written and the law's shear and history; the run goes on. An
+    increment whose every pressure stays below 100 H is never cut back."""
+    host = fresh(tmp_path, params_files["ranged"], target, "mm-t-s")
+    p_end = 400.0
+
+    def iterates(dtime):  # the overshoot shrinks with the increment, the converged state not
+        return [np.array([p_end + 3.2e5 * dtime]), np.array([p_end])]
+
+    inc = _increment(host, iterates)
+    assert inc.converged and inc.exits == 0
+    assert [a.dtime for a in inc.attempts] == [1.0, 0.25, 0.0625]
+    assert [a.pnewdt for a in inc.attempts][:2] == [0.25, 0.25] and inc.attempts[2].pnewdt > 1
+    assert inc.attempts[1].p_max > 80000 > inc.attempts[2].p_max
+    assert messages(target, host) == ([], [], 0)
+    assert inc.out["statev"][0, 0] == p_end  # the committed history is the converged pressure
+    law = fl.shear_limit(p_end * 1e6, 0.0, RANGED) / 1e6
+    np.testing.assert_allclose(np.hypot(*inc.out["tau"][0]), law, rtol=1e-12)
+    # the next increment starts from it; below 100 H on every iterate: no cut-back
+    inc = _increment(host, lambda dt: [np.array([7e4]), np.array([300.0])], p_end, kinc=2)
+    assert inc.converged and len(inc.attempts) == 1 and inc.attempts[0].pnewdt > 1
+    assert messages(target, host) == ([], [], 0) and inc.out["statev"][0, 0] == p_end
+
+
+@pytest.mark.parametrize("target", ABAQUS)
+def test_an_si_deck_stops_on_its_converged_pressure(tmp_path, params_files, target):
+    """An SI model under the mm-t-s routine: its pressures are above 100 H on every iterate at
+    any increment size. FRIC asks for cut-backs until the increment is 1/32 of its size or
+    less (three, to 1/64), then asks no more (the host's own limit, five cut-backs, would end
+    the run with the host's message): the increment converges at 4.7e6 'MPa', and the next
+    increment's first call stops the run with the unit message naming that converged pressure.
+    """
+    host = fresh(tmp_path, params_files["plain"], target, "mm-t-s")
+
+    def iterates(dtime):  # 300 MPa in Pa, ramped over the increment
+        return [np.array([3e8 * dtime]), np.array([3e8 * dtime])]
+
+    inc = _increment(host, iterates)
+    assert inc.converged
+    assert [a.dtime for a in inc.attempts] == [1.0, 0.25, 0.0625, 0.015625]
+    assert messages(target, host) == ([], [], 0)
+    p_conv = inc.out["statev"][0, 0]
+    assert p_conv == 3e8 / 64
+    inc = _increment(host, lambda dt: [np.array([3e8])], p_conv, kinc=2)
+    assert not inc.converged and inc.exits == 1
+    errs, _, _ = messages(target, host)
+    assert errs == [
+        "SBMF friction: converged contact pressure (p_hist, state variable 1) 4.68750E+06 MPa "
+        "> 100 H = 80000 MPa: this routine was exported for mm-t-s (MPa, mm) and the model "
+        "looks SI (Pa, m)"
+    ]
+    # each increment counts its own cut-backs: the floor is relative to its first overshoot
+    inc = _increment(host, iterates, kinc=3, dtime=0.5)
+    assert [a.dtime for a in inc.attempts] == [0.5, 0.125, 0.03125, 0.0078125]
 
 
 # -- the calibrated range ---------------------------------------------------------------------
@@ -250,24 +333,44 @@ def test_a_pressure_above_100_h_names_both_unit_systems(tmp_path, params_files, 
 def test_beyond_the_calibrated_range_one_warning_per_process(
     tmp_path, params_files, target, prec, units
 ):
+    """Four increments beyond the range: one warning, naming the first pressure beyond it.
+
+    FRIC warns on the committed history (each increment starts from the last one's converged
+    ``p_hist``): the pressure named is a converged one, one increment later."""
     s = UNITS[units].stress
     host = fresh(tmp_path, params_files["ranged"], target, units, prec)
     p_si = np.array([[500e6, 700e6], [800e6, 1200e6], [900e6, 1348e6], [600e6, 2000e6]])
+    committed = np.zeros(2)
     for row in p_si:  # increments (cycles), each beyond the range
-        tau, ph = drive(target, host, row * s)
+        tau, ph = drive(target, host, row * s, p_hist=committed)
         rtol = 1e-6 if prec == "SP" else 1e-12
-        np.testing.assert_allclose(tau, fl.shear_limit(row, 0.0, RANGED) * s, rtol=rtol)
+        want = fl.shear_limit(row, committed / s, RANGED) * s
+        np.testing.assert_allclose(tau, want, rtol=rtol)
         assert np.all(ph >= row * s * (1 - 3e-7))  # the history runs on
+        committed = ph if target in ABAQUS else np.zeros(2)
     errs, warns, exits = messages(target, host)
     assert len(warns) == 1 and errs == [] and exits == 0, (errs, warns)
     unit = UNITS[units].stress_unit
     first = 800e6 * s  # the first pressure beyond p_max: the largest the process had seen
     shown = f"{first:.0f}" if first < 1e6 else f"{first:.5E}"
+    seen = "converged contact pressure (p_hist at the start of an increment)"
+    seen = seen if target in ABAQUS else "contact pressure"
     assert (
-        f"contact pressure {shown} {unit} is beyond the calibrated range "
+        f"{seen} {shown} {unit} is beyond the calibrated range "
         f"(p_max = {P_MAX * s:.6g} {unit}): the law is extrapolated there" in warns[0]
     ), warns[0]
     assert "once per process" in warns[0] and "p_hist (state variable 1)" in warns[0]
+
+
+@pytest.mark.parametrize("target", ABAQUS)
+def test_fric_warns_on_converged_pressures_only(tmp_path, params_files, target):
+    """Iterates beyond p_max whose increment converges below it: no warning (the issue named an
+    iterate's 760 MPa where the largest converged pressure was 470 MPa)."""
+    host = fresh(tmp_path, params_files["ranged"], target, "SI")
+    inc = _increment(host, lambda dt: [np.array([1.5e9]), np.array([470e6])])
+    inc = _increment(host, lambda dt: [np.array([900e6]), np.array([300e6])], 470e6, kinc=2)
+    assert inc.converged and inc.out["statev"][0, 0] == 470e6
+    assert messages(target, host) == ([], [], 0)
 
 
 @pytest.mark.parametrize("target,prec", DROP_IN[:4])
@@ -290,8 +393,8 @@ def test_one_warning_from_threads_calling_at_once(tmp_path, params_files, target
         chunks = np.array_split(np.arange(p.size), 4)
 
         def work(i, host=host, barrier=barrier, p=p, chunks=chunks):
-            barrier.wait()
-            drive(target, host, p[chunks[i]])
+            barrier.wait()  # FRIC warns on the committed history: p_hist = p
+            drive(target, host, p[chunks[i]], p_hist=p[chunks[i]])
 
         threads = [threading.Thread(target=work, args=(i,)) for i in range(4)]
         for t in threads:
@@ -321,6 +424,12 @@ def test_sbmf_friction_returns_the_guards_status(tmp_path, params_files, target,
     # the outputs stay the law's (the caller stops on ierr < 0)
     want = fl.shear_limit(np.maximum(p / s, 0), 0.0, RANGED) * s
     np.testing.assert_allclose(np.abs(out["t"][:, 0]), want, rtol=1e-12)
+    # a committed history above 100 H: -6 (before -4), naming it as converged
+    ph = np.array([0.0, 1e3 * RANGED.H * s])
+    z = np.zeros((2, 1))
+    got = host(np.array([1e3, 1e3]) * s, ph, np.zeros(2), np.full((2, 1), 1e3), z, 1e30)
+    assert got["ierr"].tolist() == [0, -6]
+    assert "converged contact pressure (p_hist, state variable 1)" in host.message(6, ph[1])
     text = host.message(5, p[1])
     assert "is beyond the calibrated range" in text and "once per process" in text
     assert "this routine was exported for " + us.describe() in host.message(4, p[4])
@@ -344,7 +453,8 @@ def test_every_message_fits_the_hosts_limits(params_files):
         for units in UNITS:
             us = UNITS[units]
             guard = guard_spec(RANGED, us)
-            msgs = guard.messages(record.form.state_name, record.form.units_input)
+            form = record.form
+            msgs = guard.messages(form.state_name, form.units_input, form.implicit)
             for before, after in msgs.values():
                 assert len(before) + len(after or "") + 24 <= 400
             assert record.form.units_input[0] == UNIT_INPUT[target]

@@ -6,8 +6,9 @@ concurrently from 4 OS threads (ctypes releases the GIL during the call) over di
 of shared arrays, many times; every result must equal the serial run bit for bit. A static check
 rejects any SAVE, COMMON, DATA, EQUIVALENCE or initialised declaration (implicitly SAVEd) in the
 generated sources: the routines keep no state of their own between calls, but for the guards'
-once-per-process flags in ``SBMF_ONCE`` (docs/fe_codes.md, "Guards"), which are read and set
-only with OpenMP atomics (checked here; one warning from 4 threads at once:
+once-per-process flags in ``SBMF_ONCE`` and, in ``FRIC``'s file, the record of the increment's
+first iterate above 100 H in ``SBMF_CUTS`` (docs/fe_codes.md, "Guards"), which are read and
+written only with OpenMP atomics (checked here; one warning from 4 threads at once:
 tests/test_export_guards.py). Both reload forms:
 the static check on each (the tabulated form's table is PARAMETER arrays), the concurrent calls
 on the tabulated form for FRIC, VFRICTION and the single-precision ``usrfrc``.
@@ -73,37 +74,48 @@ def static_storage(text):
     return bad
 
 
-#: the one function with static storage: the guards' once-per-process flags
-_ONCE = re.compile(r"^      INTEGER FUNCTION SBMF_ONCE\(K\)\n(.*?)^      END\n", re.M | re.S)
+#: the functions with static storage: the guards' once-per-process flags (every target) and
+#: FRIC's record of the increment's first iterate above 100 H
+_GUARDED = re.compile(
+    r"^      (?:INTEGER|DOUBLE PRECISION) FUNCTION (SBMF_ONCE|SBMF_CUTS)\(.*?\)\n(.*?)^      END\n",
+    re.M | re.S,
+)
+
+
+def guarded_functions(text):
+    """``(text without SBMF_ONCE and SBMF_CUTS, {name: body})``."""
+    bodies = {m.group(1): m.group(2) for m in _GUARDED.finditer(text)}
+    return _GUARDED.sub("", text), bodies
 
 
 def once_flags(text):
     """``(text without SBMF_ONCE, SBMF_ONCE's body)``; the body is None if there is none."""
-    m = _ONCE.search(text)
-    if m is None:
-        return text, None
-    return text[: m.start()] + text[m.end() :], m.group(1)
+    rest, bodies = guarded_functions(text)
+    return rest, bodies.get("SBMF_ONCE")
 
 
 def atomic_only(body):
-    """The statements of ``body`` that touch its SAVEd flags outside an OpenMP atomic."""
+    """The statements of ``body`` that touch its SAVEd variables outside an OpenMP atomic."""
     lines = body.splitlines()
-    flag = re.search(r"SAVE :: (\w+)\(", body).group(1)
+    names = re.findall(r"SAVE :: (\w+)", body)
     bad = []
     for i, line in enumerate(lines):
-        if line[:1] in "Cc*!" or flag not in line or "SAVE ::" in line:
+        if line[:1] in "Cc*!" or "SAVE ::" in line:
+            continue
+        if not any(re.search(rf"\b{n}\b", line) for n in names):
             continue
         prev = [x for x in lines[:i] if x.strip()][-1]
         in_capture = prev.startswith("!$OMP ATOMIC CAPTURE") or (
             lines[i - 2].startswith("!$OMP ATOMIC CAPTURE") and lines[i + 1] == "!$OMP END ATOMIC"
         )
-        if not (prev.startswith("!$OMP ATOMIC READ") or in_capture):
+        if not (prev.startswith(("!$OMP ATOMIC READ", "!$OMP ATOMIC WRITE")) or in_capture):
             bad.append(line.strip())
     return bad
 
 
-#: the k_t table's and the reload table's PARAMETER arrays are checked too
-KEYS = ("soft", "tab_flat")
+#: the k_t table's, the reload table's and the first-loading table's PARAMETER arrays are checked
+#: too
+KEYS = ("soft", "tab_flat", "first_bump")
 
 
 @pytest.fixture(scope="module")
@@ -121,11 +133,16 @@ def test_generated_sources_have_no_static_storage(params_files, target, key):
         files, _ = exp.render(target, params_files[key], k_t=k_t)
         for name, text in files.items():
             if name.endswith(".f"):
-                rest, once = once_flags(text)
+                rest, bodies = guarded_functions(text)
                 assert static_storage(rest) == [], f"{target}/{name}"
-                # the guards' flags: one SAVEd array, touched only under OpenMP atomics
-                assert once is not None and atomic_only(once) == []
-                assert [kind for _, kind in static_storage(once)] == ["initialised declaration"]
+                # the guards' flags: one SAVEd array, touched only under OpenMP atomics; FRIC's
+                # SBMF_CUTS: two SAVEd scalars, the same way
+                want = {"SBMF_ONCE", "SBMF_CUTS"} if target == "abaqus-fric" else {"SBMF_ONCE"}
+                assert set(bodies) == want
+                for body in bodies.values():
+                    assert atomic_only(body) == []
+                    kinds = {kind for _, kind in static_storage(body)}
+                    assert kinds == {"initialised declaration"}
 
 
 def test_atomic_check_finds_a_plain_access():
@@ -145,6 +162,15 @@ def test_atomic_check_finds_a_plain_access():
     assert atomic_only(body.replace("!$OMP ATOMIC READ\n", "")) == ["N = FLAGS(K)"]
     plain = body.replace("!$OMP ATOMIC CAPTURE\n", "").replace("!$OMP END ATOMIC\n", "")
     assert atomic_only(plain) == ["N = FLAGS(K)", "FLAGS(K) = 1"]
+
+
+def test_atomic_check_finds_a_plain_access_in_sbmf_cuts(params_files):
+    """FRIC's SBMF_CUTS passes; without its atomic writes its two stores are found."""
+    text = exp.render("abaqus-fric", params_files["soft"])[0]["sbmf_fric.f"]
+    body = guarded_functions(text)[1]["SBMF_CUTS"]
+    assert atomic_only(body) == []
+    plain = body.replace("!$OMP ATOMIC WRITE SEQ_CST\n", "")
+    assert atomic_only(plain) == ["SBMFCD = DTIME", "SBMFCK = KEY"]
 
 
 def test_static_check_finds_static_storage():
@@ -294,7 +320,9 @@ def _concurrently(calls):
     + [("lsdyna-usrfrc", "SP", "soft"), ("lsdyna-usrfrc-mpp", "SP", "soft")]
     # the tabulated reload form: its core in an implicit, an explicit and an SP host routine
     + [("abaqus-fric", "DP", "tab_flat"), ("abaqus-vfriction", "DP", "tab_flat")]
-    + [("lsdyna-usrfrc", "SP", "tab_flat")],
+    + [("lsdyna-usrfrc", "SP", "tab_flat")]
+    # the tabulated first loading (under the tabulated reload form)
+    + [("abaqus-fric", "DP", "first_bump")],
 )
 def test_concurrent_calls_equal_serial(tmp_path_factory, params_files, target, prec, key):
     files, _ = exp.render(target, params_files[key], k_t=None if target != "lsdyna" else 5e12)

@@ -8,9 +8,11 @@ is forced by a tolerance no law meets (``--heldout-tol 1e-4``); the message name
 input errors when the miss is gross.
 
 A scan whose lateral size was typed in the wrong unit (2 m instead of 2 mm: the surface is
-nearly flat) is in full contact from the lowest pressure: a valid result (Tresca from there
-on, issue 31), so the run exits 0, and its note names ``--size`` and ``--unit`` in case the
-full contact was not expected.
+nearly flat) is refused before any sweep (exit 2, nothing written), naming its size, its RMS
+slope and the likely mistake (issue 38; it exited 0 in full contact before). A pair that passes
+that check but is in full contact at the first load level below 0.05 H fails the run (exit 1,
+``params.failed.json``) with the same words, unless ``--smooth-pair`` states that it is that
+smooth (then exit 0, the full contact reported in a note).
 """
 
 import json
@@ -52,19 +54,68 @@ def test_failed_run_exits_1_and_keeps_no_params_json(failed_run, capsys):
     assert "the calibration that wrote it failed" in fit_failure(doc)
 
 
-def test_a_nearly_flat_scan_is_full_contact_with_a_hint(tmp_path, capsys):
+def test_a_scan_typed_1000x_too_wide_is_refused_before_any_sweep(tmp_path, capsys):
     heights = np.random.default_rng(2).normal(0.0, 1e-6, (64, 64))
     np.save(tmp_path / "s.npy", heights)
     s = str(tmp_path / "s.npy")
     rc = calib(["--workpiece", s, "--tool", s, "--size", "2", "--unit", "m", "--grid", "32",
                 "--out", str(tmp_path / "o")])  # fmt: skip
+    err = capsys.readouterr().err
+    assert rc == 2 and "Traceback" not in err
+    # the size, the slope and the likely mistake; white noise of deviation s on pixels d: the
+    # central differences of 62 of 64 lines have variance s^2 / (2 d^2) per axis, the one-sided
+    # ones at the 2 edges 2 s^2 / d^2, so Sdq = (s / d) sqrt(62/64 + 4 * 2/64)
+    slope = float(err.split("RMS slope ")[1].split(":")[0])
+    assert slope == pytest.approx(1e-6 / (2 / 64) * np.sqrt(62 / 64 + 8 / 64), rel=0.02)
+    assert "2 x 2 m" in err and "1000x too large" in err and "--workpiece-size" in err
+    assert not (tmp_path / "o").exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.npy"]  # nothing written
+
+
+@pytest.fixture(scope="module")
+def flat_pair(tmp_path_factory):
+    """A pair that passes the check before the sweeps but is flat at the solver's scale.
+
+    White noise of Rq 0.5 um on 256^2 pixels of 0.78 mm (a 0.2 m field): RMS slope 6.4e-4 at the
+    pixel, inside the plausible range, but the S-filter (lambda_s = 20 mm) leaves 20 nm on the
+    patch: full contact at 10 MPa.
+    """
+    base = tmp_path_factory.mktemp("flat")
+    np.save(base / "n.npy", np.random.default_rng(3).normal(0.0, 0.5e-6, (256, 256)))
+    n = str(base / "n.npy")
+    return base, ["--workpiece", n, "--tool", n, "--size", "0.2", "--unit", "m", "--grid", "16",
+                  "--pressures", "10e6,100e6,300e6,500e6", "--reload-fractions", "0.25,0.5,0.8",
+                  "--no-resolution-check", "--no-progress"]  # fmt: skip
+
+
+def test_full_contact_at_the_first_level_fails_the_run(flat_pair, capsys):
+    base, argv = flat_pair
+    rc = calib([*argv, "--out", str(base / "o")])
     cap = capsys.readouterr()
-    assert rc == 0 and "RUN FAILED" not in cap.err and "Traceback" not in cap.err
-    summary = json.loads((tmp_path / "o" / "summary.json").read_text())
-    assert summary["full_contact_from_pressure"] == pytest.approx(10e6)
+    assert rc == 1 and "RUN FAILED" in cap.err and "Traceback" not in cap.err
+    assert not (base / "o" / "params.json").exists()
+    doc = json.loads((base / "o" / "params.failed.json").read_text())
+    (problem,) = doc["provenance"]["run"]["problems"]
+    assert problem.startswith("full contact at the first load level: alpha = 1.000 at 10 MPa")
+    assert "0.2 x 0.2 m, RMS slope 0.00064" in problem and "lateral size too large" in problem
+    assert "smooth_pair=True" in problem  # the Python names in the file, the flags on stderr
+    assert "--smooth-pair" in cap.err and "--workpiece-size" in cap.err
+    prov = doc["provenance"]["extra"]
+    assert prov["lateral_scale"]["smooth_pair"] is False
+    assert prov["files"][0]["rms_slope_scan"] == pytest.approx(6.4e-4, rel=0.02)
+
+
+def test_smooth_pair_states_the_full_contact_is_real(flat_pair, capsys):
+    base, argv = flat_pair
+    rc = calib([*argv, "--smooth-pair", "--out", str(base / "s")])
+    cap = capsys.readouterr()
+    assert rc == 0 and "RUN FAILED" not in cap.err
+    summary = json.loads((base / "s" / "summary.json").read_text())
+    assert summary["problems"] == [] and summary["full_contact_from_pressure"] == 10e6
     note = [n for n in summary["fit_notes"] if n.startswith("full contact")]
-    assert len(note) == 1 and "--size" in note[0] and "--unit" in note[0]
-    assert "full contact from low pressure" in cap.out
+    assert len(note) == 1 and "--workpiece-size" in note[0] and "--unit" in note[0]
+    params = json.loads((base / "s" / "params.json").read_text())
+    assert params["provenance"]["extra"]["lateral_scale"]["smooth_pair"] is True
 
 
 def test_failure_hint_names_the_likely_causes_of_a_gross_miss():

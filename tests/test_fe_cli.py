@@ -8,6 +8,7 @@ import pytest
 
 from fe_demo.cli import main
 from fe_demo.output import HISTORY_UNITS, csv_header
+from fe_demo.output.history import read_history_csv
 from fe_demo.scenes.laws import make_law_factory
 
 
@@ -38,14 +39,20 @@ def test_upsetting_cli_writes_csv_png_vtu(tmp_path, capsys):
     assert rc == 0
     rows = _csv(out / "history.csv")
     assert len(rows) == 4
-    assert list(rows[0])[:3] == ["height_reduction", "force_N", "stroke_m"]
-    red = np.array([float(r["height_reduction"]) for r in rows])
+    assert list(rows[0])[:3] == ["height_reduction_fraction", "force_N", "stroke_m"]
+    red = np.array([float(r["height_reduction_fraction"]) for r in rows])
     np.testing.assert_allclose(red, [0.05, 0.1, 0.15, 0.2], atol=1e-9)
     # stroke in m: 20 % of h0 = 10 mm; every dimensional column names its SI unit
     assert float(rows[-1]["stroke_m"]) == pytest.approx(2e-3, rel=1e-9)
     units = {csv_header(k): u for k, u in HISTORY_UNITS.items()}
-    for col in rows[0]:
+    for col in rows[0]:  # every name states its unit; bare names are counts, flags, ratios
         assert col in units and (units[col] == "1" or col.endswith("_" + units[col])), col
+    # what reads a history takes these names and the earlier ones alike
+    hist = read_history_csv(out / "history.csv")
+    np.testing.assert_array_equal(hist["height_reduction"], red)
+    old = tmp_path / "old.csv"
+    old.write_text("height_reduction,force\n0.1,5\n")
+    assert read_history_csv(old)["height_reduction"][0] == 0.1
     with pytest.raises(ValueError, match="'foo' has no unit"):
         csv_header("foo")
     for png in ("force_stroke.png", "die_profile.png"):
@@ -53,9 +60,10 @@ def test_upsetting_cli_writes_csv_png_vtu(tmp_path, capsys):
     pvd = (out / "vtu" / "step.pvd").read_text()
     assert pvd.count("<DataSet") == 3
     m = meshio.read(out / "vtu" / "step_0002.vtu")
-    assert {"displacement", "contact_pressure", "shear", "p_hist"} <= set(m.point_data)
-    assert {"von_mises", "eps_p", "stress_zz"} <= set(m.cell_data)
-    assert m.point_data["p_hist"].max() > 0
+    # VTU field names state their units
+    assert {"displacement_m", "contact_pressure_Pa", "shear_Pa", "p_hist_Pa"} <= set(m.point_data)
+    assert {"von_mises_Pa", "eps_p", "stress_zz_Pa"} <= set(m.cell_data)
+    assert m.point_data["p_hist_Pa"].max() > 0
     assert "sbmf" in capsys.readouterr().out
 
 
@@ -70,8 +78,12 @@ def test_upsetting_all_laws_and_ring_and_multistage(tmp_path):
     assert main(["ring", "--m-list", "0,1", "--out", str(ring), "--vtu-every", "0", *args]) == 0
     assert (ring / "ring_chart.png").exists()
     rows = _csv(ring / "FE_m1" / "history.csv")
-    assert list(rows[0])[:3] == ["height_reduction", "force_N", "inner_diameter_change"]
-    assert float(rows[-1]["inner_diameter_change"]) < 0
+    assert list(rows[0])[:3] == [
+        "height_reduction_fraction",
+        "force_N",
+        "inner_diameter_change_fraction",
+    ]
+    assert float(rows[-1]["inner_diameter_change_fraction"]) < 0
     ms = tmp_path / "ms"
     assert (
         main(

@@ -84,7 +84,7 @@ def test_ring_beyond_the_chart_runs_the_fe(tmp_path, capsys):
     assert (out / "history.csv").exists() and (out / "ring_chart.png").exists()
     assert "the upper-bound hole closes" in capsys.readouterr().out
     rows = _rows(out / "ring_chart_upper_bound.csv")
-    m1 = [float(r["height_reduction"]) for r in rows if r["m"] == "1"]
+    m1 = [float(r["height_reduction_fraction"]) for r in rows if r["m"] == "1"]
     assert 0.5 < max(m1) < 0.65
 
 
@@ -109,7 +109,7 @@ def test_stopped_run_records_the_accepted_part_of_its_last_increment(tmp_path):
     assert res.snapshots[-1]["height_reduction"] == last
     write_run(tmp_path, res, "stopped")
     rows = _rows(tmp_path / "history.csv")
-    assert float(rows[-1]["height_reduction"]) == pytest.approx(last, rel=1e-9)
+    assert float(rows[-1]["height_reduction_fraction"]) == pytest.approx(last, rel=1e-9)
     pvd = (tmp_path / "vtu" / "step.pvd").read_text()
     assert f'timestep="{last:.8g}"' in pvd.splitlines()[-3]
     assert json.loads((tmp_path / "summary.json").read_text())["stopped_at_height_reduction"] == (

@@ -302,7 +302,6 @@ def test_version_3_round_trip_and_the_lowest_version(tmp_path):
         (lambda d: d["first_loading_law"].pop("alpha"), "'alpha'"),
         (lambda d: d["first_loading_law"]["units"].update(p="MPa"), "'Pa'"),
         (lambda d: d.update(version=2), "'first_loading_law' needs version 3"),
-        (lambda d: d.update(flattening={"version": 1}), "'flattening'"),
     ],
 )
 def test_bad_files_are_refused_naming_the_field(edit, field):
@@ -311,13 +310,3 @@ def test_bad_files_are_refused_naming_the_field(edit, field):
     with pytest.raises(ValueError) as exc:
         FrictionParams.from_dict(doc, source="p.json")
     assert field in str(exc.value) and "p.json" in str(exc.value)
-
-
-def test_export_refuses_a_tabulated_first_loading(tmp_path, capsys):
-    from frictionlaw.export.cli import main
-
-    path = params().to_json(tmp_path / "p.json")
-    assert main(["abaqus-fric", "--params", str(path), "--out", str(tmp_path / "x")]) == 2
-    err = capsys.readouterr().err
-    assert "first loading form 'tabulated'" in err and "not carried by the Fortran" in err
-    assert not (tmp_path / "x").exists()

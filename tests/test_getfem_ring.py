@@ -69,6 +69,36 @@ def test_ring_against_fe_demo(tmp_path, law):
     assert np.all(np.diff(hg["max_p_hist"]) >= 0)  # monotone loading: p_hist only rises
 
 
+def test_ring_with_a_tabulated_first_loading(tmp_path):
+    """The tabulated first loading (the bump scan's table, tests/reload_tables.py) in place of the
+    example's Eq. 24: GetFEM against fe-demo within the bounds above, while fe-demo's ring with
+    the example's Eq. 24 (C1 = 2, n1 = 2) is further from both than those bounds. Measured (6 x 4
+    grid, 15 increments, die-face p_hist up to 532 MPa): force within 0.08 % and 0.39 % at 15 %
+    and 30 %, inner diameter within 0.07 and 0.006 points; Eq. 24's ring 3.3 % and 2.2 % (force)
+    and 2.7 and 5.2 points (inner diameter) away."""
+    from reload_tables import FIRST
+
+    from frictionlaw import FrictionParams
+
+    eq24 = FrictionParams.from_json(EXAMPLE)
+    params = eq24.replace(first_loading_form="tabulated", first_loading_table=FIRST["bump"])
+    path = params.to_json(tmp_path / "first.json")
+    args = ["--law", "sbmf", "--params", str(path), "--nr", "6", "--reduction", "0.3"]
+    rc, _, log = run_getfem_ring(tmp_path / "gf", [*args, "--increments", "15"])
+    assert rc == 0, log
+    hg = read_history(tmp_path / "gf" / "history.csv")
+    ref = run_ring("sbmf", params=str(path), nr=6, n_increments=15, reduction=0.3)
+    old = run_ring("sbmf", params=EXAMPLE, nr=6, n_increments=15, reduction=0.3)
+    assert ref.converged and old.converged
+    fg, dg = at_reductions(hg, [0.15, 0.3])
+    ff, df = at_reductions(ref.history, [0.15, 0.3])
+    fo, do = at_reductions(old.history, [0.15, 0.3])
+    assert np.all(np.abs(fg / ff - 1) < 0.015), (fg, ff)
+    assert np.all(np.abs(dg - df) < 0.005), (dg, df)
+    # the first-loading form shows in the result: Eq. 24's ring is outside those bounds
+    assert np.any(np.abs(fo / ff - 1) > 0.015) or np.any(np.abs(do - df) > 0.005), (fo, do)
+
+
 @pytest.mark.slow
 def test_cutbacks_leave_no_trace(tmp_path):
     """Two increments to 30 % force cut-backs (state rolled back, step halved); the

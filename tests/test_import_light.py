@@ -52,5 +52,16 @@ def test_the_runtime_does_not_load_the_command_layer():
     assert _run(code) == []
     # the probe can see the layer: the export command loads it
     assert "sbmf_cli" in _run(
-        "import json, sys\nimport frictionlaw.export\nprint(json.dumps(sorted(sys.modules)))"
+        "import json, sys\nimport frictionlaw.export.cli\nprint(json.dumps(sorted(sys.modules)))"
     )
+
+
+def test_the_packages_commands_start_without_numpy():
+    """``import frictionlaw``, ``frictionlaw.export`` and both command modules load no NumPy:
+    ``--version`` and Ctrl-C are handled before it (issue 41)."""
+    code = (
+        "import json, sys\nimport frictionlaw, frictionlaw.export, frictionlaw.__main__\n"
+        "import frictionlaw.export.__main__\n"
+        "print(json.dumps(sorted(m for m in sys.modules if m.split('.')[0] == 'numpy')))"
+    )
+    assert _run(code) == []

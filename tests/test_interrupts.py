@@ -7,6 +7,7 @@ workers are computing, the signal is sent (to the group for Ctrl-C, to the main 
 running, and leave an earlier output in ``--out`` untouched (no half-written folder beside it).
 """
 
+import math
 import os
 import signal
 import subprocess
@@ -15,6 +16,8 @@ import time
 from pathlib import Path
 
 import pytest
+
+from sbmf_cli import version
 
 pytestmark = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="uses /proc")
 
@@ -129,3 +132,124 @@ def test_signal_ends_a_two_process_run_cleanly(how, code, earlier):
     assert not any(_alive(w) for w in workers), f"{how}: a worker outlived the run"
     assert {p.name: p.read_bytes() for p in out.iterdir() if p.is_file()} == before
     assert sorted(p.name for p in out.parent.iterdir()) == ["calibration"]  # no temp folder left
+
+
+# -- Ctrl-C in the first seconds: during the imports of NumPy, SciPy, numba, before the run --
+EXAMPLE = Path(__file__).resolve().parents[1] / "fe_demo" / "data"
+STARTUP = {
+    "halfspace-calib": (["-m", "halfspace_calib"], [], "during the calibration"),
+    "fe-demo upsetting": (["-m", "fe_demo"], ["upsetting"], "during the FE run"),
+    "fe-demo ring-fit": (
+        ["-m", "fe_demo"],
+        # a calibration's file (the example law's numbers) and rings that state their test
+        [
+            "ring-fit",
+            "--measured",
+            str(EXAMPLE / "ring_example.csv"),
+            "--params",
+            str(EXAMPLE / "sbmf_example.json"),
+        ],
+        "during the FE run",
+    ),
+}
+
+
+@pytest.mark.parametrize("after", [0.3, 0.8, 1.5])
+@pytest.mark.parametrize("command", sorted(STARTUP))
+def test_ctrl_c_at_any_moment_after_start_up_is_one_line_and_130(command, after, tmp_path):
+    """Ctrl-C 0.3, 0.8 and 1.5 s after the start: one line on stderr, exit 130, nothing else.
+
+    At 0.3 s the interpreter is importing NumPy / SciPy / numba (the commands' light entry
+    points, ``halfspace_calib.__main__`` and ``fe_demo.__main__``, handle the signal already);
+    at 1.5 s a run may have begun.
+    """
+    module, args, what = STARTUP[command]
+    cmd = [sys.executable, *module, *args, "--no-progress", "--out", str(tmp_path / "out")]
+    proc = subprocess.Popen(
+        cmd,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        cwd=tmp_path,
+        start_new_session=True,
+        preexec_fn=_default_sigint,
+    )
+    time.sleep(after)
+    if proc.poll() is not None:
+        pytest.fail(f"{command} ended before {after} s: {proc.communicate()}")
+    os.killpg(proc.pid, signal.SIGINT)  # Ctrl-C: the terminal signals the foreground group
+    try:
+        _, stderr = proc.communicate(timeout=30)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+        pytest.fail(f"{command}: did not stop within 30 s of Ctrl-C at {after} s")
+    assert proc.returncode == 130, (command, after, proc.returncode, stderr)
+    lines = stderr.splitlines()
+    assert len(lines) == 1, f"{command} at {after} s: {stderr}"
+    assert "interrupted by SIGINT" in lines[0] and what in lines[0], lines[0]
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize(
+    "command",
+    [
+        ["-m", "halfspace_calib"],
+        ["-m", "fe_demo"],
+        ["-m", "frictionlaw.export"],
+        ["-m", "frictionlaw"],
+    ],
+)
+def test_version_answers_at_once(command):
+    """``--version`` of every command answers before the heavy imports: best of 3 under 2 s
+    here (a generous bound for a shared machine; measured 0.09-0.47 s, docs/architecture.md)."""
+    best = math.inf
+    for _ in range(3):
+        t0 = time.perf_counter()
+        run = subprocess.run(
+            [sys.executable, *command, "--version"], capture_output=True, text=True, check=False
+        )
+        best = min(best, time.perf_counter() - t0)
+        assert run.returncode == 0 and run.stdout.strip().endswith(version()), run
+    assert best < 2.0, f"{command}: --version took {best:.2f} s"
+
+
+SWALLOWED = r"""
+import os, signal, sys, time
+from sbmf_cli import interruptible
+
+class Swallow:
+    def __del__(self):  # the handler's exception is raised in here, and Python ignores it
+        os.kill(os.getpid(), signal.SIGINT)
+        for _ in range(100000):
+            pass
+
+@interruptible("demo", "the demo")
+def main(argv):
+    Swallow()
+    t0 = time.monotonic()
+    while time.monotonic() - t0 < 10:
+        time.sleep(0.01)
+    return 0
+
+sys.exit(main())
+"""
+
+
+def test_an_interrupt_python_swallowed_is_delivered_again(tmp_path):
+    """An interrupt raised where Python ignores exceptions (a ``__del__``, the import system's
+    weakref callbacks) is sent again once the run goes on: 130 within a second, not 0 after 10 s."""
+    t0 = time.monotonic()
+    run = subprocess.run(
+        [sys.executable, "-c", SWALLOWED],
+        capture_output=True,
+        text=True,
+        timeout=30,
+        preexec_fn=_default_sigint,
+        check=False,
+    )
+    took = time.monotonic() - t0
+    assert "Exception ignored" in run.stderr  # the first one was swallowed
+    assert run.returncode == 130 and took < 5, (run.returncode, took, run.stderr)
+    lines = [ln for ln in run.stderr.splitlines() if "interrupted by SIGINT" in ln]
+    assert lines == ["demo: interrupted by SIGINT during the demo; the output folder was not "
+                     "written (an earlier output there is unchanged)"]  # fmt: skip

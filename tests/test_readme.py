@@ -85,6 +85,8 @@ _CCX_PLUGIN = """
 def pytest_collection_modifyitems(session, config, items):
     n = sum("ccx_work" in getattr(item, "fixturenames", ()) for item in items)
     print("CCX_ITEMS", n)
+    n = sum(item.get_closest_marker("shared_surfaces") is not None for item in items)
+    print("SHARED_ITEMS", n)
 """
 
 
@@ -102,12 +104,42 @@ def test_readme_calculix_skip_count_is_true(tmp_path):
     run = subprocess.run(
         [sys.executable, "-m", "pytest", "--collect-only", "-q", "-p", "ccx_count",
          "-p", "no:cacheprovider", str(ROOT / "tests" / "test_calculix.py"),
-         str(ROOT / "tests" / "test_calculix_contact.py")],
+         str(ROOT / "tests" / "test_calculix_contact.py"),
+         str(ROOT / "tests" / "test_calculix_runs.py"),
+         str(ROOT / "tests" / "test_calculix_zones.py")],
         capture_output=True, text=True, env=env, cwd=ROOT, check=False,
     )  # fmt: skip
     n = re.search(r"CCX_ITEMS (\d+)", run.stdout)
     assert n, run.stdout + run.stderr
     assert int(m.group(1)) == int(n.group(1))
+
+
+def test_readme_shared_files_skip_count_is_true(tmp_path):
+    """The README's count of the tests that need ``../shared/surfaces/``: the items marked
+    ``shared_surfaces`` (``tests/realfiles.py`` fails a test that reads such a file unmarked)."""
+    import os
+    import subprocess
+    import sys
+
+    m = re.search(r"\(`mnt-1.mnt`, `x3p-2.x3p`, [\d.]+ MB\) stay out of the repository; their "
+                  r"(\d+) tests", " ".join(_readme().split()))  # fmt: skip
+    assert m, "README must state how many tests need ../shared/surfaces"
+    (tmp_path / "ccx_count.py").write_text(_CCX_PLUGIN)
+    env = dict(os.environ, PYTHONPATH=str(tmp_path) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    # the test modules that can carry the mark (the others cannot, and realfiles.real_file fails
+    # a test that reads a shared file without it)
+    marks = ("needs_shared", "file_params", "shared_surfaces")
+    files = [str(p) for p in sorted((ROOT / "tests").glob("test_*.py"))
+             if p.name != "test_readme.py"
+             and any(m in p.read_text(encoding="utf-8") for m in marks)]  # fmt: skip
+    run = subprocess.run(
+        [sys.executable, "-m", "pytest", "--collect-only", "-q", "-p", "ccx_count",
+         "-p", "no:cacheprovider", *files],
+        capture_output=True, text=True, env=env, cwd=ROOT, check=False,
+    )  # fmt: skip
+    n = re.search(r"SHARED_ITEMS (\d+)", run.stdout)
+    assert n, run.stdout[-2000:] + run.stderr
+    assert int(m.group(1)) == int(n.group(1)) > 0
 
 
 def test_readme_default_run_figures_are_a_fresh_runs(tmp_path):

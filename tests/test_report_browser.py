@@ -38,10 +38,16 @@ FE = ["--nr", "6", "--increments", "6", "--vtu-every", "0", "--quiet"]
 
 @pytest.fixture(scope="module")
 def driver(tmp_path_factory):
-    if CHROMIUM is None or CHROMEDRIVER is None:
-        pytest.skip(
-            "Debian's chromium and chromium-driver are not installed (.ci/run installs them)"
+    missing = [
+        what
+        for what, found in (
+            ("chromium (the browser, Debian's chromium)", CHROMIUM),
+            ("chromedriver (Debian's chromium-driver)", CHROMEDRIVER),
         )
+        if found is None
+    ]
+    if missing:
+        pytest.skip(f"not installed: {' and '.join(missing)} (.ci/run installs them)")
     webdriver = pytest.importorskip("selenium.webdriver")
     from selenium.webdriver.chrome.service import Service
 

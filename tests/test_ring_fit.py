@@ -34,13 +34,26 @@ def synthetic(tmp_path_factory):
 @pytest.mark.parametrize(
     "rows, header, message",
     [
-        ([(0.3, 0.01), (0.5, 0.02)], "height_reduction,diameter", "missing column 'inner_diameter"),
-        ([(0.3, 0.01), (0.5, 0.02)], "reduction,inner_diameter_change", "'height_reduction'"),
-        ([(0.3, 0.01), (0.8, 0.02)], None, "row 3: height_reduction 0.8 is outside (0, 0.7]"),
-        ([(0.0, 0.01), (0.5, 0.02)], None, "row 2: height_reduction 0 is outside"),
-        ([(0.3, "nan"), (0.5, 0.02)], None, "row 2: NaN"),
+        (
+            [(0.3, 0.01), (0.5, 0.02)],
+            "height_reduction,diameter",
+            "line 1: an inner-diameter column is missing",
+        ),
+        (
+            [(0.3, 0.01), (0.5, 0.02)],
+            "stroke,inner_diameter_change",
+            "line 1: a height-reduction column is missing (header: 'stroke'; "
+            "'inner_diameter_change'); accepted columns",
+        ),
+        ([(0.3, 0.01), (0.8, 0.02)], None, "line 3: height reduction 0.8 is outside (0, 0.7]"),
+        ([(0.0, 0.01), (0.5, 0.02)], None, "line 2: height reduction 0.0 is outside"),
+        ([(0.3, "nan"), (0.5, 0.02)], None, "line 2: inner-diameter change is NaN"),
         ([(0.3, 0.01)], None, "at least 2 points"),
-        ([(0.3, "x"), (0.5, 0.02)], None, "must be numbers"),
+        (
+            [(0.3, "x"), (0.5, 0.02)],
+            None,
+            "line 2: inner-diameter change 'x' in column 'inner_diameter_change' is not a number",
+        ),
     ],
 )
 def test_bad_measured_files_exit_2_before_any_fe_run(

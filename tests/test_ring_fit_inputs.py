@@ -312,3 +312,116 @@ def test_ring_fit_png_labels_agree_with_the_record_and_do_not_overlap():
     boxes = [t.get_window_extent(renderer) for t in texts]
     assert not any(a.overlaps(b) for i, a in enumerate(boxes) for b in boxes[i + 1 :])
     assert {"0", "0.15", "1"} <= set(names)
+
+
+# -- ring sheets as labs write them (issue 41, items 2 and 3) --------------------------------------
+def _lab_sheet(path, d, header, *, sep=";", decimal=",", percent=True, remarks=True, comments=""):
+    """The points as a lab's spreadsheet export: its header, percent, remarks, Excel's empty rows."""
+    scale, digits = (100.0, 4) if percent else (1.0, 6)  # the digits of the documented file
+    rows = [header]
+    for i, (a, b) in enumerate(zip(RED, d, strict=True)):
+        cells = [f"{scale * a:.{digits}f}", f"{scale * b:.{digits}f}"]
+        rows.append(
+            sep.join(
+                [c.replace(".", decimal) for c in cells]
+                + (["ok"] if remarks and i else [""] if remarks else [])
+            )
+        )
+    rows += [sep * (2 if remarks else 1)] * 2  # Excel's trailing empty rows
+    path.write_text(comments + "\n".join(rows) + "\n", encoding="utf-8")
+    return path
+
+
+LAB_HEADERS = [
+    ("height reduction (%);inner-diameter change (%);remarks", True),
+    ("Höhenabnahme [%];Innendurchmesseränderung [%];Bemerkung", True),
+    ("height_reduction (%);inner_diameter_change (%);Kommentar", True),
+    ("Stauchung in %;ID change in %;notes", True),
+    ("Height Reduction;Inner Diameter Change;remarks", False),
+    ("height_reduction_fraction;inner_diameter_change_fraction;remarks", False),
+]
+
+
+@pytest.mark.parametrize("header, percent", LAB_HEADERS)
+def test_a_labs_sheet_reads_as_the_documented_format(tmp_path, points, header, percent):
+    plain = ringfit.read_ring_tests([_write(tmp_path / "a.csv", points)])
+    sheet = _lab_sheet(tmp_path / "lab.csv", points, header, percent=percent, comments=GEOMETRY)
+    lab = ringfit.read_ring_tests([sheet])
+    assert lab.column == plain.column == "inner_diameter_change"
+    np.testing.assert_allclose(lab.reduction, plain.reduction, rtol=1e-15)
+    np.testing.assert_allclose(lab.d_inner, plain.d_inner, rtol=1e-14)
+    remarks = header.split(";")[2]
+    n = RED.size + 2  # the comment line, the header, the data
+    assert lab.notes[0] == (
+        f"lab.csv: column(s) not read: {remarks!r} (line 2; the fit reads the height reduction "
+        "and the inner_diameter_change column)"
+    )
+    assert lab.notes[-1] == f"lab.csv: 2 empty row(s) skipped (line(s) {n + 1}-{n + 2})"
+    assert any("read in percent" in x for x in lab.notes) == percent
+
+
+def test_the_documented_names_keep_working_and_need_no_note(tmp_path, points):
+    t = ringfit.read_ring_tests([_write(tmp_path / "a.csv", points, header=GEOMETRY)])
+    assert t.notes == () and t.reduction.size == RED.size
+
+
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("", "no header line (the file is empty or holds only comments); accepted columns"),
+        ("# geometry: OD = 18 mm, ID = 9 mm, H = 6 mm\n", "no header line"),
+        (
+            "# a\n# b\nhöhe;durchmesser\n20;1\n",
+            "line 3: a height-reduction column is missing (header: 'höhe'; 'durchmesser'); "
+            "accepted columns (any case, '_' or '-' for spaces): height reduction: "
+            "height_reduction, height reduction",
+        ),
+        (
+            "height reduction (mm);ID change (%)\n2;1\n",
+            "line 1: column 'height reduction (mm)' has the unit 'mm'",
+        ),
+        # the line of the file (comment lines counted), and only the bad value quoted
+        (
+            "# one\n# two\n# three\nHöhenabnahme (%);Innendurchmesseränderung (%)\n30;0,2994\n"
+            "40;n. b.\n",
+            "line 6: inner-diameter change 'n. b.' in column 'Innendurchmesseränderung (%)' is "
+            "not a number",
+        ),
+        (
+            "# c\nheight reduction (%);ID change (%)\n30;1\n80;2\n",
+            "line 4: height reduction 80 % is outside (0, 70] %",
+        ),
+        ("height reduction;ID change\n0.3;\n0.4;0.01\n", "line 2: no inner-diameter change"),
+    ],
+)
+def test_messages_name_the_files_line_the_accepted_columns_and_only_the_bad_value(
+    tmp_path, text, message
+):
+    path = tmp_path / "lab.csv"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(ValueError) as err:
+        ringfit.read_ring_tests([path])
+    assert message in str(err.value)
+    assert "0,2994" not in str(err.value)
+
+
+def test_a_labs_sheet_gives_the_same_m_as_the_documented_format(fitted, tmp_path, capsys):
+    """``ring-fit`` with a German sheet in percent, remarks and empty rows: the same m."""
+    rc, out, csv, cal = fitted
+    assert rc == 0
+    want = json.loads((out / "ring_fit.json").read_text())
+    points = np.array([float(r.split(";")[1].replace(",", ".")) for r in
+                       csv.read_text(encoding="utf-8-sig").splitlines()[2:]])  # fmt: skip
+    header = "Höhenabnahme [%];Innendurchmesseränderung [%];Bemerkung"
+    sheet = _lab_sheet(tmp_path / "labor.csv", points, header, comments=GEOMETRY)
+    lab_out = tmp_path / "lab"
+    argv = ["ring-fit", "--measured", str(sheet), "--params", str(cal), *COARSE]
+    assert main([*argv, "--no-progress", "--out", str(lab_out)]) == 0
+    err = capsys.readouterr().err
+    assert "fe-demo: note: labor.csv: column(s) not read: 'Bemerkung'" in err
+    assert "fe-demo: note: labor.csv: 2 empty row(s) skipped" in err
+    got = json.loads((lab_out / "ring_fit.json").read_text())
+    for key in ("m", "m_lower", "m_upper", "m_tresca_chart"):
+        assert got[key] == pytest.approx(want[key], abs=1e-9), key
+    assert got["n_points"] == want["n_points"] == RED.size
+    assert got["measured_notes"][0].startswith("labor.csv: column(s) not read")

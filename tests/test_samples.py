@@ -9,11 +9,11 @@ patches (its coverage); the report against summary.json.
 import dataclasses
 import json
 import math
-from html.parser import HTMLParser
 
 import numpy as np
 import pytest
-from realfiles import real_file
+from realfiles import needs_shared, real_file
+from reportcells import Cells, assert_page_agrees
 
 from frictionlaw import FrictionParams, alpha_first, alpha_reload
 from frictionlaw.uncertainty import UNCERTAINTY_VERSION
@@ -228,6 +228,7 @@ def _shared(name):
     return str(real_file(name))
 
 
+@needs_shared
 def test_cli_refuses_mixed_units_and_element_sizes(tmp_path, capsys):
     mnt, mp, mx = _shared("mnt-1.mnt"), _shared("metropro-1.dat"), _shared("matrix-3.txt")
     out = tmp_path / "c"
@@ -237,35 +238,6 @@ def test_cli_refuses_mixed_units_and_element_sizes(tmp_path, capsys):
     assert main(["--out", str(out), "--quiet", "--grid", "16", "--workpiece", mp, mx, x3p]) == 2
     assert "element sizes differ" in capsys.readouterr().err
     assert not out.exists()
-
-
-class _Cells(HTMLParser):
-    """``{data-key: text}`` of every element with a ``data-key`` attribute."""
-
-    def __init__(self):
-        super().__init__()
-        self.cells, self._key, self.images, self.remote = {}, None, 0, []
-
-    def handle_starttag(self, tag, attrs):
-        a = dict(attrs)
-        self._key = a.get("data-key")
-        if tag == "img":
-            self.images += a["src"].startswith("data:image/png;base64,")
-        for k in ("src", "href"):
-            if k in a and "://" in a[k]:
-                self.remote.append(a[k])
-
-    def handle_data(self, data):
-        if self._key is not None:
-            self.cells[self._key] = data
-            self._key = None
-
-
-def _lookup(summary, key):
-    v = summary
-    for part in key.split("."):
-        v = v[int(part)] if isinstance(v, list) else v[part]
-    return v
 
 
 def test_cli_multi_sample_run_writes_band_and_a_report_that_agrees(tmp_path, capsys):
@@ -290,35 +262,32 @@ def test_cli_multi_sample_run_writes_band_and_a_report_that_agrees(tmp_path, cap
         assert (out / f).is_file(), f
     summary = json.loads((out / "summary.json").read_text())
     assert summary["C1"] == P.C1 and summary["uncertainty"]["level"] == 0.9
-    page = _Cells()
-    page.feed((out / "report.html").read_text(encoding="utf-8"))
+    page = Cells((out / "report.html").read_text(encoding="utf-8"))
     assert page.images >= 5 and page.remote == []
+    law = "law.branches.first_loading.forms.eq24.parameters"
     for key in (
-        "C1",
-        "n1",
-        "C2",
-        "n2",
-        "mu_eff",
+        f"{law}.C1.value",
+        f"{law}.n1.value",
+        "law.derived.mu_eff.value",
         "uncertainty.parameters.C1.lower",
         "uncertainty.parameters.mu_eff.upper",
         "samples.per_sample.3.n2",
         "uncertainty.tau_first_at.300 MPa.upper",
     ):
         assert key in page.cells, key
-    for key, text_value in page.cells.items():
-        want = _lookup(summary, key)
-        assert float(text_value) == pytest.approx(want, rel=1e-5), key
+    assert_page_agrees(page, summary)
 
 
 def test_single_calibration_report_agrees_with_summary(tmp_path):
     out = tmp_path / "c"
     assert main(["--out", str(out), "--quiet", "--grid", "16", *FAST]) == 0
     summary = json.loads((out / "summary.json").read_text())
-    page = _Cells()
-    page.feed((out / "report.html").read_text(encoding="utf-8"))
-    assert {"C1", "n1", "C2", "n2", "first_loading_r2"} <= set(page.cells)
-    for key, text_value in page.cells.items():
-        assert float(text_value) == pytest.approx(_lookup(summary, key), rel=1e-5), key
+    page = Cells((out / "report.html").read_text(encoding="utf-8"))
+    law = "law.branches.first_loading.forms.eq24"
+    assert {f"{law}.parameters.C1.value", f"{law}.r_squared", "max_jump_relative"} <= set(
+        page.cells
+    )
+    assert_page_agrees(page, summary)
     assert page.images == 4 and not math.isnan(summary["C1"])
 
 

@@ -15,6 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
+from sbmf_cli import column_key
+
 __all__ = [
     "getfem_python",
     "getfem_missing",
@@ -62,10 +64,10 @@ def run_getfem_ring(out, args, timeout=3600):
 
 
 def read_history(path):
-    """``history.csv`` as a dict of column -> array."""
+    """``history.csv`` as a dict of column -> array, keyed without units (``force_N``: ``force``)."""
     with open(path) as f:
         rows = list(csv.DictReader(f))
-    return {k: np.array([float(r[k]) for r in rows]) for k in rows[0]}
+    return {column_key(k): np.array([float(r[k]) for r in rows]) for k in rows[0]}
 
 
 def at_reductions(hist, reductions):

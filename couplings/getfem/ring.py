@@ -30,8 +30,9 @@ with ``python3-getfem python3-numba python3-scipy``) and the repository root on
 
     PYTHONPATH=$PWD /usr/bin/python3 couplings/getfem/ring.py --law tresca --m 0.3
 
-It writes ``history.csv`` (``height_reduction, force, inner_diameter_change`` first,
-as ``fe-demo ring``; ``stage`` last), ``summary.json`` (with the die-face ``p_hist``
+It writes ``history.csv`` (``height_reduction_fraction, force_N,
+inner_diameter_change_fraction`` first, units in the names as ``fe-demo ring`` writes them;
+``stage`` last), ``summary.json`` (with the die-face ``p_hist``
 after each stage) and ``summary.txt`` into ``--out``, whole or not at all, under the command
 conventions of the other commands (:mod:`sbmf_cli`: an earlier output of this script is
 replaced, anything else refused; ``--quiet``, ``--no-progress``, ``--version``).
@@ -69,6 +70,7 @@ from sbmf_cli import (
     ParameterError,
     add_common_options,
     add_version,
+    column_name,
     flags_of,
     interruptible,
     parse,
@@ -92,6 +94,16 @@ HISTORY_COLUMNS = (
     "min_plastic_multiplier",
     "stage",
 )
+#: the unit of each column, stated in its name as fe-demo's history.csv states it
+#: (sbmf_cli.column_name: ``force_N``, ``height_reduction_fraction``)
+HISTORY_UNITS = {
+    "height_reduction": "fraction",
+    "force": "N",
+    "inner_diameter_change": "fraction",
+    "stroke": "m",
+    "contact_radius": "m",
+    "max_p_hist": "Pa",
+}
 
 _EXAMPLE_PARAMS = Path(__file__).resolve().parents[2] / "fe_demo" / "data" / "sbmf_example.json"
 
@@ -369,9 +381,12 @@ def _jsonable(d):
 
 
 def write_history_csv(path, rows):
-    """One row per accepted increment; ``height_reduction, force, inner_diameter_change`` first."""
+    """One row per accepted increment, units in the names (``force_N`` ...).
+
+    ``height_reduction_fraction, force_N, inner_diameter_change_fraction`` first.
+    """
     with open(path, "w") as f:
-        f.write(",".join(HISTORY_COLUMNS) + "\n")
+        f.write(",".join(column_name(c, HISTORY_UNITS.get(c, "1")) for c in HISTORY_COLUMNS) + "\n")
         for r in rows:
             f.write(",".join(_fmt(r[c]) for c in HISTORY_COLUMNS) + "\n")
 

@@ -172,7 +172,7 @@ def band_result(scene, mode, level, results, keys):
     """Combine the runs of a band (``--band``, ``--samples``) into a :class:`BandResult`.
 
     ``results``: ``{name: (history or None, run summary dict)}``; ``keys``:
-    ``[(history column, unit)]`` (``force`` in N; the ring's ``inner_diameter_change`` in 1).
+    ``[(history column, unit)]`` (``force`` in N; the ring's ``inner_diameter_change`` a fraction).
     ``RuntimeError`` when the central law's run gave no accepted increment.
     """
     hist = {n: h for n, (h, _) in results.items() if h}

@@ -1,12 +1,22 @@
 """Measured ring tests from CSV files: the points, and the ring and material the file states.
 
-A file has the columns of ``fe-demo``'s ``history.csv``: ``height_reduction`` and
-``inner_diameter_change`` (mid-plane) or ``inner_diameter_min_change`` (smallest inner diameter),
-both fractions; one row per ring. It may be what a spreadsheet writes:
+A file has two columns, one row per ring: the height reduction and the change of the inner
+diameter at the mid-plane (or of the smallest inner diameter), each as a fraction or in percent.
+The columns may be named as ``fe-demo``'s ``history.csv`` names them (``height_reduction``,
+``inner_diameter_change``, ``inner_diameter_min_change``, with or without ``_fraction``) or as
+labs write them, in English or German (:data:`SPELLINGS`: ``height reduction (%)``,
+``Höhenabnahme [%]``, ``ID change``, ``Innendurchmesseränderung in %``, ...); case, spaces,
+``_``, ``-`` and umlauts do not matter. The unit comes from the header: ``(%)``, ``[%]``, ``in %``,
+``_%`` or ``percent`` for percent; ``(-)``, ``(1)``, ``fraction`` or none for fractions (as
+before). It may be what a spreadsheet writes:
 
 - UTF-8 with or without a byte-order mark (Excel's "CSV UTF-8");
 - separated by commas, or by semicolons (or tabs) with decimal commas (a European export:
-  ``0,3;0,0102``).
+  ``0,3;0,0102``);
+- empty rows (Excel's trailing ``;``) are skipped, and other columns (remarks) left unread, each
+  with a note (:attr:`RingTest.notes`).
+
+Every message names the file's line (comment lines counted) and quotes only the bad value.
 
 Lines starting with ``#`` are comments. Two of them may state the test's conditions, each a list
 of ``key = value unit`` items separated by commas (by semicolons where the values have decimal
@@ -36,7 +46,15 @@ import numpy as np
 
 from sbmf_cli import ParameterError
 
-__all__ = ["COLUMNS", "REDUCTION_RANGE", "RingTest", "read_ring_tests"]
+__all__ = [
+    "COLUMNS",
+    "REDUCTION_RANGE",
+    "SPELLINGS",
+    "UNITS",
+    "RingTest",
+    "accepted_columns",
+    "read_ring_tests",
+]
 
 #: reductions the ring fit accepts
 REDUCTION_RANGE = (0.0, 0.7)
@@ -64,9 +82,12 @@ _STATED = {"geometry": _GEOMETRY, "material": _MATERIAL}
 class RingTest:
     """Measured ring tests, pooled: one row per ring (repeated reductions allowed).
 
-    ``geometry`` (``outer_diameter``, ``inner_diameter``, ``height`` in m) and ``material``
-    (``E``, ``K`` in Pa; ``nu``, ``eps0``, ``n``) are what the files state (``None`` where none
-    does); ``sha256`` the files' hashes, in the order of ``sources``.
+    ``reduction`` and ``d_inner`` are fractions (a file's percent converted); ``column`` the
+    diameter measured, by fe-demo's name. ``geometry`` (``outer_diameter``, ``inner_diameter``,
+    ``height`` in m) and ``material`` (``E``, ``K`` in Pa; ``nu``, ``eps0``, ``n``) are what the
+    files state (``None`` where none does); ``sha256`` the files' hashes, in the order of
+    ``sources``; ``notes`` what the reading did besides (empty rows skipped, columns not read,
+    percent converted), one sentence each.
     """
 
     reduction: np.ndarray
@@ -76,6 +97,7 @@ class RingTest:
     geometry: dict | None = None
     material: dict | None = None
     sha256: tuple = ()
+    notes: tuple = ()
 
 
 def _bad(path, text):
@@ -156,55 +178,211 @@ def _delimiter(header):
     return ","
 
 
-def _column(path, names, column):
-    """The measured diameter column of a file's header (the same in every pooled file)."""
-    if "height_reduction" not in names:
-        raise _bad(path, f": missing column 'height_reduction' ({names})")
-    have = [c for c in COLUMNS if c in names]
-    if not have:
-        raise _bad(
-            path,
-            ": missing column 'inner_diameter_change' (mid-plane) or "
-            f"'inner_diameter_min_change' (smallest inner diameter); found {names}",
+#: the column spellings a file may use, by quantity (written as a lab writes them; compared
+#: after :func:`_plain`): English and German, fe-demo's own names first
+SPELLINGS = {
+    "height_reduction": (
+        "height_reduction",
+        "height reduction",
+        "relative height reduction",
+        "reduction in height",
+        "reduction",
+        "Höhenabnahme",
+        "bezogene Höhenabnahme",
+        "relative Höhenabnahme",
+        "Höhenreduktion",
+        "Höhenreduzierung",
+        "Stauchung",
+    ),
+    "inner_diameter_change": (
+        "inner_diameter_change",
+        "inner diameter change",
+        "inner-diameter change",
+        "change of inner diameter",
+        "change in inner diameter",
+        "change of the inner diameter",
+        "ID change",
+        "Innendurchmesseränderung",
+        "Änderung Innendurchmesser",
+        "Änderung des Innendurchmessers",
+        "Innendurchmesser-Änderung",
+    ),
+    "inner_diameter_min_change": (
+        "inner_diameter_min_change",
+        "minimum inner diameter change",
+        "min. inner diameter change",
+        "smallest inner diameter change",
+        "change of the smallest inner diameter",
+        "min ID change",
+        "Änderung kleinster Innendurchmesser",
+        "Änderung des kleinsten Innendurchmessers",
+        "kleinste Innendurchmesseränderung",
+    ),
+}
+#: the units a header may give, by how they are written (compared lower case) -> factor to a
+#: fraction
+UNITS = {
+    "%": 0.01,
+    "percent": 0.01,
+    "prozent": 0.01,
+    "pct": 0.01,
+    "": 1.0,
+    "-": 1.0,
+    "1": 1.0,
+    "fraction": 1.0,
+    "frac": 1.0,
+    "mm/mm": 1.0,
+}
+_UMLAUT = str.maketrans({"ä": "ae", "ö": "oe", "ü": "ue", "ß": "ss"})
+
+
+def _plain(name):
+    """A column name compared by its words: lower case, umlauts spelt out, ``_-.`` as spaces."""
+    text = name.strip().lower().translate(_UMLAUT)
+    return " ".join(re.sub(r"[_\-./]+", " ", text).split())
+
+
+_KNOWN = {_plain(n): q for q, names in SPELLINGS.items() for n in names}
+_UNIT_SUFFIX = re.compile(
+    r"^(?P<name>.*?)\s*(?:[(\[]\s*(?P<bracket>[^)\]]*?)\s*[)\]]"
+    r"|\s+in\s+(?P<inword>%|percent|prozent)|\s*/\s*(?P<slash>%|-|1)"
+    r"|[_ ]?(?P<tail>%|percent|pct|fraction|frac))$",
+    flags=re.IGNORECASE,
+)
+
+
+#: the quantities in words
+_WORDS = {
+    "height_reduction": "height reduction",
+    "inner_diameter_change": "inner-diameter change",
+    "inner_diameter_min_change": "change of the smallest inner diameter",
+}
+
+
+def accepted_columns():
+    """The accepted column spellings and units in words (the messages and the docs say them)."""
+    names = "; ".join(f"{_WORDS[k]}: {', '.join(v)}" for k, v in SPELLINGS.items())
+    return (
+        f"accepted columns (any case, '_' or '-' for spaces): {names}; units in the header: "
+        "(%), [%], 'in %' or '_%' for percent, (-), (1), 'fraction' or none for fractions "
+        "(docs/getting_m.md)"
+    )
+
+
+def _header_cell(cell):
+    """``(quantity or None, factor to a fraction, unit as written)`` of one header cell."""
+    text = cell.strip()
+    m = _UNIT_SUFFIX.match(text)
+    unit = ""
+    if m:
+        unit = next(g for g in (m["bracket"], m["inword"], m["slash"], m["tail"]) if g is not None)
+        text = m["name"]
+    quantity = _KNOWN.get(_plain(text))
+    factor = UNITS.get(unit.strip().lower())
+    return quantity, factor, unit.strip()
+
+
+@dataclass(frozen=True)
+class _Column:
+    """A measured quantity's column in one file: where it is, its name and unit as written."""
+
+    index: int
+    written: str
+    factor: float
+    unit: str
+
+
+def _columns(path, line_no, cells, column):
+    """``(height column, diameter column, diameter quantity, notes)`` of a header."""
+    found, notes, unused = {}, [], []
+    for i, cell in enumerate(cells):
+        quantity, factor, unit = _header_cell(cell)
+        if quantity is None or quantity in found:
+            if cell.strip():
+                unused.append(cell.strip())
+            continue
+        if factor is None:
+            raise _bad(
+                path,
+                f", line {line_no}: column {cell.strip()!r} has the unit {unit!r}; a height "
+                "reduction and an inner-diameter change are fractions or percent: "
+                + accepted_columns(),
+            )
+        found[quantity] = _Column(i, cell.strip(), factor, "%" if factor != 1.0 else "fraction")
+    have = [c for c in COLUMNS if c in found]
+    if "height_reduction" not in found or not have:
+        missing = (
+            "a height-reduction column"
+            if "height_reduction" not in found
+            else ("an inner-diameter column")
         )
-    if column is not None and have[0] != column:
+        shown = "; ".join(repr(c.strip()) for c in cells) or "none"
+        raise _bad(
+            path, f", line {line_no}: {missing} is missing (header: {shown}); " + accepted_columns()
+        )
+    diameter = have[0]
+    if column is not None and diameter != column:
         raise _bad(
             path,
-            f": gives {have[0]!r} where an earlier file gives {column!r}; pool files that "
+            f": gives {diameter!r} where an earlier file gives {column!r}; pool files that "
             "measure the same diameter",
         )
-    return have[0]
+    unused += [found[c].written for c in have[1:]]
+    if unused:
+        notes.append(
+            f"{path.name}: column(s) not read: {', '.join(repr(u) for u in unused)} (line "
+            f"{line_no}; the fit reads the height reduction and the {diameter} column)"
+        )
+    for q in ("height_reduction", diameter):
+        c = found[q]
+        if c.factor != 1.0:
+            notes.append(f"{path.name}: {c.written!r} read in percent (the header's unit)")
+    return found["height_reduction"], found[diameter], diameter, notes
 
 
-def _point(path, i, row, col, decimal_comma):
-    """``(reduction, d)`` of one data row, checked."""
+def _value(path, line_no, cells, col, what, decimal_comma):
+    """The fraction in ``cells[col.index]``; a bad value is quoted alone."""
+    raw = cells[col.index].strip() if col.index < len(cells) else ""
+    if not raw:
+        raise _bad(
+            path, f", line {line_no}: no {what} in column {col.written!r} (the cell is empty)"
+        )
     try:
-        r = _number(path, row["height_reduction"], decimal_comma)
-        d = _number(path, row[col], decimal_comma)
-    except (TypeError, ValueError, AttributeError):
+        v = _number(path, raw, decimal_comma)
+    except ValueError:
         raise _bad(
-            path,
-            f", row {i}: height_reduction and {col} must be numbers (fractions), got "
-            f"{row.get('height_reduction')!r}, {row.get(col)!r}",
+            path, f", line {line_no}: {what} {raw!r} in column {col.written!r} is not a number"
         ) from None
-    if math.isnan(r) or math.isnan(d):
-        raise _bad(path, f", row {i}: NaN in height_reduction or {col}")
+    if math.isnan(v):
+        raise _bad(path, f", line {line_no}: {what} is NaN in column {col.written!r}")
+    return v * col.factor, raw
+
+
+def _point(path, line_no, cells, cols, decimal_comma):
+    """``(reduction, d)`` of one data line, checked (fractions)."""
+    hcol, dcol, column = cols
+    name = _WORDS[column]
+    r, r_raw = _value(path, line_no, cells, hcol, "height reduction", decimal_comma)
+    d, d_raw = _value(path, line_no, cells, dcol, name, decimal_comma)
     lo, hi = REDUCTION_RANGE
+    pct = hcol.factor != 1.0
+    r_raw += " %" if pct else ""
+    d_raw += " %" if dcol.factor != 1.0 else ""
     if not (lo < r <= hi):
-        raise _bad(
-            path,
-            f", row {i}: height_reduction {r:g} is outside ({lo:g}, {hi:g}] (a fraction: 0.5 "
-            "for 50 %)",
+        rng = (
+            f"({100 * lo:g}, {100 * hi:g}] %"
+            if pct
+            else f"({lo:g}, {hi:g}] (a fraction: 0.5 for 50 %)"
         )
+        raise _bad(path, f", line {line_no}: height reduction {r_raw} is outside {rng}")
     if not (-1.0 < d < 2.0) or math.isinf(d):
-        raise _bad(
-            path, f", row {i}: {col} {d:g} is not a plausible fraction (-1 < d < 2; 0.05 for +5 %)"
-        )
+        plausible = "-100 % < d < 200 %" if dcol.factor != 1.0 else "-1 < d < 2; 0.05 for +5 %"
+        raise _bad(path, f", line {line_no}: {name} {d_raw} is not plausible ({plausible})")
     return r, d
 
 
 def _read_file(path, column):
-    """``(points, column, conditions, sha256)`` of one file."""
+    """``(points, column, conditions, sha256, notes)`` of one file."""
     if not path.is_file():
         raise _bad(path, ": no such file")
     raw = path.read_bytes()
@@ -212,17 +390,42 @@ def _read_file(path, column):
         text = raw.decode("utf-8-sig")  # a byte-order mark (Excel's "CSV UTF-8") is dropped
     except UnicodeDecodeError:
         raise _bad(path, ": not UTF-8 text (save the sheet as CSV UTF-8)") from None
-    lines = text.splitlines()
-    comments = [s for s in lines if s.lstrip().startswith("#")]
-    data = [s for s in lines if s.strip() and not s.lstrip().startswith("#")]
-    sep = _delimiter(data[0] if data else "")
-    reader = csv.DictReader(data, delimiter=sep)
-    column = _column(path, [n.strip() for n in (reader.fieldnames or [])], column)
-    points = []
-    for i, row in enumerate(reader, start=2):
-        row = {k.strip(): v for k, v in row.items() if k is not None}
-        points.append(_point(path, i, row, column, decimal_comma=sep != ","))
-    return points, column, _conditions(path, comments), hashlib.sha256(raw).hexdigest()
+    numbered = list(enumerate(text.splitlines(), start=1))
+    comments = [s for _, s in numbered if s.lstrip().startswith("#")]
+    data = [(n, s) for n, s in numbered if not s.lstrip().startswith("#")]
+    header = next(((n, s) for n, s in data if s.strip()), None)
+    if header is None:
+        raise _bad(
+            path,
+            ": no header line (the file is empty or holds only comments); " + accepted_columns(),
+        )
+    sep = _delimiter(header[1])
+    cols = _columns(path, header[0], next(csv.reader([header[1]], delimiter=sep)), column)
+    hcol, dcol, column, notes = cols
+    points, empty = [], []
+    for n, line in data:
+        if n <= header[0]:
+            continue
+        cells = next(csv.reader([line], delimiter=sep), [])
+        if not any(c.strip() for c in cells):
+            empty.append(n)
+            continue
+        points.append(_point(path, n, cells, (hcol, dcol, column), decimal_comma=sep != ","))
+    while empty and empty[-1] == len(numbered) and not numbered[-1][1].strip():
+        empty.pop()  # a blank last line is no row
+    if empty:
+        notes.append(f"{path.name}: {len(empty)} empty row(s) skipped (line(s) {_ranges(empty)})")
+    return points, column, _conditions(path, comments), hashlib.sha256(raw).hexdigest(), notes
+
+
+def _ranges(numbers):
+    """``3, 7-9``: line numbers as ranges."""
+    out, start = [], numbers[0]
+    for a, b in zip(numbers, [*numbers[1:], None], strict=True):
+        if b != a + 1:
+            out.append(f"{start}" if start == a else f"{start}-{a}")
+            start = b
+    return ", ".join(out)
 
 
 def _same(kind, found):
@@ -241,20 +444,23 @@ def _same(kind, found):
 def read_ring_tests(paths):
     """Read and check measured ring tests (CSV; the module docstring gives the format).
 
-    Raises :class:`sbmf_cli.ParameterError` (a ``ValueError``) naming ``paths``, the file, column,
-    row or range: a missing column, a reduction outside ``(0, 0.7]``, NaN, fewer than 2 points in
-    all, files that give different columns or state different conditions, an unreadable
-    ``# geometry:`` or ``# material:`` line.
+    Raises :class:`sbmf_cli.ParameterError` (a ``ValueError``) naming ``paths``, the file, its
+    line and column: a missing column (the message lists the accepted spellings and units), a
+    unit other than percent or a fraction, a value that is no number (quoted alone), a reduction
+    outside ``(0, 0.7]`` (``(0, 70] %``), NaN, fewer than 2 points in all, files that give
+    different columns or state different conditions, an unreadable ``# geometry:`` or
+    ``# material:`` line.
     """
     paths = [Path(p) for p in paths]
     if not paths:
         raise ParameterError("{paths} needs at least one CSV file", "paths")
-    points, column, found, sha = [], None, [], []
+    points, column, found, sha, notes = [], None, [], [], []
     for path in paths:
-        pts, column, conditions, digest = _read_file(path, column)
+        pts, column, conditions, digest, said = _read_file(path, column)
         points += pts
         found.append((path, conditions))
         sha.append(digest)
+        notes += said
     if len(points) < 2:
         raise ParameterError(
             f"{{paths}}: at least 2 points are needed to fit m and its band, got {len(points)}",
@@ -269,4 +475,5 @@ def read_ring_tests(paths):
         geometry=_same("geometry", found),
         material=_same("material", found),
         sha256=tuple(sha),
+        notes=tuple(notes),
     )

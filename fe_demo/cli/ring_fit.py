@@ -53,10 +53,12 @@ def add_parser(sub, formatter):
         nargs="+",
         required=True,
         type=Path,
-        help="CSV file(s) with height_reduction and inner_diameter_change (mid-plane) or "
-        "inner_diameter_min_change, both fractions; rows of all files are pooled; comma or "
-        "semicolon separated, '# geometry:' and '# material:' lines state the test "
-        "(docs/getting_m.md) (required)",
+        help="CSV file(s) with the height reduction and the inner-diameter change (mid-plane, "
+        "or of the smallest inner diameter), as fe-demo's history.csv names them or as labs "
+        "write them in English or German ('height reduction (%%)', 'Höhenabnahme [%%]', "
+        "'ID change', ...), fractions or percent as the header says; rows of all files are "
+        "pooled; comma or semicolon separated, '# geometry:' and '# material:' lines state the "
+        "test (docs/getting_m.md) (required)",
     )
     p.add_argument(
         "--law", choices=("sbmf", "tresca"), default="sbmf", help="law whose m is fitted"
@@ -297,6 +299,8 @@ def run(args, con):
         return con.error(exc, 2)
     for line in inp.warnings:
         con.warn(line)
+    for note in inp.test.notes:
+        con.warn(f"fe-demo: note: {note}")
     progress = not (args.quiet or args.no_progress)
     with folder:
         try:
@@ -337,7 +341,8 @@ def _summary(con, args, inp, fit, chart, record):
     )
     con.result(
         f"ring fit ({args.law}): m = {fit.m:.4f}  [{fit.m_lower:.4f}, {fit.m_upper:.4f}] at "
-        f"{100 * fit.band_level:g} %, rmse {100 * fit.rmse:.2f} points of {test.column}, "
+        f"{100 * fit.band_level:g} %, rmse {100 * fit.rmse:.2f} % (percentage points of "
+        f"{test.column}; ring_fit.json rmse_fraction {fit.rmse:.3g}), "
         f"{fit.n_points} points, {runs}"
     )
     if chart is not fit:
@@ -374,7 +379,7 @@ def _record(inp, fit, chart):
         "m_upper": fit.m_upper,
         "band_level": fit.band_level,
         "band_method": "linearised least squares: m -+ t(N-1) s / sqrt(sum (dd/dm)^2)",
-        "rmse": fit.rmse,
+        "rmse_fraction": fit.rmse,
         "n_points": fit.n_points,
         "column": test.column,
         "n_fe_runs": fit.n_fe_runs + (0 if chart is fit else chart.n_fe_runs),
@@ -390,6 +395,7 @@ def _record(inp, fit, chart):
         "mesh": {"nr": kw["nr"], "nz": kw["nz"], "increments": kw["n_increments"]},
         "measured": list(test.sources),
         "measured_files": files,
+        "measured_notes": list(test.notes),
         "software": {"fe-demo": version()},
     }
 

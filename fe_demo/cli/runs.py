@@ -4,7 +4,9 @@ Each scene run, its files in the output folder and its console lines; ``cmd_*`` 
 code (0, or 1 when a run did not converge).
 """
 
+import hashlib
 import json
+from pathlib import Path
 
 import numpy as np
 
@@ -47,7 +49,14 @@ def _common_kw(args, law):
     }
 
 
+def _zone_kw(args, law):
+    """``{"zones": ...}`` of a zoned die (``--zone``, upsetting and ring), else ``{}``."""
+    zones = getattr(args, "zones_loaded", ())
+    return {"zones": zones} if zones and law == "sbmf" else {}
+
+
 def _label(law, args):
+    """The run's name in tables, legends and titles: the law and what tells its runs apart."""
     if law == "tresca":
         return f"tresca m={args.m:g}"
     if law == "coulomb":
@@ -55,8 +64,41 @@ def _label(law, args):
     if law == "cap":
         return f"cap mu={args.mu:g}"
     if law == "sbmf":
-        return "sbmf " + (args.params.name if args.params else "(example params)")
+        lab = sbmf_label(args.params)
+        for name, _, r in getattr(args, "zones_loaded", ()):
+            lab += f" + {name} from r={r * 1e3:g} mm"
+        return lab
     return "frictionless"
+
+
+def sbmf_label(path):
+    """``sbmf <folder>/<file> [sha256 prefix]``: two calibrations' ``params.json`` differ.
+
+    The shipped illustrative set is ``sbmf example law (illustrative)``.
+    """
+    if path is None:
+        return "sbmf example law (illustrative)"
+    path = Path(path)
+    digest = hashlib.sha256(path.read_bytes()).hexdigest()[:8]
+    where = f"{path.parent.name}/{path.name}" if path.parent.name else path.name
+    return f"sbmf {where} [{digest}]"
+
+
+def _folder_name(label):
+    """A run's subfolder, from its label (an sbmf run's is ``sbmf``)."""
+    if label.startswith("sbmf"):
+        return "sbmf"
+    return label.replace(" ", "_").replace("=", "")
+
+
+#: the units of summary.json's numbers whose names do not state one (fractions: 0.5 for 50 %)
+SUMMARY_UNITS = {
+    "stopped_at_height_reduction": "fraction",
+    "inner_diameter_change": "fraction",
+    "inner_diameter_min_change": "fraction",
+    "force_end_N": "N",
+    "wall_time_s": "s",
+}
 
 
 def write_run(folder, res, title):
@@ -69,16 +111,20 @@ def write_run(folder, res, title):
     if res.snapshots and len(res.snapshots) > 1:
         write_vtu_series(folder / "vtu", res.model.t, res.snapshots)
     info = dict(res.info)
+    h = res.history
     info.update(
+        run=title,
         converged=res.converged,
         message=res.message,
         stopped_at_height_reduction=res.model.height_reduction,
+        force_end_N=float(h["force"][-1]) if h else None,
+        increments_accepted=len(h["force"]) if h else 0,
         wall_time_s=res.wall_time,
     )
-    h = res.history
     if h and "inner_diameter_change" in h:  # a ring: what a ring test measures, at the end
         info["inner_diameter_change"] = float(h["inner_diameter_change"][-1])
         info["inner_diameter_min_change"] = float(h["inner_diameter_min_change"][-1])
+    info["units"] = {k: u for k, u in SUMMARY_UNITS.items() if k in info}
     (folder / "summary.json").write_text(json.dumps(info, indent=2, default=_jd) + "\n")
     write_run_report(folder, json.loads(json.dumps(info, default=_jd)), title)
 
@@ -103,6 +149,17 @@ def _report_run(con, label, res):
             con.warn(f"fe-demo: WARNING: {line}")
         else:
             con.result(line)
+    h = res.history
+    zones = res.info.get("law_parameters", {}).get("zones", ())
+    if zones and h:
+        con.result(
+            f"[{label}] contact nodes per die zone at the end: "
+            + ", ".join(
+                f"{z['zone']} (from r = {z['from_radius_m'] * 1e3:g} mm) "
+                f"{int(h['n_contact_' + z['zone']][-1])}"
+                for z in zones
+            )
+        )
     kt = res.info.get("tangential_stiffness", {})
     if kt.get("k_t_min_Pa_per_m") is not None:
         con.result(
@@ -112,7 +169,11 @@ def _report_run(con, label, res):
 
 
 def _summary_row(label, res, *, ring=False):
-    """One row of the console table (a ring's has the inner-diameter change in % after the force)."""
+    """One row of the console table: the reduction and a ring's inner-diameter change in %.
+
+    A person reads the table: percent, said in the header (``reduction_%``, ``ID_change_%``);
+    the files give fractions (``history.csv``: ``height_reduction_fraction``).
+    """
     h = res.history
     tm = res.info.get("timings", {})
     row = {
@@ -123,7 +184,7 @@ def _summary_row(label, res, *, ring=False):
         "newton": res.info.get("newton_iterations", 0),
         "cutbacks": sum("cut-back" in s for s in res.info.get("cutback_log", [])),
         "remesh": res.info.get("n_remesh", 0),
-        "reduction": float(h["height_reduction"][-1]) if h else 0.0,
+        "reduction_%": 100.0 * float(h["height_reduction"][-1]) if h else 0.0,
         "force_kN": float(h["force"][-1] / 1e3) if h else 0.0,
     }
     if ring:
@@ -143,7 +204,7 @@ def cmd_upsetting(args, con):
     results, rows = {}, []
     ok = True
     for law in laws:
-        kw = _common_kw(args, law)
+        kw = _common_kw(args, law) | _zone_kw(args, law)
         res = run_upsetting(
             law,
             diameter=args.diameter,
@@ -212,10 +273,10 @@ def cmd_ring(args, con):
     rows, fe = [], {}
     ok = True
     for law, m, lab in runs:
-        kw = _common_kw(args, law)
+        kw = _common_kw(args, law) | _zone_kw(args, law)
         kw["m"] = m
         res = run_ring(law, reduction=args.reduction, remesh_below=args.remesh_below, **kw)
-        folder = args.out / lab.replace(" ", "_").replace("=", "") if len(runs) > 1 else args.out
+        folder = args.out / _folder_name(lab) if len(runs) > 1 else args.out
         write_run(folder, res, lab)
         if res.history:
             fe[lab] = (res.history["height_reduction"], res.history["inner_diameter_change"])
@@ -226,12 +287,12 @@ def cmd_ring(args, con):
     chart, notes = _chart(args.reduction)
     plot_ring_chart(args.out / "ring_chart.png", chart, fe)
     with (args.out / "ring_chart_upper_bound.csv").open("w", encoding="utf-8") as fh:
-        fh.write("m,height_reduction,inner_diameter_change\n")
+        fh.write("m,height_reduction_fraction,inner_diameter_change_fraction\n")
         for m, (red, d) in chart.items():
             for a, b in zip(red, d, strict=True):
                 fh.write(f"{m:g},{a:.6g},{b:.6g}\n")
     for _law, _, lab in runs:  # the runs' reports again, now with the chart
-        folder = args.out / lab.replace(" ", "_").replace("=", "") if len(runs) > 1 else args.out
+        folder = args.out / _folder_name(lab) if len(runs) > 1 else args.out
         if (folder / "summary.json").is_file():
             write_run_report(folder, json.loads((folder / "summary.json").read_text()), lab)
     con.result(summary_table(rows))
@@ -329,7 +390,9 @@ def cmd_band(args, con):
                 "law": {k: getattr(law, k) for k in ("C1", "n1", "C2", "n2")},
             },
         )
-    keys = [("force", "N")] + ([("inner_diameter_change", "1")] if args.scene == "ring" else [])
+    keys = [("force", "N")] + (
+        [("inner_diameter_change", "fraction")] if args.scene == "ring" else []
+    )
     mode = "band" if args.band else "samples"
     rec = write_band_outputs(
         args.out,

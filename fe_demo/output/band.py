@@ -9,6 +9,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from sbmf_cli import column_name
+
 from .reports import write_band_report
 
 __all__ = ["write_band_outputs"]
@@ -25,11 +27,8 @@ def write_band_outputs(out, result, mode, level):
     cols = ["height_reduction", "stage"] + [
         f"{k}{s}" for k, _ in keys for s in ("", "_lower", "_upper")
     ]
-    units = {k: u for k, u in keys}
-    header = ["height_reduction", "stage"] + [
-        f"{k}{s}" + ("" if units[k] == "1" else f"_{units[k]}")
-        for k, _ in keys
-        for s in ("", "_lower", "_upper")
+    header = [column_name("height_reduction", "fraction"), "stage"] + [
+        column_name(f"{k}{s}", unit) for k, unit in keys for s in ("", "_lower", "_upper")
     ]
     lines = [",".join(header)]
     for i in range(band["height_reduction"].size):

@@ -7,6 +7,7 @@ notebooks) and a ``plot_*`` wrapper that writes it as PNG; ``SceneResult.figures
 import numpy as np
 
 __all__ = [
+    "robust_limit",
     "force_stroke_figure",
     "die_profile_figure",
     "law_comparison_figure",
@@ -20,12 +21,12 @@ __all__ = [
 ]
 
 
-def _figure(figsize, ncols=1):
+def _figure(figsize, ncols=1, nrows=1):
     """A new figure (not registered with pyplot, so nothing to close) and its axes."""
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=figsize)
-    return fig, fig.subplots(1, ncols)
+    return fig, fig.subplots(nrows, ncols, sharex=nrows > 1)
 
 
 def _save(fig, path):
@@ -48,19 +49,79 @@ def force_stroke_figure(histories, labels, title="Cylinder upsetting"):
     return fig
 
 
+#: the percentile of a die profile's values that sets its axis (an edge spike lies beyond it)
+AXIS_PERCENTILE = 95.0
+#: headroom above that percentile before a value counts as a spike and is clipped
+AXIS_HEADROOM = 1.5
+
+
+def robust_limit(values):
+    """Upper axis limit that shows the bulk of ``values`` and leaves an edge spike out.
+
+    ``AXIS_HEADROOM`` times the :data:`AXIS_PERCENTILE` percentile, or the maximum (with 5 %
+    headroom) where nothing lies beyond that: the contact pressure at the die's edge can be 3-4
+    times the rest (a corner singularity of the FE model), which on a linear axis would flatten
+    everything else. Returns ``(limit, clipped)``, ``clipped`` the indices of values above it.
+    """
+    v = np.asarray(values, float)
+    if v.size == 0 or not np.isfinite(v).any():
+        return 1.0, np.zeros(0, int)
+    top = float(np.nanmax(v))
+    limit = AXIS_HEADROOM * float(np.nanpercentile(v, AXIS_PERCENTILE))
+    if top <= limit or limit <= 0:
+        return max(1.05 * top, 1e-12), np.zeros(0, int)
+    return limit, np.flatnonzero(v > limit)
+
+
+def _mark_clipped(ax, r, v, limit, clipped, name, colour):
+    """Mark values beyond the axis at its top edge, with the largest one's value."""
+    if clipped.size == 0:
+        return
+    ax.plot(r[clipped], np.full(clipped.size, 0.97 * limit), "^", color=colour, ms=6)
+    k = clipped[np.argmax(v[clipped])]
+    ax.annotate(
+        f"{name} {v[k]:.0f} MPa (edge spike, off the axis)",
+        (r[k], 0.97 * limit),
+        xytext=(-6, -14),
+        textcoords="offset points",
+        ha="right",
+        fontsize=7,
+        color=colour,
+    )
+
+
 def die_profile_figure(profile, title="Along the die"):
-    """Contact pressure, shear and ``p_hist`` against radius at the end of a run."""
-    fig, ax = _figure((6, 4))
+    """Contact pressure and ``p_hist`` (top), shear (bottom) against radius, at one reduction.
+
+    The title names the height reduction the profile is taken at (``profile["height_reduction"]``,
+    the end of a run). Each panel's axis is set by the bulk of its values
+    (:func:`robust_limit`): a spike at the die's edge is drawn at the top edge and labelled with
+    its value, so that the shear (tens of MPa) and the pressure (hundreds) are both readable.
+    """
+    fig, (a1, a2) = _figure((6.4, 5.6), nrows=2)
     r = 1e3 * profile["r"]
     on = profile["p"] > 0
-    ax.plot(r[on], profile["p"][on] / 1e6, "o-", ms=3, label="pressure p")
-    ax.plot(r[on], np.abs(profile["tau"][on]) / 1e6, "s-", ms=3, label="|shear| tau")
-    ax.plot(r[on], profile["p_hist"][on] / 1e6, "--", label="p_hist")
-    ax.set_xlabel("r (mm)")
-    ax.set_ylabel("MPa")
-    ax.set_title(title)
-    ax.grid(alpha=0.3)
-    ax.legend()
+    p = profile["p"][on] / 1e6
+    ph = profile["p_hist"][on] / 1e6
+    tau = np.abs(profile["tau"][on]) / 1e6
+    lim, clipped = robust_limit(np.concatenate([p, ph]))
+    a1.plot(r[on], np.minimum(p, lim), "o-", ms=3, label="pressure p")
+    a1.plot(r[on], np.minimum(ph, lim), "--", label="p_hist")
+    _mark_clipped(a1, r[on], p, lim, clipped[clipped < p.size], "p", "C0")
+    a1.set_ylim(0, lim)
+    a1.set_ylabel("p, p_hist (MPa)")
+    lim_t, clip_t = robust_limit(tau)
+    a2.plot(r[on], np.minimum(tau, lim_t), "s-", ms=3, color="C1", label="|shear| tau")
+    _mark_clipped(a2, r[on], tau, lim_t, clip_t, "tau", "C1")
+    a2.set_ylim(0, lim_t)
+    a2.set_ylabel("|tau| (MPa)")
+    a2.set_xlabel("r (mm)")
+    for a in (a1, a2):
+        a.grid(alpha=0.3)
+        a.legend(fontsize=8, loc="lower left")
+    red = profile.get("height_reduction")
+    at = f"at height reduction {100 * red:.1f} %" if red is not None else ""
+    fig.suptitle(f"{title}\nalong the die {at}".strip(), fontsize=10)
     fig.tight_layout()
     return fig
 

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
+from sbmf_cli import column_name
 from sbmf_cli.htmlpage import figure, number_cell, page
 
 __all__ = ["input_rows", "ring_fit_figure", "write_ring_fit"]
@@ -30,14 +31,24 @@ def write_ring_fit(out, test, fit, chart, params, record):
     with (out / "ring_fit.csv").open("w", newline="", encoding="utf-8") as fh:
         w = csv.writer(fh)
         w.writerow(
-            ["height_reduction", f"{test.column}_measured", f"{test.column}_fit", "residual"]
+            [
+                column_name("height_reduction", "fraction"),
+                column_name(f"{test.column}_measured", "fraction"),
+                column_name(f"{test.column}_fit", "fraction"),
+                column_name("residual", "fraction"),
+            ]
         )
         for r, d, p in zip(test.reduction, test.d_inner, pred, strict=True):
             w.writerow([f"{r:.6g}", f"{d:.6g}", f"{p:.6g}", f"{d - p:.6g}"])
     ring_fit_figure(test, fit, chart).savefig(out / "ring_fit.png", dpi=120)
     rows = "".join(
-        f"<tr><td>{k}</td>{number_cell(record[k], k)}</tr>"
-        for k in ("m", "m_lower", "m_upper", "rmse", "m_tresca_chart", "bias_chart_minus_law")
+        f"<tr><td>{k}</td>{number_cell(record[k], k)}<td></td></tr>"
+        for k in ("m", "m_lower", "m_upper", "m_tresca_chart", "bias_chart_minus_law")
+    )
+    rows += (
+        f"<tr><td>rmse of {html.escape(test.column)}</td>"
+        f"{number_cell(record['rmse_fraction'], 'rmse_fraction', '.4g', 100.0)}"
+        "<td>% (percentage points)</td></tr>"
     )
     body = [
         f"<p>law {html.escape(fit.law)}"
@@ -47,7 +58,7 @@ def write_ring_fit(out, test, fit, chart, params, record):
         "<h2>Inputs</h2>",
         _inputs_table(record),
         "<h2>Result</h2>",
-        f"<table><tr><th>quantity</th><th>value</th></tr>{rows}</table>",
+        f"<table><tr><th>quantity</th><th>value</th><th>unit</th></tr>{rows}</table>",
         figure(
             out / "ring_fit.png", "measured points, the fitted curve with its band, Tresca curves"
         ),

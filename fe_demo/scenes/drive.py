@@ -21,6 +21,7 @@ from .calibrated_range import range_columns, range_summary
 from .laws import law_parameters, make_law_factory
 from .result import SceneResult
 from .slab import slab_pressure_coulomb, slab_pressure_law, slab_pressure_tresca
+from .zones import radial_zones
 
 __all__ = ["LawSpec", "ProgressBar", "RunSettings", "Run", "drive", "press"]
 
@@ -39,18 +40,32 @@ class LawSpec:
     m: float = 0.3
     tau_max: float | None = None
     params: object = None
+    zones: tuple = ()
 
     def factory(self):
-        """``factory(model) -> law`` for the model (:func:`fe_demo.scenes.laws.make_law_factory`)."""
-        return make_law_factory(
+        """``factory(model) -> law`` for the model (:func:`fe_demo.scenes.laws.make_law_factory`).
+
+        With ``zones`` (``(name, params, radius)`` each; law ``sbmf`` only) the die's
+        :class:`fe_demo.scenes.zones.RadialZones`: this law inside, each zone's from its radius.
+        """
+        base = make_law_factory(
             self.name, mu=self.mu, m=self.m, tau_max=self.tau_max, params=self.params
         )
+        if not self.zones:
+            return base
+        if self.name != "sbmf":
+            raise ValueError(f"zones need the law sbmf (the die's default law), got {self.name!r}")
+        die = radial_zones(base(None), self.zones)  # sbmf: a fixed law, whatever the model
+        return lambda model: die
 
     def parameters(self):
-        """The law's parameters as ``summary.json`` records them."""
-        return law_parameters(
+        """The law's parameters as ``summary.json`` records them (and the die's zones)."""
+        out = law_parameters(
             self.name, mu=self.mu, m=self.m, tau_max=self.tau_max, params=self.params
         )
+        if self.zones:
+            out["zones"] = self.factory()(None).describe()
+        return out
 
 
 @dataclass(frozen=True)
@@ -121,7 +136,8 @@ def _record(model, law):
     elif law.name == "coulomb":
         slab = float(slab_pressure_coulomb(sf, law.mu, d, h, form="exact"))
     elif fe_law is not None:  # cap, sbmf (first loading): integrate the slab equation
-        slab = float(slab_pressure_law(sf, lambda p: fe_law.shear_limit(p, 0.0)[0], d, h))
+        one = fe_law.default_law() if hasattr(fe_law, "zone_at") else fe_law  # zones: the die's
+        slab = float(slab_pressure_law(sf, lambda p: one.shear_limit(p, 0.0)[0], d, h))
     else:
         slab = sf
     ph = np.asarray(model.contact.state.p_hist)
@@ -144,6 +160,10 @@ def _record(model, law):
         "n_reload_eq25": int(below.sum()),
     }
     row.update(range_columns(model))
+    zone = model.contact.zone
+    if hasattr(fe_law, "zone_at") and zone is not None:  # contact nodes per zone of the die
+        for i, name in enumerate(fe_law.law.names):
+            row[f"n_contact_{name}"] = int(np.count_nonzero(active & (zone == i)))
     return row
 
 
@@ -276,7 +296,34 @@ def _solver_info(model, hist):
     }
 
 
-def press(scene, run, axi, reduction, n_increments):
+def setup_info(axi, model, billet):
+    """The billet, its mesh and material as ``summary.json`` records them (SI units).
+
+    ``billet``: the scene's geometry (``{"shape": "cylinder", "diameter_m": ..., ...}``).
+    """
+    nr, nz = (int(n) - 1 for n in np.shape(axi.grid)) if axi.grid is not None else (None, None)
+    mat = model.mat
+    return {
+        "billet": dict(billet),
+        "mesh": {
+            "elements_radial": nr,
+            "elements_axial": nz,
+            "n_elements": axi.n_elements,
+            "n_nodes": model.n_nodes,
+            "element": "4-node axisymmetric quad, B-bar",
+        },
+        "material": {
+            "E_Pa": float(mat.E),
+            "nu": float(mat.nu),
+            "K_Pa": float(mat.K),
+            "eps0": float(mat.eps0),
+            "n": float(mat.n),
+            "flow_curve": "Swift: sigma_f = K (eps0 + eps_p)^n",
+        },
+    }
+
+
+def press(scene, run, axi, reduction, n_increments, billet=None):
     """A one-stage scene: the die pressed to ``(1 - reduction)`` of its height."""
     t0 = time.perf_counter()
     z_end = run.model.z_die * (1.0 - reduction)
@@ -290,6 +337,7 @@ def press(scene, run, axi, reduction, n_increments):
         "law_parameters": run.law.parameters(),
         "n_elements": axi.n_elements,
         "n_dof": 2 * model.n_nodes,
+        **setup_info(axi, model, billet or {"shape": scene}),
         **_solver_info(model, hist),
     }
     return SceneResult(ok, msg, hist, model, wall, snaps, info)

@@ -89,7 +89,10 @@ def law_parameters(law, *, mu=0.1, m=0.3, tau_max=None, params=None):
     """The parameters the law of a run uses, as a JSON-ready dict (for ``summary.json``).
 
     ``coulomb``: ``mu``; ``tresca``: ``m``; ``cap``: ``mu`` and ``tau_max`` (Pa) or ``m``;
-    ``sbmf``: the parameter file's name and its parameters and options; ``none``: nothing.
+    ``sbmf``: the parameter file (``params_file``, its ``sha256``), its parameters and options,
+    the reload form it runs and ``law``, the description of the law that runs
+    (:func:`frictionlaw.describe.describe_law`: each branch's form with its parameters or table
+    and its measured errors, the form beside it); ``none``: nothing.
     """
     if law == "coulomb":
         return {"mu": float(mu)}
@@ -100,12 +103,24 @@ def law_parameters(law, *, mu=0.1, m=0.3, tau_max=None, params=None):
             return {"mu": float(mu), "tau_max": float(tau_max)}
         return {"mu": float(mu), "m": float(m)}
     if law == "sbmf":
+        from frictionlaw.describe import LawSource, describe_law
+
+        source = None
         if params is None:
             src, params = str(EXAMPLE_PARAMS_PATH), example_params()
+            source = LawSource.of(EXAMPLE_PARAMS_PATH)
         elif isinstance(params, FrictionParams):
             src = "FrictionParams object"
         else:
             src, params = str(params), FrictionParams.from_json(params)
+            source = LawSource.of(src)
         doc = params.to_dict()
-        return {"params_file": src, **doc["parameters"], **doc["options"]}
+        return {
+            "params_file": src,
+            "sha256": None if source is None else source.sha256,
+            **doc["parameters"],
+            **doc["options"],
+            "reload_form": params.reload_form,
+            "law": describe_law(params, source).to_dict(),
+        }
     return {}

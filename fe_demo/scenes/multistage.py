@@ -7,7 +7,16 @@ import numpy as np
 from ..solver.material import DC04
 from ..solver.mesh import cylinder_mesh
 from ..solver.model import FormingModel, SolverOptions
-from .drive import LawSpec, Run, RunSettings, _check_inc, _check_reduction, _solver_info, drive
+from .drive import (
+    LawSpec,
+    Run,
+    RunSettings,
+    _check_inc,
+    _check_reduction,
+    _solver_info,
+    drive,
+    setup_info,
+)
 from .result import SceneResult, contact_profile
 
 __all__ = ["run_multistage"]
@@ -119,6 +128,11 @@ def run_multistage(
         "reset_history": reset_history,
         "recontact_profile": best["profile"],
         "n_elements": axi.n_elements,
+        **setup_info(
+            axi,
+            model,
+            {"shape": "cylinder", "diameter_m": float(diameter), "height_m": float(height)},
+        ),
         **_solver_info(model, hist),
     }
     return SceneResult(ok, msg, hist, model, wall, snaps, info)

@@ -26,6 +26,7 @@ def run_upsetting(
     progress=False,
     snapshot_every=0,
     remesh_below=0.0,
+    zones=(),
 ):
     """Cylinder upsetting between flat dies (``remesh_below`` as in :func:`run_ring`).
 
@@ -44,14 +45,21 @@ def run_upsetting(
     :data:`fe_demo.scenes.calibrated_range.RANGE_COLUMNS`. ``info`` holds ``tangential_stiffness``
     (the stick stiffness used) and ``calibrated_range``
     (:func:`fe_demo.scenes.calibrated_range.range_summary`).
+
+    ``zones``: zones of the die (issue 42), ``(name, params, radius)`` each: from ``radius``
+    (m) outward the die runs that zone's parameter file, inside it ``params`` (law ``sbmf``;
+    :mod:`fe_demo.scenes.zones`); the history gets ``n_contact_<zone>`` (contact nodes per
+    zone, ``die`` the inner one), the slab column stays the inner law's, and the
+    calibrated-range columns are left out (each zone has its own range).
     """
     red = _check_reduction(reduction)
     n_inc = _check_inc(n_increments)
-    spec = LawSpec(law, mu, m, tau_max, params)
+    spec = LawSpec(law, mu, m, tau_max, params, tuple(zones))
     axi = cylinder_mesh(diameter, height, nr, nz)
     model = FormingModel(axi, material, spec.factory(), options or SolverOptions())
     settings = RunSettings(progress, snapshot_every, remesh_below)
-    return press("upsetting", Run(model, spec, settings), axi, red, n_inc)
+    billet = {"shape": "cylinder", "diameter_m": float(diameter), "height_m": float(height)}
+    return press("upsetting", Run(model, spec, settings), axi, red, n_inc, billet)
 
 
 def run_ring(
@@ -73,6 +81,7 @@ def run_ring(
     progress=False,
     snapshot_every=0,
     remesh_below=0.0,
+    zones=(),
 ):
     """Ring compression (standard 6:3:2 ring by default).
 
@@ -80,11 +89,11 @@ def run_ring(
     element's smallest corner sine falls below it.
 
     Adds the column ``inner_diameter_change``: ``(D_i - D_i0) / D_i0`` of the inner
-    surface at the mid-plane.
+    surface at the mid-plane. ``zones`` as in :func:`run_upsetting`.
     """
     red = _check_reduction(reduction)
     n_inc = _check_inc(n_increments)
-    spec = LawSpec(law, mu, m, tau_max, params)
+    spec = LawSpec(law, mu, m, tau_max, params, tuple(zones))
     axi = ring_mesh(outer_diameter, inner_diameter, height, nr, nz)
     model = FormingModel(axi, material, spec.factory(), options or SolverOptions())
     node = axi.inner_mid_node
@@ -97,4 +106,10 @@ def run_ring(
         }
 
     settings = RunSettings(progress, snapshot_every, remesh_below)
-    return press("ring", Run(model, spec, settings, extra), axi, red, n_inc)
+    billet = {
+        "shape": "ring",
+        "outer_diameter_m": float(outer_diameter),
+        "inner_diameter_m": float(inner_diameter),
+        "height_m": float(height),
+    }
+    return press("ring", Run(model, spec, settings, extra), axi, red, n_inc, billet)

@@ -55,16 +55,26 @@ def contact_profile(model):
     """Die-contact data of the accepted state, sorted by radius.
 
     Returns a dict with ``r`` (m), ``p``, ``tau`` (Pa, shear on the workpiece
-    opposing outward flow is positive), ``p_hist`` (committed, Pa), ``status``.
+    opposing outward flow is positive), ``p_hist`` (committed, Pa), ``status`` and
+    ``height_reduction`` (the fraction of the initial height at which the profile is taken).
     """
     ev = model.accepted
     nodes = model.contact.nodes
     r = model.x[nodes, 0]
+    red = float(model.height_reduction)
     if ev is None:
         z = np.zeros(nodes.size)
-        return {"r": r, "p": z, "tau": z, "p_hist": z, "status": z.astype(np.int8)}
+        return {
+            "r": r,
+            "p": z,
+            "tau": z,
+            "p_hist": z,
+            "status": z.astype(np.int8),
+            "height_reduction": red,
+        }
     order = np.argsort(r)
     return {
+        "height_reduction": red,
         "r": r[order],
         "p": ev.p[order],
         "tau": ev.tau[order],

@@ -14,6 +14,10 @@ displacement increment. The tangential traction comes from
 increment and the runtime's :class:`frictionlaw.HistoryState` (trial ``p_hist``
 during iterations, committed only for accepted increments).
 
+Zones (issue 42): a law with ``zone_at(r)`` (``fe_demo.scenes.zones.RadialZones``) is a die
+with a law per ring; each node runs the law of the zone under it at the start of the increment
+with its own ``p_hist`` (:class:`frictionlaw.ZonedLaw`, ``traction_update(..., zone=)``).
+
 Stick stiffness: the penalty ``eps_t`` (the demo passes ``eps_n``) unless the law's
 parameter file carries a calibrated ``k_t(p)`` table (:class:`frictionlaw.TangentialStiffness`);
 then every node gets ``k_t`` at its pressure at the start of the increment (the last
@@ -96,6 +100,7 @@ class DieContact:
         self.k_t_used = (math.inf, 0.0)  # smallest, largest k_t (Pa/m) on a node in contact
         self._reset_branches()
         self.n_frozen = 0  # node evaluations on a frozen first-loading branch (summary.json)
+        self.zone = None  # on a zoned die: each node's zone at the last evaluation
 
     def _reset_branches(self):
         """Forget the branch flips of the increment (after a commit or a cut-back)."""
@@ -103,17 +108,51 @@ class DieContact:
         self._flips = np.zeros(self.nodes.size, dtype=np.int64)
 
     def k_t_table(self):
-        """The law's calibrated ``k_t(p)`` table, or ``None`` (then the penalty ``eps_t``)."""
+        """The law's calibrated ``k_t(p)`` table, or ``None`` (then the penalty ``eps_t``).
+
+        A zoned die (a law with ``zone_at``): None unless a zone's law has one
+        (:meth:`stick_stiffness` then takes each node's zone's table).
+        """
+        if hasattr(self.law, "zone_at"):
+            tables = [getattr(getattr(w, "params", None), "k_t", None) for w in self.law.law.laws]
+            return next((t for t in tables if t is not None), None)
         return getattr(getattr(self.law, "params", None), "k_t", None)
 
-    def stick_stiffness(self):
+    def stick_stiffness(self, zone=None):
         """Tangential stick stiffness per node (Pa/m) for the current increment.
 
         ``k_t(p_old)`` from the parameter file's table at each node's pressure at the start
-        of the increment, or the scalar penalty ``eps_t`` when the law has no table.
+        of the increment, or the scalar penalty ``eps_t`` when the law has no table; on a zoned
+        die (``zone``: each node's zone) each node's zone's table, the penalty where its zone's
+        law has none.
         """
         table = self.k_t_table()
-        return self.eps_t if table is None else table(self.p_old)
+        if table is None:
+            return self.eps_t
+        if zone is None:
+            return table(self.p_old)
+        kt = np.full(self.nodes.size, self.eps_t)
+        for i, law in enumerate(self.law.law.laws):
+            t = getattr(getattr(law, "params", None), "k_t", None)
+            here = zone == i
+            if t is not None and here.any():
+                kt[here] = t(self.p_old[here])
+        return kt
+
+    def zones_at(self, r):
+        """``(law, zone)`` the traction update runs.
+
+        The law and None, or on a zoned die (a law with ``zone_at``) its
+        :class:`frictionlaw.ZonedLaw` and each node's zone at radius ``r`` (the start of the
+        increment: the zones stay fixed through its iterations).
+        """
+        if not hasattr(self.law, "zone_at"):
+            return self.law, None
+        if r is None:
+            raise ValueError("a zoned die needs the nodes' radii (r)")
+        zone = self.law.zone_at(r)
+        self.zone = zone
+        return self.law.law, zone
 
     def stiffness_record(self):
         """What the run used as stick stiffness (for ``summary.json``)."""
@@ -129,7 +168,7 @@ class DieContact:
             "eps_n_Pa_per_m": self.eps_n,
         }
 
-    def evaluate(self, z, z_die, dur, area):
+    def evaluate(self, z, z_die, dur, area, r=None):
         """Pressure, friction traction and their residual/tangent contributions.
 
         Parameters
@@ -142,6 +181,9 @@ class DieContact:
             Radial displacement increment of the candidate nodes in this increment (m).
         area : ndarray
             Nodal areas (m^2).
+        r : ndarray, optional
+            Radii of the candidate nodes at the start of the increment (m): on a zoned die the
+            zone under each node (:meth:`zones_at`).
         """
         g = z - z_die
         active = g > 0
@@ -157,8 +199,15 @@ class DieContact:
             krz = np.zeros(n)
             self.state.propose(p)
         else:
+            law, zone = self.zones_at(r)
             res = traction_update(
-                self.law, p, dur, self.tau_old, self.stick_stiffness(), *self._history(p, active)
+                law,
+                p,
+                dur,
+                self.tau_old,
+                self.stick_stiffness(zone),
+                *self._history(p, active),
+                zone=zone,
             )
             tau, status = res.traction, res.status
             fr = tau * area
@@ -200,7 +249,7 @@ class DieContact:
     def commit(self, ev):
         """Accept the increment: traction becomes the old traction, ``p_hist`` is committed."""
         if self.law is not None and self.k_t_table() is not None and (ev.p > 0).any():
-            kt = np.broadcast_to(self.stick_stiffness(), ev.p.shape)[ev.p > 0]
+            kt = np.broadcast_to(self.stick_stiffness(self.zone), ev.p.shape)[ev.p > 0]
             lo, hi = self.k_t_used
             self.k_t_used = (min(lo, float(kt.min())), max(hi, float(kt.max())))
         self.tau_old = np.where(ev.p > 0, ev.tau, 0.0)

@@ -237,7 +237,7 @@ class FormingModel:
         R = self.asm.vector(internal_force(kin1, sig, kern))
         ref = float(_norm(R[self.free]))
         nodes = self.contact.nodes
-        ev = self.contact.evaluate(x1[nodes, 1], z_die, du[2 * nodes], area)
+        ev = self.contact.evaluate(x1[nodes, 1], z_die, du[2 * nodes], area, self.x[nodes, 0])
         R[2 * nodes + 1] += ev.fz
         R[2 * nodes] += ev.fr
         R[~self.free] = 0.0

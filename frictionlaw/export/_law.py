@@ -16,7 +16,7 @@ import numpy as np
 from sbmf_cli import ParameterError
 
 from .. import __version__
-from .._codes import Q_START
+from .._codes import FIRST_EQ24, FIRST_TABULATED, Q_START
 from ._origin import m_origin
 
 __all__ = [
@@ -27,9 +27,17 @@ __all__ = [
     "law_constants",
     "ReloadSpec",
     "reload_spec",
+    "FirstSpec",
+    "first_spec",
     "GuardSpec",
     "guard_spec",
+    "CUT_FACTOR",
+    "CUT_FLOOR",
+    "CoreLaw",
+    "core_law",
     "core_context",
+    "shared_constants",
+    "law_lines",
     "header_lines",
 ]
 
@@ -176,9 +184,89 @@ def reload_spec(params, units):
     )
 
 
+@dataclass(frozen=True)
+class FirstSpec:
+    """A first-loading form other than Eq. 24 as the Fortran core bakes it in.
+
+    The form's record (:class:`frictionlaw.forms.BranchForm`) lowers its data to the kernels'
+    block (:mod:`frictionlaw._kernels`, "Coefficient layout"); the core runs that block, so
+    ``u = ln(p_j / H)``, ``v = ln alpha_j`` and the slopes ``d = dv/du`` are exactly the
+    runtime's (dimensionless: no unit system changes them). ``template`` is the record's
+    ``export_template`` (``core/sbmf_first_table.f``), ``name`` and ``equation`` its words;
+    ``p`` (the levels in the host's stress unit) and ``alpha`` are read back from the knots for
+    the provenance and the README; ``mu`` is the Coulomb slope below the lowest level,
+    ``tau_max exp(v_0 - u_0) / H`` formed as the kernel forms it from ``tau_max`` and ``H`` in
+    the host's unit.
+    """
+
+    name: str
+    equation: str
+    template: str
+    p: tuple
+    alpha: tuple
+    u: tuple
+    v: tuple
+    d: tuple
+    mu: float
+
+    def describe(self, units):
+        """Lines for the provenance header: the form, its levels and the rule between them."""
+        s = units.stress_unit
+        return [
+            f"first-loading form: {self.name} ({self.equation})",
+            f"first-loading levels p ({s}): " + ", ".join(f"{v:.10g}" for v in self.p),
+            "first-loading alpha: " + ", ".join(f"{v:.10g}" for v in self.alpha),
+            "first-loading interpolation: monotone cubic Hermite (Fritsch-Carlson) of ln alpha "
+            "over ln(p/H) between the levels; below the first level the Coulomb line "
+            "alpha_0 p/p_0; above the last level the power law of the end slope "
+            f"(d ln alpha/d ln p = {self.d[-1]:.6g}), capped at alpha = 1",
+        ]
+
+
+def first_spec(params, units):
+    """The first-loading form's :class:`FirstSpec` in ``units``; None for Eq. 24.
+
+    ``ValueError`` if the form lowers to a kernel form the Fortran core does not carry.
+    """
+    form = params.branch_forms()[0]
+    code, block = form.lower(params.first_loading_table, params.H)
+    if code == FIRST_EQ24:
+        return None
+    nj = int(block[0]) if block.size else 0
+    if code != FIRST_TABULATED or nj < 2 or form.export_template is None:
+        raise ValueError(
+            f"the first-loading form {form.name!r} has no Fortran law core (kernel form {code}, "
+            f"{nj} levels, template {form.export_template!r})"
+        )
+    u, v, d = (tuple(block[1 + i * nj : 1 + (i + 1) * nj].tolist()) for i in range(3))
+    tm = params.tau_max * units.stress
+    h = params.H * units.stress
+    return FirstSpec(
+        form.name,
+        form.equation,
+        form.export_template,
+        tuple(h * math.exp(x) for x in u),
+        tuple(math.exp(x) for x in v),
+        u,
+        v,
+        d,
+        tm * math.exp(v[0] - u[0]) / h,
+    )
+
+
 #: a pressure above this multiple of H cannot be the model's (the deck's units are not the
 #: routine's); contact pressures stay below a few H in any forming model
 UNIT_LIMIT_H = 100.0
+
+
+#: the PNEWDT a routine called on Newton iterates (FRIC) returns for an iterate above 100 H: the
+#: host retries the increment at this fraction of its size (Abaqus' and ccx's own cut-back factor)
+CUT_FACTOR = 0.25
+#: at this fraction of the size at which the increment first had an iterate above 100 H, the
+#: routine asks for no further cut-back (three cut-backs by CUT_FACTOR take it to 1/64, within the
+#: five the hosts allow per increment, Abaqus' IA and ccx's ia): the increment may converge, and
+#: a converged pressure above 100 H then stops the run
+CUT_FLOOR = 1.0 / 32.0
 
 
 @dataclass(frozen=True)
@@ -201,6 +289,10 @@ class GuardSpec:
         records none, and no range warning is compiled in).
     other : str
         The unit system a pressure above ``p_unit`` points to (mm-t-s routine: SI).
+    cut_factor, cut_floor : float
+        A routine called on Newton iterates (``FRIC``): the ``PNEWDT`` it returns for an iterate
+        above ``p_unit``, and the fraction of the increment's size at which it asks for no
+        further cut-back (:data:`CUT_FACTOR`, :data:`CUT_FLOOR`).
     """
 
     code: int
@@ -209,28 +301,48 @@ class GuardSpec:
     p_unit: float
     p_max: float | None
     other: str
+    cut_factor: float = CUT_FACTOR
+    cut_floor: float = CUT_FLOOR
 
-    def messages(self, state_name, units_input):
+    def messages(self, state_name, units_input, implicit=False, zone=None):
         """The messages of the guards, ``{kind: (text before the value, text after it)}``.
 
         Kinds (the ``KIND`` of the routines' ``SBMF_MESSAGE``): 1 too few state variables
         (value: their number), 2 no unit system stated (no value: the second text is None),
         3 a stated unit system other than the routine's (value: the stated number), 4 a
-        pressure above ``100 H`` (value: the pressure), 5 a pressure beyond the calibrated
-        range (the one warning; value: the pressure). ``state_name`` names the deck's state
-        count (``DEPVAR``), ``units_input`` is ``(name, where)`` of its unit value (``PROPS(1)``,
-        ``the data line of *FRICTION, USER, PROPERTIES=1``): the fields of
-        :class:`frictionlaw.export.Routine`.
+        pressure above ``100 H`` in the call (value: the pressure; the explicit hosts and
+        ``SBMF_FRICTION``), 5 a pressure beyond the calibrated range (the one warning; value:
+        the pressure), 6 a converged pressure, the committed ``p_hist``, above ``100 H``
+        (``FRIC``). ``state_name`` names the deck's
+        state count (``DEPVAR``), ``units_input`` is ``(name, where)`` of its unit value
+        (``PROPS(1)``, ``the data line of *FRICTION, USER, PROPERTIES=1``): the fields of
+        :class:`frictionlaw.export.Routine`. ``implicit``: the routine's host calls it on
+        Newton iterates and commits its state on convergence (``Routine.implicit``), so its
+        range warning names the committed ``p_hist``. ``zone``: the label of the law in a
+        zoned export (``zone 'rim' (rim.json)``), which its messages name (``""``: a zoned
+        routine's deck-wide messages), and the state count that keeps the cache's law (4).
         """
         s = self.units.split("(")[1].split(",")[0]
         name, where = units_input
-        pre = "SBMF friction: "
+        pre = f"SBMF friction: {zone}: " if zone else "SBMF friction: "
+        n_state = (
+            "3 (p_hist, its cache, the status)"
+            if zone is None
+            else ("4 (p_hist, its cache, the status, the law that wrote the cache)")
+        )
         top = "none" if self.p_max is None else f"{self.p_max:.6g} {s}"
+        units = f"this routine was exported for {self.units} and the model {self.other}"
+        limit = f" {s} > 100 H = {self.p_unit:.6g} {s}"
+        seen = (
+            "converged contact pressure (p_hist at the start of an increment) "
+            if implicit
+            else "contact pressure "
+        )
         return {
             1: (
                 f"{pre}{state_name} = ",
                 ", but the routine needs at least 1 state variable (1: p_hist); set "
-                f"{state_name} to 3 (p_hist, its cache, the status)",
+                f"{state_name} to {n_state}",
             ),
             2: (
                 f"{pre}the deck does not state its unit system; this routine was exported "
@@ -243,16 +355,16 @@ class GuardSpec:
                 f"({self.codes}): export the routine for the deck's units "
                 "(frictionlaw-export --units) or correct the deck",
             ),
-            4: (
-                f"{pre}contact pressure ",
-                f" {s} > 100 H = {self.p_unit:.6g} {s}: this routine was exported for "
-                f"{self.units} and the model {self.other}",
-            ),
+            4: (f"{pre}contact pressure ", f"{limit}: {units}"),
             5: (
-                f"{pre}contact pressure ",
+                f"{pre}{seen}",
                 f" {s} is beyond the calibrated range (p_max = {top}): the law is "
                 "extrapolated there. Written once per process; the largest pressure each "
                 "contact point carried is its p_hist (state variable 1)",
+            ),
+            6: (
+                f"{pre}converged contact pressure (p_hist, state variable 1) ",
+                f"{limit}: {units}",
             ),
         }
 
@@ -277,6 +389,54 @@ def guard_spec(params, units):
     )
 
 
+@dataclass(frozen=True)
+class CoreLaw:
+    """One law as ``core/sbmf_law.f`` renders it: its routines' prefix and its values.
+
+    Attributes
+    ----------
+    prefix : str
+        The prefix of its routines' names, five characters (``SBMF_`` for an export's one law:
+        ``SBMF_SHEAR``; ``SZ01_``, ``SZ02_``, ... for the laws of a zoned export).
+    law : dict
+        ``TMAX, H, C1, XN1, C2, XN2`` in the host's units (:func:`law_constants`).
+    continuous : bool
+        ``params.continuous_reload``.
+    reload, first : ReloadSpec or None, FirstSpec or None
+        The tabulated forms (None: Eq. 25 of the paper, Eq. 24).
+    kt : StiffnessSpec
+        The stick stiffness source.
+    ln_h : float
+        ``ln H`` in the host's unit, as the runtime's ``log(H)`` gives it.
+    guard : GuardSpec
+        What the routine checks for this law (its ``100 H``, its ``p_max``).
+    """
+
+    prefix: str
+    law: dict
+    continuous: bool
+    reload: "ReloadSpec | None"
+    first: "FirstSpec | None"
+    kt: StiffnessSpec
+    ln_h: float
+    guard: GuardSpec
+
+
+def core_law(params, units, kt, prefix="SBMF_"):
+    """The :class:`CoreLaw` of ``params`` in ``units`` with the stick stiffness ``kt``."""
+    law = law_constants(params, units)
+    return CoreLaw(
+        prefix,
+        law,
+        params.continuous_reload,
+        reload_spec(params, units),
+        first_spec(params, units),
+        kt,
+        math.log(law["H"]),
+        guard_spec(params, units),
+    )
+
+
 def core_context(params, units, kt):
     """The values ``core/sbmf_core.f`` (the law core of every Fortran target) is rendered with.
 
@@ -291,29 +451,45 @@ def core_context(params, units, kt):
     Returns
     -------
     dict
-        ``law`` (``TMAX, H, C1, XN1, C2, XN2`` in the host's units), ``continuous``
-        (``params.continuous_reload``), ``reload`` (the tabulated reload form's
-        :class:`ReloadSpec`, None for the paper's Eq. 25), ``kt``, and ``ln_small``,
-        ``ln_sat``: the smooth minimum's branch points ``ln(1e-4)`` and ``ln(350)`` of
-        ``frictionlaw._kernels``; ``ln_d_max``, the tabulated form's bound 700 on
-        ``ln(dtau/dp)`` where it is formed in logs; ``ln_h``, ``ln H`` in the host's unit (as
-        the runtime's ``log(H)`` gives it, for the tabulated form's ``ln(p_hist/H)`` where the
-        quotient is not a normal double); ``ln_q_start``, ``ln Q_START``, below which the
-        tabulated branch starts quadratically; ``guard``, the :class:`GuardSpec` (the unit
-        system, ``100 H``, ``p_max``) every routine checks.
+        ``laws``: the one :class:`CoreLaw` (``core/sbmf_law.f`` is rendered once per law;
+        a zoned export has several, :func:`frictionlaw.export._zones.zoned_context`);
+        ``zones``: None (one law everywhere); the law's values at the top level too (the
+        entry templates and READMEs read them): ``law`` (``TMAX, H, C1, XN1, C2, XN2`` in the
+        host's units), ``continuous`` (``params.continuous_reload``), ``reload`` (the tabulated
+        reload form's :class:`ReloadSpec`, None for the paper's Eq. 25), ``first`` (the
+        first-loading form's :class:`FirstSpec`, None for Eq. 24), ``kt``, ``ln_h`` (``ln H``
+        in the host's unit, as the runtime's ``log(H)`` gives it, for the tabulated forms'
+        ``ln(p_hist/H)`` and ``ln(p/H)`` where the quotient is not a normal double),
+        ``guard``, the :class:`GuardSpec` (the unit system, ``100 H``, ``p_max``) every
+        routine checks; and the shared constants :func:`shared_constants`.
     """
-    law = law_constants(params, units)
+    one = core_law(params, units, kt)
     return {
-        "law": law,
-        "continuous": params.continuous_reload,
-        "reload": reload_spec(params, units),
+        "laws": (one,),
+        "zones": None,
+        "law": one.law,
+        "continuous": one.continuous,
+        "reload": one.reload,
+        "first": one.first,
         "kt": kt,
+        "ln_h": one.ln_h,
+        "guard": one.guard,
+        **shared_constants(),
+    }
+
+
+def shared_constants():
+    """The constants every law's routines share.
+
+    ``ln_small``, ``ln_sat`` (the smooth minimum's branch points ``ln(1e-4)``, ``ln(350)`` of ``frictionlaw._kernels``), ``ln_d_max`` (the
+    tabulated form's bound 700 on ``ln(dtau/dp)`` where it is formed in logs), ``ln_q_start``
+    (``ln Q_START``, below which the tabulated branch starts quadratically).
+    """
+    return {
         "ln_small": math.log(1e-4),
         "ln_sat": math.log(350.0),
         "ln_d_max": 700.0,
-        "ln_h": math.log(law["H"]),
         "ln_q_start": math.log(Q_START),
-        "guard": guard_spec(params, units),
     }
 
 
@@ -351,18 +527,32 @@ def _fit_summary(params):
 
 def header_lines(target, params, params_path, sha, units, kt):
     """Provenance lines (without comment markers)."""
-    s = units.stress_unit
-    lines = [
+    return [
         f"SBMF friction law (Eqs. 24-26), target {target}",
         f"generated by frictionlaw-export {__version__}; do not edit by hand",
         f"parameter file: {Path(params_path).name}",
         f"sha256: {sha}",
-        f"units: {units.name} (stress {s}, length {units.length_unit})",
+        f"units: {units.name} (stress {units.stress_unit}, length {units.length_unit})",
+        *law_lines(params, units, kt),
+    ]
+
+
+def law_lines(params, units, kt):
+    """The provenance lines of one law: its parameters, forms, origin, range and fit."""
+    s = units.stress_unit
+    lines = [
         f"m={params.m!r} k={params.k * units.stress!r} {s}",
         *m_origin(params).header(),
         f"H={params.H * units.stress!r} {s} geo_ratio={params.geo_ratio!r}",
-        f"C1={params.C1!r} n1={params.n1!r}",
     ]
+    first = first_spec(params, units)
+    if first is None:
+        lines += [
+            "first-loading form: eq24 (Eq. 24, alpha1 = g(p C1/H; n1))",
+            f"C1={params.C1!r} n1={params.n1!r}",
+        ]
+    else:
+        lines += first.describe(units)
     spec = reload_spec(params, units)
     if spec is None:
         lines += [
@@ -374,7 +564,7 @@ def header_lines(target, params, params_path, sha, units, kt):
     lines += [
         f"continuous_reload={params.continuous_reload}",
         f"tau_max=m k (1+geo_ratio)={params.tau_max * units.stress!r} {s}",
-        f"mu_eff=tau_max C1/H={params.mu_eff!r}",
+        f"mu_eff={'tau_max C1/H' if first is None else 'tau_max alpha_0/p_0'}={params.mu_eff!r}",
     ]
     if params.p_range is not None:
         lo, hi = (v * units.stress for v in params.p_range)

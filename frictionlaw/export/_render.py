@@ -6,29 +6,42 @@ rendered. Then run: the generated file (provenance header + the target's templat
 (the form's frame with the target's sections) and the extra files, each from the record alone.
 """
 
-import hashlib
 from dataclasses import dataclass
 from pathlib import Path
 
 from sbmf_cli import OutputFolder, ParameterError
 
+from .. import __version__
 from ..params import FrictionParams
 from . import _targets
 from ._law import UNIT_SYSTEMS, StiffnessSpec, UnitSystem, core_context, header_lines
-from ._origin import m_origin
 from ._tables import FrictionTable
 from ._templates import check_columns, comment_block, render_template, template_path
+from ._zones import (
+    ZoneTable,
+    check_zone_names,
+    plan_laws,
+    unknown_message,
+    zone_header,
+    zoned_context,
+    zoned_messages,
+)
 
 __all__ = ["Job", "plan", "texts", "render", "export", "ExportResult"]
 
 
 @dataclass(frozen=True)
 class ExportResult:
-    """What :func:`export` wrote: the folder, its files, and the table (table targets)."""
+    """What :func:`export` wrote: the folder, its files, and the table (table targets).
+
+    ``removed``: what a later step had added to the earlier export in the folder (the target's
+    ``products``, CalculiX's ``ccx`` that ``build.sh`` linked) and the replacement removed.
+    """
 
     out: Path
     files: tuple
     table: object = None
+    removed: tuple = ()
 
 
 @dataclass(frozen=True)
@@ -47,11 +60,17 @@ class Job:
     kt : StiffnessSpec or None
         The stick stiffness source (None for a table).
     table : FrictionTable or None
-        Eq. 24's friction-coefficient table (table targets).
+        The first loading's friction-coefficient table (table targets).
     header : tuple of str
         The provenance lines every generated file starts with.
     law : dict
-        The values the law core is rendered with (:func:`frictionlaw.export._law.core_context`).
+        The values the law core is rendered with (:func:`frictionlaw.export._law.core_context`,
+        or :func:`frictionlaw.export._zones.zoned_context` for a zoned export).
+    laws : tuple of ExportLaw
+        Every law of the export (one, or the zones and the default), each with its file,
+        sha256 and origin of ``m``.
+    zones : ZoneTable or None
+        How a zoned routine chooses its law (None: one law everywhere).
     """
 
     target: _targets.Target
@@ -62,11 +81,16 @@ class Job:
     table: FrictionTable | None
     header: tuple
     law: dict
+    laws: tuple = ()
+    zones: ZoneTable | None = None
 
 
-def _sha256(path):
-    with open(path, "rb") as fh:
-        return hashlib.file_digest(fh, "sha256").hexdigest()
+#: the message of status -8 of the host-neutral SBMF_FRICTION_V (the interface version)
+VERSION_MESSAGE = (
+    "SBMF friction: SBMF_FRICTION_V was called for interface version IVERS = ",
+    ", but this routine implements version 2 (the argument list of its header): call it as "
+    "the README says, or export the routine again for the caller's version",
+)
 
 
 def _check_exportable(params, path):
@@ -81,13 +105,51 @@ def _check_exportable(params, path):
                 f"(FrictionParams.replace({form.branch}_form={other!r}) keeps the calibration's "
                 "table in the file) and export that"
             )
+    if params.flattening is not None:
+        raise ValueError(
+            f"{path}: the file carries a flattening block (issue 43) and no host routine "
+            "evaluates flattening under bulk strain yet: an export would run the law without it; "
+            "export a calibration without a flattening block"
+        )
 
 
-def plan(target, params_path, *, units="SI", k_t=None, table_tol=1e-3, accept_failed=False):
+def _zone_key(record, zones, zone_by):
+    """The :class:`ZoneKey` a zoned export of ``record`` chooses by (ParameterError if none)."""
+    if not zones:
+        if zone_by is not None:
+            raise ParameterError("{zone_by} applies with {zones} only", "zone_by", "zones")
+        return None
+    keys = record.form.zone_keys
+    if not keys:
+        raise ParameterError(f"{{zones}}: {record.name} {record.form.zone_refusal}", "zones")
+    if zone_by is None:
+        return keys[0]
+    for key in keys:
+        if key.name == zone_by:
+            return key
+    raise ParameterError(
+        f"{{zone_by}} must be one of {', '.join(k.name for k in keys)} for {record.name} "
+        f"(the host passes {', '.join(k.argument for k in keys)}), got {zone_by!r}",
+        "zone_by",
+    )
+
+
+def plan(
+    target,
+    params_path=None,
+    *,
+    zones=(),
+    zone_by=None,
+    units="SI",
+    k_t=None,
+    table_tol=1e-3,
+    accept_failed=False,
+):
     """Decide an export (:class:`Job`); raises ValueError (or FileNotFoundError) on bad input.
 
-    The options are checked before the parameter file is read; a table that cannot meet
-    ``table_tol`` is a RuntimeError.
+    The options are checked before any parameter file is read, and every file (each zone's
+    and the default) before anything is rendered; a table that cannot meet ``table_tol`` is a
+    RuntimeError.
     """
     record = _targets.target(target)
     if units not in UNIT_SYSTEMS:
@@ -100,14 +162,31 @@ def plan(target, params_path, *, units="SI", k_t=None, table_tol=1e-3, accept_fa
         raise ParameterError(
             "{k_t} applies to the Fortran targets only (a table has no stiffness)", "k_t"
         )
-    params_path = Path(params_path)
-    params = FrictionParams.from_json(params_path, accept_failed=accept_failed)
-    _check_exportable(params, params_path)
-    sha = _sha256(params_path)
+    zones = list(zones.items()) if isinstance(zones, dict) else list(zones)
+    key = _zone_key(record, zones, zone_by)
+    if params_path is None and not zones:
+        raise ParameterError(
+            "give {params_path} (the law) or {zones} (a law per zone)", "params_path", "zones"
+        )
+    if zones:
+        check_zone_names(zones, key)
     us = UNIT_SYSTEMS[units]
-    kt, table = record.form.decide(params, us, k_t, table_tol)
-    header = tuple(header_lines(record.name, params, params_path, sha, us, kt))
-    return Job(record, params, us, sha, kt, table, header, core_context(params, us, kt))
+    laws, table = plan_laws(
+        params_path, zones, key, us, k_t, accept_failed=accept_failed, check=_check_exportable
+    )
+    params, sha = laws[0].params, laws[0].sha
+    if table is None:
+        kt, ftable = record.form.decide(params, us, k_t, table_tol)
+        header = tuple(header_lines(record.name, params, laws[0].path, sha, us, kt))
+        return Job(record, params, us, sha, kt, ftable, header, core_context(params, us, kt), laws)
+    header = (
+        f"SBMF friction law (Eqs. 24-26), target {record.name}, {len(laws)} laws by zone",
+        f"generated by frictionlaw-export {__version__}; do not edit by hand",
+        f"units: {us.name} (stress {us.stress_unit}, length {us.length_unit})",
+        *zone_header(table, us),
+    )
+    ctx = zoned_context(table)
+    return Job(record, params, us, sha, ctx["kt"], None, header, ctx, laws, table)
 
 
 def texts(job, *, guards=True):
@@ -120,7 +199,7 @@ def texts(job, *, guards=True):
     """
     t = job.target
     words = (
-        (t.form.state_name, t.form.units_input)
+        (t.form.state_name, t.form.units_input, t.form.implicit)
         if isinstance(t.form, _targets.Routine)
         else ("", ("", ""))
     )
@@ -133,11 +212,19 @@ def texts(job, *, guards=True):
         "sha": job.sha,
         "table": job.table,
         "guards": guards,
-        "origin": m_origin(job.params),
+        "origin": job.laws[0].origin,
+        "export_laws": job.laws,
         **job.law,
     }
-    if "guard" in context:
+    if job.zones is not None:
+        context["guard_text"] = zoned_messages(job.zones, *words)
+        context["zone_text"] = unknown_message(job.zones)
+    elif "guard" in context:
         context["guard_text"] = context["guard"].messages(*words)
+    if "guard_text" in context:
+        if isinstance(t.form, _targets.Routine) and t.form.status:
+            context["guard_text"][8] = VERSION_MESSAGE
+        context["guard_kinds"] = max(*context["guard_text"], 7 if job.zones else 6)
     text = comment_block(job.header, t.style.comment, t.style.columns)
     text += render_template(t.template, **context)
     files = {
@@ -149,19 +236,12 @@ def texts(job, *, guards=True):
     return files
 
 
-def render(target, params_path, *, units="SI", k_t=None, table_tol=1e-3, accept_failed=False):
+def render(target, params_path=None, **options):
     """The files of ``target`` as ``{name: text}`` plus the table (or None); writes nothing.
 
-    The arguments are those of :func:`export`.
+    The arguments are those of :func:`export` (``options``: its keyword arguments but ``force``).
     """
-    job = plan(
-        target,
-        params_path,
-        units=units,
-        k_t=k_t,
-        table_tol=table_tol,
-        accept_failed=accept_failed,
-    )
+    job = plan(target, params_path, **options)
     return texts(job), job.table
 
 
@@ -170,6 +250,8 @@ def export(
     params_path,
     out,
     *,
+    zones=(),
+    zone_by=None,
     units="SI",
     k_t=None,
     table_tol=1e-3,
@@ -182,20 +264,32 @@ def export(
     ----------
     target : str
         A registered target's name (:data:`TARGETS`: the shipped ones).
-    params_path : path
-        ``params.json`` written by the calibration (or :meth:`FrictionParams.to_json`).
+    params_path : path or None
+        ``params.json`` written by the calibration (or :meth:`FrictionParams.to_json`); with
+        ``zones``, the default law for every name no zone gives (None: an unknown name stops
+        the run).
     out : path
         Output folder; it appears whole or not at all. An earlier export there is replaced only
         with ``force``, and only if the folder holds nothing but that export; any other
-        non-empty folder, or one holding ``params_path``, is refused.
+        non-empty folder, or one holding a parameter file of the export, is refused.
+    zones : sequence of (name, path), or dict
+        A law per tool zone (issue 42): the routine chooses the zone's law by the name its host
+        passes (``zone_by``), compared trimmed and case-insensitive. Routine targets only (not
+        ANSYS, whose argument list is not public, nor the tables).
+    zone_by : str, optional
+        Which name the routine compares: the target's first key by default (the contact
+        interaction's name; LS-DYNA: the interface number ``NOSL``); ``slave`` or ``master``
+        for the Abaqus targets (the surfaces' names).
     units : {"SI", "mm-t-s"}
         Unit system of the host model (Pa, m or MPa, mm).
     k_t : float, optional
-        Constant tangential stick stiffness in Pa/m (overrides the file's calibrated table).
+        Constant tangential stick stiffness in Pa/m (overrides the files' calibrated tables).
     table_tol : float
         Table targets: bound on ``|tau_table - tau| / tau_max`` on first loading.
     force : bool
-        Replace an earlier export in ``out`` (never files the export did not write).
+        Replace an earlier export in ``out`` (never files the export did not write, but for
+        the target's products, such as the ``ccx`` CalculiX's ``build.sh`` links there: they
+        are removed with it and listed in ``ExportResult.removed``).
     accept_failed : bool
         Export a parameter file whose calibration failed or whose fit did not converge (refused
         otherwise, :func:`frictionlaw.params.fit_failure`).
@@ -205,18 +299,25 @@ def export(
     ExportResult
     """
     out = Path(out)
+    products = _targets.target(target).products
+    zone_list = list(zones.items()) if isinstance(zones, dict) else list(zones)
+    inputs = tuple(p for p in (params_path, *(path for _, path in zone_list)) if p is not None)
     with OutputFolder(
         out,
         command="frictionlaw-export",
         what="export",
         force=force,
         require_force=True,
-        inputs=(params_path,),
-        products=_targets.target(target).products,
+        inputs=inputs,
+        products=products,
     ) as folder:
+        # checked replaceable: what a later step added is removed with the earlier export
+        removed = tuple(out / name for name in products if (out / name).exists())
         files, table = render(
             target,
             params_path,
+            zones=zone_list,
+            zone_by=zone_by,
             units=units,
             k_t=k_t,
             table_tol=table_tol,
@@ -228,4 +329,4 @@ def export(
             if name in executable:
                 (folder.tmp / name).chmod(0o755)
         folder.commit()
-    return ExportResult(out, tuple(sorted(files)), table)
+    return ExportResult(out, tuple(sorted(files)), table, removed)

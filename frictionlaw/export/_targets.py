@@ -4,8 +4,8 @@ A :class:`Target` says everything the export writes for a target and how it is t
 host, the generated file and its template, the README's host section, the file's comment style,
 the extra files, and the harness that drives the routine as the host does. Its ``form`` says
 what the file carries: a :class:`Routine` (the law with its history as a Fortran user routine;
-its entry template includes the law core ``core/sbmf_core.f``) or a :class:`Table` (Eq. 24 as
-a friction-coefficient table). Templates are named by their path below ``frictionlaw/export``
+its entry template includes the law core ``core/sbmf_core.f``) or a :class:`Table` (the first
+loading as a friction-coefficient table). Templates are named by their path below ``frictionlaw/export``
 (see :mod:`frictionlaw.export._templates`) or by an absolute path.
 
 Adding a target is one record here (or a :func:`register` call) and its templates; a new law
@@ -19,6 +19,7 @@ from typing import ClassVar
 from ._law import stiffness_spec
 from ._tables import build_table
 from ._templates import template_path
+from ._zones import ZoneKey
 from .harness import FRIC, SBMF_FRICTION, USRFRC, USRFRC_MPP, VFRIC, VFRICTION, Harness
 
 __all__ = [
@@ -109,6 +110,17 @@ class Routine:
     status : bool
         The routine returns its guards' status to its caller (``IERR`` of the host-neutral
         ``SBMF_FRICTION``) instead of reaching the host through ``Host.guards``.
+    implicit : bool
+        The host calls the routine on every Newton iterate and keeps its state only when the
+        increment converges (Abaqus/Standard ``FRIC``, CalculiX): its guards act on the
+        committed ``p_hist`` and ask for a cut-back (``PNEWDT``) where an iterate's pressure is
+        above ``100 H`` (docs/fe_codes.md, "Guards"). False: every call commits (explicit
+        hosts), or the caller decides (``SBMF_FRICTION``).
+    zone_keys : tuple of ZoneKey
+        The names by which a zoned routine (``--zone``) can choose its law, the default first
+        (``--zone-by`` chooses another); empty: the target takes no zones.
+    zone_refusal : str
+        Why the target takes no zones (the message of a zoned export it refuses).
     """
 
     stick: str
@@ -117,6 +129,9 @@ class Routine:
     state_name: str = "DEPVAR"
     units_input: tuple = ("PROPS(1)", "the data line of *FRICTION, USER, PROPERTIES=1")
     status: bool = False
+    implicit: bool = False
+    zone_keys: tuple = ()
+    zone_refusal: str = "takes no zones"
     #: the README's frame (it includes ``stick``, the target's section and ``tested``)
     frame: ClassVar[str] = "readme/routine.md"
     #: ``--k-t`` applies
@@ -135,11 +150,17 @@ class Routine:
 class Table:
     """The first-loading law as a friction-coefficient table, a function of the pressure alone.
 
-    Eq. 24 only: a table carries no history.
+    The first loading of the form the parameter file runs (Eq. 24 or the tabulated first
+    loading): a table carries no history.
     """
 
     frame: ClassVar[str] = "readme/table.md"
     takes_k_t: ClassVar[bool] = False
+    zone_keys: ClassVar[tuple] = ()
+    zone_refusal: ClassVar[str] = (
+        "writes a friction table, one law of the pressure alone for the contact it is "
+        "assigned to: export one table per zone's parameter file instead"
+    )
 
     def decide(self, params, units, k_t, table_tol):
         """``(stiffness, table)``: no stiffness; the table (RuntimeError if ``table_tol`` fails)."""
@@ -265,6 +286,24 @@ CALCULIX = Host(
 #: CalculiX: the patch and its build script ship with the package (frictionlaw/export/calculix)
 CALCULIX_DIR = Path(template_path("calculix"))
 
+# -- the names a zoned routine chooses by (frictionlaw-export --zone, --zone-by) ---------------
+_INTERACTION = "the contact interaction's name"
+_FRIC_KEYS = (
+    ZoneKey("interaction", "CINAME", _INTERACTION),
+    ZoneKey("slave", "SLNAME", "the slave surface's name"),
+    ZoneKey("master", "MSNAME", "the master surface's name"),
+)
+_EXPLICIT_KEYS = (
+    ZoneKey("interaction", "surfInt", _INTERACTION),
+    ZoneKey("slave", "surfSec", "the secondary (slave) surface's name"),
+    ZoneKey("master", "surfMain", "the main (master) surface's name"),
+)
+_LSDYNA_KEYS = (ZoneKey("interface", "NOSL", "the contact interface's number", number=True),)
+_NEUTRAL_KEYS = (ZoneKey("caller", "ZONE", "the zone name the caller passes"),)
+_CALCULIX_KEYS = (
+    ZoneKey("interaction", "CINAME", "the surface interaction's name, which the patch passes"),
+)
+
 # -- the targets -------------------------------------------------------------------------------
 _CHRLNGTH = "abaqus/stick_chrlngth.md"
 _STICK_FORCE = "abaqus/stick_force.md"
@@ -277,7 +316,7 @@ for _record in (
         "sbmf_fric.f",
         "abaqus/fric.f",
         "abaqus/fric.md",
-        Routine(stick=_CHRLNGTH),
+        Routine(stick=_CHRLNGTH, implicit=True, zone_keys=_FRIC_KEYS),
         harness=FRIC,
     ),
     Target(
@@ -290,6 +329,7 @@ for _record in (
             stick=_STICK_FORCE,
             state_name="DEPVAR (nStateVar)",
             units_input=("props(1)", "the data line of *FRICTION, USER=VFRIC, PROPERTIES=1"),
+            zone_keys=_EXPLICIT_KEYS,
         ),
         harness=VFRIC,
     ),
@@ -304,6 +344,7 @@ for _record in (
             state=("state(", ", j, k)"),
             state_name="DEPVAR (nStates)",
             units_input=("props(1)", "the data line of *FRICTION, USER=VFRICTION, PROPERTIES=1"),
+            zone_keys=_EXPLICIT_KEYS,
         ),
         harness=VFRICTION,
     ),
@@ -318,6 +359,7 @@ for _record in (
             state=("UFHIST(", ", ILBSV(II))"),
             state_name="NHV (user friction history variables)",
             units_input=("UA(1)", "the first user parameter of *USER_INTERFACE_FRICTION"),
+            zone_keys=_LSDYNA_KEYS,
         ),
         harness=USRFRC,
     ),
@@ -332,6 +374,7 @@ for _record in (
             state=("UH(", ")"),
             state_name="NH (user friction history variables)",
             units_input=("UC(1)", "the first user parameter of *USER_INTERFACE_FRICTION"),
+            zone_keys=_LSDYNA_KEYS,
         ),
         harness=USRFRC_MPP,
     ),
@@ -347,6 +390,7 @@ for _record in (
             state_name="the history variables",
             units_input=("IUNIT", "SBMF_FRICTION's argument, from the deck's user parameters"),
             status=True,
+            zone_keys=_NEUTRAL_KEYS,
         ),
         harness=SBMF_FRICTION,
     ),
@@ -362,6 +406,9 @@ for _record in (
             state_name="NSVR",
             units_input=("IUNIT", "SBMF_FRICTION's argument, from the TB,FRIC user constants"),
             status=True,
+            zone_refusal="takes no zones: the argument list of ANSYS' userfric is not public, so "
+            "which name of the contact the host could pass is not known (docs/fe_codes.md, "
+            "ANSYS); export one routine per parameter file",
         ),
         harness=SBMF_FRICTION,
     ),
@@ -371,7 +418,17 @@ for _record in (
         "sbmf_fric.f",
         "abaqus/fric.f",  # the abaqus-fric routine, unchanged
         "calculix/calculix.md",
-        Routine(stick=_CHRLNGTH, tested="calculix/tested.md"),
+        Routine(
+            stick=_CHRLNGTH,
+            tested="calculix/tested.md",
+            units_input=(
+                "PROPS(1)",
+                "the data line of *FRICTION, USER, PROPERTIES=1, in a ccx deck the name "
+                "MM-T-S (2.) or SI (1.)",
+            ),
+            implicit=True,
+            zone_keys=_CALCULIX_KEYS,
+        ),
         extras=(
             Extra("ABA_PARAM.INC", "abaqus/ABA_PARAM.INC"),
             Extra(

@@ -2,7 +2,8 @@
 
 Exit codes: 0 written, 1 the export failed (a table that cannot meet its tolerance), 2 bad input
 (unknown target or unit system, unreadable parameter file, out-of-range option, an option that
-does not apply to the target), 130/143 interrupted. The library raises ``ValueError`` (and
+does not apply to the target, a zone the target cannot carry or a bad zone name), 130/143
+interrupted. The library raises ``ValueError`` (and
 ``FileNotFoundError``, ``IsADirectoryError``) for bad input and ``RuntimeError`` for a failed
 export; this module alone turns them into exit codes and one line on stderr.
 """
@@ -23,6 +24,7 @@ from sbmf_cli import (
 
 from ..params import fit_failure
 from . import TARGETS, export
+from ._zones import parse_zone
 
 __all__ = ["build_parser", "main"]
 
@@ -48,7 +50,29 @@ def build_parser():
     )
     add_version(ap)
     ap.add_argument("target", help="one of: " + ", ".join(TARGETS))
-    ap.add_argument("--params", required=True, help="params.json from the calibration")
+    ap.add_argument(
+        "--params",
+        default=None,
+        help="params.json from the calibration: the law (with --zone: the default law for every "
+        "name no zone gives; left out, such a name stops the run; default: none, then --zone "
+        "must give the laws)",
+    )
+    ap.add_argument(
+        "--zone",
+        action="append",
+        default=None,
+        metavar="NAME=PARAMS.json",
+        help="a tool zone's own calibration (repeatable): the routine runs it where the host "
+        "passes NAME (trimmed, case-insensitive; LS-DYNA: the interface number, --zone 3=FILE); "
+        "routine targets but ansys-userfric (default: none, one law everywhere)",
+    )
+    ap.add_argument(
+        "--zone-by",
+        default=None,
+        help="which name a zoned routine compares: interaction (Abaqus CINAME, surfInt; "
+        "CalculiX CINAME), slave or master (Abaqus: the surfaces' names); LS-DYNA: interface "
+        "(NOSL) only (default: the target's first, interaction or interface)",
+    )
     ap.add_argument("--out", required=True, help="output folder (must not exist unless --force)")
     ap.add_argument("--units", default="SI", help="SI (Pa, m) or mm-t-s (MPa, mm)")
     ap.add_argument(
@@ -86,12 +110,19 @@ def main(argv=None):
     args, code = parse(ap, argv)
     if args is None:
         return code
-    con = Console("frictionlaw-export", quiet=args.quiet, flags=flags_of(ap))
+    con = Console(
+        "frictionlaw-export",
+        quiet=args.quiet,
+        flags=flags_of(ap, params_path="--params", zones="--zone"),
+    )
     try:
+        zones = [parse_zone(z) for z in args.zone or ()]
         res = export(
             args.target,
             args.params,
             args.out,
+            zones=zones,
+            zone_by=args.zone_by,
             units=args.units,
             k_t=args.k_t,
             table_tol=args.table_tol,
@@ -102,7 +133,14 @@ def main(argv=None):
         return con.error(exc, 2)
     except RuntimeError as exc:
         return con.error(f"the export failed: {exc}", 1)
-    _warn_failed(con, args.params, args.accept_failed_fit)
+    for path in (args.params, *(path for _, path in zones)):
+        if path is not None:
+            _warn_failed(con, path, args.accept_failed_fit)
+    for path in res.removed:
+        con.warn(
+            f"frictionlaw-export: removed {path}, built from the export it replaced; build it "
+            "again for the new one (build.sh in the folder)"
+        )
     con.result(f"wrote {', '.join(res.files)} to {res.out}")
     if res.table is not None:
         con.result(

@@ -9,7 +9,8 @@ cases. ``ABA_PARAM.INC`` and ``vaba_param.inc`` are replaced by stubs with Abaqu
 content (implicit double precision), LS-DYNA's ``iounits.inc`` by a stub with its output units.
 The hosts' message and exit routines are emulated too (Abaqus' ``STDB_ABQERR``/``XIT`` and
 ``XPLB_ABQERR``/``XPLB_EXIT``, LS-DYNA's output units): a driver's :meth:`~FricLib.log` returns
-what the routine's guards wrote, :meth:`~FricLib.exits` how often it ended the analysis. The
+what the routine's guards wrote, :meth:`~FricLib.exits` how often it ended the analysis;
+:meth:`FricLib.increment` emulates Abaqus' automatic incrementation, acting on ``PNEWDT``. The
 deck's unit system (the routines' unit property, docs/fe_codes.md "Guards") is the driver's
 ``deck_units``: by default the one the routine was exported for. Needs ``gfortran``.
 
@@ -25,12 +26,14 @@ import ctypes
 import re
 import shutil
 import subprocess
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from ._harness_base import _f, _Host, _name80, _ptr
+from ._harness_lsdyna import UsrfrcLib, UsrfrcMppLib
+from ._host_increment import Attempt, Increment, run_increment
 from ._law import UNIT_SYSTEMS, StiffnessSpec, core_context
 from ._templates import render_template, template_path
 
@@ -40,6 +43,8 @@ __all__ = [
     "build",
     "coulomb_source",
     "FricLib",
+    "Attempt",
+    "Increment",
     "VfricLib",
     "VfrictionLib",
     "UsrfrcLib",
@@ -210,60 +215,17 @@ def coulomb_source(params):
     """
     context = core_context(params, UNIT_SYSTEMS["SI"], StiffnessSpec("host"))
     context["guard_text"] = context["guard"].messages("state variables", ("IUNIT", "its value"))
+    context["guard_kinds"] = 6
     return render_template("shims/coulomb.f", guards=True, **context)
-
-
-def _f(a):
-    return np.ascontiguousarray(a, dtype=np.float64)
-
-
-def _ptr(a):
-    return a.ctypes.data_as(ctypes.c_void_p)
-
-
-class _Host:
-    """What every driver shares: the emulated deck's unit value and the host's message log.
-
-    ``deck_units`` is the value the emulated deck states its unit system with (the routines'
-    unit property: 1 SI, 2 mm-t-s, any other number to test the guard; None: the deck states
-    none, e.g. ``NPROPS = 0``).
-    """
-
-    def __init__(self, lib, deck_units=None):
-        self._lib = lib
-        self.deck_units = deck_units
-        lib.h_log_read.restype = ctypes.c_int
-        lib.h_log_exits.restype = ctypes.c_int
-
-    def _props(self, dtype=np.float64):
-        """``(count, array)`` of the unit property as the shim passes it."""
-        if self.deck_units is None:
-            return 0, np.zeros(1, dtype)
-        return 1, np.array([self.deck_units], dtype)
-
-    def log(self):
-        """What the routine wrote through the host's message routine since the last call.
-
-        A list of ``(LOP, text)`` (Abaqus' ``LOP``: -3 error, -1 warning, 1 information).
-        """
-        buf = ctypes.create_string_buffer(200_000)
-        n = self._lib.h_log_read(buf, len(buf))
-        out = []
-        for line in buf.raw[:n].decode().splitlines():
-            lop, text = line.split("|", 1)
-            out.append((int(lop), text))
-        return out
-
-    def exits(self, reset=True):
-        """How often the routine called the host's error exit (since the last reset)."""
-        return int(self._lib.h_log_exits(ctypes.c_int(1 if reset else 0)))
 
 
 class FricLib(_Host):
     """Abaqus/Standard ``FRIC`` called per contact point as Abaqus does.
 
     The unit property is ``PROPS(1)`` (``NPROPS = 0`` when ``deck_units`` is None). After an
-    error exit (``XIT``) the remaining points are not called: their outputs are NaN.
+    error exit (``XIT``) the remaining points are not called: their outputs are NaN. ``PNEWDT``
+    is set to a large value before each call (as Abaqus does) and returned per point;
+    :meth:`increment` emulates the automatic incrementation that acts on it.
     """
 
     def __init__(self, lib, deck_units=None):
@@ -271,12 +233,31 @@ class FricLib(_Host):
         self._fn = lib.h_fric
         self._fn.restype = None
 
-    def __call__(self, press, dgam, tau_start, statev_start, chrlngth, reps=1, out=None):
+    def __call__(
+        self,
+        press,
+        dgam,
+        tau_start,
+        statev_start,
+        chrlngth,
+        reps=1,
+        out=None,
+        *,
+        kstep=1,
+        kinc=1,
+        dtime=1.0,
+        ciname="CP",
+        slname="SLAVE",
+        msname="MASTER",
+    ):
         """One iteration: every point gets the start-of-increment ``TAU`` and ``STATEV``.
 
         Arrays are (n,), (n, nd), (n, nd), (n, nstatv), (n,); returns a dict of outputs
         (``out``: a dict a former call returned, reused; ``reps``: the points called that many
-        times, for timing).
+        times, for timing). ``kstep``, ``kinc``, ``dtime``: the step, the increment and its
+        size (``KSTEP``, ``KINC``, ``DTIME``) of every call; ``ciname``, ``slname``,
+        ``msname``: the contact interaction's and the surfaces' names (``CHARACTER*80``) every
+        call passes (a zoned routine chooses its law by one of them).
         """
         press, dgam, tau_start, sv = map(_f, (press, dgam, tau_start, statev_start))
         chr_ = _f(np.broadcast_to(chrlngth, press.shape))
@@ -292,6 +273,7 @@ class FricLib(_Host):
                 "lm": np.full(n, -1, np.int32),
                 "sed": np.full(n, np.nan),
                 "sfd": np.full(n, np.nan),
+                "pnewdt": np.full(n, np.nan),
             }
         else:  # a former call's outputs: DDTDDG back to the Fortran layout (a view)
             out = {**out, "ddtddg": out["ddtddg"].transpose(0, 2, 1)}
@@ -304,11 +286,29 @@ class FricLib(_Host):
             ctypes.c_int(reps),
             ctypes.c_int(nprops),
             _ptr(props),
+            ctypes.c_int(kstep),
+            ctypes.c_int(kinc),
+            ctypes.c_double(dtime),
             *map(_ptr, (press, dgam, tau_start, sv, chr_)),
             *map(_ptr, out.values()),
+            *map(_name80, (ciname, slname, msname)),
         )
         # Fortran DDTDDG(a, b) -> row-major [b, a] in memory: transposed to [a, b] (a view)
         return {**out, "ddtddg": out["ddtddg"].transpose(0, 2, 1)}
+
+    def increment(self, iterates, dgam, tau_start, statev_start, chrlngth, **options):
+        """One increment of Abaqus' automatic incrementation, acting on ``PNEWDT``.
+
+        ``iterates(dtime)`` gives the Newton iterates of an attempt of size ``dtime``: a
+        sequence of pressure arrays (n,), the last one its converged state. Every iterate calls
+        ``FRIC`` at every point with the start-of-increment ``TAU`` and ``STATEV``; a
+        ``PNEWDT < 1`` abandons the attempt and retries it at ``PNEWDT`` times its size.
+        ``options``: ``kstep``, ``kinc``, ``dtime`` (the first attempt's size; 1, 1, 1.0),
+        ``max_cutbacks`` (5, Abaqus' ``IA``), ``names`` (``{"ciname": ...}``, the names every
+        call passes). Returns an :class:`Increment` (its ``out``: the
+        converged iterate's outputs, whose ``statev`` the host commits).
+        """
+        return run_increment(self, iterates, dgam, tau_start, statev_start, chrlngth, **options)
 
 
 class VfricLib(_Host):
@@ -322,8 +322,14 @@ class VfricLib(_Host):
         self._fn = lib.h_vfric
         self._fn.restype = None
 
-    def __call__(self, f_normal, f_stick, area, statev):
-        """``statev`` (n, nstatev) is updated in place; returns ``fTangential`` (n, 2)."""
+    def __call__(
+        self, f_normal, f_stick, area, statev, *, surf_int="SBMF", surf_sec="SEC", surf_main="MAIN"
+    ):
+        """``statev`` (n, nstatev) is updated in place; returns ``fTangential`` (n, 2).
+
+        ``surf_int``, ``surf_sec``, ``surf_main``: the names the call passes (``surfInt``, the
+        contact pair's interaction; ``surfSec``, ``surfMain``, its surfaces).
+        """
         f_normal, f_stick, area = map(_f, (f_normal, f_stick, area))
         if not (statev.flags.c_contiguous and statev.dtype == np.float64):
             raise ValueError("statev must be a C-contiguous float64 array")
@@ -338,15 +344,18 @@ class VfricLib(_Host):
             *map(_ptr, (f_normal, f_stick, area)),
             _ptr(statev),
             _ptr(ft),
+            *map(_name80, (surf_int, surf_sec, surf_main)),
         )
         return ft
 
 
 class GenericLib(_Host):
-    """The host-neutral ``SBMF_FRICTION`` over many contact points (LS-DYNA, ANSYS glue).
+    """The host-neutral entry over many contact points (LS-DYNA, ANSYS glue).
 
-    The unit property is the argument ``IUNIT`` (0 when ``deck_units`` is None); the guards'
-    status comes back per point as ``ierr``.
+    :meth:`friction` calls ``SBMF_FRICTION_V`` (interface version 2: the zone's name, the bulk
+    strain, the state array), calling the instance the deprecated ``SBMF_FRICTION`` (version 1,
+    a wrapper of it). The unit property is the argument ``IUNIT`` (0 when ``deck_units`` is
+    None); the guards' status comes back per point as ``ierr``.
     """
 
     def __init__(self, lib, deck_units=None):
@@ -354,6 +363,8 @@ class GenericLib(_Host):
         self._fn = lib.h_generic
         self._fn.restype = None
         lib.h_message.restype = ctypes.c_int
+        lib.h_zmessage.restype = ctypes.c_int
+        lib.h_generic_v.restype = None
 
     def message(self, kind, value=0.0):
         """``SBMF_MESSAGE``'s text for ``kind`` (``abs(ierr)``) and ``value``."""
@@ -390,6 +401,51 @@ class GenericLib(_Host):
         )
         return out
 
+    def friction(self, zone, p, state, du, t_old, k_host, *, deps=0.0, sigy=0.0, version=2, reps=1):
+        """Call ``SBMF_FRICTION_V`` (interface version 2) for every point ``reps`` times.
+
+        ``zone``: the name every call passes; ``state`` (n, nstate): the committed state,
+        updated in place to the trial state; ``deps``, ``sigy``: the bulk plastic strain
+        increment and flow stress per point (or scalars); ``version``: the ``IVERS`` passed.
+        Returns a dict: ``t``, ``dt_ddu``, ``dt_dp``, ``status``, ``ierr``.
+        """
+        p, du, t_old = map(_f, (p, du, t_old))
+        if not (state.flags.c_contiguous and state.dtype == np.float64 and state.ndim == 2):
+            raise ValueError("state must be a C-contiguous float64 array (n, nstate)")
+        kh, de, sy = (_f(np.broadcast_to(v, p.shape)) for v in (k_host, deps, sigy))
+        n, nd = du.shape
+        out = {
+            "t": np.empty((n, nd)),
+            "dt_ddu": np.empty((n, nd, nd)),
+            "dt_dp": np.empty((n, nd)),
+            "status": np.empty(n, np.int32),
+            "ierr": np.empty(n, np.int32),
+        }
+        name = str(zone).encode("ascii")
+        iunit = 0 if self.deck_units is None else int(self.deck_units)
+        self._lib.h_generic_v(
+            ctypes.c_int(n),
+            ctypes.c_int(nd),
+            ctypes.c_int(reps),
+            ctypes.c_int(iunit),
+            ctypes.c_int(version),
+            ctypes.create_string_buffer(name, max(len(name), 1)),
+            ctypes.c_int(len(name)),
+            ctypes.c_int(state.shape[1]),
+            *map(_ptr, (p, du, t_old, kh, de, sy, state)),
+            *map(_ptr, out.values()),
+        )
+        return out
+
+    def zone_message(self, zone):
+        """``SBMF_ZMESSAGE``'s text for the zone name ``zone`` (status -7)."""
+        name = str(zone).encode("ascii")
+        buf = ctypes.create_string_buffer(400)
+        n = self._lib.h_zmessage(
+            ctypes.create_string_buffer(name, max(len(name), 1)), ctypes.c_int(len(name)), buf, 400
+        )
+        return buf.raw[:n].decode()
+
     @staticmethod
     def tangent(out):
         """``dt_ddu`` as [node, a, b] (the Fortran array is column-major per node)."""
@@ -407,8 +463,14 @@ class VfrictionLib(_Host):
         self._fn = lib.h_vfriction
         self._fn.restype = None
 
-    def __call__(self, f_normal, f_stick, area, state):
-        """``state`` (n, nNodState, nStates) is updated in place; returns ``fTangential`` (n, 2)."""
+    def __call__(
+        self, f_normal, f_stick, area, state, *, surf_int="SBMF", surf_slv=" ", surf_mst=" "
+    ):
+        """``state`` (n, nNodState, nStates) is updated in place; returns ``fTangential`` (n, 2).
+
+        ``surf_int``, ``surf_slv``, ``surf_mst``: the names the call passes (``surfInt``,
+        ``surfSlv``, ``surfMst``).
+        """
         f_normal, f_stick, area = map(_f, (f_normal, f_stick, area))
         if not (state.flags.c_contiguous and state.dtype == np.float64):
             raise ValueError("state must be a C-contiguous float64 array")
@@ -424,116 +486,11 @@ class VfrictionLib(_Host):
             *map(_ptr, (f_normal, f_stick, area)),
             _ptr(state),
             _ptr(ft),
+            *map(_name80, (surf_int, surf_slv, surf_mst)),
         )
         return ft
 
 
-def _host(a, dtype):
-    a = np.ascontiguousarray(a, dtype=dtype)
-    return a
-
-
-class _LsdynaHost(_Host):
-    """LS-DYNA's output units (``IOTTY``, ``IOHSP``, ``IOMSG``) as files in a folder of its own."""
-
-    def __init__(self, lib, dtype, deck_units=None):
-        super().__init__(lib, deck_units)
-        self.dtype = dtype
-        self.units_dir = Path(tempfile.mkdtemp(prefix="sbmf_lsdyna_"))
-        self._read = {"tty": 0, "d3hsp": 0, "messag": 0}
-        path = str(self.units_dir).encode()
-        lib.h_lsdyna_open(ctypes.c_char_p(path), ctypes.c_int(len(path)))
-
-    def log(self):
-        """What the routine wrote to LS-DYNA's output units since the last call.
-
-        ``{"tty": lines, "d3hsp": lines, "messag": lines}`` (the files stay in ``units_dir``).
-        """
-        self._lib.h_lsdyna_flush()
-        out = {}
-        for k, done in self._read.items():
-            lines = (self.units_dir / f"{k}.txt").read_text().splitlines()
-            out[k] = lines[done:]
-            self._read[k] = len(lines)
-        return out
-
-
-class UsrfrcLib(_LsdynaHost):
-    """LS-DYNA SMP ``usrfrc``: one call per cycle for the active slave nodes.
-
-    ``dtype`` is the host REAL (``np.float32`` for SP, ``np.float64`` for DP builds). The unit
-    property is ``UA(1)`` (``NINPUT = 0`` when ``deck_units`` is None).
-    """
-
-    def __init__(self, lib, dtype, deck_units=None):
-        super().__init__(lib, dtype, deck_units)
-        self._fn = lib.h_usrfrc
-        self._fn.restype = None
-
-    def __call__(self, active, ilbsv, fni, areas, stfk, sfacn3, d, rn, fdat, fxyz, ufhist):
-        """``fdat`` (n, 5), ``fxyz`` (n, 3), ``ufhist`` (n_hist, nhv) are updated in place.
-
-        ``active``: 0-based indices of the active slave nodes (LS-DYNA's ``iisv5``);
-        ``ilbsv``: 0-based history row of each slave node.
-        """
-        dt = self.dtype
-        for a in (fdat, fxyz, ufhist):
-            if not (a.flags.c_contiguous and a.dtype == dt):
-                raise ValueError(f"fdat, fxyz, ufhist must be C-contiguous {np.dtype(dt)}")
-        n = fdat.shape[0]
-        nhv = ufhist.shape[1]
-        iact = np.ascontiguousarray(np.asarray(active) + 1, dtype=np.int32)
-        ilb = np.ascontiguousarray(np.asarray(ilbsv) + 1, dtype=np.int32)
-        ins = [_host(v, dt) for v in (fni, areas, stfk, [sfacn3], d, rn)]
-        nua, ua = self._props(dt)
-        self._fn(
-            ctypes.c_int(n),
-            ctypes.c_int(iact.size),
-            ctypes.c_int(nhv),
-            ctypes.c_int(nua),
-            _ptr(ua),
-            _ptr(iact),
-            _ptr(ilb),
-            *map(_ptr, ins),
-            _ptr(fdat),
-            _ptr(fxyz),
-            _ptr(ufhist),
-        )
-
-
-class UsrfrcMppLib(_LsdynaHost):
-    """LS-DYNA MPP ``usrfrc``: one call per slave node; returns ``(fstt, fdyn)`` per node.
-
-    The unit property is ``UC(1)`` (``NC = 0`` when ``deck_units`` is None).
-    """
-
-    def __init__(self, lib, dtype, deck_units=None):
-        super().__init__(lib, dtype, deck_units)
-        self._fn = lib.h_usrfrc_mpp
-        self._fn.restype = None
-
-    def __call__(self, prs, uh):
-        """``uh`` (n, nh) of the host REAL is updated in place; returns (n, 2)."""
-        dt = self.dtype
-        if not (uh.flags.c_contiguous and uh.dtype == dt):
-            raise ValueError(f"uh must be a C-contiguous {np.dtype(dt)} array")
-        prs = _host(prs, dt)
-        n, nh = uh.shape
-        mu = np.empty((n, 2), dt)
-        nuc, uc = self._props(dt)
-        self._fn(
-            ctypes.c_int(n),
-            ctypes.c_int(nh),
-            ctypes.c_int(nuc),
-            _ptr(uc),
-            _ptr(prs),
-            _ptr(uh),
-            _ptr(mu),
-        )
-        return mu
-
-
-#: Abaqus/Standard ``FRIC`` (``abaqus-fric``, ``calculix``)
 FRIC = Harness("shims/fric.f90", FricLib)
 #: Abaqus/Explicit ``VFRIC`` (``abaqus-vfric``)
 VFRIC = Harness("shims/vfric.f90", VfricLib, ("shims/explicit_utilities.f90",))

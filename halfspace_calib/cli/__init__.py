@@ -30,15 +30,21 @@ from sbmf_cli import (
 from ..output.hardness import write_hardness_fit
 from ..output.report import write_outputs
 from ..pipeline.calibration import Scene, calibrate, load_scene, load_scene_surfaces
+from ..pipeline.lateral_scale import FIRST_LEVEL_P, SLOPE_RANGE
 from ..pipeline.scene import BOUNDARIES, MIN_TOL, PAPER_PRESSURES
 from ..pipeline.scene_surfaces import (
     ELEMENTS_PER_LAMBDA_S,
     ISO_SAMPLING_RATIO,
     MAX_DEFAULT_GRID,
 )
+from ._flattening import (
+    add_flattening_options,
+    flattening_input,
+    flattening_lines,
+    with_flattening,
+)
 from ._law import add_law_options, law_lines
 from ._paths import (
-    FAILED_PARAMS,
     after_contact,
     exit_code,
     fit_h,
@@ -47,13 +53,8 @@ from ._paths import (
     run_inputs,
     sample_spec,
 )
+from ._report import print_effects, print_input, print_resolution, ran
 
-#: the boundaries in words (the input summary)
-_KIND = {
-    "periodic": "the patch is one period, FFT",
-    "mirror": "the patch's mirror-symmetric extension, cosine transforms; the default for files",
-    "isolated": "a finite body, zero-padded DC-FFT",
-}
 #: files that mark a folder as a calibration output (a rerun may replace it)
 #: the Scene's defaults, shown in --help
 _D = {f.name: f.default for f in fields(Scene)}
@@ -117,6 +118,25 @@ def build_parser():
         metavar=("LX", "LY"),
         help="physical size of plain height matrices (m): one value (square) or two (rows, "
         "columns); default: none, required for plain matrices",
+    )
+    for role in ("workpiece", "tool"):
+        g.add_argument(
+            f"--{role}-size",
+            type=float,
+            nargs="+",
+            metavar=("LX", "LY"),
+            help=f"physical size of every {role} file (m; one value: square, two: rows, columns), "
+            "overriding the size the file carries (a wrong header or instrument calibration; "
+            "the file's own size is recorded beside it); default: none, the file's own",
+        )
+    g.add_argument(
+        "--smooth-pair",
+        action="store_true",
+        default=None,
+        help="state that the pair is truly this smooth: an RMS slope below "
+        f"{SLOPE_RANGE[0]:g} is not refused and full contact at a first load level below "
+        f"{FIRST_LEVEL_P:g} H does not fail the run (default: off; both most likely mean a "
+        "lateral size in the wrong unit)",
     )
     g.add_argument(
         "--crop-size",
@@ -325,6 +345,7 @@ def build_parser():
         help="the band from the resamples: t (pooled value -+ Student t x bootstrap standard "
         "error, the small-sample correction) or percentile (default t)",
     )
+    add_flattening_options(ap)
     add_common_options(ap)
     return ap
 
@@ -340,6 +361,9 @@ def scene_from_args(args):
             "workpiece_unit",
             "tool_unit",
             "size",
+            "workpiece_size",
+            "tool_size",
+            "smooth_pair",
             "crop_size",
             "max_undefined",
             "lambda_s",
@@ -380,10 +404,13 @@ def scene_from_args(args):
     for role in ("workpiece", "tool"):  # several files: the first here, all in sample_spec
         if over[role] is not None:
             over[role] = over[role][0]
-    if over["size"] is not None:
-        if len(over["size"]) > 2:
-            raise ValueError(f"--size takes one or two lengths (m), got {len(over['size'])}")
-        over["size"] = over["size"][0] if len(over["size"]) == 1 else tuple(over["size"])
+    for name in ("size", "workpiece_size", "tool_size"):
+        v = over[name]
+        if v is not None:
+            flag = "--" + name.replace("_", "-")
+            if len(v) > 2:
+                raise ValueError(f"{flag} takes one or two lengths (m), got {len(v)}")
+            over[name] = v[0] if len(v) == 1 else tuple(v)
     if args.sliding:
         from ..pipeline.effects import check_effects
 
@@ -415,6 +442,7 @@ def main(argv=None):
     try:
         scene = scene_from_args(args)
         spec = sample_spec(args, scene)
+        flat = flattening_input(args, spec)
         if spec.multi:
             if args.after_contact is not None:
                 raise ValueError(
@@ -437,18 +465,14 @@ def main(argv=None):
         return con.error(exc, 2)
     with folder:
         try:
-            _print_input(con, scene, surfaces, derived=scene.grid is None)
+            print_input(con, scene, surfaces, derived=scene.grid is None)
             if data is not None:
                 try:
                     hfit, scene = fit_h(con, args, scene, surfaces, data)
                 except ValueError as exc:
                     return con.error(exc, 2)
             progress = not (args.quiet or args.no_progress)
-            cal = calibrate(
-                scene,
-                progress=progress,
-                surfaces=surfaces,
-            )
+            cal = with_flattening(calibrate(scene, progress=progress, surfaces=surfaces), *flat)
             write_outputs(cal, folder.tmp, clock=process_seconds)
             run_seconds = json.loads((folder.tmp / "summary.json").read_text())["command_seconds"]
             if hfit is not None:
@@ -463,7 +487,7 @@ def main(argv=None):
     P = cal.params
     s = cal.summary()
     say = con.result
-    say(_ran(run_seconds, cal.seconds, out, cal.problems()))
+    say(ran(run_seconds, cal.seconds, out, cal.problems()))
     for line in law_lines(cal, s):
         say(line)
     say(f"  Coulomb slope mu_eff = {P.mu_eff:.4f}, cap m k = {P.tau_max / 1e6:.1f} MPa")
@@ -476,88 +500,13 @@ def main(argv=None):
         f"  reloads: largest local pressure {s['max_reload_pressure_over_H']:.3f} H, "
         f"plastic fraction {s['max_reload_plastic_fraction']:.4f}"
     )
-    _print_effects(con, cal, out)
-    _print_resolution(con, cal.resolution)
+    print_effects(con, cal, out)
+    for line in flattening_lines(cal):
+        say(line)
+    print_resolution(con, cal.resolution)
     for note in cal.notes:  # what calibrate() decided on its own: stderr
         con.warn(f"halfspace-calib: note: {note}")
     return exit_code(con, cal.problems())
-
-
-def _ran(run_seconds, solve_seconds, out, problems):
-    """The first summary line: how long, and which parameter file (only the one written)."""
-    took = f"{run_seconds:.1f} s ({solve_seconds:.1f} s of it solving and fitting)"
-    if problems:
-        return f"calibration FAILED after {took} -> {out / FAILED_PARAMS} (marked failed)"
-    return f"calibrated in {took} -> {out / 'params.json'}"
-
-
-def _print_input(con, scene, surfaces, derived=False):
-    """What was read and done to each file, the grid and the periodicity."""
-    for f in surfaces.files:
-        con.result(
-            f"  {f.role}: {f.path} [{f.format}], {f.native_shape[0]} x {f.native_shape[1]} points, "
-            f"{f.native_size[0] * 1e6:.4g} x {f.native_size[1] * 1e6:.4g} um, heights in "
-            f"{f.unit} ({f.unit_source}), undefined {f.undefined_points} "
-            f"({100 * f.undefined_fraction:.2f} %), Rq {f.rq_scan * 1e9:.4g} nm (levelled scan), "
-            f"{f.rq_patch * 1e9:.4g} nm on the {f.crop_size * 1e6:.4g} um patch at the grid's "
-            "elements"
-        )
-        for step in f.steps:
-            con.result(f"    - {step}")
-    if surfaces.files:
-        lam = surfaces.lambda_s
-        con.result(
-            "  short-wavelength cut-off "
-            + (
-                f"lambda_s = {lam * 1e6:.4g} um ({surfaces.lambda_s_source}), "
-                f"{lam / surfaces.workpiece.dx:.3g} elements per lambda_s"
-                if lam
-                else "none (lambda_s = 0: the scan's pixel and the grid set it)"
-            )
-            + (
-                f"; L-filter lambda_c = {surfaces.lambda_c * 1e6:.4g} um"
-                if surfaces.lambda_c
-                else ""
-            )
-        )
-    for note in surfaces.notes:
-        con.warn(f"halfspace-calib: warning: {note}")
-    w = surfaces.workpiece
-    con.result(
-        f"  solver grid {surfaces.grid} x {surfaces.grid}"
-        + (" (default rule for files)" if derived else "")
-        + f", element {w.dx * 1e6:.4g} um, boundary {scene.boundary} ({_KIND[scene.boundary]})"
-    )
-
-
-def _print_resolution(con, rc):
-    if rc is None:
-        return
-    if rc.skipped:
-        con.result(f"  resolution check skipped: {rc.skipped}")
-        return
-    con.result(
-        f"  resolution check (grid {rc.grid} against {rc.half_grid}, {rc.seconds:.1f} s): "
-        + ", ".join(
-            f"{k} {a:.4g} -> {b:.4g} ({100 * d:.1f} %)" for k, (a, b, d) in rc.params.items()
-        )
-        + f"; alpha up to {100 * rc.alpha_change:.1f} %"
-    )
-    if rc.warning:
-        con.warn(f"halfspace-calib: WARNING: {rc.warning}")
-
-
-def _print_effects(con, cal, out):
-    """One block per modelled effect besides the normal sweeps (through the effects registry).
-
-    The registry's ``WARNING`` lines (a failed effect solve) go to stderr, the rest to stdout.
-    """
-    con.result(f"  effects modelled: {', '.join(cal.scene.effects)}")
-    for line in cal.effect_lines(out):
-        if line.lstrip().startswith("WARNING"):
-            con.warn(f"halfspace-calib: {line.strip()}")
-        else:
-            con.result(line)
 
 
 if __name__ == "__main__":

@@ -1,4 +1,10 @@
-"""The law's options of the command, and the console lines of a calibrated law."""
+"""The law's options of the command, and the console lines of a calibrated law.
+
+The lines name each branch's form that runs, its errors and the form beside it, built from the
+description every report shares (:func:`frictionlaw.describe.describe_law`, in ``summary.json``
+as ``law``), so that the console, ``summary.json``, ``report.html`` and the plots name the same
+law.
+"""
 
 from ..pipeline.forms import form_names
 
@@ -55,73 +61,21 @@ def add_law_options(g, _D):
     )
 
 
-def _err(e):
-    """``max / rms`` of a branch's errors: in sample, held out, and the extrapolations."""
-    held = (
-        f"held out {e['heldout_max']:.4f} / {e['heldout_rms']:.4f}"
-        if e["heldout_max"] is not None
-        else "held out: too few levels"
-    )
-    ext = e["extrapolation"]
-    ext = f", top level extrapolated {ext['max_abs']:.4f}" if ext else ""
-    low = e.get("extrapolation_below")
-    low = f", lowest {low['max_abs']:.4f}" if low else ""
-    return (
-        f"|d alpha| max / rms in sample {e['in_sample_max']:.4f} / {e['in_sample_rms']:.4f}, "
-        f"{held}{ext}{low}"
-    )
-
-
-def _first_labels(cal, s):
-    P = cal.params
-    labels = {
-        "eq24": f"Eq. 24: C1 = {P.C1:.4g}, n1 = {P.n1:.4g}  (R^2 = {s['first_loading_r2']:.5f})"
-    }
-    t = cal.first_fits.get("tabulated")
-    if t is not None:
-        p = t.table.p
-        labels["tabulated"] = (
-            f"first loading tabulated: the computed points ({len(p)} levels {p[0] / 1e6:.4g}-"
-            f"{p[-1] / 1e6:.4g} MPa), monotone cubic in ln p, Coulomb below the lowest"
-        )
-    return labels
-
-
-def _reload_labels(cal, s):
-    P = cal.params
-    labels = {"paper": f"Eq. 25: C2 = {P.C2:.4g}, n2 = {P.n2:.4g}  (R^2 = {s['reload_r2']:.5f})"}
-    if cal.reload_table is not None:
-        t = cal.reload_table.table
-        labels["tabulated"] = (
-            f"Eq. 25 tabulated over p_hist ({len(t.p_hist)} levels {t.p_hist[0] / 1e6:.4g}-"
-            f"{t.p_hist[-1] / 1e6:.4g} MPa): C2 {min(t.C2):.4g}-{max(t.C2):.4g}, n2 "
-            f"{min(t.n2):.4g}-{max(t.n2):.4g}, s2 = {t.s2:.4g}"
-        )
-    return labels
-
-
-def _branch(branch, running, labels, err):
-    lines = [f"  {labels.get(running, running)}", "    " + _err(err[branch])]
-    for name, label in labels.items():
-        key = f"{branch}_{name}"
-        if name != running and key in err:
-            lines += [f"  beside it, {label}", "    " + _err(err[key])]
-    return lines
-
-
 def law_lines(cal, s):
-    """The console lines of the fitted law: each branch with its measured errors."""
-    err = s["errors"]
-    lines = _branch("first_loading", cal.first_loading_form, _first_labels(cal, s), err)
-    lines += _branch("reload", cal.reload_form, _reload_labels(cal, s), err)
+    """The console lines of the law ``params.json`` runs, with the forms beside it.
+
+    ``s``: the calibration's summary (its ``law`` record, the drop at ``p_hist``, the reload
+    curves below first loading, the fits' notes).
+    """
+    from frictionlaw.describe import describe_law
+
+    law = describe_law(cal.params)
+    lines = [f"  the law the parameter file runs: {law.forms_label()}"]
+    lines += [f"  {line}" for line in law.lines()]
     below = s.get("reload_below_first") or {}
-    variant = (
-        "continuous (meets first loading at p_hist)" if s.get("continuous_reload") else "as printed"
-    )
     lines.append(
-        f"  reload branch {variant}: largest drop at p_hist {100 * s['max_jump_relative']:.2f} % "
-        f"of tau; reload curves below first loading by at most {below.get('max', 0.0):.4f} in "
-        "alpha"
+        f"  largest drop at p_hist {100 * s['max_jump_relative']:.2f} % of tau; reload curves "
+        f"below first loading by at most {below.get('max', 0.0):.4f} in alpha (the forms that run)"
     )
     lines += [f"  note: {n}" for n in s["fit_notes"]]
     if cal.sweeps.plan is not None:

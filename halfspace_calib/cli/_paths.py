@@ -27,7 +27,8 @@ from ..pipeline.hardness import (
 
 def run_inputs(args, scene=None):
     """The files a calibration reads (its output folder may not hold any of them)."""
-    files = [args.scene, args.after_contact, *(args.workpiece or ()), *(args.tool or ())]
+    files = [args.scene, args.after_contact, getattr(args, "flattening_data", None)]
+    files += [*(args.workpiece or ()), *(args.tool or ())]
     if scene is not None:
         files += [scene.workpiece, scene.tool]
     return tuple(f for f in files if isinstance(f, str | Path))

@@ -11,7 +11,9 @@ from __future__ import annotations
 import html
 from pathlib import Path
 
-from sbmf_cli.htmlpage import figure, number_cell, page
+from sbmf_cli.htmlpage import figure, law_section, number_cell, page
+
+from .flattening import flattening_section
 
 __all__ = ["write_report"]
 
@@ -23,34 +25,20 @@ def _list(items, cls=""):
     return "<ul>" + "".join(f"<li{c}>{html.escape(str(i))}</li>" for i in items) + "</ul>"
 
 
-def _params_table(s):
+def _checks_table(s):
+    """The checks of the fit beside the law: the drop at p_hist, the bound alpha >= p/H."""
     rows = [
-        ("C1", "Eq. 24", ""),
-        ("n1", "Eq. 24", ""),
-        ("C2", "Eq. 25", ""),
-        ("n2", "Eq. 25", ""),
-        ("mu_eff", "Coulomb slope tau / p at p -> 0 of the first loading that runs", ""),
-        ("tau_max", "cap m k", "Pa"),
-        ("m", "Tresca factor (input)", ""),
-        ("sigma_y", "yield stress (input)", "Pa"),
-        ("H", "hardness (input)", "Pa"),
-        ("first_loading_r2", "R^2 of Eq. 24", ""),
-        ("reload_r2", "R^2 of Eq. 25", ""),
-        ("max_jump_relative", "largest drop at p_hist / tau (dense p_hist grid)", ""),
-        (
-            "alpha_bound_violation_to_p_max",
-            "largest p/H - alpha1(p) up to p_max (bound alpha >= p/H)",
-            "",
-        ),
-        ("alpha_bound_violation_to_H", "largest p/H - alpha1(p) up to H (Eq. 24 < 1 at H)", ""),
-        ("alpha1_at_H", "alpha1(H) of Eq. 24 (the model's limit: 1)", ""),
-        ("alpha_bound_r2_cost", "R^2 given up for the bound alpha1 >= p/H", ""),
+        ("heldout_tol", "tolerance of the held-out |d alpha| (--heldout-tol)"),
+        ("max_jump_relative", "largest drop at p_hist / tau, of the form that runs"),
+        ("alpha_bound_violation_to_p_max", "largest p/H - alpha1(p) up to p_max (alpha >= p/H)"),
+        ("alpha_bound_violation_to_H", "largest p/H - alpha1(p) up to H (Eq. 24 < 1 at H)"),
+        ("alpha1_at_H", "alpha1(H) of Eq. 24 (the model's limit: 1)"),
+        ("alpha_bound_r2_cost", "R^2 given up for the bound alpha1 >= p/H"),
     ]
-    out = ["<table><tr><th>quantity</th><th>value</th><th>meaning</th><th>unit</th></tr>"]
-    for k, what, unit in rows:
+    out = ["<table><tr><th>quantity</th><th>value</th><th>meaning</th></tr>"]
+    for k, what in rows:
         out.append(
-            f"<tr><td class='t'>{k}</td>{number_cell(s.get(k), k)}<td class='t'>{what}</td>"
-            f"<td class='t'>{unit}</td></tr>"
+            f"<tr><td class='t'>{k}</td>{number_cell(s.get(k), k)}<td class='t'>{what}</td></tr>"
         )
     out.append("</table>")
     return "".join(out)
@@ -78,7 +66,10 @@ def _uncertainty(s):
             + "".join(number_cell(v[f], f"uncertainty.tau_first_at.{p}.{f}") for f in v)
             + "</tr>"
         )
-    out.append("</table><h3>Per-sample laws</h3><table><tr><th>sample</th>")
+    out.append(
+        "</table><h3>Per-sample laws (Eq. 24 and the paper's Eq. 25, the band's parameters)"
+        "</h3><table><tr><th>sample</th>"
+    )
     keys = ("C1", "n1", "C2", "n2")
     out.append("".join(f"<th>{k}</th>" for k in keys) + "</tr>")
     for i, x in enumerate(s["samples"]["per_sample"]):
@@ -172,9 +163,12 @@ def write_report(summary, out, images, title="Friction law calibration"):
     body = [
         f"<p>grid {s.get('grid')} x {s.get('grid')}, periodic: {s.get('periodic')}, "
         f"run time {s.get('seconds', 0):.1f} s</p>",
-        "<h2>Parameters and fit quality</h2>",
-        _params_table(s),
+        "<h2>The law the parameter file runs</h2>",
+        law_section(s["law"], "law"),
+        "<h2>Checks of the fit</h2>",
+        _checks_table(s),
         _uncertainty(s),
+        flattening_section(s, out),
         "<h2>Curves</h2>",
         "".join(figure(out / f, c) for f, c in images),
         "<h2>Load levels</h2>",

@@ -13,8 +13,11 @@ __all__ = ["REPORT_IMAGES", "calibration_figures", "write_outputs", "write_plots
 
 #: the plots of every calibration and their captions in report.html
 REPORT_IMAGES = [
-    ("alpha_first_loading.png", "First loading: half-space model, the law and Eq. 24"),
-    ("alpha_reload.png", "Un-/reloading curves and the law's reload branch"),
+    ("alpha_first_loading.png", "First loading: half-space model and the form that runs"),
+    (
+        "alpha_reload.png",
+        "Un-/reloading curves: the form that runs (solid) and the form beside it (dotted)",
+    ),
     ("roughness.png", "Workpiece roughness after unloading (Figs. 3-4)"),
     ("pressure_map.png", "Contact pressure map at the highest load"),
 ]
@@ -74,6 +77,13 @@ def _axes(figsize):
     return fig, fig.subplots()
 
 
+def _beside(law, branch, P):
+    """``[(form description, P running that form)]`` of the forms beside the one that runs."""
+    from frictionlaw.forms import branch_form
+
+    return [(f, branch_form(branch, f.form).switch(P)) for f in law.branch(branch).others]
+
+
 def calibration_figures(cal):
     """The calibration's figures, for a notebook: nothing is written, pyplot is not touched.
 
@@ -94,31 +104,30 @@ def calibration_figures(cal):
     figs = {}
 
     from frictionlaw import alpha_first, alpha_reload
+    from frictionlaw.describe import describe_law
 
     P = cal.params
+    law = describe_law(P)
     MPa = 1e6
     p, a = cal.sweeps.loading
     pp = np.linspace(0, max(p.max() * 1.1, 1.0), 300)
-    fig, ax = _axes((6, 4.2))
+    first = law.branch("first_loading").running
+    fig, ax = _axes((6.4, 4.6))
     ax.plot(p / MPa, a, "o", label="half-space model")
-    eq24 = f"Eq. 24: C1={P.C1:.3g}, n1={P.n1:.3g}"
-    if P.first_loading_form == "eq24":
-        ax.plot(pp / MPa, alpha_first(pp, P), "-", label=eq24)
-    else:
-        label = f"the law ({P.first_loading_form} first loading)"
-        ax.plot(pp / MPa, alpha_first(pp, P), "-", label=label)
-        ax.plot(pp / MPa, alpha_first(pp, P.replace(first_loading_form="eq24")), ":", label=eq24)
-    ax.set(
-        xlabel="p_mean [MPa]",
-        ylabel="alpha_rc = A_real / A0",
-        title=f"First loading (R^2 = {cal.first.r_squared:.4f})",
-    )
+    ax.plot(pp / MPa, alpha_first(pp, P), "-", label=f"{first.label()} (runs)")
+    for f, other in _beside(law, "first_loading", P):  # for comparison
+        ax.plot(pp / MPa, alpha_first(pp, other), ":", label=f"{f.label()}, beside it (not run)")
+    ax.set(xlabel="p_mean [MPa]", ylabel="alpha_rc = A_real / A0")
+    ax.set_title(law.title("first_loading"), fontsize=9)
     ax.grid(alpha=0.3)
-    ax.legend()
+    ax.legend(fontsize=8)
     figs["alpha_first_loading.png"] = fig
 
-    fig, ax = _axes((6, 4.2))
-    ax.plot(pp / MPa, alpha_first(pp, P), "k-", lw=1, label="first loading")
+    reload = law.branch("reload")
+    runs = reload.running
+    beside = _beside(law, "reload", P)
+    fig, ax = _axes((6.4, 4.8))
+    ax.plot(pp / MPa, alpha_first(pp, P), "k-", lw=1, label=f"{first.name} (first loading)")
     hists = []  # several samples share a p_hist: one colour and one fitted curve each
     for c in cal.sweeps.reload_curves():
         new = c.p_hist not in hists
@@ -132,15 +141,23 @@ def calibration_figures(cal):
                 alpha_reload(q, c.p_hist, P),
                 "-",
                 color=col,
-                label=f"law ({P.reload_form}), p_hist={c.p_hist / MPa:.0f} MPa",
+                label=f"p_hist = {c.p_hist / MPa:.0f} MPa",
             )
-    ax.set(
-        xlabel="p_mean [MPa]",
-        ylabel="alpha_rc",
-        title=f"Un-/reloading: C2={P.C2:.3g}, n2={P.n2:.3g} (R^2 = {cal.reload.r_squared:.4f})",
-    )
+    for f, other in beside:  # the forms beside the one that runs, for comparison
+        for k, ph in enumerate(hists):
+            q = np.linspace(0, ph, 100)
+            ax.plot(
+                q / MPa,
+                alpha_reload(q, ph, other),
+                ":",
+                color="0.45",
+                lw=1,
+                label=f"{f.name}, beside it (not run)" if k == 0 else None,
+            )
+    ax.set(xlabel="p_mean [MPa]", ylabel="alpha_rc")
+    ax.set_title(law.title("reload"), fontsize=9)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, title=f"runs: {runs.name}", title_fontsize=7)
     figs["alpha_reload.png"] = fig
 
     lv = cal.sweeps.levels
@@ -208,6 +225,10 @@ def write_outputs(cal, out, *, clock=None):
     from .effects import write_effect_outputs
 
     write_effect_outputs(cal, out)
+    if getattr(cal, "flattening", None):
+        from .flattening import write_flattening
+
+        write_flattening(cal, out)
     summary = cal.summary()  # one record for summary.json and report.html
     if clock is not None:
         summary["command_seconds"] = clock()

@@ -23,6 +23,7 @@ import time
 from dataclasses import dataclass, field
 
 from frictionlaw import FrictionParams
+from frictionlaw.describe import describe_law
 from sbmf_cli import Worded
 
 from . import effects as _eff
@@ -30,8 +31,9 @@ from . import forms as _forms
 from . import heldout as _held
 from .conformity import punch_edge_problem
 from .fit import FirstLoadingFit, ReloadFit
+from .lateral_scale import full_contact_problem, scale_record
 from .law_checks import DIP_TOL, JUMP_TOL, law_checks
-from .params import make_params
+from .params import make_params, timings_of
 from .registry import REGISTRY
 from .reload_table import ReloadTableFit
 from .resolution import ResolutionCheck, check_sweeps, fit_sweeps, resolution_check
@@ -101,6 +103,7 @@ class Calibration:
     first_loading_form: str = "eq24"  # the first-loading form the parameter file runs
     first_fits: dict = field(default_factory=dict)  # name -> fit of each first-loading form
     checks: dict = field(default_factory=dict)  # law_checks: jump at p_hist, reload below first
+    flattening: dict | None = None  # what the flattening block was derived from (--flattening)
 
     def __repr__(self):
         """One line a notebook can show: the law, the fit quality, the sweep and the time."""
@@ -121,7 +124,9 @@ class Calibration:
         reported, it does not decide), with the
         parameters that ended on a bound named, since the bound then keeps the law from the
         data; a fit whose optimiser did not converge; why a reload fit failed on a nearly
-        conforming isolated patch (:func:`~.conformity.punch_edge_problem`); failed
+        conforming isolated patch (:func:`~.conformity.punch_edge_problem`); full contact at
+        the first load level below 0.05 H (:func:`~.lateral_scale.full_contact_problem`: most
+        likely a lateral size in the wrong unit; not with ``scene.smooth_pair``); failed
         effect solves. A parameter on a bound with the error within the tolerance is a note
         (:meth:`fit_notes`), not a failure: the data are described with it there.
         """
@@ -148,6 +153,11 @@ class Calibration:
         why = punch_edge_problem(self)
         if why:
             out.append(why)
+        if self.flattening and self.flattening.get("problem"):
+            out.append(f"flattening: {self.flattening['problem']}")
+        flat = full_contact_problem(self)  # a lateral size in the wrong unit (issue 38)
+        if flat:
+            out.append(flat)
         for name, outcome in self.effects.items():
             out += REGISTRY[name].problems(outcome)
         return out
@@ -189,10 +199,15 @@ class Calibration:
             )
         below = self.checks.get("reload_below_first") or {}
         if below.get("max", 0.0) > DIP_TOL:
+            where = (
+                "below the lowest reload level, where the reload branch is extrapolated"
+                if below.get("calibrated_max", 0.0) <= DIP_TOL
+                else "within the calibrated histories"
+            )
             out.append(
                 f"a reload curve of the law lies {below['max']:.3g} in alpha below its first "
-                f"loading (p_hist {below['p_hist'] / 1e6:.4g} MPa, p {below['p'] / 1e6:.4g} MPa); "
-                "the model's lie above it"
+                f"loading (p_hist {below['p_hist'] / 1e6:.4g} MPa, p {below['p'] / 1e6:.4g} MPa, "
+                f"{where}); the model's lie above it"
             )
         p_full = _held.full_contact_pressure(*self.sweeps.loading, self.scene.H)
         if p_full is not None:
@@ -200,7 +215,8 @@ class Calibration:
                 f"full contact from low pressure: alpha >= {_held.FULL_CONTACT_ALPHA:g} at "
                 f"{p_full / 1e6:.4g} MPa (<= {_held.FULL_CONTACT_P:g} H): the law is Tresca's "
                 "from there on; if that is not expected, check the scan's lateral size and "
-                "height unit (--size, --unit: a scan too wide for its heights is nearly flat)"
+                "height unit (--size, --workpiece-size, --tool-size, --unit: a scan too wide for "
+                "its heights is nearly flat)"
             )
         return out
 
@@ -230,10 +246,17 @@ class Calibration:
         return [line for n, o in self.effects.items() for line in REGISTRY[n].lines(o, out)]
 
     def summary(self):
-        """JSON-ready summary (also stored in the parameter file's provenance)."""
+        """JSON-ready summary (``summary.json``, ``report.html``).
+
+        ``law`` describes the law ``params.json`` runs (:func:`frictionlaw.describe.describe_law`:
+        each branch's form with its parameters or table and measured errors, the other form
+        beside it); ``C1, n1, C2, n2``, ``first_loading_r2`` and ``reload_r2`` (the paper's
+        Eq. 25, whichever form runs) are kept for the readers of earlier summaries.
+        """
         P = self.params
         floor = self.first.floor_record()
         return {
+            "law": describe_law(P).to_dict(),
             "C1": P.C1,
             "n1": P.n1,
             "C2": P.C2,
@@ -285,7 +308,31 @@ class Calibration:
             "resolution_check": None if self.resolution is None else self.resolution.as_dict(),
             "problems": self.problems(),
             "seconds": self.seconds,
+            "flattening": self.flattening,
+            "timings": self.timings(),
         }
+
+    def timings(self):
+        """``{what: seconds}``: the run's wall times, which ``params.json`` does not hold.
+
+        The calibration's whole time, its sweeps', and every time its records carry (the
+        tabulated reload fit, each effect, the resolution check) by their path in the
+        parameter file's provenance (:func:`~.params.timeless` leaves them out of it).
+        """
+        out = {"calibration": self.seconds, "sweeps": self.sweeps.seconds}
+        records = {
+            "fit": {
+                "reload_tabulated": None
+                if self.reload_table is None
+                else self.reload_table.summary()
+            },
+            "extra": {
+                "effects": _effects_record(self.effects),
+                "resolution_check": None if self.resolution is None else self.resolution.as_dict(),
+            },
+        }
+        out.update(timings_of(records))
+        return out
 
 
 def calibrate(scene=None, *, progress=True, surfaces=None):
@@ -370,6 +417,7 @@ def _calibrate(scene, progress, surfaces):
             "files": surfs.records(),
             "length_scale": surfs.scale_record(),
             "hardness": {"H": scene.H, "source": scene.hardness_source},
+            "lateral_scale": scale_record(scene.smooth_pair),
             "resolution_check": None if resolution is None else resolution.as_dict(),
         },
         p_range=(float(p.min()), float(p.max())),

@@ -37,7 +37,7 @@ from ..common.checks import positive
 from .alpha_bound import bound_record, floor_fit, floor_violation
 from .fit_data import ReloadCurve, _bounds, _curve, _data
 from .law_checks import DIP_TOL
-from .lsq import R2_MIN, _degenerate, _fit_c_n, _r_squared, _solve, _weights
+from .lsq import R2_MIN, _degenerate, _fit_c_n, _fit_fields, _r_squared, _solve, _weights
 
 __all__ = [
     "C_BOUNDS",
@@ -440,6 +440,11 @@ def fit_reload(
     )
 
 
+#: the penalty starts at this fraction of DIP_TOL (the dense grid of the law's checks lies between
+#: the fit's grid points)
+_DIP_MARGIN = 0.25
+
+
 class _Dip:
     """How far the reload curves of Eq. 25 lie below the first loading, on a grid of histories."""
 
@@ -472,26 +477,17 @@ def _fit_no_dip(fit, model, alpha, w, cb, nb, dip):
 
     def residual(x):
         c, n = np.exp(x)
-        pen = 10.0 * np.maximum(dip.below(c, n) - 0.25 * DIP_TOL, 0.0)
+        pen = 10.0 * np.maximum(dip.below(c, n) - _DIP_MARGIN * DIP_TOL, 0.0)
         return np.concatenate([(model(c, n) - alpha) * w, pen])
 
     lb, ub = np.array([cb[0], nb[0]]), np.array([cb[1], nb[1]])
     start = np.array([fit["params"]["C2"], fit["params"]["n2"]])
-    params, stderr, sol, at, msg = _solve(residual, start, lb, ub, ("C2", "n2"))
-    res = model(params["C2"], params["n2"]) - alpha
-    r2 = _r_squared(res, alpha)
-    worst = dip.worst(params["C2"], params["n2"])
-    return dict(
-        fit,
-        params=params,
-        stderr=stderr,
-        residuals=res,
-        r_squared=r2,
-        rmse=float(np.sqrt(np.mean(res**2))),
-        success=bool(sol.success),
-        message=f"{msg} Constrained: its reload curves below first loading by at most "
-        f"{worst:.3g} in alpha (unconstrained: R^2 {fit['r_squared']:.4g}).",
-        nfev=fit["nfev"] + int(sol.nfev),
-        at_bound=at,
-        degenerate=_degenerate(params, at, lb, ub, r2, alpha),
+    names = ("C2", "n2")
+    out = _fit_fields(model, alpha, fit["H"], lb, ub, names, _solve(residual, start, lb, ub, names))
+    worst = dip.worst(out["params"]["C2"], out["params"]["n2"])
+    out["message"] += (
+        f" Constrained: its reload curves below first loading by at most {worst:.3g} in alpha "
+        f"(unconstrained: R^2 {fit['r_squared']:.4g})."
     )
+    out["nfev"] += fit["nfev"]
+    return out

@@ -59,9 +59,11 @@ class FitContext:
     ``H`` (Pa); ``floor_to``: Eq. 24's bound ``alpha1 >= p / H`` up to it (Pa, ``None``: not
     imposed); ``continuous``: the reload branch's continuous variant; ``C1, n1``: Eq. 24's fit
     (always made: the file's header); ``first``: ``(form, data)`` of the first-loading form that
-    runs, whose ``alpha1(p_hist)`` scales the reload branch (``None``: Eq. 24); ``p_range``: the
-    first loading's pressures (Pa), the histories on which the paper's Eq. 25 is kept from lying
-    below the first loading (:func:`~.fit.fit_reload`'s ``dip_range``).
+    runs, whose ``alpha1(p_hist)`` scales the reload branch (``None``: Eq. 24); ``dip_range``:
+    the calibrated histories (Pa, from the lowest reload level to the top first-loading
+    pressure) on which the paper's Eq. 25 is kept from lying below the first loading
+    (:func:`~.fit.fit_reload`); below the lowest reload level the law is extrapolated, and its
+    dip there is reported (:mod:`.law_checks`), not constrained.
     """
 
     H: float
@@ -70,7 +72,7 @@ class FitContext:
     C1: float = math.nan
     n1: float = math.nan
     first: tuple | None = None
-    p_range: tuple | None = None
+    dip_range: tuple | None = None
 
     @classmethod
     def of(cls, scene):
@@ -325,7 +327,7 @@ def fit_law(scene, p, alpha, curves, *, heldout=True):
         C1=eq24.C1,
         n1=eq24.n1,
         first=None if first.form == "eq24" else first.runtime(),
-        p_range=(float(min(p)), float(max(p))),
+        dip_range=(float(min(c.p_hist for c in curves)), float(max(p))),
     )
     return FittedLaw(first, reload_law(scene, curves, ctx, heldout=heldout), ctx)
 
@@ -391,7 +393,7 @@ register(
             ctx.n1,
             continuous=ctx.continuous,
             first=ctx.first,
-            dip_range=ctx.p_range,
+            dip_range=ctx.dip_range,
         ),
         predict=_paper_predict,
         heldout=lambda curves, fit, ctx: _held.reload_errors(
@@ -402,7 +404,7 @@ register(
             fit,
             ctx.continuous,
             first=ctx.first,
-            dip_range=ctx.p_range,
+            dip_range=ctx.dip_range,
         ),
         runtime=lambda fit: None,
     )

@@ -133,7 +133,8 @@ def roughness_of_scans(scans, scene, surfaces):
     """``Ra``/``Rq`` of after-contact scans, prepared exactly as the calibration's workpiece.
 
     Each scan goes through :func:`~halfspace_calib.pipeline.scene_surfaces.load_scene_surfaces`
-    with the calibration's resolved choices fixed: the same units and undefined-point limit, the
+    with the calibration's resolved choices fixed: the same units, workpiece size correction
+    (``workpiece_size``: the scans are the workpiece's) and undefined-point limit, the
     crop of the calibration's patch (``crop_size``), the S- and L-filters (``lambda_s``,
     ``lambda_c``) and the solver grid; ``Ra``/``Rq`` are taken about the mean of the levelled
     solver-grid map, as the model's after-contact roughness. Returns the :class:`AfterContact`
@@ -152,6 +153,7 @@ def roughness_of_scans(scans, scene, surfaces):
             scene,
             workpiece=str(path),
             tool=None,
+            tool_size=None,
             grid=surfaces.grid,
             crop_size=crop,
             lambda_s=lambda_s,

@@ -8,7 +8,10 @@ histories over the calibrated first-loading range (not only at the calibrated le
   ``(tau_first(p_hist) - tau_reload(p_hist-)) / tau_first(p_hist)`` (0 by construction in the
   continuous variant);
 * ``reload_below_first``: the largest ``alpha1(p) - alpha2(p; p_hist)`` over ``0 < p < p_hist``
-  (0 when every reload curve lies at or above the first loading), with where it occurs.
+  (0 when every reload curve lies at or above the first loading), with where it occurs, and
+  ``calibrated_max``, the same over the histories from the lowest reload level on (below it the
+  reload branch is extrapolated in ``p_hist``; the paper's Eq. 25 is kept within the tolerance
+  there, :func:`~.fit.fit_reload`).
 
 Both are reported in ``summary.json``; beyond :data:`JUMP_TOL` and :data:`DIP_TOL` a note says so.
 """
@@ -45,11 +48,13 @@ def law_checks(params, curves=()):
     below = alpha_first(P, params) - alpha_reload(P, ph[:, None], params)
     i, j = np.unravel_index(int(np.argmax(below)), below.shape)
     k = int(np.argmax(jump))
+    calibrated = ph >= (min(levels) if levels else lo)
     return {
         "max_jump_relative": max(float(jump[k]), 0.0),
         "jump_at_p_hist": float(ph[k]),
         "reload_below_first": {
             "max": max(float(below[i, j]), 0.0),
+            "calibrated_max": max(float(np.max(below[calibrated])), 0.0),
             "p_hist": float(ph[i]),
             "p": float(P[i, j]),
             "tolerance": DIP_TOL,

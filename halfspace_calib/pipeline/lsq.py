@@ -101,7 +101,12 @@ def _fit_c_n(model, p, alpha, w, H, cb, nb, names):
     c_slope = float(np.max(alpha * H / p)) or 1.0
     start = _start(lambda c, n: float(np.sum(((model(c, n) - alpha) * w) ** 2)), c_slope, nb, cb)
     lb, ub = np.array([cb[0], nb[0]]), np.array([cb[1], nb[1]])
-    params, stderr, sol, at, msg = _solve(residual, start, lb, ub, names)
+    return _fit_fields(model, alpha, H, lb, ub, names, _solve(residual, start, lb, ub, names))
+
+
+def _fit_fields(model, alpha, H, lb, ub, names, solved):
+    """The :class:`~.fit.FitResult` fields of ``_solve``'s answer ``solved`` as a dict."""
+    params, stderr, sol, at, msg = solved
     res = model(params[names[0]], params[names[1]]) - alpha
     r2 = _r_squared(res, alpha)
     return dict(

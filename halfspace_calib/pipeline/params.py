@@ -10,7 +10,57 @@ from frictionlaw import FrictionParams
 from ..common.checks import positive
 from .fit import FirstLoadingFit, ReloadFit
 
-__all__ = ["fit_record", "make_params"]
+__all__ = ["fit_record", "make_params", "timeless", "timings_of"]
+
+
+def _is_timing(key):
+    """A record's key that holds a wall time (``seconds``, ``sweep_seconds``, ``timings``)."""
+    return key in ("seconds", "timings") or key.endswith("_seconds")
+
+
+def timeless(record):
+    """``record`` without its wall times, at any depth: what a parameter file may hold.
+
+    The same inputs (the same files at the same paths, the same options) give the same
+    parameter file, byte for byte, so that its sha256 (which ``ring-fit`` and the exports
+    record) names the calibration and not the run; the times are ``summary.json``'s
+    (:func:`timings_of`).
+    """
+    if isinstance(record, dict):
+        return {k: timeless(v) for k, v in record.items() if not _is_timing(str(k))}
+    if isinstance(record, (list, tuple)):
+        return [timeless(v) for v in record]
+    return record
+
+
+def timings_of(record, where=""):
+    """``{dotted path: seconds}`` of every wall time :func:`timeless` leaves out of ``record``."""
+    out = {}
+    items = (
+        record.items()
+        if isinstance(record, dict)
+        else enumerate(record)
+        if isinstance(record, (list, tuple))
+        else ()
+    )
+    for k, v in items:
+        path = f"{where}.{k}" if where else str(k)
+        if isinstance(k, str) and _is_timing(k):
+            out.update(_numbers(v, path))
+        else:
+            out.update(timings_of(v, path))
+    return out
+
+
+def _numbers(value, path):
+    """Every number in ``value`` by its dotted path (the leaves of a timing record)."""
+    if isinstance(value, bool):
+        return {}
+    if isinstance(value, (int, float, np.integer, np.floating)):
+        return {path: float(value)}
+    if isinstance(value, dict):
+        return {q: v for k, x in value.items() for q, v in _numbers(x, f"{path}.{k}").items()}
+    return {}
 
 
 def _plain(obj, where="provenance"):
@@ -242,5 +292,5 @@ def make_params(
         first_loading_table=first_loading[1],
         p_range=p_range,
         k_t=k_t,
-        provenance=_plain(prov),
+        provenance=timeless(_plain(prov)),
     )

@@ -55,7 +55,7 @@ from ..common.jobs import run_jobs
 from ..topography import chain
 from .calibration import Calibration, calibrate
 from .law_checks import law_checks
-from .params import fit_record
+from .params import fit_record, timeless
 from .scene_surfaces import SceneSurfaces, load_scene_surfaces, run_plan
 from .surface_plan import MAX_DEFAULT_GRID, SyntheticSource, plan_surfaces
 from .sweeps import FailedLevel, SweepResult
@@ -490,7 +490,8 @@ class MultiCalibration:
             "edge_laws": {k: v.to_dict() for k, v in u.edge_laws.items()},
         }
         s["seconds"] = self.seconds["total"]
-        s["timings"] = dict(self.seconds)
+        per = {f"{n}.{k}": v for n, c in self.calibrations.items() for k, v in c.timings().items()}
+        s["timings"] = dict(self.seconds) | {f"samples.{k}": v for k, v in per.items()}
         return s
 
 
@@ -549,7 +550,7 @@ def calibrate_samples(scene, spec, *, samples=None, progress=True):
         "single calibration chooses",
     }
     central = law.apply(ref.params).replace(
-        p_range=(float(p_all.min()), float(p_all.max())), provenance=prov
+        p_range=(float(p_all.min()), float(p_all.max())), provenance=timeless(prov)
     )
     unc = bootstrap_uncertainty(
         curves,

@@ -108,7 +108,12 @@ class Scene:
     physical surface at every ``grid``). Files are prepared by
     :func:`~halfspace_calib.pipeline.scene_surfaces.load_scene_surfaces` (see docs/measured_surfaces.md):
     instrument files bring their own units and sizes (``unit=None``); plain files need ``unit``
-    (or ``workpiece_unit`` / ``tool_unit``) and ``size`` (``L`` or ``(Lx, Ly)`` in m); undefined
+    (or ``workpiece_unit`` / ``tool_unit``) and ``size`` (``L`` or ``(Lx, Ly)`` in m);
+    ``workpiece_size`` / ``tool_size`` (same form) override the size every file of that role
+    carries (a wrong header or calibration; the file's own size is kept in the provenance); a
+    field or RMS slope implausible for a metal scan is refused, and full contact at a first load
+    level below 0.05 H fails the run, unless ``smooth_pair`` states that the pair is that smooth
+    (:mod:`~halfspace_calib.pipeline.lateral_scale`); undefined
     points are filled up to the fraction ``max_undefined``; both files are cropped to the largest
     common square (or ``crop_size``), area-averaged onto square elements and levelled.
     Files are levelled and filtered with the ISO 16610-61 Gaussian S-filter of nesting index
@@ -187,6 +192,9 @@ class Scene:
     workpiece_unit: str | None = None
     tool_unit: str | None = None
     size: float | tuple | None = None
+    workpiece_size: float | tuple | None = None
+    tool_size: float | tuple | None = None
+    smooth_pair: bool = False
     crop_size: float | None = None
     max_undefined: float = MAX_UNDEFINED
     lambda_s: float | None = None
@@ -241,8 +249,9 @@ class Scene:
             put("boundary", "periodic" if synthetic else "mirror")
         if self.resolution_check is None:
             put("resolution_check", not synthetic)
-        if isinstance(self.size, list):
-            put("size", tuple(self.size))
+        for name in ("size", "workpiece_size", "tool_size"):
+            if isinstance(getattr(self, name), list):
+                put(name, tuple(getattr(self, name)))
         if "inclined" in self.effects and synthetic and self.measured_n is None:
             # the inclined patches need the measured grid: calibrate on the same random field
             put("measured_n", 4 * self.grid if isinstance(self.grid, int) else None)
@@ -421,12 +430,16 @@ class Scene:
                 f"lambda_c = {self.lambda_c:g} m must exceed lambda_s = {self.lambda_s:g} m "
                 "(the L-filter keeps the wavelengths below lambda_c)"
             )
-        if self.size is not None:
-            vals = self.size if isinstance(self.size, tuple) else (self.size,)
-            if len(vals) not in (1, 2) or not all(
-                isinstance(v, (int, float)) and math.isfinite(v) and v > 0 for v in vals
+        for name in ("size", "workpiece_size", "tool_size"):
+            v = getattr(self, name)
+            vals = v if isinstance(v, tuple) else (v,)
+            if v is not None and (
+                len(vals) not in (1, 2)
+                or not all(isinstance(x, (int, float)) and math.isfinite(x) and x > 0 for x in vals)
             ):
-                raise ValueError(f"size must be one or two lengths > 0 (m), got {self.size!r}")
+                raise ValueError(f"{name} must be one or two lengths > 0 (m), got {v!r}")
+        if not isinstance(self.smooth_pair, bool):
+            raise ValueError(f"smooth_pair must be True or False, got {self.smooth_pair!r}")
         if not self.from_files:
             given = [
                 n
@@ -447,8 +460,9 @@ class Scene:
                     "was given"
                 )
         for role in ("workpiece", "tool"):
-            if getattr(self, role) is None and getattr(self, f"{role}_unit") is not None:
-                raise ValueError(f"{role}_unit is given but the {role} is synthetic (no file)")
+            for opt in ("unit", "size"):
+                if getattr(self, role) is None and getattr(self, f"{role}_{opt}") is not None:
+                    raise ValueError(f"{role}_{opt} is given but the {role} is synthetic (no file)")
         if self.tool is not None and self.rough_tool:
             raise ValueError("rough_tool selects the synthetic tool; a tool file was given")
         if self.from_files and self.measured_n is not None:

@@ -92,7 +92,8 @@ class FileRecord:
     native_shape : tuple of int
         Points of the scan ``(nx, ny)``.
     native_size : tuple of float
-        Physical size of the scan ``(Lx, Ly)`` in m.
+        Physical size of the scan ``(Lx, Ly)`` in m, as used: the file's own, or the role's
+        size option that overrides it (:attr:`size_source`, :attr:`file_size`).
     pitch : tuple of float
         Pixel pitch ``(dx, dy)`` in m.
     undefined_points : int
@@ -112,6 +113,14 @@ class FileRecord:
     rq_filtered : float
         ``Rq`` of the whole scan, levelled and filtered (``lambda_s``, ``lambda_c``), at its
         own sampling (m): against ``rq_scan``, the roughness below the cut-off.
+    rms_slope_scan : float
+        RMS slope of the whole scan, levelled, at its own sampling (ISO 25178-2 ``Sdq``), which
+        the plan checks (:mod:`.lateral_scale`).
+    size_source : str
+        Where :attr:`native_size` came from: ``"file"``, ``"file header"``, ``"option"`` (the
+        scene's ``size`` for a plain file) or ``"override"`` (``<role>_size``).
+    file_size : tuple of float or None
+        With ``"override"``: the size the file itself carries (m), ``None`` if it has none.
     """
 
     role: str
@@ -131,12 +140,17 @@ class FileRecord:
     rq_patch: float
     rq_scan: float
     rq_filtered: float = math.nan
+    rms_slope_scan: float = math.nan
+    size_source: str = "file"
+    file_size: tuple | None = None
 
     def as_dict(self):
         """JSON-ready dict."""
         d = asdict(self)
         for k in ("native_shape", "native_size", "pitch", "steps"):
             d[k] = list(d[k])
+        if d["file_size"] is not None:
+            d["file_size"] = list(d["file_size"])
         return d
 
 
@@ -273,6 +287,9 @@ def _file_record(role, whole, patch, steps, side):
         rq_patch=_surf.rq(patch),
         rq_scan=float(p["rq_scan"]),
         rq_filtered=float(_surf.rq(_surf.level(whole))),  # the whole scan as it is resampled
+        rms_slope_scan=float(p["rms_slope_scan"]),
+        size_source=str(p["size_source"]),
+        file_size=None if p.get("file_size") is None else tuple(map(float, p["file_size"])),
     )
 
 

@@ -16,8 +16,10 @@
 4. the solver grid (``grid``, or :func:`_default_grid`: :data:`ELEMENTS_PER_LAMBDA_S` elements
    per ``lambda_s``) and the block of measured points per element (the inclined effect's
    measured grid is ``grid * block`` points a side);
-5. the checks that refuse a plan before any work: the filters' range on each scan, the memory
-   of one normal solve, ``Rq`` of each levelled scan in :data:`RQ_RANGE`, the element edge
+5. the checks that refuse a plan before any work: each scan's field and RMS slope
+   (:func:`~.lateral_scale.check_scan`: a lateral size in the wrong unit), the filters' range on
+   each scan, the memory of one normal solve, ``Rq`` of each levelled scan in :data:`RQ_RANGE`,
+   the element edge
    between :data:`ELEMENT_PER_PIXEL` times the scan's coarser pixel pitch; and the notes that
    warn (a grid with fewer than :data:`ELEMENTS_PER_LAMBDA_S` elements per ``lambda_s``, a patch
    fewer than :data:`~.length_scale.MIN_PATCH_LAMBDA_S` ``lambda_s`` across).
@@ -41,6 +43,7 @@ from sbmf_cli import ParameterError
 from .. import topography as _surf
 from ..contact.normal import estimate_memory
 from ..topography import chain
+from .lateral_scale import ScanScale, check_scan, scan_slope
 from .length_scale import (
     ELEMENTS_PER_LAMBDA_S,
     ISO_SAMPLING_RATIO,
@@ -102,10 +105,13 @@ class Scan:
         Height unit of the option (the role's or the scene's), for files that have none.
     size : float, tuple or None
         Lateral size of the option (m), for files that have none.
+    own_size : float, tuple or None
+        The role's size (``<role>_size``, m), which overrides the file's own.
     max_undefined : float
         Largest fraction of undefined points that is filled.
     surface : Surface
-        The scan as read, its undefined points filled (``rq_scan`` in its provenance).
+        The scan as read, its undefined points filled (``rq_scan`` and ``rms_slope_scan`` in
+        its provenance).
     steps : tuple of str
         What was done to it (the fill), in words.
     """
@@ -115,20 +121,22 @@ class Scan:
     stamp: int | None
     unit: str | None
     size: float | tuple | None
+    own_size: float | tuple | None
     max_undefined: float
     surface: _surf.Surface = field(compare=False, repr=False)
     steps: tuple = field(compare=False)
 
     @classmethod
     def read(cls, scene, role):
-        """The scene's file of ``role``, read (its unit: ``<role>_unit``, else ``unit``)."""
+        """The scene's file of ``role``, read (unit: ``<role>_unit``, else ``unit``; ``<role>_size``)."""
         path = str(getattr(scene, role))
         try:
             stamp = os.stat(path).st_mtime_ns
         except OSError:
             stamp = None
         unit = getattr(scene, f"{role}_unit") or scene.unit
-        key = (role, path, stamp, unit, scene.size, scene.max_undefined)
+        own = getattr(scene, f"{role}_size")
+        key = (role, path, stamp, unit, scene.size, own, scene.max_undefined)
         return cls(*key, *_read_scan(*key))
 
 
@@ -282,6 +290,12 @@ def _files_plan(scene, roles, n, check_sampling):
     scans = tuple(Scan.read(scene, r) for r in roles)
     raw = [scan.surface for scan in scans]
     _check_size_option(scene.size, scans, raw)
+    for scan, s in zip(scans, raw, strict=True):  # the height unit, then the lateral scale
+        _check_rq(s.provenance["path"], scan.role, s.provenance["rq_scan"])
+        slope = s.provenance["rms_slope_scan"]
+        check_scan(
+            ScanScale(f"{scan.role} {scan.path}", scan.role, s.size, slope), scene.smooth_pair
+        )
     side = _side(scene.crop_size, raw)
     pitch = max(v for s in raw for v in (s.dx, s.dy))
     lam, lam_source = _lambda_s(scene.lambda_s, raw, side, pitch)
@@ -315,15 +329,16 @@ def _plan(scene, check_sampling, **decided):
 
 # ----------------------------------------------------------------------------- reading
 @functools.lru_cache(maxsize=2)  # workpiece and tool
-def _read_scan(role, path, stamp, unit, size, max_undefined):
+def _read_scan(role, path, stamp, unit, size, own_size, max_undefined):
     """``(surface, steps)`` of :meth:`Scan.read`: holes filled, ``rq_scan`` in the provenance.
 
-    Cached per file and options: the resolution check and the sample patches read again.
+    ``rms_slope_scan`` too (the RMS slope of the levelled scan,
+    :func:`~.lateral_scale.scan_slope`). Cached per file and options: the resolution check and the sample patches read again.
     """
     unit_opt = f"{{{role}_unit}} or {{unit}}"
     unit_names = (f"{role}_unit", "unit")
     try:
-        h, dx, dy, prov = _read_sized(path, unit, size)
+        h, dx, dy, prov = _read_sized(path, unit, size, own_size)
     except _surf.UnitRequired:
         raise ParameterError(
             f"{path}: a plain file does not say its height unit: give {unit_opt} (m, mm, um, nm)",
@@ -333,18 +348,29 @@ def _read_scan(role, path, stamp, unit, size, max_undefined):
         raise ParameterError(f"{exc} (the option is {unit_opt})", *unit_names) from None
     except _surf.SizeRequired:
         raise ParameterError(
-            f"{path}: a plain file does not say its size: give {{size}} (LX [LY] in m)", "size"
+            f"{path}: a plain file does not say its size: give {{size}} or {{{role}_size}} "
+            "(LX [LY] in m)",
+            "size",
+            f"{role}_size",
         ) from None
     except OSError as exc:
         raise ValueError(f"{path}: cannot read the file ({exc.strerror or exc})") from None
     h, steps, bad = chain.fill_holes(h, max_undefined, path)
     prov["undefined_points"] = bad
-    prov["rq_scan"] = _surf.rq(_surf.level(_surf.Surface(h, dx, dy, periodic=False)))
+    scan = _surf.Surface(h, dx, dy, periodic=False)
+    prov["rq_scan"] = _surf.rq(_surf.level(scan))
+    prov["rms_slope_scan"] = scan_slope(scan)
     return _surf.Surface(h, dx, dy, provenance=prov, periodic=False), steps
 
 
-def _read_sized(path, unit, size):
-    """:func:`~halfspace_calib.topography.read_raw`; ``size`` only for a file without its own."""
+def _read_sized(path, unit, size, own_size):
+    """:func:`~halfspace_calib.topography.read_raw` with the scene's sizes.
+
+    ``size`` only for a file without its own; ``own_size`` (the role's) over whatever the file
+    carries.
+    """
+    if own_size is not None:
+        return _surf.read_raw(path, unit=unit, override_size=own_size)
     try:
         return _surf.read_raw(path, unit=unit)
     except _surf.SizeRequired:
@@ -365,12 +391,14 @@ def _check_pair(roles, inclined):
 
 
 def _check_size_option(size, scans, raw):
-    """``size`` applies to plain files without their own size: refused if no file took it."""
+    """``size`` applies to plain files without a size of their own or of their role's option."""
     if size is not None and all(s.provenance["size_source"] != "option" for s in raw):
         raise ParameterError(
-            "{size} applies to plain files without their own size; the files carry theirs "
-            f"({', '.join(scan.path for scan in scans)})",
+            "{size} applies to plain files without their own size; the files carry theirs or "
+            f"take {{workpiece_size}} / {{tool_size}} ({', '.join(scan.path for scan in scans)})",
             "size",
+            "workpiece_size",
+            "tool_size",
         )
 
 
@@ -461,7 +489,6 @@ def _on_grid(plan):
         path = s.provenance["path"]
         if plan.check_sampling:
             _check_element(path, plan.element, (s.dx, s.dy), plan.grid, plan.lambda_s)
-        _check_rq(path, scan.role, s.provenance["rq_scan"])
     return dataclasses.replace(plan, block=block, notes=notes)
 
 

@@ -29,6 +29,7 @@ __all__ = [
     "unit_factor",
     "file_sha256",
     "layout_for",
+    "text_export_line",
     "matrix_header",
     "load_npy",
     "load_matrix",
@@ -122,17 +123,62 @@ def layout_for(path):
     """Layout of ``path``: ``npy``, ``matrix``, ``xyz`` or ``instrument``, routed by content.
 
     ``.npy`` and ``.xyz`` go by their suffix. A file with a text-matrix suffix (``.txt``,
-    ``.csv``, ``.dat``, ``.asc``) is a matrix only if it is text: a binary file (a Zygo
-    MetroPro ``.dat``, for instance) goes to the instrument readers. Any other suffix is an
-    instrument format.
+    ``.csv``, ``.dat``, ``.asc``) is a matrix only if it is text and its header is the plain
+    reader's own (:func:`text_export_line`): a binary file (a Zygo MetroPro ``.dat``, for
+    instance) and a text export whose header carries keys of another program (a pixel size, a
+    height conversion factor) go to the instrument readers (SurfaceTopography). Any other suffix
+    is an instrument format.
     """
     layout = PLAIN_LAYOUTS.get(Path(path).suffix.lower(), "instrument")
-    if layout == "matrix" and _is_binary(path):
+    if layout == "matrix" and (_is_binary(path) or text_export_line(path) is not None):
         return "instrument"
     return layout
 
 
 _HEADER = re.compile(r"^#\s*([A-Za-z][A-Za-z ]*?)\s*[:=]\s*(.+?)\s*$")
+#: the header keys of the plain text matrix (:func:`matrix_header`; ``channel`` names the
+#: instrument's channel and changes nothing)
+PLAIN_HEADER_KEYS = frozenset(
+    ("width", "height", "value units", "value unit", "z unit", "unit", "channel")
+)
+_KEY_VALUE = re.compile(r"^([^=:\uff1a]+?)\s*[=:\uff1a]\s*\S")
+_NUMBER = re.compile(r"^[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?$|^[-+]?(?:nan|inf)$", re.I)
+
+
+def _is_data(line):
+    """True for a line of numbers (a row of a matrix: whitespace, comma or semicolon separated)."""
+    tokens = re.split(r"[\s,;]+", line.strip())
+    return bool(tokens) and all(_NUMBER.match(t) for t in tokens if t)
+
+
+def text_export_line(path):
+    """The first header line of a text file that the plain matrix reader does not know, or ``None``.
+
+    The header is the lines before the first line of numbers. The plain reader's own are
+    ``#`` lines with one of :data:`PLAIN_HEADER_KEYS` (``# Width: 10 um``, ``# Value units: m``)
+    and ``#`` comments that are no ``key: value`` / ``key = value`` pair (``# heights in um``, as
+    :func:`write_plain` writes). Any other line (``# pixel size = 2e-06 m``, ``height
+    conversion factor (-> m) = 5e-08``, a line without ``#``) is another program's metadata:
+    such a file is an instrument export, read by SurfaceTopography's text reader (which
+    understands the exports of Gwyddion, SPIP, Wyko, Nova, Attocube and their scale factors)
+    rather than by a reader that would ignore its scale. ``None`` for a file that cannot be read.
+    """
+    try:
+        with open(path, encoding="utf-8", errors="replace") as fh:
+            for n, line in enumerate(fh):
+                s = line.strip()
+                if not s:
+                    continue
+                if _is_data(s) or n > 1000:
+                    return None
+                if not s.startswith("#"):
+                    return s
+                m = _KEY_VALUE.match(s.lstrip("#").strip())
+                if m and m.group(1).strip().lower() not in PLAIN_HEADER_KEYS:
+                    return s
+    except OSError:
+        return None
+    return None
 
 
 def _length(path, key, text):

@@ -44,6 +44,7 @@ def read_surface(
     xy_unit=None,
     layout=None,
     fill_undefined=False,
+    override_size=None,
 ):
     """Read a measured topography.
 
@@ -73,6 +74,12 @@ def read_surface(
     fill_undefined : bool
         Fill undefined (unmeasured, NaN) points with :func:`fill_harmonic`; otherwise
         such files are refused.
+    override_size : float or (float, float), optional
+        Physical size ``(Lx, Ly)`` in m that replaces the size the file carries (an instrument
+        file's calibration, a text header, a point list's columns): the correction of a file
+        whose size is wrong. The file's own size is kept in the provenance as ``file_size``
+        (``None`` for a plain file without one, for which it is the size); not with ``dx``,
+        ``dy`` or ``size``.
 
     Returns
     -------
@@ -92,7 +99,14 @@ def read_surface(
         message names the ``topography`` extra).
     """
     h, fdx, fdy, prov = read_raw(
-        path, unit=unit, dx=dx, dy=dy, size=size, xy_unit=xy_unit, layout=layout
+        path,
+        unit=unit,
+        dx=dx,
+        dy=dy,
+        size=size,
+        xy_unit=xy_unit,
+        layout=layout,
+        override_size=override_size,
     )
     bad = int(np.count_nonzero(np.isnan(h)))
     if bad:
@@ -107,13 +121,24 @@ def read_surface(
     return Surface(h, fdx, fdy, provenance=prov, periodic=False)
 
 
-def read_raw(path, *, unit=None, dx=None, dy=None, size=None, xy_unit=None, layout=None):
+def read_raw(
+    path,
+    *,
+    unit=None,
+    dx=None,
+    dy=None,
+    size=None,
+    xy_unit=None,
+    layout=None,
+    override_size=None,
+):
     """Heights of a topography file with undefined points kept as NaN.
 
     The reading half of :func:`read_surface` (same parameters but ``fill_undefined``):
     returns ``(heights, dx, dy, provenance)`` with heights in m (NaN where the instrument
     measured nothing), spacings in m and the provenance dict (``path``, ``sha256``,
-    ``layout``, ``format``, ``unit`` and where it came from, ``shape``, ``dx``, ``dy``).
+    ``layout``, ``format``, ``unit`` and where it came from, ``shape``, ``dx``, ``dy``, the
+    size's source ``size_source`` and, with ``override_size``, the file's own ``file_size``).
 
     Raises
     ------
@@ -127,6 +152,8 @@ def read_raw(path, *, unit=None, dx=None, dy=None, size=None, xy_unit=None, layo
         The base of the four above; also a file that cannot be read in its layout.
     """
     path = Path(path)
+    if override_size is not None:
+        return _overridden(path, unit, (dx, dy, size), xy_unit, layout, override_size)
     layout = _layout(path, layout)
     if size is not None and (dx is not None or dy is not None):
         raise ValueError("give either size or dx (and dy), not both")
@@ -154,6 +181,22 @@ def read_raw(path, *, unit=None, dx=None, dy=None, size=None, xy_unit=None, layo
     }
     prov.update({k: v for k, v in info.items() if k not in ("format", "filled_undefined")})
     return h, fdx, fdy, prov
+
+
+def _overridden(path, unit, lateral, xy_unit, layout, override_size):
+    """:func:`read_raw` with ``override_size`` replacing the file's own size (kept as ``file_size``)."""
+    if any(v is not None for v in lateral):
+        raise ValueError("override_size replaces the file's size: give no dx, dy or size with it")
+    lx, ly = pair("override_size", override_size, positive)
+    try:
+        h, fdx, fdy, prov = read_raw(path, unit=unit, xy_unit=xy_unit, layout=layout)
+        own = [h.shape[0] * fdx, h.shape[1] * fdy]
+    except SizeRequired:  # a plain file without a size: the override is its size
+        h, fdx, fdy, prov = read_raw(path, unit=unit, size=(lx, ly), layout=layout)
+        own = None
+    nx, ny = h.shape
+    prov.update(dx=lx / nx, dy=ly / ny, size_source="override", file_size=own)
+    return h, lx / nx, ly / ny, prov
 
 
 def _layout(path, layout):
@@ -207,7 +250,17 @@ def _load(path, layout, unit, xy_unit, lateral):
         if given:
             raise SizeContradiction("dx, dy and size come from the x, y columns of a point list")
         return (*_io.load_xyz(path, unit, xy_unit), {})
-    h, fdx, fdy, info = _io.load_instrument(path, unit, keep_undefined=True)
+    try:
+        h, fdx, fdy, info = _io.load_instrument(path, unit, keep_undefined=True)
+    except ImportError:
+        line = _io.text_export_line(path) if path.suffix.lower() in _io.PLAIN_LAYOUTS else None
+        if line is None:
+            raise
+        raise ImportError(
+            f"{path}: its header line {line!r} is not the plain text matrix's (# Width, # Height, "
+            "# Value units): the file is another program's export, read by SurfaceTopography's "
+            f"text reader. {_io.TOPOGRAPHY_EXTRA_HINT}"
+        ) from None
     if fdx is not None and given:
         raise SizeContradiction(
             f"{path}: the file carries its lateral calibration; do not pass dx, dy or size"

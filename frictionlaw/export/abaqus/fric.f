@@ -10,9 +10,22 @@ C     p_hist therefore rises only through Abaqus' commit.
 C     PROPS(1) (*FRICTION, USER, PROPERTIES=1 and its data line) states
 C     the deck's unit system: 1 SI (Pa, m), 2 mm-t-s (MPa, mm).
 C     Guards (docs/fe_codes.md): NSTATV >= 1, PROPS(1) = the unit
-C     system this routine was exported for, PRESS <= 100 H, else an
-C     error message ({{ host.message_routine }}) and {{ host.exit_routine }}; PRESS beyond
-C     the calibrated range: one warning per process.
+C     system this routine was exported for, else an error message
+C     ({{ host.message_routine }}) and {{ host.exit_routine }}. The pressure checks act on what
+C     has converged: a committed p_hist (STATEV(1) at the start of the
+C     increment) above 100 H stops the run, one beyond the calibrated
+C     range gives one warning per process. An iterate's PRESS above
+C     100 H asks for a smaller increment (PNEWDT) until the increment
+C     is 1/{{ (1 / guard.cut_floor) | round | int }} of the size at which that first happened.
+{% if zones %}
+C     Zones: the law of the name in {{ zones.key.argument }}, compared trimmed
+C     and case-insensitive (SBMF_ZONE); {% if zones.default %}a name no zone gives
+C     runs the default law{% else %}a name no zone gives stops
+C     the run (no default law){% endif %}. STATEV(4) = the law that wrote
+C     STATEV(2) (DEPVAR >= 4): the cache is used only under that law;
+C     p_hist is the workpiece's and carries over from zone to zone.
+{% endif %}
+{% from "core/zone_pick.f" import pick with context %}
 C=======================================================================
       SUBROUTINE FRIC(LM,TAU,DDTDDG,DDTDDP,DSLIP,SED,SFD,
      1 DDTDDT,PNEWDT,STATEV,DGAM,TAULM,PRESS,DPRESS,DDPDDH,SLIP,
@@ -32,8 +45,19 @@ C
       DOUBLE PRECISION P, PH, G1H, G1NEW, TLIM, DTAU, XKT, KFALL
       DOUBLE PRECISION TOLD(2), TNEW(2), DTDDU(2,2), DTDP(2)
       INTEGER ISTAT, IA, IB
-      DOUBLE PRECISION SBMF_KT
-      EXTERNAL SBMF_KT
+{% if zones %}
+      DOUBLE PRECISION SBMF_ZKT, SBMF_CUTS
+      INTEGER SBMF_ZONE
+      EXTERNAL SBMF_ZKT, SBMF_CUTS, SBMF_ZONE
+{% else %}
+      DOUBLE PRECISION SBMF_KT, SBMF_CUTS
+      EXTERNAL SBMF_KT, SBMF_CUTS
+{% endif %}
+C     guards: the PNEWDT of an iterate above 100 H, and the fraction of
+C     the increment's size below which no more is asked for
+      DOUBLE PRECISION SBMFCB, SBMFCF
+      PARAMETER (SBMFCB = {{ guard.cut_factor | double }})
+      PARAMETER (SBMFCF = {{ guard.cut_floor | double }})
 C     elastic slip of Abaqus' own penalty friction: 0.005 CHRLNGTH
       DOUBLE PRECISION FSLIP
       PARAMETER (FSLIP = 5.0D-3)
@@ -41,7 +65,7 @@ C     elastic slip of Abaqus' own penalty friction: 0.005 CHRLNGTH
 C
       P = PRESS
 {% if guards %}
-C     guards: the deck's state variables and unit system, the pressure
+C     guards: the deck's state variables and unit system
       IF (NSTATV .LT. 1) THEN
         CALL SBMF_GUARD(1, DBLE(NSTATV))
         RETURN
@@ -54,15 +78,40 @@ C     guards: the deck's state variables and unit system, the pressure
         CALL SBMF_GUARD(3, PROPS(1))
         RETURN
       END IF
-      IF (P .GT. SBMFPU) THEN
-        CALL SBMF_GUARD(4, P)
+{% endif %}
+{% if zones %}
+{% call pick("SBMF_ZONE(" ~ zones.key.argument ~ ")", zones.key.argument) %}
+        LM = 2
+        RETURN
+{% endcall %}
+{% endif %}
+{% if guards %}
+C     what has converged: the committed p_hist (STATEV(1) is passed in
+C     as at the start of the increment)
+      IF (STATEV(1) .GT. SBMFPU) THEN
+        CALL SBMF_GUARD(6{{ " + KZ" if zones else "" }}, STATEV(1))
         RETURN
       END IF
-      IF (P .GT. SBMFPM) CALL SBMF_GUARD(5, P)
+      IF (STATEV(1) .GT. SBMFPM) CALL SBMF_GUARD(5{{ " + KZ" if zones else "" }}, STATEV(1))
+C     an iterate above 100 H: a smaller increment, as long as this one
+C     is above SBMFCF of the size at which that first happened (below,
+C     the host's own limit would end the run: the increment is let
+C     converge, and a converged pressure above 100 H stops it above)
+      IF (P .GT. SBMFPU) THEN
+        IF (SBMF_CUTS(KSTEP, KINC, DTIME) .GT. SBMFCF)
+     &    PNEWDT = MIN(PNEWDT, SBMFCB)
+      END IF
 {% endif %}
       PH = STATEV(1)
       G1H = -1.0D0
+{% if zones %}
+C     the cache is this law's only if STATEV(4) says so
+      IF (NSTATV .GE. 4) THEN
+        IF (STATEV(4) .EQ. DBLE(IZ)) G1H = STATEV(2)
+      END IF
+{% else %}
       IF (NSTATV .GE. 2) G1H = STATEV(2)
+{% endif %}
       SED = 0.0D0
       SFD = 0.0D0
       DO IA = 1, NFDIR
@@ -83,9 +132,15 @@ C       open (no pressure): no friction, history unchanged
         IF (NSTATV .GE. 3) STATEV(3) = 0.0D0
         RETURN
       END IF
+{% if zones %}
+      CALL SBMF_ZSHEAR(IZ, P, PH, G1H, TLIM, DTAU, G1NEW)
+      KFALL = MAX(TLIM, TINY(1.0D0))/(FSLIP*CHRLNGTH)
+      XKT = SBMF_ZKT(IZ, P, KFALL)
+{% else %}
       CALL SBMF_SHEAR(P, PH, G1H, TLIM, DTAU, G1NEW)
       KFALL = MAX(TLIM, TINY(1.0D0))/(FSLIP*CHRLNGTH)
       XKT = SBMF_KT(P, KFALL)
+{% endif %}
       DO IA = 1, NFDIR
         TOLD(IA) = TAU(IA)
       END DO
@@ -108,6 +163,9 @@ C     trial history max(p_hist, p): kept by Abaqus only if converged
       STATEV(1) = MAX(PH, P)
       IF (NSTATV .GE. 2) STATEV(2) = G1NEW
       IF (NSTATV .GE. 3) STATEV(3) = DBLE(ISTAT)
+{% if zones %}
+      IF (NSTATV .GE. 4) STATEV(4) = DBLE(IZ)
+{% endif %}
       RETURN
       END
 C
@@ -117,6 +175,43 @@ C     deck; Abaqus does not call it.
       INTEGER FUNCTION FRIC_DEPVAR()
       IMPLICIT NONE
       FRIC_DEPVAR = 1
+      RETURN
+      END
+C
+C=======================================================================
+C     The guards' view of the host's cut-backs: DTIME over the DTIME of
+C     the first attempt of this increment (KSTEP, KINC) in which FRIC
+C     saw an iterate above 100 H (1 in that attempt, 1/4 after one
+C     cut-back to PNEWDT = 1/4, ...). Static storage of the process:
+C     the increment's key and that DTIME, read and written with
+C     sequentially consistent OpenMP atomics (DTIME before the key,
+C     read after it). Every call of one attempt passes the same KSTEP,
+C     KINC and DTIME, and attempts follow one another (the host's
+C     threads join between iterations): threads that race in the
+C     first attempt write the same values.
+C=======================================================================
+      DOUBLE PRECISION FUNCTION SBMF_CUTS(KSTEP, KINC, DTIME)
+      IMPLICIT NONE
+      INTEGER KSTEP, KINC
+      DOUBLE PRECISION DTIME, D0
+      INTEGER(8) KEY, K0
+      INTEGER(8), SAVE :: SBMFCK = -1
+      DOUBLE PRECISION, SAVE :: SBMFCD = 0.0D0
+      KEY = INT(KSTEP, 8)*4294967296_8 + INT(KINC, 8)
+!$OMP ATOMIC READ SEQ_CST
+      K0 = SBMFCK
+      IF (K0 .NE. KEY) THEN
+!$OMP ATOMIC WRITE SEQ_CST
+        SBMFCD = DTIME
+!$OMP ATOMIC WRITE SEQ_CST
+        SBMFCK = KEY
+        SBMF_CUTS = 1.0D0
+        RETURN
+      END IF
+!$OMP ATOMIC READ SEQ_CST
+      D0 = SBMFCD
+      SBMF_CUTS = 1.0D0
+      IF (D0 .GT. 0.0D0) SBMF_CUTS = DTIME/D0
       RETURN
       END
 C

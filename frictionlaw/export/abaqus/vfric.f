@@ -12,6 +12,14 @@ C     Guards (docs/fe_codes.md): nStateVar >= 1, props(1) = the unit
 C     system this routine was exported for, p <= 100 H, else an error
 C     message ({{ host.message_routine }}) and {{ host.exit_routine }}; p beyond the
 C     calibrated range: one warning per process.
+{% if zones %}
+C     Zones: the law of the name in {{ zones.key.argument }}, compared trimmed
+C     and case-insensitive; {% if zones.default %}a name no zone gives runs the
+C     default law{% else %}a name no zone gives stops the run (no
+C     default law){% endif %}. statev(4,n) = the law that
+C     wrote the cache (DEPVAR >= 4); p_hist carries over between zones.
+{% endif %}
+{% from "core/zone_pick.f" import pick with context %}
 C=======================================================================
       subroutine vfric(
 C Write only -
@@ -46,6 +54,10 @@ C
 C
       double precision p, ph, g1h, g1new, tlim, dtau, flim
       integer k, n, ia, istat
+{% if zones %}
+      integer SBMF_ZONE
+      external SBMF_ZONE
+{% endif %}
 {% include "core/guard_decl.f" %}
 C
 {% if guards %}
@@ -63,6 +75,16 @@ C     guards: the deck's state variables and unit system
         return
       end if
 {% endif %}
+{% if zones %}
+{% call pick("SBMF_ZONE(" ~ zones.key.argument ~ ")", zones.key.argument) %}
+        do k = 1, nContact
+          do ia = 1, nFricDir
+            fTangential(ia, k) = 0.0d0
+          end do
+        end do
+        return
+{% endcall %}
+{% endif %}
       do k = 1, nContact
         n = jConSecid(k)
         do ia = 1, nFricDir
@@ -72,18 +94,28 @@ C       an overflowing pressure is taken as the largest double
         p = min(fNormal(k)/areaSec(n), huge(p))
 {% if guards %}
         if (p .gt. SBMFPU) then
-          call SBMF_GUARD(4, p)
+          call SBMF_GUARD(4{{ " + KZ" if zones else "" }}, p)
           return
         end if
-        if (p .gt. SBMFPM) call SBMF_GUARD(5, p)
+        if (p .gt. SBMFPM) call SBMF_GUARD(5{{ " + KZ" if zones else "" }}, p)
 {% endif %}
         ph = statev(1, n)
         g1h = -1.0d0
+{% if zones %}
+        if (nStateVar .ge. 4) then
+          if (statev(4, n) .eq. dble(iz)) g1h = statev(2, n)
+        end if
+{% else %}
         if (nStateVar .ge. 2) g1h = statev(2, n)
+{% endif %}
         if (.not. (p .gt. 0.0d0)) then
           if (nStateVar .ge. 3) statev(3, n) = 0.0d0
         else
+{% if zones %}
+          call SBMF_ZSHEAR(iz, p, ph, g1h, tlim, dtau, g1new)
+{% else %}
           call SBMF_SHEAR(p, ph, g1h, tlim, dtau, g1new)
+{% endif %}
           flim = tlim*areaSec(n)
           if (tlim .gt. 0.0d0 .and. fStickForce(k) .le. flim) then
             fTangential(1, k) = -fStickForce(k)
@@ -95,6 +127,9 @@ C       an overflowing pressure is taken as the largest double
           statev(1, n) = max(ph, p)
           if (nStateVar .ge. 2) statev(2, n) = g1new
           if (nStateVar .ge. 3) statev(3, n) = dble(istat)
+{% if zones %}
+          if (nStateVar .ge. 4) statev(4, n) = dble(iz)
+{% endif %}
         end if
       end do
       return

@@ -17,6 +17,14 @@ C     (MPa, mm). Guards (docs/fe_codes.md): nStates >= 1, props(1) =
 C     the unit system this routine was exported for, p <= 100 H, else
 C     an error message ({{ host.message_routine }}) and {{ host.exit_routine }}; p beyond
 C     the calibrated range: one warning per process.
+{% if zones %}
+C     Zones: the law of the name in {{ zones.key.argument }}, compared trimmed
+C     and case-insensitive; {% if zones.default %}a name no zone gives runs the
+C     default law{% else %}a name no zone gives stops the run (no
+C     default law){% endif %}. state(4,j,k) = the law that
+C     wrote the cache (DEPVAR >= 4); p_hist carries over between zones.
+{% endif %}
+{% from "core/zone_pick.f" import pick with context %}
 C=======================================================================
       subroutine vfriction(
 C Write only -
@@ -68,6 +76,10 @@ C
 C
       double precision p, ph, g1h, g1new, tlim, dtau, flim, phnew, sj
       integer k, j, ia, istat, jmax
+{% if zones %}
+      integer SBMF_ZONE
+      external SBMF_ZONE
+{% endif %}
 {% include "core/guard_decl.f" %}
 C
 {% if guards %}
@@ -85,6 +97,16 @@ C     guards: the deck's state variables and unit system
         return
       end if
 {% endif %}
+{% if zones %}
+{% call pick("SBMF_ZONE(" ~ zones.key.argument ~ ")", zones.key.argument) %}
+        do k = 1, nBlock
+          do ia = 1, nFricDir
+            fTangential(ia, k) = 0.0d0
+          end do
+        end do
+        return
+{% endcall %}
+{% endif %}
       do k = 1, nBlock
         do ia = 1, nFricDir
           fTangential(ia, k) = 0.0d0
@@ -96,10 +118,10 @@ C       an overflowing pressure is taken as the largest double
         end if
 {% if guards %}
         if (p .gt. SBMFPU) then
-          call SBMF_GUARD(4, p)
+          call SBMF_GUARD(4{{ " + KZ" if zones else "" }}, p)
           return
         end if
-        if (p .gt. SBMFPM) call SBMF_GUARD(5, p)
+        if (p .gt. SBMFPM) call SBMF_GUARD(5{{ " + KZ" if zones else "" }}, p)
 {% endif %}
         if (.not. (p .gt. 0.0d0)) then
 C         open (or no area): no friction, history unchanged
@@ -118,8 +140,15 @@ C         open (or no area): no friction, history unchanged
             end if
           end do
           g1h = -1.0d0
+{% if zones %}
+          if (nStates .ge. 4) then
+            if (state(4, jmax, k) .eq. dble(iz)) g1h = state(2, jmax, k)
+          end if
+          call SBMF_ZSHEAR(iz, p, ph, g1h, tlim, dtau, g1new)
+{% else %}
           if (nStates .ge. 2) g1h = state(2, jmax, k)
           call SBMF_SHEAR(p, ph, g1h, tlim, dtau, g1new)
+{% endif %}
           flim = tlim*areaCont(k)
           if (tlim .gt. 0.0d0 .and. fStickForce(k) .le. flim) then
             fTangential(1, k) = -fStickForce(k)
@@ -136,6 +165,9 @@ C             the cache belongs to phnew; a node raised to p < phnew
 C             gets 0 ("recompute")
               if (max(sj, p) .eq. phnew) then
                 state(2, j, k) = g1new
+{% if zones %}
+                if (nStates .ge. 4) state(4, j, k) = dble(iz)
+{% endif %}
               else if (p .gt. sj) then
                 state(2, j, k) = 0.0d0
               end if

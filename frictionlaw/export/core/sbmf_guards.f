@@ -9,9 +9,9 @@
 C=======================================================================
 C     1 for the first call with K in this process (or MPI rank), 0 for
 C     every later one: the guards' once-per-process flags (K = the
-C     message kind, 1..5). The only static storage of the generated
-C     code; it is read and set with OpenMP atomics (an exchange), so
-C     that threads calling at once get one 1 between them when the
+C     message kind, 1..6). Static storage of the generated code (as
+C     FRIC's SBMF_CUTS), read and set with OpenMP atomics (an exchange),
+C     so that threads calling at once get one 1 between them when the
 C     routine is compiled with the host's OpenMP flag (ifort -qopenmp,
 C     gfortran -fopenmp); the atomics are hardware instructions and
 C     hold for any threads, not only OpenMP's.
@@ -19,7 +19,7 @@ C=======================================================================
       INTEGER FUNCTION SBMF_ONCE(K)
       IMPLICIT NONE
       INTEGER K, N
-      INTEGER, SAVE :: SBMFDN(5) = 0
+      INTEGER, SAVE :: SBMFDN({{ guard_kinds }}) = 0
 !$OMP ATOMIC READ
       N = SBMFDN(K)
       IF (N .EQ. 0) THEN
@@ -36,9 +36,10 @@ C=======================================================================
 C     The guards' messages: MSG(1:NMSG) for KIND and the value XV.
 C     KIND 1: too few state variables (XV: their number); 2: the deck
 C     states no unit system; 3: it states another one (XV: the value
-C     stated); 4: a pressure above 100 H (XV: p; errors, 1-4, stop the
-C     analysis); 5: a pressure beyond the calibrated range (XV: p; a
-C     warning, written once per process). MSG: 400 characters.
+C     stated); 4: a pressure above 100 H (XV: p); 5: a pressure beyond
+C     the calibrated range (XV: p; a warning, written once per
+C     process); 6: a committed p_hist above 100 H (FRIC; XV: p_hist).
+C     Errors (all but 5) stop the analysis. MSG: 400 characters.
 C=======================================================================
       SUBROUTINE SBMF_MESSAGE(KIND, XV, MSG, NMSG)
       IMPLICIT NONE

@@ -1,11 +1,12 @@
 {#
   The tabulated reload form's part of the law core (frictionlaw.reload_form), included by
-  core/sbmf_core.f in place of the paper form's SBMF_RELOAD when the parameter file selects
-  reload_form = "tabulated": SBMF_SMINS (frictionlaw._kernels.smooth_min_log_slope),
-  SBMF_RTAB (reload_table_at) and SBMF_RELOAD (sbmf_reload_table_scalar), statement by
+  core/sbmf_core.f in place of the paper form's {{ zp }}RELOAD when the parameter file selects
+  reload_form = "tabulated": {{ zp }}SMINS (frictionlaw._kernels.smooth_min_log_slope),
+  {{ zp }}RTAB (reload_table_at) and {{ zp }}RELOAD (sbmf_reload_table_scalar), statement by
   statement. Rendered with core/sbmf_core.f's values (frictionlaw.export._law.core_context):
-  law, continuous, reload (the ReloadSpec: knots and slopes as PARAMETER arrays), ln_small,
-  ln_sat, ln_d_max, ln_h.
+  law, continuous, reload (the ReloadSpec: knots and slopes as PARAMETER arrays), first (None:
+  Eq. 24's alpha1(p_hist); else {{ zp }}LNA1 of the first-loading template), ln_small, ln_sat,
+  ln_d_max, ln_h.
 #}
 C=======================================================================
 C     ln G and the logarithmic slope SL = X dG/dX / G = 2Y/sinh(2Y) of
@@ -14,7 +15,7 @@ C     smooth_min_log_slope): SBMF_SMIN's GL and its factor S (dG/dX =
 C     G/X S), by the same statements, without G, G/X or dG/dX (one or
 C     two exps less). Series branch: SL = 1 - 2Y**2/3; saturated: 0.
 C=======================================================================
-      SUBROUTINE SBMF_SMINS(XL, XN, GL, SL)
+      SUBROUTINE {{ zp }}SMINS(XL, XN, GL, SL)
       IMPLICIT NONE
       DOUBLE PRECISION XL, XN, GL, SL
       DOUBLE PRECISION LNY, Y, Y2, EM, TWOE
@@ -55,7 +56,7 @@ C     interpolant (Fritsch-Carlson slopes) over z = -ln(1 - X) through
 C     the calibrated levels; the first level's values up to it, the
 C     last level's from it on (X >= 1 included).
 C=======================================================================
-      SUBROUTINE SBMF_RTAB(X, LNC, LNN)
+      SUBROUTINE {{ zp }}RTAB(X, LNC, LNN)
       IMPLICIT NONE
       DOUBLE PRECISION X, LNC, LNN
 {% if reload.z | length == 1 %}
@@ -122,15 +123,17 @@ C
 C=======================================================================
 C     Eq. 25 tabulated over p_hist (frictionlaw's
 C     sbmf_reload_table_scalar): TAU = TMAX a1h g(x2; n2), a1h =
-C     alpha1(PH), (C2, n2) of the table at PH (SBMF_RTAB),
+C     alpha1(PH) of the first loading that runs, (C2, n2) of the
+C     table at PH ({{ zp }}RTAB),
 C     x2h = PH C2/(H a1h), x2 = x2h (P/PH)**S2 (below P/PH = Q0 a C1
 C     quadratic start, finite DTAU at P -> 0), all formed in logs:
 C     ln x2h = ln(PH/H) + ln C2 - ln a1h and ln(P/PH), one log of each
 C     quotient where it is a normal double (else of its terms).
 {% if continuous %}
-C     Continuous variant: divided by g(x2h; n2) to meet Eq. 24 at PH.
+C     Continuous variant: divided by g(x2h; n2) to meet the first
+C     loading at PH.
 {% endif %}
-C     DTAU = TAU SLP SL(x2)/P, SL = x2 g'/g (SBMF_SMINS), SLP =
+C     DTAU = TAU SLP SL(x2)/P, SL = x2 g'/g ({{ zp }}SMINS), SLP =
 C     d ln x2/d ln P, held below the largest double;
 C     where TAU S2 SL is below 1D-290 (TAU subnormal or 0) formed in
 C     logs, its log held below LNDMAX. Cap TMAX a1h for P <= PH (the
@@ -138,7 +141,7 @@ C     comparison made in logs: the cap is formed only where it
 C     applies), TMAX above. G1H: cached -ln a1h (<= 0: recompute it);
 C     G1OUT: the cache value for PH.
 C=======================================================================
-      SUBROUTINE SBMF_RELOAD(P, PH, G1H, TAU, DTAU, G1OUT)
+      SUBROUTINE {{ zp }}RELOAD(P, PH, G1H, TAU, DTAU, G1OUT)
       IMPLICIT NONE
       DOUBLE PRECISION P, PH, G1H, TAU, DTAU, G1OUT
       DOUBLE PRECISION LNA1H, X, LNC2, LNN2, XN2, LNX2H, Q, LNQ, LNX2
@@ -146,15 +149,29 @@ C=======================================================================
 {% if continuous %}
       DOUBLE PRECISION LG2H
 {% endif %}
+{% if first %}
+      DOUBLE PRECISION {{ zp }}LNA1
+      EXTERNAL {{ zp }}LNA1
+{% if continuous %}
+      DOUBLE PRECISION SBMF_SMINL
+      EXTERNAL SBMF_SMINL
+{% endif %}
+      DOUBLE PRECISION TMAX, H, S2, LNH, LNDMAX
+{% else %}
       DOUBLE PRECISION SBMF_LPROD, SBMF_SMINL
       EXTERNAL SBMF_LPROD, SBMF_SMINL
       DOUBLE PRECISION TMAX, H, C1, XN1, S2, C1H, LNH, LNDMAX
+{% endif %}
       PARAMETER (TMAX = {{ law.TMAX | double }})
       PARAMETER (H = {{ law.H | double }})
+{% if not first %}
       PARAMETER (C1 = {{ law.C1 | double }})
       PARAMETER (XN1 = {{ law.XN1 | double }})
+{% endif %}
       PARAMETER (S2 = {{ reload.s2 | double }})
+{% if not first %}
       PARAMETER (C1H = C1/H)
+{% endif %}
 C     ln H, as the runtime's log(H) gives it
       PARAMETER (LNH = {{ ln_h | double }})
       PARAMETER (LNDMAX = {{ ln_d_max | double }})
@@ -170,11 +187,15 @@ C     ln Q0: below P/PH = Q0 the branch starts quadratically
       IF (G1H .GT. 0.0D0) THEN
         LNA1H = -G1H
       ELSE
+{% if first %}
+        LNA1H = {{ zp }}LNA1(PH)
+{% else %}
         LNA1H = SBMF_SMINL(SBMF_LPROD(PH, C1H), XN1)
+{% endif %}
         G1OUT = -LNA1H
       END IF
       X = PH/H
-      CALL SBMF_RTAB(X, LNC2, LNN2)
+      CALL {{ zp }}RTAB(X, LNC2, LNN2)
       XN2 = EXP(LNN2)
       IF (1.0D-300 .LT. X .AND. X .LT. 1.0D+300) THEN
         LNX2H = LOG(X) + LNC2 - LNA1H
@@ -198,7 +219,7 @@ C       T = Q/Q0, A = 2 - S2, B = S2 - 1 (finite DTAU at P -> 0)
       ELSE
         LNX2 = LNX2H + S2*LNQ
       END IF
-      CALL SBMF_SMINS(LNX2, XN2, LG2, SL2)
+      CALL {{ zp }}SMINS(LNX2, XN2, LG2, SL2)
 {% if continuous %}
 C     continuous_reload: divided by g(x2h; n2), formed in logs
       LG2H = SBMF_SMINL(LNX2H, XN2)

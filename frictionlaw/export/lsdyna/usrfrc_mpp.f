@@ -15,6 +15,13 @@ C     exported for, p <= 100 H, else FSTT = FDYN = 0 (no friction,
 C     history unchanged) with one message per process (terminal,
 C     d3hsp, messag: iounits.inc); p beyond the calibrated range: one
 C     warning per process.
+{% if zones %}
+C     Zones: the law of the interface number NOSL ({{ zones.laws | length }} laws);
+C     {% if zones.default %}an interface no zone gives runs the default law{% else %}an interface no zone gives: no friction on it and one
+C     message (no default law){% endif %}. UH(4) = the
+C     law that wrote the cache (NH >= 4); p_hist carries over.
+{% endif %}
+{% from "core/zone_pick.f" import pick with context %}
 C=======================================================================
       SUBROUTINE USRFRC(FSTT,FDYN,UC,NC,PRS,TEMP,V,UH,NH,CRV,NNPCRV,
      & NOSL,ICTYPE,SIDE,TIME,NCYCLE,DT2,FRIC1,FRIC2,FRIC3,FRIC4,LSV,
@@ -34,12 +41,23 @@ C
       DOUBLE PRECISION P, PH, PHNEW, G1H, G1NEW, TLIM, DTAU, XMU, HR
       REAL RPH
       LOGICAL USECAC
+{% if zones %}
+      CHARACTER*12 ZNAME
+      INTEGER SBMF_ZONEN
+      EXTERNAL SBMF_ZONEN
+{% endif %}
 {% include "core/guard_decl.f" %}
       HR = DBLE(HUGE(RPH))
       USECAC = (KIND(RPH) .EQ. KIND(HR)) .AND. (NH .GE. 2)
       P = DBLE(PRS)
       FSTT = 0.0
       FDYN = 0.0
+{% if zones %}
+{% call pick("SBMF_ZONEN(NOSL)", "ZNAME", "WRITE (ZNAME, '(I0)') NOSL") %}
+        RETURN
+{% endcall %}
+      USECAC = USECAC .AND. (NH .GE. 4)
+{% endif %}
 {% if guards %}
 C     guards: a failed one refuses the law (no friction, no history)
       IF (NH .LT. 1) THEN
@@ -52,17 +70,24 @@ C     guards: a failed one refuses the law (no friction, no history)
         CALL SBMF_GUARD(3, DBLE(UC(1)))
         RETURN
       ELSE IF (P .GT. SBMFPU) THEN
-        CALL SBMF_GUARD(4, P)
+        CALL SBMF_GUARD(4{{ " + KZ" if zones else "" }}, P)
         RETURN
       END IF
-      IF (P .GT. SBMFPM) CALL SBMF_GUARD(5, P)
+      IF (P .GT. SBMFPM) CALL SBMF_GUARD(5{{ " + KZ" if zones else "" }}, P)
 {% endif %}
       IF (.NOT. (P .GT. 0.0D0)) RETURN
       PH = 0.0D0
       IF (NH .GE. 1) PH = MAX(DBLE(UH(1)), 0.0D0)
       G1H = -1.0D0
+{% if zones %}
+      IF (USECAC) THEN
+        IF (DBLE(UH(4)) .EQ. DBLE(IZ)) G1H = DBLE(UH(2))
+      END IF
+      CALL SBMF_ZSHEAR(IZ, P, PH, G1H, TLIM, DTAU, G1NEW)
+{% else %}
       IF (USECAC) G1H = DBLE(UH(2))
       CALL SBMF_SHEAR(P, PH, G1H, TLIM, DTAU, G1NEW)
+{% endif %}
       XMU = MIN(TLIM/P, HR)
       FSTT = REAL(XMU)
       FDYN = FSTT
@@ -73,6 +98,9 @@ C     guards: a failed one refuses the law (no friction, no history)
         UH(1) = RPH
       END IF
       IF (USECAC) UH(2) = REAL(G1NEW)
+{% if zones %}
+      IF (USECAC) UH(4) = REAL(IZ)
+{% endif %}
       RETURN
       END
 C

@@ -26,6 +26,13 @@ C     the unit system this routine was exported for, else no friction
 C     at any node; p > 100 H: no friction at that node; each with one
 C     message per process (terminal, d3hsp, messag: iounits.inc).
 C     p beyond the calibrated range: one warning per process.
+{% if zones %}
+C     Zones: the law of the interface number NOSL ({{ zones.laws | length }} laws);
+C     {% if zones.default %}an interface no zone gives runs the default law{% else %}an interface no zone gives: no friction on it and one
+C     message (no default law){% endif %}. UFHIST(4, .)
+C     = the law that wrote the cache (NHV >= 4); p_hist carries over.
+{% endif %}
+{% from "core/zone_pick.f" import pick with context %}
 C=======================================================================
       SUBROUTINE USRFRC(NOSL,TIME,NCYCLE,DT2,INSV,AREAS,XS,YS,ZS,
      & LSV,IX1,IX2,IX3,IX4,AREAM,XX1,XX2,XX3,STFN,STF,FNI,
@@ -52,8 +59,15 @@ C
       DOUBLE PRECISION TOLD(3), TNEW(3), DTDDU(3,3), DTDP(3)
       REAL RPH
       LOGICAL USECAC, REFUSE
+{% if zones %}
+      CHARACTER*12 ZNAME
+      DOUBLE PRECISION SBMF_ZKT
+      INTEGER SBMF_ZONEN
+      EXTERNAL SBMF_ZKT, SBMF_ZONEN
+{% else %}
       DOUBLE PRECISION SBMF_KT
       EXTERNAL SBMF_KT
+{% endif %}
 {% include "core/guard_decl.f" %}
 C     largest double and largest host REAL
       HD = HUGE(HD)
@@ -75,6 +89,13 @@ C     one refuses the law (no friction at any node, history unchanged)
         REFUSE = .TRUE.
       END IF
 {% endif %}
+{% if zones %}
+{% call pick("SBMF_ZONEN(NOSL)", "ZNAME", "WRITE (ZNAME, '(I0)') NOSL") %}
+        REFUSE = .TRUE.
+        IZ = 1
+{% endcall %}
+      USECAC = USECAC .AND. (NHV .GE. 4)
+{% endif %}
       DO KK = 1, NIISV5
         II = IISV5(KK)
         IH = ILBSV(II)
@@ -94,18 +115,26 @@ C     one refuses the law (no friction at any node, history unchanged)
 {% if guards %}
         IF (P .GT. SBMFPU) THEN
 C         the deck's units are not the routine's: no friction here
-          CALL SBMF_GUARD(4, P)
+          CALL SBMF_GUARD(4{{ " + KZ" if zones else "" }}, P)
           DO A = 3, 5
             FDAT(A, II) = 0.0
           END DO
           CYCLE
         END IF
-        IF (P .GT. SBMFPM) CALL SBMF_GUARD(5, P)
+        IF (P .GT. SBMFPM) CALL SBMF_GUARD(5{{ " + KZ" if zones else "" }}, P)
 {% endif %}
         PH = 0.0D0
         IF (NHV .GE. 1) PH = MAX(DBLE(UFHIST(1, IH)), 0.0D0)
         G1H = -1.0D0
+{% if zones %}
+C       the cache is this law's only if UFHIST(4, .) says so
+        IF (USECAC) THEN
+          IF (DBLE(UFHIST(4, IH)) .EQ. DBLE(IZ))
+     &      G1H = DBLE(UFHIST(2, IH))
+        END IF
+{% else %}
         IF (USECAC) G1H = DBLE(UFHIST(2, IH))
+{% endif %}
         RN(1) = DBLE(RN1(II))
         RN(2) = DBLE(RN2(II))
         RN(3) = DBLE(RN3(II))
@@ -127,11 +156,19 @@ C       tangential parts: the normal components projected out
 C       tractions: t_old = F_old/A, k_t = STFK SFACN3/A (kept finite)
         KT = MAX(MIN((DBLE(STFK(II))*DBLE(SFACN3))/AR, HD), 0.0D0)
 C       a calibrated k_t (table or --k-t) replaces the penalty's
+{% if zones %}
+        KT = SBMF_ZKT(IZ, P, KT)
+{% else %}
         KT = SBMF_KT(P, KT)
+{% endif %}
         DO A = 1, 3
           TOLD(A) = MAX(MIN(FO(A)/AR, HD), -HD)
         END DO
+{% if zones %}
+        CALL SBMF_ZSHEAR(IZ, P, PH, G1H, TLIM, DTAU, G1NEW)
+{% else %}
         CALL SBMF_SHEAR(P, PH, G1H, TLIM, DTAU, G1NEW)
+{% endif %}
         CALL SBMF_RMAP(3, TLIM, DTAU, D, TOLD, KT, TNEW, DTDDU, DTDP,
      &                 ISTAT)
         DO A = 1, 3
@@ -150,6 +187,9 @@ C         stored rounded down: a constant pressure stays on Eq. 24
         END IF
         IF (USECAC) THEN
           UFHIST(2, IH) = REAL(G1NEW)
+{% if zones %}
+          UFHIST(4, IH) = REAL(IZ)
+{% endif %}
         ELSE IF (NHV .GE. 2) THEN
           UFHIST(2, IH) = 0.0
         END IF

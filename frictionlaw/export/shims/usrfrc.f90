@@ -1,8 +1,8 @@
 subroutine h_usrfrc(n, nact, nhv, nua, ua_in, iact, ilb, fni, areas, stfk, sfac, d, rn, fdat, &
-                    fxyz, ufhist) bind(c, name='h_usrfrc')
+                    fxyz, ufhist, nosl_in) bind(c, name='h_usrfrc')
   use iso_c_binding
   implicit none
-  integer(c_int), value :: n, nact, nhv, nua
+  integer(c_int), value :: n, nact, nhv, nua, nosl_in
   real, intent(in) :: ua_in(max(nua, 1))
   integer(c_int), intent(in) :: iact(nact), ilb(n)
   real, intent(in) :: fni(n), areas(n), stfk(n), sfac(1), d(3, n), rn(3, n)
@@ -35,7 +35,7 @@ subroutine h_usrfrc(n, nact, nhv, nua, ua_in, iact, ilb, fni, areas, stfk, sfac,
   xs = 0.; aream = 1.; xx = 0.; stfn = 1.; stf = 1.; ua = ua_in; frc = 1.; pld = 0.; temp = 0.
   ufeps = 0.; time = 0.; dt2 = 1.e-6; fdt2 = 1.e6; fric1 = 0.1; fric2 = 0.1; fric3 = 0.
   fric4 = 0.; bignum = 0.; npc = 1; lcf = 0; isurf = 0; iseg = 0
-  nosl = 1; ncycle = 1; ninput = nua; niisv5 = nact; numnp = n; nhvd = nhv; neps = 1
+  nosl = nosl_in; ncycle = 1; ninput = nua; niisv5 = nact; numnp = n; nhvd = nhv; neps = 1
   sfacn3 = sfac(1)
   call usrfrc(nosl, time, ncycle, dt2, insv, areas, xs, xs, xs, lsv, ix, ix, ix, ix, aream, &
               xx, xx, xx, stfn, stf, fni, dx, dy, dz, fdt2, ninput, ua, 'master', iisv5, &

@@ -1,7 +1,7 @@
-subroutine h_usrfrc_mpp(n, nh, nuc, uc_in, prs, uh, mu) bind(c, name='h_usrfrc_mpp')
+subroutine h_usrfrc_mpp(n, nh, nuc, uc_in, prs, uh, mu, nosl_in) bind(c, name='h_usrfrc_mpp')
   use iso_c_binding
   implicit none
-  integer(c_int), value :: n, nh, nuc
+  integer(c_int), value :: n, nh, nuc, nosl_in
   real, intent(in) :: uc_in(max(nuc, 1))
   real, intent(in) :: prs(n)
   real, intent(inout) :: uh(max(nh, 1), n)
@@ -9,7 +9,7 @@ subroutine h_usrfrc_mpp(n, nh, nuc, uc_in, prs, uh, mu) bind(c, name='h_usrfrc_m
   integer :: i, nc, nhd, nnp(1), nosl, ictype, ncycle, lsv, insv, ix, ne
   integer*8 :: idele8
   real :: uc(max(nuc, 1)), ue(1), crv(1), fs, fd, z
-  nc = nuc; nhd = nh; nnp = 1; nosl = 1; ictype = 4; ncycle = 1; lsv = 1; insv = 1; ix = 1
+  nc = nuc; nhd = nh; nnp = 1; nosl = nosl_in; ictype = 4; ncycle = 1; lsv = 1; insv = 1; ix = 1
   ne = 0; idele8 = 1; uc = uc_in; ue = 0.; crv = 0.; z = 0.
   do i = 1, n
     call usrfrc(fs, fd, uc, nc, prs(i), z, z, uh(1, i), nhd, crv, nnp, nosl, ictype, &

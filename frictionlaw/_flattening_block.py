@@ -1,0 +1,145 @@
+"""The ``flattening`` block of a parameter file: the inputs of the flattening model.
+
+Numpy-light and free of the law, so that :mod:`frictionlaw.params` can read and write it; the
+model itself is :mod:`frictionlaw.flattening` (docs/flattening.md).
+"""
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+__all__ = ["Flattening", "FLATTENING_MODEL", "FLATTENING_VERSION", "SLOPE_RANGE", "BETA_RANGE"]
+
+#: the model a ``flattening`` block names (the surface-layer yield model of docs/flattening.md)
+FLATTENING_MODEL = "layer-yield"
+#: version of the ``flattening`` object inside a parameter file
+FLATTENING_VERSION = 1
+#: validated range of the asperity flank slope ``tan(theta)``
+SLOPE_RANGE = (1e-4, 10.0)
+#: validated range of the layer-thickness factor ``beta``
+BETA_RANGE = (1e-3, 1e3)
+
+
+def _number(name: str, value: Any, lo: float, hi: float) -> float:
+    """``float(value)`` in ``[lo, hi]`` or ``ValueError`` naming ``name`` and the range."""
+    if isinstance(value, (bool, np.bool_)):
+        raise ValueError(f"{name} must be a real number in [{lo:g}, {hi:g}], got {value!r}")
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"{name} must be a real number in [{lo:g}, {hi:g}], got {value!r}"
+        ) from None
+    if not (math.isfinite(v) and lo <= v <= hi):
+        raise ValueError(f"{name} must be in [{lo:g}, {hi:g}], got {value!r}")
+    return v
+
+
+@dataclass(frozen=True)
+class Flattening:
+    """Inputs of the flattening model (the ``flattening`` block of ``params.json``).
+
+    Parameters
+    ----------
+    slope : float
+        ``tan(theta)``, the flank slope of the workpiece's asperities, in ``[1e-4, 10]``; a
+        calibration takes the RMS profile slope of the measured (or synthetic) workpiece.
+    beta : float
+        Thickness of the yielding surface layer in asperity half-spacings, in ``[1e-3, 1e3]``;
+        1 unless fitted to a measured contact fraction against strain.
+    beta_band : (float, float), optional
+        ``(lower, upper)`` of ``beta`` at ``band_level`` when it was fitted, else ``None``.
+    band_level : float, optional
+        Two-sided level of ``beta_band`` in ``(0, 1)``; given with the band, else ``None``.
+    """
+
+    slope: float
+    beta: float = 1.0
+    beta_band: tuple[float, float] | None = None
+    band_level: float | None = None
+
+    def __post_init__(self) -> None:
+        set_ = object.__setattr__
+        set_(self, "slope", _number("flattening.slope", self.slope, *SLOPE_RANGE))
+        set_(self, "beta", _number("flattening.beta", self.beta, *BETA_RANGE))
+        if (self.beta_band is None) != (self.band_level is None):
+            raise ValueError("flattening.beta_band and flattening.band_level come together")
+        if self.beta_band is not None:
+            try:
+                lo, hi = self.beta_band
+            except (TypeError, ValueError):
+                raise ValueError(
+                    f"flattening.beta_band must be [lower, upper], got {self.beta_band!r}"
+                ) from None
+            lo = _number("flattening.beta_band lower", lo, *BETA_RANGE)
+            hi = _number("flattening.beta_band upper", hi, *BETA_RANGE)
+            if not lo <= self.beta <= hi:
+                raise ValueError(
+                    f"flattening.beta_band [{lo:g}, {hi:g}] must contain beta = {self.beta:g}"
+                )
+            set_(self, "beta_band", (lo, hi))
+            level = _number("flattening.band_level", self.band_level, 1e-6, 1 - 1e-6)
+            set_(self, "band_level", level)
+
+    @property
+    def fitted(self) -> bool:
+        """``True`` when ``beta`` was fitted to a measurement (it then carries a band)."""
+        return self.beta_band is not None
+
+    def to_dict(self) -> dict[str, Any]:
+        """The ``flattening`` JSON object (with its own model name, version and units)."""
+        return {
+            "model": FLATTENING_MODEL,
+            "version": FLATTENING_VERSION,
+            "units": {"slope": "1", "beta": "1"},
+            "slope": self.slope,
+            "beta": self.beta,
+            "beta_band": None if self.beta_band is None else list(self.beta_band),
+            "band_level": self.band_level,
+        }
+
+    @classmethod
+    def from_dict(cls, doc: object, *, source: str = "<dict>") -> "Flattening":
+        """Build from :meth:`to_dict`'s object; ``ValueError`` naming the field if malformed."""
+        where = f"{source}: flattening"
+        if not isinstance(doc, dict):
+            raise ValueError(f"{where} must be a JSON object")
+        if doc.get("model") != FLATTENING_MODEL:
+            raise ValueError(
+                f"{where}.model must be {FLATTENING_MODEL!r}, got {doc.get('model')!r}"
+            )
+        version = doc.get("version")
+        if type(version) is not int or version != FLATTENING_VERSION:
+            raise ValueError(
+                f"{where}.version: unsupported {version!r}; this runtime reads {FLATTENING_VERSION}"
+            )
+        units = doc.get("units", {})
+        if not isinstance(units, dict) or any(units.get(k, "1") != "1" for k in ("slope", "beta")):
+            raise ValueError(f"{where}.units: slope and beta are dimensionless ('1')")
+        unknown = set(doc) - {
+            "model",
+            "version",
+            "units",
+            "slope",
+            "beta",
+            "beta_band",
+            "band_level",
+        }
+        if unknown:
+            raise ValueError(f"{where}: unknown fields {sorted(unknown)}")
+        if "slope" not in doc:
+            raise ValueError(f"{where}: missing 'slope'")
+        band = doc.get("beta_band")
+        try:
+            return cls(
+                slope=doc["slope"],
+                beta=doc.get("beta", 1.0),
+                beta_band=None if band is None else tuple(band),
+                band_level=doc.get("band_level"),
+            )
+        except TypeError:
+            raise ValueError(f"{where}.beta_band must be [lower, upper], got {band!r}") from None
+        except ValueError as exc:
+            raise ValueError(f"{source}: {exc}") from None

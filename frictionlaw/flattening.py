@@ -1,0 +1,348 @@
+"""Flattening of the workpiece's asperities under in-plane bulk plastic strain (issue 43).
+
+The paper's law makes the real contact fraction a function of the pressure alone. When the
+workpiece flows plastically under the tool, its asperities flatten far more easily than under
+pressure alone: their effective hardness drops (Wilson and Sheu 1988, whose abstract states it;
+the equations of the papers could not be read here, see ``docs/flattening.md``). This module
+carries that flattening as one more history variable per node, the *flattening pressure*
+``p_f``: the first-loading pressure whose contact fraction equals the flattened one,
+``alpha1(p_f) = A``. Every equation below is derived in ``docs/flattening.md`` ("Derivation"),
+numbered F1-F6 there and in the docstrings:
+
+* F1, kinematics: plateaus sinking at ``v_b`` into convected wedge flanks of slope ``tan(theta)``
+  grow as ``dA/d eps = v_b / (eps_dot l tan(theta))``;
+* F2, the surface layer (thickness ``beta l``) yields under the asperity pressure ``p / A`` and
+  the in-plane stress ``s`` of the bulk on the ellipse ``(p / p_f)^2 + (s / s0)^2 = 1``, with
+  ``s0 = 2 k`` the plane-strain flow stress and ``p_f / A`` the zero-strain asperity hardness
+  read from the law's own ``alpha1``; normality gives
+  ``v_b / (beta l eps_dot) = (s0 / p_f) r / sqrt(1 - r^2)``, ``r = p / p_f``;
+* F3, their product: ``dA/d eps = beta s0 r / (p_f tan(theta) sqrt(1 - r^2))``;
+* F4, its integral at constant ``p``: ``eps = tan(theta) J(p, p_f) / (beta s0 p)``,
+  ``J = int_p^p_f alpha1'(t) t sqrt(t^2 - p^2) dt``;
+* F5, the contact fraction of a node with history ``p_hist`` and flattening ``p_f``;
+* F6, the update of ``p_f`` over a strain increment at the current pressure.
+
+At zero strain ``p_f`` is never above the pressure history and F5 is the calibrated law itself;
+strain rate enters only through ``s0`` (the file's ``k``, scaled by the host's flow stress when
+it passes one). NumPy, vectorised, float64; F6 is written per node so that it ports to a kernel.
+"""
+
+import math
+from functools import lru_cache
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from . import _codes as K
+from ._flattening_block import (
+    BETA_RANGE,
+    FLATTENING_MODEL,
+    FLATTENING_VERSION,
+    SLOPE_RANGE,
+    Flattening,
+    _number,
+)
+from .law import alpha_first, alpha_reload, as_float_array, evaluate, sbmf_coeffs
+
+if TYPE_CHECKING:
+    from .params import FrictionParams
+
+__all__ = [
+    "Flattening",
+    "FLATTENING_MODEL",
+    "FLATTENING_VERSION",
+    "SLOPE_RANGE",
+    "BETA_RANGE",
+    "layer_sink_rate",
+    "contact_growth_rate",
+    "equivalent_strain",
+    "flattened_alpha",
+    "flattening_update",
+    "flattening_curve",
+]
+
+#: below this ``p / H`` a node does not flatten (the strain it would need exceeds any forming)
+P_MIN_RATIO = 1e-12
+#: Gauss-Legendre nodes per panel of the ``J`` integral (F4), at least ``_PANELS`` panels and
+#: none wider than ``_WIDTH`` in ``u``: within 1e-9 of adaptive quadrature (the test's tolerance;
+#: 1e-13 typical) over ``p / H`` 1e-3 to 0.9 and ``p_f / p`` up to 4 (tests/test_flattening.py)
+_PANELS, _NODES, _WIDTH = 16, 8, 0.5
+_GX, _GW = np.polynomial.legendre.leggauss(_NODES)
+
+
+@lru_cache(maxsize=64)
+def _rule(panels: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Composite Gauss-Legendre nodes and weights on ``[0, 1]`` with ``panels`` equal panels."""
+    e = np.linspace(0.0, 1.0, panels + 1)
+    x = ((e[:-1, None] + e[1:, None]) / 2 + np.diff(e)[:, None] / 2 * _GX).ravel()
+    return x, (np.diff(e)[:, None] / 2 * _GW).ravel()
+
+
+# ----------------------------------------------------------------------------- equations
+def layer_sink_rate(r: ArrayLike, s0_over_pf: ArrayLike) -> NDArray[np.float64]:
+    """Sinking rate of the plateaus per layer thickness and strain, ``v_b / (beta l eps_dot)``.
+
+    This is Eq. F2 (docs/flattening.md): normality on the layer's yield ellipse
+    ``(p / p_f)^2 + (s / s0)^2 = 1`` gives ``(s0 / p_f) r / sqrt(1 - r^2)`` with ``r = p / p_f``
+    in ``[0, 1)``; ``inf`` at ``r = 1`` (pressure alone at the zero-strain hardness).
+    """
+    r = np.asarray(r, dtype=float)
+    with np.errstate(divide="ignore"):
+        return np.where(r < 1.0, np.asarray(s0_over_pf) * r / np.sqrt(1.0 - r * r), np.inf)
+
+
+def contact_growth_rate(
+    p: ArrayLike, p_f: ArrayLike, slope: float, beta: float, s0: float
+) -> NDArray[np.float64]:
+    """``dA / d eps`` of Eq. F3: F1's kinematics with F2's sinking rate, ``A = alpha1(p_f)``.
+
+    ``beta s0 r / (p_f tan(theta) sqrt(1 - r^2))``, ``r = p / p_f``; the spacing ``l`` cancels.
+    """
+    p_f = np.asarray(p_f, dtype=float)
+    return beta * layer_sink_rate(np.asarray(p) / p_f, s0 / p_f) / slope
+
+
+def _coeffs(params: "FrictionParams") -> NDArray[np.float64]:
+    return sbmf_coeffs(params, 1.0)  # tau_max = 1: the kernel's tau is alpha1
+
+
+def _panels(u_max: float) -> int:
+    """Panels of the ``J`` sum up to ``u_max``: at least ``_PANELS``, none wider than ``_WIDTH``."""
+    return max(_PANELS, math.ceil(u_max / _WIDTH))
+
+
+def _j_integral(
+    ph: NDArray, u: NDArray, coeffs: NDArray, H: float, panels: int | None = None
+) -> NDArray[np.float64]:
+    """``J / H^2`` of Eq. F4 up to ``p_f = p cosh(u)``, pressures in units of ``H`` (``ph``).
+
+    ``t = p cosh(v)`` turns ``J`` into ``p^3 int_0^u alpha1'(p cosh v) cosh v sinh(v)^2 dv``, a
+    smooth integrand, summed by composite Gauss-Legendre (``_NODES`` per panel, at least
+    ``_PANELS`` panels, none wider than ``_WIDTH``); a solve passes one ``panels`` for all its
+    calls, so that ``J`` is one function of ``u`` throughout.
+    """
+    if panels is None:
+        panels = _panels(float(u.max(initial=0.0)))
+    x, w = _rule(panels)
+    v = u[:, None] * x[None, :]
+    t = ph[:, None] * np.cosh(v)
+    _, d = evaluate(K.CODE_SBMF, coeffs, t * H, 0.0)
+    f = np.asarray(d) * H * np.cosh(v) * np.sinh(v) ** 2
+    return ph**3 * u * (f @ w)
+
+
+def _p_cap(params: "FrictionParams", coeffs: NDArray) -> float:
+    """The pressure from which ``alpha1`` is 1 to rounding (at most ``2^40 H``): the largest ``p_f``."""
+    cap = params.H
+    for _ in range(40):
+        if evaluate(K.CODE_SBMF, coeffs, cap, 0.0)[0] >= 1.0:
+            break
+        cap *= 2.0
+    return cap
+
+
+def _s0(params: "FrictionParams", sigma_y: float | None) -> float:
+    """The layer's in-plane flow stress ``s0 = 2 k`` (plane strain), the host's when it passes one."""
+    s0 = 2.0 * float(params.k)  # type: ignore[arg-type]
+    if sigma_y is None:
+        return s0
+    sy = _number("sigma_y", sigma_y, 1e3, 1e13)
+    return s0 * sy / params.sigma_y
+
+
+def _flattening_of(params: "FrictionParams") -> Flattening:
+    flat = getattr(params, "flattening", None)
+    if flat is None:
+        raise ValueError(
+            "these parameters have no flattening block (FrictionParams.flattening is None): "
+            "give FrictionParams(..., flattening=Flattening(slope=...)), or calibrate with the "
+            "flattening block (docs/flattening.md)"
+        )
+    return flat
+
+
+def equivalent_strain(
+    p: ArrayLike, p_f: ArrayLike, params: "FrictionParams", *, sigma_y: float | None = None
+) -> NDArray[np.float64]:
+    """Bulk strain that flattens a virgin surface at constant ``p`` up to ``p_f`` (Eq. F4).
+
+    ``eps = tan(theta) J(p, p_f) / (beta s0 p)``, ``J = int_p^p_f alpha1'(t) t sqrt(t^2 - p^2) dt``:
+    0 for ``p_f <= p``; grows with ``p_f``, proportional to ``tan(theta) / (beta s0)``.
+    """
+    flat = _flattening_of(params)
+    p, p_f = np.broadcast_arrays(as_float_array("p", p), as_float_array("p_f", p_f))
+    if not (np.all(np.isfinite(p)) and np.all(p > 0) and np.all(np.isfinite(p_f))):
+        raise ValueError("p must be finite and > 0 and p_f finite")
+    H, coeffs = params.H, _coeffs(params)
+    ph = (p / H).ravel()
+    top = np.minimum(p_f.ravel(), _p_cap(params, coeffs))  # alpha1 is 1 beyond: J is complete
+    u = np.arccosh(np.maximum(top / p.ravel(), 1.0))
+    J = _j_integral(ph, u, coeffs, H)
+    kappa = flat.slope * H / (flat.beta * _s0(params, sigma_y))
+    return (kappa * J / ph).reshape(p.shape)
+
+
+def flattened_alpha(
+    p: ArrayLike, p_hist: ArrayLike, p_f: ArrayLike, params: "FrictionParams"
+) -> NDArray[np.float64]:
+    """Contact fraction of a node with pressure history ``p_hist`` and flattening ``p_f`` (Eq. F5).
+
+    With ``h = max(p_hist, p_f)``: at ``p >= p_hist``, ``alpha1(max(p, p_f))``; below ``p_hist``
+    the law's own reload branch of the level ``h`` at the same ratio ``p / p_hist``,
+    ``alpha2(p h / p_hist; h)``. For ``p_f <= p_hist`` this is the calibrated law itself (Eqs.
+    24-25, any reload form); flattening moves the level the reload shape is read at.
+    """
+    p, p_hist, p_f = np.broadcast_arrays(
+        as_float_array("p", p), as_float_array("p_hist", p_hist), as_float_array("p_f", p_f)
+    )
+    if (p_hist < 0).any() or (p_f < 0).any():
+        raise ValueError("p_hist and p_f must be >= 0")
+    h = np.maximum(p_hist, p_f)
+    out = np.zeros(p.shape)
+    load = (p > 0) & (p >= p_hist)
+    if load.any():
+        out[load] = alpha_first(np.maximum(p[load], p_f[load]), params)
+    rel = (p > 0) & (p < p_hist)
+    if rel.any():
+        pr, hr, phr = p[rel], h[rel], p_hist[rel]
+        # p h / p_hist as (p / p_hist) h, which cannot overflow; p itself where h = p_hist, so
+        # that without flattening this is today's reload branch bit for bit
+        q = np.where(hr == phr, pr, (pr / phr) * hr)
+        out[rel] = alpha_reload(q, hr, params)
+    return out
+
+
+def flattening_update(
+    p_f: ArrayLike,
+    p_hist: ArrayLike,
+    p: ArrayLike,
+    d_eps: ArrayLike,
+    params: "FrictionParams",
+    *,
+    sigma_y: float | None = None,
+) -> NDArray[np.float64]:
+    """The flattening pressure after a bulk plastic strain increment ``d_eps`` at pressure ``p``.
+
+    This is Eq. F6. Per node: from ``P0 = max(p_f, p_hist, p)`` (the committed flattening, the
+    increment's trial history and the pressure) the equivalent strain of Eq. F4 at the current
+    ``p`` grows by ``d_eps``, ``J(p, P) = J(p, P0) + d_eps beta s0 p / tan(theta)``, solved for
+    ``P``. The result never falls below ``p_f``; ``d_eps = 0``, ``p <= 0`` (open) and ``p``
+    below ``1e-12 H`` leave ``p_f`` unchanged; it stops at the pressure where ``alpha1`` is 1.
+    Like ``p_hist``, call it from the committed ``p_f`` in every iteration and commit once.
+
+    Parameters
+    ----------
+    p_f, p_hist, p : array_like
+        Committed flattening pressure (0 for a new node), trial history and pressure (Pa).
+    d_eps : array_like
+        Equivalent plastic strain increment of the bulk under the node (``>= 0``).
+    sigma_y : float, optional
+        The host's current flow stress (Pa); the file's ``sigma_y`` by default.
+    """
+    flat = _flattening_of(params)
+    arrs = [as_float_array(n, v) for n, v in (("p_f", p_f), ("p_hist", p_hist), ("p", p))]
+    arrs.append(as_float_array("d_eps", d_eps))
+    p_f, p_hist, p, d_eps = np.broadcast_arrays(*arrs)
+    for name, a in (("p_f", p_f), ("p_hist", p_hist), ("p", p), ("d_eps", d_eps)):
+        if not np.all(np.isfinite(a)):
+            raise ValueError(f"{name} must be finite")
+    if (p_f < 0).any() or (p_hist < 0).any():
+        raise ValueError("p_f and p_hist must be >= 0")
+    if (d_eps < 0).any():
+        raise ValueError("d_eps must be >= 0 (a plastic strain increment)")
+    H, coeffs = params.H, _coeffs(params)
+    cap = _p_cap(params, coeffs)
+    out = np.array(p_f, dtype=float)
+    go = (d_eps > 0) & (p > P_MIN_RATIO * H) & (p < cap)
+    if not go.any():
+        return out
+    ph = p[go] / H
+    p0 = np.minimum(np.maximum(np.maximum(p_f[go], p_hist[go]), p[go]), cap)
+    kappa = flat.slope * H / (flat.beta * _s0(params, sigma_y))
+    u0 = np.arccosh(np.maximum(p0 / p[go], 1.0))
+    ucap = np.arccosh(cap / p[go])
+    panels = _panels(float(ucap.max()))
+    with np.errstate(over="ignore"):  # a strain beyond any forming: full contact
+        target = _j_integral(ph, u0, coeffs, H, panels) + d_eps[go] * (ph / kappa)
+    u = _solve_j(ph, target, u0, ucap, coeffs, H, panels)
+    out[go] = np.maximum(np.minimum(p[go] * np.cosh(u), cap), p_f[go])
+    return out
+
+
+def _solve_j(ph, target, lo, hi, coeffs, H, panels):
+    """``u`` in ``[lo, hi]`` with ``J(u) = target`` (``hi`` where ``J(hi) <= target``).
+
+    Safeguarded Newton in ``u`` (``dJ/du = p^3 alpha1'(p cosh u) cosh u sinh(u)^2``), bisection
+    where the step leaves the bracket and every fifth step (so that the bracket shrinks even
+    where rounding makes Newton circle the root); ``J`` increases with ``u``.
+    """
+    lo, hi = lo.copy(), hi.copy()
+    full = _j_integral(ph, hi, coeffs, H, panels) <= target
+    u = np.where(full, hi, 0.5 * (lo + hi))
+    act = ~full
+    for it in range(300):
+        if not act.any():
+            break
+        ua = u[act]
+        J = _j_integral(ph[act], ua, coeffs, H, panels)
+        _, d = evaluate(K.CODE_SBMF, coeffs, ph[act] * np.cosh(ua) * H, 0.0)
+        dJ = np.asarray(d) * H * ph[act] ** 3 * np.cosh(ua) * np.sinh(ua) ** 2
+        below = J < target[act]
+        la, ha = np.where(below, ua, lo[act]), np.where(below, hi[act], ua)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            step = ua - (J - target[act]) / dJ
+        bad = ~np.isfinite(step) | (step <= la) | (step >= ha) | (it % 5 == 4)
+        hit = np.abs(J - target[act]) <= 4e-16 * np.abs(target[act])  # ua is the root
+        new = np.where(hit, ua, np.where(bad, 0.5 * (la + ha), step))
+        done = hit | (np.abs(new - ua) <= 1e-14 * (1.0 + ua)) | (ha - la <= 1e-14 * (1.0 + ha))
+        lo[act], hi[act], u[act] = la, ha, new
+        idx = np.flatnonzero(act)
+        act[idx[done]] = False
+    if act.any():  # every fifth step halves a bracket of at most ~60: unreachable, said if not
+        raise RuntimeError(f"flattening: the J inversion did not converge at {act.sum()} nodes")
+    return u
+
+
+def flattening_curve(
+    p: ArrayLike,
+    strains: ArrayLike,
+    params: "FrictionParams",
+    *,
+    sigma_y: float | None = None,
+) -> NDArray[np.float64]:
+    """Contact fraction of a virgin surface after bulk strain ``strains`` at constant ``p``.
+
+    Eq. F4 solved for ``p_f`` and read through Eq. F5: ``alpha1(p)`` at zero strain (the
+    calibrated law exactly), never falling with strain, at most 1, reaching 1 at the finite
+    strain ``tan(theta) J(p, inf) / (beta s0 p)``. For plots and checks.
+
+    Parameters
+    ----------
+    p : float or array_like
+        Contact pressure (Pa), ``> 0``; broadcast against ``strains``.
+    strains : float or array_like
+        Equivalent bulk plastic strains (``>= 0``).
+    params : FrictionParams
+        A law with a ``flattening`` block.
+    sigma_y : float, optional
+        Flow stress of the bulk (Pa) if not the file's ``sigma_y``.
+    """
+    p, eps = np.broadcast_arrays(as_float_array("p", p), as_float_array("strains", strains))
+    if not (np.all(np.isfinite(p)) and np.all(p > 0)):
+        raise ValueError("p must be finite and > 0 (Pa)")
+    if not (np.all(np.isfinite(eps)) and np.all(eps >= 0)):
+        raise ValueError("strains must be finite and >= 0")
+    pf, ef = p.ravel(), eps.ravel()
+    p_f = flattening_update(pf, pf, pf, ef, params, sigma_y=sigma_y)
+    alpha = flattened_alpha(pf, pf, p_f, params)
+    # a running maximum over increasing strain per pressure: the solver's last-digit scatter
+    # cannot make the curve fall
+    order = np.lexsort((ef, pf))
+    a = alpha[order]
+    same = np.r_[False, pf[order][1:] == pf[order][:-1]]
+    starts = np.flatnonzero(~same)
+    for s, e in zip(starts, np.r_[starts[1:], a.size], strict=True):
+        a[s:e] = np.maximum.accumulate(a[s:e])
+    alpha[order] = a
+    return alpha.reshape(p.shape)

@@ -1,0 +1,97 @@
+"""``halfspace-calib --flattening``: the flattening block of a calibration (docs/flattening.md)."""
+
+from __future__ import annotations
+
+from ..pipeline.flattening import BAND_LEVEL, derive_flattening, read_flattening_data
+
+__all__ = ["add_flattening_options", "flattening_input", "with_flattening", "flattening_lines"]
+
+
+def add_flattening_options(ap):
+    """The options of the flattening block."""
+    g = ap.add_argument_group("flattening under bulk strain (docs/flattening.md)")
+    g.add_argument(
+        "--flattening",
+        action="store_true",
+        help="add the flattening block to params.json: the asperities' slope from the workpiece "
+        "surface, the zero-strain hardness from the computed first loading, the layer factor "
+        "beta = 1; nothing is fitted to friction (default: off)",
+    )
+    g.add_argument(
+        "--flattening-data",
+        metavar="CSV",
+        help="measured contact fraction against bulk strain, columns strain, alpha, p_Pa: fits "
+        f"beta with its {100 * BAND_LEVEL:g} %% band (implies --flattening; default: none)",
+    )
+
+
+def flattening_input(args, spec):
+    """``(on, data)``: whether the block is made and the measured data (read and checked now)."""
+    on = bool(args.flattening) or args.flattening_data is not None
+    if not on:
+        return False, None
+    if spec.multi:
+        raise ValueError(
+            "--flattening derives the block from one workpiece/tool pair; with several samples "
+            "calibrate one pair with --flattening"
+        )
+    data = None if args.flattening_data is None else read_flattening_data(args.flattening_data)
+    return True, data
+
+
+def with_flattening(cal, on, data):
+    """The calibration with the flattening block in its parameters and its record (or as is)."""
+    if not on:
+        return cal
+    block, record = derive_flattening(cal, data)
+    prov = dict(cal.params.provenance)
+    prov["flattening"] = record
+    cal.params = cal.params.replace(flattening=block, provenance=prov)
+    cal.flattening = record
+    return cal
+
+
+def flattening_lines(cal):
+    """The console lines: the block and what each input was derived from."""
+    r = cal.flattening
+    if not r:
+        return []
+    f = cal.params.flattening
+    hs = r["half_spacing"]
+    zs = r["zero_strain_hardness"]
+    um = 1e6
+    lines = [
+        f"  flattening (docs/flattening.md): slope tan(theta) = {f.slope:.4g} ({r['slope_source']}; "
+        f"x {r['slope_x']:.4g}, y {r['slope_y']:.4g}; at half the grid {r['slope_half_grid'] or 0:.4g})",
+        f"    zero-strain asperity hardness p / alpha from the computed first loading "
+        f"{min(zs['p_over_alpha_Pa']) / 1e6:.4g}-{max(zs['p_over_alpha_Pa']) / 1e6:.4g} MPa "
+        f"(the law's H / C1 = {zs['law_small_p_Pa'] / 1e6:.4g} MPa): read through alpha1",
+    ]
+    if f.beta_band is None:
+        lines.append(f"    beta = {f.beta:g} ({r['beta_source']})")
+    else:
+        fit = r["fit"]
+        lines.append(
+            f"    beta = {f.beta:.4g} [{f.beta_band[0]:.4g}, {f.beta_band[1]:.4g}] "
+            f"({100 * f.band_level:g} %), {r['beta_source']}: |d alpha| rms {fit['rms']:.4f}, "
+            f"max {fit['max_abs']:.4f}"
+        )
+    cross, patch = hs["from_crossings_m"], hs["from_patches_m"]
+    lines.append(
+        "    asperity half-spacing (not used by the model): "
+        + " / ".join("-" if c is None else f"{c * um:.4g}" for c in cross)
+        + " um (x / y) from the profiles' mean-line crossings"
+        + (
+            f", {patch * um:.4g} um from {hs['patches']} contact patches at "
+            f"{hs['patch_pressure_Pa'] / 1e6:.4g} MPa"
+            if patch
+            else ""
+        )
+    )
+    t = r["table"]
+    for key, alphas in t["alpha_at_p_over_H"].items():
+        lines.append(
+            f"    alpha at {key.replace('H', ' H')}: "
+            + ", ".join(f"{a:.3f} (eps {e:g})" for e, a in zip(t["strains"], alphas, strict=True))
+        )
+    return lines

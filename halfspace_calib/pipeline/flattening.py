@@ -1,0 +1,323 @@
+"""The flattening block of a calibration (``halfspace-calib --flattening``, docs/flattening.md).
+
+The model's inputs come from the calibration's own surfaces and half-space run, and no
+parameter is fitted to friction:
+
+* the asperity flank slope ``tan(theta)``: the RMS profile slope of the workpiece on the solver
+  grid (the surface the half-space model contacts), the quadratic mean of the x and y profiles;
+* the zero-strain asperity hardness: the computed first loading itself (the law's ``alpha1``,
+  fitted to it, is what the model reads; its ``p / alpha`` is reported);
+* the asperity half-spacing ``l`` is reported for the FE asperity model and the reader, from the
+  profiles' mean-line crossings and from the contact patches of one extra solve where the law
+  gives ``alpha1 = 0.2``; the model does not use it (``l`` cancels, docs/flattening.md, F3).
+
+With a user's measured contact fraction against strain (:func:`read_flattening_data`), the one
+factor ``beta`` (the yielding layer's thickness in half-spacings) is fitted to it by least
+squares in ``ln beta``, with a Student-t band from the linearised residuals (:func:`fit_beta`).
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from frictionlaw import Flattening, alpha_first, flattening_curve
+from frictionlaw.flattening import BETA_RANGE, SLOPE_RANGE, equivalent_strain
+
+from ..contact.normal import solve_normal_pair
+
+__all__ = [
+    "BAND_LEVEL",
+    "FlatteningData",
+    "read_flattening_data",
+    "profile_slopes",
+    "crossing_half_spacing",
+    "patch_half_spacing",
+    "fit_beta",
+    "derive_flattening",
+]
+
+#: two-sided level of the band of a fitted ``beta``
+BAND_LEVEL = 0.9
+#: the law's contact fraction at which the contact patches are counted
+PATCH_ALPHA = 0.2
+#: pressures (in H) and strains of the summary's table of the flattened contact fraction
+TABLE_P = (0.05, 0.1, 0.3, 0.6)
+TABLE_EPS = (0.05, 0.1, 0.2, 0.5)
+
+
+@dataclass(frozen=True)
+class FlatteningData:
+    """A measured contact fraction against bulk strain (``--flattening-data``).
+
+    ``strain`` (equivalent plastic strain, >= 0), ``alpha`` (contact fraction in [0, 1]) and
+    ``p`` (the contact pressure of each point, Pa, > 0), one value per row of the file.
+    """
+
+    path: str
+    strain: np.ndarray
+    alpha: np.ndarray
+    p: np.ndarray
+
+
+def read_flattening_data(path) -> FlatteningData:
+    """Read a CSV with the columns ``strain``, ``alpha`` and ``p_Pa`` (any order, ``#`` comments).
+
+    At least two rows with a strain above 0 are needed to fit ``beta``. ``ValueError`` naming the
+    file, the row and the column for anything else.
+    """
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"{path}: not a UTF-8 text file ({exc})") from None
+    rows = [
+        r for r in csv.reader(ln for ln in text.splitlines() if not ln.lstrip().startswith("#"))
+    ]
+    rows = [r for r in rows if any(c.strip() for c in r)]
+    need = ("strain", "alpha", "p_Pa")
+    if not rows or any(c not in [h.strip() for h in rows[0]] for c in need):
+        raise ValueError(
+            f"{path}: the first row must name the columns {', '.join(need)} "
+            "(strain: equivalent plastic strain; alpha: contact fraction; p_Pa: pressure in Pa)"
+        )
+    head = [h.strip() for h in rows[0]]
+    cols = {c: head.index(c) for c in need}
+    vals = {c: [] for c in need}
+    for i, r in enumerate(rows[1:], start=2):
+        for c in need:
+            try:
+                v = float(r[cols[c]])
+            except (IndexError, ValueError):
+                raise ValueError(f"{path}: row {i}, column {c}: not a number") from None
+            if not math.isfinite(v):
+                raise ValueError(f"{path}: row {i}, column {c}: not finite")
+            vals[c].append(v)
+    data = FlatteningData(str(path), *(np.array(vals[c]) for c in need))
+    if np.any(data.strain < 0):
+        raise ValueError(f"{path}: strain must be >= 0")
+    if np.any((data.alpha < 0) | (data.alpha > 1)):
+        raise ValueError(f"{path}: alpha must be in [0, 1]")
+    if np.any(data.p <= 0):
+        raise ValueError(f"{path}: p_Pa must be > 0 (Pa)")
+    if np.count_nonzero(data.strain > 0) < 2:
+        raise ValueError(f"{path}: at least two rows with strain > 0 are needed to fit beta")
+    return data
+
+
+def profile_slopes(surface) -> tuple[float, float]:
+    """RMS slopes of the x and y profiles of a :class:`Surface` (central differences)."""
+    h = np.asarray(surface.heights, dtype=float)
+    if surface.periodic:
+        gx = (np.roll(h, -1, 0) - np.roll(h, 1, 0)) / (2 * surface.dx)
+        gy = (np.roll(h, -1, 1) - np.roll(h, 1, 1)) / (2 * surface.dy)
+    else:
+        gx, gy = np.gradient(h, surface.dx, surface.dy)
+    return float(np.sqrt(np.mean(gx * gx))), float(np.sqrt(np.mean(gy * gy)))
+
+
+def crossing_half_spacing(surface) -> tuple[float | None, float | None]:
+    """Half the mean spacing of the upward mean-line crossings of the x and of the y profiles (m).
+
+    The width of a profile element (a peak and the valley beside it) is the spacing of two
+    upward crossings of the mean line; the wedge model's period is ``2 l``. ``None`` for a
+    direction without crossings.
+    """
+    h = np.asarray(surface.heights, dtype=float)
+    h = h - h.mean()
+    out = []
+    for arr, step in ((h, surface.dx), (h.T, surface.dy)):
+        count = int(((arr[:-1] < 0) & (arr[1:] >= 0)).sum())
+        length = (arr.shape[0] - 1) * step * arr.shape[1]
+        out.append(None if count == 0 else 0.5 * length / count)
+    return out[0], out[1]
+
+
+def patch_half_spacing(pressure, dx, dy, periodic) -> tuple[float | None, int]:
+    """Half the mean spacing ``sqrt(A0 / N)`` of the ``N`` contact patches of a pressure map (m)."""
+    from scipy import ndimage
+
+    contact = np.asarray(pressure) > 0
+    labels, n = ndimage.label(contact)
+    if periodic and n:  # patches joined across the period's edges count once
+        for a, b in ((labels[0], labels[-1]), (labels[:, 0], labels[:, -1])):
+            for u, v in zip(a, b, strict=True):
+                if u and v and u != v:
+                    labels[labels == v] = u
+        n = len(np.unique(labels[labels > 0]))
+    if n == 0:
+        return None, 0
+    area = contact.shape[0] * dx * contact.shape[1] * dy
+    return 0.5 * math.sqrt(area / n), n
+
+
+def _half_grid_slope(surface) -> float | None:
+    """The RMS profile slope at half the grid (2 x 2 block averages): how resolved it is."""
+    from ..topography.surface import block_average
+
+    nx, ny = surface.shape
+    if min(nx, ny) < 4:
+        return None
+    sx, sy = profile_slopes(block_average(surface, (nx // 2, ny // 2), trim=True))
+    return math.sqrt(0.5 * (sx * sx + sy * sy))
+
+
+def _alpha_pressure(params, alpha, p_lo, p_hi):
+    """The pressure in ``[p_lo, p_hi]`` where the law's ``alpha1`` is ``alpha`` (bisection)."""
+    lo, hi = p_lo, p_hi
+    for _ in range(100):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if alpha_first(mid, params) < alpha else (lo, mid)
+    return 0.5 * (lo + hi)
+
+
+def fit_beta(params, data: FlatteningData, level: float = BAND_LEVEL) -> dict:
+    """Fit ``beta`` of ``params.flattening`` to a measured ``alpha`` against strain.
+
+    The model's strain scales as ``1 / beta`` (Eq. F4), so ``alpha(eps; beta)`` is the curve of
+    ``beta = 1`` at ``beta eps``: least squares in ``ln beta`` over ``BETA_RANGE`` (bounded
+    scalar search, then the band from the linearised residuals: ``ln beta -+ t s / |g|``,
+    ``g = d alpha / d ln beta``, ``s^2`` the residual variance, Student t of ``n - 1``).
+    Raises ``ValueError`` when the points do not constrain ``beta`` (all at zero strain or at
+    full contact) or the best ``beta`` lies on the range's bound.
+    """
+    from scipy import optimize, stats
+
+    base = params.replace(flattening=Flattening(slope=params.flattening.slope))
+
+    def model(ln_beta):
+        return flattening_curve(data.p, math.exp(ln_beta) * data.strain, base)
+
+    def cost(ln_beta):
+        return float(np.sum((model(ln_beta) - data.alpha) ** 2))
+
+    lo, hi = math.log(BETA_RANGE[0]), math.log(BETA_RANGE[1])
+    grid = np.linspace(lo, hi, 25)
+    k = int(np.argmin([cost(g) for g in grid]))
+    a, b = grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)]
+    res = optimize.minimize_scalar(cost, bounds=(a, b), method="bounded", options={"xatol": 1e-10})
+    ln_b = float(res.x)
+    if ln_b <= lo + 1e-6 or ln_b >= hi - 1e-6:
+        raise ValueError(
+            f"{data.path}: the best beta lies on the bound of [{BETA_RANGE[0]:g}, "
+            f"{BETA_RANGE[1]:g}]: the measurement cannot be described by the model with this slope"
+        )
+    r = model(ln_b) - data.alpha
+    h = 1e-5
+    g = (model(ln_b + h) - model(ln_b - h)) / (2 * h)
+    gg = float(np.sum(g * g))
+    if gg <= 1e-20:
+        raise ValueError(
+            f"{data.path}: the points do not constrain beta (zero strain or full contact)"
+        )
+    n = data.strain.size
+    s2 = float(np.sum(r * r)) / max(n - 1, 1)
+    t = float(stats.t.ppf(0.5 + level / 2, max(n - 1, 1)))
+    half = t * math.sqrt(s2 / gg)
+    band = tuple(
+        min(max(math.exp(ln_b + sgn * half), BETA_RANGE[0]), BETA_RANGE[1]) for sgn in (-1, 1)
+    )
+    at_zero = data.strain == 0
+    return {
+        "beta": math.exp(ln_b),
+        "band": list(band),
+        "level": level,
+        "points": int(n),
+        "rms": float(np.sqrt(np.mean(r * r))),
+        "max_abs": float(np.max(np.abs(r))),
+        "zero_strain_misfit": float(np.max(np.abs(r[at_zero]))) if at_zero.any() else None,
+        "pressures_Pa": sorted({float(v) for v in data.p}),
+        "file": data.path,
+        "strain": data.strain.tolist(),
+        "alpha": data.alpha.tolist(),
+        "p_Pa": data.p.tolist(),
+    }
+
+
+def derive_flattening(cal, data: FlatteningData | None = None) -> tuple[Flattening, dict]:
+    """The flattening block of a calibration and the record of what it was derived from.
+
+    Returns ``(block, record)``; the record goes into ``summary.json``, ``report.html`` and the
+    parameter file's provenance (``provenance.flattening``).
+    """
+    scene, P = cal.scene, cal.params
+    wp, tl = cal.sweeps.surfaces["workpiece"], cal.sweeps.surfaces["tool"]
+    sx, sy = profile_slopes(wp)
+    slope = math.sqrt(0.5 * (sx * sx + sy * sy))
+    if not SLOPE_RANGE[0] <= slope <= SLOPE_RANGE[1]:
+        raise ValueError(
+            f"the workpiece's RMS profile slope {slope:.3g} is outside [{SLOPE_RANGE[0]:g}, "
+            f"{SLOPE_RANGE[1]:g}]: check the scan's lateral size and height unit"
+        )
+    block = Flattening(slope=slope)
+    p, a = cal.sweeps.loading
+    p_patch = _alpha_pressure(P, PATCH_ALPHA, float(p.min()) * 1e-3, 0.99 * scene.H)
+    res = solve_normal_pair(
+        np.asarray(wp.heights),
+        np.asarray(tl.heights),
+        wp.dx,
+        scene.E_star,
+        p_patch,
+        volume_conservation=scene.volume_conservation,
+        H=scene.H,
+        dy=wp.dy,
+        **scene.solver.normal_kwargs(),
+    )
+    l_patch, n_patch = patch_half_spacing(res.pressure, wp.dx, wp.dy, scene.periodic)
+    record = {
+        "model": "layer-yield (docs/flattening.md, Eqs. F1-F6)",
+        "slope": slope,
+        "slope_x": sx,
+        "slope_y": sy,
+        "slope_half_grid": _half_grid_slope(wp),
+        "slope_source": (
+            "RMS profile slope of the workpiece on the solver grid "
+            f"({wp.shape[0]} x {wp.shape[1]}, element {wp.dx:.4g} m), quadratic mean of x and y"
+        ),
+        "zero_strain_hardness": {
+            "source": "the computed first loading: p / alpha of the half-space model; the law's "
+            "alpha1 (fitted to it) is what the model reads",
+            "p_Pa": p.tolist(),
+            "p_over_alpha_Pa": (p / a).tolist(),
+            "law_small_p_Pa": P.H / P.C1,
+        },
+        "half_spacing": {
+            "from_crossings_m": list(crossing_half_spacing(wp)),
+            "from_patches_m": l_patch,
+            "patches": n_patch,
+            "patch_pressure_Pa": p_patch,
+            "patch_solve_converged": bool(res.converged),
+            "note": "information for the FE asperity model; the model does not use it (l cancels)",
+        },
+        "beta": 1.0,
+        "beta_source": "default: a yielding layer one asperity half-spacing thick",
+        "fit": None,
+        "problem": None
+        if res.converged
+        else f"the patch-count solve did not converge: {res.message}",
+    }
+    if data is not None:
+        try:
+            fit = fit_beta(P.replace(flattening=block), data)
+        except ValueError as exc:  # a measurement the model cannot describe: the run fails
+            why = f"the fit of beta to {data.path} failed: {exc}"
+            record["problem"] = "; ".join(filter(None, (record["problem"], why)))
+        else:
+            block = Flattening(
+                slope=slope, beta=fit["beta"], beta_band=tuple(fit["band"]), band_level=fit["level"]
+            )
+            record["beta"] = fit["beta"]
+            record["beta_source"] = f"fitted to {fit['points']} measured points of {data.path}"
+            record["fit"] = fit
+    Pf = P.replace(flattening=block)
+    table = {}
+    for f in TABLE_P:
+        table[f"{f:g}H"] = flattening_curve(f * scene.H, np.array((0.0, *TABLE_EPS)), Pf).tolist()
+    record["table"] = {"strains": [0.0, *TABLE_EPS], "alpha_at_p_over_H": table}
+    full = float(equivalent_strain(0.3 * scene.H, 2**40 * scene.H, Pf))
+    record["full_contact"] = {"p_over_H": 0.3, "strain": full}
+    return block, record

@@ -1,0 +1,351 @@
+"""The flattening model under bulk strain (frictionlaw.flattening, docs/flattening.md, Eqs. F1-F6).
+
+Oracles independent of the module's own numerics: SciPy's adaptive quadrature for the J
+integral (Eq. F4), the closed form of Eq. F4 for a law linear in p, and a finite difference of
+the curve against the rate of Eq. F3.
+"""
+
+import json
+
+import numpy as np
+import pytest
+from scipy import integrate
+
+from frictionlaw import (
+    Flattening,
+    FrictionParams,
+    alpha_first,
+    alpha_reload,
+    flattening_curve,
+    shear_limit,
+)
+from frictionlaw.flattening import (
+    contact_growth_rate,
+    equivalent_strain,
+    flattened_alpha,
+    flattening_update,
+    layer_sink_rate,
+)
+from frictionlaw.reload_form import ReloadTable
+
+H = 8e8
+BASE = dict(m=0.5, sigma_y=H / 2.8, H=H, C1=1.05, n1=2.87, C2=7.44, n2=0.575)
+
+
+def law(slope=0.1, beta=1.0, **kw):
+    return FrictionParams(**{**BASE, **kw}, flattening=Flattening(slope=slope, beta=beta))
+
+
+def s0(P):
+    return 2.0 * P.k
+
+
+# ----------------------------------------------------------------------------- the record
+def test_record_validates_and_round_trips(tmp_path):
+    f = Flattening(slope=0.05, beta=2.0, beta_band=(1.5, 2.5), band_level=0.9)
+    assert f.fitted and Flattening(slope=0.05).beta == 1.0
+    assert Flattening.from_dict(json.loads(json.dumps(f.to_dict()))) == f
+    P = FrictionParams(**BASE, flattening=f)
+    path = P.to_json(tmp_path / "p.json")
+    doc = json.loads(path.read_text())
+    assert doc["version"] == 3 and doc["flattening"]["slope"] == 0.05
+    assert FrictionParams.from_json(path) == P
+    assert FrictionParams.from_json(path).flattening == f
+    # without the block the file stays what it was (version 1 here) and reads without one
+    assert FrictionParams(**BASE).to_dict()["version"] == 1
+    for bad, msg in [
+        (dict(slope=0.0), "flattening.slope must be in"),
+        (dict(slope=float("nan")), "flattening.slope"),
+        (dict(slope=0.1, beta=-1), "flattening.beta must be in"),
+        (dict(slope=0.1, beta=True), "flattening.beta must be a real number"),
+        (dict(slope=0.1, beta_band=(0.5, 2.0)), "come together"),
+        (dict(slope=0.1, beta=3.0, beta_band=(0.5, 2.0), band_level=0.9), "must contain beta"),
+        (dict(slope=0.1, beta_band=(0.5, 2.0), band_level=1.5), "band_level must be in"),
+    ]:
+        with pytest.raises(ValueError, match=msg):
+            Flattening(**bad)
+
+
+@pytest.mark.parametrize(
+    "mutate, msg",
+    [
+        (lambda b: b.update(model="wilson-sheu"), "flattening.model must be"),
+        (lambda b: b.update(version=2), "flattening.version"),
+        (lambda b: b.pop("slope"), "missing 'slope'"),
+        (lambda b: b.update(slope="steep"), "flattening.slope must be a real number"),
+        (lambda b: b.update(slope=-0.1), "flattening.slope must be in"),
+        (lambda b: b.update(beta_band=[1.0], band_level=0.9), "flattening.beta_band must be"),
+        (lambda b: b.update(units={"slope": "deg"}), "flattening.units"),
+        (lambda b: b.update(spacing=1e-5), "unknown fields"),
+    ],
+)
+def test_a_malformed_block_is_refused_naming_the_field(tmp_path, mutate, msg):
+    doc = law().to_dict()
+    mutate(doc["flattening"])
+    path = tmp_path / "p.json"
+    path.write_text(json.dumps(doc))
+    with pytest.raises(ValueError, match=msg) as exc:
+        FrictionParams.from_json(path)
+    assert str(exc.value).startswith(str(path))
+
+
+def test_the_block_needs_version_3(tmp_path):
+    doc = law().to_dict()
+    doc["version"] = 2
+    with pytest.raises(ValueError, match="'flattening' needs version 3"):
+        FrictionParams.from_dict(doc)
+    doc = FrictionParams(**BASE).to_dict()
+    doc["version"] = 3  # a version-3 file without the block: the law of the pressure alone
+    assert FrictionParams.from_dict(doc).flattening is None
+
+
+def test_a_law_without_the_block_says_so():
+    with pytest.raises(ValueError, match="no flattening block"):
+        flattening_curve(1e8, 0.1, FrictionParams(**BASE))
+
+
+# ----------------------------------------------------------------------------- the equations
+def _j_quad(P, p, pf):
+    """Eq. F4's ``J`` by adaptive quadrature of Eq. 24's closed-form derivative."""
+    C1, n = P.C1, P.n1
+
+    def f(t):
+        x = C1 * t / P.H
+        y = x**n
+        d = C1 / P.H * np.tanh(y) ** (1 / n - 1) / np.cosh(y) ** 2 * x ** (n - 1)
+        return d * t * np.sqrt(max(t * t - p * p, 0.0))
+
+    return integrate.quad(f, p, pf, limit=400, epsrel=1e-11, epsabs=0.0)[0]
+
+
+@pytest.mark.parametrize("ratio_p", [1e-3, 0.05, 0.3, 0.9])
+@pytest.mark.parametrize("ratio_pf", [1.01, 1.5, 4.0])
+def test_equivalent_strain_against_adaptive_quadrature(ratio_p, ratio_pf):
+    """Eq. F4 by the module's Gauss-Legendre sum against SciPy's quad of alpha1' (differenced)."""
+    P = law(slope=0.1, beta=1.0)
+    p = ratio_p * H
+    pf = min(ratio_pf * p, 3 * H)
+    want = 0.1 * _j_quad(P, p, pf) / (1.0 * s0(P) * p)
+    got = equivalent_strain(p, pf, P)
+    assert got == pytest.approx(want, rel=1e-9)
+
+
+def test_closed_form_for_a_law_linear_in_p():
+    """``alpha1 = C1 p / H`` (n1 = 50, linear to 1e-30 below p = H / (2 C1)): Eq. F4 integrates to
+    ``eps = tan(theta) C1 (p_f^2 - p^2)^(3/2) / (3 H beta s0 p)``; inverted, the curve."""
+    P = law(slope=0.08, beta=1.7, n1=50.0)
+    p = 0.05 * H
+    pf = np.array([1.0, 1.2, 2.0, 4.0, 9.0]) * p
+    want = 0.08 * 1.05 * (pf**2 - p**2) ** 1.5 / (3 * H * 1.7 * s0(P) * p)
+    assert np.allclose(equivalent_strain(p, pf, P), want, rtol=1e-11, atol=0)
+    eps = np.array([0.0, 1e-4, 1e-3, 0.01, 0.03])
+    Pf = np.sqrt(p**2 + (3 * H * 1.7 * s0(P) * p * eps / (0.08 * 1.05)) ** (2 / 3))
+    assert Pf.max() < 0.5 * H / 1.05
+    assert np.allclose(flattening_curve(p, eps, P), 1.05 * Pf / H, rtol=1e-11, atol=0)
+
+
+def test_the_curve_follows_the_rate_of_eq_f3():
+    """A central difference of the curve equals Eq. F3 at the flattening pressure reached."""
+    P = law(slope=0.12, beta=0.8)
+    p = 0.2 * H
+    for eps in (0.01, 0.05, 0.15):
+        h = 1e-5
+        a = flattening_curve(p, [eps - h, eps + h], P)
+        pf = flattening_update(p, p, p, eps, P)
+        rate = contact_growth_rate(p, pf, 0.12, 0.8, s0(P))  # dA / d eps
+        assert (a[1] - a[0]) / (2 * h) == pytest.approx(rate, rel=1e-5)
+
+
+def test_the_layer_rate_and_its_limits():
+    """Eq. F2: 0 without pressure, linear in ``r`` for small ``r``, unbounded at ``r = 1``."""
+    assert layer_sink_rate(0.0, 2.0) == 0.0
+    assert layer_sink_rate(1e-6, 2.0) == pytest.approx(2e-6, rel=1e-11)
+    assert np.isinf(layer_sink_rate(1.0, 2.0))
+    r = np.linspace(0.0, 0.999, 50)
+    assert np.all(np.diff(layer_sink_rate(r, 1.0)) > 0)
+
+
+def test_the_start_is_a_two_thirds_power_of_strain():
+    """At ``r -> 1`` the rate diverges as ``(A - A0)^(-1/2)``: ``A - A0 ~ eps^(2/3)`` (Eq. F3)."""
+    P = law()
+    p = 0.2 * H
+    a0 = alpha_first(p, P)
+    a = flattening_curve(p, [1e-7, 8e-7], P) - a0
+    assert a[1] / a[0] == pytest.approx(4.0, rel=1e-3)
+
+
+# ----------------------------------------------------------------------------- the curve
+def test_zero_strain_is_the_calibrated_law():
+    for form in ("paper", "tabulated"):
+        kw = {}
+        if form == "tabulated":
+            kw = dict(
+                reload_form="tabulated",
+                reload_table=ReloadTable((1e8, 4e8, 7e8), (3.0, 6.0, 12.0), (0.5, 1.0, 2.0), 0.7),
+            )
+        P = law(**kw)
+        p = np.geomspace(1e5, 0.99 * H, 40)
+        assert np.array_equal(flattening_curve(p, 0.0, P), alpha_first(p, P))
+        # continuous at zero strain, with the 2/3-power start of Eq. F3 (next test)
+        assert np.allclose(flattening_curve(p, 1e-22, P), alpha_first(p, P), rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("slope", [0.02, 0.05, 0.1, 0.2])
+def test_never_falls_stays_at_most_one_rises_at_low_pressure(slope):
+    P = law(slope=slope)
+    eps = np.linspace(0.0, 0.6, 121)
+    for pr in (0.01, 0.05, 0.3, 0.6, 0.95):
+        a = flattening_curve(pr * H, eps, P)
+        assert np.all(np.diff(a) >= 0) and np.all(a <= 1.0) and a[0] == alpha_first(pr * H, P)
+    low = flattening_curve(0.05 * H, [0.0, 0.05, 0.5], P)
+    assert low[1] > low[0] + 0.04 and low[2] > low[1] + 0.05
+
+
+@pytest.mark.parametrize("slope", [0.02, 0.049, 0.1, 0.2])
+def test_near_full_contact_at_large_strain(slope):
+    """At 0.3 H and strain 0.5, at least 0.9 for realistic profile slopes (default scene 0.049)."""
+    assert flattening_curve(0.3 * H, 0.5, law(slope=slope)) >= 0.9
+
+
+def test_full_contact_at_the_finite_strain_of_eq_f4():
+    P = law(slope=0.1)
+    p = 0.3 * H
+    full = equivalent_strain(p, 2**40 * H, P)
+    a = flattening_curve(p, [0.98 * full, 1.02 * full, 10 * full], P)
+    assert a[0] < 1.0 and a[1] == 1.0 and a[2] == 1.0
+
+
+def test_strain_scales_with_slope_over_beta_and_flow_stress():
+    """``eps`` is proportional to ``tan(theta) / (beta s0)`` (Eq. F4): the slope, the factor and
+    the host's flow stress (strain rate enters through it alone) rescale the strain axis."""
+    p, eps = 0.15 * H, np.array([0.01, 0.04, 0.1])
+    ref = flattening_curve(p, eps, law(slope=0.05, beta=1.0))
+    assert np.allclose(flattening_curve(p, 2 * eps, law(slope=0.1, beta=1.0)), ref, atol=1e-12)
+    assert np.allclose(flattening_curve(p, eps / 3, law(slope=0.05, beta=3.0)), ref, atol=1e-12)
+    P = law(slope=0.05)
+    host = flattening_curve(p, eps / 1.5, P, sigma_y=1.5 * P.sigma_y)
+    assert np.allclose(host, ref, atol=1e-12)
+    with pytest.raises(ValueError, match="sigma_y must be in"):
+        flattening_curve(p, eps, P, sigma_y=-1.0)
+
+
+# ----------------------------------------------------------------------------- per node
+def test_the_update_never_falls_and_adds_up():
+    P = law()
+    p = np.array([0.05, 0.2, 0.5]) * H
+    pf0 = np.zeros(3)
+    one = flattening_update(pf0, p, p, 0.04, P)
+    two = flattening_update(flattening_update(pf0, p, p, 0.02, P), p, p, 0.02, P)
+    assert np.allclose(two, one, rtol=1e-10)  # increments at a fixed pressure add up
+    assert np.all(one >= p)
+    assert np.array_equal(flattening_update(one, p, p, 0.0, P), one)  # no strain: unchanged
+    assert np.array_equal(flattening_update(one, p, 0.5 * p, 0.0, P), one)
+    assert np.array_equal(flattening_update(one, p, np.zeros(3), 0.1, P), one)  # open node
+    lower = flattening_update(one, p, 0.1 * p, 0.05, P)
+    assert np.all(lower >= one)  # a lower pressure flattens on, slowly, never back
+    # trial/commit: every Newton iteration starts from the committed value, same result
+    assert np.array_equal(flattening_update(pf0, p, p, 0.04, P), one)
+
+
+def test_flattening_at_a_lower_pressure_than_the_history_is_slower():
+    P = law()
+    p = 0.1 * H
+    virgin = flattening_update(0.0, p, p, 0.05, P)
+    pressed = flattening_update(0.0, 0.5 * H, p, 0.05, P)  # loaded to 0.5 H before
+    gain_virgin = alpha_first(virgin, P) - alpha_first(p, P)
+    gain_pressed = alpha_first(pressed, P) - alpha_first(0.5 * H, P)
+    assert 0 < gain_pressed < gain_virgin
+
+
+def test_hostile_input_is_refused_or_finite():
+    P = law()
+    for bad, msg in [
+        (dict(d_eps=-0.1), "d_eps must be >= 0"),
+        (dict(d_eps=np.nan), "d_eps must not contain NaN"),
+        (dict(p=np.inf), "p must be finite"),
+        (dict(p_f=-1.0), "p_f and p_hist must be >= 0"),
+    ]:
+        args = dict(p_f=0.0, p_hist=1e8, p=1e8, d_eps=0.1) | bad
+        with pytest.raises(ValueError, match=msg):
+            flattening_update(args["p_f"], args["p_hist"], args["p"], args["d_eps"], P)
+    huge = flattening_update(0.0, 1e8, 1e8, 1e300, P)
+    assert np.isfinite(huge) and alpha_first(huge, P) == 1.0
+    tiny = flattening_update(0.0, 1e-6, 1e-6, 0.5, P)  # below 1e-12 H: no flattening
+    assert tiny == 0.0
+    big = flattening_update(0.0, 1e30, 1e30, 0.5, P)  # beyond the cap: the pressure alone
+    assert big == 0.0 and flattened_alpha(1e30, 1e30, big, P) == alpha_first(1e30, P)
+    with pytest.raises(ValueError, match="p must be finite and > 0"):
+        flattening_curve(0.0, 0.1, P)
+    with pytest.raises(ValueError, match="strains must be finite and >= 0"):
+        flattening_curve(1e8, -0.1, P)
+
+
+def test_extreme_input_stays_finite_without_warnings():
+    """Pressures, histories and strains from the subnormals to the largest doubles, the validated
+    ranges' ends of slope and beta: finite results in [0, 1], no warning (warnings are errors)."""
+    rng = np.random.default_rng(7)
+    big = np.finfo(float).max
+    vals = np.array([0.0, 5e-324, 1e-300, 1e-6, 1.0, 1e5, 0.3 * H, H, 10 * H, 1e300, big])
+    for slope, beta in ((1e-4, 1e3), (10.0, 1e-3), (0.1, 1.0)):
+        P = law(slope=slope, beta=beta, continuous_reload=True)
+        p, ph, pf = (rng.choice(vals, 300) for _ in range(3))
+        d_eps = rng.choice([0.0, 1e-300, 1e-3, 0.5, 1e300, big], 300)
+        new = flattening_update(pf, ph, p, d_eps, P)
+        assert np.all(np.isfinite(new)) and np.all(new >= pf)
+        a = flattened_alpha(p, np.maximum(ph, p), new, P)
+        assert np.all(np.isfinite(a)) and np.all((a >= 0) & (a <= 1))
+        c = flattening_curve(np.where(p > 0, p, 1.0), np.where(d_eps < 1e300, d_eps, 1.0), P)
+        assert np.all(np.isfinite(c)) and np.all((c >= 0) & (c <= 1))
+
+
+# ----------------------------------------------------------------------------- Eq. F5
+@pytest.mark.parametrize("continuous", [False, True])
+@pytest.mark.parametrize("form", ["paper", "tabulated"])
+def test_without_flattening_the_contact_fraction_is_the_law(form, continuous):
+    kw = dict(continuous_reload=continuous)
+    if form == "tabulated":
+        kw |= dict(
+            reload_form="tabulated",
+            reload_table=ReloadTable((1e8, 4e8, 7e8), (3.0, 6.0, 12.0), (0.5, 1.0, 2.0), 0.7),
+        )
+    P = law(**kw)
+    p = np.linspace(0.0, 0.9 * H, 37)
+    for ph in (0.0, 1e8, 5e8):
+        for pf in (0.0, 0.5 * ph, ph):
+            got = flattened_alpha(p, ph, pf, P)
+            want = shear_limit(p, ph, P) / P.tau_max
+            assert np.allclose(got, want, rtol=1e-14, atol=1e-16)
+
+
+def test_the_reload_branch_starts_from_the_flattened_fraction():
+    """After straining at ``p_hist``, unloading follows the law's reload branch of the level
+    ``p_f`` (``alpha1(p_f)`` = the flattened fraction) at the same ratio ``p / p_hist``: with
+    the continuous form it starts exactly at the flattened fraction and falls monotonically."""
+    P = law(continuous_reload=True)
+    ph = 0.2 * H
+    pf = flattening_update(0.0, ph, ph, 0.05, P)
+    a_f = alpha_first(pf, P)
+    assert a_f > alpha_first(ph, P) + 0.1
+    assert flattened_alpha(ph, ph, pf, P) == a_f  # loaded at p_hist: the flattened fraction
+    q = np.linspace(0.01, 0.999999, 300)
+    a = flattened_alpha(q * ph, ph, pf, P)
+    assert a[-1] == pytest.approx(a_f, rel=1e-5)
+    assert np.all(np.diff(a) > 0)
+    assert np.allclose(a, alpha_reload(q * pf, pf, P), rtol=1e-14)
+    # and above the history: the flattened fraction until the pressure alone exceeds it
+    assert flattened_alpha(1.5 * ph, ph, pf, P) == a_f
+    assert flattened_alpha(1.1 * pf, ph, pf, P) == alpha_first(1.1 * pf, P)
+    # the paper's form keeps its own jump at the history, read at the level p_f
+    Pj = law()
+    jump = alpha_first(pf, Pj) - alpha_reload(pf, pf, Pj)
+    assert a_f - flattened_alpha(ph * (1 - 1e-12), ph, pf, Pj) == pytest.approx(jump, rel=1e-6)
+
+
+def test_the_export_refuses_a_law_it_would_run_without_flattening(tmp_path):
+    """No host routine carries flattening yet: a file with the block is refused (exit 2)."""
+    from frictionlaw.export.cli import main
+
+    path = tmp_path / "params.json"
+    law().to_json(path)
+    assert main(["abaqus-fric", "--params", str(path), "--out", str(tmp_path / "x")]) == 2
+    assert not (tmp_path / "x").exists()

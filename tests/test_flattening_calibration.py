@@ -1,0 +1,194 @@
+"""``halfspace-calib --flattening``: the block from the surfaces, beta fitted to a measurement.
+
+Geometry helpers against closed forms (a sinusoid's RMS slope and crossings, counted patches),
+beta recovered from curves of known beta, and the command's runs (grid 16: a few seconds).
+"""
+
+import json
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import halfspace_calib.cli as cli
+from frictionlaw import Flattening, FrictionParams, flattening_curve
+from halfspace_calib.cli import main
+from halfspace_calib.pipeline.flattening import (
+    FlatteningData,
+    crossing_half_spacing,
+    fit_beta,
+    patch_half_spacing,
+    profile_slopes,
+    read_flattening_data,
+)
+from halfspace_calib.topography.surface import Surface
+
+DATA = Path(__file__).parent / "data" / "flattening_example.csv"
+QUICK = ["--grid", "16", "--pressures", "1e8,2e8,3e8,5e8", "--reload-fractions", "0.3,0.6"]
+H = 8e8
+LAW = FrictionParams(m=0.5, sigma_y=H / 2.8, H=H, C1=1.05, n1=2.87, C2=7.44, n2=0.575)
+
+
+# ----------------------------------------------------------------------------- geometry
+def test_slope_and_crossings_of_a_sinusoid():
+    """``h = a sin(2 pi x / lam)``: RMS slope ``2 pi a / (lam sqrt 2)`` (central differences:
+    times ``sin(2 pi dx / lam) / (2 pi dx / lam)``), crossings every ``lam``: ``l = lam / 2``."""
+    n, dx, lam, a = 256, 1e-6, 32e-6, 0.5e-6
+    x = np.arange(n) * dx
+    h = np.repeat((a * np.sin(2 * np.pi * x / lam))[:, None], 8, axis=1)
+    s = Surface(h, dx, dx, periodic=True)
+    k = 2 * np.pi * dx / lam
+    sx, sy = profile_slopes(s)
+    assert sx == pytest.approx(2 * np.pi * a / (lam * math.sqrt(2)) * math.sin(k) / k, rel=1e-12)
+    assert sy == 0.0
+    lx, ly = crossing_half_spacing(s)
+    assert lx == pytest.approx(0.5 * (n - 1) * dx / (n // 32), rel=1e-12) and ly is None
+    assert lx == pytest.approx(lam / 2, rel=0.01)
+
+
+def test_patches_are_counted_once_across_the_period():
+    p = np.zeros((40, 40))
+    p[5:8, 5:8] = 1.0  # one inside
+    p[0:3, 20:23] = p[-2:, 20:23] = 1.0  # one across the x edge
+    p[20:22, 0:2] = p[20:22, -3:] = 1.0  # one across the y edge
+    l_per, n_per = patch_half_spacing(p, 1e-6, 1e-6, periodic=True)
+    assert n_per == 3 and l_per == pytest.approx(0.5 * math.sqrt(40 * 40 * 1e-12 / 3))
+    assert patch_half_spacing(p, 1e-6, 1e-6, periodic=False)[1] == 5
+    assert patch_half_spacing(np.zeros((4, 4)), 1e-6, 1e-6, periodic=False) == (None, 0)
+
+
+# ----------------------------------------------------------------------------- the data
+def test_the_example_file_reads():
+    d = read_flattening_data(DATA)
+    assert d.strain.size == 6 and np.all(d.p == 2.4e8) and d.alpha[-1] == 0.86
+
+
+@pytest.mark.parametrize(
+    "text, msg",
+    [
+        ("strain,alpha\n0.1,0.5\n", "must name the columns strain, alpha, p_Pa"),
+        ("strain,alpha,p_Pa\n0.1,x,1e8\n0.2,0.5,1e8\n", "row 2, column alpha: not a number"),
+        ("strain,alpha,p_Pa\n0.1,1.5,1e8\n0.2,0.5,1e8\n", "alpha must be in"),
+        ("strain,alpha,p_Pa\n-0.1,0.5,1e8\n0.2,0.5,1e8\n", "strain must be >= 0"),
+        ("strain,alpha,p_Pa\n0.1,0.5,0\n0.2,0.5,1e8\n", "p_Pa must be > 0"),
+        ("strain,alpha,p_Pa\n0.0,0.5,1e8\n0.2,0.5,1e8\n", "at least two rows with strain > 0"),
+        ("strain,alpha,p_Pa\n0.1,nan,1e8\n0.2,0.5,1e8\n", "not finite"),
+    ],
+)
+def test_bad_data_is_refused_naming_file_row_and_column(tmp_path, text, msg):
+    f = tmp_path / "d.csv"
+    f.write_text(text)
+    with pytest.raises(ValueError, match=msg) as exc:
+        read_flattening_data(f)
+    assert str(exc.value).startswith(str(f))
+
+
+def test_beta_is_recovered_with_a_band():
+    """Points of the model with beta = 2.5 (two pressures): recovered exactly without noise, and
+    within a band that holds it with noise of 0.01 in alpha."""
+    P = LAW.replace(flattening=Flattening(slope=0.08, beta=2.5))
+    eps = np.array([0.0, 0.01, 0.03, 0.06, 0.1, 0.0, 0.02, 0.05, 0.1, 0.2])
+    p = np.r_[np.full(5, 0.1 * H), np.full(5, 0.25 * H)]
+    alpha = flattening_curve(p, eps, P)
+    base = LAW.replace(flattening=Flattening(slope=0.08))
+    fit = fit_beta(base, FlatteningData("model", eps, alpha, p))
+    assert fit["beta"] == pytest.approx(2.5, rel=1e-6) and fit["rms"] < 1e-7
+    noisy = alpha + np.random.default_rng(3).normal(0.0, 0.01, alpha.size)
+    fit = fit_beta(base, FlatteningData("noisy", eps, np.clip(noisy, 0, 1), p))
+    assert fit["band"][0] < 2.5 < fit["band"][1] and fit["band"][1] / fit["band"][0] < 2.0
+    assert fit["level"] == 0.9 and fit["points"] == 10
+
+
+def test_data_the_model_cannot_describe_is_refused():
+    eps = np.array([0.05, 0.1, 0.2])
+    p = np.full(3, 0.1 * H)
+    base = LAW.replace(flattening=Flattening(slope=0.08))
+    flat = flattening_curve(p, 0 * eps, base)  # no rise at all: beta -> 0
+    with pytest.raises(ValueError, match="on the bound"):
+        fit_beta(base, FlatteningData("flat", eps, flat, p))
+
+
+# ----------------------------------------------------------------------------- the command
+@pytest.fixture(scope="module")
+def run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("flat") / "o"
+    code = main([*QUICK, "--flattening", "--no-progress", "--out", str(out)])
+    return code, out
+
+
+def test_the_command_writes_the_block(run, capsys):
+    code, out = run
+    assert code == 0
+    doc = json.loads((out / "params.json").read_text())
+    assert doc["version"] == 3 and doc["flattening"]["beta"] == 1.0
+    rec = doc["provenance"]["flattening"]
+    assert rec["slope"] == doc["flattening"]["slope"] > 0
+    assert rec["slope"] == pytest.approx(
+        math.sqrt(0.5 * (rec["slope_x"] ** 2 + rec["slope_y"] ** 2))
+    )
+    P = FrictionParams.from_json(out / "params.json")
+    t = rec["table"]
+    for key, alphas in t["alpha_at_p_over_H"].items():
+        f = float(key[:-1])
+        assert alphas == pytest.approx(flattening_curve(f * P.H, t["strains"], P).tolist(), abs=0)
+        assert alphas[0] == pytest.approx(float(flattening_curve(f * P.H, 0.0, P)), abs=0)
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["flattening"] == rec
+    html = (out / "report.html").read_text()
+    assert "Flattening under bulk strain" in html and 'data-key="flattening.slope"' in html
+    shown = re.findall(r'data-key="(flattening\.[^"]+)">([^<]*)<', html)
+    assert len(shown) == 10 and all(v not in ("", "-") for _, v in shown), shown
+    full = rec["full_contact"]["strain"]
+    assert flattening_curve(0.3 * P.H, [0.99 * full, 1.01 * full], P).tolist()[1] == 1.0
+    assert (out / "flattening.csv").is_file() and (out / "flattening.png").is_file()
+
+
+def test_without_the_option_nothing_changes(tmp_path):
+    assert main([*QUICK, "--no-progress", "--out", str(tmp_path / "o")]) == 0
+    doc = json.loads((tmp_path / "o" / "params.json").read_text())
+    assert "flattening" not in doc and doc["version"] == 2
+    assert json.loads((tmp_path / "o" / "summary.json").read_text())["flattening"] is None
+    assert not (tmp_path / "o" / "flattening.csv").exists()
+
+
+def test_the_command_fits_beta_to_a_measurement(tmp_path, capsys):
+    out = tmp_path / "o"
+    assert main([*QUICK, "--flattening-data", str(DATA), "--no-progress", "--out", str(out)]) == 0
+    doc = json.loads((out / "params.json").read_text())
+    f = doc["flattening"]
+    assert f["beta_band"][0] < f["beta"] < f["beta_band"][1] and f["band_level"] == 0.9
+    fit = doc["provenance"]["flattening"]["fit"]
+    assert fit["file"] == str(DATA) and fit["points"] == 6
+    said = capsys.readouterr().out
+    assert f"beta = {f['beta']:.4g} [" in said and "fitted to 6 measured points" in said
+
+
+def test_bad_input_is_refused_before_any_sweep(tmp_path, capsys, monkeypatch):
+    def no_run(*a, **k):
+        raise AssertionError("a calibration started")
+
+    monkeypatch.setattr(cli, "calibrate", no_run)
+    bad = tmp_path / "bad.csv"
+    bad.write_text("strain,alpha\n0.1,0.5\n")
+    assert main([*QUICK, "--flattening-data", str(bad), "--out", str(tmp_path / "o")]) == 2
+    assert "must name the columns" in capsys.readouterr().err
+    argv = [*QUICK, "--patches", "2", "--flattening", "--out", str(tmp_path / "o")]
+    assert main(argv) == 2
+    assert "--flattening derives the block from one workpiece/tool pair" in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
+
+
+def test_a_measurement_the_model_cannot_describe_fails_the_run(tmp_path, capsys):
+    """Contact fractions below the calibrated first loading at every strain: beta would have to
+    vanish; the run fails (exit 1) and keeps its parameters as params.failed.json, saying why."""
+    data = tmp_path / "d.csv"
+    data.write_text("strain,alpha,p_Pa\n0.05,0.0,2e8\n0.1,0.0,2e8\n0.2,0.0,2e8\n")
+    out = tmp_path / "o"
+    assert main([*QUICK, "--flattening-data", str(data), "--no-progress", "--out", str(out)]) == 1
+    err = capsys.readouterr().err
+    assert "flattening: the fit of beta" in err and "on the bound" in err
+    doc = json.loads((out / "params.failed.json").read_text())
+    assert any("fit of beta" in p for p in doc["provenance"]["run"]["problems"])
+    assert not (out / "params.json").exists()
