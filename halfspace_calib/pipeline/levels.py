@@ -11,7 +11,7 @@ and stops in full contact or where the law is within a tolerance.
   predicted from every other computed level by the form the scene runs (its calibration
   record's fit and prediction, :mod:`.forms`; ``"auto"`` checks with the tabulated forms, the
   interpolating candidates). First loading: ``|alpha_law(m) - alpha(m)|`` against
-  ``heldout_tol / 10`` (:data:`FIRST_SHARE`) and ``0.005 alpha`` (:data:`FIRST_REL`); reload (``m >= reload_from``, two other histories
+  ``heldout_tol / 10`` (:data:`FIRST_SHARE`); reload (``m >= reload_from``, two other histories
   or more): the largest ``|d alpha|`` of ``m``'s reload curve against ``heldout_tol / 2``
   (:data:`RELOAD_SHARE`). A miss refines both halves; within both tolerances the interval is
   settled.
@@ -50,8 +50,6 @@ __all__ = [
     "MIN_RATIO",
     "MAX_LEVELS",
     "FIRST_SHARE",
-    "FIRST_REL",
-    "QUANTUM",
     "RELOAD_SHARE",
     "LevelReason",
     "LevelPlan",
@@ -73,11 +71,6 @@ MIN_RATIO = 1.1
 MAX_LEVELS = 24
 #: the first loading's refinement tolerance as a share of ``heldout_tol``
 FIRST_SHARE = 0.1
-#: the first loading's relative refinement tolerance (``|d alpha| / alpha``: low pressures,
-#: where ``alpha`` is small and ``mu_eff`` is read)
-FIRST_REL = 0.005
-#: the relative tolerance applies to misses of more than this many elements' share of alpha
-QUANTUM = 4
 #: the reload curves' refinement tolerance as a share of ``heldout_tol``
 RELOAD_SHARE = 0.5
 
@@ -122,8 +115,8 @@ class LevelPlan:
             ]
         out = [
             f"load levels: {len(self.levels)} computed where alpha changes (refined to "
-            f"{self.tol_first:g} and {100 * FIRST_REL:g} % in first loading, {self.tol_reload:g} "
-            "in reload: heldout_tol / 10 and / 2):"
+            f"{self.tol_first:g} in first loading, {self.tol_reload:g} in reload: heldout_tol / 10 "
+            "and / 2):"
         ]
         out += [
             f"  {r.p / 1e6:g} MPa{' (+reload)' if r.reload else ''}: {r.reason}"
@@ -175,16 +168,17 @@ def _first_miss(scene, ps, alphas, m):
     return float(abs(np.asarray(rec.predict(fit, np.array([m]), ctx))[0] - alphas[~keep][0]))
 
 
-def _reload_ctx(scene, ps, alphas):
+def _reload_ctx(scene, ps, alphas, curves):
     """The reload fit's context on the first loading of every computed level."""
     ctx = FitContext.of(scene)
     name = _first_name(scene)
     rec = calibration_form(_rt.FIRST_LOADING, name)
     fit = rec.fit(ps, alphas, ctx)
+    dip = (float(min(c.p_hist for c in curves)), float(ps.max()))  # as fit_law's
     if name == "eq24":
-        return dataclasses.replace(ctx, C1=fit.C1, n1=fit.n1, p_range=(ps.min(), ps.max()))
+        return dataclasses.replace(ctx, C1=fit.C1, n1=fit.n1, dip_range=dip)
     first = (name, rec.runtime(fit))
-    return dataclasses.replace(ctx, C1=1.0, n1=1.0, first=first, p_range=(ps.min(), ps.max()))
+    return dataclasses.replace(ctx, C1=1.0, n1=1.0, first=first, dip_range=dip)
 
 
 def _reload_misses(scene, ctx, curves, mids):
@@ -240,13 +234,11 @@ def _curves(results):
 
 
 # ----------------------------------------------------------------------------- refinement
-def adaptive_levels(scene, run_round, n_elements):
+def adaptive_levels(scene, run_round):
     """Refine the scene's load levels where the computed ``alpha`` changes (module docstring).
 
     ``run_round(pressures)``: computes the levels ``pressures`` (a reload curve at those at or
-    above ``scene.reload_from``) and returns ``{p: LevelResult}`` (failed levels left out);
-    ``n_elements``: the solver grid's elements (a miss within :data:`QUANTUM` of them is the
-    grid's resolution of ``alpha``, not the law's).
+    above ``scene.reload_from``) and returns ``{p: LevelResult}`` (failed levels left out).
     Returns ``(results, plan)``: every computed level's result by pressure and the
     :class:`LevelPlan`.
     """
@@ -272,7 +264,7 @@ def adaptive_levels(scene, run_round, n_elements):
                 m, rnd, f"checks {a / 1e6:.4g}-{b / 1e6:.4g} MPa", m >= scene.reload_from
             )
         results.update(run_round(mids))
-        opened = _judge(scene, todo, mids, results, reasons, decisions, (tol1, tol2, n_elements))
+        opened = _judge(scene, todo, mids, results, reasons, decisions, (tol1, tol2))
     levels = tuple(reasons[p] for p in sorted(results))
     return results, LevelPlan(True, levels, tuple(decisions), tol1, tol2)
 
@@ -324,12 +316,15 @@ def _minimum_below(alpha, todo, decisions, n):
 
 def _judge(scene, todo, mids, results, reasons, decisions, tols):
     """Each checked interval refined (both halves open) or settled, with the reason."""
-    tol1, tol2, n_elements = tols
+    tol1, tol2 = tols
     ok = {p: lv for p, lv in results.items() if lv.loading.converged}
     ps = np.array(sorted(ok))
     alphas = np.array([ok[p].loading.alpha for p in ps])
     hist = [m for m in mids if m >= scene.reload_from and m in ok]
-    d2s = _reload_misses(scene, _reload_ctx(scene, ps, alphas), _curves(ok), hist) if hist else {}
+    curves = _curves(ok)
+    d2s = {}
+    if hist and curves:
+        d2s = _reload_misses(scene, _reload_ctx(scene, ps, alphas, curves), curves, hist)
     opened = []
     for (a, b), m in zip(todo, mids, strict=True):
         span = f"{a / 1e6:.4g}-{b / 1e6:.4g} MPa"
@@ -337,18 +332,15 @@ def _judge(scene, todo, mids, results, reasons, decisions, tols):
             decisions.append(f"{span}: the midpoint {m / 1e6:.4g} MPa failed; not refined")
             continue
         d1 = _first_miss(scene, ps, alphas, m)
-        rel = d1 / max(ok[m].loading.alpha, 1e-300)
-        if d1 <= QUANTUM / n_elements:  # within a few elements: the grid's resolution of alpha
-            rel = 0.0
         d2 = d2s.get(m, 0.0)
-        what = f"first loading misses {d1:.2g} ({100 * rel:.2g} %)" + (
+        what = f"first loading misses {d1:.2g}" + (
             f", reload {d2:.2g}" if m >= scene.reload_from else ""
         )
-        if d1 > tol1 or rel > FIRST_REL or d2 > tol2:
+        if d1 > tol1 or d2 > tol2:
             opened += [(a, m), (m, b)]
             decisions.append(
                 f"{span}: refined at {m / 1e6:.4g} MPa, the law interpolated from the other "
-                f"levels {what} (tolerances {tol1:g} and {100 * FIRST_REL:g} %, {tol2:g})"
+                f"levels {what} (tolerances {tol1:g}, {tol2:g})"
             )
             reasons[m] = dataclasses.replace(reasons[m], reason=f"refines {span}: {what}")
         else:

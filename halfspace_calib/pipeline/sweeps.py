@@ -348,7 +348,7 @@ def run_sweeps(scene, *, progress=True, surfaces=None):
 
     t0 = time.perf_counter()
     if scene.adaptive_levels:
-        done, plan = _levels.adaptive_levels(scene, run_round, int(np.size(wp.heights)))
+        done, plan = _levels.adaptive_levels(scene, run_round)
     else:
         done, plan = run_round(list(scene.pressures)), _levels.fixed_plan(scene)
     levels = [done[p] for p in sorted(done)]
