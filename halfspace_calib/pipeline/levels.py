@@ -169,16 +169,20 @@ def _first_miss(scene, ps, alphas, m):
 
 
 def _reload_ctx(scene, ps, alphas, curves):
-    """The reload fit's context on the first loading of every computed level."""
+    """The reload fit's context on the first loading of every computed level.
+
+    Made as :func:`~.forms.fit_law` makes it, so that the last round's fit is the
+    calibration's own (:func:`~.forms.cached_reload_table`).
+    """
     ctx = FitContext.of(scene)
+    eq24 = calibration_form(_rt.FIRST_LOADING, "eq24").fit(ps, alphas, ctx)
     name = _first_name(scene)
-    rec = calibration_form(_rt.FIRST_LOADING, name)
-    fit = rec.fit(ps, alphas, ctx)
-    dip = (float(min(c.p_hist for c in curves)), float(ps.max()))  # as fit_law's
-    if name == "eq24":
-        return dataclasses.replace(ctx, C1=fit.C1, n1=fit.n1, dip_range=dip)
-    first = (name, rec.runtime(fit))
-    return dataclasses.replace(ctx, C1=1.0, n1=1.0, first=first, dip_range=dip)
+    first = None
+    if name != "eq24":
+        rec = calibration_form(_rt.FIRST_LOADING, name)
+        first = (name, rec.runtime(rec.fit(ps, alphas, ctx)))
+    dip = (float(min(c.p_hist for c in curves)), float(max(ps)))
+    return dataclasses.replace(ctx, C1=eq24.C1, n1=eq24.n1, first=first, dip_range=dip)
 
 
 def _reload_misses(scene, ctx, curves, mids):
@@ -220,7 +224,7 @@ class _TableOnly:
 
 def _curves(results):
     out = []
-    for lv in results.values():
+    for lv in sorted(results.values(), key=lambda lv: lv.p_hist):  # as SweepResult's
         pts = [r for r in lv.reload if r.converged]
         if lv.loading.converged and len(pts) >= 2:
             out.append(
