@@ -217,9 +217,9 @@ def build_parser():
         + f"{min(_D['pressures']) / 1e6:g}-{max(_D['pressures']) / 1e6:g} MPa"
         + " for H = 800 MPa, for another H up to 0.95 H, its levels placed where alpha changes: "
         "the ends and --reload-from first, then each interval's midpoint while the law "
-        "interpolated from the other levels misses it by more than --heldout-tol / 10 (and "
-        "0.5 %%) in first loading or --heldout-tol / 2 in reload; not in full contact, alpha >= "
-        "0.995)",
+        "interpolated from the other levels misses it by more than 0.1 --heldout-tol in first "
+        "loading or 0.3 --heldout-tol in a reload curve; not where both ends are in full "
+        "contact, alpha >= 0.995)",
     )
     g.add_argument(
         "--reload-fractions",

@@ -56,8 +56,8 @@ def add_law_options(g, _D):
         "and the level predicted; first loading: the points at one pressure, reload: one reload "
         "curve); beyond it the run fails with exit 1. The extrapolations above the top level and "
         f"below the lowest are reported, they do not decide; with the default pressures it also "
-        "sets how finely the levels are placed: heldout_tol / 10 in first loading, / 2 in "
-        f"reload (default: {_D['heldout_tol']:g})",
+        "sets how finely the levels are placed: 0.1 of it in first loading, 0.3 in a reload "
+        f"curve (default: {_D['heldout_tol']:g})",
     )
 
 

@@ -11,10 +11,13 @@ and stops in full contact or where the law is within a tolerance.
   predicted from every other computed level by the form the scene runs (its calibration
   record's fit and prediction, :mod:`.forms`; ``"auto"`` checks with the tabulated forms, the
   interpolating candidates). First loading: ``|alpha_law(m) - alpha(m)|`` against
-  ``heldout_tol / 10`` (:data:`FIRST_SHARE`); reload (``m >= reload_from``, two other histories
-  or more): the largest ``|d alpha|`` of ``m``'s reload curve against ``heldout_tol / 2``
+  ``0.1 heldout_tol`` (:data:`FIRST_SHARE`); reload (``m >= reload_from``, two other histories
+  or more): the largest ``|d alpha|`` of ``m``'s reload curve against ``0.3 heldout_tol``
   (:data:`RELOAD_SHARE`). A miss refines both halves; within both tolerances the interval is
-  settled.
+  settled, but for a check of a reload curve predicted from fewer than 3 other histories,
+  which refines both halves whatever it measured (interpolated between two histories only,
+  the check at 276 MPa of matrix-3.txt passed and the law then missed a second run's
+  histories at 550-730 MPa by 0.16, benchmarks/two_runs.py).
 * **Stops**: both ends in full contact (``alpha >= 0.995``, :data:`FULL_CONTACT`: the law is
   Tresca's there); :data:`MAX_FULL` levels in full contact computed already (the onset of full
   contact is then bracketed; the law is capped at 1 above it); a midpoint closer than
@@ -72,7 +75,7 @@ MAX_LEVELS = 24
 #: the first loading's refinement tolerance as a share of ``heldout_tol``
 FIRST_SHARE = 0.1
 #: the reload curves' refinement tolerance as a share of ``heldout_tol``
-RELOAD_SHARE = 0.5
+RELOAD_SHARE = 0.3
 
 
 @dataclass(frozen=True)
@@ -115,8 +118,8 @@ class LevelPlan:
             ]
         out = [
             f"load levels: {len(self.levels)} computed where alpha changes (refined to "
-            f"{self.tol_first:g} in first loading, {self.tol_reload:g} in reload: heldout_tol / 10 "
-            "and / 2):"
+            f"{self.tol_first:g} in first loading, {self.tol_reload:g} in reload: 0.1 and 0.3 "
+            "heldout_tol):"
         ]
         out += [
             f"  {r.p / 1e6:g} MPa{' (+reload)' if r.reload else ''}: {r.reason}"
@@ -340,7 +343,15 @@ def _judge(scene, todo, mids, results, reasons, decisions, tols):
         what = f"first loading misses {d1:.2g}" + (
             f", reload {d2:.2g}" if m >= scene.reload_from else ""
         )
-        if d1 > tol1 or d2 > tol2:
+        few = m >= scene.reload_from and sum(1 for c in curves if c.p_hist != m) < 3
+        if few and not (d1 > tol1 or d2 > tol2):
+            opened += [(a, m), (m, b)]
+            decisions.append(
+                f"{span}: refined at {m / 1e6:.4g} MPa, {what}, but predicted from fewer than 3 "
+                "other reload histories (a check needs them)"
+            )
+            reasons[m] = dataclasses.replace(reasons[m], reason=f"refines {span}: {what}")
+        elif d1 > tol1 or d2 > tol2:
             opened += [(a, m), (m, b)]
             decisions.append(
                 f"{span}: refined at {m / 1e6:.4g} MPa, the law interpolated from the other "

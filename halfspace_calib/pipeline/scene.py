@@ -171,7 +171,7 @@ class Scene:
     (:mod:`~halfspace_calib.pipeline.heldout`); beyond it the run fails.
     ``adaptive_levels``: place the load levels where the computed ``alpha`` changes, within the
     range of ``pressures`` (:mod:`~halfspace_calib.pipeline.levels`: refined to
-    ``heldout_tol / 10`` in first loading and ``/ 2`` in reload); ``False`` computes
+    ``0.1 heldout_tol`` in first loading and ``0.3 heldout_tol`` in reload); ``False`` computes
     ``pressures`` as given; ``None`` (the default) refines the default pressures and computes
     given ones as given.
 
