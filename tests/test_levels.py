@@ -138,3 +138,14 @@ def test_calibration_reports_its_levels():
     # the resolution check and several samples compute given levels: replace() keeps them so
     fixed = dataclasses.replace(cal.scene, pressures=plan.pressures, adaptive_levels=False)
     assert L.fixed_plan(fixed).pressures == plan.pressures
+
+
+def test_cli_pressures_are_given_levels():
+    """``--pressures`` is computed as given, also when it lists the default levels."""
+    from halfspace_calib.cli import build_parser, scene_from_args
+    from halfspace_calib.pipeline.scene import DEFAULT_PRESSURES
+
+    default = ",".join(f"{p:g}" for p in DEFAULT_PRESSURES)
+    given = scene_from_args(build_parser().parse_args(["--pressures", default]))
+    assert given.pressures == DEFAULT_PRESSURES and given.adaptive_levels is False
+    assert scene_from_args(build_parser().parse_args([])).adaptive_levels is True

@@ -396,6 +396,8 @@ def scene_from_args(args):
             "geo_threshold",
         )
     }
+    if args.pressures is not None:  # given levels are computed as given, even the default's
+        over["adaptive_levels"] = False
     if args.periodic is not None:  # the older spelling of --boundary
         if args.boundary is not None:
             flag = "--periodic" if args.periodic else "--no-periodic"
