@@ -149,3 +149,17 @@ def test_cli_pressures_are_given_levels():
     given = scene_from_args(build_parser().parse_args(["--pressures", default]))
     assert given.pressures == DEFAULT_PRESSURES and given.adaptive_levels is False
     assert scene_from_args(build_parser().parse_args([])).adaptive_levels is True
+
+
+def test_samples_share_the_first_samples_levels():
+    """The pooled curves group by p_hist: every sample computes the first sample's levels."""
+    from halfspace_calib.pipeline.samples import SampleSpec, load_samples, run_samples
+
+    scene = Scene(grid=16, reload_fractions=(0.5, 0.9), heldout_tol=0.2)
+    out = run_samples(load_samples(scene, SampleSpec(patches=4))[:2], progress=False)
+    first, second = (out.calibrations[s.name] for s in out.samples)
+    assert first.sweeps.plan.adaptive and not second.sweeps.plan.adaptive
+    assert second.sweeps.plan.pressures == first.sweeps.plan.pressures
+    assert [lv.p_hist for lv in second.sweeps.levels if lv.reload] == [
+        lv.p_hist for lv in first.sweeps.levels if lv.reload
+    ]
