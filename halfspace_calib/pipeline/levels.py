@@ -58,6 +58,7 @@ __all__ = [
     "LevelPlan",
     "fixed_plan",
     "adaptive_levels",
+    "reload_curves",
 ]
 
 #: a first-loading level with ``alpha`` at least this is in full contact
@@ -225,9 +226,14 @@ class _TableOnly:
     table: object
 
 
-def _curves(results):
+def reload_curves(levels):
+    """The converged reload curves of ``levels`` (``LevelResult`` s), ascending ``p_hist``.
+
+    A level's curve needs its first loading converged and 2 converged reloads; each is a
+    :class:`~.fit.ReloadCurve` (what the fits take).
+    """
     out = []
-    for lv in sorted(results.values(), key=lambda lv: lv.p_hist):  # as SweepResult's
+    for lv in sorted(levels, key=lambda lv: lv.p_hist):
         pts = [r for r in lv.reload if r.converged]
         if lv.loading.converged and len(pts) >= 2:
             out.append(
@@ -328,7 +334,7 @@ def _judge(scene, todo, mids, results, reasons, decisions, tols):
     ps = np.array(sorted(ok))
     alphas = np.array([ok[p].loading.alpha for p in ps])
     hist = [m for m in mids if m >= scene.reload_from and m in ok]
-    curves = _curves(ok)
+    curves = reload_curves(ok.values())
     d2s = {}
     if hist and curves:
         d2s = _reload_misses(scene, _reload_ctx(scene, ps, alphas, curves), curves, hist)

@@ -15,7 +15,6 @@ from ..contact.area import corrected_contact_ratio
 from ..contact.materials import Materials, SolverSettings
 from ..contact.normal import solve_normal_pair
 from ..studies.presliding import PreslidingCurve, presliding_curve
-from . import fit as _fit
 from . import levels as _levels
 from .scene_surfaces import load_scene_surfaces
 
@@ -254,18 +253,7 @@ class SweepResult:
 
     def reload_curves(self):
         """Converged reload curves as :class:`halfspace_calib.pipeline.fit.ReloadCurve` objects."""
-        curves = []
-        for lv in self.levels:
-            pts = [r for r in lv.reload if r.converged]
-            if lv.loading.converged and len(pts) >= 2:
-                curves.append(
-                    _fit.ReloadCurve(
-                        lv.p_hist,
-                        np.array([r.p_mean for r in pts]),
-                        np.array([r.alpha for r in pts]),
-                    )
-                )
-        return curves
+        return _levels.reload_curves(self.levels)
 
     def not_converged(self):
         """Solves that did not reach the tolerance (left out of the fit): :class:`NotConverged`."""
