@@ -163,3 +163,17 @@ def test_samples_share_the_first_samples_levels():
     assert [lv.p_hist for lv in second.sweeps.levels if lv.reload] == [
         lv.p_hist for lv in first.sweeps.levels if lv.reload
     ]
+
+
+def test_early_full_contact_of_a_measured_pair():
+    """metropro-1.dat against itself (alpha 0.66 at 10 MPa, 1 from 75 MPa), the real solver."""
+    from pathlib import Path
+
+    f = str(Path(__file__).parent / "data" / "metropro-1.dat")
+    scene = Scene(workpiece=f, tool=f, grid=48, resolution_check=False)
+    cal = calibrate(scene, progress=False)
+    a = np.array([lv.loading.alpha for lv in cal.sweeps.levels])
+    assert a[0] < 0.7 and a[-1] == 1.0
+    assert np.sum(a < 0.99) >= 4 and np.sum(a >= 0.995) <= 3, cal.sweeps.plan.lines()
+    assert any("full contact" in d for d in cal.sweeps.plan.decisions)
+    assert not cal.problems()
