@@ -3,7 +3,7 @@
 Each case is calibrated twice in one process, as a user would (``calibrate(scene)`` after a JIT
 warm-up): with the fixed default levels (``adaptive_levels=False``: 11 levels 10-760 MPa, 8
 reload histories from 100 MPa) and with the levels the refinement places
-(:mod:`halfspace_calib.pipeline.levels`, the default). Per run: the levels and reload histories
+(:mod:`halfspace_calib.pipeline.sweep.levels`, the default). Per run: the levels and reload histories
 computed, the levels with ``alpha < 0.99`` and with ``alpha >= 0.995``, the CG iterations of the
 normal solves, the transforms counted in this process (as FFT pairs of the grid; a sweep on 2 processes,
 the default at 512^2, makes its transforms in the workers: counted on 1 process) and the wall time in FFT pairs
@@ -33,7 +33,7 @@ from _provenance import RESULTS, run_record, write_rows
 
 from frictionlaw import alpha_first
 from halfspace_calib.pipeline.calibration import Scene, calibrate
-from halfspace_calib.pipeline.scene import DEFAULT_PRESSURES
+from halfspace_calib.pipeline.sweep.scene import DEFAULT_PRESSURES
 
 FILES = ["metropro-1.dat", "mnt-1.mnt", "x3p-2.x3p", "sur-3.sur", "matrix-3.txt"]
 COLUMNS = [

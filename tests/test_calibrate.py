@@ -151,7 +151,7 @@ def test_non_converged_solves_are_reported_and_left_out():
     """A tolerance the solver cannot reach within maxiter is reported, never silently fitted."""
     import dataclasses
 
-    from halfspace_calib.pipeline.sweeps import NotConverged, run_sweeps
+    from halfspace_calib.pipeline.sweep.sweeps import NotConverged, run_sweeps
 
     sweeps = run_sweeps(Scene(**SMALL), progress=False)
     lv = sweeps.levels[2]
@@ -192,7 +192,7 @@ def test_measured_surface_files_give_the_synthetic_result(tmp_path):
     got = run_sweeps(scene, progress=False)
     assert got.failed == []
     # the same surfaces in memory (through the generator path, levelled): same contact ratios
-    import halfspace_calib.pipeline.sweeps as C
+    import halfspace_calib.pipeline.sweep.sweeps as C
 
     orig = C.scene_surfaces
     try:
@@ -258,7 +258,7 @@ def test_importing_the_main_module_runs_nothing(tmp_path, monkeypatch):
 def test_degenerate_fits_are_reported_by_the_calibration(cal):
     import dataclasses
 
-    from halfspace_calib.pipeline import fit as F
+    from halfspace_calib.pipeline.law import fit as F
 
     assert cal.degenerate == ""
     s = cal.summary()
@@ -275,7 +275,7 @@ def test_volume_conservation_reaches_the_sweeps():
     import dataclasses
 
     from halfspace_calib import calibrate as calibrate_function
-    from halfspace_calib.pipeline.sweeps import run_sweeps
+    from halfspace_calib.pipeline.sweep.sweeps import run_sweeps
 
     assert calibrate_function is calibrate  # the package exports the function, not a module
     kw = dict(grid=16, pressures=(100e6, 300e6, 600e6), reload_fractions=(0.5,))

@@ -13,9 +13,9 @@ import pytest
 
 import sbmf_cli._processes as processes
 from halfspace_calib.common import jobs
-from halfspace_calib.pipeline import sweeps
 from halfspace_calib.pipeline.calibration import calibrate
-from halfspace_calib.pipeline.scene import Scene
+from halfspace_calib.pipeline.sweep import sweeps
+from halfspace_calib.pipeline.sweep.scene import Scene
 
 
 @pytest.mark.parametrize("cpus", [1, 2, 3, 8])

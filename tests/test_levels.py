@@ -1,4 +1,4 @@
-"""Load levels from the model's answer (issue 39, halfspace_calib.pipeline.levels).
+"""Load levels from the model's answer (issue 39, halfspace_calib.pipeline.sweep.levels).
 
 The refinement is driven here by known curves instead of the solver (a ``run_round`` that
 evaluates them), so that what it must do is exact: a first loading the tabulated form follows
@@ -15,10 +15,10 @@ import numpy as np
 import pytest
 
 from frictionlaw import alpha_reload
-from halfspace_calib.pipeline import levels as L
 from halfspace_calib.pipeline.calibration import Scene, calibrate
-from halfspace_calib.pipeline.fit import _law
-from halfspace_calib.pipeline.sweeps import LevelResult, SolveRecord
+from halfspace_calib.pipeline.law.fit import _law
+from halfspace_calib.pipeline.sweep import levels as L
+from halfspace_calib.pipeline.sweep.sweeps import LevelResult, SolveRecord
 
 H = 800e6
 
@@ -143,7 +143,7 @@ def test_calibration_reports_its_levels():
 def test_cli_pressures_are_given_levels():
     """``--pressures`` is computed as given, also when it lists the default levels."""
     from halfspace_calib.cli import build_parser, scene_from_args
-    from halfspace_calib.pipeline.scene import DEFAULT_PRESSURES
+    from halfspace_calib.pipeline.sweep.scene import DEFAULT_PRESSURES
 
     default = ",".join(f"{p:g}" for p in DEFAULT_PRESSURES)
     given = scene_from_args(build_parser().parse_args(["--pressures", default]))
@@ -153,7 +153,7 @@ def test_cli_pressures_are_given_levels():
 
 def test_samples_share_the_first_samples_levels():
     """The pooled curves group by p_hist: every sample computes the first sample's levels."""
-    from halfspace_calib.pipeline.samples import SampleSpec, load_samples, run_samples
+    from halfspace_calib.pipeline.band.samples import SampleSpec, load_samples, run_samples
 
     scene = Scene(grid=16, reload_fractions=(0.5, 0.9), heldout_tol=0.2)
     out = run_samples(load_samples(scene, SampleSpec(patches=4))[:2], progress=False)

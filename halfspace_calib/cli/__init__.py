@@ -30,9 +30,9 @@ from sbmf_cli import (
 from ..output.hardness import write_hardness_fit
 from ..output.report import write_outputs
 from ..pipeline.calibration import Scene, calibrate, load_scene, load_scene_surfaces
-from ..pipeline.lateral_scale import FIRST_LEVEL_P, SLOPE_RANGE
-from ..pipeline.scene import BOUNDARIES, MIN_TOL, PAPER_PRESSURES
-from ..pipeline.scene_surfaces import (
+from ..pipeline.sweep.lateral_scale import FIRST_LEVEL_P, SLOPE_RANGE
+from ..pipeline.sweep.scene import BOUNDARIES, MIN_TOL, PAPER_PRESSURES
+from ..pipeline.sweep.scene_surfaces import (
     ELEMENTS_PER_LAMBDA_S,
     ISO_SAMPLING_RATIO,
     MAX_DEFAULT_GRID,
@@ -414,7 +414,7 @@ def scene_from_args(args):
                 raise ValueError(f"{flag} takes one or two lengths (m), got {len(v)}")
             over[name] = v[0] if len(v) == 1 else tuple(v)
     if args.sliding:
-        from ..pipeline.effects import check_effects
+        from ..pipeline.sweep.effects import check_effects
 
         if over["effects"] is None:  # add to the scene file's effects, or to the default
             base = load_scene(args.scene).effects if args.scene else ("normal",)

@@ -6,7 +6,7 @@ as ``law``), so that the console, ``summary.json``, ``report.html`` and the plot
 law.
 """
 
-from ..pipeline.forms import form_names
+from ..pipeline.law.forms import form_names
 
 __all__ = ["add_law_options", "law_lines"]
 

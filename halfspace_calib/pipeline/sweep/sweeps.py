@@ -10,11 +10,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..common.jobs import default_workers, run_jobs
-from ..contact.area import corrected_contact_ratio
-from ..contact.materials import Materials, SolverSettings
-from ..contact.normal import solve_normal_pair
-from ..studies.presliding import PreslidingCurve, presliding_curve
+from ...common.jobs import default_workers, run_jobs
+from ...contact.area import corrected_contact_ratio
+from ...contact.materials import Materials, SolverSettings
+from ...contact.normal import solve_normal_pair
+from ...studies.presliding import PreslidingCurve, presliding_curve
 from . import levels as _levels
 from .scene_surfaces import load_scene_surfaces
 
@@ -252,7 +252,7 @@ class SweepResult:
         )
 
     def reload_curves(self):
-        """Converged reload curves as :class:`halfspace_calib.pipeline.fit.ReloadCurve` objects."""
+        """Converged reload curves as :class:`halfspace_calib.pipeline.law.fit.ReloadCurve` objects."""
         return _levels.reload_curves(self.levels)
 
     def not_converged(self):

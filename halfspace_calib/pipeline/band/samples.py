@@ -50,15 +50,15 @@ import numpy as np
 
 from sbmf_cli import ParameterError
 
-from .. import topography as _surf
-from ..common.jobs import run_jobs
-from ..topography import chain
-from .calibration import Calibration, calibrate
-from .law_checks import law_checks
-from .params import fit_record, timeless
-from .scene_surfaces import SceneSurfaces, load_scene_surfaces, run_plan
-from .surface_plan import MAX_DEFAULT_GRID, SyntheticSource, plan_surfaces
-from .sweeps import FailedLevel, SweepResult
+from ... import topography as _surf
+from ...common.jobs import run_jobs
+from ...topography import chain
+from ..calibration import Calibration, calibrate
+from ..law.law_checks import law_checks
+from ..law.params import fit_record, timeless
+from ..sweep.scene_surfaces import SceneSurfaces, load_scene_surfaces, run_plan
+from ..sweep.surface_plan import MAX_DEFAULT_GRID, SyntheticSource, plan_surfaces
+from ..sweep.sweeps import FailedLevel, SweepResult
 from .uncertainty import (
     BAND_LEVEL,
     BAND_METHOD,

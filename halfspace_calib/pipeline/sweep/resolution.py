@@ -5,7 +5,7 @@ import math
 import time
 from dataclasses import dataclass
 
-from . import fit as _fit
+from ..law import fit as _fit
 from .scene_surfaces import load_scene_surfaces
 from .sweeps import run_sweeps
 

@@ -41,9 +41,9 @@ import numpy as np
 
 from frictionlaw import forms as _rt
 
-from . import fit as _fit
-from .forms import FitContext, calibration_form
-from .reload_table import table_of
+from ..law import fit as _fit
+from ..law.forms import FitContext, calibration_form
+from ..law.reload_table import table_of
 
 __all__ = [
     "FULL_CONTACT",
