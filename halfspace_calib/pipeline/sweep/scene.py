@@ -139,8 +139,7 @@ class Scene:
     ``workers=None`` chooses the processes of the normal
     sweeps by the solve's size (:func:`~halfspace_calib.common.jobs.default_workers`: 2 from
     about 362^2 FFT elements on a machine with 2 or more CPUs, else this process with threaded
-    FFTs; the effects and samples run in this process; with ``adaptive_levels`` this process,
-    whose rounds of 1-3 levels a process pool per round would slow); ``1`` in this process, ``0`` one per
+    FFTs; the effects and samples run in this process); ``1`` in this process, ``0`` one per
     CPU. The answer is the same to the last digit whichever runs.
     Frozen and validated once, on construction: derive a changed scene with
     :func:`dataclasses.replace` (which validates again). :attr:`materials` and :attr:`solver` give

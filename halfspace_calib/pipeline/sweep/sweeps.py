@@ -311,11 +311,7 @@ def run_sweeps(scene, *, progress=True, surfaces=None):
         )
 
     workers = scene.workers
-    if workers is None and scene.scheduler is None and scene.adaptive_levels:
-        # rounds of 1-3 levels: a process pool per round costs more than it saves (default
-        # scene at 512^2: 4322 FFT pairs on 2 processes against 3647 on one, same run)
-        workers = 1
-    elif workers is None and scene.scheduler is None:
+    if workers is None and scene.scheduler is None:
         pad = 2 if solver.boundary == "isolated" else 1  # isolated: zero-padded (DC-FFT) FFTs
         workers = default_workers(wp.heights.shape[0] * wp.heights.shape[1] * pad * pad)
     failed = []
