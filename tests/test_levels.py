@@ -165,22 +165,31 @@ def test_samples_share_the_first_samples_levels():
     ]
 
 
-@pytest.mark.parametrize("fractions", [None, (0.5, 0.9)])
-def test_early_full_contact_of_a_measured_pair(fractions):
-    """metropro-1.dat against itself (alpha 0.66 at 10 MPa, 1 from 75 MPa), the real solver.
-
-    With two reload fractions the two histories left (100 and 760 MPa, both in full contact)
-    hold 4 points: too few to refit Eq. 25 without the top one, so its extrapolation is not
-    reported (it raised before).
-    """
+def test_early_full_contact_of_a_measured_pair():
+    """metropro-1.dat against itself (alpha 0.66 at 10 MPa, 1 from 75 MPa), the real solver."""
     from pathlib import Path
 
     f = str(Path(__file__).parent / "data" / "metropro-1.dat")
-    kw = {} if fractions is None else {"reload_fractions": fractions}
-    scene = Scene(workpiece=f, tool=f, grid=48, resolution_check=False, **kw)
+    scene = Scene(workpiece=f, tool=f, grid=48, resolution_check=False)
     cal = calibrate(scene, progress=False)
     a = np.array([lv.loading.alpha for lv in cal.sweeps.levels])
     assert a[0] < 0.7 and a[-1] == 1.0
     assert np.sum(a < 0.99) >= 4 and np.sum(a >= 0.995) <= 3, cal.sweeps.plan.lines()
     assert any("full contact" in d for d in cal.sweeps.plan.decisions)
     assert not cal.problems()
+
+
+def test_two_histories_of_two_reloads_have_no_extrapolation():
+    """Two histories of 2 reloads (adaptive levels in full contact, two fractions): Eq. 25
+    refitted without the top one has 2 points, too few for C2, n2: the extrapolation is not
+    reported (it raised ValueError out of calibrate)."""
+    from halfspace_calib.pipeline.law import heldout
+    from halfspace_calib.pipeline.law.fit import ReloadCurve, fit_reload
+
+    curves = [
+        ReloadCurve(100e6, np.array([50e6, 90e6]), np.array([0.98, 1.0])),
+        ReloadCurve(760e6, np.array([380e6, 684e6]), np.array([1.0, 1.0])),
+    ]
+    fit = fit_reload(curves, H, 1.0, 16.0, continuous=True)
+    err = heldout.reload_errors(curves, H, 1.0, 16.0, fit, continuous=True)
+    assert err.extrapolation is None and err.heldout == () and not err.decides_heldout
