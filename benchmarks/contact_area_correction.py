@@ -43,7 +43,7 @@ from halfspace_calib.contact.area import contact_perimeter, corrected_contact_ra
 from halfspace_calib.contact.normal import solve_normal
 from halfspace_calib.contact.reference import hertz
 from halfspace_calib.pipeline.calibration import calibrate
-from halfspace_calib.pipeline.scene import Scene
+from halfspace_calib.pipeline.sweep.scene import Scene
 
 HERTZ_GRIDS = (16, 24, 32, 48, 64, 96, 128)
 HERTZ_A = (0.15, 0.2, 0.25, 0.3, 0.35)  # contact radius / patch side

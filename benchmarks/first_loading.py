@@ -26,7 +26,7 @@ jump, against the earlier default's forms (Eq. 24 with the jump; the paper's Eq.
 from dipping below the first loading, which the earlier code did not do): run-own and held-out
 max ``|d alpha|``,
 the largest drop of ``tau`` at ``p_hist`` and the largest dip of a reload curve below first
-loading (both on the dense grid of ``pipeline.law_checks``).
+loading (both on the dense grid of ``pipeline.law.law_checks``).
 
 Run: python benchmarks/first_loading.py [--grid 128] [--folder DIR] [--files a,b]
 Writes benchmarks/results/first_loading.csv and .md and prints the tables.
@@ -47,11 +47,11 @@ from scipy.optimize import least_squares
 from frictionlaw import _reference as ref
 from frictionlaw import alpha_first, alpha_reload
 from frictionlaw.reload_form import pchip_slopes
-from halfspace_calib.pipeline import forms as FM
 from halfspace_calib.pipeline.calibration import Scene, run_sweeps
-from halfspace_calib.pipeline.law_checks import law_checks
-from halfspace_calib.pipeline.params import make_params
-from halfspace_calib.pipeline.scene_surfaces import load_scene_surfaces
+from halfspace_calib.pipeline.law import forms as FM
+from halfspace_calib.pipeline.law.law_checks import law_checks
+from halfspace_calib.pipeline.law.params import make_params
+from halfspace_calib.pipeline.sweep.scene_surfaces import load_scene_surfaces
 
 FORMS = ("eq24", "eq24-power", "tabulated", "tabulated-C1", "pchip-alpha")
 SELF_FILES = ("metropro-1.dat", "mnt-1.mnt")

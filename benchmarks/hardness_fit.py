@@ -22,8 +22,12 @@ from _provenance import run_record
 
 from halfspace_calib.output.hardness import hardness_table, write_hardness_fit
 from halfspace_calib.pipeline.calibration import Scene
-from halfspace_calib.pipeline.hardness import AfterContact, after_contact_roughness, fit_hardness
-from halfspace_calib.pipeline.scene_surfaces import load_scene_surfaces
+from halfspace_calib.pipeline.sweep.hardness import (
+    AfterContact,
+    after_contact_roughness,
+    fit_hardness,
+)
+from halfspace_calib.pipeline.sweep.scene_surfaces import load_scene_surfaces
 
 RESULTS = Path(__file__).resolve().parent / "results"
 LOADS = tuple(p * 1e6 for p in (100, 200, 300, 400, 500, 600))

@@ -26,9 +26,9 @@ import numpy as np
 from _provenance import run_record
 
 from frictionlaw import alpha_first, alpha_reload
-from halfspace_calib.pipeline import fit as F
 from halfspace_calib.pipeline.calibration import Scene, calibrate
-from halfspace_calib.pipeline.scene import ALPHA_FLOOR, PAPER_PRESSURES
+from halfspace_calib.pipeline.law import fit as F
+from halfspace_calib.pipeline.sweep.scene import ALPHA_FLOOR, PAPER_PRESSURES
 
 RESULTS = Path(__file__).parent / "results"
 PROBES = (10e6, 100e6, 300e6, 600e6)

@@ -40,7 +40,7 @@ from pathlib import Path
 from _provenance import run_record
 
 from halfspace_calib.pipeline.calibration import Scene, calibrate
-from halfspace_calib.pipeline.scene_surfaces import (
+from halfspace_calib.pipeline.sweep.scene_surfaces import (
     ELEMENTS_PER_LAMBDA_S,
     ISO_NESTING_INDICES,
     load_scene_surfaces,

@@ -63,7 +63,7 @@ def run(folder, max_grid=None):
         # one process (workers=1) so that the times compare with the other one-core tables
         base = Scene(workpiece=str(path), tool=str(path), workers=1, **extra)
         if max_grid is not None:
-            from halfspace_calib.pipeline.scene_surfaces import load_scene_surfaces
+            from halfspace_calib.pipeline.sweep.scene_surfaces import load_scene_surfaces
 
             g = min(load_scene_surfaces(base).grid, max_grid)
             base = dataclasses.replace(base, grid=g)

@@ -24,13 +24,13 @@ are candidates built here (the same load, plastic surface and warm-started reloa
 sweeps). For each case and method, at the default grid ``G`` and at ``G / 2``:
 
 1. the largest deficit of a reload point below the first loading at the same pressure
-   (:func:`~halfspace_calib.pipeline.conformity.reload_deficit`; the first loading is also
+   (:func:`~halfspace_calib.pipeline.sweep.conformity.reload_deficit`; the first loading is also
    solved at every reload pressure, so no interpolation is needed for the package's methods);
 2. the largest change of a reload point's ``alpha`` from ``G`` to ``G / 2``
-   (:func:`~halfspace_calib.pipeline.conformity.reload_grid_change`; the region methods read
+   (:func:`~halfspace_calib.pipeline.sweep.conformity.reload_grid_change`; the region methods read
    slightly different pressures, interpolated);
 3. the fraction of the border band and of the central square at the hardness at the top
-   level (:func:`~halfspace_calib.pipeline.conformity.edge_plasticity`);
+   level (:func:`~halfspace_calib.pipeline.sweep.conformity.edge_plasticity`);
 
 and the sweep time at ``G`` and ``G / 2`` and the memory estimate of one solve. Then the
 calibration (``calibrate()``, with its resolution check) of each case with the old and the new
@@ -59,15 +59,15 @@ from scipy.interpolate import PchipInterpolator
 
 from halfspace_calib.contact.normal import estimate_memory, solve_normal_pair
 from halfspace_calib.pipeline.calibration import Scene, calibrate
-from halfspace_calib.pipeline.conformity import (
+from halfspace_calib.pipeline.law.fit import ReloadCurve
+from halfspace_calib.pipeline.sweep.conformity import (
     edge_plasticity,
     reload_deficit,
     reload_grid_change,
 )
-from halfspace_calib.pipeline.fit import ReloadCurve
-from halfspace_calib.pipeline.resolution import fit_sweeps
-from halfspace_calib.pipeline.scene_surfaces import load_scene_surfaces
-from halfspace_calib.pipeline.sweeps import SolveRecord, run_sweeps
+from halfspace_calib.pipeline.sweep.resolution import fit_sweeps
+from halfspace_calib.pipeline.sweep.scene_surfaces import load_scene_surfaces
+from halfspace_calib.pipeline.sweep.sweeps import SolveRecord, run_sweeps
 
 METHODS = ("mirror", "periodic", "isolated", "central", "guard")
 #: case name -> (workpiece file, tool file or None for the synthetic tool, extra Scene fields)

@@ -46,7 +46,7 @@ from _provenance import RESULTS, commit, law_fields, pct, write_rows
 
 from halfspace_calib import topography as S
 from halfspace_calib.pipeline.calibration import Scene, calibrate
-from halfspace_calib.pipeline.scene_surfaces import SceneSurfaces
+from halfspace_calib.pipeline.sweep.scene_surfaces import SceneSurfaces
 from halfspace_calib.topography.filters import s_filter
 from halfspace_calib.topography.resample import band_limited_resample
 

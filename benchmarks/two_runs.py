@@ -29,8 +29,8 @@ from _provenance import RESULTS, run_record, write_rows
 from reload_law import FILES, _held_scene
 
 from frictionlaw import alpha_first, alpha_reload
+from halfspace_calib.pipeline.band.samples import SampleSpec, calibrate_samples
 from halfspace_calib.pipeline.calibration import Scene, calibrate
-from halfspace_calib.pipeline.samples import SampleSpec, calibrate_samples
 
 TARGETS = {"measured": (0.03, 0.04), "default": (0.02, 0.03)}
 BAND_FILES = ("metropro-1.dat", "mnt-1.mnt")

@@ -6,9 +6,9 @@ the pooled law of all patches (what the band estimates: the law of the populatio
 For each sample size ``n``, ``repeats`` times: draw ``n`` patches at random *with replacement*
 (independent draws from the population, so the truth is exactly the estimand; without
 replacement a draw of 16 of 16 patches would be the truth itself), fit the pooled law, refit it
-on ``boot`` bootstrap resamples (:func:`~halfspace_calib.pipeline.uncertainty.bootstrap_laws`)
+on ``boot`` bootstrap resamples (:func:`~halfspace_calib.pipeline.band.uncertainty.bootstrap_laws`)
 and make the 90 % band from the same resamples by every method of
-:data:`~halfspace_calib.pipeline.uncertainty.BAND_METHODS`; count how often the truth's ``tau``
+:data:`~halfspace_calib.pipeline.band.uncertainty.BAND_METHODS`; count how often the truth's ``tau``
 at 100, 300 and 600 MPa (first loading) and the reload ``tau`` at half the top ``p_hist`` lie
 inside. The per-patch calibrations are reused by every draw: a draw costs ``boot`` refits.
 The coverage's own standard error is ``sqrt(c (1 - c) / repeats)``.
@@ -32,20 +32,20 @@ import numpy as np
 from _provenance import run_record
 
 from frictionlaw import alpha_first, alpha_reload
-from halfspace_calib.pipeline.calibration import Scene, calibrate
-from halfspace_calib.pipeline.samples import (
+from halfspace_calib.pipeline.band.samples import (
     SampleSpec,
     calibrate_samples,
     load_samples,
     synthetic_population,
 )
-from halfspace_calib.pipeline.uncertainty import (
+from halfspace_calib.pipeline.band.uncertainty import (
     BAND_METHODS,
     band_limits,
     bootstrap_laws,
     curves_of,
     pooled_law,
 )
+from halfspace_calib.pipeline.calibration import Scene, calibrate
 
 RESULTS = Path(__file__).parent / "results"
 PROBES = (100e6, 300e6, 600e6)
@@ -82,7 +82,7 @@ def main(argv=None):
     ap.add_argument("--tag", default="", help="suffix of the result files (default none)")
     a = ap.parse_args(argv)
     sizes = [int(s) for s in a.sizes.split(",")]
-    from halfspace_calib.pipeline.scene import PAPER_PRESSURES
+    from halfspace_calib.pipeline.sweep.scene import PAPER_PRESSURES
 
     kw = {"pressures": PAPER_PRESSURES} if a.pressures == "paper" else {}
     if a.bound == "none":

@@ -1,6 +1,6 @@
 """The forms of the law's two branches as records: the runtime side.
 
-The calibration's side is :mod:`halfspace_calib.pipeline.forms`. Each branch of the law (first loading, and un-/reloading below ``p_hist``) runs one of several
+The calibration's side is :mod:`halfspace_calib.pipeline.law.forms`. Each branch of the law (first loading, and un-/reloading below ``p_hist``) runs one of several
 forms. A :class:`BranchForm` says everything the runtime needs of one form: its name (as
 ``params.json`` spells it), the record type of its calibrated data on
 :class:`~frictionlaw.FrictionParams` (``None``: the form runs from the file's parameters

@@ -9,11 +9,11 @@ import pytest
 
 from frictionlaw import FrictionParams, alpha_first, alpha_reload
 from frictionlaw.first_loading import FirstLoadingTable
-from halfspace_calib.pipeline import forms as FM
-from halfspace_calib.pipeline import heldout as HO
 from halfspace_calib.pipeline.calibration import Scene
-from halfspace_calib.pipeline.first_table import fit_first_loading_table, monotone_increasing
-from halfspace_calib.pipeline.law_checks import law_checks
+from halfspace_calib.pipeline.law import forms as FM
+from halfspace_calib.pipeline.law import heldout as HO
+from halfspace_calib.pipeline.law.first_table import fit_first_loading_table, monotone_increasing
+from halfspace_calib.pipeline.law.law_checks import law_checks
 
 H = 800e6
 P = np.array([10e6, 25e6, 50e6, 100e6, 200e6, 300e6, 400e6, 500e6, 600e6, 700e6, 760e6])
@@ -159,7 +159,7 @@ def test_the_continuous_reload_branch_is_the_default_and_fitted_in_that_variant(
 
 
 def _curves():
-    from halfspace_calib.pipeline.fit import ReloadCurve
+    from halfspace_calib.pipeline.law.fit import ReloadCurve
 
     law = eq24_law(continuous_reload=True)
     out = []
@@ -189,7 +189,7 @@ def test_the_papers_reload_fit_is_kept_from_dipping_below_first_loading():
     """A pair in full contact early whose reload curves are its first loading's own: Eq. 25
     fitted freely lies 0.025 below the first loading at 10 MPa after 145 MPa; constrained, within
     0.01 on the dense grid of the law's checks, at the price of its fit (0.051 -> 0.070)."""
-    from halfspace_calib.pipeline.fit import ReloadCurve, fit_reload
+    from halfspace_calib.pipeline.law.fit import ReloadCurve, fit_reload
 
     A = np.array([0.60, 0.86, 0.96, 0.995, 1, 1, 1, 1, 1, 1, 1.0])
     table = FirstLoadingTable(tuple(P), tuple(A))

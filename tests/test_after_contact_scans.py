@@ -17,13 +17,13 @@ import pytest
 from halfspace_calib.cli import main
 from halfspace_calib.contact.normal import solve_normal_pair
 from halfspace_calib.pipeline.calibration import Scene
-from halfspace_calib.pipeline.hardness import (
+from halfspace_calib.pipeline.sweep.hardness import (
     AfterContactScans,
     fit_hardness,
     read_after_contact,
     roughness_of_scans,
 )
-from halfspace_calib.pipeline.scene_surfaces import load_scene_surfaces
+from halfspace_calib.pipeline.sweep.scene_surfaces import load_scene_surfaces
 
 H_TRUE = 800e6
 LOADS_MPA = (150, 300, 450)

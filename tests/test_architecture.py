@@ -43,6 +43,19 @@ ALLOWED = {
 }
 
 
+#: what each part of halfspace_calib.pipeline may import of it (besides itself), bottom to top
+#: (issue 39): the law's forms and their acceptance, the scene with its levels and sweeps, the
+#: calibration, several samples and their band
+PIPELINE = "halfspace_calib.pipeline"
+PIPELINE_ALLOWED = {
+    "law": set(),
+    "sweep": {"law"},
+    "calibration": {"law", "sweep"},
+    "band": {"law", "sweep", "calibration"},
+    "__init__": {"law", "sweep", "calibration"},
+}
+
+
 #: what each part of fe_demo may import of the package (besides itself), bottom to top
 FE_ALLOWED = {
     "solver": set(),
@@ -129,7 +142,7 @@ def calib(graph):
 def test_the_graph_sees_the_packages(graph, calib):
     """The parser finds the modules and their edges (a broken parser would pass everything)."""
     assert len(calib) > 30
-    assert "halfspace_calib.contact.normal" in graph["halfspace_calib.pipeline.sweeps"]
+    assert "halfspace_calib.contact.normal" in graph["halfspace_calib.pipeline.sweep.sweeps"]
     assert "halfspace_calib.topography.surface" in graph["halfspace_calib.topography.synthesis"]
     assert {_part(m) for m in calib} == set(ALLOWED)
     assert {m.split(".")[0] for m in graph} == set(PACKAGES)
@@ -177,6 +190,31 @@ def test_lower_layers_do_not_import_higher_ones(graph, pkg):
         for m, targets in edges.items()
         for t in sorted(targets)
         if _part(t) != _part(m) and _part(t) not in LAYERS[pkg][_part(m)]
+    ]
+    assert bad == []
+
+
+def _pipeline_part(name):
+    parts = name.split(".")
+    return "__init__" if len(parts) == 2 else parts[2]
+
+
+def test_pipeline_parts_import_one_way(graph):
+    """The pipeline's subpackages by role (issue 39): a lower one never imports a higher one."""
+    edges = {
+        m: {t for t in ts if t.startswith(PIPELINE)}
+        for m, ts in graph.items()
+        if m == PIPELINE or m.startswith(PIPELINE + ".")
+    }
+    assert {_pipeline_part(m) for m in edges} == set(PIPELINE_ALLOWED)
+    assert f"{PIPELINE}.law.forms" in edges[f"{PIPELINE}.sweep.levels"]  # edges are seen
+    assert f"{PIPELINE}.calibration" in edges[f"{PIPELINE}.band.samples"]
+    bad = [
+        f"{m} imports {t}"
+        for m, targets in edges.items()
+        for t in sorted(targets)
+        if _pipeline_part(t) != _pipeline_part(m)
+        and _pipeline_part(t) not in PIPELINE_ALLOWED[_pipeline_part(m)]
     ]
     assert bad == []
 

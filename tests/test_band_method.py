@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from scipy.stats import t as student_t
 
-from halfspace_calib.pipeline.uncertainty import BAND_METHODS, band_limits
+from halfspace_calib.pipeline.band.uncertainty import BAND_METHODS, band_limits
 
 
 def _boot_means(x, B, rng):

@@ -184,8 +184,8 @@ class TwoPointsFit:
 
 @pytest.fixture
 def calibrated_dummy(dummy):
-    from halfspace_calib.pipeline import forms as CF
-    from halfspace_calib.pipeline import heldout as HO
+    from halfspace_calib.pipeline.law import forms as CF
+    from halfspace_calib.pipeline.law import heldout as HO
 
     def predict(fit, p, ctx):
         return alpha_first(p, law(fit.data).replace(H=ctx.H, sigma_y=ctx.H / 2.8))

@@ -18,7 +18,7 @@ import halfspace_calib.cli as cli
 from halfspace_calib.cli import build_parser, main
 from halfspace_calib.cli._paths import exit_code
 from halfspace_calib.pipeline.calibration import calibrate
-from halfspace_calib.pipeline.scene import Scene
+from halfspace_calib.pipeline.sweep.scene import Scene
 from sbmf_cli import Console, flags_of
 
 QUICK = ["--grid", "16", "--pressures", "1e8,2e8,3e8,5e8", "--reload-fractions", "0.3,0.6"]

@@ -20,7 +20,7 @@ import pytest
 
 from frictionlaw import shear_limit
 from halfspace_calib.pipeline.calibration import Scene, calibrate
-from halfspace_calib.pipeline.scene import PAPER_PRESSURES
+from halfspace_calib.pipeline.sweep.scene import PAPER_PRESSURES
 
 #: (grid) -> shear_limit in Pa at (p, p_hist): first loading at 100, 300, 600 MPa and the
 #: reload to 100 MPa after 600 MPa; main branch, commit fbfe0e2, then default Scene (tol 1e-8,

@@ -2,7 +2,7 @@
 
 Each stage returns the surface and its lines of provenance; run stage by stage with the scene's
 parameters, the chain gives the loader's solver surface to the last digit, with the same steps.
-The plan (halfspace_calib/pipeline/surface_plan.py) decides every parameter and refuses bad input
+The plan (halfspace_calib/pipeline/sweep/surface_plan.py) decides every parameter and refuses bad input
 before any stage runs; the run only runs it.
 """
 
@@ -13,8 +13,8 @@ import pytest
 from realfiles import real_file
 
 from halfspace_calib.pipeline.calibration import Scene
-from halfspace_calib.pipeline.scene_surfaces import load_scene_surfaces, run_plan
-from halfspace_calib.pipeline.surface_plan import plan_surfaces
+from halfspace_calib.pipeline.sweep.scene_surfaces import load_scene_surfaces, run_plan
+from halfspace_calib.pipeline.sweep.surface_plan import plan_surfaces
 from halfspace_calib.topography import Surface, chain, filters, read_raw, rq
 from sbmf_cli import ParameterError
 

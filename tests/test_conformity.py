@@ -13,13 +13,13 @@ from realfiles import real_file
 from halfspace_calib.cli import main
 from halfspace_calib.contact.normal import solve_normal
 from halfspace_calib.pipeline.calibration import Scene, calibrate
-from halfspace_calib.pipeline.conformity import (
+from halfspace_calib.pipeline.sweep.conformity import (
     edge_plasticity,
     punch_edge_problem,
     reload_deficit,
     reload_grid_change,
 )
-from halfspace_calib.pipeline.sweeps import run_sweeps
+from halfspace_calib.pipeline.sweep.sweeps import run_sweeps
 
 FAST_KW = dict(pressures=(20e6, 100e6, 300e6, 600e6), reload_fractions=(0.1, 0.25, 0.5, 0.8))
 #: the criteria's sweep: every reload pressure of the 200 MPa curve is a first-loading level
@@ -172,7 +172,7 @@ def test_boundary_option_of_the_cli_and_the_scene(tmp_path, capsys):
         Scene(boundary="open")
     scene_file = tmp_path / "s.toml"
     scene_file.write_text(f'workpiece = "{f}"\nboundary = "isolated"\nperiodic = false\n')
-    from halfspace_calib.pipeline.scene import load_scene
+    from halfspace_calib.pipeline.sweep.scene import load_scene
 
     with pytest.raises(ValueError, match="give boundary or periodic"):
         load_scene(scene_file)

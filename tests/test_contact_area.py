@@ -98,7 +98,7 @@ def test_hertz_area_is_closer_with_the_correction_on_coarse_grids():
 
 def test_scene_option_feeds_the_corrected_ratio_to_the_fits():
     from halfspace_calib.pipeline.calibration import Scene, calibrate
-    from halfspace_calib.pipeline.sweeps import SolveRecord
+    from halfspace_calib.pipeline.sweep.sweeps import SolveRecord
 
     with pytest.raises(ValueError, match="contact_area must be 'count' or 'perimeter'"):
         Scene(contact_area="pixels")

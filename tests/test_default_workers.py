@@ -13,9 +13,9 @@ import pytest
 
 import sbmf_cli._processes as processes
 from halfspace_calib.common import jobs
-from halfspace_calib.pipeline import sweeps
 from halfspace_calib.pipeline.calibration import calibrate
-from halfspace_calib.pipeline.scene import Scene
+from halfspace_calib.pipeline.sweep import sweeps
+from halfspace_calib.pipeline.sweep.scene import Scene
 
 
 @pytest.mark.parametrize("cpus", [1, 2, 3, 8])
@@ -43,12 +43,16 @@ def test_sweeps_choose_processes_by_the_transform_size(monkeypatch, grid, period
 
     monkeypatch.setattr(processes.os, "sched_getaffinity", lambda pid: {0, 1})
     monkeypatch.setattr(sweeps, "run_jobs", fake_run_jobs)
+    given = dict(pressures=(1e8, 2e8, 3e8), adaptive_levels=False)  # given levels
     with pytest.raises(RuntimeError, match="stop"):
-        sweeps.run_sweeps(Scene(grid=grid, periodic=periodic), progress=False)
+        sweeps.run_sweeps(Scene(grid=grid, periodic=periodic, **given), progress=False)
     assert seen["workers"] == expected
     with pytest.raises(RuntimeError, match="stop"):  # a given value is kept
-        sweeps.run_sweeps(Scene(grid=grid, periodic=periodic, workers=1), progress=False)
+        sweeps.run_sweeps(Scene(grid=grid, periodic=periodic, workers=1, **given), progress=False)
     assert seen["workers"] == 1
+    with pytest.raises(RuntimeError, match="stop"):  # adaptive levels: each round alike
+        sweeps.run_sweeps(Scene(grid=grid, periodic=periodic), progress=False)
+    assert seen["workers"] == expected
 
 
 def test_scene_workers_default_and_validation():
@@ -87,6 +91,6 @@ def test_same_parameters_in_one_or_two_processes(periodic):
         np.testing.assert_array_equal(a[2], b[2])
         assert a[3] == b[3]
         assert a[4] == b[4]
-    assert len(one.sweeps.levels) == len(scene.pressures)
+    assert [lv.p_hist for lv in one.sweeps.levels] == list(one.sweeps.plan.pressures)
     if not periodic:
         assert one.resolution.params == two.resolution.params

@@ -18,7 +18,7 @@ from halfspace_calib.output.effects import plot_tangential
 from halfspace_calib.output.geometric import plot_geometric
 from halfspace_calib.output.report import write_outputs
 from halfspace_calib.pipeline.calibration import Scene, calibrate, load_scene
-from halfspace_calib.pipeline.effects import EFFECTS, check_effects, geo_decision
+from halfspace_calib.pipeline.sweep.effects import EFFECTS, check_effects, geo_decision
 from halfspace_calib.studies.geometric import GeometricResult
 from halfspace_calib.studies.presliding import presliding_curve, stiffness_power_law
 
@@ -323,7 +323,7 @@ def test_inclined_uses_the_calibration_field():
     # with the inclined patches the synthetic surfaces come from the measured grid (4 x grid), so
     # the geometric study's solver surfaces are the calibration's surfaces (same random field)
     from halfspace_calib.pipeline.calibration import scene_surfaces
-    from halfspace_calib.pipeline.effects import scene_measured_surfaces
+    from halfspace_calib.pipeline.sweep.effects import scene_measured_surfaces
 
     assert Scene(grid=16).measured_n is None
     for rough in (True, False):  # the smooth tool's field is the hard case (heavy-tailed)

@@ -10,7 +10,7 @@ from fe_demo.scenes import run_multistage, run_ring, run_upsetting
 from fe_demo.solver.contact import DieContact
 from frictionlaw import FrictionParams, SBMFLaw, TangentialStiffness, alpha_first
 from halfspace_calib.pipeline.calibration import Scene, calibrate
-from halfspace_calib.pipeline.scene import PAPER_PRESSURES
+from halfspace_calib.pipeline.sweep.scene import PAPER_PRESSURES
 
 SMALL = dict(nr=8, n_increments=10, reduction=0.6)  # 0.6: nodes at p >= H too
 

@@ -5,8 +5,8 @@ import pytest
 
 from frictionlaw import FrictionParams, alpha_first, alpha_reload, shear_limit
 from halfspace_calib import topography as S
-from halfspace_calib.pipeline import fit as F
-from halfspace_calib.pipeline.params import make_params
+from halfspace_calib.pipeline.law import fit as F
+from halfspace_calib.pipeline.law.params import make_params
 
 H = 800e6
 TRUE = FrictionParams(m=0.5, sigma_y=H / 2.8, H=H, C1=1.6, n1=2.5, C2=2.4, n2=1.8)

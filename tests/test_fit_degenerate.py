@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from frictionlaw import FrictionParams, alpha_first, alpha_reload
-from halfspace_calib.pipeline import fit as F
+from halfspace_calib.pipeline.law import fit as F
 
 H = 800e6
 TRUE = FrictionParams(m=0.5, sigma_y=H / 2.8, H=H, C1=1.6, n1=2.5, C2=2.4, n2=1.8)

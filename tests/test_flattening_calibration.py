@@ -15,7 +15,7 @@ import pytest
 import halfspace_calib.cli as cli
 from frictionlaw import Flattening, FrictionParams, flattening_curve
 from halfspace_calib.cli import main
-from halfspace_calib.pipeline.flattening import (
+from halfspace_calib.pipeline.sweep.flattening import (
     FlatteningData,
     crossing_half_spacing,
     fit_beta,

@@ -7,13 +7,13 @@ import pytest
 
 from halfspace_calib.cli import main
 from halfspace_calib.pipeline.calibration import Scene
-from halfspace_calib.pipeline.hardness import (
+from halfspace_calib.pipeline.sweep.hardness import (
     AfterContact,
     after_contact_roughness,
     fit_hardness,
     read_after_contact,
 )
-from halfspace_calib.pipeline.scene_surfaces import load_scene_surfaces
+from halfspace_calib.pipeline.sweep.scene_surfaces import load_scene_surfaces
 
 LOADS = (100e6, 300e6, 500e6)
 H_TRUE = 800e6

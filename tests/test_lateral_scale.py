@@ -5,7 +5,7 @@ Before any sweep a scan whose field or RMS slope is implausible for a metal surf
 file can be corrected per role (``--workpiece-size``, ``--tool-size``), recorded beside the
 file's own; a text export whose header SurfaceTopography understands (a pixel size, a height
 conversion factor) is read by it, with the header's units. The wrong-scale cases are the shipped
-files with their sizes scaled (``pipeline/lateral_scale.py`` has the bounds and their sources).
+files with their sizes scaled (``pipeline/sweep/lateral_scale.py`` has the bounds and their sources).
 """
 
 import json
@@ -16,10 +16,10 @@ from realfiles import DATA, file_params, real_file
 
 from halfspace_calib import topography as S
 from halfspace_calib.cli import main
-from halfspace_calib.pipeline import lateral_scale as LS
-from halfspace_calib.pipeline.samples import SampleSpec, load_samples
-from halfspace_calib.pipeline.scene import Scene
-from halfspace_calib.pipeline.surface_plan import plan_surfaces
+from halfspace_calib.pipeline.band.samples import SampleSpec, load_samples
+from halfspace_calib.pipeline.sweep import lateral_scale as LS
+from halfspace_calib.pipeline.sweep.scene import Scene
+from halfspace_calib.pipeline.sweep.surface_plan import plan_surfaces
 from halfspace_calib.topography import _formats
 
 FAST = ["--grid", "32", "--pressures", "10e6,25e6,100e6,300e6,500e6",

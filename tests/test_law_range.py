@@ -13,9 +13,9 @@ import pytest
 
 from frictionlaw import FrictionParams, alpha_first
 from halfspace_calib.cli import build_parser, scene_from_args
-from halfspace_calib.pipeline import fit as F
 from halfspace_calib.pipeline.calibration import Scene, calibrate, load_scene
-from halfspace_calib.pipeline.scene import (
+from halfspace_calib.pipeline.law import fit as F
+from halfspace_calib.pipeline.sweep.scene import (
     DEFAULT_PRESSURES,
     PAPER_PRESSURES,
     default_pressures,

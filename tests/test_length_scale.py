@@ -10,7 +10,7 @@ from realfiles import real_file
 from halfspace_calib import topography as S
 from halfspace_calib.cli import main
 from halfspace_calib.pipeline.calibration import Scene
-from halfspace_calib.pipeline.scene_surfaces import (
+from halfspace_calib.pipeline.sweep.scene_surfaces import (
     ELEMENTS_PER_LAMBDA_S,
     ISO_NESTING_INDICES,
     ISO_SAMPLING_RATIO,

@@ -17,7 +17,7 @@ from halfspace_calib import topography as S
 from halfspace_calib.cli import main
 from halfspace_calib.contact.normal import solve_normal
 from halfspace_calib.pipeline.calibration import Scene
-from halfspace_calib.pipeline.scene_surfaces import area_resample, load_scene_surfaces
+from halfspace_calib.pipeline.sweep.scene_surfaces import area_resample, load_scene_surfaces
 from halfspace_calib.topography._formats import layout_for
 
 FAST = ["--pressures", "20e6,100e6,300e6,500e6", "--reload-fractions", "0.25,0.5,0.8"]
@@ -145,7 +145,7 @@ def test_scene_loader_default_grid_is_the_scan_sampling():
 def test_inclined_effect_honours_per_file_units(tmp_path):
     # the same surfaces written in um and in nm: the measured grid of the inclined effect is in
     # metres for both (the effect used to re-read the files with the scene's unit)
-    from halfspace_calib.pipeline.effects import scene_measured_surfaces
+    from halfspace_calib.pipeline.sweep.effects import scene_measured_surfaces
 
     wp = S.self_affine(32, 64e-6, rq=1e-6, seed=1)
     tl = S.self_affine(32, 64e-6, rq=0.2e-6, seed=2)
@@ -381,9 +381,9 @@ def test_two_sizes_for_a_non_square_plain_file(tmp_path):
 def test_cli_exit_1_for_a_failed_level_and_a_degenerate_fit(tmp_path, capsys, monkeypatch):
     import dataclasses
 
-    import halfspace_calib.pipeline.fit as F
-    import halfspace_calib.pipeline.heldout as HO
-    import halfspace_calib.pipeline.sweeps as C
+    import halfspace_calib.pipeline.law.fit as F
+    import halfspace_calib.pipeline.law.heldout as HO
+    import halfspace_calib.pipeline.sweep.sweeps as C
 
     base = ["--grid", "16", *FAST, "--tol", "1e-7", "--heldout-tol", "0.5"]
     base += ["--first-loading-form", "eq24"]  # the injected degenerate fit below is Eq. 24's

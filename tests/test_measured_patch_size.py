@@ -15,8 +15,8 @@ import pytest
 from halfspace_calib import topography as S
 from halfspace_calib.cli import main
 from halfspace_calib.pipeline.calibration import Scene
-from halfspace_calib.pipeline.length_scale import MIN_PATCH_LAMBDA_S, check_patch_size
-from halfspace_calib.pipeline.scene_surfaces import load_scene_surfaces
+from halfspace_calib.pipeline.sweep.length_scale import MIN_PATCH_LAMBDA_S, check_patch_size
+from halfspace_calib.pipeline.sweep.scene_surfaces import load_scene_surfaces
 
 FAST = ["--pressures", "20e6,100e6,300e6,500e6", "--reload-fractions", "0.25,0.5,0.8"]
 RESULTS = Path(__file__).resolve().parents[1] / "benchmarks" / "results"
@@ -75,7 +75,7 @@ def test_cli_patch_warning_on_stderr_and_in_summary_not_a_failure(tmp_path, caps
 def test_minimum_is_where_the_measured_scatter_falls_to_the_check_tolerance():
     # MIN_PATCH_LAMBDA_S is the smallest measured patch size at which mu_eff of metropro-1's
     # patches scatters by at most the resolution check's 10 % (benchmarks/patch_size.py)
-    from halfspace_calib.pipeline.resolution import RESOLUTION_TOL
+    from halfspace_calib.pipeline.sweep.resolution import RESOLUTION_TOL
 
     with open(RESULTS / "patch_size.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))

@@ -13,7 +13,7 @@ import pytest
 from halfspace_calib import topography as S
 from halfspace_calib.cli import main
 from halfspace_calib.pipeline.calibration import Scene
-from halfspace_calib.pipeline.scene_surfaces import (
+from halfspace_calib.pipeline.sweep.scene_surfaces import (
     ELEMENTS_PER_LAMBDA_S,
     area_resample,
     band_limited_resample,

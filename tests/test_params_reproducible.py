@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from halfspace_calib.cli import main
-from halfspace_calib.pipeline.params import timeless, timings_of
+from halfspace_calib.pipeline.law.params import timeless, timings_of
 
 DATA = Path(__file__).parent / "data"
 TOY = [

@@ -15,12 +15,12 @@ from halfspace_calib.contact.influence import (
 )
 from halfspace_calib.contact.materials import SolverSettings
 from halfspace_calib.contact.normal import estimate_memory, solve_normal, solve_normal_pair
-from halfspace_calib.pipeline.conformity import (
+from halfspace_calib.pipeline.law.fit import ReloadCurve
+from halfspace_calib.pipeline.sweep.conformity import (
     edge_plasticity,
     reload_deficit,
     reload_grid_change,
 )
-from halfspace_calib.pipeline.fit import ReloadCurve
 
 E_STAR = 1.2e11
 H = 800e6

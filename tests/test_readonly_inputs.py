@@ -13,7 +13,7 @@ import halfspace_calib as hc
 from halfspace_calib.contact import _kernels as K
 from halfspace_calib.contact import cerruti_coefficients, tangential_bound
 from halfspace_calib.contact._box_cg import project_box_sum, volume_conserving_lift
-from halfspace_calib.pipeline.fit import ReloadCurve
+from halfspace_calib.pipeline.law.fit import ReloadCurve
 
 E_STAR = 1.15e11
 H = 2.0e9

@@ -12,8 +12,8 @@ from pathlib import Path
 
 import pytest
 
+from halfspace_calib.pipeline.band.samples import SampleSpec, calibrate_samples, load_samples
 from halfspace_calib.pipeline.calibration import Scene
-from halfspace_calib.pipeline.samples import SampleSpec, calibrate_samples, load_samples
 
 distributed = pytest.importorskip("dask.distributed")
 

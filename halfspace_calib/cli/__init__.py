@@ -30,9 +30,9 @@ from sbmf_cli import (
 from ..output.hardness import write_hardness_fit
 from ..output.report import write_outputs
 from ..pipeline.calibration import Scene, calibrate, load_scene, load_scene_surfaces
-from ..pipeline.lateral_scale import FIRST_LEVEL_P, SLOPE_RANGE
-from ..pipeline.scene import BOUNDARIES, MIN_TOL, PAPER_PRESSURES
-from ..pipeline.scene_surfaces import (
+from ..pipeline.sweep.lateral_scale import FIRST_LEVEL_P, SLOPE_RANGE
+from ..pipeline.sweep.scene import BOUNDARIES, MIN_TOL, PAPER_PRESSURES
+from ..pipeline.sweep.scene_surfaces import (
     ELEMENTS_PER_LAMBDA_S,
     ISO_SAMPLING_RATIO,
     MAX_DEFAULT_GRID,
@@ -213,10 +213,13 @@ def build_parser():
         "--pressures",
         type=_pressures,
         help="first-loading p_mean list in Pa, comma separated, or 'paper' for the paper's "
-        "10-600 MPa (default: "
-        + ",".join(f"{p:g}" for p in _D["pressures"])
-        + " for H = 800 MPa; for another H the paper's pressures below 0.85 H, then 0.875 H "
-        "and 0.95 H)",
+        "10-600 MPa: computed as given, no refinement (default: the range "
+        + f"{min(_D['pressures']) / 1e6:g}-{max(_D['pressures']) / 1e6:g} MPa"
+        + " for H = 800 MPa, for another H up to 0.95 H, its levels placed where alpha changes: "
+        "the ends and --reload-from first, then each interval's midpoint while the law "
+        "interpolated from the other levels misses it by more than 0.1 --heldout-tol in first "
+        "loading or 0.3 --heldout-tol in a reload curve; not where both ends are in full "
+        "contact, alpha >= 0.995)",
     )
     g.add_argument(
         "--reload-fractions",
@@ -393,6 +396,8 @@ def scene_from_args(args):
             "geo_threshold",
         )
     }
+    if args.pressures is not None:  # given levels are computed as given, even the default's
+        over["adaptive_levels"] = False
     if args.periodic is not None:  # the older spelling of --boundary
         if args.boundary is not None:
             flag = "--periodic" if args.periodic else "--no-periodic"
@@ -409,7 +414,7 @@ def scene_from_args(args):
                 raise ValueError(f"{flag} takes one or two lengths (m), got {len(v)}")
             over[name] = v[0] if len(v) == 1 else tuple(v)
     if args.sliding:
-        from ..pipeline.effects import check_effects
+        from ..pipeline.sweep.effects import check_effects
 
         if over["effects"] is None:  # add to the scene file's effects, or to the default
             base = load_scene(args.scene).effects if args.scene else ("normal",)

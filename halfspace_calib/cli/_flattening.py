@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ..pipeline.flattening import BAND_LEVEL, derive_flattening, read_flattening_data
+from ..pipeline.sweep.flattening import BAND_LEVEL, derive_flattening, read_flattening_data
 
 __all__ = ["add_flattening_options", "flattening_input", "with_flattening", "flattening_lines"]
 

@@ -6,7 +6,7 @@ as ``law``), so that the console, ``summary.json``, ``report.html`` and the plot
 law.
 """
 
-from ..pipeline.forms import form_names
+from ..pipeline.law.forms import form_names
 
 __all__ = ["add_law_options", "law_lines"]
 
@@ -55,7 +55,9 @@ def add_law_options(g, _D):
         "have on a load level it did not see (each interior level left out, the branch refitted "
         "and the level predicted; first loading: the points at one pressure, reload: one reload "
         "curve); beyond it the run fails with exit 1. The extrapolations above the top level and "
-        f"below the lowest are reported, they do not decide (default: {_D['heldout_tol']:g})",
+        f"below the lowest are reported, they do not decide; with the default pressures it also "
+        "sets how finely the levels are placed: 0.1 of it in first loading, 0.3 in a reload "
+        f"curve (default: {_D['heldout_tol']:g})",
     )
 
 
@@ -76,4 +78,6 @@ def law_lines(cal, s):
         f"below first loading by at most {below.get('max', 0.0):.4f} in alpha (the forms that run)"
     )
     lines += [f"  note: {n}" for n in s["fit_notes"]]
+    if cal.sweeps.plan is not None:
+        lines += ["  " + line for line in cal.sweeps.plan.lines()]
     return lines

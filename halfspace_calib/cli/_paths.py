@@ -15,7 +15,7 @@ from pathlib import Path
 from sbmf_cli import OutputFolder, process_seconds
 
 from ..output.hardness import hardness_table
-from ..pipeline.hardness import (
+from ..pipeline.sweep.hardness import (
     AfterContactScans,
     fit_hardness,
     read_after_contact,
@@ -36,7 +36,7 @@ def run_inputs(args, scene=None):
 
 def sample_spec(args, scene):
     """The :class:`SampleSpec` of the options and the scene file's ``[samples]`` table."""
-    from ..pipeline.samples import SampleSpec, read_samples_table
+    from ..pipeline.band.samples import SampleSpec, read_samples_table
 
     kw = read_samples_table(args.scene) if args.scene else {}
     wps, tls = args.workpiece or [], args.tool or []
@@ -79,7 +79,7 @@ def sample_spec(args, scene):
 def main_samples(con, args, scene, spec):
     """A calibration from several samples (docs/uncertainty.md); returns the exit code."""
     from ..output.uncertainty import write_sample_outputs
-    from ..pipeline.samples import calibrate_samples, load_samples
+    from ..pipeline.band.samples import calibrate_samples, load_samples
 
     try:
         samples = load_samples(scene, spec)  # every file and sample check before any sweep

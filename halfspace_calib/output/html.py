@@ -135,6 +135,23 @@ def _resolution(s):
     return "".join(out)
 
 
+def _levels(s):
+    """The computed load levels and why (adaptive refinement or given), from ``summary.json``."""
+    lv = s.get("levels")
+    if not lv:
+        return "<p>not recorded</p>"
+    head = "refined where alpha changes" if lv["adaptive"] else "given, computed as given"
+    rows = "".join(
+        f"<tr><td>{r['p'] / 1e6:.4g}</td><td>{'yes' if r['reload'] else ''}</td>"
+        f"<td>{r['round']}</td><td>{html.escape(r['reason'])}</td></tr>"
+        for r in lv["levels"]
+    )
+    return (
+        f"<p>{len(lv['levels'])} levels, {head}</p><table><tr><th>p (MPa)</th><th>reload</th>"
+        f"<th>round</th><th>why</th></tr>{rows}</table>" + _list(lv.get("decisions", []))
+    )
+
+
 def write_report(summary, out, images, title="Friction law calibration"):
     """Write ``out/report.html`` from the summary record and the PNGs ``[(file, caption)]``."""
     s = summary
@@ -154,6 +171,8 @@ def write_report(summary, out, images, title="Friction law calibration"):
         flattening_section(s, out),
         "<h2>Curves</h2>",
         "".join(figure(out / f, c) for f, c in images),
+        "<h2>Load levels</h2>",
+        _levels(s),
         "<h2>Resolution check</h2>",
         _resolution(s),
         "<h2>Files (provenance)</h2>",

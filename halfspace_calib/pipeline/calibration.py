@@ -26,20 +26,20 @@ from frictionlaw import FrictionParams
 from frictionlaw.describe import describe_law
 from sbmf_cli import Worded
 
-from . import effects as _eff
-from . import forms as _forms
-from . import heldout as _held
-from .conformity import punch_edge_problem
-from .fit import FirstLoadingFit, ReloadFit
-from .lateral_scale import full_contact_problem, scale_record
-from .law_checks import DIP_TOL, JUMP_TOL, law_checks
-from .params import make_params, timings_of
-from .registry import REGISTRY
-from .reload_table import ReloadTableFit
-from .resolution import ResolutionCheck, check_sweeps, fit_sweeps, resolution_check
-from .scene import MIN_TOL, Scene, load_scene
-from .scene_surfaces import SceneSurfaces, load_scene_surfaces
-from .sweeps import SweepResult, run_sweeps, scene_surfaces
+from .law import forms as _forms
+from .law import heldout as _held
+from .law.fit import FirstLoadingFit, ReloadFit
+from .law.law_checks import DIP_TOL, JUMP_TOL, law_checks
+from .law.params import make_params, timings_of
+from .law.reload_table import ReloadTableFit
+from .sweep import effects as _eff
+from .sweep.conformity import punch_edge_problem
+from .sweep.lateral_scale import full_contact_problem, scale_record
+from .sweep.registry import REGISTRY
+from .sweep.resolution import ResolutionCheck, check_sweeps, fit_sweeps, resolution_check
+from .sweep.scene import MIN_TOL, Scene, load_scene
+from .sweep.scene_surfaces import SceneSurfaces, load_scene_surfaces
+from .sweep.sweeps import SweepResult, run_sweeps, scene_surfaces
 
 __all__ = [
     "Scene",
@@ -291,6 +291,7 @@ class Calibration:
             "max_jump_relative": self.checks.get("max_jump_relative", 0.0),
             "reload_below_first": self.checks.get("reload_below_first"),
             "failed_levels": [dataclasses.asdict(f) for f in self.sweeps.failed],
+            "levels": None if self.sweeps.plan is None else self.sweeps.plan.as_dict(),
             "not_converged": [dataclasses.asdict(nc) for nc in self.sweeps.not_converged()],
             "max_reload_pressure_over_H": self.sweeps.max_reload_pressure() / self.scene.H,
             "max_reload_plastic_fraction": self.sweeps.max_reload_plastic_fraction(),
@@ -385,7 +386,9 @@ def _calibrate(scene, progress, surfaces):
         },
         tolerance=scene.tol,
         pressures={
-            "loading": list(scene.pressures),
+            "loading": [lv.p_hist for lv in sweeps.levels],
+            "range": [min(scene.pressures), max(scene.pressures)],
+            "adaptive_levels": scene.adaptive_levels,
             "reload_fractions": list(scene.reload_fractions),
             "reload_from": scene.reload_from,
         },

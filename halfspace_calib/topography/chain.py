@@ -6,7 +6,7 @@ Each stage is one function here. It takes a :class:`~.surface.Surface` (``fill_h
 raw heights) and returns ``(result, steps)``: the result and the lines of provenance the run
 prints and ``params.json`` keeps ("what was done, in order"; empty when the stage changed
 nothing). The stages decide nothing. Their parameters are decided once, before the chain runs,
-by the plan of a scene's surfaces (:func:`halfspace_calib.pipeline.surface_plan.plan_surfaces`),
+by the plan of a scene's surfaces (:func:`halfspace_calib.pipeline.sweep.surface_plan.plan_surfaces`),
 which also reads the files (:func:`~.files.read_raw`, units and sizes of files and options),
 fills their holes (:func:`fill_holes`) and checks the filters' cut-offs on each scan
 (:func:`check_filter`). The rest of the chain runs from a :class:`ChainPlan` (``lambda_s`` and

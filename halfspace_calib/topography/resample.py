@@ -94,7 +94,7 @@ def band_limited_resample(surface, side, m, origin=None):
 
     For a scan whose pixel is coarser than the solver's element: the coarser scan of two
     instruments, S-filtered at ``lambda_s`` (at least 3 of its pixels by
-    default, ``pipeline.length_scale``). :func:`area_resample` would copy each pixel into several elements (a staircase
+    default, ``pipeline.sweep.length_scale``). :func:`area_resample` would copy each pixel into several elements (a staircase
     that has the pixel's edges in it, i.e. spectral content up to the element's Nyquist that
     the filter removed). Here the surface is the cosine series of its samples (DCT-II: the
     Fourier series of the scan's even extension) and each element gets the exact mean of that

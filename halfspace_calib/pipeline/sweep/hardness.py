@@ -28,9 +28,9 @@ from scipy.stats import t as student_t
 
 from sbmf_cli import ParameterError
 
-from ..contact.normal import solve_normal_pair
-from ..topography import chain
-from ..topography.filters import MIN_CUTOFF_PIXELS
+from ...contact.normal import solve_normal_pair
+from ...topography import chain
+from ...topography.filters import MIN_CUTOFF_PIXELS
 from .scene_surfaces import load_scene_surfaces
 
 __all__ = [
@@ -132,7 +132,7 @@ class AfterContactScans:
 def roughness_of_scans(scans, scene, surfaces):
     """``Ra``/``Rq`` of after-contact scans, prepared exactly as the calibration's workpiece.
 
-    Each scan goes through :func:`~halfspace_calib.pipeline.scene_surfaces.load_scene_surfaces`
+    Each scan goes through :func:`~halfspace_calib.pipeline.sweep.scene_surfaces.load_scene_surfaces`
     with the calibration's resolved choices fixed: the same units, workpiece size correction
     (``workpiece_size``: the scans are the workpiece's) and undefined-point limit, the
     crop of the calibration's patch (``crop_size``), the S- and L-filters (``lambda_s``,

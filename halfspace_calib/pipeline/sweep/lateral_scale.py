@@ -50,7 +50,7 @@ import numpy as np
 
 from sbmf_cli import ParameterError, Worded
 
-from .. import topography as _surf
+from ... import topography as _surf
 
 __all__ = [
     "FIELD_RANGE",

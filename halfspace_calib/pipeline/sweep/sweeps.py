@@ -10,12 +10,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..common.jobs import default_workers, run_jobs
-from ..contact.area import corrected_contact_ratio
-from ..contact.materials import Materials, SolverSettings
-from ..contact.normal import solve_normal_pair
-from ..studies.presliding import PreslidingCurve, presliding_curve
-from . import fit as _fit
+from ...common.jobs import default_workers, run_jobs
+from ...contact.area import corrected_contact_ratio
+from ...contact.materials import Materials, SolverSettings
+from ...contact.normal import solve_normal_pair
+from ...studies.presliding import PreslidingCurve, presliding_curve
+from . import levels as _levels
 from .scene_surfaces import load_scene_surfaces
 
 __all__ = [
@@ -234,12 +234,13 @@ def _tangential(out, res, job):
 
 @dataclass
 class SweepResult:
-    """Curves of the sweeps: one :class:`LevelResult` per load level, in the scene's order."""
+    """Curves of the sweeps: one :class:`LevelResult` per load level, ascending ``p_hist``."""
 
     levels: list
     failed: list
     seconds: float
     surfaces: dict = field(default_factory=dict)
+    plan: _levels.LevelPlan | None = None  # the levels computed and why
 
     @property
     def loading(self):
@@ -251,19 +252,8 @@ class SweepResult:
         )
 
     def reload_curves(self):
-        """Converged reload curves as :class:`halfspace_calib.pipeline.fit.ReloadCurve` objects."""
-        curves = []
-        for lv in self.levels:
-            pts = [r for r in lv.reload if r.converged]
-            if lv.loading.converged and len(pts) >= 2:
-                curves.append(
-                    _fit.ReloadCurve(
-                        lv.p_hist,
-                        np.array([r.p_mean for r in pts]),
-                        np.array([r.alpha for r in pts]),
-                    )
-                )
-        return curves
+        """Converged reload curves as :class:`halfspace_calib.pipeline.law.fit.ReloadCurve` objects."""
+        return _levels.reload_curves(self.levels)
 
     def not_converged(self):
         """Solves that did not reach the tolerance (left out of the fit): :class:`NotConverged`."""
@@ -290,7 +280,10 @@ class SweepResult:
 def run_sweeps(scene, *, progress=True, surfaces=None):
     """Run the first-loading and reload sweeps of ``scene``; failures are recorded, not raised.
 
-    ``surfaces``: the scene's :class:`SceneSurfaces` if already loaded.
+    ``surfaces``: the scene's :class:`SceneSurfaces` if already loaded. With
+    ``scene.adaptive_levels`` the levels come from :func:`.levels.adaptive_levels` (computed in
+    rounds, each round's levels as parallel jobs), else they are ``scene.pressures``; the
+    result's ``plan`` says which were computed and why.
     """
     if surfaces is None:
         wp, tl = scene_surfaces(scene)
@@ -298,43 +291,56 @@ def run_sweeps(scene, *, progress=True, surfaces=None):
         wp, tl = surfaces.workpiece, surfaces.tool
     tangential = "tangential" in scene.effects and scene.m > 0
     materials, solver = scene.materials, scene.solver
-    jobs = []
     top = max(scene.pressures)
-    for p in scene.pressures:
+
+    def job(p):
         reload = [f * p for f in scene.reload_fractions] if p >= scene.reload_from else []
-        jobs.append(
-            _LevelJob(
-                workpiece=np.asarray(wp.heights),
-                tool=np.asarray(tl.heights),
-                dx=wp.dx,
-                dy=wp.dy,
-                p_hist=p,
-                materials=materials,
-                solver=solver,
-                reload_surface=scene.reload_surface,
-                reload_pressures=tuple(reload),
-                keep_map=p == top,
-                tangential=tangential,
-                contact_area=scene.contact_area,
-            )
+        return _LevelJob(
+            workpiece=np.asarray(wp.heights),
+            tool=np.asarray(tl.heights),
+            dx=wp.dx,
+            dy=wp.dy,
+            p_hist=p,
+            materials=materials,
+            solver=solver,
+            reload_surface=scene.reload_surface,
+            reload_pressures=tuple(reload),
+            keep_map=p == top,
+            tangential=tangential,
+            contact_area=scene.contact_area,
         )
-    t0 = time.perf_counter()
+
     workers = scene.workers
     if workers is None and scene.scheduler is None:
         pad = 2 if solver.boundary == "isolated" else 1  # isolated: zero-padded (DC-FFT) FFTs
         workers = default_workers(wp.heights.shape[0] * wp.heights.shape[1] * pad * pad)
-    results = run_jobs(
-        _level_job,
-        jobs,
-        workers=workers,
-        scheduler=scene.scheduler,
-        progress=progress,
-        desc="half-space sweeps",
+    failed = []
+
+    def run_round(pressures):
+        jobs = [job(p) for p in pressures]
+        results = run_jobs(
+            _level_job,
+            jobs,
+            workers=workers,
+            scheduler=scene.scheduler,
+            progress=progress,
+            desc="half-space sweeps",
+        )
+        done = {}
+        for jb, r in zip(jobs, results, strict=True):
+            if r.ok:
+                done[jb.p_hist] = r.value
+            else:
+                failed.append(FailedLevel(jb.p_hist, r.error))
+        return done
+
+    t0 = time.perf_counter()
+    if scene.adaptive_levels:
+        done, plan = _levels.adaptive_levels(scene, run_round)
+    else:
+        done, plan = run_round(list(scene.pressures)), _levels.fixed_plan(scene)
+    levels = [done[p] for p in sorted(done)]
+    failed.sort(key=lambda f: f.p_hist)
+    return SweepResult(
+        levels, failed, time.perf_counter() - t0, {"workpiece": wp, "tool": tl}, plan
     )
-    levels, failed = [], []
-    for job, r in zip(jobs, results, strict=True):
-        if r.ok:
-            levels.append(r.value)
-        else:
-            failed.append(FailedLevel(job.p_hist, r.error))
-    return SweepResult(levels, failed, time.perf_counter() - t0, {"workpiece": wp, "tool": tl})

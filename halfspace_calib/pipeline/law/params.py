@@ -7,7 +7,7 @@ import numpy as np
 import frictionlaw
 from frictionlaw import FrictionParams
 
-from ..common.checks import positive
+from ...common.checks import positive
 from .fit import FirstLoadingFit, ReloadFit
 
 __all__ = ["fit_record", "make_params", "timeless", "timings_of"]

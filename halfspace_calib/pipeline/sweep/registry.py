@@ -17,9 +17,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..output.effects import write_tangential_outputs
-from ..output.geometric import write_geometric_outputs
-from ..output.sliding import write_sliding_outputs
+from ...output.effects import write_tangential_outputs
+from ...output.geometric import write_geometric_outputs
+from ...output.sliding import write_sliding_outputs
 from . import effects as _eff
 
 __all__ = ["Effect", "REGISTRY"]

@@ -28,10 +28,10 @@ from frictionlaw import alpha_first, alpha_reload
 from frictionlaw.reload_form import ReloadTable
 from frictionlaw.uncertainty import BandLaw, SampleLaw
 
-from . import fit as _fit
-from .alpha_bound import floor_fit, floor_violation
-from .first_table import fit_first_loading_table
-from .reload_table import (
+from ..law import fit as _fit
+from ..law.alpha_bound import floor_fit, floor_violation
+from ..law.first_table import fit_first_loading_table
+from ..law.reload_table import (
     TABLE_C_BOUNDS,
     TABLE_N_BOUNDS,
     TABLE_N_BOUNDS_CONTINUOUS,

@@ -28,7 +28,7 @@ import numpy as np
 from frictionlaw import Flattening, alpha_first, flattening_curve
 from frictionlaw.flattening import BETA_RANGE, SLOPE_RANGE, equivalent_strain
 
-from ..contact.normal import solve_normal_pair
+from ...contact.normal import solve_normal_pair
 
 __all__ = [
     "BAND_LEVEL",
@@ -157,7 +157,7 @@ def patch_half_spacing(pressure, dx, dy, periodic) -> tuple[float | None, int]:
 
 def _half_grid_slope(surface) -> float | None:
     """The RMS profile slope at half the grid (2 x 2 block averages): how resolved it is."""
-    from ..topography.surface import block_average
+    from ...topography.surface import block_average
 
     nx, ny = surface.shape
     if min(nx, ny) < 4:

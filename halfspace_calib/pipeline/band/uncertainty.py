@@ -49,9 +49,9 @@ from scipy.stats import t as student_t
 from frictionlaw import alpha_first, alpha_reload
 from frictionlaw.uncertainty import Band, Interval, Uncertainty
 
-from ..common.blas import serial_blas
-from . import fit as _fit
-from . import forms as _forms
+from ...common.blas import serial_blas
+from ..law import fit as _fit
+from ..law import forms as _forms
 from .band_laws import Stacked, check_band_forms, edge_law, resample_law, sample_law
 
 __all__ = [

@@ -50,15 +50,15 @@ import numpy as np
 
 from sbmf_cli import ParameterError
 
-from .. import topography as _surf
-from ..common.jobs import run_jobs
-from ..topography import chain
-from .calibration import Calibration, calibrate
-from .law_checks import law_checks
-from .params import fit_record, timeless
-from .scene_surfaces import SceneSurfaces, load_scene_surfaces, run_plan
-from .surface_plan import MAX_DEFAULT_GRID, SyntheticSource, plan_surfaces
-from .sweeps import FailedLevel, SweepResult
+from ... import topography as _surf
+from ...common.jobs import run_jobs
+from ...topography import chain
+from ..calibration import Calibration, calibrate
+from ..law.law_checks import law_checks
+from ..law.params import fit_record, timeless
+from ..sweep.scene_surfaces import SceneSurfaces, load_scene_surfaces, run_plan
+from ..sweep.surface_plan import MAX_DEFAULT_GRID, SyntheticSource, plan_surfaces
+from ..sweep.sweeps import FailedLevel, SweepResult
 from .uncertainty import (
     BAND_LEVEL,
     BAND_METHOD,
@@ -385,13 +385,30 @@ def _sample_job(sample):
 
 
 def run_samples(samples, *, workers=1, scheduler=None, progress=True):
-    """Calibrate every sample as one job; failures are kept by name, not raised."""
+    """Calibrate every sample as one job; failures are kept by name, not raised.
+
+    The samples share one set of load levels (the pooled curves group by ``p_hist``): with
+    adaptive levels (:mod:`.levels`) the first sample is calibrated first, here, and its
+    computed levels are given to the others (computed as given, no refinement).
+    """
     import time
 
     t0 = time.perf_counter()
-    results = run_jobs(
+    samples = list(samples)
+    first = []
+    if samples and samples[0].scene.adaptive_levels:
+        first = run_jobs(_sample_job, samples[:1], workers=1, progress=False)
+        if first[0].ok:
+            ps = tuple(lv.p_hist for lv in first[0].value.sweeps.levels)
+            samples = samples[:1] + [
+                dataclasses.replace(
+                    s, scene=dataclasses.replace(s.scene, pressures=ps, adaptive_levels=False)
+                )
+                for s in samples[1:]
+            ]
+    results = first + run_jobs(
         _sample_job,
-        samples,
+        samples[len(first) :],
         workers=workers,
         scheduler=scheduler,
         progress=progress,

@@ -40,9 +40,9 @@ from dataclasses import dataclass, field
 
 from sbmf_cli import ParameterError
 
-from .. import topography as _surf
-from ..contact.normal import estimate_memory
-from ..topography import chain
+from ... import topography as _surf
+from ...contact.normal import estimate_memory
+from ...topography import chain
 from .lateral_scale import ScanScale, check_scan, scan_slope
 from .length_scale import (
     ELEMENTS_PER_LAMBDA_S,

@@ -25,11 +25,11 @@ from __future__ import annotations
 import math
 from dataclasses import asdict, dataclass
 
-from .. import topography as _surf
-from ..topography import chain
-from ..topography.chain import SQUARE_PIXEL_RTOL
-from ..topography.resample import area_resample, band_limited_resample
-from ..topography.synthesis import measured_surfaces
+from ... import topography as _surf
+from ...topography import chain
+from ...topography.chain import SQUARE_PIXEL_RTOL
+from ...topography.resample import area_resample, band_limited_resample
+from ...topography.synthesis import measured_surfaces
 from .length_scale import (
     ELEMENTS_PER_LAMBDA_S,
     ISO_NESTING_INDICES,

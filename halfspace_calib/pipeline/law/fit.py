@@ -32,8 +32,8 @@ import numpy as np
 from frictionlaw import FrictionParams, alpha_first, alpha_reload, reload_jump
 from frictionlaw.params import C_RANGE, N_RANGE
 
-from ..common.blas import serial_blas
-from ..common.checks import positive
+from ...common.blas import serial_blas
+from ...common.checks import positive
 from .alpha_bound import bound_record, floor_fit, floor_violation
 from .fit_data import ReloadCurve, _bounds, _curve, _data
 from .law_checks import DIP_TOL

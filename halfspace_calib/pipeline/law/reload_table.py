@@ -34,8 +34,8 @@ from frictionlaw.law import evaluate, sbmf_coeffs
 from frictionlaw.params import C_RANGE, N_RANGE
 from frictionlaw.reload_form import ReloadTable
 
-from ..common.blas import serial_blas
-from ..common.checks import positive
+from ...common.blas import serial_blas
+from ...common.checks import positive
 from .fit import ReloadCurve, _bounds, _curve, _law
 
 __all__ = [
@@ -298,7 +298,7 @@ def fit_reload_table(
     Parameters
     ----------
     curves : sequence
-        Reload curves (as :func:`~halfspace_calib.pipeline.fit.fit_reload` takes them), one per
+        Reload curves (as :func:`~halfspace_calib.pipeline.law.fit.fit_reload` takes them), one per
         load level; each needs at least 2 points (it fixes two parameters).
     H : float
         Hardness (Pa).

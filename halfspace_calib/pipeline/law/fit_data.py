@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..common.checks import positive
+from ...common.checks import positive
 
 __all__ = ["ReloadCurve"]
 

@@ -5,7 +5,7 @@ least ``p_mean A0 / H``: ``alpha >= p / H``, and full contact (``alpha = 1``) at
 Eq. 24 meets the bound only below ``H``: ``alpha1(H) = tanh(C1**n1)**(1/n1) < 1`` for every
 finite ``C1, n1``. :func:`floor_violation` measures how far a fitted law falls below the bound;
 :func:`floor_fit` is the least-squares fit subject to it (used by
-:func:`~halfspace_calib.pipeline.fit.fit_first_loading`'s ``floor_to``).
+:func:`~halfspace_calib.pipeline.law.fit.fit_first_loading`'s ``floor_to``).
 """
 
 import math
@@ -15,7 +15,7 @@ from scipy.optimize import minimize
 
 from frictionlaw import FrictionParams, alpha_first
 
-from ..common.checks import positive
+from ...common.checks import positive
 
 __all__ = ["FLOOR_POINTS", "bound_record", "floor_fit", "floor_violation"]
 

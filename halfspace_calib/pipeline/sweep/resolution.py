@@ -5,7 +5,7 @@ import math
 import time
 from dataclasses import dataclass
 
-from . import fit as _fit
+from ..law import fit as _fit
 from .scene_surfaces import load_scene_surfaces
 from .sweeps import run_sweeps
 
@@ -119,8 +119,14 @@ def resolution_check(scene, first, reload, sweeps, *, progress=False):
     if half < 8:
         return ResolutionCheck(n, half, {}, 0.0, RESOLUTION_TOL, "", 0.0, "grid / 2 < 8")
     t0 = time.perf_counter()
-    coarse = dataclasses.replace(
-        scene, grid=half, effects=("normal",), resolution_check=False, workers=scene.workers
+    coarse = dataclasses.replace(  # the main run's levels (adaptive ones as computed there)
+        scene,
+        grid=half,
+        effects=("normal",),
+        resolution_check=False,
+        workers=scene.workers,
+        pressures=tuple(lv.p_hist for lv in sweeps.levels),
+        adaptive_levels=False,
     )
     try:
         surfs = load_scene_surfaces(coarse, check_sampling=False)

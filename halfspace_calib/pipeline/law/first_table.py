@@ -15,7 +15,7 @@ import numpy as np
 
 from frictionlaw.first_loading import FirstLoadingTable
 
-from ..common.checks import positive
+from ...common.checks import positive
 
 __all__ = ["FirstLoadingTableFit", "fit_first_loading_table", "monotone_increasing"]
 

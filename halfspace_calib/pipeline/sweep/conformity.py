@@ -178,7 +178,7 @@ def reload_deficit(first_p, first_alpha, curves):
         (PCHIP) interpolant in ``log p``. Reload points outside their range are not compared.
     curves : sequence
         Reload curves with ``p_hist``, ``p`` and ``alpha`` (e.g.
-        :meth:`~halfspace_calib.pipeline.sweeps.SweepResult.reload_curves`).
+        :meth:`~halfspace_calib.pipeline.sweep.sweeps.SweepResult.reload_curves`).
 
     Returns
     -------

@@ -31,9 +31,9 @@ from dataclasses import dataclass
 
 from frictionlaw import TangentialStiffness
 
-from ..studies.geometric import GeometricResult, fit_geo_ratio, geometric_sweep
-from ..studies.presliding import stiffness_power_law
-from ..studies.sliding_study import SlidingStudy
+from ...studies.geometric import GeometricResult, fit_geo_ratio, geometric_sweep
+from ...studies.presliding import stiffness_power_law
+from ...studies.sliding_study import SlidingStudy
 from .scene_surfaces import load_scene_surfaces
 
 __all__ = [
@@ -121,7 +121,7 @@ class SlidingOutcome(EffectOutcome):
 def scene_measured_surfaces(scene):
     """The scene's workpiece and tool as measured (fine) maps: ``(workpiece, tool, block)``.
 
-    From the one scene loader (:func:`halfspace_calib.pipeline.scene_surfaces.load_scene_surfaces`):
+    From the one scene loader (:func:`halfspace_calib.pipeline.sweep.scene_surfaces.load_scene_surfaces`):
     synthetic surfaces on ``scene.measured_n`` points a side (default ``4 scene.grid``); files
     cropped, resampled onto ``grid * block`` square points a side (``block >= 2`` measured
     points per element edge, otherwise a ``ValueError``) and levelled, in their own units
@@ -246,8 +246,8 @@ def run_sliding(scene, *, progress=True, tool=None):
         With ``study`` (SlidingStudy), or ``skipped`` when the study cannot run (``m = 0``,
         ``H`` at or below 100 MPa).
     """
-    from ..studies.sliding import SLIDING_PRESSURES, sliding_workpiece
-    from ..studies.sliding_study import sliding_study
+    from ...studies.sliding import SLIDING_PRESSURES, sliding_workpiece
+    from ...studies.sliding_study import sliding_study
 
     if tool is None:
         tool = load_scene_surfaces(scene).tool

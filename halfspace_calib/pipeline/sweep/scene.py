@@ -14,13 +14,13 @@ import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..common.checks import in_range, tresca_factor
-from ..contact.influence import BOUNDARIES
-from ..contact.materials import Materials, SolverSettings, sigma_y_from_hardness
-from ..contact.normal import composite_modulus
+from ...common.checks import in_range, tresca_factor
+from ...contact.influence import BOUNDARIES
+from ...contact.materials import Materials, SolverSettings, sigma_y_from_hardness
+from ...contact.normal import composite_modulus
+from ..law.forms import form_names
+from ..law.heldout import HELDOUT_TOL
 from . import effects as _eff
-from .forms import form_names
-from .heldout import HELDOUT_TOL
 from .scene_surfaces import MAX_UNDEFINED, SYNTHETIC_GRID, check_memory
 
 __all__ = [
@@ -106,19 +106,19 @@ class Scene:
     sheet and tool of Table 1 (``rough_tool`` for the rough tool; ``measured_n``, a multiple of
     ``grid``, generates them on that finer grid and block-averages, so that one seed is the same
     physical surface at every ``grid``). Files are prepared by
-    :func:`~halfspace_calib.pipeline.scene_surfaces.load_scene_surfaces` (see docs/measured_surfaces.md):
+    :func:`~halfspace_calib.pipeline.sweep.scene_surfaces.load_scene_surfaces` (see docs/measured_surfaces.md):
     instrument files bring their own units and sizes (``unit=None``); plain files need ``unit``
     (or ``workpiece_unit`` / ``tool_unit``) and ``size`` (``L`` or ``(Lx, Ly)`` in m);
     ``workpiece_size`` / ``tool_size`` (same form) override the size every file of that role
     carries (a wrong header or calibration; the file's own size is kept in the provenance); a
     field or RMS slope implausible for a metal scan is refused, and full contact at a first load
     level below 0.05 H fails the run, unless ``smooth_pair`` states that the pair is that smooth
-    (:mod:`~halfspace_calib.pipeline.lateral_scale`); undefined
+    (:mod:`~halfspace_calib.pipeline.sweep.lateral_scale`); undefined
     points are filled up to the fraction ``max_undefined``; both files are cropped to the largest
     common square (or ``crop_size``), area-averaged onto square elements and levelled.
     Files are levelled and filtered with the ISO 16610-61 Gaussian S-filter of nesting index
     ``lambda_s`` (m; ``None``: the default of
-    :func:`~halfspace_calib.pipeline.scene_surfaces.default_lambda_s`; ``0``: no filter) and,
+    :func:`~halfspace_calib.pipeline.sweep.scene_surfaces.default_lambda_s`; ``0``: no filter) and,
     if given, the L-filter ``lambda_c`` (m) before resampling; synthetic surfaces keep their
     generated spectrum (cut off at two elements), so both are refused for them.
     ``grid=None`` means 128 for synthetic surfaces and, for files,
@@ -155,7 +155,7 @@ class Scene:
     ``alpha_floor``: fit Eq. 24 subject to the half-space model's exact bound
     ``alpha1(p) >= p / H`` on ``0 < p <= alpha_floor H`` (default :data:`ALPHA_FLOOR` = 0.99;
     Eq. 24 cannot reach 1 at ``H`` itself; ``None``: unconstrained, the fit before issue 26;
-    :func:`~halfspace_calib.pipeline.fit.fit_first_loading`'s ``floor_to``).
+    :func:`~halfspace_calib.pipeline.law.fit.fit_first_loading`'s ``floor_to``).
 
     ``first_loading_form``: the first-loading branch the parameter file runs (:mod:`.forms`):
     ``"auto"`` (the default: every candidate fitted, the one with the smallest held-out error
@@ -167,13 +167,18 @@ class Scene:
     first-loading form that runs. ``continuous_reload`` (default ``True``): the reload branch
     meets the first loading at ``p_hist`` (no drop there), fitted in that variant.
     ``heldout_tol``: the largest held-out ``|d alpha|`` either branch may have
-    (:mod:`~halfspace_calib.pipeline.heldout`); beyond it the run fails.
+    (:mod:`~halfspace_calib.pipeline.law.heldout`); beyond it the run fails.
+    ``adaptive_levels``: place the load levels where the computed ``alpha`` changes, within the
+    range of ``pressures`` (:mod:`~halfspace_calib.pipeline.sweep.levels`: refined to
+    ``0.1 heldout_tol`` in first loading and ``0.3 heldout_tol`` in reload); ``False`` computes
+    ``pressures`` as given; ``None`` (the default) refines the default pressures and computes
+    given ones as given.
 
     ``H_source`` says where ``H`` came from for the parameter file (``None``: Table 1's value
-    or "given"; :mod:`halfspace_calib.pipeline.hardness` sets it when H is fitted to
+    or "given"; :mod:`halfspace_calib.pipeline.sweep.hardness` sets it when H is fitted to
     after-contact roughness).
 
-    Effects (:mod:`halfspace_calib.pipeline.effects`): ``effects`` names what is modelled besides the
+    Effects (:mod:`halfspace_calib.pipeline.sweep.effects`): ``effects`` names what is modelled besides the
     always-on ``"normal"`` sweeps: ``"tangential"`` (pre-sliding stiffness), ``"inclined"``
     (Eq. 23 and, if the mean ``tau_geo / tau_adh`` exceeds ``geo_threshold``, Eq. 26's
     ``geo_ratio``), ``"sliding"`` (Sec. 3.3). With ``"inclined"`` on synthetic surfaces
@@ -221,6 +226,7 @@ class Scene:
     reload_form: str = "auto"
     heldout_tol: float = HELDOUT_TOL
     alpha_floor: float | None = ALPHA_FLOOR
+    adaptive_levels: bool | None = None
     workers: int | None = None
     scheduler: str | None = None
     effects: tuple = ("normal",)
@@ -249,6 +255,8 @@ class Scene:
         if "inclined" in self.effects and synthetic and self.measured_n is None:
             # the inclined patches need the measured grid: calibrate on the same random field
             put("measured_n", 4 * self.grid if isinstance(self.grid, int) else None)
+        if self.adaptive_levels is None:  # the default range is refined, given levels are not
+            put("adaptive_levels", self.pressures == DEFAULT_PRESSURES)
         if self.pressures == DEFAULT_PRESSURES and isinstance(self.H, (int, float)) and self.H > 0:
             put("pressures", default_pressures(self.H))  # the default sweep follows H
         if isinstance(self.pressures, str):  # a scene file's pressures = "paper"
@@ -382,6 +390,11 @@ class Scene:
             value = getattr(self, f"{branch}_form")
             if value not in forms:
                 raise ValueError(f"{branch}_form must be one of {', '.join(forms)}, got {value!r}")
+        if not isinstance(self.adaptive_levels, bool):
+            raise ValueError(
+                f"adaptive_levels must be True, False or None (refine the default range), got "
+                f"{self.adaptive_levels!r}"
+            )
         if not isinstance(self.continuous_reload, bool):
             raise ValueError(
                 f"continuous_reload must be True or False, got {self.continuous_reload!r}"
@@ -502,7 +515,7 @@ def load_scene(path, **overrides):
     except tomllib.TOMLDecodeError as exc:
         raise ValueError(f"{path}: not a valid TOML scene file ({exc})") from None
     data = data.get("scene", data)
-    data.pop("samples", None)  # several samples: read by pipeline.samples.read_samples_table
+    data.pop("samples", None)  # several samples: read by pipeline.band.samples.read_samples_table
     known = {f.name for f in dataclasses.fields(Scene)} | {"periodic"}  # the older switch
     unknown = set(data) - known
     if unknown:
