@@ -49,8 +49,8 @@ from fe_demo.asperity import (
     prandtl_hardness,
     wedge_profile,
 )
-from halfspace_calib.pipeline.length_scale import default_lambda_s
-from halfspace_calib.pipeline.surface_plan import MAX_DEFAULT_GRID
+from halfspace_calib.pipeline.sweep.length_scale import default_lambda_s
+from halfspace_calib.pipeline.sweep.surface_plan import MAX_DEFAULT_GRID
 from halfspace_calib.topography import chain, read_surface
 
 SLOPES = (3.0, 5.0, 7.0, 10.0)

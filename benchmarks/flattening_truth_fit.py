@@ -30,7 +30,7 @@ from _provenance import run_record, write_rows
 from flattening_truth import BAR, RESULTS, law_of, read_truth
 
 import frictionlaw as fl
-from halfspace_calib.pipeline.flattening import FlatteningData, fit_beta
+from halfspace_calib.pipeline.sweep.flattening import FlatteningData, fit_beta
 
 FOLDS = ((0.1, 0.3, 0.6), (0.05, 0.2, 0.45))
 
