@@ -103,30 +103,44 @@ def machine():
 
 @contextlib.contextmanager
 def run_record(script):
-    """Write ``results/<script stem>.run.json`` after the block (also when it fails)."""
+    """Write ``results/<script stem>.run.json`` after the block (also when it fails).
+
+    A block that exits (``SystemExit``: ``--help``, a usage error) before writing any result
+    ran nothing: the earlier run's record is kept.
+    """
     t0_wall, t0 = time.time(), time.perf_counter()
     status = "failed"
+    exited = False
     try:
         yield
         status = "completed"
+    except SystemExit:
+        exited = True
+        raise
     finally:
         written = sorted(
             str(p.relative_to(RESULTS))
             for p in RESULTS.rglob("*")
             if p.is_file() and p.stat().st_mtime >= t0_wall - 1 and not p.name.endswith(".run.json")
         )
-        record = {
-            "script": f"benchmarks/{Path(script).name}",
-            "command": " ".join([Path(sys.executable).name, *sys.argv]),
-            "status": status,
-            "started_utc": datetime.fromtimestamp(t0_wall, UTC).isoformat(timespec="seconds"),
-            "wall_seconds": round(time.perf_counter() - t0, 2),
-            "git_commit": _git("rev-parse", "HEAD"),
-            "git_dirty": bool(_git("status", "--porcelain", "--untracked-files=no")),
-            "machine": machine(),
-            "files_written": written,
-        }
-        RESULTS.mkdir(exist_ok=True)
-        path = RESULTS / f"{Path(script).stem}.run.json"
-        path.write_text(json.dumps(record, indent=1) + "\n")
-        print(f"run record: {path.relative_to(ROOT)}")
+        if not (exited and not written):
+            _write_record(script, status, t0_wall, t0, written)
+
+
+def _write_record(script, status, t0_wall, t0, written):
+    """The run record of :func:`run_record` (the files the run wrote, its status and machine)."""
+    record = {
+        "script": f"benchmarks/{Path(script).name}",
+        "command": " ".join([Path(sys.executable).name, *sys.argv]),
+        "status": status,
+        "started_utc": datetime.fromtimestamp(t0_wall, UTC).isoformat(timespec="seconds"),
+        "wall_seconds": round(time.perf_counter() - t0, 2),
+        "git_commit": _git("rev-parse", "HEAD"),
+        "git_dirty": bool(_git("status", "--porcelain", "--untracked-files=no")),
+        "machine": machine(),
+        "files_written": written,
+    }
+    RESULTS.mkdir(exist_ok=True)
+    path = RESULTS / f"{Path(script).stem}.run.json"
+    path.write_text(json.dumps(record, indent=1) + "\n")
+    print(f"run record: {path.relative_to(ROOT)}")
