@@ -3,6 +3,7 @@ usage error (an exit before any result) keeps the earlier run's record."""
 
 import importlib.util
 import json
+import os
 from pathlib import Path
 
 import pytest
@@ -27,6 +28,8 @@ def test_a_run_writes_its_record_and_help_keeps_it(prov, tmp_path):
     path = prov.RESULTS / "demo.run.json"
     rec = json.loads(path.read_text())
     assert rec["status"] == "completed" and rec["files_written"] == ["demo.csv"]
+    old = path.stat().st_mtime - 60  # the results as an earlier run left them
+    os.utime(prov.RESULTS / "demo.csv", (old, old))
     before = path.read_text()
     for code in (0, 2):  # --help, a usage error: nothing ran
         with pytest.raises(SystemExit), prov.run_record("demo.py"):
