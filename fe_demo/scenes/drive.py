@@ -71,7 +71,7 @@ class LawSpec:
         if not getattr(law, "uses_flattening", False):
             raise ValueError(
                 "flattening needs the law sbmf with a parameter file that carries a flattening "
-                "block (halfspace-calib --flattening; docs/flattening.md)"
+                "block (a calibration run with the flattening on; docs/flattening.md)"
             )
 
     def parameters(self):

@@ -121,7 +121,7 @@ def _check_flattening(record, laws, zones, without_flattening=False):
         if without_flattening:
             raise ParameterError(
                 "{without_flattening} applies to a parameter file with a flattening block "
-                "(halfspace-calib --flattening); this one has none: leave it out",
+                "(a calibration run with the flattening on); this one has none: leave it out",
                 "without_flattening",
             )
         return
