@@ -12,7 +12,16 @@ import numpy as np
 
 from sbmf_cli import ParameterError
 
-__all__ = ["count", "in_range", "pair", "positive", "real", "tolerance", "tresca_factor"]
+__all__ = [
+    "count",
+    "in_range",
+    "pair",
+    "positive",
+    "real",
+    "text_file",
+    "tolerance",
+    "tresca_factor",
+]
 
 
 def _bad(name, text):
@@ -89,3 +98,17 @@ def count(name, v, lo=2):
     if i != v or i < lo:
         raise _bad(name, f"must be an integer >= {lo}, got {v!r}")
     return i
+
+
+def text_file(path, what):
+    """The UTF-8 text of the user's file ``path`` (a ``Path``).
+
+    ``ValueError`` naming ``what`` and the file when it is missing (``"<what> not found:
+    <path>"``) or unreadable.
+    """
+    try:
+        return path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise ValueError(f"{what} not found: {path}") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ValueError(f"{path}: cannot read the {what} ({exc})") from None

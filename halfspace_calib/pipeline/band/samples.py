@@ -56,6 +56,7 @@ from ...topography import chain
 from ..calibration import Calibration, calibrate
 from ..law.law_checks import law_checks
 from ..law.params import fit_record, timeless
+from ..sweep.scene import read_scene_toml
 from ..sweep.scene_surfaces import SceneSurfaces, load_scene_surfaces, run_plan
 from ..sweep.surface_plan import MAX_DEFAULT_GRID, SyntheticSource, plan_surfaces
 from ..sweep.sweeps import FailedLevel, SweepResult
@@ -162,13 +163,8 @@ def read_samples_table(path):
     Keys: ``workpieces``, ``tools`` (lists of paths, relative to the scene file), ``patches``,
     ``band_level``, ``bootstrap``, ``seed``, ``band_method``.
     """
-    import tomllib
-
     path = Path(path)
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
-        raise ValueError(f"{path}: cannot read the scene file ({exc})") from None
+    data = read_scene_toml(path)
     table = data.get("samples", {})
     if not isinstance(table, dict):
         raise ValueError(f"{path}: 'samples' must be a table ([samples])")

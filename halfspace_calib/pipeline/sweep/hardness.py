@@ -28,6 +28,7 @@ from scipy.stats import t as student_t
 
 from sbmf_cli import ParameterError
 
+from ...common.checks import text_file
 from ...contact.normal import solve_normal_pair
 from ...topography import chain
 from ...topography.filters import MIN_CUTOFF_PIXELS
@@ -241,12 +242,7 @@ def read_after_contact(path):
         initial, non-numeric cells: the message names the file and what to fix.
     """
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ValueError(f"after-contact roughness file not found: {path}") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ValueError(f"{path}: cannot read the after-contact roughness ({exc})") from None
+    text = text_file(path, "after-contact roughness file")
     lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
     if not lines:
         raise ValueError(f"{path}: no header and no rows")

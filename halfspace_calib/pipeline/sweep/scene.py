@@ -14,7 +14,7 @@ import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
-from ...common.checks import in_range, tresca_factor
+from ...common.checks import in_range, text_file, tresca_factor
 from ...contact.influence import BOUNDARIES
 from ...contact.materials import Materials, SolverSettings, sigma_y_from_hardness
 from ...contact.normal import composite_modulus
@@ -501,19 +501,23 @@ class Scene:
         return dataclasses.asdict(self)
 
 
+def read_scene_toml(path):
+    """The tables of a scene file (TOML) as a dict.
+
+    ``ValueError`` naming the file when it is missing, unreadable or not TOML. Read by
+    :func:`load_scene` and by the several samples' ``[samples]`` table.
+    """
+    path = Path(path)
+    try:
+        return tomllib.loads(text_file(path, "scene file"))
+    except tomllib.TOMLDecodeError as exc:
+        raise ValueError(f"{path}: not a valid TOML scene file ({exc})") from None
+
+
 def load_scene(path, **overrides):
     """Read a scene file (TOML, keys as the :class:`Scene` fields, SI units) and apply overrides."""
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ValueError(f"scene file not found: {path}") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ValueError(f"{path}: cannot read the scene file ({exc})") from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ValueError(f"{path}: not a valid TOML scene file ({exc})") from None
+    data = read_scene_toml(path)
     data = data.get("scene", data)
     data.pop("samples", None)  # several samples: read by pipeline.band.samples.read_samples_table
     known = {f.name for f in dataclasses.fields(Scene)} | {"periodic"}  # the older switch
