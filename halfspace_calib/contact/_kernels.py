@@ -2,8 +2,14 @@
 
 Each kernel replaces several NumPy passes over the grid by one compiled loop; the FFTs stay in
 ``scipy.fft``. Every kernel has a NumPy oracle in ``tests/test_normal.py``. Arrays are flat,
-contiguous float64 (inputs typed read-only, so read-only arrays are accepted); ``pmax`` is the hardness cap (``inf`` for elastic contact). An element is
-*free* when ``0 < p < pmax``.
+contiguous float64 (inputs typed read-only, so read-only arrays are accepted); ``pmax`` is the
+hardness cap (``inf`` for elastic contact). An element is *free* when ``0 < p < pmax``.
+
+The per-iteration loops test membership without branches: a condition is a bitwise ``&`` / ``|``
+of comparisons, and a sum adds ``x * cond`` (``x`` or ``0.0``, added in the same order, so the
+sums equal a branching loop's bit for bit). A contact set is a random pattern to the branch
+predictor: the branching loops ran about 5x slower on a 512^2 grid half in contact (1.4 ms
+against 0.26 ms a pass), which made them cost as much as the CG's FFTs (issue 39).
 """
 
 from __future__ import annotations
@@ -36,9 +42,10 @@ def free_gap_sum(u, h, p, pmax):
     s = 0.0
     n = 0
     for k in range(p.size):
-        if p[k] > 0.0 and p[k] < pmax:
-            s += u[k] - h[k]
-            n += 1
+        pk = p[k]
+        free = (pk > 0.0) & (pk < pmax)
+        s += (u[k] - h[k]) * free
+        n += free
     return s, n
 
 
@@ -55,15 +62,11 @@ def gap_and_residual(u, h, p, pmax, shift, g):
         gk = u[k] - h[k] + shift
         g[k] = gk
         pk = p[k]
-        if pk <= 0.0:
-            if gk < 0.0:
-                viol += gk * gk
-        elif pk >= pmax:
-            if gk > 0.0:
-                viol += gk * gk
-        else:
-            viol += gk * gk
-            G += gk * gk
+        free = (pk > 0.0) & (pk < pmax)
+        bad = free | ((pk <= 0.0) & (gk < 0.0)) | ((pk >= pmax) & (gk > 0.0))
+        g2 = gk * gk
+        viol += g2 * bad
+        G += g2 * free
     return viol, G
 
 
@@ -78,20 +81,19 @@ def direction(z, g, p, pmax, beta, t):
     n = 0
     for k in range(p.size):
         pk = p[k]
-        if pk > 0.0 and pk < pmax:
-            tk = z[k] + beta * t[k]
-            t[k] = tk
-            s += tk
-            n += 1
-        else:
-            t[k] = 0.0
+        free = (pk > 0.0) & (pk < pmax)
+        tk = (z[k] + beta * t[k]) * free
+        t[k] = tk
+        s += tk
+        n += free
     m = s / n if n > 0 else 0.0
     gt = 0.0
     for k in range(p.size):
         pk = p[k]
-        if pk > 0.0 and pk < pmax:
-            t[k] -= m
-            gt += g[k] * t[k]
+        free = (pk > 0.0) & (pk < pmax)
+        tk = t[k] - m * free
+        t[k] = tk
+        gt += (g[k] * tk) * free
     return gt
 
 
@@ -115,24 +117,20 @@ def step_project(p, t, g, d, tau, pmax, q):
     ncap = 0
     for k in range(p.size):
         pk = p[k]
+        gk = g[k]
         raw = pk - tau * t[k]
-        qk = raw
-        if (pk <= 0.0 and g[k] < 0.0) or (pk >= pmax and g[k] > 0.0):
-            qk = pk - tau * d[k]
-            released = True
-        if qk < 0.0:
-            qk = 0.0
-        elif qk > pmax:
-            qk = pmax
-        if qk != raw:
-            changed = True
+        rel = ((pk <= 0.0) & (gk < 0.0)) | ((pk >= pmax) & (gk > 0.0))
+        qk = (pk - tau * d[k]) if rel else raw
+        released |= rel
+        qk = 0.0 if qk < 0.0 else qk
+        qk = pmax if qk > pmax else qk
+        changed |= qk != raw
         q[k] = qk
-        if qk >= pmax:
-            ncap += 1
-        elif qk > 0.0:
-            sfree += qk
-            if qk > mfree:
-                mfree = qk
+        ncap += qk >= pmax
+        free = (qk > 0.0) & (qk < pmax)
+        sfree += qk * free
+        qf = qk * free
+        mfree = qf if qf > mfree else mfree
     return released, changed, sfree, mfree, ncap
 
 
@@ -141,8 +139,7 @@ def scale_free(q, c, pmax):
     """Multiply the free elements of ``q`` by ``c`` in place (caller ensures ``c q < pmax``)."""
     for k in range(q.size):
         qk = q[k]
-        if qk > 0.0 and qk < pmax:
-            q[k] = c * qk
+        q[k] = c * qk if (qk > 0.0) & (qk < pmax) else qk
 
 
 @nb.njit(nb.void(_R, _R, _F, _A), cache=True)
@@ -151,10 +148,8 @@ def active_gap(g, p, pmax, out):
     for k in range(p.size):
         pk = p[k]
         gk = g[k]
-        if (pk > 0.0 and pk < pmax) or (pk <= 0.0 and gk < 0.0) or (pk >= pmax and gk > 0.0):
-            out[k] = gk
-        else:
-            out[k] = 0.0
+        keep = ((pk > 0.0) & (pk < pmax)) | ((pk <= 0.0) & (gk < 0.0)) | ((pk >= pmax) & (gk > 0.0))
+        out[k] = gk if keep else 0.0
 
 
 @nb.njit(_F(_R, _R, _R, _F), cache=True)
@@ -163,8 +158,7 @@ def dot_free(a, b, p, pmax):
     s = 0.0
     for k in range(p.size):
         pk = p[k]
-        if pk > 0.0 and pk < pmax:
-            s += a[k] * b[k]
+        s += (a[k] * b[k]) * ((pk > 0.0) & (pk < pmax))
     return s
 
 
