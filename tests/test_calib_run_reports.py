@@ -72,12 +72,12 @@ def test_the_advice_of_a_failed_solve_names_listed_options(capsys):
     lv.reload = [dataclasses.replace(lv.reload[0], converged=False, message="NOT converged")]
     problems = cal.problems()
     hint = next(p for p in problems if "left out of the fit" in p)
-    assert "raise tol (now 1e-08" in hint  # the Python name for a library caller
+    assert "raise tol (now 1e-06" in hint  # the Python name for a library caller
     parser = build_parser()
     listed = set(re.findall(r"--[a-zA-Z][\w-]*", parser.format_help()))
     assert exit_code(Console("halfspace-calib", flags=flags_of(parser)), problems) == 1
     err = capsys.readouterr().err
-    assert "raise --tol (now 1e-08" in err and "maxiter" not in err
+    assert "raise --tol (now 1e-06" in err and "maxiter" not in err
     assert set(re.findall(r"--[a-zA-Z][\w-]*", err)) <= listed
 
 

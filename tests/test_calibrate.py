@@ -11,6 +11,7 @@ from frictionlaw import FrictionParams, alpha_first, alpha_reload
 from halfspace_calib.cli import main
 from halfspace_calib.output.report import write_outputs, write_plots
 from halfspace_calib.pipeline.calibration import Scene, calibrate, load_scene
+from halfspace_calib.pipeline.sweep.scene import SCENE_TOL
 
 SMALL = dict(
     grid=32, pressures=(25e6, 100e6, 200e6, 400e6, 600e6), reload_fractions=(0.1, 0.3, 0.6, 0.9)
@@ -52,7 +53,7 @@ def test_fit_quality_and_parameter_file(cal, tmp_path):
     Q = FrictionParams.from_json(tmp_path / "params.json")
     assert (Q.C1, Q.n1, Q.C2, Q.n2, Q.m, Q.H) == (P.C1, P.n1, P.C2, P.n2, 0.5, 800e6)
     prov = Q.provenance
-    assert prov["grid"]["shape"] == [32, 32] and prov["tolerance"] == 1e-8
+    assert prov["grid"]["shape"] == [32, 32] and prov["tolerance"] == SCENE_TOL == 1e-6
     assert prov["surfaces"]["workpiece"]["source"] == "generator"
     with open(tmp_path / "loading.csv") as fh:
         rows = list(csv.DictReader(fh))

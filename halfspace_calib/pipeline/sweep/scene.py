@@ -67,6 +67,13 @@ P_FLOOR = 1e3
 _TABLE1 = Materials()
 
 
+#: the normal solves' tolerance of a calibration (issue 39): the preconditioned CG gains about a
+#: factor 2 per iteration once the contact set has settled, so 1e-6 takes about 6 iterations
+#: fewer per solve than 1e-8 (default scene at 512^2: 696 -> 470 iterations, 30 % of the
+#: calibration's time) and moves no computed alpha by more than 2e-5
+#: (``benchmarks/adaptive_levels.py``, rows "tol 1e-8"; docs/normal_contact.md's table: 0.001 %)
+SCENE_TOL = 1e-6
+
 #: the smallest solver tolerance a scene takes: the normal solve's relative residual stalls at
 #: double-precision rounding below it (measured: at tol 1e-13 reload levels of the 32^2 default
 #: scene end at residuals 1.2e-13 after 5000 iterations; 1e-12 converges)
@@ -149,6 +156,9 @@ class Scene:
     factor: it does not enter the half-space model, only the parameter file (measure it, e.g. by
     ring compression).
 
+    ``tol``: the normal solves' relative residual (default :data:`SCENE_TOL` = 1e-6; the solver's
+    own default, 1e-8, moves no computed ``alpha`` by more than 2e-5 and costs 30 % more time).
+
     ``pressures``: the first-loading ``p_mean`` (default :data:`DEFAULT_PRESSURES`, 10-760 MPa, up
     to 0.95 H of the default H; for another ``H`` the default follows it,
     :func:`default_pressures`; ``"paper"`` or :data:`PAPER_PRESSURES`: the paper's 10-600 MPa).
@@ -215,7 +225,7 @@ class Scene:
     pressures: tuple = DEFAULT_PRESSURES
     reload_from: float = 100e6
     reload_fractions: tuple = DEFAULT_RELOAD_FRACTIONS
-    tol: float = 1e-8
+    tol: float = SCENE_TOL
     boundary: str | None = None
     resolution_check: bool | None = None
     volume_conservation: bool = True
