@@ -39,7 +39,7 @@ from pathlib import Path
 
 import numpy as np
 import scipy.fft as sfft
-from _provenance import run_record
+from _provenance import run_record, write_rows
 
 from sbmf_cli import available_cpus
 
@@ -173,13 +173,72 @@ def costs(rec):
     return rec
 
 
-def child(case, surfaces):
-    """``--child``: one case with whatever package is importable here (a ``--before-tree``)."""
+def child(case, surfaces, workers=1):
+    """``--child``: one case with whatever package is importable here (a ``--before-tree``).
+
+    ``workers``: the sweeps' processes (``0``: the scene's default, ``None``: 2 at 512^2 here).
+    The unit is the best pair timed just before and just after the calibration.
+    """
     from halfspace_calib.pipeline.calibration import Scene, calibrate
 
     install_counters()
     calibrate(Scene(grid=16), progress=False)  # JIT warm-up
-    print(json.dumps(costs(run_case(case, surfaces))))
+    main = fft_shape(int(case.rsplit("-", 1)[1]), "periodic")
+    before = pair_seconds(main)
+    rec = costs(run_case(case, surfaces, workers=None if workers == 0 else workers))
+    unit = min(before, pair_seconds(main), 1e-3 * rec["unit_ms"])
+    rec.update(unit_ms=1e3 * unit, cost_pairs=rec["seconds"] / unit, workers=workers)
+    print(json.dumps(rec))
+
+
+def _child_run(case, surfaces, tree, workers):
+    """One ``--child`` run in a fresh process (``tree``: a package folder first on the path)."""
+    env = dict(os.environ)
+    if tree:
+        env["PYTHONPATH"] = str(Path(tree).resolve())
+    cmd = [sys.executable, str(HERE), "--child", case, "--child-workers", str(workers)]
+    if surfaces:
+        cmd += ["--surfaces", str(surfaces)]
+    out = subprocess.run(cmd, env=env, cwd=HERE.parent, capture_output=True, text=True, check=True)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def alternate(case, surfaces, before_tree, repeats):
+    """``--alternate N``: ``case`` N times, each run in a fresh process, the code of this tree
+    and (with ``--before-tree``) the old code in turn, on 1 process and on the default processes;
+    each run's cost in its own unit (the best pair timed next to it). Returns the rows and a
+    Markdown table of the medians and ranges."""
+    rows = []
+    trees = [("new", None)] + ([("before", before_tree)] if before_tree else [])
+    for i in range(repeats):
+        for workers in (1, 0):
+            for tag, tree in trees:
+                rec = _child_run(case, surfaces, tree, workers)
+                rec.update(code=tag, run=i + 1, mode="1 process" if workers == 1 else "default")
+                rows.append(rec)
+                print(
+                    f"{case} {tag} {rec['mode']} run {i + 1}: {rec['seconds']:.2f} s, "
+                    f"unit {rec['unit_ms']:.2f} ms, {rec['cost_pairs']:.0f} pairs",
+                    flush=True,
+                )
+    md = [
+        "| case | code | processes | runs | wall s (median, range) | unit ms (median) "
+        "| cost in FFT pairs (median, range) | counted pairs | CG iterations |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    for tag, _ in trees:
+        for mode in ("1 process", "default"):
+            sel = [r for r in rows if r["code"] == tag and r["mode"] == mode]
+            sec = np.array([r["seconds"] for r in sel])
+            cost = np.array([r["cost_pairs"] for r in sel])
+            nit = sum(sel[0]["loading_nit"]) + sum(sel[0]["reload_nit"])
+            md.append(
+                f"| {case} | {tag} | {mode} | {len(sel)} | {np.median(sec):.2f} "
+                f"({sec.min():.2f}-{sec.max():.2f}) | "
+                f"{np.median([r['unit_ms'] for r in sel]):.2f} | {np.median(cost):.0f} "
+                f"({cost.min():.0f}-{cost.max():.0f}) | {sel[0]['counted_pairs']:.0f} | {nit} |"
+            )
+    return rows, "\n".join(md) + "\n"
 
 
 # ----------------------------------------------------------------------------- table
@@ -249,10 +308,43 @@ def main(argv=None):
         help="cases also run with --before-tree (default %(default)s)",
     )
     ap.add_argument("--parallel", action="store_true", help="processes against FFT threads")
+    ap.add_argument(
+        "--alternate",
+        type=int,
+        default=0,
+        help="run the first of --grids this many times in fresh processes, this tree and "
+        "--before-tree in turn, on 1 process and the default processes; writes "
+        "bench_calibration_cost_alternate.csv/.md (default %(default)s: off)",
+    )
     ap.add_argument("--child", default=None, help=argparse.SUPPRESS)
+    ap.add_argument("--child-workers", type=int, default=1, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.child:
-        child(args.child, args.surfaces)
+        child(args.child, args.surfaces, args.child_workers)
+        return
+    if args.alternate:
+        case = f"default-{args.grids.split(',')[0]}"
+        load0 = os.getloadavg()[0]
+        rows, md = alternate(case, args.surfaces, args.before_tree, args.alternate)
+        load1 = os.getloadavg()[0]
+        head = (
+            "# Cost of the default scene's calibration, runs alternated\n\n"
+            f"`python benchmarks/bench_calibration_cost.py --grids {args.grids.split(',')[0]} "
+            f"--alternate {args.alternate}` (+ `--before-tree` for the old code). Machine: "
+            f"{available_cpus()} CPUs, load average {load0:.1f} at the start, {load1:.1f} at the "
+            "end. Each run is a fresh process (JIT warm-up, then `calibrate(Scene(grid=...))`); "
+            "its unit is the fastest rfft2 + irfft2 pair of the grid (1 thread or all) timed "
+            "just before and after it; 'default' processes: 2 at 512^2 on 2 CPUs.\n\n"
+        )
+        RESULTS.mkdir(exist_ok=True)
+        keys = ["code", "mode", "run", "seconds", "unit_ms", "cost_pairs", "counted_pairs"]
+        write_rows(
+            RESULTS / "bench_calibration_cost_alternate.csv",
+            [{k: r.get(k) for k in keys} for r in rows],
+            keys,
+        )
+        (RESULTS / "bench_calibration_cost_alternate.md").write_text(head + md)
+        print(head + md)
         return
 
     from halfspace_calib.common import jobs
