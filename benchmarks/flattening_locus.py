@@ -30,13 +30,12 @@ Run: python benchmarks/flattening_locus.py [--truth CSV]
 Writes benchmarks/results/flattening_locus.csv and .md (run record: .run.json).
 """
 
-import argparse
 import math
 from pathlib import Path
 
 import numpy as np
 from _provenance import run_record, write_rows
-from flattening_truth import BAR, RESULTS, law_of, read_truth
+from flattening_truth import BAR, truth_args
 from flattening_truth_fit import FOLDS
 from scipy.optimize import minimize_scalar
 
@@ -163,12 +162,7 @@ def self_checks(truth, H, laws):
 
 # -------------------------------------------------------------------------------- main
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--truth", default=str(RESULTS / "asperity_flattening.csv"))
-    ap.add_argument("--out", default=str(RESULTS / "flattening_locus"))
-    args = ap.parse_args(argv)
-    truth, H = read_truth(args.truth)
-    laws = {key: law_of(table, key[1], H) for key, table in truth.items()}
+    args, truth, H, laws = truth_args(__doc__, "flattening_locus", argv)
     curves = {
         (key, pH): Curve(laws[key], pH * H, math.tan(math.radians(key[1])))
         for key, table in truth.items()
@@ -258,9 +252,7 @@ def report(rows, checks, truth_name, H):
             mx, rms, n_in, n = _stats(sel)
             b = [r["beta"] for r in sel]
             br = f"{min(b):.2f}" if min(b) == max(b) else f"{min(b):.2f}-{max(b):.2f}"
-            lines.append(
-                f"| {locus} | {mode} | {br} | {mx:.3f} | {rms:.3f} | {n_in} of {n} |"
-            )
+            lines.append(f"| {locus} | {mode} | {br} | {mx:.3f} | {rms:.3f} | {n_in} of {n} |")
     lines += [
         "",
         "## Largest miss per p/H band (nothing fitted / pressure split / slope split)",
@@ -274,7 +266,9 @@ def report(rows, checks, truth_name, H):
             vals = []
             for mode in ("default", "pressure", "slope"):
                 sel = [
-                    r for r in rows if r["locus"] == locus and r["mode"] == mode and r["p_over_H"] == b
+                    r
+                    for r in rows
+                    if r["locus"] == locus and r["mode"] == mode and r["p_over_H"] == b
                 ]
                 vals.append(f"{max(r['max_abs_miss'] for r in sel):.3f}" if sel else "-")
             cells.append(" / ".join(vals))
