@@ -65,6 +65,19 @@ def law_of(table, slope_deg, H):
     )
 
 
+def truth_args(doc, out_stem, argv=None):
+    """``--truth`` and ``--out`` parsed, the truth read and the law of each profile built.
+
+    Returns ``(args, truth, H, laws)``, ``laws`` keyed as ``truth`` (``law_of`` of each profile).
+    """
+    ap = argparse.ArgumentParser(description=doc.splitlines()[0])
+    ap.add_argument("--truth", default=str(RESULTS / "asperity_flattening.csv"))
+    ap.add_argument("--out", default=str(RESULTS / out_stem))
+    args = ap.parse_args(argv)
+    truth, H = read_truth(args.truth)
+    return args, truth, H, {key: law_of(table, key[1], H) for key, table in truth.items()}
+
+
 def strain_at(strains, alpha, level):
     """The strain at which ``alpha`` first reaches ``level`` (linear between points; nan if never)."""
     for i in range(1, len(strains)):

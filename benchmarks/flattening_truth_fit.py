@@ -21,13 +21,12 @@ Run: python benchmarks/flattening_truth_fit.py [--truth CSV]
 Writes benchmarks/results/flattening_truth_fit.csv and .md.
 """
 
-import argparse
 import math
 from pathlib import Path
 
 import numpy as np
 from _provenance import run_record, write_rows
-from flattening_truth import BAR, RESULTS, law_of, read_truth
+from flattening_truth import BAR, truth_args
 
 import frictionlaw as fl
 from halfspace_calib.pipeline.sweep.flattening import FlatteningData, fit_beta
@@ -62,12 +61,7 @@ def miss(P, table, H, pressures, beta):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--truth", default=str(RESULTS / "asperity_flattening.csv"))
-    ap.add_argument("--out", default=str(RESULTS / "flattening_truth_fit"))
-    args = ap.parse_args(argv)
-    truth, H = read_truth(args.truth)
-    laws = {key: law_of(table, key[1], H) for key, table in truth.items()}
+    args, truth, H, laws = truth_args(__doc__, "flattening_truth_fit", argv)
     rows = []
 
     def add(split, trained_on, profile, held_out, beta, P, table):
