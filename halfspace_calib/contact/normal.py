@@ -62,6 +62,7 @@ from functools import lru_cache
 import numpy as np
 
 from ..common.checks import tolerance
+from ..common.heap import keep_heap
 from ..common.jobs import fft_threads
 from ._box_cg import (
     _pk_box_cg,
@@ -342,6 +343,7 @@ def solve_normal(
     h, p_init = _validate(
         heights, dx, dy, E_star, p_mean, H, tol, maxiter, p_init, max_memory, boundary
     )
+    keep_heap()  # grid-sized temporaries reused, not page-faulted in anew (common/heap.py)
     if single and tol < 1e-6:
         raise ValueError(f"tol must be >= 1e-6 with single=True (roundoff floor), got {tol!r}")
     dy_ = dx if dy is None else dy

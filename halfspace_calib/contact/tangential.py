@@ -37,6 +37,7 @@ import numpy as np
 from scipy import optimize
 
 from ..common.checks import tolerance
+from ..common.heap import keep_heap
 from .cerruti import _check_moduli, _check_sizes, cerruti_coefficients
 from .influence import InfluenceOperator
 
@@ -270,6 +271,7 @@ def solve_tangential(
     tolerance(tol)
     if int(maxiter) < 1:
         raise ValueError(f"maxiter must be >= 1, got {maxiter!r}")
+    keep_heap()  # grid-sized temporaries reused, not page-faulted in anew (common/heap.py)
     g_full = tangential_bound(p, m=m, sigma_y=sigma_y, mu=mu)
     idx = np.flatnonzero(g_full > 0)
     if method == "gauss-seidel" and idx.size > _GS_MAX:
