@@ -10,7 +10,11 @@ the default at 512^2, makes its transforms in the workers: counted on 1 process)
 (the fastest ``rfft2 + irfft2`` of the grid timed in the same process, 1 thread or all:
 ``bench_calibration_cost.py``'s unit), the held-out errors of both branches (the run's own
 leave-one-level-out), the largest relative change of the first loading the law runs at the
-fixed levels, and whether the run passed its acceptance.
+fixed levels, and whether the run passed its acceptance. A third run per case, the adaptive
+levels at the solver's own tolerance 1e-8 instead of the scene's default 1e-6
+(:data:`~halfspace_calib.pipeline.sweep.scene.SCENE_TOL`), gives the tolerance's trade: its
+iterations and time, and the largest ``|d alpha|`` between the two runs over the points both
+computed (first loading and reload).
 
 Cases: the default synthetic scene at ``--grid`` (the issue's cost case: 512), metropro-1.dat
 against itself (a nearly conforming pair in full contact by about 50 MPa: ``alpha`` 0.66 at
@@ -49,6 +53,7 @@ COLUMNS = [
     ("first_held", "first loading held out"),
     ("reload_held", "reload held out"),
     ("first_change", "first loading change vs fixed"),
+    ("tol_dalpha", "max d alpha vs tol 1e-8"),
     ("exit", "exit"),
 ]
 
@@ -74,6 +79,7 @@ def _run(case, scene, unit, fixed_law=None):
         "first_held": e["first_loading"].deciding,
         "reload_held": e["reload"].deciding,
         "first_change": "",
+        "tol_dalpha": "",
         "exit": 1 if cal.problems() else 0,
     }
     if fixed_law is not None:
@@ -81,6 +87,25 @@ def _run(case, scene, unit, fixed_law=None):
         a_fix, a_new = alpha_first(P, fixed_law), alpha_first(P, cal.params)
         row["first_change"] = float(np.max(np.abs(a_new / a_fix - 1)))
     return row, cal
+
+
+def _points(cal):
+    """``{(p_hist, p): alpha}`` of every converged first-loading and reload point."""
+    out = {}
+    for lv in cal.sweeps.levels:
+        if lv.loading.converged:
+            out[(lv.p_hist, lv.p_hist)] = lv.loading.alpha
+        for r in lv.reload:
+            if r.converged:
+                out[(lv.p_hist, r.p_mean)] = r.alpha
+    return out
+
+
+def tol_dalpha(a, b):
+    """Largest ``|d alpha|`` of two calibrations over the points both computed."""
+    pa, pb = _points(a), _points(b)
+    common = set(pa) & set(pb)
+    return max(abs(pa[k] - pb[k]) for k in common) if common else float("nan")
 
 
 def main(argv=None):
@@ -117,9 +142,14 @@ def main(argv=None):
     for case, scene, grid in cases:
         unit = cost.pair_seconds((grid, grid))
         fixed, fcal = _run(case + " fixed", dataclasses.replace(scene, adaptive_levels=False), unit)
-        new, _ = _run(case + " adaptive", scene, unit, fcal.params)
+        new, ncal = _run(case + " adaptive", scene, unit, fcal.params)
         new["pairs_ratio"] = new["pairs"] / fixed["pairs"]
-        for r in (fixed, new):
+        tight, tcal = _run(
+            case + " adaptive, tol 1e-8", dataclasses.replace(scene, tol=1e-8), unit, fcal.params
+        )
+        tight["pairs_ratio"] = tight["pairs"] / fixed["pairs"]
+        new["tol_dalpha"] = tight["tol_dalpha"] = tol_dalpha(ncal, tcal)
+        for r in (fixed, new, tight):
             rows.append(r)
             print(" | ".join(_fmt(r[k]) for k, _ in COLUMNS), flush=True)
     keys = [k for k, _ in COLUMNS] + ["pairs_ratio"]

@@ -69,8 +69,9 @@ _TABLE1 = Materials()
 
 #: the normal solves' tolerance of a calibration (issue 39): the preconditioned CG gains about a
 #: factor 2 per iteration once the contact set has settled, so 1e-6 takes about 6 iterations
-#: fewer per solve than 1e-8 (default scene at 512^2: 696 -> 470 iterations, 30 % of the
-#: calibration's time) and moves no computed alpha by more than 2e-5
+#: fewer per solve than 1e-8 (default scene at 512^2: 696 -> 477 iterations, 0.60x the
+#: calibration's wall time against 0.83x) and moves a computed alpha by 1.1e-5 there and by at
+#: most 1.8e-4 (3 elements of 16,384) on the shared files at 128^2
 #: (``benchmarks/adaptive_levels.py``, rows "tol 1e-8"; docs/normal_contact.md's table: 0.001 %)
 SCENE_TOL = 1e-6
 
@@ -157,7 +158,8 @@ class Scene:
     ring compression).
 
     ``tol``: the normal solves' relative residual (default :data:`SCENE_TOL` = 1e-6; the solver's
-    own default, 1e-8, moves no computed ``alpha`` by more than 2e-5 and costs 30 % more time).
+    own default, 1e-8, changes a computed ``alpha`` by at most 3 elements' worth and takes about
+    45 % more CG iterations).
 
     ``pressures``: the first-loading ``p_mean`` (default :data:`DEFAULT_PRESSURES`, 10-760 MPa, up
     to 0.95 H of the default H; for another ``H`` the default follows it,
