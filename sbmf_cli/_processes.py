@@ -93,7 +93,11 @@ class _Interrupts:
     watches: where the main thread runs on for :data:`REDELIVER_AFTER` seconds without handling
     any exception (not unwinding through ``finally`` or ``except`` blocks, where the run cleans
     up), the interrupt was swallowed and the signal is sent again. An interrupt swallowed at
-    the very end, after the command returned, makes the run interrupted all the same.
+    the very end, after the command returned, makes the run interrupted all the same. A
+    swallowed interrupt is not printed (:meth:`unraisable`): it is delivered again, and its
+    "Exception ignored" traceback (measured: a SIGINT that arrived while the main process forked
+    a pool worker, inside the ``logging`` module's after-fork hook) would be a traceback for a
+    user's Ctrl-C.
     """
 
     def __init__(self):
@@ -110,6 +114,17 @@ class _Interrupts:
         if signum == signal.SIGINT:
             raise KeyboardInterrupt
         raise Interrupted(signum)
+
+    def unraisable(self, previous):
+        """A ``sys.unraisablehook`` dropping this handler's interrupts; else ``previous``."""
+
+        def hook(unraisable):
+            exc = unraisable.exc_value
+            if self.signum is not None and isinstance(exc, (KeyboardInterrupt, Interrupted)):
+                return  # swallowed: the watcher delivers the signal again
+            previous(unraisable)
+
+        return hook
 
     def _watch(self):
         quiet = 0.0
@@ -142,7 +157,9 @@ def interruptible(prog, what):
             in_main = threading.current_thread() is threading.main_thread()
             handler = _Interrupts()
             old = {}
+            hook = sys.unraisablehook
             if in_main:
+                sys.unraisablehook = handler.unraisable(hook)
                 old[signal.SIGTERM] = signal.signal(signal.SIGTERM, handler)
                 current = signal.getsignal(signal.SIGINT)
                 if current is signal.default_int_handler or isinstance(current, _Interrupts):
@@ -158,6 +175,8 @@ def interruptible(prog, what):
                 handler.handled = True
                 for sig, previous in old.items():
                     signal.signal(sig, previous)
+                if in_main:
+                    sys.unraisablehook = hook
             print(interrupted_line(prog, what, signum), file=sys.stderr)
             return 128 + int(signum)
 
