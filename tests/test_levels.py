@@ -193,3 +193,44 @@ def test_two_histories_of_two_reloads_have_no_extrapolation():
     fit = fit_reload(curves, H, 1.0, 16.0, continuous=True)
     err = heldout.reload_errors(curves, H, 1.0, 16.0, fit, continuous=True)
     assert err.extrapolation is None and err.heldout == () and not err.decides_heldout
+
+
+def _ahead_runner(inner, computed):
+    """``inner`` (a one-argument ``run_round``) with ``run_sweeps``' look-ahead: levels asked for
+    ahead are computed with the round and kept until a round asks for them."""
+    kept = {}
+
+    def run_round(ps, ahead=()):
+        new = [p for p in list(ps) + list(ahead) if p not in kept]
+        computed.append(sorted(new))
+        kept.update(inner(new))
+        return {p: kept.pop(p) for p in ps if p in kept}
+
+    return run_round, kept
+
+
+@pytest.mark.parametrize(
+    "first",
+    [lambda p: (p / H) ** 0.8, lambda p: min(1.0, 0.7 * (p / 10e6) ** 0.24)],
+    ids=["power-law", "early-full-contact"],
+)
+def test_look_ahead_changes_nothing_but_the_rounds(first):
+    """``ahead=True`` (parallel sweeps) computes the first midpoints with the initial grid: the
+    same levels, decisions and results in one round fewer; a midpoint not asked for is dropped."""
+    scene = Scene(grid=16)
+    calls, computed = [], []
+    res0, plan0 = L.adaptive_levels(scene, _runner(first, scene, calls))
+    run_round, kept = _ahead_runner(_runner(first, scene, []), computed)
+    res1, plan1 = L.adaptive_levels(scene, run_round, ahead=True)
+    assert plan1 == plan0 and sorted(res1) == sorted(res0)
+    for p in res0:
+        assert res1[p].loading.alpha == res0[p].loading.alpha
+        assert [r.alpha for r in res1[p].reload] == [r.alpha for r in res0[p].reload]
+    rounds = [c for c in computed if c]  # a round whose levels were all computed ahead is empty
+    asked = sum(len(c) for c in calls)
+    assert sum(len(c) for c in rounds) == asked + len(kept)  # kept: computed, never asked for
+    if not kept:  # every first midpoint was asked for: one round fewer
+        assert rounds[0] == pytest.approx(sorted(calls[0] + calls[1]))
+        assert len(rounds) == len(calls) - 1
+    else:  # early full contact: the midpoint between two full-contact levels was not asked for
+        assert [round(p / 1e6, 1) for p in kept] == [275.7] and first(min(kept)) == 1.0

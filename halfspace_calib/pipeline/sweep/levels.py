@@ -247,20 +247,25 @@ def reload_curves(levels):
 
 
 # ----------------------------------------------------------------------------- refinement
-def adaptive_levels(scene, run_round):
+def adaptive_levels(scene, run_round, ahead=False):
     """Refine the scene's load levels where the computed ``alpha`` changes (module docstring).
 
-    ``run_round(pressures)``: computes the levels ``pressures`` (a reload curve at those at or
-    above ``scene.reload_from``) and returns ``{p: LevelResult}`` (failed levels left out).
-    Returns ``(results, plan)``: every computed level's result by pressure and the
-    :class:`LevelPlan`.
+    ``run_round(pressures, ahead=())``: computes the levels ``pressures`` (a reload curve at
+    those at or above ``scene.reload_from``) and returns ``{p: LevelResult}`` (failed levels
+    left out); the levels ``ahead`` it may compute beside them and keep until a round asks for
+    them. ``ahead=True`` (parallel jobs) computes the first round's midpoints with the initial
+    grid: the levels, the decisions and every number are those of the rounds one by one (a
+    midpoint that is not asked for is dropped), in one round fewer; on a pair in full contact
+    early it can cost a level computed for nothing. Returns ``(results, plan)``: every computed
+    level's result by pressure and the :class:`LevelPlan`.
     """
     lo, hi = min(scene.pressures), max(scene.pressures)
     tol1 = FIRST_SHARE * scene.heldout_tol
     tol2 = RELOAD_SHARE * scene.heldout_tol
     start = sorted({lo, hi} | ({scene.reload_from} if lo < scene.reload_from < hi else set()))
     reasons = {p: LevelReason(p, 0, "initial grid", p >= scene.reload_from) for p in start}
-    results = dict(run_round(start))
+    first_mids = [math.sqrt(a * b) for a, b in zip(start[:-1], start[1:], strict=True)]
+    results = dict(run_round(start, ahead=first_mids) if ahead else run_round(start))
     decisions = []
     opened = [(a, b) for a, b in zip(start[:-1], start[1:], strict=True)]
     rnd = 0

@@ -315,9 +315,20 @@ def run_sweeps(scene, *, progress=True, surfaces=None):
         pad = 2 if solver.boundary == "isolated" else 1  # isolated: zero-padded (DC-FFT) FFTs
         workers = default_workers(wp.heights.shape[0] * wp.heights.shape[1] * pad * pad)
     failed = []
+    ahead_results = {}  # levels computed ahead of a round that asks for them (job results)
 
-    def run_round(pressures):
-        jobs = [job(p) for p in pressures]
+    def run_round(pressures, ahead=()):
+        """The levels ``pressures`` by pressure (failures recorded).
+
+        ``ahead``: levels a later round will probably ask for, computed now beside them and
+        kept until asked for.
+        """
+        todo = [p for p in pressures if p not in ahead_results]
+        todo += [p for p in ahead if p not in ahead_results and p not in todo]
+        # the longest jobs first (a reload curve is 7 solves, a first loading alone 1), so that
+        # a short job fills the other worker's time instead of delaying the round's end
+        todo.sort(key=lambda p: (p < scene.reload_from, -p))
+        jobs = [job(p) for p in todo]
         results = run_jobs(
             _level_job,
             jobs,
@@ -326,17 +337,21 @@ def run_sweeps(scene, *, progress=True, surfaces=None):
             progress=progress,
             desc="half-space sweeps",
         )
-        done = {}
         for jb, r in zip(jobs, results, strict=True):
+            ahead_results[jb.p_hist] = r
+        done = {}
+        for p in pressures:
+            r = ahead_results.pop(p)
             if r.ok:
-                done[jb.p_hist] = r.value
+                done[p] = r.value
             else:
-                failed.append(FailedLevel(jb.p_hist, r.error))
+                failed.append(FailedLevel(p, r.error))
         return done
 
     t0 = time.perf_counter()
     if scene.adaptive_levels:
-        done, plan = _levels.adaptive_levels(scene, run_round)
+        parallel = scene.scheduler is not None or workers != 1
+        done, plan = _levels.adaptive_levels(scene, run_round, ahead=parallel)
     else:
         done, plan = run_round(list(scene.pressures)), _levels.fixed_plan(scene)
     levels = [done[p] for p in sorted(done)]
