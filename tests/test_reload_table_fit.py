@@ -60,3 +60,19 @@ def test_fit_recovers_a_table_it_made():
     assert np.allclose(fit.table.C2, true.C2, rtol=1e-3)
     assert np.allclose(fit.table.n2, true.n2, rtol=1e-2)
     assert abs(fit.s2 - 0.7) < 5e-3
+
+
+def test_eq24_model_is_alpha_first_bit_for_bit():
+    """Eq. 24's fit evaluates its model by the kernel directly: the same numbers as alpha_first."""
+    from frictionlaw import alpha_first
+    from halfspace_calib.pipeline.law.alpha_bound import eq24_model
+    from halfspace_calib.pipeline.law.fit import _law
+
+    p = np.array([10e6, 31.6e6, 100e6, 166e6, 275.7e6, 457.7e6, 760e6])
+    model = eq24_model(p, H)
+    rng = np.random.default_rng(1)
+    kept = model(1.0, 2.0)
+    for _ in range(50):
+        c, n = np.exp(rng.uniform(np.log([0.05, 0.2]), np.log([50.0, 40.0])))
+        assert np.array_equal(model(c, n), alpha_first(p, _law(H, c, n)))
+    assert np.array_equal(kept, alpha_first(p, _law(H, 1.0, 2.0)))  # a result is the caller's

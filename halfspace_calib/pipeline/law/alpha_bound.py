@@ -17,7 +17,7 @@ from frictionlaw import FrictionParams, alpha_first
 
 from ...common.checks import positive
 
-__all__ = ["FLOOR_POINTS", "bound_record", "floor_fit", "floor_violation"]
+__all__ = ["FLOOR_POINTS", "bound_record", "eq24_model", "floor_fit", "floor_violation"]
 
 #: points (equally spaced in p up to p_top) on which alpha1(p) >= p / H is imposed
 FLOOR_POINTS = 400
@@ -28,6 +28,30 @@ _VIOLATION_POINTS = 4000
 def _law(H, C1, n1):
     """Eq. 24's parameters for evaluating ``alpha1`` (``m``, ``sigma_y``, ``C2``, ``n2`` unused)."""
     return FrictionParams(m=1.0, sigma_y=H, H=H, C1=C1, n1=n1, C2=1.0, n2=1.0)
+
+
+def eq24_model(p, H):
+    """``model(C1, n1) = alpha_first(p, _law(H, C1, n1))`` (Eq. 24), bit for bit, made fast.
+
+    The runtime's kernel on coefficients and buffers made once: the record's validation and
+    ``evaluate``'s checks cost 20 times the kernel on a dozen points, and a fit evaluates the
+    model some hundred times.
+    """
+    from frictionlaw._codes import CODE_SBMF
+    from frictionlaw.law import kernels, sbmf_coeffs
+
+    coeffs = sbmf_coeffs(_law(H, 1.0, 1.0), 1.0)
+    pf = np.ascontiguousarray(p, dtype=np.float64).ravel()
+    hist = np.zeros(pf.shape)
+    tau, dtau = np.empty(pf.shape), np.empty(pf.shape)
+    kernel = kernels().shear_array
+
+    def model(c, n):
+        coeffs[2], coeffs[3] = c, n
+        kernel(CODE_SBMF, coeffs, pf, hist, tau, dtau)
+        return tau.reshape(np.shape(p)).copy()
+
+    return model
 
 
 def floor_violation(C1, n1, H, p_top):
@@ -52,6 +76,7 @@ def floor_fit(residual, H, p_top, x0, lb, ub, names):
     Returns ``(params, stderr, success, message, nfev)``.
     """
     grid = np.linspace(p_top / FLOOR_POINTS, p_top, FLOOR_POINTS)
+    alpha1 = eq24_model(grid, H)
     scale = max(float(residual(x0) @ residual(x0)), 1e-300)
 
     def cost(x):
@@ -60,7 +85,7 @@ def floor_fit(residual, H, p_top, x0, lb, ub, names):
 
     def margin(x):
         c, n = np.exp(x)
-        return alpha_first(grid, _law(H, c, n)) - grid / H
+        return alpha1(c, n) - grid / H
 
     sol = minimize(
         cost,

@@ -34,7 +34,7 @@ from frictionlaw.params import C_RANGE, N_RANGE
 
 from ...common.blas import serial_blas
 from ...common.checks import positive
-from .alpha_bound import bound_record, floor_fit, floor_violation
+from .alpha_bound import bound_record, eq24_model, floor_fit, floor_violation
 from .fit_data import ReloadCurve, _bounds, _curve, _data
 from .law_checks import DIP_TOL
 from .lsq import R2_MIN, _degenerate, _fit_c_n, _fit_fields, _r_squared, _solve, _weights
@@ -303,9 +303,7 @@ def fit_first_loading(
         if floor_to > H:
             raise ValueError(f"floor_to must be <= H = {H:g} Pa, got {floor_to:g}")
 
-    def model(c, n):
-        return alpha_first(p, _law(H, c, n))
-
+    model = eq24_model(p, H)
     fit = _fit_c_n(model, p, alpha, w, H, cb, nb, ("C1", "n1"))
     r2u = fit["r_squared"]
     p_max = float(p.max())
