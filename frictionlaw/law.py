@@ -125,6 +125,32 @@ def evaluate(
     return tau.reshape(shape), dtau.reshape(shape)
 
 
+class FixedPoints:
+    """The serial array kernel of law ``code`` on points fixed once, coefficients to vary.
+
+    For fits that evaluate a law some thousand times at the same points with a few coefficients
+    changed: :func:`evaluate`'s checks, broadcasting and allocations cost 10-20 times the kernel
+    on a dozen points. Set slots of :attr:`coeffs` (the layout of :func:`sbmf_coeffs`), then call:
+    ``tau`` at ``p, p_hist``, bit for bit :func:`evaluate`'s, as a new array shaped like ``p``.
+    Inputs are trusted (finite, ``p_hist >= 0``): validate them before.
+    """
+
+    def __init__(self, code: int, coeffs: ArrayLike, p: ArrayLike, p_hist: ArrayLike = 0.0):
+        self.code = int(code)
+        self.coeffs = np.array(coeffs, dtype=np.float64)
+        self.shape = np.shape(p)
+        self.p = np.ascontiguousarray(p, dtype=np.float64).ravel()
+        self.p_hist = np.ascontiguousarray(np.broadcast_to(p_hist, self.shape), dtype=np.float64)
+        self.p_hist = self.p_hist.ravel()
+        self._tau = np.empty(self.p.size)
+        self._dtau = np.empty(self.p.size)
+        self._kernel = kernels().shear_array
+
+    def __call__(self) -> NDArray[np.float64]:
+        self._kernel(self.code, self.coeffs, self.p, self.p_hist, self._tau, self._dtau)
+        return self._tau.reshape(self.shape).copy()
+
+
 def alpha_first(p: ArrayLike, params: "FrictionParams") -> FloatOrArray:
     """Contact ratio on first loading ``alpha1(p)`` of the form that runs, 0 for ``p <= 0``.
 

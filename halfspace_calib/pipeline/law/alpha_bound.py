@@ -33,23 +33,17 @@ def _law(H, C1, n1):
 def eq24_model(p, H):
     """``model(C1, n1) = alpha_first(p, _law(H, C1, n1))`` (Eq. 24), bit for bit, made fast.
 
-    The runtime's kernel on coefficients and buffers made once: the record's validation and
-    ``evaluate``'s checks cost 20 times the kernel on a dozen points, and a fit evaluates the
-    model some hundred times.
+    The runtime's kernel on the points fixed once (:class:`frictionlaw.law.FixedPoints`): a fit
+    evaluates the model some hundred times.
     """
     from frictionlaw._codes import CODE_SBMF
-    from frictionlaw.law import kernels, sbmf_coeffs
+    from frictionlaw.law import FixedPoints, sbmf_coeffs
 
-    coeffs = sbmf_coeffs(_law(H, 1.0, 1.0), 1.0)
-    pf = np.ascontiguousarray(p, dtype=np.float64).ravel()
-    hist = np.zeros(pf.shape)
-    tau, dtau = np.empty(pf.shape), np.empty(pf.shape)
-    kernel = kernels().shear_array
+    run = FixedPoints(CODE_SBMF, sbmf_coeffs(_law(H, 1.0, 1.0), 1.0), p)
 
     def model(c, n):
-        coeffs[2], coeffs[3] = c, n
-        kernel(CODE_SBMF, coeffs, pf, hist, tau, dtau)
-        return tau.reshape(np.shape(p)).copy()
+        run.coeffs[2], run.coeffs[3] = c, n
+        return run()
 
     return model
 

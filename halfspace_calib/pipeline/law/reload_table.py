@@ -30,7 +30,7 @@ from scipy.optimize import least_squares, minimize_scalar
 
 from frictionlaw import alpha_first
 from frictionlaw._codes import CODE_SBMF_RELOAD, FORM_TABULATED
-from frictionlaw.law import evaluate, kernels, sbmf_coeffs
+from frictionlaw.law import FixedPoints, evaluate, sbmf_coeffs
 from frictionlaw.params import C_RANGE, N_RANGE
 from frictionlaw.reload_form import ReloadTable
 
@@ -227,14 +227,13 @@ class _Level:
         self.x = None
         self.nfev = 0
         self.a1h = float(alpha_first(curve.p_hist, _law(H, C1, n1, first=first)))
-        # the kernel called directly on buffers made once (``evaluate``'s checks and
-        # broadcasting cost ten times the kernel on a six-point curve, thousands of times a fit)
-        self._coeffs = _coeffs(H, C1, n1, continuous, 1.0, 1.0, 1.0, self.tail)
-        self._p = np.ascontiguousarray(curve.p, dtype=np.float64)
-        self._h = np.full(self._p.shape, float(curve.p_hist))
-        self._tau = np.empty(self._p.shape)
-        self._dtau = np.empty(self._p.shape)
-        self._kernel = kernels().shear_array
+        # the kernel on the curve's points fixed once: a fit evaluates it thousands of times
+        self._run = FixedPoints(
+            CODE_SBMF_RELOAD,
+            _coeffs(H, C1, n1, continuous, 1.0, 1.0, 1.0, self.tail),
+            curve.p,
+            curve.p_hist,
+        )
 
     def alpha(self, s2, x):
         """``alpha2`` of the curve's points at ``s2`` and ``x = (ln C2, ln n2)``.
@@ -242,10 +241,9 @@ class _Level:
         Equal to :func:`_level_alpha` bit for bit (the same coefficients, the same kernel).
         """
         c2, n2 = np.exp(x)
-        k = self._coeffs
+        k = self._run.coeffs
         k[4], k[5], k[8], k[11], k[13] = c2, n2, s2, math.log(c2), math.log(n2)
-        self._kernel(CODE_SBMF_RELOAD, k, self._p, self._h, self._tau, self._dtau)
-        return self._tau.copy()
+        return self._run()
 
     def _start(self, s2):
         # C2 from the slope ratio K = x2h = p_hist C2 / (H a1h) over a grid, n2 over a grid

@@ -264,10 +264,10 @@ def adaptive_levels(scene, run_round, ahead=False):
     tol2 = RELOAD_SHARE * scene.heldout_tol
     start = sorted({lo, hi} | ({scene.reload_from} if lo < scene.reload_from < hi else set()))
     reasons = {p: LevelReason(p, 0, "initial grid", p >= scene.reload_from) for p in start}
-    first_mids = [math.sqrt(a * b) for a, b in zip(start[:-1], start[1:], strict=True)]
+    opened = [(a, b) for a, b in zip(start[:-1], start[1:], strict=True)]
+    first_mids = [_midpoint(a, b) for a, b in opened]
     results = dict(run_round(start, ahead=first_mids) if ahead else run_round(start))
     decisions = []
-    opened = [(a, b) for a, b in zip(start[:-1], start[1:], strict=True)]
     rnd = 0
     while True:
         rnd += 1
@@ -276,7 +276,7 @@ def adaptive_levels(scene, run_round, ahead=False):
         todo += _minimum_below(alpha, todo, decisions, len(results) + len(todo))
         if not todo:
             break
-        mids = [math.sqrt(a * b) for a, b in todo]
+        mids = [_midpoint(a, b) for a, b in todo]
         for (a, b), m in zip(todo, mids, strict=True):
             reasons[m] = LevelReason(
                 m, rnd, f"checks {a / 1e6:.4g}-{b / 1e6:.4g} MPa", m >= scene.reload_from
@@ -285,6 +285,14 @@ def adaptive_levels(scene, run_round, ahead=False):
         opened = _judge(scene, todo, mids, results, reasons, decisions, (tol1, tol2))
     levels = tuple(reasons[p] for p in sorted(results))
     return results, LevelPlan(True, levels, tuple(decisions), tol1, tol2)
+
+
+def _midpoint(a, b):
+    """The level checked between ``a`` and ``b``: their geometric mean.
+
+    One expression, so that a level computed ahead is the very float a round asks for.
+    """
+    return math.sqrt(a * b)
 
 
 def _schedule(opened, alpha, decisions, n):
