@@ -315,7 +315,7 @@ def run_sweeps(scene, *, progress=True, surfaces=None):
         pad = 2 if solver.boundary == "isolated" else 1  # isolated: zero-padded (DC-FFT) FFTs
         workers = default_workers(wp.heights.shape[0] * wp.heights.shape[1] * pad * pad)
     failed = []
-    ahead_results = {}  # levels computed ahead of a round that asks for them (job results)
+    computed = {}  # job results by pressure, kept until a round asks for them
 
     def run_round(pressures, ahead=()):
         """The levels ``pressures`` by pressure (failures recorded).
@@ -323,8 +323,8 @@ def run_sweeps(scene, *, progress=True, surfaces=None):
         ``ahead``: levels a later round will probably ask for, computed now beside them and
         kept until asked for.
         """
-        todo = [p for p in pressures if p not in ahead_results]
-        todo += [p for p in ahead if p not in ahead_results and p not in todo]
+        todo = [p for p in pressures if p not in computed]
+        todo += [p for p in ahead if p not in computed and p not in todo]
         # the longest jobs first (a reload curve is 7 solves, a first loading alone 1), so that
         # a short job fills the other worker's time instead of delaying the round's end
         todo.sort(key=lambda p: (p < scene.reload_from, -p))
@@ -338,10 +338,10 @@ def run_sweeps(scene, *, progress=True, surfaces=None):
             desc="half-space sweeps",
         )
         for jb, r in zip(jobs, results, strict=True):
-            ahead_results[jb.p_hist] = r
+            computed[jb.p_hist] = r
         done = {}
         for p in pressures:
-            r = ahead_results.pop(p)
+            r = computed.pop(p)
             if r.ok:
                 done[p] = r.value
             else:
