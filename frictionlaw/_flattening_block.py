@@ -14,11 +14,13 @@ __all__ = ["Flattening", "FLATTENING_MODEL", "FLATTENING_VERSION", "SLOPE_RANGE"
 
 #: the model a ``flattening`` block names (the surface-layer yield model of docs/flattening.md)
 FLATTENING_MODEL = "layer-yield"
-#: version of the ``flattening`` object inside a parameter file
-FLATTENING_VERSION = 1
+#: version of the ``flattening`` object inside a parameter file: 2 adds the slip-line lattice's
+#: rate to the layer's (docs/flattening.md, Eq. F2); version 1 (the layer alone, never released)
+#: is refused, since the same inputs now give another rate
+FLATTENING_VERSION = 2
 #: validated range of the asperity flank slope ``tan(theta)``
 SLOPE_RANGE = (1e-4, 10.0)
-#: validated range of the layer-thickness factor ``beta``
+#: validated range of the rate factor ``beta``
 BETA_RANGE = (1e-3, 1e3)
 
 
@@ -47,8 +49,8 @@ class Flattening:
         ``tan(theta)``, the flank slope of the workpiece's asperities, in ``[1e-4, 10]``; a
         calibration takes the RMS profile slope of the measured (or synthetic) workpiece.
     beta : float
-        Thickness of the yielding surface layer in asperity half-spacings, in ``[1e-3, 1e3]``;
-        1 unless fitted to a measured contact fraction against strain.
+        Factor on the plateaus' sinking rate of Eq. F3 (the lattice's and the layer's), in
+        ``[1e-3, 1e3]``; 1 unless fitted to a measured contact fraction against strain.
     beta_band : (float, float), optional
         ``(lower, upper)`` of ``beta`` at ``band_level`` when it was fitted, else ``None``.
     band_level : float, optional
@@ -111,6 +113,12 @@ class Flattening:
                 f"{where}.model must be {FLATTENING_MODEL!r}, got {doc.get('model')!r}"
             )
         version = doc.get("version")
+        if version == 1:
+            raise ValueError(
+                f"{where}.version 1 is the layer-alone rate of an unreleased development version; "
+                f"this runtime reads {FLATTENING_VERSION} (the lattice's rate added, "
+                "docs/flattening.md): calibrate again with halfspace-calib --flattening"
+            )
         if type(version) is not int or version != FLATTENING_VERSION:
             raise ValueError(
                 f"{where}.version: unsupported {version!r}; this runtime reads {FLATTENING_VERSION}"

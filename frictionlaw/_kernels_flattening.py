@@ -13,7 +13,7 @@ Flattening data of a law (one contiguous float64 array, :func:`frictionlaw.law.f
 slot   content
 =====  ==========================================================================================
 0      ``tan(theta)``, the asperities' flank slope
-1      ``beta``, the layer factor
+1      ``beta``, the factor on the sinking rate (Eq. F3)
 2      ``s0 = 2 k``, the layer's in-plane flow stress of the file (Pa)
 3      ``sigma_y`` of the file (Pa): the host's flow stress ``sigy`` scales ``s0`` by ``sigy / sigma_y``
 4      the pressure from which ``alpha1`` is 1 to rounding (Pa), the largest flattening pressure
@@ -22,9 +22,11 @@ slot   content
 
 An empty array is a law without flattening. The update solves Eq. F6 on the increment's own
 interval only: with ``t = p cosh(v)`` the equivalent strain of Eq. F4 grows by
-``int_u0^u1 alpha1'(p cosh v) cosh v sinh(v)^2 dv = D``, ``D = d_eps beta s0 / (tan(theta) p^2)``,
-by Newton's method, its first step in ``w = sinh(u)^3 / 3`` (``dJ/dw = alpha1'``: exact for a law
-linear in ``p``, from below where ``alpha1`` is concave) and the next ones in ``u``, each step's
+``int_u0^u1 alpha1'(p cosh v) cosh v sinh(v)^2 / W dv = D``, ``D = d_eps beta s0 / (tan(theta) p^2)``,
+``W = 1 + g cosh v sinh v c_L`` with ``g = p / s0`` and the lattice's rate
+``c_L = 1 + tan(theta) (1 - alpha1(p cosh v))``,
+by Newton's method, its first step in ``w = sinh(u)^3 / 3`` (``dJ/dw = alpha1' / W``: exact for a
+law linear in ``p`` without the lattice) and the next ones in ``u``, each step's
 interval summed by Gauss-Legendre
 panels no wider than 0.5 in ``v`` (the reference's rule; fewer nodes on narrow intervals; split at
 the tabulated first loading's levels, where its slope has kinks), bisection where a step leaves the
@@ -47,6 +49,7 @@ __all__ = [
     "P_MIN_RATIO",
     "alpha1_inverse",
     "flat_panels",
+    "flat_weight",
     "flat_quad",
     "flattening_solve",
     "flattening_scalar",
@@ -111,9 +114,17 @@ def alpha1_inverse(c1, a, lo, hi):
     return math.exp(y)
 
 
-@nb.jit(types.UniTuple(float64, 2)(_RO, float64, float64, float64), **_opts)
-def flat_panels(c1, p, ua, ub):
+@nb.jit(float64(float64, float64, float64, float64), **_opts)
+def flat_weight(g, ch, sh, cl):
+    """``W = 1 + g cosh v sinh v c_L``: the lattice's rate over the layer's in Eq. F4's integrand."""
+    return 1.0 + g * ch * sh * cl
+
+
+@nb.jit(types.UniTuple(float64, 2)(_RO, float64, float64, float64, float64, float64), **_opts)
+def flat_panels(c1, p, ua, ub, g, slope):
     """The two integrals of :func:`flat_quad` over ``ua..ub`` where the integrand is smooth.
+
+    ``g = p / s0`` and ``slope = tan(theta)`` set ``W`` (:func:`flat_weight`).
 
     Gauss-Legendre on equal panels no wider than 0.5 in ``v``: 8 nodes a panel, 4 on an
     interval narrower than 0.05 and 2 below 7e-4 (the Newton corrections), each within about
@@ -136,17 +147,21 @@ def flat_panels(c1, p, ua, ub):
             v = mid + 0.5 * h * _GX[j]
             ch = math.cosh(v)
             sh = math.sinh(v)
-            d = first_scalar(c1, p * ch)[1]
-            s1 += _GW[j] * (d * ch * sh * sh)
-            s2 += _GW[j] * (d * ch)
+            a, d = first_scalar(c1, p * ch)
+            cl = 1.0 + slope * (1.0 - a)
+            w = flat_weight(g, ch, sh, cl)
+            s1 += _GW[j] * (d * ch * sh * sh / w)
+            s2 += _GW[j] * (d * ch * (1.0 - g * cl * ch * sh * sh * sh) / (w * w))
     return 0.5 * h * s1, 0.5 * h * s2
 
 
-@nb.jit(types.UniTuple(float64, 2)(_RO, float64, float64, float64), **_opts)
-def flat_quad(c1, p, ua, ub):
-    """``(int alpha1'(p cosh v) cosh v sinh(v)^2 dv, int alpha1'(p cosh v) cosh v dv)``, ``ua..ub``.
+@nb.jit(types.UniTuple(float64, 2)(_RO, float64, float64, float64, float64, float64), **_opts)
+def flat_quad(c1, p, ua, ub, g, m):
+    """``(int alpha1' cosh v sinh(v)^2 / W dv, int alpha1' cosh v (1 - g c_L cosh v sinh(v)^3) / W^2 dv)``.
 
-    Both integrals at once (the second is the tangent's, Eq. F6's ``d p_f / d p``);
+    Over ``ua..ub``, ``alpha1'`` at ``p cosh v``, ``W`` of :func:`flat_weight` with ``g = p / s0``
+    and ``c_L = 1 + m (1 - alpha1)``, ``m = tan(theta)``. Both integrals at once (the second is
+    the tangent's, Eq. F6's ``d p_f / d p`` at a fixed ``s0``);
     ``ub < ua`` gives their negatives. Eq. 24's ``alpha1'`` is smooth: :func:`flat_panels` over
     the interval. The tabulated first loading's is continuous with kinks in its slope at the
     levels and where its top extension reaches a contact fraction of 1: the interval is split
@@ -161,7 +176,7 @@ def flat_quad(c1, p, ua, ub):
         hi = ua
     f0 = first_offset(c1)
     if f0 < 0:
-        s1, s2 = flat_panels(c1, p, lo, hi)
+        s1, s2 = flat_panels(c1, p, lo, hi, g, m)
         return sign * s1, sign * s2
     nj = int(c1[f0 + 1])
     H = c1[1]
@@ -182,21 +197,24 @@ def flat_quad(c1, p, ua, ub):
         if vk >= hi:
             break
         if vk > a:
-            r1, r2 = flat_panels(c1, p, a, vk)
+            r1, r2 = flat_panels(c1, p, a, vk, g, m)
             s1 += r1
             s2 += r2
             a = vk
-    r1, r2 = flat_panels(c1, p, a, hi)
+    r1, r2 = flat_panels(c1, p, a, hi, g, m)
     return sign * (s1 + r1), sign * (s2 + r2)
 
 
-@nb.jit(types.UniTuple(float64, 2)(_RO, float64, float64, float64, float64), **_opts)
-def flattening_solve(c1, p, P0, D, cap):
+@nb.jit(
+    types.UniTuple(float64, 2)(_RO, float64, float64, float64, float64, float64, float64),
+    **_opts,
+)
+def flattening_solve(c1, p, P0, D, cap, g, m):
     """Eq. F6 from ``P0``: ``(P, d alpha1(P) / d p)`` with ``int_u0^u1 ... = D`` (module text).
 
     ``P = p cosh(u1)`` (``cap`` where the strain reaches full contact); the second value is the
-    consistent tangent of the update, ``alpha1'(P) dP/dp = (D + int alpha1' cosh v dv) /
-    (cosh u1 sinh u1)`` (0 at ``cap``).
+    consistent tangent of the update, ``alpha1'(P) dP/dp = (D + I) W(u1) / (cosh u1 sinh u1)``
+    with ``I`` the second integral of :func:`flat_quad` (0 at ``cap``).
     """
     u0 = math.acosh(max(P0 / p, 1.0))
     ucap = math.acosh(cap / p)
@@ -212,26 +230,29 @@ def flattening_solve(c1, p, P0, D, cap):
             break
         ch = math.cosh(u)
         sh = math.sinh(u)
-        d = first_scalar(c1, p * ch)[1]
+        a, d = first_scalar(c1, p * ch)
+        cl = 1.0 + m * (1.0 - a)
+        w = flat_weight(g, ch, sh, cl)
+        d = d / w  # alpha1' / W: what the strain integral's integrand has
         un = math.nan
-        if it == 0:  # Newton in w = sinh(u)^3 / 3 (dF/dw = alpha1'): the step from u0
+        if it == 0:  # Newton in w = sinh(u)^3 / 3 (dF/dw = alpha1' / W): the step from u0
             if d > 0.0:
                 wn = sh * sh * sh / 3.0 + r / d
                 if wn > 0.0:
                     un = math.asinh((3.0 * wn) ** (1.0 / 3.0))
-        elif d > 0.0:  # then in u itself (dF/du = alpha1' cosh u sinh(u)^2): no cube root
+        elif d > 0.0:  # then in u itself (dF/du = alpha1' cosh u sinh(u)^2 / W): no cube root
             un = u + r / (d * ch * sh * sh)
             if abs(un - u) <= 1e-7 * (1.0 + u) and lo < un < hi:
                 # the last step: the integrand is linear over it to 3 (un - u)^2 relative,
                 # below 1e-13, so F + r and the tangent's integral by its value at u
-                Ic += (un - u) * d * ch
+                Ic += (un - u) * d * ch * (1.0 - g * cl * ch * sh * sh * sh) / w
                 u = un
                 break
         if not un < hi:
             un = hi if not hi_checked else 0.5 * (lo + hi)
         elif not un > lo or (it % 8 == 7 and hi_checked):
             un = 0.5 * (lo + hi)
-        dF, dI = flat_quad(c1, p, u, un)
+        dF, dI = flat_quad(c1, p, u, un, g, m)
         Fn = F + dF
         In = Ic + dI
         if un == ucap and not hi_checked:
@@ -253,7 +274,9 @@ def flattening_solve(c1, p, P0, D, cap):
     P = min(p * ch, cap)
     if not P < cap:
         return cap, 0.0
-    return P, (D + Ic) / (ch * math.sinh(u))
+    sh = math.sinh(u)
+    w = flat_weight(g, ch, sh, 1.0 + m * (1.0 - first_scalar(c1, P)[0]))
+    return P, (D + Ic) * w / (ch * sh)
 
 
 @nb.jit(types.UniTuple(float64, 3)(_RO, float64, float64, float64, float64, float64), **_opts)
@@ -285,7 +308,7 @@ def flattening_scalar(fdata, p, p_hist, alpha_f, d_eps, sigy):
         s0 = s0 * (sigy / fdata[3])
     x = p / H
     D = d_eps * fdata[1] * (s0 / H) / (fdata[0] * x * x) / H  # 1/Pa, as the integrals
-    P, dadp = flattening_solve(c1, p, P0, D, cap)
+    P, dadp = flattening_solve(c1, p, P0, D, cap, p / s0, fdata[0])
     aP = first_scalar(c1, P)[0]
     if aP > alpha_f:
         return aP, P, dadp

@@ -9,22 +9,24 @@ carries that flattening as one more history variable per node, the *flattening p
 ``alpha1(p_f) = A``. Every equation below is derived in ``docs/flattening.md`` ("Derivation"),
 numbered F1-F6 there and in the docstrings:
 
-* F1, kinematics: plateaus sinking at ``v_b`` into convected wedge flanks of slope ``tan(theta)``
-  grow as ``dA/d eps = v_b / (eps_dot l tan(theta))``;
-* F2, the surface layer (thickness ``beta l``) yields under the asperity pressure ``p / A`` and
-  the in-plane stress ``s`` of the bulk on the ellipse ``(p / p_f)^2 + (s / s0)^2 = 1``, with
-  ``s0 = 2 k`` the plane-strain flow stress and ``p_f / A`` the zero-strain asperity hardness
-  read from the law's own ``alpha1``; normality gives
-  ``v_b / (beta l eps_dot) = (s0 / p_f) r / sqrt(1 - r^2)``, ``r = p / p_f``;
-* F3, their product: ``dA/d eps = beta s0 r / (p_f tan(theta) sqrt(1 - r^2))``;
+* F1, kinematics: plateaus sinking at ``v_b`` into wedge flanks of slope ``tan(theta)`` grow as
+  ``dA/d eps = c / tan(theta)``, ``c = v_b / (l eps_dot)`` the sinking rate per half-spacing;
+* F2, two mechanisms whose rates add: the slip-line lattice of a rigid-plastic strip stretched
+  at its yield, whose plateau wedges sink at no extra dissipation under any pressure,
+  ``c_L = 1 + tan(theta) (1 - A)`` (no constant), and a surface layer (thickness ``beta l``)
+  yielding under the asperity pressure ``p / A`` and the bulk's in-plane stress ``s`` on the
+  ellipse ``(p / p_f)^2 + (s / s0)^2 = 1`` (``s0 = 2 k``, ``p_f / A`` the zero-strain asperity
+  hardness read from the law's own ``alpha1``), ``c_E = (s0 / p_f) r / sqrt(1 - r^2)``,
+  ``r = p / p_f``;
+* F3, the rate: ``dA/d eps = beta (c_L + c_E) / tan(theta)`` (``beta`` 1 unless fitted);
 * F4, its integral at constant ``p``: ``eps = tan(theta) J(p, p_f) / (beta s0 p)``,
-  ``J = int_p^p_f alpha1'(t) t sqrt(t^2 - p^2) dt``;
+  ``J = int_p^p_f alpha1'(t) t sqrt(t^2 - p^2) / W dt``, ``W = 1 + c_L t sqrt(t^2 - p^2) / (s0 p)``;
 * F5, the contact fraction of a node with history ``p_hist`` and flattening ``p_f``;
 * F6, the update of ``p_f`` over a strain increment at the current pressure.
 
 At zero strain ``p_f`` is never above the pressure history and F5 is the calibrated law itself;
 strain rate enters only through ``s0`` (the file's ``k``, scaled by the host's flow stress when
-it passes one). NumPy, vectorised, float64; F6 is written per node so that it ports to a kernel.
+it passes one), which sets the layer's share of the rate against the lattice's. NumPy, vectorised, float64; F6 is written per node so that it ports to a kernel.
 """
 
 import math
@@ -54,6 +56,7 @@ __all__ = [
     "FLATTENING_VERSION",
     "SLOPE_RANGE",
     "BETA_RANGE",
+    "lattice_sink_rate",
     "layer_sink_rate",
     "contact_growth_rate",
     "equivalent_strain",
@@ -83,9 +86,9 @@ def _rule(panels: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
 
 # ----------------------------------------------------------------------------- equations
 def layer_sink_rate(r: ArrayLike, s0_over_pf: ArrayLike) -> NDArray[np.float64]:
-    """Sinking rate of the plateaus per layer thickness and strain, ``v_b / (beta l eps_dot)``.
+    """Sinking rate of the plateaus per half-spacing and strain in the yielding layer (Eq. F2).
 
-    This is Eq. F2 (docs/flattening.md): normality on the layer's yield ellipse
+    ``c_E = v_b / (l eps_dot)`` of the layer (docs/flattening.md): normality on the layer's yield ellipse
     ``(p / p_f)^2 + (s / s0)^2 = 1`` gives ``(s0 / p_f) r / sqrt(1 - r^2)`` with ``r = p / p_f``
     in ``[0, 1)``; ``inf`` at ``r = 1`` (pressure alone at the zero-strain hardness).
     """
@@ -94,15 +97,29 @@ def layer_sink_rate(r: ArrayLike, s0_over_pf: ArrayLike) -> NDArray[np.float64]:
         return np.where(r < 1.0, np.asarray(s0_over_pf) * r / np.sqrt(1.0 - r * r), np.inf)
 
 
-def contact_growth_rate(
-    p: ArrayLike, p_f: ArrayLike, slope: float, beta: float, s0: float
-) -> NDArray[np.float64]:
-    """``dA / d eps`` of Eq. F3: F1's kinematics with F2's sinking rate, ``A = alpha1(p_f)``.
+def lattice_sink_rate(alpha: ArrayLike, slope: float) -> NDArray[np.float64]:
+    """Sinking rate of the plateaus per half-spacing and strain in the slip-line lattice (Eq. F2).
 
-    ``beta s0 r / (p_f tan(theta) sqrt(1 - r^2))``, ``r = p / p_f``; the spacing ``l`` cancels.
+    ``c_L = v_b / (l eps_dot) = 1 + tan(theta) (1 - A)``: a rigid-plastic strip stretched at its
+    yield deforms on 45-degree slip lines through the plateaus' edges; under any pressure on the
+    plateaus the lines that sink them carry the whole stretch at no more dissipation than the
+    uniform flow, so the plateau wedges sink by ``l eps_dot`` against the flanks while the flanks
+    move apart by ``l eps_dot``, which adds ``tan(theta) (1 - A)`` (docs/flattening.md).
+    """
+    return 1.0 + slope * (1.0 - np.asarray(alpha, dtype=float))
+
+
+def contact_growth_rate(
+    p: ArrayLike, p_f: ArrayLike, alpha: ArrayLike, slope: float, beta: float, s0: float
+) -> NDArray[np.float64]:
+    """``dA / d eps`` of Eq. F3: F1's kinematics with F2's two rates, ``A = alpha1(p_f)``.
+
+    ``beta (c_L + c_E) / tan(theta)`` with ``c_L`` of :func:`lattice_sink_rate` at ``alpha`` and
+    ``c_E`` of :func:`layer_sink_rate` at ``r = p / p_f``; the spacing ``l`` cancels.
     """
     p_f = np.asarray(p_f, dtype=float)
-    return beta * layer_sink_rate(np.asarray(p) / p_f, s0 / p_f) / slope
+    c_e = layer_sink_rate(np.asarray(p) / p_f, s0 / p_f)
+    return beta * (lattice_sink_rate(alpha, slope) + c_e) / slope
 
 
 def _coeffs(params: "FrictionParams") -> NDArray[np.float64]:
@@ -115,23 +132,36 @@ def _panels(u_max: float) -> int:
 
 
 def _j_integral(
-    ph: NDArray, u: NDArray, coeffs: NDArray, H: float, panels: int | None = None
+    ph: NDArray,
+    u: NDArray,
+    coeffs: NDArray,
+    H: float,
+    g: NDArray,
+    slope: float,
+    panels: int | None = None,
 ) -> NDArray[np.float64]:
     """``J / H^2`` of Eq. F4 up to ``p_f = p cosh(u)``, pressures in units of ``H`` (``ph``).
 
-    ``t = p cosh(v)`` turns ``J`` into ``p^3 int_0^u alpha1'(p cosh v) cosh v sinh(v)^2 dv``, a
-    smooth integrand, summed by composite Gauss-Legendre (``_NODES`` per panel, at least
-    ``_PANELS`` panels, none wider than ``_WIDTH``); a solve passes one ``panels`` for all its
-    calls, so that ``J`` is one function of ``u`` throughout.
+    ``t = p cosh(v)`` turns ``J`` into ``p^3 int_0^u alpha1'(t) cosh v sinh(v)^2 / W dv`` with
+    ``W = 1 + g cosh v sinh v c_L(alpha1(t))``, ``g = p / s0``: a smooth integrand, summed by
+    composite Gauss-Legendre (``_NODES`` per panel, at least ``_PANELS`` panels, none wider than
+    ``_WIDTH``); a solve passes one ``panels`` for all its calls, so that ``J`` is one function of
+    ``u`` throughout.
     """
     if panels is None:
         panels = _panels(float(u.max(initial=0.0)))
     x, w = _rule(panels)
     v = u[:, None] * x[None, :]
-    t = ph[:, None] * np.cosh(v)
-    _, d = evaluate(K.CODE_SBMF, coeffs, t * H, 0.0)
-    f = np.asarray(d) * H * np.cosh(v) * np.sinh(v) ** 2
+    f = _j_integrand(ph, v, coeffs, H, g, slope)
     return ph**3 * u * (f @ w)
+
+
+def _j_integrand(ph, v, coeffs, H, g, slope):
+    """``alpha1'(p cosh v) H cosh v sinh(v)^2 / W`` (F4 in ``v``; ``ph``, ``g`` per row)."""
+    ch, sh = np.cosh(v), np.sinh(v)
+    a, d = evaluate(K.CODE_SBMF, coeffs, ph[:, None] * ch * H, 0.0)
+    W = 1.0 + g[:, None] * ch * sh * lattice_sink_rate(np.asarray(a), slope)
+    return np.asarray(d) * H * ch * sh**2 / W
 
 
 def _p_cap(params: "FrictionParams", coeffs: NDArray) -> float:
@@ -169,8 +199,9 @@ def equivalent_strain(
 ) -> NDArray[np.float64]:
     """Bulk strain that flattens a virgin surface at constant ``p`` up to ``p_f`` (Eq. F4).
 
-    ``eps = tan(theta) J(p, p_f) / (beta s0 p)``, ``J = int_p^p_f alpha1'(t) t sqrt(t^2 - p^2) dt``:
-    0 for ``p_f <= p``; grows with ``p_f``, proportional to ``tan(theta) / (beta s0)``.
+    ``eps = tan(theta) J(p, p_f) / (beta s0 p)``,
+    ``J = int_p^p_f alpha1'(t) t sqrt(t^2 - p^2) / W dt`` (module text): 0 for ``p_f <= p``;
+    grows with ``p_f``, proportional to ``1 / beta``.
     """
     flat = _flattening_of(params)
     p, p_f = np.broadcast_arrays(as_float_array("p", p), as_float_array("p_f", p_f))
@@ -180,8 +211,9 @@ def equivalent_strain(
     ph = (p / H).ravel()
     top = np.minimum(p_f.ravel(), _p_cap(params, coeffs))  # alpha1 is 1 beyond: J is complete
     u = np.arccosh(np.maximum(top / p.ravel(), 1.0))
-    J = _j_integral(ph, u, coeffs, H)
-    kappa = flat.slope * H / (flat.beta * _s0(params, sigma_y))
+    s0 = _s0(params, sigma_y)
+    J = _j_integral(ph, u, coeffs, H, p.ravel() / s0, flat.slope)
+    kappa = flat.slope * H / (flat.beta * s0)
     return (kappa * J / ph).reshape(p.shape)
 
 
@@ -228,7 +260,7 @@ def flattening_update(
 
     This is Eq. F6. Per node: from ``P0 = max(p_f, p_hist, p)`` (the committed flattening, the
     increment's trial history and the pressure) the equivalent strain of Eq. F4 at the current
-    ``p`` grows by ``d_eps``, ``J(p, P) = J(p, P0) + d_eps beta s0 p / tan(theta)``, solved for
+    ``p`` grows by ``d_eps``, ``J(p, P) = J(p, P0) + d_eps beta s0 p / tan(theta)`` (F4), solved for
     ``P``. The result never falls below ``p_f``; ``d_eps = 0``, ``p <= 0`` (open) and ``p``
     below ``1e-12 H`` leave ``p_f`` unchanged; it stops at the pressure where ``alpha1`` is 1.
     Like ``p_hist``, call it from the committed ``p_f`` in every iteration and commit once.
@@ -261,35 +293,37 @@ def flattening_update(
         return out
     ph = p[go] / H
     p0 = np.minimum(np.maximum(np.maximum(p_f[go], p_hist[go]), p[go]), cap)
-    kappa = flat.slope * H / (flat.beta * _s0(params, sigma_y))
+    s0 = _s0(params, sigma_y)
+    kappa = flat.slope * H / (flat.beta * s0)
+    jx = (coeffs, H, p[go] / s0, flat.slope)  # what J needs besides p / H and u
     u0 = np.arccosh(np.maximum(p0 / p[go], 1.0))
     ucap = np.arccosh(cap / p[go])
     panels = _panels(float(ucap.max()))
     with np.errstate(over="ignore"):  # a strain beyond any forming: full contact
-        target = _j_integral(ph, u0, coeffs, H, panels) + d_eps[go] * (ph / kappa)
-    u = _solve_j(ph, target, u0, ucap, coeffs, H, panels)
+        target = _j_integral(ph, u0, *jx, panels) + d_eps[go] * (ph / kappa)
+    u = _solve_j(ph, target, u0, ucap, jx, panels)
     out[go] = np.maximum(np.minimum(p[go] * np.cosh(u), cap), p_f[go])
     return out
 
 
-def _solve_j(ph, target, lo, hi, coeffs, H, panels):
+def _solve_j(ph, target, lo, hi, jx, panels):
     """``u`` in ``[lo, hi]`` with ``J(u) = target`` (``hi`` where ``J(hi) <= target``).
 
-    Safeguarded Newton in ``u`` (``dJ/du = p^3 alpha1'(p cosh u) cosh u sinh(u)^2``), bisection
+    Safeguarded Newton in ``u`` (``dJ/du`` the integrand of :func:`_j_integrand` times ``p^3``), bisection
     where the step leaves the bracket and every fifth step (so that the bracket shrinks even
     where rounding makes Newton circle the root); ``J`` increases with ``u``.
     """
     lo, hi = lo.copy(), hi.copy()
-    full = _j_integral(ph, hi, coeffs, H, panels) <= target
+    full = _j_integral(ph, hi, *jx, panels) <= target
     u = np.where(full, hi, 0.5 * (lo + hi))
     act = ~full
     for it in range(300):
         if not act.any():
             break
         ua = u[act]
-        J = _j_integral(ph[act], ua, coeffs, H, panels)
-        _, d = evaluate(K.CODE_SBMF, coeffs, ph[act] * np.cosh(ua) * H, 0.0)
-        dJ = np.asarray(d) * H * ph[act] ** 3 * np.cosh(ua) * np.sinh(ua) ** 2
+        coeffs, H, g, slope = jx
+        J = _j_integral(ph[act], ua, coeffs, H, g[act], slope, panels)
+        dJ = ph[act] ** 3 * _j_integrand(ph[act], ua[:, None], coeffs, H, g[act], slope)[:, 0]
         below = J < target[act]
         la, ha = np.where(below, ua, lo[act]), np.where(below, hi[act], ua)
         with np.errstate(divide="ignore", invalid="ignore"):

@@ -14,7 +14,7 @@ def add_flattening_options(ap):
         "--flattening",
         action="store_true",
         help="add the flattening block to params.json: the asperities' slope from the workpiece "
-        "surface, the zero-strain hardness from the computed first loading, the layer factor "
+        "surface, the zero-strain hardness from the computed first loading, the rate factor "
         "beta = 1; nothing is fitted to friction (default: off)",
     )
     g.add_argument(

@@ -67,7 +67,7 @@ def flattening_section(s, out):
         ("slope_x", "RMS slope of the x profiles"),
         ("slope_y", "RMS slope of the y profiles"),
         ("slope_half_grid", "the same at half the grid (2 x 2 averages): its resolution"),
-        ("beta", "layer factor: " + r["beta_source"]),
+        ("beta", "rate factor: " + r["beta_source"]),
         ("zero_strain_hardness.law_small_p_Pa", "zero-strain asperity hardness H / C1 [Pa]"),
         ("half_spacing.from_crossings_m.0", "half-spacing from x crossings [m] (not used)"),
         ("half_spacing.from_crossings_m.1", "half-spacing from y crossings [m] (not used)"),

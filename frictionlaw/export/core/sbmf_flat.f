@@ -84,16 +84,18 @@ C=======================================================================
       END
 C
 C=======================================================================
-C     S1 = int alpha1'(P cosh v) cosh v sinh(v)**2 dv and S2 = int
-C     alpha1'(P cosh v) cosh v dv over UA..UB where the integrand is
-C     smooth: Gauss-Legendre on equal panels no wider than WIDTH, 8
-C     nodes a panel, 4 on an interval narrower than NARR2 and 2 below
-C     NARR1.
+C     S1 = int alpha1'(P cosh v) cosh v sinh(v)**2 / W dv and S2 =
+C     int alpha1'(P cosh v) cosh v (1 - G CL cosh v sinh(v)**3) / W**2
+C     dv over UA..UB, W = 1 + G cosh v sinh v CL, CL = 1 + SL (1 -
+C     alpha1) the lattice's rate, G = P/s0, SL = tan(theta), where the
+C     integrand is smooth: Gauss-Legendre on equal panels no wider
+C     than WIDTH, 8 nodes a panel, 4 on an interval narrower than NARR2
+C     and 2 below NARR1.
 C=======================================================================
-      SUBROUTINE {{ zp }}FPAN(P, UA, UB, S1, S2)
+      SUBROUTINE {{ zp }}FPAN(P, UA, UB, G, SL, S1, S2)
       IMPLICIT NONE
-      DOUBLE PRECISION P, UA, UB, S1, S2
-      DOUBLE PRECISION SPAN, HP, XMID, V, CH, SH, A, D
+      DOUBLE PRECISION P, UA, UB, G, SL, S1, S2
+      DOUBLE PRECISION SPAN, HP, XMID, V, CH, SH, A, D, CL, W
       INTEGER N, K, J, K0, M
       DOUBLE PRECISION GX({{ flat.gx | length }}), GW({{ flat.gw | length }})
       DOUBLE PRECISION WIDTH, NARR1, NARR2
@@ -128,8 +130,10 @@ C=======================================================================
           CH = COSH(V)
           SH = SINH(V)
           CALL {{ zp }}A1D(P*CH, A, D)
-          S1 = S1 + GW(J)*(D*CH*SH*SH)
-          S2 = S2 + GW(J)*(D*CH)
+          CL = 1.0D0 + SL*(1.0D0 - A)
+          W = 1.0D0 + G*CH*SH*CL
+          S1 = S1 + GW(J)*(D*CH*SH*SH/W)
+          S2 = S2 + GW(J)*(D*CH*(1.0D0 - G*CL*CH*SH*SH*SH)/(W*W))
         END DO
       END DO
       S1 = 0.5D0*HP*S1
@@ -143,9 +147,9 @@ C     negatives){% if first %}, split where the tabulated first
 C     loading's slope has kinks: at its levels and where its top
 C     level's power law reaches ln alpha = 0 (v = acosh(p_j/P)){% endif %}.
 C=======================================================================
-      SUBROUTINE {{ zp }}FQUAD(P, UA, UB, S1, S2)
+      SUBROUTINE {{ zp }}FQUAD(P, UA, UB, G, SL, S1, S2)
       IMPLICIT NONE
-      DOUBLE PRECISION P, UA, UB, S1, S2, SGN, XLO, XHI
+      DOUBLE PRECISION P, UA, UB, G, SL, S1, S2, SGN, XLO, XHI
 {% if first %}
       DOUBLE PRECISION T1, T2, R1, R2, A, TK, VK
       INTEGER J, NJ
@@ -182,17 +186,17 @@ C=======================================================================
         VK = ACOSH(TK/P)
         IF (VK .GE. XHI) EXIT
         IF (VK .GT. A) THEN
-          CALL {{ zp }}FPAN(P, A, VK, R1, R2)
+          CALL {{ zp }}FPAN(P, A, VK, G, SL, R1, R2)
           T1 = T1 + R1
           T2 = T2 + R2
           A = VK
         END IF
       END DO
-      CALL {{ zp }}FPAN(P, A, XHI, R1, R2)
+      CALL {{ zp }}FPAN(P, A, XHI, G, SL, R1, R2)
       S1 = SGN*(T1 + R1)
       S2 = SGN*(T2 + R2)
 {% else %}
-      CALL {{ zp }}FPAN(P, XLO, XHI, S1, S2)
+      CALL {{ zp }}FPAN(P, XLO, XHI, G, SL, S1, S2)
       S1 = SGN*S1
       S2 = SGN*S2
 {% endif %}
@@ -201,17 +205,20 @@ C=======================================================================
 C
 C=======================================================================
 C     Eq. F6 from P0 at the pressure P: the flattening pressure PF
-C     with int_u0^u1 alpha1'(P cosh v) cosh v sinh(v)**2 dv = D,
+C     with int_u0^u1 alpha1'(P cosh v) cosh v sinh(v)**2 / W dv = D
+C     ({{ zp }}FPAN's W with G = P/s0, SL = tan(theta)),
 C     P0 = P cosh(u0), PF = P cosh(u1) (CAP where the strain reaches
 C     full contact), by Newton's method (the first step in w =
 C     sinh(u)**3/3, then in u), each step's interval by {{ zp }}FQUAD,
 C     bisection where a step leaves the bracket; DADP = d alpha1(PF)/
-C     dP of the update, (D + int alpha1' cosh v dv)/(cosh u1 sinh u1).
+C     dP of the update, (D + S2) W(u1)/(cosh u1 sinh u1), S2 the
+C     second integral of {{ zp }}FPAN from u0 to u1.
 C=======================================================================
-      SUBROUTINE {{ zp }}FSOLV(P, P0, D, CAP, PF, DADP)
+      SUBROUTINE {{ zp }}FSOLV(P, P0, D, CAP, G, SL, PF, DADP)
       IMPLICIT NONE
-      DOUBLE PRECISION P, P0, D, CAP, PF, DADP
+      DOUBLE PRECISION P, P0, D, CAP, G, SL, PF, DADP
       DOUBLE PRECISION U0, UCAP, U, F, XIC, XLO, XHI, R, CH, SH, A, DA
+      DOUBLE PRECISION CL, W
       DOUBLE PRECISION UN, WN, DF, DI, FN, XIN, STEP
       INTEGER IT
       LOGICAL HICHK, HAVE
@@ -229,6 +236,9 @@ C=======================================================================
         CH = COSH(U)
         SH = SINH(U)
         CALL {{ zp }}A1D(P*CH, A, DA)
+        CL = 1.0D0 + SL*(1.0D0 - A)
+        W = 1.0D0 + G*CH*SH*CL
+        DA = DA/W
         HAVE = .FALSE.
         UN = 0.0D0
         IF (IT .EQ. 0) THEN
@@ -246,7 +256,7 @@ C=======================================================================
      &        XLO .LT. UN .AND. UN .LT. XHI) THEN
 C           the last step: the integrand is linear over it to below
 C           1D-13, so F + R and the tangent's integral by its value at U
-            XIC = XIC + (UN - U)*DA*CH
+            XIC = XIC + (UN - U)*DA*CH*(1.0D0 - G*CL*CH*SH*SH*SH)/W
             U = UN
             EXIT
           END IF
@@ -261,7 +271,7 @@ C           1D-13, so F + R and the tangent's integral by its value at U
      &           (MOD(IT, 8) .EQ. 7 .AND. HICHK)) THEN
           UN = 0.5D0*(XLO + XHI)
         END IF
-        CALL {{ zp }}FQUAD(P, U, UN, DF, DI)
+        CALL {{ zp }}FQUAD(P, U, UN, G, SL, DF, DI)
         FN = F + DF
         XIN = XIC + DI
         IF (UN .EQ. UCAP .AND. .NOT. HICHK) THEN
@@ -292,7 +302,10 @@ C           1D-13, so F + R and the tangent's integral by its value at U
         DADP = 0.0D0
         RETURN
       END IF
-      DADP = (D + XIC)/(CH*SINH(U))
+      SH = SINH(U)
+      CALL {{ zp }}A1D(PF, A, DA)
+      W = 1.0D0 + G*CH*SH*(1.0D0 + SL*(1.0D0 - A))
+      DADP = (D + XIC)*W/(CH*SH)
       RETURN
       END
 C
@@ -338,7 +351,7 @@ C=======================================================================
       IF (SIGY .GT. 0.0D0) S0 = S0F*(SIGY/SIGYF)
       X = P/H
       DD = DEPS*BETA*(S0/H)/(SLOPE*X*X)/H
-      CALL {{ zp }}FSOLV(P, P0, DD, CAP, PP, DA)
+      CALL {{ zp }}FSOLV(P, P0, DD, CAP, P/S0, SLOPE, PP, DA)
       CALL {{ zp }}A1D(PP, AP, D0)
       IF (AP .GT. AF) THEN
         ANEW = AP

@@ -12,7 +12,7 @@ parameter is fitted to friction:
   gives ``alpha1 = 0.2``; the model does not use it (``l`` cancels, docs/flattening.md, F3).
 
 With a user's measured contact fraction against strain (:func:`read_flattening_data`), the one
-factor ``beta`` (the yielding layer's thickness in half-spacings) is fitted to it by least
+factor ``beta`` (on the plateaus' sinking rate of Eq. F3) is fitted to it by least
 squares in ``ln beta``, with a Student-t band from the linearised residuals (:func:`fit_beta`).
 """
 
@@ -47,7 +47,7 @@ BAND_LEVEL = 0.9
 PATCH_ALPHA = 0.2
 #: pressures (in H) and strains of the summary's table of the flattened contact fraction
 TABLE_P = (0.05, 0.1, 0.3, 0.6)
-TABLE_EPS = (0.05, 0.1, 0.2, 0.5)
+TABLE_EPS = (0.005, 0.01, 0.02, 0.05)
 
 
 @dataclass(frozen=True)
@@ -269,7 +269,7 @@ def derive_flattening(cal, data: FlatteningData | None = None) -> tuple[Flatteni
     )
     l_patch, n_patch = patch_half_spacing(res.pressure, wp.dx, wp.dy, scene.periodic)
     record = {
-        "model": "layer-yield (docs/flattening.md, Eqs. F1-F6)",
+        "model": "layer-yield with the slip-line lattice (docs/flattening.md, Eqs. F1-F6)",
         "slope": slope,
         "slope_x": sx,
         "slope_y": sy,
@@ -294,7 +294,7 @@ def derive_flattening(cal, data: FlatteningData | None = None) -> tuple[Flatteni
             "note": "information for the FE asperity model; the model does not use it (l cancels)",
         },
         "beta": 1.0,
-        "beta_source": "default: a yielding layer one asperity half-spacing thick",
+        "beta_source": "default: the rates of Eq. F2 unscaled",
         "fit": None,
         "problem": None
         if res.converged
