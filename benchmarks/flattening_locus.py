@@ -1,10 +1,10 @@
-"""Which layer-yield locus can meet the FE asperity truth? (issue 43, a study)
+"""Which sinking rate can meet the FE asperity truth? (issue 43, a study)
 
-The flattening law's rate (docs/flattening.md, Eqs. F1-F3) comes from a surface layer that yields
-on an ellipse in (asperity pressure, in-plane stress). Against part B's FE asperity truth it
-flattens too slowly, most at low pressure, and no constant ``beta`` closes the miss
+The flattening law's first rate (docs/flattening.md, Eqs. F1-F3) came from a surface layer that
+yields on an ellipse in (asperity pressure, in-plane stress) alone. Against part B's FE asperity
+truth it flattens too slowly, most at low pressure, and no constant ``beta`` closes the miss
 (``flattening_truth_fit.py``). This script puts alternative rates beside it, each derived in
-docs/flattening.md ("Other loci against the truth") and each keeping the calibrated first loading
+docs/flattening.md ("Other rates against the truth") and each keeping the calibrated first loading
 ``alpha1`` as its zero-strain limit exactly. F1's kinematics are common to all:
 ``dA/d eps = c / tan(theta)``, ``c = v_b / (l eps_dot)`` the plateaus' sinking rate per
 half-spacing and unit strain; the loci differ in ``c``:
@@ -13,11 +13,14 @@ half-spacing and unit strain; the loci differ in ``c``:
 - ``T`` (a straight, Tresca-like side, Eq. T3): ``c = beta s0 / p_f``;
 - ``C`` (series columns, Eq. C3): ``c = beta (1 - A)``;
 - ``C+E`` (the columns beside the pressure-alone ellipse, Eq. CE3): ``c = beta (1 - A) + c_E``
-  with ``c_E`` Eq. F3 at its default ``beta = 1``.
+  with ``c_E`` Eq. F3 at its default ``beta = 1``;
+- ``L`` (the slip-line lattice of a rigid-plastic strip at its yield, Eq. F2's
+  ``c_L = 1 + tan(theta) (1 - A)``), times ``beta``;
+- ``L+E`` (the runtime's rate since the lattice was added, Eq. F3): ``beta (c_L + c_E)``.
 
 ``p_f`` is the first-loading pressure of the current fraction (``alpha1(p_f) = A``), ``s0 = 2 k``.
 Each curve is integrated as ``eps(A) = tan(theta) int dA / c`` on a grid in ``A`` (no closed form
-needed; checked against ``frictionlaw.flattening_curve`` for ``E`` and against ``C``'s closed form
+needed; checked against ``frictionlaw.flattening_curve`` for ``L+E`` and against ``C``'s closed form
 ``A = 1 - (1 - alpha1(p)) exp(-beta eps / tan(theta))``), then read at the truth's strains.
 
 Evaluated (a) with nothing fitted (each locus's default ``beta = 1``) and (b) with ``beta``
@@ -43,7 +46,7 @@ import frictionlaw as fl
 from frictionlaw.flattening import flattening_pressure
 from halfspace_calib.pipeline.sweep.flattening import fit_beta
 
-LOCI = ("E", "T", "C", "C+E")
+LOCI = ("E", "T", "C", "C+E", "L", "L+E")
 #: points of the ``A`` grid from ``alpha1(p)`` to full contact (cosine-clustered at both ends)
 _GRID = 4001
 #: the bounds of a fitted ``beta`` (the block's own range, docs/flattening.md)
@@ -68,7 +71,12 @@ def rate_columns(A):
     return 1.0 - A
 
 
-def rate(locus, A, p, p_f, s0, beta):
+def rate_lattice(A, slope):
+    """``c`` of the slip-line lattice (Eq. F2's ``c_L``) per unit ``beta``: ``1 + tan(theta) (1 - A)``."""
+    return 1.0 + slope * (1.0 - A)
+
+
+def rate(locus, A, p, p_f, s0, beta, slope):
     """The sinking rate ``c = v_b / (l eps_dot)`` of ``locus`` (module text) on the ``A`` grid."""
     if locus == "E":
         return beta * rate_ellipse(p, p_f, s0)
@@ -78,6 +86,10 @@ def rate(locus, A, p, p_f, s0, beta):
         return beta * rate_columns(A)
     if locus == "C+E":
         return beta * rate_columns(A) + rate_ellipse(p, p_f, s0)
+    if locus == "L":
+        return beta * rate_lattice(A, slope)
+    if locus == "L+E":
+        return beta * (rate_lattice(A, slope) + rate_ellipse(p, p_f, s0))
     raise ValueError(f"locus must be one of {LOCI}, got {locus!r}")
 
 
@@ -94,7 +106,7 @@ class Curve:
 
     def strain_of(self, locus, beta):
         """``eps(A) = tan(theta) int_{alpha1(p)}^A dA / c`` (trapezoid on the grid)."""
-        c = rate(locus, self.A, self.p, self.p_f, self.s0, beta)
+        c = rate(locus, self.A, self.p, self.p_f, self.s0, beta, self.slope)
         with np.errstate(divide="ignore"):
             g = np.where(c > 0, self.slope / c, np.inf)
         g[~np.isfinite(c)] = 0.0  # the ellipse's start (r = 1): dA/d eps unbounded, d eps/dA = 0
@@ -129,7 +141,11 @@ def fit(curves, truth_cols, locus):
     def loss(lb):
         return sum(float(np.sum(d * d)) for d in misses(curves, truth_cols, locus, math.exp(lb)))
 
-    lo, hi = (math.log(b) for b in BETA_BOUNDS)
+    # the loss is not convex in ln beta where curves reach full contact: a grid first (61 points
+    # over the bounds), then Brent's bounded search between the best point's neighbours
+    grid = np.linspace(*(math.log(b) for b in BETA_BOUNDS), 61)
+    k = int(np.argmin([loss(x) for x in grid]))
+    lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)]
     res = minimize_scalar(loss, bounds=(lo, hi), method="bounded", options={"xatol": 1e-6})
     return math.exp(res.x)
 
@@ -145,18 +161,18 @@ def self_checks(truth, H, laws):
     for pH in sorted(table):
         cv = Curve(law, pH * H, slope)
         ref = fl.flattening_curve(pH * H, strains, law)
-        worst_e = max(worst_e, float(np.abs(cv.alpha("E", strains, 1.0) - ref).max()))
+        worst_e = max(worst_e, float(np.abs(cv.alpha("L+E", strains, 1.0) - ref).max()))
         closed = 1.0 - (1.0 - cv.a0) * np.exp(-2.0 * np.asarray(strains) / slope)
         worst_c = max(worst_c, float(np.abs(cv.alpha("C", strains, 2.0) - closed).max()))
     # the fit against the command's own fit_beta (least squares in ln beta), one curve
     from flattening_truth_fit import data_of
 
-    ours = fit([Curve(law, 0.3 * H, slope)], [table[0.3]], "E")
+    ours = fit([Curve(law, 0.3 * H, slope)], [table[0.3]], "L+E")
     theirs = fit_beta(law, data_of(table, H, [0.3], key[0]))["beta"]
     return {
-        "E against flattening_curve (max |d alpha|, wedge 5 deg, all p/H)": worst_e,
+        "L+E against flattening_curve (max |d alpha|, wedge 5 deg, all p/H)": worst_e,
         "C against its closed form (max |d alpha|, beta 2)": worst_c,
-        "fitted beta of E: this script / fit_beta (wedge 5 deg, p/H 0.3)": ours / theirs,
+        "fitted beta of L+E: this script / fit_beta (wedge 5 deg, p/H 0.3)": ours / theirs,
     }
 
 
@@ -233,7 +249,7 @@ def report(rows, checks, truth_name, H):
     modes = ("default", "pressure", "slope", "per curve")
     bands = sorted({r["p_over_H"] for r in rows})
     lines = [
-        "# Layer-yield loci against the FE asperity truth (issue 43 study)",
+        "# Sinking rates against the FE asperity truth (issue 43 study)",
         "",
         f"`benchmarks/flattening_locus.py`, truth `{truth_name}`; H = {H / 1e6:.1f} MPa. "
         "Misses are |alpha_law - alpha_truth| over all strains of a curve (the bar: "
