@@ -300,7 +300,7 @@ def flattening_update(
     ucap = np.arccosh(cap / p[go])
     panels = _panels(float(ucap.max()))
     with np.errstate(over="ignore"):  # a strain beyond any forming: full contact
-        target = _j_integral(ph, u0, *jx, panels) + d_eps[go] * (ph / kappa)
+        target = _j_integral(ph, u0, *jx, panels=panels) + d_eps[go] * (ph / kappa)
     u = _solve_j(ph, target, u0, ucap, jx, panels)
     out[go] = np.maximum(np.minimum(p[go] * np.cosh(u), cap), p_f[go])
     return out
@@ -309,19 +309,19 @@ def flattening_update(
 def _solve_j(ph, target, lo, hi, jx, panels):
     """``u`` in ``[lo, hi]`` with ``J(u) = target`` (``hi`` where ``J(hi) <= target``).
 
-    Safeguarded Newton in ``u`` (``dJ/du`` the integrand of :func:`_j_integrand` times ``p^3``), bisection
-    where the step leaves the bracket and every fifth step (so that the bracket shrinks even
+    Safeguarded Newton in ``u`` (``dJ/du``: :func:`_j_integrand` times ``p^3``), bisection where
+    the step leaves the bracket and every fifth step (so that the bracket shrinks even
     where rounding makes Newton circle the root); ``J`` increases with ``u``.
     """
     lo, hi = lo.copy(), hi.copy()
-    full = _j_integral(ph, hi, *jx, panels) <= target
+    coeffs, H, g, slope = jx
+    full = _j_integral(ph, hi, coeffs, H, g, slope, panels) <= target
     u = np.where(full, hi, 0.5 * (lo + hi))
     act = ~full
     for it in range(300):
         if not act.any():
             break
         ua = u[act]
-        coeffs, H, g, slope = jx
         J = _j_integral(ph[act], ua, coeffs, H, g[act], slope, panels)
         dJ = ph[act] ** 3 * _j_integrand(ph[act], ua[:, None], coeffs, H, g[act], slope)[:, 0]
         below = J < target[act]
