@@ -117,7 +117,7 @@ class Flattening:
             raise ValueError(
                 f"{where}.version 1 is the layer-alone rate of an unreleased development version; "
                 f"this runtime reads {FLATTENING_VERSION} (the lattice's rate added, "
-                "docs/flattening.md): calibrate again with halfspace-calib --flattening"
+                "docs/flattening.md): calibrate the flattening block again"
             )
         if type(version) is not int or version != FLATTENING_VERSION:
             raise ValueError(
