@@ -176,6 +176,7 @@ _RO = types.Array(float64, 1, "C", readonly=True)
 _RO2 = types.Array(float64, 2, "C", readonly=True)
 
 _TAB = TABLE_START  # coeffs index of z[0] in the tabulated reload form
+_LNC2_MAX = math.log(1e6)  # the tabulated C2's top (frictionlaw.reload_form.LN_C2_MAX)
 _LN_Q_START = math.log(Q_START)  # below it the tabulated branch's x2 starts quadratically
 _LN_D_MAX = 700.0  # bound on ln(dtau/dp / (tau_max s2 x g'/g)) where it is formed in logs
 _D_MAX = 1.7976931348623157e308  # the largest double: dtau/dp is held below it
@@ -295,7 +296,9 @@ def reload_table_at(coeffs, x):
 
     The monotone cubic Hermite interpolant over ``z = -ln(1 - x)`` whose knots and slopes
     ``coeffs`` carries (:func:`frictionlaw.reload_form.pchip_slopes`); the first level's values
-    up to it, the last level's from it on (``x >= 1`` included). ``z`` is ``-log1p(-x)`` formed
+    up to it; above the last level ``ln n2`` held and ``ln C2`` linear in ``z`` with the last two
+    levels' secant slope, at least 0, at most ``ln 1e6`` (:func:`frictionlaw.reload_form.
+    top_slope`; ``x >= 1``: that cap where the slope is positive). ``z`` is ``-log1p(-x)`` formed
     from ``log`` (Kahan's ``log(u) x / (u - 1)``, ``u = 1 - x`` rounded: within a few ulps of
     ``log1p``, whose libm version costs about three ``log`` here).
     """
@@ -303,15 +306,24 @@ def reload_table_at(coeffs, x):
     zk = _TAB
     c0 = _TAB + k
     n0 = _TAB + 3 * k
-    if k == 1 or not x < 1.0:
-        j = 0 if k == 1 else k - 1
-        return coeffs[c0 + j], coeffs[n0 + j]
+    if k == 1:
+        return coeffs[c0], coeffs[n0]
+    top = coeffs[c0 + k - 1]
+    slope = (top - coeffs[c0 + k - 2]) / (coeffs[zk + k - 1] - coeffs[zk + k - 2])
+    if not x < 1.0:
+        if slope > 0.0:
+            return max(top, _LNC2_MAX), coeffs[n0 + k - 1]
+        return top, coeffs[n0 + k - 1]
     u = 1.0 - x
     z = x if u == 1.0 else -math.log(u) * (x / (1.0 - u))
     if not z > coeffs[zk]:
         return coeffs[c0], coeffs[n0]
     if not z < coeffs[zk + k - 1]:
-        return coeffs[c0 + k - 1], coeffs[n0 + k - 1]
+        if slope > 0.0:
+            return min(top + slope * (z - coeffs[zk + k - 1]), max(top, _LNC2_MAX)), coeffs[
+                n0 + k - 1
+            ]
+        return top, coeffs[n0 + k - 1]
     j = 0
     while j < k - 2 and z >= coeffs[zk + j + 1]:
         j += 1

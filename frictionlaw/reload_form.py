@@ -44,6 +44,9 @@ __all__ = [
     "pchip_slopes",
     "hermite",
     "history_coordinate",
+    "top_slope",
+    "INTERPOLATION",
+    "LN_C2_MAX",
 ]
 
 #: the reload forms a parameter file may name: the paper's Eq. 25, or Eq. 25 tabulated
@@ -55,6 +58,32 @@ S2_RANGE = (1e-2, 1e2)
 #: validated ranges of the tabulated C2 and n2 (those of the paper's C2, n2)
 _C_RANGE = (1e-6, 1e6)
 _N_RANGE = (1e-3, 1e6)
+#: the largest ``ln C2`` the extrapolation above the last level reaches (the range's top)
+LN_C2_MAX = float(np.log(_C_RANGE[1]))
+#: how the table reads between and beyond its levels (written into the parameter file)
+INTERPOLATION = (
+    "monotone cubic Hermite (Fritsch-Carlson) of ln C2 and ln n2 over z = -ln(1 - p_hist/H); "
+    "the first level's values below it; above the last level ln n2 constant and ln C2 linear in "
+    "z with the secant slope of the last two levels (at least 0; 0 for one level), at most "
+    "ln 1e6, so that the reload curve meets alpha1(p_hist) as p_hist -> H"
+)
+
+
+def top_slope(z: ArrayLike, lnC2: ArrayLike) -> float:
+    """``d ln C2 / dz`` above the last level: the last two levels' secant, at least 0.
+
+    As ``p_hist -> H`` (``z -> inf``) a surface flattened to full contact conforms to the tool and
+    recontacts at once: the reload curve tends to ``alpha1(p_hist)`` at every ``p``, which Eq. 25
+    gives as ``C2 -> inf``. Holding the last level's ``C2`` (the rule before) leaves the curve's
+    low-pressure part where the last level had it, 0.2 below the model 60 MPa above a top level
+    of 700 MPa (H = 800 MPa, docs/reload_law.md); the secant carries the trend of the levels up
+    to the limit. A falling secant (noise) gives 0: the last level's values.
+    """
+    z = np.asarray(z, dtype=float)
+    c = np.asarray(lnC2, dtype=float)
+    if z.size < 2:
+        return 0.0
+    return max(0.0, float((c[-1] - c[-2]) / (z[-1] - z[-2])))
 
 
 def history_coordinate(p_hist: ArrayLike, H: float) -> NDArray[np.float64]:
@@ -216,19 +245,22 @@ class ReloadTable:
         x = np.asarray(p_hist, dtype=float) / H
         with np.errstate(divide="ignore"):
             z = np.where(x < 1.0, -np.log1p(-np.minimum(x, 1.0)), np.inf)
-        c2 = np.exp(hermite(z, kn["z"], kn["lnC2"], kn["dlnC2"]))
+        lnc = hermite(z, kn["z"], kn["lnC2"], kn["dlnC2"])
+        above = z > kn["z"][-1]
+        s = top_slope(kn["z"], kn["lnC2"])
+        if s > 0.0 and np.any(above):  # the rule above the last level (INTERPOLATION)
+            with np.errstate(invalid="ignore"):
+                up = np.minimum(kn["lnC2"][-1] + s * (z - kn["z"][-1]), LN_C2_MAX)
+            lnc = np.where(above, up, lnc)
         n2 = np.exp(hermite(z, kn["z"], kn["lnn2"], kn["dlnn2"]))
-        return c2, n2
+        return np.exp(lnc), n2
 
     def to_dict(self, form: str) -> dict[str, Any]:
         """The ``reload_law`` JSON object of a parameter file (with its own version and units)."""
         return {
             "form": form,
             "version": RELOAD_TABLE_VERSION,
-            "interpolation": (
-                "monotone cubic Hermite (Fritsch-Carlson) of ln C2 and ln n2 over "
-                "z = -ln(1 - p_hist/H); constant beyond the first and last level"
-            ),
+            "interpolation": INTERPOLATION,
             "units": {"p_hist": "Pa", "C2": "1", "n2": "1", "s2": "1"},
             "s2": self.s2,
             "p_hist": list(self.p_hist),

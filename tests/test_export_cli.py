@@ -151,7 +151,9 @@ def test_every_export_names_its_reload_form(tmp_path, target, units, form):
     assert "reload C2: " + ", ".join(map(repr, STRONG.C2)) in header
     assert "reload n2: " + ", ".join(map(repr, STRONG.n2)) in header
     assert f"s2={STRONG.s2!r}" in header and "Fritsch-Carlson" in header
-    assert "of the last level from it on (p_hist >= H included)" in header
+    assert (
+        "(the last two levels' secant, at least 0), at most ln 1e6 (p_hist >= H included)" in header
+    )
     for p_hist, c2, n2 in zip(STRONG.p_hist, STRONG.C2, STRONG.n2, strict=True):
         assert f"| {p_hist * s.stress:.6g} | {c2:.6g} | {n2:.6g} |" in readme
     assert "Fritsch-Carlson" in readme and "the last level's" in readme

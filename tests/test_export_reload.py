@@ -245,4 +245,7 @@ def test_the_grid_spans_the_table():
     steep = PARAM_SETS["tab_steep"]
     p, ph = grid(steep, np.random.default_rng(31))
     d = evaluate(CODE_SBMF, sbmf_coeffs(steep), p, ph)[1]
-    assert np.isfinite(d).all() and 100.0 < d.max() < 1e4
+    below = ph < 0.99 * steep.H
+    assert np.isfinite(d).all() and 100.0 < d[below].max() < 1e4
+    # within 1e-6 of H the table's C2 rises to its cap 1e6 (the flattened limit): 1e3 times more
+    assert d.max() < 1e8

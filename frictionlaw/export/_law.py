@@ -17,6 +17,7 @@ from sbmf_cli import ParameterError
 
 from .. import __version__
 from .._codes import FIRST_EQ24, FIRST_TABULATED, Q_START
+from ..reload_form import LN_C2_MAX, top_slope
 from ._flat import FlatSpec, flat_spec
 from ._origin import m_origin
 
@@ -154,6 +155,8 @@ class ReloadSpec:
     dlnC2: tuple
     lnn2: tuple
     dlnn2: tuple
+    top_slope: float = 0.0
+    ln_c2_max: float = 0.0
 
     def describe(self, units):
         """Lines for the provenance header: the form, s2, the levels, the rule between them."""
@@ -165,8 +168,9 @@ class ReloadSpec:
             "reload C2: " + ", ".join(f"{v!r}" for v in self.C2),
             "reload n2: " + ", ".join(f"{v!r}" for v in self.n2),
             "reload interpolation: monotone cubic Hermite (Fritsch-Carlson) of ln C2 and ln n2 "
-            "over z=-ln(1-p_hist/H); C2, n2 of the first level below it, of the last level "
-            "from it on (p_hist >= H included)",
+            "over z=-ln(1-p_hist/H); C2, n2 of the first level below it; above the last level "
+            f"n2 held and ln C2 rising as {self.top_slope!r} z (the last two levels' secant, at "
+            "least 0), at most ln 1e6 (p_hist >= H included)",
         ]
 
 
@@ -182,6 +186,8 @@ def reload_spec(params, units):
         tuple(table.C2),
         tuple(table.n2),
         *(tuple(kn[k].tolist()) for k in ("z", "lnC2", "dlnC2", "lnn2", "dlnn2")),
+        top_slope(kn["z"], kn["lnC2"]),
+        LN_C2_MAX,
     )
 
 

@@ -53,8 +53,10 @@ C=======================================================================
 C     (ln C2, ln n2) of the tabulated reload form at X = PH/H
 C     (frictionlaw's reload_table_at): monotone cubic Hermite
 C     interpolant (Fritsch-Carlson slopes) over z = -ln(1 - X) through
-C     the calibrated levels; the first level's values up to it, the
-C     last level's from it on (X >= 1 included).
+C     the calibrated levels; the first level's values up to it; above
+C     the last level ln n2 held and ln C2 rising with z at the last
+C     two levels' secant slope (at least 0), at most ln 1D6 (X >= 1:
+C     that cap where the slope is positive).
 C=======================================================================
       SUBROUTINE {{ zp }}RTAB(X, LNC, LNN)
       IMPLICIT NONE
@@ -67,9 +69,11 @@ C     one level: its values for every p_hist
       RETURN
       END
 {% else %}
-      DOUBLE PRECISION Z, HK, T, U, H00, H10, H01, H11
+      DOUBLE PRECISION Z, HK, T, U, H00, H10, H01, H11, SLOPE, CMAX
+      DOUBLE PRECISION LCMAX
       INTEGER J, NK
       PARAMETER (NK = {{ reload.z | length }})
+      PARAMETER (LCMAX = {{ reload.ln_c2_max | double }})
       DOUBLE PRECISION ZK(NK), LCK(NK), DLCK(NK), LNK(NK), DLNK(NK)
 {% for name, values in (("ZK", reload.z), ("LCK", reload.lnC2), ("DLCK", reload.dlnC2),
                         ("LNK", reload.lnn2), ("DLNK", reload.dlnn2)) %}
@@ -77,8 +81,11 @@ C     one level: its values for every p_hist
      &  {{ values | map("double") | join(",
      &  ") }} /))
 {% endfor %}
+      SLOPE = (LCK(NK) - LCK(NK - 1))/(ZK(NK) - ZK(NK - 1))
+      CMAX = MAX(LCK(NK), LCMAX)
       IF (.NOT. (X .LT. 1.0D0)) THEN
         LNC = LCK(NK)
+        IF (SLOPE .GT. 0.0D0) LNC = CMAX
         LNN = LNK(NK)
         RETURN
       END IF
@@ -97,6 +104,8 @@ C     log(U) X/(1 - U) is within a few ulps of log1p, which is slower)
       END IF
       IF (.NOT. (Z .LT. ZK(NK))) THEN
         LNC = LCK(NK)
+        IF (SLOPE .GT. 0.0D0)
+     &    LNC = MIN(LCK(NK) + SLOPE*(Z - ZK(NK)), CMAX)
         LNN = LNK(NK)
         RETURN
       END IF
