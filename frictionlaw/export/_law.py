@@ -186,8 +186,8 @@ def reload_spec(params, units):
         tuple(table.C2),
         tuple(table.n2),
         *(tuple(kn[k].tolist()) for k in ("z", "lnC2", "dlnC2", "lnn2", "dlnn2")),
-        top_slope(kn["z"], kn["lnC2"]),
-        LN_C2_MAX,
+        top_slope=top_slope(kn["z"], kn["lnC2"]),
+        ln_c2_max=LN_C2_MAX,
     )
 
 
