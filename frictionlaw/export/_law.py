@@ -185,7 +185,11 @@ def reload_spec(params, units):
         tuple(v * units.stress for v in table.p_hist),
         tuple(table.C2),
         tuple(table.n2),
-        *(tuple(kn[k].tolist()) for k in ("z", "lnC2", "dlnC2", "lnn2", "dlnn2")),
+        z=tuple(kn["z"].tolist()),
+        lnC2=tuple(kn["lnC2"].tolist()),
+        dlnC2=tuple(kn["dlnC2"].tolist()),
+        lnn2=tuple(kn["lnn2"].tolist()),
+        dlnn2=tuple(kn["dlnn2"].tolist()),
         top_slope=top_slope(kn["z"], kn["lnC2"]),
         ln_c2_max=LN_C2_MAX,
     )
