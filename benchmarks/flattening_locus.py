@@ -16,7 +16,9 @@ half-spacing and unit strain; the loci differ in ``c``:
   with ``c_E`` Eq. F3 at its default ``beta = 1``;
 - ``L`` (the slip-line lattice of a rigid-plastic strip at its yield, Eq. F2's
   ``c_L = 1 + tan(theta) (1 - A)``), times ``beta``;
-- ``L+E`` (the runtime's rate since the lattice was added, Eq. F3): ``beta (c_L + c_E)``.
+- ``L+E`` (the runtime's rate since the lattice was added, Eq. F3): ``beta (c_L + c_E)``;
+- ``L+AE`` (a candidate, not the runtime's): the layer as deep as the plateau's half-width
+  ``a = A l`` instead of one half-spacing, ``beta (c_L + A c_E)``.
 
 ``p_f`` is the first-loading pressure of the current fraction (``alpha1(p_f) = A``), ``s0 = 2 k``.
 Each curve is integrated as ``eps(A) = tan(theta) int dA / c`` on a grid in ``A`` (no closed form
@@ -46,7 +48,7 @@ import frictionlaw as fl
 from frictionlaw.flattening import flattening_pressure
 from halfspace_calib.pipeline.sweep.flattening import fit_beta
 
-LOCI = ("E", "T", "C", "C+E", "L", "L+E")
+LOCI = ("E", "T", "C", "C+E", "L", "L+E", "L+AE")
 #: points of the ``A`` grid from ``alpha1(p)`` to full contact (cosine-clustered at both ends)
 _GRID = 4001
 #: the bounds of a fitted ``beta`` (the block's own range, docs/flattening.md)
@@ -90,6 +92,8 @@ def rate(locus, A, p, p_f, s0, beta, slope):
         return beta * rate_lattice(A, slope)
     if locus == "L+E":
         return beta * (rate_lattice(A, slope) + rate_ellipse(p, p_f, s0))
+    if locus == "L+AE":
+        return beta * (rate_lattice(A, slope) + A * rate_ellipse(p, p_f, s0))
     raise ValueError(f"locus must be one of {LOCI}, got {locus!r}")
 
 
