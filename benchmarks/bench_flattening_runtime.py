@@ -48,8 +48,10 @@ def cases(n, rng):
     s = fl.HistoryState(p_hist=ph)
     fl.traction_update(law, p, np.ones(n), np.zeros(n), 1e20, s, d_eps=0.005)
     a_flat = s.alpha_f_trial.copy()
-    print(f"flattened state: alpha_f {a_flat.min():.3f}-{a_flat.max():.3f}, "
-          f"{np.mean(a_flat >= 1.0):.1%} of the nodes in full contact")
+    print(
+        f"flattened state: alpha_f {a_flat.min():.3f}-{a_flat.max():.3f}, "
+        f"{np.mean(a_flat >= 1.0):.1%} of the nodes in full contact"
+    )
     zero = np.zeros(n)
     inc = np.full(n, 0.002)
     return (
