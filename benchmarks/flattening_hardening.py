@@ -1,0 +1,123 @@
+"""The asperity truth with a hardening bulk against the perfectly plastic one and the law (issue 43).
+
+The flattening law's lattice rate (docs/flattening.md, Eq. F2a) is derived for a rigid-perfectly
+plastic strip: any pressure selects the flow that sinks the plateaus at one half-spacing per unit
+strain, at no extra dissipation. A hardening bulk makes that choice cost work, so the lattice's
+rate is an upper limit there. This study measures by how much: part B's FE asperity model
+(``fe_demo.asperity``, the same meshes and loading as ``asperity_flattening.py``) with fe_demo's
+DC04 Swift curve (``K = 530 MPa``, ``eps0 = 0.006``, ``n = 0.24``: the same initial yield stress
+155.3 MPa as the perfectly plastic truth, so the same ``H``) beside the perfectly plastic truth's
+curves, and the law given each increment's current flow stress as the host would
+(``flattening_update(..., sigma_y=K (eps0 + eps)^n)``), its ``alpha1`` the hardening truth's own
+pressing-alone fractions (as ``flattening_truth.py`` builds it from the perfectly plastic truth's),
+so that the flattening is compared, not the first loading. Nothing is fitted.
+
+Run: python benchmarks/flattening_hardening.py [--profiles "wedge 5 deg,wedge 10 deg"]
+Writes benchmarks/results/flattening_hardening.csv and .md (run record: .run.json).
+"""
+
+import argparse
+from pathlib import Path
+
+import numpy as np
+from _provenance import RESULTS, run_record, write_rows
+from asperity_flattening import profiles, run_case
+from flattening_truth import law_of, read_truth
+
+import frictionlaw as fl
+from fe_demo.solver.material import Material
+from frictionlaw.flattening import flattening_update
+
+P_OVER_H = (0.05, 0.2, 0.45)
+STRAINS = (0.0, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2)
+#: sub-steps of the law's integration between two reported strains (the flow stress per step)
+SUBSTEPS = 50
+
+
+def law_curve(P, p, strains, mat):
+    """The law's contact fraction after ``strains`` at ``p``, each step at the current flow stress."""
+    out, pf, e = [], p, 0.0
+    for target in strains:
+        while e < target - 1e-15:
+            de = min(target / SUBSTEPS, target - e)
+            sy = float(mat.flow_stress(e + 0.5 * de))
+            pf = float(flattening_update(pf, p, p, de, P, sigma_y=sy))
+            e += de
+        out.append(float(fl.alpha_first(max(pf, p), P)))
+    return np.array(out)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--profiles", default="wedge 5 deg,wedge 10 deg")
+    ap.add_argument("--nx", type=int, default=64)
+    ap.add_argument("--nz", type=int, default=32)
+    args = ap.parse_args(argv)
+    names = args.profiles.split(",")
+    pp, H = read_truth(RESULTS / "asperity_flattening.csv")
+    mat = Material()  # fe_demo's DC04 (Swift)
+    profs = profiles()
+    rows, lines = [], []
+    for name in names:
+        key = next(k for k in pp if k[0] == name)
+        P = law_of(pp[key], key[1], H)
+        hard = {}
+        for ph in P_OVER_H:
+            fe = run_case(name, profs[name], ph, STRAINS, args.nx, args.nz, mat)
+            hard[ph] = (np.array([r["alpha"] for r in fe]), fe[0]["converged"])
+        # the law of the hardening truth's own pressing-alone fractions (as flattening_truth.py
+        # builds it from the perfectly plastic truth's): the flattening compared, not alpha1
+        Ph = law_of({ph: {0.0: float(a[0])} for ph, (a, _) in hard.items()}, key[1], H)
+        for ph in P_OVER_H:
+            a_h, ok = hard[ph]
+            perfect = np.array([pp[key][ph][e] for e in STRAINS])
+            law = fl.flattening_curve(ph * H, STRAINS, P)  # the perfectly plastic comparison
+            law_h = law_curve(Ph, ph * H, STRAINS, mat)
+            for i, e in enumerate(STRAINS):
+                rows.append(
+                    {
+                        "profile": name,
+                        "p_over_H": ph,
+                        "strain": e,
+                        "alpha_hardening": a_h[i],
+                        "alpha_perfectly_plastic": perfect[i],
+                        "alpha_law": law[i],
+                        "alpha_law_hardening_start": law_h[i],
+                        "flow_stress_MPa": float(mat.flow_stress(e)) / 1e6,
+                        "converged": ok,
+                    }
+                )
+            lines.append(
+                f"| {name} | {ph:g} | "
+                + " ".join(f"{v:.3f}" for v in a_h)
+                + " | "
+                + " ".join(f"{v:.3f}" for v in perfect)
+                + " | "
+                + " ".join(f"{v:.3f}" for v in law_h)
+                + f" | {np.max(np.abs(law_h - a_h)):.3f} | {np.max(np.abs(law - perfect)):.3f} |"
+            )
+    write_rows(RESULTS / "flattening_hardening.csv", rows)
+    head = [
+        "# The asperity truth with a hardening bulk (issue 43 study)",
+        "",
+        f"`benchmarks/flattening_hardening.py`; mesh {args.nx} x {args.nz}; DC04 Swift "
+        f"(K 530 MPa, eps0 0.006, n 0.24; initial yield {mat.sigma_y0 / 1e6:.1f} MPa), "
+        f"H = {H / 1e6:.1f} MPa as the perfectly plastic truth's; strains "
+        + ", ".join(f"{e:g}" for e in STRAINS)
+        + ". The law: the truth's own pressing-alone alpha as alpha1 (the hardening truth's for "
+        "the hardening columns), the profile's slope, beta = 1, each step at the current flow "
+        "stress (the perfectly plastic law's miss is flattening_truth.py's, for comparison).",
+        "",
+        "| profile | p/H | alpha, hardening truth | alpha, perfectly plastic truth | alpha, law "
+        "(hardening truth's alpha1, current flow stress) | largest miss, hardening | "
+        "largest miss, perfectly plastic |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    text = "\n".join(head + lines) + "\n"
+    Path(RESULTS / "flattening_hardening.md").write_text(text, encoding="utf-8")
+    print(text)
+
+
+if __name__ == "__main__":
+    with run_record(__file__):
+        main()
