@@ -16,13 +16,12 @@ Writes benchmarks/results/flattening_runtime.csv and prints a table.
 """
 
 import argparse
-import csv
 import time
 from pathlib import Path
 
 import numba
 import numpy as np
-from _provenance import run_record
+from _provenance import run_record, write_rows
 
 import frictionlaw as fl
 
@@ -119,10 +118,7 @@ def main(argv=None):
             )
     path = Path(args.out)
     path.parent.mkdir(parents=True, exist_ok=True)
-    with path.open("w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+    write_rows(path, rows)
     print(f"wrote {path}")
 
 

@@ -9,14 +9,13 @@ Writes benchmarks/results/runtime.csv and prints a table.
 """
 
 import argparse
-import csv
 import os
 import time
 from pathlib import Path
 
 import numba
 import numpy as np
-from _provenance import run_record
+from _provenance import run_record, write_rows
 
 import frictionlaw as fl
 from frictionlaw import _reference as ref
@@ -126,10 +125,7 @@ def main(argv=None):
             )
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
-    with out.open("w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+    write_rows(out, rows)
     print(f"wrote {out}")
 
 
