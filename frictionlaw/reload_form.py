@@ -76,7 +76,7 @@ def top_slope(z: ArrayLike, lnC2: ArrayLike) -> float:
     recontacts at once: the reload curve tends to ``alpha1(p_hist)`` at every ``p``, which Eq. 25
     gives as ``C2 -> inf``. Holding the last level's ``C2`` (the rule before) leaves the curve's
     low-pressure part where the last level had it, 0.2 below the model 60 MPa above a top level
-    of 700 MPa (H = 800 MPa, docs/reload_law.md); the secant carries the trend of the levels up
+    of 700 MPa (H = 800 MPa, docs/runtime.md); the secant carries the trend of the levels up
     to the limit. A falling secant (noise) gives 0: the last level's values.
     """
     z = np.asarray(z, dtype=float)
