@@ -17,6 +17,7 @@ from frictionlaw import Flattening, FrictionParams, flattening_curve
 from halfspace_calib.cli import main
 from halfspace_calib.pipeline.sweep.flattening import (
     FlatteningData,
+    check_data_pressures,
     crossing_half_spacing,
     fit_beta,
     patch_half_spacing,
@@ -68,9 +69,14 @@ def test_the_example_file_reads():
 @pytest.mark.parametrize(
     "text, msg",
     [
-        ("strain,alpha\n0.1,0.5\n", "must name the columns strain, alpha, p_Pa"),
+        ("strain,alpha\n0.1,0.5\n", "must name the columns strain, alpha, p_Pa \\(or p_MPa\\)"),
         ("strain,alpha,p_Pa\n0.1,x,1e8\n0.2,0.5,1e8\n", "row 2, column alpha: not a number"),
-        ("strain,alpha,p_Pa\n0.1,1.5,1e8\n0.2,0.5,1e8\n", "alpha must be in"),
+        ("strain,alpha,p_Pa\n0.1,1.5,1e8\n0.2,0.5,1e8\n", "alpha must be a contact fraction in"),
+        ("strain,alpha,p_Pa\n0.1,35,1e8\n0.2,50,1e8\n", "looks like per cent: divide by 100"),
+        (
+            "strain;alpha;p_Pa\n0,1;0,3;1e8\n0,2;0,5;1e8\n",
+            "row 2, column strain: not a number \\(a decimal comma",
+        ),
         ("strain,alpha,p_Pa\n-0.1,0.5,1e8\n0.2,0.5,1e8\n", "strain must be >= 0"),
         ("strain,alpha,p_Pa\n0.1,0.5,0\n0.2,0.5,1e8\n", "p_Pa must be > 0"),
         ("strain,alpha,p_Pa\n0.0,0.5,1e8\n0.2,0.5,1e8\n", "at least two rows with strain > 0"),
@@ -109,6 +115,32 @@ def test_data_the_model_cannot_describe_is_refused():
     flat = flattening_curve(p, 0 * eps, base)  # no rise at all: beta -> 0
     with pytest.raises(ValueError, match="on the bound"):
         fit_beta(base, FlatteningData("flat", eps, flat, p))
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "\ufeffstrain,alpha,p_Pa\n0.0,0.3,2.4e8\n0.01,0.4,2.4e8\n0.02,0.46,2.4e8\n",  # Excel's BOM
+        "# lab sheet\nstrain;alpha;p_Pa\n0.0;0.3;2.4e8\n0.01;0.4;2.4e8\n0.02;0.46;2.4e8\n",
+        "strain\talpha\tp_Pa\n0.0\t0.3\t2.4e8\n0.01\t0.4\t2.4e8\n0.02\t0.46\t2.4e8\n",
+        "p_MPa,strain,alpha\n240,0.0,0.3\n240,0.01,0.4\n240,0.02,0.46\n",
+    ],
+)
+def test_what_spreadsheets_write_reads_the_same(tmp_path, text):
+    f = tmp_path / "d.csv"
+    f.write_text(text, encoding="utf-8")
+    d = read_flattening_data(f)
+    assert np.array_equal(d.strain, [0.0, 0.01, 0.02]) and np.array_equal(d.alpha, [0.3, 0.4, 0.46])
+    assert np.array_equal(d.p, [2.4e8] * 3)
+
+
+def test_pressures_in_mpa_under_p_pa_are_refused():
+    d = FlatteningData(
+        "lab.csv", np.array([0.0, 0.1, 0.2]), np.array([0.2, 0.4, 0.6]), np.full(3, 240.0)
+    )
+    with pytest.raises(ValueError, match="pressures in MPa under p_Pa\\? Name the column p_MPa"):
+        check_data_pressures(d, 8e8)
+    check_data_pressures(FlatteningData("ok", d.strain, d.alpha, np.full(3, 2.4e8)), 8e8)
 
 
 # ----------------------------------------------------------------------------- the command
@@ -178,6 +210,10 @@ def test_bad_input_is_refused_before_any_sweep(tmp_path, capsys, monkeypatch):
     bad.write_text("strain,alpha\n0.1,0.5\n")
     assert main([*QUICK, "--flattening-data", str(bad), "--out", str(tmp_path / "o")]) == 2
     assert "must name the columns" in capsys.readouterr().err
+    mpa = tmp_path / "mpa.csv"  # pressures in MPa under p_Pa: refused before the sweep too
+    mpa.write_text("strain,alpha,p_Pa\n0.0,0.3,240\n0.05,0.5,240\n0.1,0.6,240\n")
+    assert main([*QUICK, "--flattening-data", str(mpa), "--out", str(tmp_path / "o")]) == 2
+    assert "Name the column p_MPa" in capsys.readouterr().err
     argv = [*QUICK, "--patches", "2", "--flattening", "--out", str(tmp_path / "o")]
     assert main(argv) == 2
     assert "--flattening derives the block from one workpiece/tool pair" in capsys.readouterr().err

@@ -444,7 +444,7 @@ def main(argv=None):
     try:
         scene = scene_from_args(args)
         spec = sample_spec(args, scene)
-        flat = flattening_input(args, spec)
+        flat = flattening_input(args, spec, scene)
         if spec.multi:
             if args.after_contact is not None:
                 raise ValueError(

@@ -2,7 +2,12 @@
 
 from __future__ import annotations
 
-from ..pipeline.sweep.flattening import BAND_LEVEL, derive_flattening, read_flattening_data
+from ..pipeline.sweep.flattening import (
+    BAND_LEVEL,
+    check_data_pressures,
+    derive_flattening,
+    read_flattening_data,
+)
 
 __all__ = ["add_flattening_options", "flattening_input", "with_flattening", "flattening_lines"]
 
@@ -20,13 +25,17 @@ def add_flattening_options(ap):
     g.add_argument(
         "--flattening-data",
         metavar="CSV",
-        help="measured contact fraction against bulk strain, columns strain, alpha, p_Pa: fits "
+        help="measured contact fraction against bulk strain, columns strain, alpha, p_Pa (or "
+        "p_MPa), separated by commas, semicolons or tabs: fits "
         f"beta with its {100 * BAND_LEVEL:g} %% band (implies --flattening; default: none)",
     )
 
 
-def flattening_input(args, spec):
-    """``(on, data)``: whether the block is made and the measured data (read and checked now)."""
+def flattening_input(args, spec, scene):
+    """``(on, data)``: whether the block is made and the measured data.
+
+    The data are read and checked now, before any sweep, their pressures against the scene's ``H``.
+    """
     on = bool(args.flattening) or args.flattening_data is not None
     if not on:
         return False, None
@@ -36,6 +45,8 @@ def flattening_input(args, spec):
             "calibrate one pair with --flattening"
         )
     data = None if args.flattening_data is None else read_flattening_data(args.flattening_data)
+    if data is not None:
+        check_data_pressures(data, scene.H)
     return True, data
 
 

@@ -39,6 +39,7 @@ __all__ = [
     "patch_half_spacing",
     "fit_beta",
     "derive_flattening",
+    "check_data_pressures",
 ]
 
 #: two-sided level of the band of a fitted ``beta``
@@ -65,48 +66,72 @@ class FlatteningData:
 
 
 def read_flattening_data(path) -> FlatteningData:
-    """Read a CSV with the columns ``strain``, ``alpha`` and ``p_Pa`` (any order, ``#`` comments).
+    """Read a CSV with the columns ``strain``, ``alpha`` and ``p_Pa`` or ``p_MPa`` (any order).
 
-    At least two rows with a strain above 0 are needed to fit ``beta``. ``ValueError`` naming the
-    file, the row and the column for anything else.
+    What spreadsheets write is read as it comes: ``#`` comment lines, a UTF-8 byte-order mark,
+    and comma, semicolon or tab as the separator (the header row decides). At least two rows
+    with a strain above 0 are needed to fit ``beta``. ``ValueError`` naming the file, the row and
+    the column for anything else, with the likely cause where the numbers show it (a contact
+    fraction in per cent, a decimal comma).
     """
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8-sig")
     except UnicodeDecodeError as exc:
         raise ValueError(f"{path}: not a UTF-8 text file ({exc})") from None
-    rows = [
-        r for r in csv.reader(ln for ln in text.splitlines() if not ln.lstrip().startswith("#"))
-    ]
-    rows = [r for r in rows if any(c.strip() for c in r)]
-    need = ("strain", "alpha", "p_Pa")
-    if not rows or any(c not in [h.strip() for h in rows[0]] for c in need):
+    lines = [ln for ln in text.splitlines() if not ln.lstrip().startswith("#") and ln.strip()]
+    sep = next((d for d in (",", ";", "\t") if lines and d in lines[0]), ",")
+    rows = [r for r in csv.reader(lines, delimiter=sep) if any(c.strip() for c in r)]
+    head = [h.strip() for h in rows[0]] if rows else []
+    unit = "p_Pa" if "p_Pa" in head else "p_MPa" if "p_MPa" in head else None
+    if unit is None or "strain" not in head or "alpha" not in head:
         raise ValueError(
-            f"{path}: the first row must name the columns {', '.join(need)} "
-            "(strain: equivalent plastic strain; alpha: contact fraction; p_Pa: pressure in Pa)"
+            f"{path}: the first row must name the columns strain, alpha, p_Pa (or p_MPa) "
+            "(strain: equivalent plastic strain; alpha: contact fraction in [0, 1]; the "
+            "pressure of each point in Pa or MPa), separated by commas, semicolons or tabs"
         )
-    head = [h.strip() for h in rows[0]]
+    need = ("strain", "alpha", unit)
     cols = {c: head.index(c) for c in need}
     vals = {c: [] for c in need}
     for i, r in enumerate(rows[1:], start=2):
         for c in need:
+            cell = r[cols[c]].strip() if cols[c] < len(r) else ""
             try:
-                v = float(r[cols[c]])
-            except (IndexError, ValueError):
-                raise ValueError(f"{path}: row {i}, column {c}: not a number") from None
+                v = float(cell)
+            except ValueError:
+                hint = " (a decimal comma? write 0.5, not 0,5)" if "," in cell else ""
+                raise ValueError(f"{path}: row {i}, column {c}: not a number{hint}") from None
             if not math.isfinite(v):
                 raise ValueError(f"{path}: row {i}, column {c}: not finite")
             vals[c].append(v)
-    data = FlatteningData(str(path), *(np.array(vals[c]) for c in need))
+    scale = 1e6 if unit == "p_MPa" else 1.0  # the pressures in Pa
+    data = FlatteningData(
+        str(path), np.array(vals["strain"]), np.array(vals["alpha"]), np.array(vals[unit]) * scale
+    )
     if np.any(data.strain < 0):
         raise ValueError(f"{path}: strain must be >= 0")
     if np.any((data.alpha < 0) | (data.alpha > 1)):
-        raise ValueError(f"{path}: alpha must be in [0, 1]")
+        pct = np.all(data.alpha >= 0) and np.all(data.alpha <= 100)
+        hint = " (it looks like per cent: divide by 100)" if pct else ""
+        raise ValueError(f"{path}: alpha must be a contact fraction in [0, 1]{hint}")
     if np.any(data.p <= 0):
-        raise ValueError(f"{path}: p_Pa must be > 0 (Pa)")
+        raise ValueError(f"{path}: {unit} must be > 0")
     if np.count_nonzero(data.strain > 0) < 2:
         raise ValueError(f"{path}: at least two rows with strain > 0 are needed to fit beta")
     return data
+
+
+def check_data_pressures(data: FlatteningData, H: float) -> None:
+    """``ValueError`` when every measured pressure is below ``1e-4 H``.
+
+    Most likely pressures in MPa under ``p_Pa``: the strain such pressures need to flatten the
+    surface exceeds any forming process.
+    """
+    if np.all(data.p < 1e-4 * H):
+        raise ValueError(
+            f"{data.path}: every pressure is below 1e-4 H ({data.p.max():g} Pa at most, H = "
+            f"{H:g} Pa): pressures in MPa under p_Pa? Name the column p_MPa, or give Pa"
+        )
 
 
 def profile_slopes(surface) -> tuple[float, float]:
