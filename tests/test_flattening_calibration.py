@@ -70,12 +70,12 @@ def test_the_example_file_reads():
     "text, msg",
     [
         ("strain,alpha\n0.1,0.5\n", "must name the columns strain, alpha, p_Pa \\(or p_MPa\\)"),
-        ("strain,alpha,p_Pa\n0.1,x,1e8\n0.2,0.5,1e8\n", "row 2, column alpha: not a number"),
+        ("strain,alpha,p_Pa\n0.1,x,1e8\n0.2,0.5,1e8\n", "line 2, column alpha: not a number"),
         ("strain,alpha,p_Pa\n0.1,1.5,1e8\n0.2,0.5,1e8\n", "alpha must be a contact fraction in"),
         ("strain,alpha,p_Pa\n0.1,35,1e8\n0.2,50,1e8\n", "looks like per cent: divide by 100"),
         (
             "strain;alpha;p_Pa\n0,1;0,3;1e8\n0,2;0,5;1e8\n",
-            "row 2, column strain: not a number \\(a decimal comma",
+            "line 2, column strain: not a number \\(a decimal comma",
         ),
         ("strain,alpha,p_Pa\n-0.1,0.5,1e8\n0.2,0.5,1e8\n", "strain must be >= 0"),
         ("strain,alpha,p_Pa\n0.1,0.5,0\n0.2,0.5,1e8\n", "p_Pa must be > 0"),
@@ -132,6 +132,13 @@ def test_what_spreadsheets_write_reads_the_same(tmp_path, text):
     d = read_flattening_data(f)
     assert np.array_equal(d.strain, [0.0, 0.01, 0.02]) and np.array_equal(d.alpha, [0.3, 0.4, 0.46])
     assert np.array_equal(d.p, [2.4e8] * 3)
+
+
+def test_messages_name_the_files_own_line(tmp_path):
+    f = tmp_path / "d.csv"
+    f.write_text("# lab sheet\n\n# DC04\nstrain,alpha,p_Pa\n0.1,0.2,1e8\n0.2,x,1e8\n")
+    with pytest.raises(ValueError, match="line 6, column alpha: not a number"):
+        read_flattening_data(f)
 
 
 def test_pressures_in_mpa_under_p_pa_are_refused():

@@ -79,9 +79,18 @@ def read_flattening_data(path) -> FlatteningData:
         text = path.read_text(encoding="utf-8-sig")
     except UnicodeDecodeError as exc:
         raise ValueError(f"{path}: not a UTF-8 text file ({exc})") from None
-    lines = [ln for ln in text.splitlines() if not ln.lstrip().startswith("#") and ln.strip()]
-    sep = next((d for d in (",", ";", "\t") if lines and d in lines[0]), ",")
-    rows = [r for r in csv.reader(lines, delimiter=sep) if any(c.strip() for c in r)]
+    numbered = [
+        (n, ln)
+        for n, ln in enumerate(text.splitlines(), start=1)
+        if not ln.lstrip().startswith("#") and ln.strip()
+    ]
+    sep = next((d for d in (",", ";", "\t") if numbered and d in numbered[0][1]), ",")
+    parsed = zip(numbered, csv.reader((ln for _, ln in numbered), delimiter=sep), strict=True)
+    line_of, rows = [], []
+    for (n, _), r in parsed:  # one record a line (the file's line numbers, for the messages)
+        if any(c.strip() for c in r):
+            line_of.append(n)
+            rows.append(r)
     head = [h.strip() for h in rows[0]] if rows else []
     unit = "p_Pa" if "p_Pa" in head else "p_MPa" if "p_MPa" in head else None
     if unit is None or "strain" not in head or "alpha" not in head:
@@ -93,16 +102,16 @@ def read_flattening_data(path) -> FlatteningData:
     need = ("strain", "alpha", unit)
     cols = {c: head.index(c) for c in need}
     vals = {c: [] for c in need}
-    for i, r in enumerate(rows[1:], start=2):
+    for i, r in zip(line_of[1:], rows[1:], strict=True):
         for c in need:
             cell = r[cols[c]].strip() if cols[c] < len(r) else ""
             try:
                 v = float(cell)
             except ValueError:
                 hint = " (a decimal comma? write 0.5, not 0,5)" if "," in cell else ""
-                raise ValueError(f"{path}: row {i}, column {c}: not a number{hint}") from None
+                raise ValueError(f"{path}: line {i}, column {c}: not a number{hint}") from None
             if not math.isfinite(v):
-                raise ValueError(f"{path}: row {i}, column {c}: not finite")
+                raise ValueError(f"{path}: line {i}, column {c}: not finite")
             vals[c].append(v)
     scale = 1e6 if unit == "p_MPa" else 1.0  # the pressures in Pa
     data = FlatteningData(
