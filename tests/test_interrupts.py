@@ -257,3 +257,23 @@ def test_an_interrupt_python_swallowed_is_delivered_again(tmp_path):
     lines = [ln for ln in run.stderr.splitlines() if "interrupted by SIGINT" in ln]
     assert lines == ["demo: interrupted by SIGINT during the demo; the output folder was not "
                      "written (an earlier output there is unchanged)"]  # fmt: skip
+
+
+def test_an_interrupt_waits_for_numba_to_finish_compiling():
+    """Inside numba's compiler (its lock held) the handler records the signal and does not
+    raise: an exception there left a half-built library ("no compiled object yet") or a
+    segmentation fault. Outside, it raises. (A dummy watcher: no signal is sent again here.)"""
+    from numba.core.compiler_lock import global_compiler_lock
+
+    from sbmf_cli._processes import _Interrupts, numba_compiling
+
+    handler = _Interrupts()
+    handler.watcher = object()  # the real watcher would send SIGINT to this test process
+    assert not numba_compiling()
+    with global_compiler_lock:
+        assert numba_compiling()
+        handler(signal.SIGINT, None)  # held back
+        assert handler.signum == signal.SIGINT
+    with pytest.raises(KeyboardInterrupt):
+        handler(signal.SIGINT, None)
+    handler.handled = True
