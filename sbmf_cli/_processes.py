@@ -191,6 +191,13 @@ def interruptible(prog, what):
                 signum = handler.signum  # swallowed, and the run went on to its end
             except (KeyboardInterrupt, Interrupted) as exc:
                 signum = getattr(exc, "signum", signal.SIGINT)
+            except Exception:
+                if handler.signum is None:
+                    raise
+                # the interrupt in disguise: Python wraps an exception raised inside some hooks
+                # (a class body's __set_name__: "RuntimeError: Error calling __set_name__",
+                # measured with a Ctrl-C during an import), and the user pressed Ctrl-C
+                signum = handler.signum
             finally:
                 handler.handled = True
                 for sig, previous in old.items():

@@ -277,3 +277,38 @@ def test_an_interrupt_waits_for_numba_to_finish_compiling():
     with pytest.raises(KeyboardInterrupt):
         handler(signal.SIGINT, None)
     handler.handled = True
+
+
+def test_an_interrupt_wrapped_in_another_exception_is_still_the_interrupt(capsys):
+    """Python wraps an exception raised in a class body's ``__set_name__`` in a RuntimeError: an
+    error escaping the run after a signal arrived is reported as the interrupt, one line, 130;
+    without a signal it propagates unchanged."""
+    from sbmf_cli import interruptible
+
+    if signal.getsignal(signal.SIGINT) is not signal.default_int_handler:
+        pytest.skip("the runner handles SIGINT itself: the run would not install its handler")
+
+    def main(argv=None):
+        signal.raise_signal(signal.SIGINT)  # caught by the run's handler, raised here ...
+        return 0
+
+    class Named:
+        def __set_name__(self, owner, name):
+            raise KeyboardInterrupt
+
+    def wrapped(argv=None):
+        try:
+            main(argv)
+        except KeyboardInterrupt:
+            type("Owner", (), {"field": Named()})  # ... and raised again inside __set_name__
+        return 0
+
+    assert interruptible("prog", "during the test")(wrapped)() == 130
+    assert capsys.readouterr().err.count("\n") == 1
+
+    @interruptible("prog", "during the test")
+    def failing(argv=None):
+        raise RuntimeError("a real error")
+
+    with pytest.raises(RuntimeError, match="a real error"):
+        failing()
