@@ -37,6 +37,7 @@ from _provenance import RESULTS, run_record, write_rows
 
 from frictionlaw import alpha_first
 from halfspace_calib.pipeline.calibration import Scene, calibrate
+from halfspace_calib.pipeline.sweep.resolution import alpha_points
 from halfspace_calib.pipeline.sweep.scene import DEFAULT_PRESSURES
 
 FILES = ["metropro-1.dat", "mnt-1.mnt", "x3p-2.x3p", "sur-3.sur", "matrix-3.txt"]
@@ -89,21 +90,9 @@ def _run(case, scene, unit, fixed_law=None):
     return row, cal
 
 
-def _points(cal):
-    """``{(p_hist, p): alpha}`` of every converged first-loading and reload point."""
-    out = {}
-    for lv in cal.sweeps.levels:
-        if lv.loading.converged:
-            out[(lv.p_hist, lv.p_hist)] = lv.loading.alpha
-        for r in lv.reload:
-            if r.converged:
-                out[(lv.p_hist, r.p_mean)] = r.alpha
-    return out
-
-
 def tol_dalpha(a, b):
     """Largest ``|d alpha|`` of two calibrations over the points both computed."""
-    pa, pb = _points(a), _points(b)
+    pa, pb = alpha_points(a.sweeps), alpha_points(b.sweeps)
     common = set(pa) & set(pb)
     return max(abs(pa[k] - pb[k]) for k in common) if common else float("nan")
 

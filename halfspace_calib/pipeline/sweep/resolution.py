@@ -9,7 +9,14 @@ from ..law import fit as _fit
 from .scene_surfaces import load_scene_surfaces
 from .sweeps import run_sweeps
 
-__all__ = ["RESOLUTION_TOL", "ResolutionCheck", "check_sweeps", "fit_sweeps", "resolution_check"]
+__all__ = [
+    "RESOLUTION_TOL",
+    "ResolutionCheck",
+    "alpha_points",
+    "check_sweeps",
+    "fit_sweeps",
+    "resolution_check",
+]
 
 #: relative change between the chosen grid and half of it above which the check warns
 RESOLUTION_TOL = 0.10
@@ -62,7 +69,7 @@ class ResolutionCheck:
         }
 
 
-def _alpha_points(sweeps):
+def alpha_points(sweeps):
     """``{(p_hist, p_mean): alpha}`` of every converged solve."""
     pts = {}
     for lv in sweeps.levels:
@@ -145,7 +152,7 @@ def resolution_check(scene, first, reload, sweeps, *, progress=False):
         "n2": (reload.n2, r2.n2),
     }
     params = {k: (a, b, abs(b - a) / abs(a) if a else math.inf) for k, (a, b) in vals.items()}
-    fine, crs = _alpha_points(sweeps), _alpha_points(sw)
+    fine, crs = alpha_points(sweeps), alpha_points(sw)
     common = [k for k in fine if k in crs and fine[k] > 0]
     da = max((abs(crs[k] - fine[k]) / fine[k] for k in common), default=0.0)
     moved = [f"{k} {100 * v[2]:.1f} %" for k, v in params.items() if v[2] > RESOLUTION_TOL]
