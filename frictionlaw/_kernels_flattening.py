@@ -206,15 +206,16 @@ def flat_quad(c1, p, ua, ub, g, m):
 
 
 @nb.jit(
-    types.UniTuple(float64, 2)(_RO, float64, float64, float64, float64, float64, float64),
+    types.UniTuple(float64, 3)(_RO, float64, float64, float64, float64, float64, float64),
     **_opts,
 )
 def flattening_solve(c1, p, P0, D, cap, g, m):
-    """Eq. F6 from ``P0``: ``(P, d alpha1(P) / d p)`` with ``int_u0^u1 ... = D`` (module text).
+    """Eq. F6 from ``P0``: ``(P, d alpha1(P) / d p, alpha1(P))``, ``int_u0^u1 ... = D``.
 
     ``P = p cosh(u1)`` (``cap`` where the strain reaches full contact); the second value is the
     consistent tangent of the update, ``alpha1'(P) dP/dp = (D + I) W(u1) / (cosh u1 sinh u1)``
-    with ``I`` the second integral of :func:`flat_quad` (0 at ``cap``).
+    with ``I`` the second integral of :func:`flat_quad` (0 at ``cap``); the third the fraction
+    reached, which ``W(u1)`` needs too (module text).
     """
     u0 = math.acosh(max(P0 / p, 1.0))
     ucap = math.acosh(cap / p)
@@ -257,7 +258,7 @@ def flattening_solve(c1, p, P0, D, cap, g, m):
         In = Ic + dI
         if un == ucap and not hi_checked:
             if not Fn > D:
-                return cap, 0.0
+                return cap, 0.0, first_scalar(c1, cap)[0]
             hi_checked = True
         if Fn < D:
             lo = un
@@ -273,10 +274,11 @@ def flattening_solve(c1, p, P0, D, cap, g, m):
     ch = math.cosh(u)
     P = min(p * ch, cap)
     if not P < cap:
-        return cap, 0.0
+        return cap, 0.0, first_scalar(c1, cap)[0]
     sh = math.sinh(u)
-    w = flat_weight(g, ch, sh, 1.0 + m * (1.0 - first_scalar(c1, P)[0]))
-    return P, (D + Ic) * w / (ch * sh)
+    aP = first_scalar(c1, P)[0]
+    w = flat_weight(g, ch, sh, 1.0 + m * (1.0 - aP))
+    return P, (D + Ic) * w / (ch * sh), aP
 
 
 @nb.jit(types.UniTuple(float64, 3)(_RO, float64, float64, float64, float64, float64), **_opts)
@@ -308,8 +310,7 @@ def flattening_scalar(fdata, p, p_hist, alpha_f, d_eps, sigy):
         s0 = s0 * (sigy / fdata[3])
     x = p / H
     D = d_eps * fdata[1] * (s0 / H) / (fdata[0] * x * x) / H  # 1/Pa, as the integrals
-    P, dadp = flattening_solve(c1, p, P0, D, cap, p / s0, fdata[0])
-    aP = first_scalar(c1, P)[0]
+    P, dadp, aP = flattening_solve(c1, p, P0, D, cap, p / s0, fdata[0])
     if aP > alpha_f:
         return aP, P, dadp
     return alpha_f, pf, 0.0

@@ -212,11 +212,12 @@ C     full contact), by Newton's method (the first step in w =
 C     sinh(u)**3/3, then in u), each step's interval by {{ zp }}FQUAD,
 C     bisection where a step leaves the bracket; DADP = d alpha1(PF)/
 C     dP of the update, (D + S2) W(u1)/(cosh u1 sinh u1), S2 the
-C     second integral of {{ zp }}FPAN from u0 to u1.
+C     second integral of {{ zp }}FPAN from u0 to u1; AP = alpha1(PF),
+C     which W(u1) needs too.
 C=======================================================================
-      SUBROUTINE {{ zp }}FSOLV(P, P0, D, CAP, G, SL, PF, DADP)
+      SUBROUTINE {{ zp }}FSOLV(P, P0, D, CAP, G, SL, PF, DADP, AP)
       IMPLICIT NONE
-      DOUBLE PRECISION P, P0, D, CAP, G, SL, PF, DADP
+      DOUBLE PRECISION P, P0, D, CAP, G, SL, PF, DADP, AP
       DOUBLE PRECISION U0, UCAP, U, F, XIC, XLO, XHI, R, CH, SH, A, DA
       DOUBLE PRECISION CL, W
       DOUBLE PRECISION UN, WN, DF, DI, FN, XIN, STEP
@@ -278,6 +279,7 @@ C           1D-13, so F + R and the tangent's integral by its value at U
           IF (.NOT. (FN .GT. D)) THEN
             PF = CAP
             DADP = 0.0D0
+            CALL {{ zp }}A1D(CAP, AP, DA)
             RETURN
           END IF
           HICHK = .TRUE.
@@ -300,11 +302,12 @@ C           1D-13, so F + R and the tangent's integral by its value at U
       IF (.NOT. (PF .LT. CAP)) THEN
         PF = CAP
         DADP = 0.0D0
+        CALL {{ zp }}A1D(CAP, AP, DA)
         RETURN
       END IF
       SH = SINH(U)
-      CALL {{ zp }}A1D(PF, A, DA)
-      W = 1.0D0 + G*CH*SH*(1.0D0 + SL*(1.0D0 - A))
+      CALL {{ zp }}A1D(PF, AP, DA)
+      W = 1.0D0 + G*CH*SH*(1.0D0 + SL*(1.0D0 - AP))
       DADP = (D + XIC)*W/(CH*SH)
       RETURN
       END
@@ -351,8 +354,7 @@ C=======================================================================
       IF (SIGY .GT. 0.0D0) S0 = S0F*(SIGY/SIGYF)
       X = P/H
       DD = DEPS*BETA*(S0/H)/(SLOPE*X*X)/H
-      CALL {{ zp }}FSOLV(P, P0, DD, CAP, P/S0, SLOPE, PP, DA)
-      CALL {{ zp }}A1D(PP, AP, D0)
+      CALL {{ zp }}FSOLV(P, P0, DD, CAP, P/S0, SLOPE, PP, DA, AP)
       IF (AP .GT. AF) THEN
         ANEW = AP
         PF = PP
