@@ -1,4 +1,4 @@
-"""The asperity truth with a hardening bulk against the perfectly plastic one and the law (issue 43).
+"""The asperity truth with a hardening bulk beside the perfectly plastic one and the law (issue 43).
 
 The flattening law's lattice rate (docs/flattening.md, Eq. F2a) is derived for a rigid-perfectly
 plastic strip: any pressure selects the flow that sinks the plateaus at one half-spacing per unit

@@ -22,7 +22,8 @@ slot   content
 
 An empty array is a law without flattening. The update solves Eq. F6 on the increment's own
 interval only: with ``t = p cosh(v)`` the equivalent strain of Eq. F4 grows by
-``int_u0^u1 alpha1'(p cosh v) cosh v sinh(v)^2 / W dv = D``, ``D = d_eps beta s0 / (tan(theta) p^2)``,
+``int_u0^u1 alpha1'(p cosh v) cosh v sinh(v)^2 / W dv = D``,
+``D = d_eps beta s0 / (tan(theta) p^2)``,
 ``W = 1 + g cosh v sinh v c_L`` with ``g = p / s0`` and the lattice's rate
 ``c_L = 1 + tan(theta) (1 - alpha1(p cosh v))``,
 by Newton's method, its first step in ``w = sinh(u)^3 / 3`` (``dJ/dw = alpha1' / W``: exact for a
@@ -157,9 +158,10 @@ def flat_panels(c1, p, ua, ub, g, slope):
 
 @nb.jit(types.UniTuple(float64, 2)(_RO, float64, float64, float64, float64, float64), **_opts)
 def flat_quad(c1, p, ua, ub, g, m):
-    """``(int alpha1' cosh v sinh(v)^2 / W dv, int alpha1' cosh v (1 - g c_L cosh v sinh(v)^3) / W^2 dv)``.
+    """The strain integral of Eq. F4 and the tangent's integral over ``ua..ub``.
 
-    Over ``ua..ub``, ``alpha1'`` at ``p cosh v``, ``W`` of :func:`flat_weight` with ``g = p / s0``
+    ``(int alpha1' cosh v sinh(v)^2 / W dv, int alpha1' cosh v (1 - g c_L cosh v sinh(v)^3) /
+    W^2 dv)`` over ``ua..ub``, ``alpha1'`` at ``p cosh v``, ``W`` of :func:`flat_weight` with ``g = p / s0``
     and ``c_L = 1 + m (1 - alpha1)``, ``m = tan(theta)``. Both integrals at once (the second is
     the tangent's, Eq. F6's ``d p_f / d p`` at a fixed ``s0``);
     ``ub < ua`` gives their negatives. Eq. 24's ``alpha1'`` is smooth: :func:`flat_panels` over

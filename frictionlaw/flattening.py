@@ -26,7 +26,8 @@ numbered F1-F6 there and in the docstrings:
 
 At zero strain ``p_f`` is never above the pressure history and F5 is the calibrated law itself;
 strain rate enters only through ``s0`` (the file's ``k``, scaled by the host's flow stress when
-it passes one), which sets the layer's share of the rate against the lattice's. NumPy, vectorised, float64; F6 is written per node so that it ports to a kernel.
+it passes one), which sets the layer's share of the rate against the lattice's. NumPy, vectorised,
+float64; F6 is written per node so that it ports to a kernel.
 """
 
 import math
@@ -88,8 +89,8 @@ def _rule(panels: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
 def layer_sink_rate(r: ArrayLike, s0_over_pf: ArrayLike) -> NDArray[np.float64]:
     """Sinking rate of the plateaus per half-spacing and strain in the yielding layer (Eq. F2).
 
-    ``c_E = v_b / (l eps_dot)`` of the layer (docs/flattening.md): normality on the layer's yield ellipse
-    ``(p / p_f)^2 + (s / s0)^2 = 1`` gives ``(s0 / p_f) r / sqrt(1 - r^2)`` with ``r = p / p_f``
+    ``c_E = v_b / (l eps_dot)`` of the layer (docs/flattening.md): normality on the layer's
+    yield ellipse ``(p / p_f)^2 + (s / s0)^2 = 1`` gives ``(s0 / p_f) r / sqrt(1 - r^2)`` with ``r = p / p_f``
     in ``[0, 1)``; ``inf`` at ``r = 1`` (pressure alone at the zero-strain hardness).
     """
     r = np.asarray(r, dtype=float)
