@@ -19,7 +19,7 @@ FLATTENING_MODEL = "layer-yield"
 #: is refused, since the same inputs now give another rate
 FLATTENING_VERSION = 2
 #: validated range of the asperity flank slope ``tan(theta)``
-SLOPE_RANGE = (1e-4, 10.0)
+SLOPE_RANGE = (1e-8, 10.0)
 #: validated range of the rate factor ``beta``
 BETA_RANGE = (1e-3, 1e3)
 
@@ -46,8 +46,9 @@ class Flattening:
     Parameters
     ----------
     slope : float
-        ``tan(theta)``, the flank slope of the workpiece's asperities, in ``[1e-4, 10]``; a
-        calibration takes the RMS profile slope of the measured (or synthetic) workpiece.
+        ``tan(theta)``, the flank slope of the workpiece's asperities, in ``[1e-8, 10]`` (a polished
+        sheet, about 1e-4 on a coarse grid, flattens at strains of that order); a calibration
+        takes the RMS profile slope of the measured (or synthetic) workpiece.
     beta : float
         Factor on the plateaus' sinking rate of Eq. F3 (the lattice's and the layer's), in
         ``[1e-3, 1e3]``; 1 unless fitted to a measured contact fraction against strain.

@@ -40,8 +40,8 @@ FORMS = {
 }
 
 
-def law(form="eq24-paper"):
-    return fl.FrictionParams(**BASE, **FORMS[form], flattening=fl.Flattening(slope=0.05))
+def law(form="eq24-paper", slope=0.05):
+    return fl.FrictionParams(**BASE, **FORMS[form], flattening=fl.Flattening(slope=slope))
 
 
 def load(tmp_path, target, params, *, units="SI", prec="DP", name=None):
@@ -82,8 +82,17 @@ def runtime(params, p, ph, af, de, sigy):
 
 @pytest.mark.parametrize("form", FORMS)
 def test_neutral_entry_flattens_as_the_runtime(tmp_path, form):
-    P = law(form)
-    host, files = load(tmp_path, "lsdyna", P, name=f"neutral_{form}")
+    _neutral_as_runtime(tmp_path, law(form), f"neutral_{form}")
+
+
+def test_neutral_entry_at_the_smallest_slope(tmp_path):
+    """A polished sheet (the validated range's end, 1e-8): full contact at any strain, as the
+    runtime."""
+    _neutral_as_runtime(tmp_path, law("tabulated", slope=1e-8), "neutral_smooth")
+
+
+def _neutral_as_runtime(tmp_path, P, name):
+    host, files = load(tmp_path, "lsdyna", P, name=name)
     assert "STATE(5)" in files["README.md"] and "DEPS" in files["README.md"]
     p, ph, af, de, sy = grid()
     n = p.size

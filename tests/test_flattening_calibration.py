@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from realfiles import real_file
 
 import halfspace_calib.cli as cli
 from frictionlaw import Flattening, FrictionParams, flattening_curve
@@ -239,3 +240,17 @@ def test_a_measurement_the_model_cannot_describe_fails_the_run(tmp_path, capsys)
     doc = json.loads((out / "params.failed.json").read_text())
     assert any("fit of beta" in p for p in doc["provenance"]["run"]["problems"])
     assert not (out / "params.json").exists()
+
+
+def test_a_polished_real_scan_calibrates(tmp_path):
+    """The MetroPro scan, smooth on the solver's grid (RMS profile slope about 1e-4): the block is
+    written (this once failed the run after the whole calibration) and bulk strain flattens it to
+    full contact at strains of the order of its slope."""
+    out = tmp_path / "o"
+    argv = [*QUICK[:2], "--workpiece", str(real_file("metropro-1.dat")), "--flattening"]
+    assert main([*argv, "--no-resolution-check", "--no-progress", "--out", str(out)]) == 0
+    P = FrictionParams.from_json(out / "params.json")
+    slope = P.flattening.slope
+    assert 1e-5 < slope < 1e-3
+    a = flattening_curve(0.1 * P.H, [0.0, 0.1 * slope, 10 * slope], P)
+    assert a[0] < a[1] < 1.0 and a[2] == 1.0

@@ -242,8 +242,10 @@ def test_the_host_flow_stress_against_the_numpy_model():
     assert np.all(a2 > a1)  # a harder bulk carries a larger share of the layer's rate
 
 
-def test_extremes_are_finite_and_at_most_one():
-    P = law()
+@pytest.mark.parametrize("slope", [1e-8, 0.05, 10.0])
+def test_extremes_are_finite_and_at_most_one(slope):
+    """The validated slopes' ends too (a polished sheet: 1e-8 flattens at any strain)."""
+    P = law(slope=slope)
     p = np.array([1e-13 * H, 2e-12 * H, 1e-6 * H, 0.5 * H, 5 * H, 1e6 * H])
     for de in (1e-12, 0.3, 1e6, 1e300):
         for af in (0.0, 0.6, 1.0):
