@@ -12,8 +12,9 @@ curves, and the law given each increment's current flow stress as the host would
 pressing-alone fractions (as ``flattening_truth.py`` builds it from the perfectly plastic truth's),
 so that the flattening is compared, not the first loading. Nothing is fitted.
 
-Run: python benchmarks/flattening_hardening.py [--profiles "wedge 5 deg,wedge 10 deg"]
-Writes benchmarks/results/flattening_hardening.csv and .md (run record: .run.json).
+Run: python benchmarks/flattening_hardening.py [--profiles "wedge 5 deg,wedge 10 deg"] [--reuse]
+(``--reuse``: the hardening truth's columns of the CSV a previous run wrote, the law evaluated
+again; 16 min on the shared 2-core machine without it). Writes benchmarks/results/flattening_hardening.csv and .md (run record: .run.json).
 """
 
 import argparse
@@ -22,7 +23,7 @@ from pathlib import Path
 import numpy as np
 from _provenance import RESULTS, run_record, write_rows
 from asperity_flattening import profiles, run_case
-from flattening_truth import law_of, read_truth
+from flattening_truth import EQUIVALENT_PER_STRETCH, law_of, law_strain, read_truth
 
 import frictionlaw as fl
 from fe_demo.solver.material import Material
@@ -35,9 +36,11 @@ SUBSTEPS = 50
 
 
 def law_curve(P, p, strains, mat):
-    """The law's contact fraction after ``strains`` at ``p``, each step at the current flow stress."""
+    """The law's contact fraction after the stretches ``strains`` at ``p``, each step at the
+    current flow stress (of the equivalent plastic strain, ``2 / sqrt(3)`` of the stretch, which
+    is also what the law is given)."""
     out, pf, e = [], p, 0.0
-    for target in strains:
+    for target in law_strain(strains):
         while e < target - 1e-15:
             de = min(target / SUBSTEPS, target - e)
             sy = float(mat.flow_stress(e + 0.5 * de))
@@ -47,12 +50,28 @@ def law_curve(P, p, strains, mat):
     return np.array(out)
 
 
+def _stored_truth():
+    """``{(profile, p/H): (alpha_hardening, converged)}`` of the CSV a previous run wrote."""
+    import csv
+
+    out = {}
+    with (RESULTS / "flattening_hardening.csv").open(encoding="utf-8") as f:
+        for r in csv.DictReader(f):
+            a, ok = out.setdefault((r["profile"], float(r["p_over_H"])), ([], r["converged"]))
+            a.append(float(r["alpha_hardening"]))
+    return {k: (np.array(a), ok == "True") for k, (a, ok) in out.items()}
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--profiles", default="wedge 5 deg,wedge 10 deg")
     ap.add_argument("--nx", type=int, default=64)
     ap.add_argument("--nz", type=int, default=32)
+    ap.add_argument(
+        "--reuse", action="store_true", help="the hardening truth of the CSV a previous run wrote"
+    )
     args = ap.parse_args(argv)
+    stored = _stored_truth() if args.reuse else None
     names = args.profiles.split(",")
     pp, H = read_truth(RESULTS / "asperity_flattening.csv")
     mat = Material()  # fe_demo's DC04 (Swift)
@@ -63,6 +82,9 @@ def main(argv=None):
         P = law_of(pp[key], key[1], H)
         hard = {}
         for ph in P_OVER_H:
+            if stored is not None:
+                hard[ph] = stored[(name, ph)]
+                continue
             fe = run_case(name, profs[name], ph, STRAINS, args.nx, args.nz, mat)
             hard[ph] = (np.array([r["alpha"] for r in fe]), fe[0]["converged"])
         # the law of the hardening truth's own pressing-alone fractions (as flattening_truth.py
@@ -71,7 +93,7 @@ def main(argv=None):
         for ph in P_OVER_H:
             a_h, ok = hard[ph]
             perfect = np.array([pp[key][ph][e] for e in STRAINS])
-            law = fl.flattening_curve(ph * H, STRAINS, P)  # the perfectly plastic comparison
+            law = fl.flattening_curve(ph * H, law_strain(STRAINS), P)  # perfectly plastic
             law_h = law_curve(Ph, ph * H, STRAINS, mat)
             for i, e in enumerate(STRAINS):
                 rows.append(
@@ -83,7 +105,7 @@ def main(argv=None):
                         "alpha_perfectly_plastic": perfect[i],
                         "alpha_law": law[i],
                         "alpha_law_hardening_start": law_h[i],
-                        "flow_stress_MPa": float(mat.flow_stress(e)) / 1e6,
+                        "flow_stress_MPa": float(mat.flow_stress(EQUIVALENT_PER_STRETCH * e)) / 1e6,
                         "converged": ok,
                     }
                 )

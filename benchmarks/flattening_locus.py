@@ -40,7 +40,7 @@ from pathlib import Path
 
 import numpy as np
 from _provenance import run_record, write_rows
-from flattening_truth import BAR, truth_args
+from flattening_truth import BAR, law_strain, truth_args
 from flattening_truth_fit import FOLDS
 from scipy.optimize import minimize_scalar
 
@@ -164,7 +164,7 @@ def self_checks(truth, H, laws):
     worst_e = worst_c = 0.0
     for pH in sorted(table):
         cv = Curve(law, pH * H, slope)
-        ref = fl.flattening_curve(pH * H, strains, law)
+        ref = fl.flattening_curve(pH * H, law_strain(strains), law)  # loci: in the stretch
         worst_e = max(worst_e, float(np.abs(cv.alpha("L+E", strains, 1.0) - ref).max()))
         closed = 1.0 - (1.0 - cv.a0) * np.exp(-2.0 * np.asarray(strains) / slope)
         worst_c = max(worst_c, float(np.abs(cv.alpha("C", strains, 2.0) - closed).max()))

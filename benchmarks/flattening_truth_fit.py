@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 from _provenance import run_record, write_rows
-from flattening_truth import BAR, truth_args
+from flattening_truth import BAR, law_strain, truth_args
 
 import frictionlaw as fl
 from halfspace_calib.pipeline.sweep.flattening import FlatteningData, fit_beta
@@ -36,15 +36,15 @@ FOLDS = ((0.1, 0.3, 0.6), (0.05, 0.2, 0.45))
 
 def curve(P, p, strains, beta):
     """The law's contact fraction at ``p`` after ``strains`` with the factor ``beta``."""
-    return fl.flattening_curve(p, beta * np.asarray(strains), P)  # strain scales as 1 / beta
+    return fl.flattening_curve(p, beta * law_strain(strains), P)  # strain scales as 1 / beta
 
 
 def data_of(table, H, pressures, name):
-    """The truth's points at ``pressures`` (in H) as ``--flattening-data``."""
+    """The truth's points at ``pressures`` (in H) as ``--flattening-data`` (equivalent strains)."""
     e, a, p = [], [], []
     for pH in pressures:
         for s, al in sorted(table[pH].items()):
-            e.append(s)
+            e.append(float(law_strain(s)))
             a.append(al)
             p.append(pH * H)
     return FlatteningData(name, np.array(e), np.array(a), np.array(p))

@@ -10,14 +10,26 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["Flattening", "FLATTENING_MODEL", "FLATTENING_VERSION", "SLOPE_RANGE", "BETA_RANGE"]
+__all__ = [
+    "Flattening",
+    "FLATTENING_MODEL",
+    "FLATTENING_VERSION",
+    "SLOPE_RANGE",
+    "BETA_RANGE",
+    "STRETCH_PER_EQUIVALENT_STRAIN",
+]
 
 #: the model a ``flattening`` block names (the surface-layer yield model of docs/flattening.md)
 FLATTENING_MODEL = "layer-yield"
-#: version of the ``flattening`` object inside a parameter file: 2 adds the slip-line lattice's
-#: rate to the layer's (docs/flattening.md, Eq. F2); version 1 (the layer alone, never released)
-#: is refused, since the same inputs now give another rate
-FLATTENING_VERSION = 2
+#: version of the ``flattening`` object inside a parameter file: 2 added the slip-line lattice's
+#: rate to the layer's (docs/flattening.md, Eq. F2); 3 reads the host's strain as the equivalent
+#: plastic strain, stretching the asperities by :data:`STRETCH_PER_EQUIVALENT_STRAIN` of it.
+#: Versions 1 and 2 (never released) are refused, since the same inputs now give another rate
+FLATTENING_VERSION = 3
+#: the plane-strain stretch across the ridges per unit equivalent (von Mises) plastic strain,
+#: ``sqrt(3) / 2``: exact for plane strain across the ridges, and the stretch doing the same
+#: plastic work as the bulk's equivalent strain on any other path (docs/flattening.md, F1)
+STRETCH_PER_EQUIVALENT_STRAIN = math.sqrt(3.0) / 2.0
 #: validated range of the asperity flank slope ``tan(theta)``
 SLOPE_RANGE = (1e-8, 10.0)
 #: validated range of the rate factor ``beta``
@@ -119,6 +131,13 @@ class Flattening:
                 f"{where}.version 1 is the layer-alone rate of an unreleased development version; "
                 f"this runtime reads {FLATTENING_VERSION} (the lattice's rate added, "
                 "docs/flattening.md): calibrate the flattening block again"
+            )
+        if version == 2:
+            raise ValueError(
+                f"{where}.version 2 read the bulk strain as the stretch across the ridges; this "
+                f"runtime reads {FLATTENING_VERSION}: the host's equivalent plastic strain, of which "
+                "sqrt(3)/2 stretches the asperities (docs/flattening.md, F1), so the same block "
+                "flattens 13 % slower per unit strain: calibrate the flattening block again"
             )
         if type(version) is not int or version != FLATTENING_VERSION:
             raise ValueError(

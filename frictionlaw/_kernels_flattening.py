@@ -23,7 +23,8 @@ slot   content
 An empty array is a law without flattening. The update solves Eq. F6 on the increment's own
 interval only: with ``t = p cosh(v)`` the equivalent strain of Eq. F4 grows by
 ``int_u0^u1 alpha1'(p cosh v) cosh v sinh(v)^2 / W dv = D``,
-``D = d_eps beta s0 / (tan(theta) p^2)``,
+``D = d_eps r beta s0 / (tan(theta) p^2)``, ``r = sqrt(3) / 2`` the stretch across the ridges per unit
+equivalent plastic strain (:data:`frictionlaw.flattening.STRETCH_PER_EQUIVALENT_STRAIN`),
 ``W = 1 + g cosh v sinh v c_L`` with ``g = p / s0`` and the lattice's rate
 ``c_L = 1 + tan(theta) (1 - alpha1(p cosh v))``,
 by Newton's method, its first step in ``w = sinh(u)^3 / 3`` (``dJ/dw = alpha1' / W``: exact for a
@@ -42,6 +43,7 @@ import numpy as np
 from numba import float64, int8, int64, types
 
 from ._codes import CODE_SBMF_RELOAD
+from ._flattening_block import STRETCH_PER_EQUIVALENT_STRAIN as STRETCH
 from ._kernels import first_offset, first_scalar, return_map_row, shear_scalar
 from ._kernels_branches import _RO, _RO2, _opts
 
@@ -311,7 +313,8 @@ def flattening_scalar(fdata, p, p_hist, alpha_f, d_eps, sigy):
     if sigy > 0.0:
         s0 = s0 * (sigy / fdata[3])
     x = p / H
-    D = d_eps * fdata[1] * (s0 / H) / (fdata[0] * x * x) / H  # 1/Pa, as the integrals
+    # 1/Pa, as the integrals; the equivalent strain stretches the ridges by STRETCH of it
+    D = d_eps * STRETCH * fdata[1] * (s0 / H) / (fdata[0] * x * x) / H
     P, dadp, aP = flattening_solve(c1, p, P0, D, cap, p / s0, fdata[0])
     if aP > alpha_f:
         return aP, P, dadp

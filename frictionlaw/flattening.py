@@ -43,6 +43,7 @@ from ._flattening_block import (
     FLATTENING_MODEL,
     FLATTENING_VERSION,
     SLOPE_RANGE,
+    STRETCH_PER_EQUIVALENT_STRAIN,
     Flattening,
     _number,
 )
@@ -56,6 +57,7 @@ __all__ = [
     "FLATTENING_MODEL",
     "FLATTENING_VERSION",
     "SLOPE_RANGE",
+    "STRETCH_PER_EQUIVALENT_STRAIN",
     "BETA_RANGE",
     "lattice_sink_rate",
     "layer_sink_rate",
@@ -113,14 +115,17 @@ def lattice_sink_rate(alpha: ArrayLike, slope: float) -> NDArray[np.float64]:
 def contact_growth_rate(
     p: ArrayLike, p_f: ArrayLike, alpha: ArrayLike, slope: float, beta: float, s0: float
 ) -> NDArray[np.float64]:
-    """``dA / d eps`` of Eq. F3: F1's kinematics with F2's two rates, ``A = alpha1(p_f)``.
+    """``dA / d eps`` of Eq. F3 per unit equivalent plastic strain ``eps``, ``A = alpha1(p_f)``.
 
-    ``beta (c_L + c_E) / tan(theta)`` with ``c_L`` of :func:`lattice_sink_rate` at ``alpha`` and
-    ``c_E`` of :func:`layer_sink_rate` at ``r = p / p_f``; the spacing ``l`` cancels.
+    F1's kinematics with F2's two rates, ``r_s beta (c_L + c_E) / tan(theta)``, with ``c_L`` of
+    :func:`lattice_sink_rate` at ``alpha``, ``c_E`` of :func:`layer_sink_rate` at ``p / p_f``
+    and ``r_s`` = :data:`STRETCH_PER_EQUIVALENT_STRAIN` (the stretch across the ridges per unit
+    ``eps``); the spacing ``l`` cancels.
     """
     p_f = np.asarray(p_f, dtype=float)
     c_e = layer_sink_rate(np.asarray(p) / p_f, s0 / p_f)
-    return beta * (lattice_sink_rate(alpha, slope) + c_e) / slope
+    rate = beta * (lattice_sink_rate(alpha, slope) + c_e) / slope
+    return STRETCH_PER_EQUIVALENT_STRAIN * rate
 
 
 def _coeffs(params: "FrictionParams") -> NDArray[np.float64]:
@@ -214,7 +219,7 @@ def equivalent_strain(
     u = np.arccosh(np.maximum(top / p.ravel(), 1.0))
     s0 = _s0(params, sigma_y)
     J = _j_integral(ph, u, coeffs, H, p.ravel() / s0, flat.slope)
-    kappa = flat.slope * H / (flat.beta * s0)
+    kappa = flat.slope * H / (flat.beta * STRETCH_PER_EQUIVALENT_STRAIN * s0)
     return (kappa * J / ph).reshape(p.shape)
 
 
@@ -295,7 +300,7 @@ def flattening_update(
     ph = p[go] / H
     p0 = np.minimum(np.maximum(np.maximum(p_f[go], p_hist[go]), p[go]), cap)
     s0 = _s0(params, sigma_y)
-    kappa = flat.slope * H / (flat.beta * s0)
+    kappa = flat.slope * H / (flat.beta * STRETCH_PER_EQUIVALENT_STRAIN * s0)
     jx = (coeffs, H, p[go] / s0, flat.slope)  # what J needs besides p / H and u
     u0 = np.arccosh(np.maximum(p0 / p[go], 1.0))
     ucap = np.arccosh(cap / p[go])

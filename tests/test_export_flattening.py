@@ -102,7 +102,9 @@ def _neutral_as_runtime(tmp_path, P, name):
     tau, dtdp, a_ref = runtime(P, p, ph, af, de, sy)
     assert np.all(out["ierr"] == 0)
     assert np.allclose(np.abs(out["t"][:, 0]), tau, rtol=1e-12, atol=0)
-    assert np.allclose(np.abs(out["dt_dp"][:, 0]), np.abs(dtdp), rtol=1e-12, atol=1e-300)
+    # the tangent goes through the solve's last Newton step and the libm's cosh / sinh, which
+    # differ between gfortran and LLVM in the last bits: 3e-12 seen at p = 0.01 H
+    assert np.allclose(np.abs(out["dt_dp"][:, 0]), np.abs(dtdp), rtol=1e-11, atol=1e-300)
     assert np.allclose(state[:, 4], a_ref, rtol=1e-12, atol=0)
     assert np.array_equal(state[:, 0], np.maximum(ph, p))
 

@@ -6,6 +6,7 @@ vanishes), and a finite difference of the curve against the rate of Eq. F3.
 """
 
 import json
+import math
 
 import numpy as np
 import pytest
@@ -20,6 +21,7 @@ from frictionlaw import (
     shear_limit,
 )
 from frictionlaw.flattening import (
+    STRETCH_PER_EQUIVALENT_STRAIN,
     contact_growth_rate,
     equivalent_strain,
     flattened_alpha,
@@ -30,6 +32,8 @@ from frictionlaw.flattening import (
 from frictionlaw.reload_form import ReloadTable
 
 H = 8e8
+#: the stretch across the ridges per unit von Mises equivalent strain in plane strain
+RS = math.sqrt(3.0) / 2.0
 BASE = dict(m=0.5, sigma_y=H / 2.8, H=H, C1=1.05, n1=2.87, C2=7.44, n2=0.575)
 
 
@@ -71,8 +75,9 @@ def test_record_validates_and_round_trips(tmp_path):
     "mutate, msg",
     [
         (lambda b: b.update(model="wilson-sheu"), "flattening.model must be"),
-        (lambda b: b.update(version=3), "flattening.version"),
+        (lambda b: b.update(version=4), "flattening.version: unsupported 4"),
         (lambda b: b.update(version=1), "flattening.version 1 is the layer-alone rate"),
+        (lambda b: b.update(version=2), "flattening.version 2 read the bulk strain as the stretch"),
         (lambda b: b.pop("slope"), "missing 'slope'"),
         (lambda b: b.update(slope="steep"), "flattening.slope must be a real number"),
         (lambda b: b.update(slope=-0.1), "flattening.slope must be in"),
@@ -131,21 +136,22 @@ def test_equivalent_strain_against_adaptive_quadrature(ratio_p, ratio_pf):
     P = law(slope=0.1, beta=1.0)
     p = ratio_p * H
     pf = min(ratio_pf * p, 3 * H)
-    want = 0.1 * _j_quad(P, p, pf) / (1.0 * s0(P) * p)
+    want = 0.1 * _j_quad(P, p, pf) / (1.0 * RS * s0(P) * p)
     got = equivalent_strain(p, pf, P)
     assert got == pytest.approx(want, rel=1e-9)
 
 
 def test_closed_form_of_the_lattice_alone():
     """Where the layer's share vanishes (a host flow stress of 1 kPa: ``s0`` 5e-6 of the file's)
-    Eq. F3 is the lattice's ``dA/d eps = beta (1 + tan(theta) (1 - A)) / tan(theta)``, linear in
-    ``A``: ``A = K - (K - alpha1(p)) exp(-beta eps)``, ``K = 1 + 1 / tan(theta)``, until 1."""
+    Eq. F3 is the lattice's ``dA/d eps = r_s beta (1 + tan(theta) (1 - A)) / tan(theta)``, linear
+    in ``A``: ``A = K - (K - alpha1(p)) exp(-r_s beta eps)``, ``K = 1 + 1 / tan(theta)``, until
+    1 (``r_s = sqrt(3) / 2``, the stretch across the ridges per unit equivalent strain)."""
     P = law(slope=0.08, beta=1.7)
     K = 1.0 + 1.0 / 0.08
     eps = np.array([0.0, 1e-3, 3e-3, 0.01, 0.02, 0.2])
     for p in (0.05 * H, 0.3 * H):
         a0 = alpha_first(p, P)
-        want = np.minimum(K - (K - a0) * np.exp(-1.7 * eps), 1.0)
+        want = np.minimum(K - (K - a0) * np.exp(-RS * 1.7 * eps), 1.0)
         got = flattening_curve(p, eps, P, sigma_y=1e3)
         assert want[-1] == 1.0 and want[-2] < 1.0
         # the layer's rate at s0 = 1.4 kPa adds at most (s0 / p)^(2/3)-order fractions
@@ -164,6 +170,25 @@ def test_the_curve_follows_the_rate_of_eq_f3():
         assert a[1] < 1.0
         rate = contact_growth_rate(p, pf, alpha_first(pf, P), 0.12, 0.8, s0(P))  # dA / d eps
         assert (a[1] - a[0]) / (2 * h) == pytest.approx(rate, rel=1e-5)
+
+
+def test_the_host_strain_is_the_equivalent_plastic_strain():
+    """F1's strain is the stretch across the ridges of a plane-strain flow; the host passes the
+    von Mises equivalent plastic strain, ``sqrt(2/3 e:e)`` of the plastic strain tensor. A
+    plane-strain stretch ``e_xx = s`` (``e_zz = -s``) is the equivalent strain ``2 s / sqrt(3)``:
+    the law given that equivalent strain flattens as the model given the stretch ``s``."""
+    s_stretch = 0.01
+    e = np.diag([s_stretch, 0.0, -s_stretch])
+    eq = math.sqrt(2.0 / 3.0 * np.sum(e * e))
+    assert STRETCH_PER_EQUIVALENT_STRAIN == pytest.approx(s_stretch / eq, rel=1e-15)
+    P = law(slope=0.08, beta=1.0)
+    p = 0.2 * H
+    # the lattice's closed form in the stretch (the layer's share removed by a 1 kPa flow stress)
+    K = 1.0 + 1.0 / 0.08
+    a0 = alpha_first(p, P)
+    want = K - (K - a0) * np.exp(-s_stretch)
+    assert flattening_curve(p, eq, P, sigma_y=1e3) == pytest.approx(want, abs=2e-4)
+    assert flattening_curve(p, s_stretch, P, sigma_y=1e3) < want - 0.01
 
 
 def test_the_layer_rate_and_its_limits():

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..flattening import flattening_data
+from ..flattening import STRETCH_PER_EQUIVALENT_STRAIN, flattening_data
 
 __all__ = ["FlatSpec", "flat_spec", "FLAT_STATE_NEUTRAL", "FLAT_STATE_LSDYNA"]
 
@@ -28,6 +28,9 @@ class FlatSpec:
     ----------
     slope, beta : float
         ``tan(theta)`` and ``beta`` of the block.
+    stretch : float
+        The stretch across the ridges per unit equivalent plastic strain, ``sqrt(3) / 2``
+        (:data:`frictionlaw.flattening.STRETCH_PER_EQUIVALENT_STRAIN`).
     s0 : float
         The layer's flow stress ``2 k`` of the file (host stress unit).
     sigma_y : float
@@ -44,6 +47,7 @@ class FlatSpec:
 
     slope: float
     beta: float
+    stretch: float
     s0: float
     sigma_y: float
     cap: float
@@ -76,6 +80,7 @@ def flat_spec(params, units):
     return FlatSpec(
         slope,
         beta,
+        STRETCH_PER_EQUIVALENT_STRAIN,
         s0 * s,
         sigma_y * s,
         cap * s,

@@ -329,10 +329,11 @@ C=======================================================================
       DOUBLE PRECISION P0, A0, D0, S0, X, DD, PP, DA, AP
       DOUBLE PRECISION {{ zp }}FINV
       EXTERNAL {{ zp }}FINV
-      DOUBLE PRECISION H, SLOPE, BETA, S0F, SIGYF, CAP, PMIN
+      DOUBLE PRECISION H, SLOPE, BETA, STR, S0F, SIGYF, CAP, PMIN
       PARAMETER (H = {{ law.H | double }})
       PARAMETER (SLOPE = {{ flat.slope | double }})
       PARAMETER (BETA = {{ flat.beta | double }})
+      PARAMETER (STR = {{ flat.stretch | double }})
       PARAMETER (S0F = {{ flat.s0 | double }})
       PARAMETER (SIGYF = {{ flat.sigma_y | double }})
       PARAMETER (CAP = {{ flat.cap | double }})
@@ -353,7 +354,7 @@ C=======================================================================
       S0 = S0F
       IF (SIGY .GT. 0.0D0) S0 = S0F*(SIGY/SIGYF)
       X = P/H
-      DD = DEPS*BETA*(S0/H)/(SLOPE*X*X)/H
+      DD = DEPS*STR*BETA*(S0/H)/(SLOPE*X*X)/H
       CALL {{ zp }}FSOLV(P, P0, DD, CAP, P/S0, SLOPE, PP, DA, AP)
       IF (AP .GT. AF) THEN
         ANEW = AP
