@@ -32,7 +32,8 @@ Parts (each writes its files under ``benchmarks/results/``):
 Run: python benchmarks/asperity_flattening.py [--quick] [--convergence] [--ccx] [--punch]
 [--depth] [--refine] [--no-table]. On the shared 2-core machine the table took 38 min, the convergence study
 32 min (the 128 x 48 runs), the thickness study 4 min, the flat punch 1 min, the CalculiX case
-29 min (``asperity_flattening.run.json``: 105 min in all).
+29 min (``asperity_flattening.run.json``: 105 min in all); ``--refine`` 29 min with two
+workers (``asperity_refined.run.json``).
 """
 
 import argparse
