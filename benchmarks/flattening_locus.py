@@ -18,7 +18,13 @@ half-spacing and unit strain; the loci differ in ``c``:
   ``c_L = 1 + tan(theta) (1 - A)``), times ``beta``;
 - ``L+E`` (the runtime's rate since the lattice was added, Eq. F3): ``beta (c_L + c_E)``;
 - ``L+AE`` (a candidate, not the runtime's): the layer as deep as the plateau's half-width
-  ``a = A l`` instead of one half-spacing, ``beta (c_L + A c_E)``.
+  ``a = A l`` instead of one half-spacing, ``beta (c_L + A c_E)``;
+- ``max(L,E)`` (a candidate): the two mechanisms as alternatives, not superposed: the one that
+  sinks faster, ``beta max(c_L, c_E)``;
+- ``L|E`` (a candidate): the alternative that saves more power against uniform flow for the
+  stretch, by the upper-bound functional (dissipation less the pressure's work): the lattice
+  saves ``p c_L`` (the pressure's work on its sinking), the layer ``s0 (1 - sqrt(1 - r^2))``
+  (its in-plane stress below the bulk's), per ``2 l^2 eps_dot``; ``beta`` times that one's ``c``.
 
 ``p_f`` is the first-loading pressure of the current fraction (``alpha1(p_f) = A``), ``s0 = 2 k``.
 Each curve is integrated as ``eps(A) = tan(theta) int dA / c`` on a grid in ``A`` (no closed form
@@ -48,7 +54,7 @@ import frictionlaw as fl
 from frictionlaw.flattening import flattening_pressure
 from halfspace_calib.pipeline.sweep.flattening import fit_beta
 
-LOCI = ("E", "T", "C", "C+E", "L", "L+E", "L+AE")
+LOCI = ("E", "T", "C", "C+E", "L", "L+E", "L+AE", "max(L,E)", "L|E")
 #: points of the ``A`` grid from ``alpha1(p)`` to full contact (cosine-clustered at both ends)
 _GRID = 4001
 #: the bounds of a fitted ``beta`` (the block's own range, docs/flattening.md)
@@ -94,6 +100,13 @@ def rate(locus, A, p, p_f, s0, beta, slope):
         return beta * (rate_lattice(A, slope) + rate_ellipse(p, p_f, s0))
     if locus == "L+AE":
         return beta * (rate_lattice(A, slope) + A * rate_ellipse(p, p_f, s0))
+    if locus == "max(L,E)":
+        return beta * np.maximum(rate_lattice(A, slope), rate_ellipse(p, p_f, s0))
+    if locus == "L|E":
+        c_l, c_e = rate_lattice(A, slope), rate_ellipse(p, p_f, s0)
+        r = np.minimum(p / p_f, 1.0)
+        layer_saves = s0 * (1.0 - np.sqrt(np.maximum(1.0 - r * r, 0.0))) > p * c_l
+        return beta * np.where(layer_saves, c_e, c_l)
     raise ValueError(f"locus must be one of {LOCI}, got {locus!r}")
 
 
