@@ -19,7 +19,8 @@ numbered F1-F6 there and in the docstrings:
   hardness read from the law's own ``alpha1``), ``c_E = (s0 / p_f) r / sqrt(1 - r^2)``,
   ``r = p / p_f``;
 * F3, the rate: ``dA/d eps = beta (c_L + c_E) / tan(theta)`` (``beta`` 1 unless fitted);
-* F4, its integral at constant ``p``: ``eps = tan(theta) J(p, p_f) / (beta s0 p)``,
+* F4, its integral at constant ``p``: ``eps = tan(theta) J(p, p_f) / (beta s0 p)``, ``eps`` the
+  stretch across the ridges, ``sqrt(3)/2`` of the host's equivalent plastic strain (F1b),
   ``J = int_p^p_f alpha1'(t) t sqrt(t^2 - p^2) / W dt``, ``W = 1 + c_L t sqrt(t^2 - p^2) / (s0 p)``;
 * F5, the contact fraction of a node with history ``p_hist`` and flattening ``p_f``;
 * F6, the update of ``p_f`` over a strain increment at the current pressure.
@@ -203,9 +204,10 @@ def _flattening_of(params: "FrictionParams") -> Flattening:
 def equivalent_strain(
     p: ArrayLike, p_f: ArrayLike, params: "FrictionParams", *, sigma_y: float | None = None
 ) -> NDArray[np.float64]:
-    """Bulk strain that flattens a virgin surface at constant ``p`` up to ``p_f`` (Eq. F4).
+    """Equivalent plastic strain that flattens a virgin surface at constant ``p`` up to ``p_f``.
 
-    ``eps = tan(theta) J(p, p_f) / (beta s0 p)``,
+    Eq. F4: the stretch ``eps = tan(theta) J(p, p_f) / (beta s0 p)``, returned as the equivalent
+    strain ``eps / r_s`` (``r_s`` = :data:`STRETCH_PER_EQUIVALENT_STRAIN`, F1b),
     ``J = int_p^p_f alpha1'(t) t sqrt(t^2 - p^2) / W dt`` (module text): 0 for ``p_f <= p``;
     grows with ``p_f``, proportional to ``1 / beta``.
     """
@@ -266,7 +268,8 @@ def flattening_update(
 
     This is Eq. F6. Per node: from ``P0 = max(p_f, p_hist, p)`` (the committed flattening, the
     increment's trial history and the pressure) the equivalent strain of Eq. F4 at the current
-    ``p`` grows by ``d_eps``, ``J(p, P) = J(p, P0) + d_eps beta s0 p / tan(theta)`` (F4), solved for
+    ``p`` grows by ``d_eps``, ``J(p, P) = J(p, P0) + r_s d_eps beta s0 p / tan(theta)`` (F4,
+    ``r_s`` = :data:`STRETCH_PER_EQUIVALENT_STRAIN`), solved for
     ``P``. The result never falls below ``p_f``; ``d_eps = 0``, ``p <= 0`` (open) and ``p``
     below ``1e-12 H`` leave ``p_f`` unchanged; it stops at the pressure where ``alpha1`` is 1.
     Like ``p_hist``, call it from the committed ``p_f`` in every iteration and commit once.
@@ -404,7 +407,7 @@ def flattening_curve(
 
     Eq. F4 solved for ``p_f`` and read through Eq. F5: ``alpha1(p)`` at zero strain (the
     calibrated law exactly), never falling with strain, at most 1, reaching 1 at the finite
-    strain ``tan(theta) J(p, inf) / (beta s0 p)``. For plots and checks.
+    equivalent strain ``tan(theta) J(p, inf) / (r_s beta s0 p)``. For plots and checks.
 
     Parameters
     ----------
