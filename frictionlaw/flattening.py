@@ -61,6 +61,7 @@ __all__ = [
     "STRETCH_PER_EQUIVALENT_STRAIN",
     "BETA_RANGE",
     "lattice_sink_rate",
+    "lattice_hardening_limit",
     "layer_sink_rate",
     "contact_growth_rate",
     "equivalent_strain",
@@ -113,6 +114,26 @@ def lattice_sink_rate(alpha: ArrayLike, slope: float) -> NDArray[np.float64]:
     return 1.0 + slope * (1.0 - np.asarray(alpha, dtype=float))
 
 
+def lattice_hardening_limit(p: ArrayLike, hardening: ArrayLike | None) -> NDArray[np.float64]:
+    """The lattice's sinking rate a hardening bulk allows (Eq. F2c): ``2 p / h_k``.
+
+    The lattice sinks the plateaus by an uneven split of the slip between its two families; in a
+    hardening bulk the side that slipped more is stronger and the pressure pays for it. Material
+    carried through the sinking zone by the stretch gains the extra shear ``v_b / (l eps_dot)``
+    and on average half the flow stress ``h_k`` times it, ``h_k = dk/dgamma = h / 3`` (von Mises,
+    ``h = d sigma_y / d eps_eq``); the pressure's work equals that dissipation at
+    ``v_b / (l eps_dot) = 2 p / h_k = 6 p / h``. The lattice's rate is
+    ``min(c_L, 6 p / h)``: ``inf`` (no limit) for a perfectly plastic bulk, ``h = 0`` or ``None``
+    (docs/flattening.md, "A hardening bulk").
+    """
+    p = np.asarray(p, dtype=float)
+    if hardening is None:
+        return np.full(p.shape, np.inf)
+    h = np.asarray(hardening, dtype=float)
+    with np.errstate(divide="ignore"):
+        return np.where(h > 0, 6.0 * p / np.where(h > 0, h, 1.0), np.inf)
+
+
 def contact_growth_rate(
     p: ArrayLike, p_f: ArrayLike, alpha: ArrayLike, slope: float, beta: float, s0: float
 ) -> NDArray[np.float64]:
@@ -145,12 +166,15 @@ def _j_integral(
     H: float,
     g: NDArray,
     slope: float,
+    c_max: NDArray,
     panels: int | None = None,
 ) -> NDArray[np.float64]:
     """``J / H^2`` of Eq. F4 up to ``p_f = p cosh(u)``, pressures in units of ``H`` (``ph``).
 
     ``t = p cosh(v)`` turns ``J`` into ``p^3 int_0^u alpha1'(t) cosh v sinh(v)^2 / W dv`` with
-    ``W = 1 + g cosh v sinh v c_L(alpha1(t))``, ``g = p / s0``: a smooth integrand, summed by
+    ``W = 1 + g cosh v sinh v min(c_L(alpha1(t)), c_max)``, ``g = p / s0``, ``c_max`` the
+    hardening's limit of Eq. F2c (``inf``: none): a smooth integrand (a kink where the limit
+    starts to act), summed by
     composite Gauss-Legendre (``_NODES`` per panel, at least ``_PANELS`` panels, none wider than
     ``_WIDTH``); a solve passes one ``panels`` for all its calls, so that ``J`` is one function of
     ``u`` throughout.
@@ -159,15 +183,16 @@ def _j_integral(
         panels = _panels(float(u.max(initial=0.0)))
     x, w = _rule(panels)
     v = u[:, None] * x[None, :]
-    f = _j_integrand(ph, v, coeffs, H, g, slope)
+    f = _j_integrand(ph, v, coeffs, H, g, slope, c_max)
     return ph**3 * u * (f @ w)
 
 
-def _j_integrand(ph, v, coeffs, H, g, slope):
-    """``alpha1'(p cosh v) H cosh v sinh(v)^2 / W`` (F4 in ``v``; ``ph``, ``g`` per row)."""
+def _j_integrand(ph, v, coeffs, H, g, slope, c_max):
+    """``alpha1'(p cosh v) H cosh v sinh(v)^2 / W`` (F4 in ``v``; ``ph``, ``g``, ``c_max``: rows)."""
     ch, sh = np.cosh(v), np.sinh(v)
     a, d = evaluate(K.CODE_SBMF, coeffs, ph[:, None] * ch * H, 0.0)
-    W = 1.0 + g[:, None] * ch * sh * lattice_sink_rate(np.asarray(a), slope)
+    c = np.minimum(lattice_sink_rate(np.asarray(a), slope), c_max[:, None])
+    W = 1.0 + g[:, None] * ch * sh * c
     return np.asarray(d) * H * ch * sh**2 / W
 
 
@@ -190,6 +215,18 @@ def _s0(params: "FrictionParams", sigma_y: float | None) -> float:
     return s0 * sy / params.sigma_y
 
 
+def _hardening(hardening: ArrayLike | None, shape: tuple) -> NDArray[np.float64]:
+    """The hardening modulus broadcast to ``shape`` (0 for ``None``); ``ValueError`` naming it."""
+    if hardening is None:
+        return np.zeros(shape)
+    h = as_float_array("hardening", hardening)
+    if not (np.all(np.isfinite(h)) and np.all(h >= 0)):
+        raise ValueError(
+            "hardening must be finite and >= 0 (Pa, d sigma_y / d eps_eq; 0: perfectly plastic)"
+        )
+    return np.broadcast_to(h, shape)
+
+
 def _flattening_of(params: "FrictionParams") -> Flattening:
     flat = getattr(params, "flattening", None)
     if flat is None:
@@ -202,17 +239,24 @@ def _flattening_of(params: "FrictionParams") -> Flattening:
 
 
 def equivalent_strain(
-    p: ArrayLike, p_f: ArrayLike, params: "FrictionParams", *, sigma_y: float | None = None
+    p: ArrayLike,
+    p_f: ArrayLike,
+    params: "FrictionParams",
+    *,
+    sigma_y: float | None = None,
+    hardening: ArrayLike | None = None,
 ) -> NDArray[np.float64]:
     """Equivalent plastic strain that flattens a virgin surface at constant ``p`` up to ``p_f``.
 
     Eq. F4: the stretch ``eps = tan(theta) J(p, p_f) / (beta s0 p)``, returned as the equivalent
     strain ``eps / r_s`` (``r_s`` = :data:`STRETCH_PER_EQUIVALENT_STRAIN`, F1b),
     ``J = int_p^p_f alpha1'(t) t sqrt(t^2 - p^2) / W dt`` (module text): 0 for ``p_f <= p``;
-    grows with ``p_f``, proportional to ``1 / beta``.
+    grows with ``p_f``, proportional to ``1 / beta``. ``hardening`` (``d sigma_y / d eps_eq``,
+    Pa, at a constant value) limits the lattice's rate (Eq. F2c).
     """
     flat = _flattening_of(params)
     p, p_f = np.broadcast_arrays(as_float_array("p", p), as_float_array("p_f", p_f))
+    h = _hardening(hardening, p.shape)
     if not (np.all(np.isfinite(p)) and np.all(p > 0) and np.all(np.isfinite(p_f))):
         raise ValueError("p must be finite and > 0 and p_f finite")
     H, coeffs = params.H, _coeffs(params)
@@ -220,7 +264,8 @@ def equivalent_strain(
     top = np.minimum(p_f.ravel(), _p_cap(params, coeffs))  # alpha1 is 1 beyond: J is complete
     u = np.arccosh(np.maximum(top / p.ravel(), 1.0))
     s0 = _s0(params, sigma_y)
-    J = _j_integral(ph, u, coeffs, H, p.ravel() / s0, flat.slope)
+    c_max = lattice_hardening_limit(p, h).ravel()
+    J = _j_integral(ph, u, coeffs, H, p.ravel() / s0, flat.slope, c_max)
     kappa = flat.slope * H / (flat.beta * STRETCH_PER_EQUIVALENT_STRAIN * s0)
     return (kappa * J / ph).reshape(p.shape)
 
@@ -263,6 +308,7 @@ def flattening_update(
     params: "FrictionParams",
     *,
     sigma_y: float | None = None,
+    hardening: ArrayLike | None = None,
 ) -> NDArray[np.float64]:
     """The flattening pressure after a bulk plastic strain increment ``d_eps`` at pressure ``p``.
 
@@ -282,11 +328,15 @@ def flattening_update(
         Equivalent plastic strain increment of the bulk under the node (``>= 0``).
     sigma_y : float, optional
         The host's current flow stress (Pa); the file's ``sigma_y`` by default.
+    hardening : array_like, optional
+        The bulk's hardening modulus ``d sigma_y / d eps_eq`` under the node (Pa, ``>= 0``):
+        it limits the lattice's rate (Eq. F2c). ``None`` or 0: a perfectly plastic bulk.
     """
     flat = _flattening_of(params)
     arrs = [as_float_array(n, v) for n, v in (("p_f", p_f), ("p_hist", p_hist), ("p", p))]
     arrs.append(as_float_array("d_eps", d_eps))
     p_f, p_hist, p, d_eps = np.broadcast_arrays(*arrs)
+    h = _hardening(hardening, p.shape)
     for name, a in (("p_f", p_f), ("p_hist", p_hist), ("p", p), ("d_eps", d_eps)):
         if not np.all(np.isfinite(a)):
             raise ValueError(f"{name} must be finite")
@@ -304,7 +354,8 @@ def flattening_update(
     p0 = np.minimum(np.maximum(np.maximum(p_f[go], p_hist[go]), p[go]), cap)
     s0 = _s0(params, sigma_y)
     kappa = flat.slope * H / (flat.beta * STRETCH_PER_EQUIVALENT_STRAIN * s0)
-    jx = (coeffs, H, p[go] / s0, flat.slope)  # what J needs besides p / H and u
+    c_max = lattice_hardening_limit(p[go], h[go])
+    jx = (coeffs, H, p[go] / s0, flat.slope, c_max)  # what J needs besides p / H and u
     u0 = np.arccosh(np.maximum(p0 / p[go], 1.0))
     ucap = np.arccosh(cap / p[go])
     panels = _panels(float(ucap.max()))
@@ -323,16 +374,17 @@ def _solve_j(ph, target, lo, hi, jx, panels):
     where rounding makes Newton circle the root); ``J`` increases with ``u``.
     """
     lo, hi = lo.copy(), hi.copy()
-    coeffs, H, g, slope = jx
-    full = _j_integral(ph, hi, coeffs, H, g, slope, panels) <= target
+    coeffs, H, g, slope, c_max = jx
+    full = _j_integral(ph, hi, coeffs, H, g, slope, c_max, panels) <= target
     u = np.where(full, hi, 0.5 * (lo + hi))
     act = ~full
     for it in range(300):
         if not act.any():
             break
         ua = u[act]
-        J = _j_integral(ph[act], ua, coeffs, H, g[act], slope, panels)
-        dJ = ph[act] ** 3 * _j_integrand(ph[act], ua[:, None], coeffs, H, g[act], slope)[:, 0]
+        ga, ca = g[act], c_max[act]
+        J = _j_integral(ph[act], ua, coeffs, H, ga, slope, ca, panels)
+        dJ = ph[act] ** 3 * _j_integrand(ph[act], ua[:, None], coeffs, H, ga, slope, ca)[:, 0]
         below = J < target[act]
         la, ha = np.where(below, ua, lo[act]), np.where(below, hi[act], ua)
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -402,6 +454,7 @@ def flattening_curve(
     params: "FrictionParams",
     *,
     sigma_y: float | None = None,
+    hardening: float | None = None,
 ) -> NDArray[np.float64]:
     """Contact fraction of a virgin surface after bulk strain ``strains`` at constant ``p``.
 
@@ -419,6 +472,9 @@ def flattening_curve(
         A law with a ``flattening`` block.
     sigma_y : float, optional
         Flow stress of the bulk (Pa) if not the file's ``sigma_y``.
+    hardening : float, optional
+        A constant hardening modulus ``d sigma_y / d eps_eq`` of the bulk (Pa), limiting the
+        lattice's rate (Eq. F2c); ``None``: a perfectly plastic bulk.
     """
     p, eps = np.broadcast_arrays(as_float_array("p", p), as_float_array("strains", strains))
     if not (np.all(np.isfinite(p)) and np.all(p > 0)):
@@ -426,7 +482,7 @@ def flattening_curve(
     if not (np.all(np.isfinite(eps)) and np.all(eps >= 0)):
         raise ValueError("strains must be finite and >= 0")
     pf, ef = p.ravel(), eps.ravel()
-    p_f = flattening_update(pf, pf, pf, ef, params, sigma_y=sigma_y)
+    p_f = flattening_update(pf, pf, pf, ef, params, sigma_y=sigma_y, hardening=hardening)
     alpha = flattened_alpha(pf, pf, p_f, params)
     # a running maximum over increasing strain per pressure: the solver's last-digit scatter
     # cannot make the curve fall

@@ -191,6 +191,50 @@ def test_the_host_strain_is_the_equivalent_plastic_strain():
     assert flattening_curve(p, s_stretch, P, sigma_y=1e3) < want - 0.01
 
 
+def test_hardening_limits_the_lattice_in_closed_form():
+    """Eq. F2c: with the layer's share removed (a 1 kPa flow stress) and a hardening modulus that
+    limits the lattice everywhere (``6 p / h = 0.4 < 1``), ``dA/d eps_eq = r_s beta 0.4 /
+    tan(theta)``: linear in strain until full contact."""
+    P = law(slope=0.08, beta=1.3)
+    p = 0.1 * H
+    h = 6.0 * p / 0.4
+    eps = np.array([0.0, 1e-3, 0.01, 0.05, 0.1, 0.5])
+    a0 = alpha_first(p, P)
+    want = np.minimum(a0 + RS * 1.3 * 0.4 * eps / 0.08, 1.0)
+    got = flattening_curve(p, eps, P, sigma_y=1e3, hardening=h)
+    assert want[-2] < 1.0 and want[-1] == 1.0
+    assert np.allclose(got, want, rtol=0, atol=2e-4)
+    # without the limit the lattice's exponential (test above) is far faster
+    assert flattening_curve(p, 0.05, P, sigma_y=1e3) > want[3] + 0.1
+
+
+def test_hardening_slows_and_zero_is_perfect_plasticity():
+    """A stiffer hardening flattens slower; 0 and ``None`` are the perfectly plastic law bit for
+    bit; a limit above the lattice's rate changes nothing."""
+    P = law(slope=0.1)
+    p = np.array([0.05, 0.2, 0.5]) * H
+    eps = 0.02
+    base = flattening_curve(p, eps, P)
+    assert np.array_equal(flattening_curve(p, eps, P, hardening=0.0), base)
+    assert np.array_equal(
+        flattening_update(p, p, p, eps, P, hardening=np.zeros(3)),
+        flattening_update(p, p, p, eps, P),
+    )
+    # 6 p / h above 1 + tan(theta) for every p: the limit never acts
+    assert np.array_equal(flattening_curve(p, eps, P, hardening=0.3 * p[0]), base)
+    prev = base
+    for h in (1e8, 1e9, 1e10):
+        a = flattening_curve(p, eps, P, hardening=h)
+        assert np.all(a <= prev) and np.all(a >= alpha_first(p, P))
+        prev = a
+    assert np.all(prev < base)
+    assert equivalent_strain(p[0], 2 * p[0], P, hardening=1e10) > equivalent_strain(
+        p[0], 2 * p[0], P
+    )
+    with pytest.raises(ValueError, match="hardening must be finite and >= 0"):
+        flattening_update(p, p, p, eps, P, hardening=-1.0)
+
+
 def test_the_layer_rate_and_its_limits():
     """Eq. F2: 0 without pressure, linear in ``r`` for small ``r``, unbounded at ``r = 1``; the
     lattice's ``1 + tan(theta) (1 - A)``: 1 at full contact, independent of the pressure."""
