@@ -123,11 +123,16 @@ def flat_weight(g, ch, sh, cl):
     return 1.0 + g * ch * sh * cl
 
 
-@nb.jit(types.UniTuple(float64, 2)(_RO, float64, float64, float64, float64, float64), **_opts)
-def flat_panels(c1, p, ua, ub, g, slope):
+@nb.jit(
+    types.UniTuple(float64, 2)(_RO, float64, float64, float64, float64, float64, float64), **_opts
+)
+def flat_panels(c1, p, ua, ub, g, slope, cmax):
     """The two integrals of :func:`flat_quad` over ``ua..ub`` where the integrand is smooth.
 
-    ``g = p / s0`` and ``slope = tan(theta)`` set ``W`` (:func:`flat_weight`).
+    ``g = p / s0``, ``slope = tan(theta)`` and the hardening's limit ``cmax`` on the lattice's
+    rate (Eq. F2c, ``inf``: none) set ``W`` (:func:`flat_weight`). Where the limit acts the
+    lattice's rate is ``cmax = 6 p / h``, proportional to ``p``: the tangent's integrand is
+    ``alpha1' cosh v / W^2`` there (docs/flattening.md, F6).
 
     Gauss-Legendre on equal panels no wider than 0.5 in ``v``: 8 nodes a panel, 4 on an
     interval narrower than 0.05 and 2 below 7e-4 (the Newton corrections), each within about
@@ -152,19 +157,27 @@ def flat_panels(c1, p, ua, ub, g, slope):
             sh = math.sinh(v)
             a, d = first_scalar(c1, p * ch)
             cl = 1.0 + slope * (1.0 - a)
-            w = flat_weight(g, ch, sh, cl)
+            if cl > cmax:
+                w = flat_weight(g, ch, sh, cmax)
+                s2 += _GW[j] * (d * ch / (w * w))
+            else:
+                w = flat_weight(g, ch, sh, cl)
+                s2 += _GW[j] * (d * ch * (1.0 - g * cl * ch * sh * sh * sh) / (w * w))
             s1 += _GW[j] * (d * ch * sh * sh / w)
-            s2 += _GW[j] * (d * ch * (1.0 - g * cl * ch * sh * sh * sh) / (w * w))
     return 0.5 * h * s1, 0.5 * h * s2
 
 
-@nb.jit(types.UniTuple(float64, 2)(_RO, float64, float64, float64, float64, float64), **_opts)
-def flat_quad(c1, p, ua, ub, g, m):
+@nb.jit(
+    types.UniTuple(float64, 2)(_RO, float64, float64, float64, float64, float64, float64), **_opts
+)
+def flat_quad(c1, p, ua, ub, g, m, cmax):
     """The strain integral of Eq. F4 and the tangent's integral over ``ua..ub``.
 
     ``(int alpha1' cosh v sinh(v)^2 / W dv, int alpha1' cosh v (1 - g c_L cosh v sinh(v)^3) /
     W^2 dv)`` over ``ua..ub``, ``alpha1'`` at ``p cosh v``, ``W`` of :func:`flat_weight` with ``g = p / s0``
-    and ``c_L = 1 + m (1 - alpha1)``, ``m = tan(theta)``. Both integrals at once (the second is
+    and ``c_L = min(1 + m (1 - alpha1), cmax)``, ``m = tan(theta)`` (``cmax`` where the hardening
+    limits it, Eq. F2c, the second integrand ``alpha1' cosh v / W^2`` there). Both integrals at
+    once (the second is
     the tangent's, Eq. F6's ``d p_f / d p`` at a fixed ``s0``);
     ``ub < ua`` gives their negatives. Eq. 24's ``alpha1'`` is smooth: :func:`flat_panels` over
     the interval. The tabulated first loading's is continuous with kinks in its slope at the
@@ -180,7 +193,7 @@ def flat_quad(c1, p, ua, ub, g, m):
         hi = ua
     f0 = first_offset(c1)
     if f0 < 0:
-        s1, s2 = flat_panels(c1, p, lo, hi, g, m)
+        s1, s2 = flat_panels(c1, p, lo, hi, g, m, cmax)
         return sign * s1, sign * s2
     nj = int(c1[f0 + 1])
     H = c1[1]
@@ -201,19 +214,19 @@ def flat_quad(c1, p, ua, ub, g, m):
         if vk >= hi:
             break
         if vk > a:
-            r1, r2 = flat_panels(c1, p, a, vk, g, m)
+            r1, r2 = flat_panels(c1, p, a, vk, g, m, cmax)
             s1 += r1
             s2 += r2
             a = vk
-    r1, r2 = flat_panels(c1, p, a, hi, g, m)
+    r1, r2 = flat_panels(c1, p, a, hi, g, m, cmax)
     return sign * (s1 + r1), sign * (s2 + r2)
 
 
 @nb.jit(
-    types.UniTuple(float64, 3)(_RO, float64, float64, float64, float64, float64, float64),
+    types.UniTuple(float64, 3)(_RO, float64, float64, float64, float64, float64, float64, float64),
     **_opts,
 )
-def flattening_solve(c1, p, P0, D, cap, g, m):
+def flattening_solve(c1, p, P0, D, cap, g, m, cmax):
     """Eq. F6 from ``P0``: ``(P, d alpha1(P) / d p, alpha1(P))``, ``int_u0^u1 ... = D``.
 
     ``P = p cosh(u1)`` (``cap`` where the strain reaches full contact); the second value is the
@@ -237,6 +250,10 @@ def flattening_solve(c1, p, P0, D, cap, g, m):
         sh = math.sinh(u)
         a, d = first_scalar(c1, p * ch)
         cl = 1.0 + m * (1.0 - a)
+        lim = 1.0  # the tangent's term of a lattice rate that is a function of t = p cosh v
+        if cl > cmax:  # the hardening's limit, proportional to p: no such term (Eq. F2c)
+            cl = cmax
+            lim = 0.0
         w = flat_weight(g, ch, sh, cl)
         d = d / w  # alpha1' / W: what the strain integral's integrand has
         un = math.nan
@@ -250,14 +267,14 @@ def flattening_solve(c1, p, P0, D, cap, g, m):
             if abs(un - u) <= 1e-7 * (1.0 + u) and lo < un < hi:
                 # the last step: the integrand is linear over it to 3 (un - u)^2 relative,
                 # below 1e-13, so F + r and the tangent's integral by its value at u
-                Ic += (un - u) * d * ch * (1.0 - g * cl * ch * sh * sh * sh) / w
+                Ic += (un - u) * d * ch * (1.0 - lim * g * cl * ch * sh * sh * sh) / w
                 u = un
                 break
         if not un < hi:
             un = hi if not hi_checked else 0.5 * (lo + hi)
         elif not un > lo or (it % 8 == 7 and hi_checked):
             un = 0.5 * (lo + hi)
-        dF, dI = flat_quad(c1, p, u, un, g, m)
+        dF, dI = flat_quad(c1, p, u, un, g, m, cmax)
         Fn = F + dF
         In = Ic + dI
         if un == ucap and not hi_checked:
@@ -281,16 +298,19 @@ def flattening_solve(c1, p, P0, D, cap, g, m):
         return cap, 0.0, first_scalar(c1, cap)[0]
     sh = math.sinh(u)
     aP = first_scalar(c1, P)[0]
-    w = flat_weight(g, ch, sh, 1.0 + m * (1.0 - aP))
+    w = flat_weight(g, ch, sh, min(1.0 + m * (1.0 - aP), cmax))
     return P, (D + Ic) * w / (ch * sh), aP
 
 
-@nb.jit(types.UniTuple(float64, 3)(_RO, float64, float64, float64, float64, float64), **_opts)
-def flattening_scalar(fdata, p, p_hist, alpha_f, d_eps, sigy):
+@nb.jit(
+    types.UniTuple(float64, 3)(_RO, float64, float64, float64, float64, float64, float64), **_opts
+)
+def flattening_scalar(fdata, p, p_hist, alpha_f, d_eps, sigy, hard):
     """One node's flattening over a strain increment (Eq. F6): ``(alpha_f', p_f, dalpha/dp)``.
 
     From the committed fraction ``alpha_f`` and history ``p_hist``, at the pressure ``p`` with the
-    bulk's plastic strain increment ``d_eps`` (and flow stress ``sigy``, ``<= 0``: the file's):
+    bulk's plastic strain increment ``d_eps`` (and flow stress ``sigy``, ``<= 0``: the file's;
+    hardening modulus ``hard``, ``<= 0``: perfectly plastic, Eq. F2c):
     ``P0 = max(p_f, p_hist, p)`` (``p_f`` the pressure whose ``alpha1`` is ``alpha_f``), then F6.
     Returns the trial fraction (never below ``alpha_f``), its flattening pressure where it was
     needed and the node is flattened beyond ``max(p_hist, p)`` (else 0), and the update's
@@ -315,17 +335,20 @@ def flattening_scalar(fdata, p, p_hist, alpha_f, d_eps, sigy):
     x = p / H
     # 1/Pa, as the integrals; the equivalent strain stretches the ridges by STRETCH of it
     D = d_eps * STRETCH * fdata[1] * (s0 / H) / (fdata[0] * x * x) / H
-    P, dadp, aP = flattening_solve(c1, p, P0, D, cap, p / s0, fdata[0])
+    cmax = 6.0 * p / hard if hard > 0.0 else math.inf  # Eq. F2c
+    P, dadp, aP = flattening_solve(c1, p, P0, D, cap, p / s0, fdata[0], cmax)
     if aP > alpha_f:
         return aP, P, dadp
     return alpha_f, pf, 0.0
 
 
 @nb.jit(
-    types.UniTuple(float64, 3)(int64, _RO, _RO, float64, float64, float64, float64, float64),
+    types.UniTuple(float64, 3)(
+        int64, _RO, _RO, float64, float64, float64, float64, float64, float64
+    ),
     **_opts,
 )
-def flat_shear_scalar(code, coeffs, fdata, p, p_hist, alpha_f, d_eps, sigy):
+def flat_shear_scalar(code, coeffs, fdata, p, p_hist, alpha_f, d_eps, sigy, hard):
     """``(tau, dtau/dp, alpha_f')`` of law ``code`` with the flattening of Eq. F5 and F6.
 
     Without flattening data, or with ``alpha_f = 0`` and ``d_eps = 0``: :func:`shear_scalar`
@@ -338,7 +361,7 @@ def flat_shear_scalar(code, coeffs, fdata, p, p_hist, alpha_f, d_eps, sigy):
     if fdata.shape[0] == 0 or not p > 0.0 or (d_eps == 0.0 and alpha_f == 0.0):
         t, d = shear_scalar(code, coeffs, p, p_hist)
         return t, d, alpha_f
-    a, pf, dadp = flattening_scalar(fdata, p, p_hist, alpha_f, d_eps, sigy)
+    a, pf, dadp = flattening_scalar(fdata, p, p_hist, alpha_f, d_eps, sigy, hard)
     tm = coeffs[0]
     if p >= p_hist:
         t1, d1 = first_scalar(coeffs, p)
@@ -356,17 +379,18 @@ def flat_shear_scalar(code, coeffs, fdata, p, p_hist, alpha_f, d_eps, sigy):
     return t, d * (pf / p_hist), a
 
 
-@nb.jit(types.void(_RO, _RO, _RO, _RO, _RO, _RO, float64[::1], float64[::1]), **_opts)
-def flattening_array(fdata, p, p_hist, alpha_f, d_eps, sigy, alpha_out, p_f):
+@nb.jit(types.void(_RO, _RO, _RO, _RO, _RO, _RO, _RO, float64[::1], float64[::1]), **_opts)
+def flattening_array(fdata, p, p_hist, alpha_f, d_eps, sigy, hard, alpha_out, p_f):
     """:func:`flattening_scalar` at every node: the trial fraction and flattening pressure."""
     for i in range(p.shape[0]):
-        a, pf, _ = flattening_scalar(fdata, p[i], p_hist[i], alpha_f[i], d_eps[i], sigy[i])
+        a, pf, _ = flattening_scalar(fdata, p[i], p_hist[i], alpha_f[i], d_eps[i], sigy[i], hard[i])
         alpha_out[i] = a
         p_f[i] = pf
 
 
 _traction_flat_sig = types.void(
     int64,
+    _RO,
     _RO,
     _RO,
     _RO,
@@ -396,6 +420,7 @@ def traction_array_flat(
     alpha_f,
     d_eps,
     sigy,
+    hard,
     du,
     t_old,
     k_t,
@@ -409,7 +434,7 @@ def traction_array_flat(
     """The return map with the flattened law at every node; trial ``p_hist`` and ``alpha_f``."""
     for i in range(p.shape[0]):
         tau, dtau, a = flat_shear_scalar(
-            code, coeffs, fdata, p[i], p_hist[i], alpha_f[i], d_eps[i], sigy[i]
+            code, coeffs, fdata, p[i], p_hist[i], alpha_f[i], d_eps[i], sigy[i], hard[i]
         )
         status[i] = return_map_row(tau, dtau, p[i], du, t_old, k_t[i], t_new, dt_ddu, dt_dp, i)
         p_trial[i] = max(p_hist[i], p[i]) if p[i] > 0.0 else p_hist[i]
@@ -426,6 +451,7 @@ def traction_array_flat_parallel(
     alpha_f,
     d_eps,
     sigy,
+    hard,
     du,
     t_old,
     k_t,
@@ -439,7 +465,7 @@ def traction_array_flat_parallel(
     """As :func:`traction_array_flat`, threads over the nodes."""
     for i in nb.prange(p.shape[0]):
         tau, dtau, a = flat_shear_scalar(
-            code, coeffs, fdata, p[i], p_hist[i], alpha_f[i], d_eps[i], sigy[i]
+            code, coeffs, fdata, p[i], p_hist[i], alpha_f[i], d_eps[i], sigy[i], hard[i]
         )
         status[i] = return_map_row(tau, dtau, p[i], du, t_old, k_t[i], t_new, dt_ddu, dt_dp, i)
         p_trial[i] = max(p_hist[i], p[i]) if p[i] > 0.0 else p_hist[i]
@@ -453,6 +479,7 @@ _zoned_flat_sig = types.void(
     _ROI,
     _RO,
     _ROI,
+    _RO,
     _RO,
     _RO,
     _RO,
@@ -483,6 +510,7 @@ def traction_array_zoned_flat(
     alpha_f,
     d_eps,
     sigy,
+    hard,
     du,
     t_old,
     k_t,
@@ -505,6 +533,7 @@ def traction_array_zoned_flat(
             alpha_f[i],
             d_eps[i],
             sigy[i],
+            hard[i],
         )
         status[i] = return_map_row(tau, dtau, p[i], du, t_old, k_t[i], t_new, dt_ddu, dt_dp, i)
         p_trial[i] = max(p_hist[i], p[i]) if p[i] > 0.0 else p_hist[i]
@@ -524,6 +553,7 @@ def traction_array_zoned_flat_parallel(
     alpha_f,
     d_eps,
     sigy,
+    hard,
     du,
     t_old,
     k_t,
@@ -546,6 +576,7 @@ def traction_array_zoned_flat_parallel(
             alpha_f[i],
             d_eps[i],
             sigy[i],
+            hard[i],
         )
         status[i] = return_map_row(tau, dtau, p[i], du, t_old, k_t[i], t_new, dt_ddu, dt_dp, i)
         p_trial[i] = max(p_hist[i], p[i]) if p[i] > 0.0 else p_hist[i]

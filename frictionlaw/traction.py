@@ -74,6 +74,7 @@ def traction_update(
     zone: ArrayLike | None = None,
     d_eps: ArrayLike | None = None,
     sigma_y: ArrayLike | None = None,
+    hardening: ArrayLike | None = None,
 ) -> "TractionResult":
     """Stick/slip traction update at every contact node (stress based).
 
@@ -115,6 +116,10 @@ def traction_update(
         The bulk's current flow stress per node (Pa, in ``[1e3, 1e13]``), with ``d_eps`` only:
         it scales the layer's flow stress ``2 k`` by ``sigma_y`` over the file's (how strain
         rate and hardening enter); the file's ``sigma_y`` by default.
+    hardening : float or array_like, shape (n,), optional
+        The bulk's hardening modulus ``d sigma_y / d eps_eq`` per node (Pa, finite, ``>= 0``),
+        with ``d_eps`` only: it limits the slip-line lattice's sinking rate to ``6 p / h``
+        (docs/flattening.md, Eq. F2c); ``None`` or 0: a perfectly plastic bulk, as before.
 
     Returns
     -------
@@ -130,6 +135,8 @@ def traction_update(
     zoned = _zoned(law, zone, n)
     if sigma_y is not None and d_eps is None:
         raise ValueError("sigma_y applies with d_eps only (the flattening's flow stress)")
+    if hardening is not None and d_eps is None:
+        raise ValueError("hardening applies with d_eps only (the flattening's lattice, Eq. F2c)")
     squeeze = np.ndim(slip_increment) == 1
     du = _as_2d("slip_increment", slip_increment, n)
     t_old = _as_2d("traction_old", traction_old, n)
@@ -164,7 +171,7 @@ def traction_update(
         parallel = n >= PARALLEL_THRESHOLD
     tail = (du, t_old, kt, t_new, status, dt_ddu, dt_dp, p_trial)
     if d_eps is not None:
-        de, sy, (a_c, a_t) = _flattening_inputs(law, d_eps, sigma_y, state, n)
+        de, sy, hd, (a_c, a_t) = _flattening_inputs(law, d_eps, sigma_y, hardening, state, n)
         fk = flattening_kernels()
         if zoned is not None:
             zdata = law.kernel_data()  # type: ignore[union-attr]
@@ -176,7 +183,7 @@ def traction_update(
         else:
             fkern = fk.traction_array_flat_parallel if parallel else fk.traction_array_flat
             fhead = (int(law.code), law.coeffs, law.flattening_data)  # type: ignore[union-attr]
-        fkern(*fhead, np.ascontiguousarray(p), p_hist, a_c, de, sy, *tail, a_t)
+        fkern(*fhead, np.ascontiguousarray(p), p_hist, a_c, de, sy, hd, *tail, a_t)
     elif zoned is not None:
         zk = zoned_kernels()
         zkern = zk.traction_array_zoned_parallel if parallel else zk.traction_array_zoned
@@ -206,11 +213,16 @@ def flattening_kernels() -> ModuleType:
 
 
 def _flattening_inputs(
-    law: object, d_eps: ArrayLike, sigma_y: ArrayLike | None, state: "HistoryState | None", n: int
-) -> tuple[NDArray[np.float64], NDArray[np.float64], tuple[NDArray, NDArray]]:
-    """``(d_eps, sigy, (alpha_f committed, trial))`` checked for the flattening kernels.
+    law: object,
+    d_eps: ArrayLike,
+    sigma_y: ArrayLike | None,
+    hardening: ArrayLike | None,
+    state: "HistoryState | None",
+    n: int,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], tuple[NDArray, NDArray]]:
+    """``(d_eps, sigy, hard, (alpha_f committed, trial))`` checked for the flattening kernels.
 
-    ``sigy`` is 0 where the file's ``sigma_y`` applies. Without a state every node is a virgin
+    ``sigy`` is 0 where the file's ``sigma_y`` applies, ``hard`` 0 for a perfectly plastic bulk. Without a state every node is a virgin
     surface (``alpha_f = 0``) and the trial fraction goes to a scratch array.
     """
     if not getattr(law, "uses_flattening", False):
@@ -233,11 +245,22 @@ def _flattening_inputs(
         if not (np.isfinite(sy).all() and (sy >= 1e3).all() and (sy <= 1e13).all()):
             raise ValueError("sigma_y must be in [1e3, 1e13] Pa (the bulk's flow stress)")
         sy = np.ascontiguousarray(np.broadcast_to(sy, (n,)), dtype=np.float64)
+    if hardening is None:
+        hd = np.zeros(n)
+    else:
+        hd = as_float_array("hardening", hardening)
+        if hd.shape not in ((), (1,), (n,)):
+            raise ValueError(f"hardening must be a scalar or have shape ({n},), got {hd.shape}")
+        if not (np.isfinite(hd).all() and (hd >= 0).all()):
+            raise ValueError(
+                "hardening must be finite and >= 0 (Pa, d sigma_y / d eps_eq; 0: perfectly plastic)"
+            )
+        hd = np.ascontiguousarray(np.broadcast_to(hd, (n,)), dtype=np.float64)
     if state is None:
-        return de, sy, (np.zeros(n), np.empty(n))
+        return de, sy, hd, (np.zeros(n), np.empty(n))
     if state.n_nodes != n:
         raise ValueError(f"state has {state.n_nodes} nodes, p has {n}")
-    return de, sy, state.flattening_arrays()
+    return de, sy, hd, state.flattening_arrays()
 
 
 def _zoned(law: object, zone: ArrayLike | None, n: int) -> NDArray[np.int64] | None:
@@ -294,6 +317,7 @@ def traction_update_force(
     zone: ArrayLike | None = None,
     d_eps: ArrayLike | None = None,
     sigma_y: ArrayLike | None = None,
+    hardening: ArrayLike | None = None,
 ) -> "TractionResult":
     """Force-based adapter (Abaqus/Explicit VFRIC style): forces and nodal areas in, forces out.
 

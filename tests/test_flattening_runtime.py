@@ -45,7 +45,7 @@ FORMS = {
 }
 
 
-def update(P, p, p_hist, alpha_f, d_eps, sigma_y=None, zone=None, law_=None):
+def update(P, p, p_hist, alpha_f, d_eps, sigma_y=None, zone=None, law_=None, hardening=None):
     """One traction update at slipping nodes: (tau, dt_dp, trial alpha_f, trial p_hist)."""
     n = np.size(p)
     state = fl.HistoryState(p_hist=np.broadcast_to(p_hist, n), alpha_f=np.broadcast_to(alpha_f, n))
@@ -60,6 +60,7 @@ def update(P, p, p_hist, alpha_f, d_eps, sigma_y=None, zone=None, law_=None):
         d_eps=d_eps,
         sigma_y=sigma_y,
         zone=zone,
+        hardening=hardening,
     )
     return res.traction, res.dt_dp, state.alpha_f_trial.copy(), state.p_hist_trial.copy()
 
@@ -233,6 +234,38 @@ def test_tangent_is_the_derivative_of_the_flattened_shear():
             assert np.isfinite(dtdp[1])
 
 
+@pytest.mark.parametrize("form", FORMS)
+def test_the_hardening_limit_against_the_numpy_model(form):
+    """Eq. F2c in the kernels against the NumPy model: moduli that limit the lattice everywhere
+    (1e11 Pa), nowhere (1e6) and in between (where the limit starts inside the step: a kink the
+    quadratures do not split, 5e-5 there; the tabulated form's own kinks as in the test above)."""
+    P = law(**FORMS[form])
+    p, ph, af, de = grid()
+    pf0 = flattening_pressure(af, P)
+    for h, tol in ((1e11, 1e-9), (1e6, 1e-9), (4e9, 5e-5)):
+        _, _, a_k, _ = update(P, p, ph, af, de, hardening=h)
+        pf = flattening_update(pf0, np.maximum(ph, p), p, de, P, hardening=h)
+        a_ref = np.maximum(fl.alpha_first(pf, P), af)
+        tol = max(tol, 5e-5) if form == "tabulated-first" else tol
+        assert np.allclose(a_k, a_ref, rtol=tol, atol=1e-12), h
+    _, _, a0, _ = update(P, p, ph, af, de)
+    _, _, a1, _ = update(P, p, ph, af, de, hardening=0.0)
+    assert np.array_equal(a0, a1)  # 0: perfectly plastic, bit for bit
+    _, _, a2, _ = update(P, p, ph, af, de, hardening=1e11)
+    assert np.all(a2 <= a1) and np.any(a2 < a1 - 1e-3)
+
+
+def test_the_tangent_with_the_hardening_limit():
+    """Where the limit acts the lattice's rate is ``6 p / h``, a function of ``p`` itself: the
+    consistent tangent's integrand changes (docs/flattening.md, F6); a central difference."""
+    P = law()
+    for pr, h in ((0.2, 1e11), (0.05, 1e10), (0.3, 3e9), (0.1, 4e9)):
+        p = pr * H
+        dp = 1e-6 * p
+        t, dtdp, _, _ = update(P, np.array([p - dp, p, p + dp]), 0.0, 0.0, 0.01, hardening=h)
+        assert dtdp[1] == pytest.approx((t[2] - t[0]) / (2 * dp), rel=1e-5, abs=1e-12), (pr, h)
+
+
 def test_the_host_flow_stress_against_the_numpy_model():
     """The host's flow stress scales the layer's rate (F2's ``s0``), not the lattice's."""
     P = law()
@@ -310,6 +343,10 @@ def test_bad_input_is_named():
         (dict(d_eps=np.zeros(3)), r"d_eps must be a scalar or have shape \(2,\)"),
         (dict(d_eps=0.1, sigma_y=1.0), r"sigma_y must be in \[1e3, 1e13\] Pa"),
         (dict(sigma_y=3e8), "sigma_y applies with d_eps only"),
+        (dict(hardening=1e9), "hardening applies with d_eps only"),
+        (dict(d_eps=0.1, hardening=-1.0), "hardening must be finite and >= 0"),
+        (dict(d_eps=0.1, hardening=[np.inf, 0.0]), "hardening must be finite and >= 0"),
+        (dict(d_eps=0.1, hardening=np.ones(3)), r"hardening must be a scalar or have shape \(2,\)"),
     ):
         with pytest.raises(ValueError, match=msg):
             fl.traction_update(*args, **bad)
