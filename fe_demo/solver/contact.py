@@ -19,10 +19,11 @@ with a law per ring; each node runs the law of the zone under it at the start of
 with its own ``p_hist`` (:class:`frictionlaw.ZonedLaw`, ``traction_update(..., zone=)``).
 
 Flattening (issue 43): a die with ``flattening = True`` passes each node's bulk plastic strain
-increment of the increment and the bulk's current flow stress to the law
-(``traction_update(..., d_eps=, sigma_y=)``), which flattens the node's asperities (its
-``alpha_f`` in the :class:`frictionlaw.HistoryState`, under the same trial/commit rules as
-``p_hist``). The model gives both at the contact nodes by :func:`surface_projection`: the lumped
+increment of the increment, the bulk's current flow stress and its hardening modulus to the
+law (``traction_update(..., d_eps=, sigma_y=, hardening=)``), which flattens the node's
+asperities (its ``alpha_f`` in the :class:`frictionlaw.HistoryState`, under the same
+trial/commit rules as ``p_hist``). The model gives them at the contact nodes by
+:func:`surface_projection`: the lumped
 L2 projection of the Gauss-point values of the elements around each node, which for a node on
 the die is its first element layer.
 
@@ -196,7 +197,7 @@ class DieContact:
             "eps_n_Pa_per_m": self.eps_n,
         }
 
-    def evaluate(self, z, z_die, dur, area, r=None, d_eps=None, sigma_y=None):
+    def evaluate(self, z, z_die, dur, area, r=None, d_eps=None, sigma_y=None, hardening=None):
         """Pressure, friction traction and their residual/tangent contributions.
 
         Parameters
@@ -212,9 +213,10 @@ class DieContact:
         r : ndarray, optional
             Radii of the candidate nodes at the start of the increment (m): on a zoned die the
             zone under each node (:meth:`zones_at`).
-        d_eps, sigma_y : ndarray, optional
-            The bulk's plastic strain increment of the increment and its flow stress (Pa) at the
-            nodes, for a die with ``flattening`` (required there, refused otherwise).
+        d_eps, sigma_y, hardening : ndarray, optional
+            The bulk's plastic strain increment of the increment, its flow stress (Pa) and its
+            hardening modulus ``d sigma_y / d eps_p`` (Pa) at the nodes, for a die with
+            ``flattening`` (``d_eps`` required there, refused otherwise).
         """
         if self.flattening != (d_eps is not None):
             raise ValueError("d_eps is given exactly when the die runs the flattening")
@@ -234,7 +236,9 @@ class DieContact:
         else:
             law, zone = self.zones_at(r)
             state = self._history(p, active)
-            kw = {} if d_eps is None else {"d_eps": d_eps, "sigma_y": sigma_y}
+            kw = {}
+            if d_eps is not None:
+                kw = {"d_eps": d_eps, "sigma_y": sigma_y, "hardening": hardening}
             res = traction_update(
                 law, p, dur, self.tau_old, self.stick_stiffness(zone), state, zone=zone, **kw
             )

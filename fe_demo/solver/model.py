@@ -255,18 +255,23 @@ class FormingModel:
         return trial, R
 
     def _bulk(self, kin, ep):
-        """``d_eps``, ``sigma_y`` at the die nodes for a flattening run (else ``{}``).
+        """``d_eps``, ``sigma_y``, ``hardening`` at the die nodes for a flattening run (else ``{}``).
 
-        The increment's equivalent plastic strain (trial ``ep`` less the committed) and the
-        flow stress at the trial strain, each carried from the Gauss points of the node's
-        elements by :func:`~fe_demo.solver.contact.surface_projection`.
+        The increment's equivalent plastic strain (trial ``ep`` less the committed), and the
+        flow stress and hardening modulus ``d sigma_y / d eps_p`` at the trial strain (the
+        latter limits the lattice's rate, docs/flattening.md Eq. F2c), each carried from the
+        Gauss points of the node's elements by :func:`~fe_demo.solver.contact.surface_projection`.
         """
         if not self.contact.flattening:
             return {}
         nodes = self.contact.nodes
         d_eps = surface_projection(self.t, kin.N, kin.dV, ep - self.eps_p, nodes)
         eps = surface_projection(self.t, kin.N, kin.dV, ep, nodes)
-        return {"d_eps": np.maximum(d_eps, 0.0), "sigma_y": self.mat.flow_stress(eps)}
+        return {
+            "d_eps": np.maximum(d_eps, 0.0),
+            "sigma_y": self.mat.flow_stress(eps),
+            "hardening": self.mat.hardening(eps),
+        }
 
     def surface_plastic_strain(self):
         """Equivalent plastic strain at the die nodes (accepted state), projected as :meth:`_bulk`."""
