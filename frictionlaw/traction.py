@@ -5,6 +5,7 @@ while ``|t_tr| <= tau(p, p_hist)`` (stick), otherwise returned radially onto the
 limit circle (slip). Outputs include the consistent tangent for implicit hosts.
 """
 
+import math
 from types import ModuleType
 from typing import TYPE_CHECKING, NamedTuple, TypeAlias
 
@@ -230,37 +231,36 @@ def _flattening_inputs(
             "d_eps applies to a law with a flattening block (FrictionParams.flattening, "
             "docs/flattening.md); this law has none"
         )
-    de = as_float_array("d_eps", d_eps)
-    if de.shape not in ((), (1,), (n,)):
-        raise ValueError(f"d_eps must be a scalar or have shape ({n},), got shape {de.shape}")
-    if not (np.isfinite(de).all() and (de >= 0).all()):
-        raise ValueError("d_eps must be finite and >= 0 (a plastic strain increment)")
-    de = np.ascontiguousarray(np.broadcast_to(de, (n,)), dtype=np.float64)
-    if sigma_y is None:
-        sy = np.zeros(n)
-    else:
-        sy = as_float_array("sigma_y", sigma_y)
-        if sy.shape not in ((), (1,), (n,)):
-            raise ValueError(f"sigma_y must be a scalar or have shape ({n},), got {sy.shape}")
-        if not (np.isfinite(sy).all() and (sy >= 1e3).all() and (sy <= 1e13).all()):
-            raise ValueError("sigma_y must be in [1e3, 1e13] Pa (the bulk's flow stress)")
-        sy = np.ascontiguousarray(np.broadcast_to(sy, (n,)), dtype=np.float64)
-    if hardening is None:
-        hd = np.zeros(n)
-    else:
-        hd = as_float_array("hardening", hardening)
-        if hd.shape not in ((), (1,), (n,)):
-            raise ValueError(f"hardening must be a scalar or have shape ({n},), got {hd.shape}")
-        if not (np.isfinite(hd).all() and (hd >= 0).all()):
-            raise ValueError(
-                "hardening must be finite and >= 0 (Pa, d sigma_y / d eps_eq; 0: perfectly plastic)"
-            )
-        hd = np.ascontiguousarray(np.broadcast_to(hd, (n,)), dtype=np.float64)
+    de = _per_node("d_eps", d_eps, n, 0.0, math.inf, "finite and >= 0 (a plastic strain increment)")
+    sy = np.zeros(n)
+    if sigma_y is not None:
+        sy = _per_node(
+            "sigma_y", sigma_y, n, 1e3, 1e13, "in [1e3, 1e13] Pa (the bulk's flow stress)"
+        )
+    hd = np.zeros(n)
+    if hardening is not None:
+        why = "finite and >= 0 (Pa, d sigma_y / d eps_eq; 0: perfectly plastic)"
+        hd = _per_node("hardening", hardening, n, 0.0, math.inf, why)
     if state is None:
         return de, sy, hd, (np.zeros(n), np.empty(n))
     if state.n_nodes != n:
         raise ValueError(f"state has {state.n_nodes} nodes, p has {n}")
     return de, sy, hd, state.flattening_arrays()
+
+
+def _per_node(
+    name: str, value: ArrayLike, n: int, lo: float, hi: float, allowed: str
+) -> NDArray[np.float64]:
+    """``value`` as ``n`` nodes' C-contiguous float64 array, finite, in ``[lo, hi]``.
+
+    A scalar is broadcast; ``ValueError`` naming ``name`` and what is ``allowed`` otherwise.
+    """
+    a = as_float_array(name, value)
+    if a.shape not in ((), (1,), (n,)):
+        raise ValueError(f"{name} must be a scalar or have shape ({n},), got shape {a.shape}")
+    if not (np.isfinite(a).all() and (a >= lo).all() and (a <= hi).all()):
+        raise ValueError(f"{name} must be {allowed}")
+    return np.ascontiguousarray(np.broadcast_to(a, (n,)), dtype=np.float64)
 
 
 def _zoned(law: object, zone: ArrayLike | None, n: int) -> NDArray[np.int64] | None:
