@@ -8,7 +8,9 @@ turn in one run, best of ``--repeat`` rounds, serial and parallel kernels. Cases
 - ``zero strain``: ``d_eps = 0`` on a virgin surface (the law bit for bit);
 - ``flattened, no strain``: ``d_eps = 0`` on surfaces flattened beyond their pressure;
 - ``strain, virgin``: ``d_eps = 0.002`` (an FE increment's strain) on a virgin surface;
-- ``strain, flattened``: ``d_eps = 0.002`` on flattened surfaces (the steady state of a run).
+- ``strain, flattened``: ``d_eps = 0.002`` on flattened surfaces (the steady state of a run);
+- ``strain, virgin, hardening``: as ``strain, virgin`` with a hardening modulus of 2 GPa (the
+  lattice's rate limited, Eq. F2c, at the lower pressures of the set).
 
 Ratios are the case's time over the baseline's in the same round, the median over rounds.
 Run: python benchmarks/bench_flattening_runtime.py [--nodes 100000] [--repeat 7]
@@ -38,6 +40,10 @@ P = fl.FrictionParams(
 )
 
 
+#: the hardening modulus of the hardening case (Pa): 6 p / h below the lattice's rate up to 0.4 H
+HARDENING = 2e9
+
+
 def cases(n, rng):
     p = rng.uniform(0.05, 0.6, n) * H
     ph = np.where(rng.random(n) < 0.5, p * rng.uniform(1.0, 1.5, n), 0.0)
@@ -62,6 +68,7 @@ def cases(n, rng):
             "flattened, no strain": (zero, a_flat),
             "strain, virgin": (inc, zero),
             "strain, flattened": (inc, a_flat),
+            "strain, virgin, hardening": (inc, zero),
         },
     )
 
@@ -89,9 +96,10 @@ def main(argv=None):
 
         def call(key, parallel=parallel, states=states):
             d_eps = runs[key][0]
+            kw = {"hardening": HARDENING} if key.endswith("hardening") else {}
             t0 = time.perf_counter()
             fl.traction_update(
-                law, p, du, t_old, kt, states[key], parallel=parallel, out=out, d_eps=d_eps
+                law, p, du, t_old, kt, states[key], parallel=parallel, out=out, d_eps=d_eps, **kw
             )
             return time.perf_counter() - t0
 
