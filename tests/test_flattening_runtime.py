@@ -259,7 +259,14 @@ def test_the_tangent_with_the_hardening_limit():
     """Where the limit acts the lattice's rate is ``6 p / h``, a function of ``p`` itself: the
     consistent tangent's integrand changes (docs/flattening.md, F6); a central difference."""
     P = law()
-    for pr, h in ((0.2, 1e11), (0.05, 1e10), (0.3, 3e9), (0.1, 4e9)):
+    # the limit everywhere, and (the last two) from inside the step on: 6 p / h just above 1
+    for pr, h in (
+        (0.2, 1e11),
+        (0.05, 1e10),
+        (0.3, 3e9),
+        (0.2, 1.2 * H / 1.02),
+        (0.1, 0.6 * H / 1.04),
+    ):
         p = pr * H
         dp = 1e-6 * p
         t, dtdp, _, _ = update(P, np.array([p - dp, p, p + dp]), 0.0, 0.0, 0.01, hardening=h)
