@@ -223,8 +223,9 @@ def _flattening_inputs(
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], tuple[NDArray, NDArray]]:
     """``(d_eps, sigy, hard, (alpha_f committed, trial))`` checked for the flattening kernels.
 
-    ``sigy`` is 0 where the file's ``sigma_y`` applies, ``hard`` 0 for a perfectly plastic bulk. Without a state every node is a virgin
-    surface (``alpha_f = 0``) and the trial fraction goes to a scratch array.
+    ``sigy`` is 0 where the file's ``sigma_y`` applies, ``hard`` 0 for a perfectly plastic bulk.
+    Without a state every node is a virgin surface (``alpha_f = 0``) and the trial fraction goes
+    to a scratch array.
     """
     if not getattr(law, "uses_flattening", False):
         raise ValueError(
