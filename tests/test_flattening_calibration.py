@@ -79,6 +79,10 @@ def test_the_example_file_reads():
             "line 2, column strain: not a number \\(a decimal comma",
         ),
         ("strain,alpha,p_Pa\n-0.1,0.5,1e8\n0.2,0.5,1e8\n", "strain must be >= 0"),
+        (
+            "strain,alpha,p_Pa\n0,0.3,1e8\n5,0.4,1e8\n20,0.6,1e8\n",
+            "line 4, column strain: 20 is above 2.*it looks like per cent: divide by 100",
+        ),
         ("strain,alpha,p_Pa\n0.1,0.5,0\n0.2,0.5,1e8\n", "p_Pa must be > 0"),
         ("strain,alpha,p_Pa\n0.0,0.5,1e8\n0.2,0.5,1e8\n", "at least two rows with strain > 0"),
         ("strain,alpha,p_Pa\n0.1,nan,1e8\n0.2,0.5,1e8\n", "not finite"),

@@ -65,6 +65,11 @@ class FlatteningData:
     p: np.ndarray
 
 
+#: the largest equivalent plastic strain a flattening measurement is read with (a strip drawn or
+#: upset to it would have failed long before); above it the column is most likely in per cent
+STRAIN_MAX = 2.0
+
+
 def read_flattening_data(path) -> FlatteningData:
     """Read a CSV with the columns ``strain``, ``alpha`` and ``p_Pa`` or ``p_MPa`` (any order).
 
@@ -72,7 +77,7 @@ def read_flattening_data(path) -> FlatteningData:
     and comma, semicolon or tab as the separator (the header row decides). At least two rows
     with a strain above 0 are needed to fit ``beta``. ``ValueError`` naming the file, the row and
     the column for anything else, with the likely cause where the numbers show it (a contact
-    fraction in per cent, a decimal comma).
+    fraction or a strain in per cent, a decimal comma).
     """
     path = Path(path)
     try:
@@ -119,6 +124,13 @@ def read_flattening_data(path) -> FlatteningData:
     )
     if np.any(data.strain < 0):
         raise ValueError(f"{path}: strain must be >= 0")
+    if np.any(data.strain > STRAIN_MAX):
+        i = line_of[1 + int(np.argmax(data.strain))]
+        raise ValueError(
+            f"{path}: line {i}, column strain: {data.strain.max():g} is above {STRAIN_MAX:g}, "
+            "beyond any flattening measurement: the column is the equivalent plastic strain, "
+            "not per cent (it looks like per cent: divide by 100)"
+        )
     if np.any((data.alpha < 0) | (data.alpha > 1)):
         pct = np.all(data.alpha >= 0) and np.all(data.alpha <= 100)
         hint = " (it looks like per cent: divide by 100)" if pct else ""
