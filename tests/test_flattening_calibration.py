@@ -78,7 +78,10 @@ def test_the_example_file_reads():
             "strain;alpha;p_Pa\n0,1;0,3;1e8\n0,2;0,5;1e8\n",
             "line 2, column strain: not a number \\(a decimal comma",
         ),
-        ("strain,alpha,p_Pa\n-0.1,0.5,1e8\n0.2,0.5,1e8\n", "strain must be >= 0"),
+        (
+            "strain,alpha,p_Pa\n-0.1,0.5,1e8\n0.2,0.5,1e8\n",
+            "line 2, column strain: strain must be >= 0.*a thickness strain is negative",
+        ),
         (
             "strain,alpha,p_Pa\n0,0.3,1e8\n5,0.4,1e8\n20,0.6,1e8\n",
             "line 4, column strain: 20 is above 2.*it looks like per cent: divide by 100",

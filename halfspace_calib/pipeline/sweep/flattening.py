@@ -123,7 +123,12 @@ def read_flattening_data(path) -> FlatteningData:
         str(path), np.array(vals["strain"]), np.array(vals["alpha"]), np.array(vals[unit]) * scale
     )
     if np.any(data.strain < 0):
-        raise ValueError(f"{path}: strain must be >= 0")
+        i = line_of[1 + int(np.argmin(data.strain))]
+        raise ValueError(
+            f"{path}: line {i}, column strain: strain must be >= 0 (the equivalent plastic strain; "
+            "a thickness strain is negative: give its equivalent, e.g. 2 / sqrt(3) |e_t| in plane "
+            "strain)"
+        )
     if np.any(data.strain > STRAIN_MAX):
         i = line_of[1 + int(np.argmax(data.strain))]
         raise ValueError(
