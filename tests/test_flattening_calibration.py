@@ -156,6 +156,8 @@ def test_pressures_in_mpa_under_p_pa_are_refused():
     with pytest.raises(ValueError, match="pressures in MPa under p_Pa\\? Name the column p_MPa"):
         check_data_pressures(d, 8e8)
     check_data_pressures(FlatteningData("ok", d.strain, d.alpha, np.full(3, 2.4e8)), 8e8)
+    with pytest.raises(ValueError, match="at or above the hardness H = 8e.08 Pa"):
+        check_data_pressures(FlatteningData("hi", d.strain, d.alpha, np.full(3, 9e8)), 8e8)
 
 
 # ----------------------------------------------------------------------------- the command

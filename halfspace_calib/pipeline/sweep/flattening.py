@@ -148,15 +148,23 @@ def read_flattening_data(path) -> FlatteningData:
 
 
 def check_data_pressures(data: FlatteningData, H: float) -> None:
-    """``ValueError`` when every measured pressure is below ``1e-4 H``.
+    """``ValueError`` when every measured pressure is below ``1e-4 H``, or one is at ``H`` or above.
 
-    Most likely pressures in MPa under ``p_Pa``: the strain such pressures need to flatten the
-    surface exceeds any forming process.
+    Below: most likely pressures in MPa under ``p_Pa``, the strain such pressures need to flatten
+    the surface exceeds any forming process. At ``H`` or above the surface is in full contact
+    under the pressure alone (the half-space model's limit), so the point says nothing of
+    flattening: most likely another hardness than the calibration's ``--H``, or another unit.
     """
     if np.all(data.p < 1e-4 * H):
         raise ValueError(
             f"{data.path}: every pressure is below 1e-4 H ({data.p.max():g} Pa at most, H = "
             f"{H:g} Pa): pressures in MPa under p_Pa? Name the column p_MPa, or give Pa"
+        )
+    if np.any(data.p >= H):
+        raise ValueError(
+            f"{data.path}: a pressure of {data.p.max():g} Pa is at or above the hardness H = "
+            f"{H:g} Pa, where the surface is in full contact by the pressure alone: give the "
+            "calibration the workpiece's hardness (--H), or check the pressures' unit"
         )
 
 
