@@ -49,25 +49,57 @@ def run(argv=None):
         params = FrictionParams.from_json(args.params) if args.params else default_params()
     except (OSError, ValueError, TypeError, KeyError) as exc:
         return con.error(f"--params {args.params}: {exc}", 2)
-    print(
+    coeffs = []
+    if params.first_loading_form == "eq24":
+        coeffs.append(f"C1={params.C1:g} n1={params.n1:g}")
+    if params.reload_form == "paper":
+        coeffs.append(f"C2={params.C2:g} n2={params.n2:g}")
+    con.result(
         f"m={params.m:g} k={(params.k or 0.0) / 1e6:.1f} MPa H={params.H / 1e6:.0f} MPa; "
         f"first loading {params.first_loading_form}, reload {params.reload_form}"
-        + (f" (C1={params.C1:g} n1={params.n1:g}" if params.first_loading_form == "eq24" else " (")
-        + (f" C2={params.C2:g} n2={params.n2:g})" if params.reload_form == "paper" else ")")
+        + (f" ({' '.join(coeffs)})" if coeffs else "")
     )
-    print(
+    con.result(
         f"Coulomb slope at p->0: mu_eff = {params.mu_eff:.4f}; cap m k = {params.tau_max / 1e6:.1f} MPa"
     )
     ph = args.p_hist
-    print(
+    con.result(
         f"{'p [MPa]':>8} {'alpha1':>8} {'tau first [MPa]':>15} {f'tau reload, p_hist={ph / 1e6:.0f} MPa':>28}"
     )
     for p in np.linspace(0, 1000e6, 11):
         t1 = shear_limit(p, 0.0, params)
         t2 = shear_limit(p, ph, params)
-        print(f"{p / 1e6:8.0f} {alpha_first(p, params):8.4f} {t1 / 1e6:15.3f} {t2 / 1e6:28.3f}")
-    print(f"Eq. 25 jump at p_hist = {ph / 1e6:.0f} MPa: {reload_jump(params, ph) / 1e6:.3f} MPa")
+        con.result(
+            f"{p / 1e6:8.0f} {alpha_first(p, params):8.4f} {t1 / 1e6:15.3f} {t2 / 1e6:28.3f}"
+        )
+    con.result(
+        f"Eq. 25 jump at p_hist = {ph / 1e6:.0f} MPa: {reload_jump(params, ph) / 1e6:.3f} MPa"
+    )
+    if params.flattening is not None:
+        _print_flattening(params, con)
     return 0
+
+
+#: the equivalent plastic strains and pressures (in H) of the flattening table
+FLAT_STRAINS = (0.0, 0.005, 0.01, 0.02, 0.05)
+FLAT_P_OVER_H = (0.05, 0.1, 0.3, 0.6)
+
+
+def _print_flattening(params, con):
+    """The flattening block and its contact fraction after bulk strain (docs/flattening.md)."""
+    from . import flattening_curve
+
+    f = params.flattening
+    band = "" if f.beta_band is None else f" [{f.beta_band[0]:.4g}, {f.beta_band[1]:.4g}]"
+    con.result(
+        f"flattening under bulk strain: tan(theta) = {f.slope:.4g}, beta = {f.beta:.4g}{band}; "
+        "contact fraction at constant p after equivalent plastic strains "
+        "(a perfectly plastic bulk at the file's sigma_y):"
+    )
+    con.result(f"{'p / H':>8} " + " ".join(f"{f'eps {e:g}':>10}" for e in FLAT_STRAINS))
+    for x in FLAT_P_OVER_H:
+        a = flattening_curve(x * params.H, FLAT_STRAINS, params)
+        con.result(f"{x:8g} " + " ".join(f"{v:10.3f}" for v in a))
 
 
 #: the console script: ``--version`` and Ctrl-C handled before NumPy loads

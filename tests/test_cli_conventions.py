@@ -7,6 +7,7 @@ output folders that appear whole.
 import argparse
 import re
 from importlib import metadata
+from pathlib import Path
 
 import pytest
 
@@ -112,6 +113,48 @@ def test_errors_go_to_stderr_with_exit_2(tmp_path, capsys):
     assert "--p-hist must be" in capsys.readouterr().err
     assert law_demo.main([]) == 0
     assert "Eq. 25 jump" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["frictionlaw-demo"],
+        ["halfspace-calib", "--help"],
+        ["fe-demo", "--help"],
+        ["frictionlaw-export", "--help"],
+    ],
+)
+def test_a_reader_that_stops_early_gets_no_traceback(argv):
+    """``command | head -1``: the reader closes the pipe after one line; the command stops
+    writing, exits 0 and says nothing on stderr (``frictionlaw-demo`` printed a BrokenPipeError
+    traceback and exited 1)."""
+    import shutil
+    import subprocess
+    import sys
+
+    exe = shutil.which(argv[0]) or str(Path(sys.executable).with_name(argv[0]))
+    with subprocess.Popen([exe, *argv[1:]], stdout=subprocess.PIPE, stderr=subprocess.PIPE) as proc:
+        proc.stdout.readline()
+        proc.stdout.close()  # the reader goes away
+        err = proc.stderr.read().decode()
+        code = proc.wait(timeout=120)
+    assert code == 0 and err == "", err
+
+
+def test_the_law_demo_shows_a_flattening_block(capsys):
+    """A file with a flattening block: its slope, beta and the contact fraction after strain,
+    equal to ``flattening_curve``; the header without an empty parenthesis for tabulated forms."""
+    from fe_demo.scenes.laws import EXAMPLE_FLATTENING_PATH
+    from frictionlaw import FrictionParams, flattening_curve
+
+    assert law_demo.main(["--params", str(EXAMPLE_FLATTENING_PATH)]) == 0
+    out = capsys.readouterr().out
+    assert "()" not in out.splitlines()[0]
+    P = FrictionParams.from_json(EXAMPLE_FLATTENING_PATH)
+    assert f"tan(theta) = {P.flattening.slope:.4g}, beta = 1;" in out
+    row = next(ln for ln in out.splitlines() if ln.split()[:1] == ["0.3"])
+    want = flattening_curve(0.3 * P.H, law_demo.FLAT_STRAINS, P)
+    assert [float(v) for v in row.split()[1:]] == pytest.approx(want, abs=5e-4)
 
 
 def test_fe_demo_output_folder_appears_whole(tmp_path, capsys):
