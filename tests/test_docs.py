@@ -75,6 +75,7 @@ def test_gallery_examples_are_executed_and_exist():
         "plot_export_abaqus.py",
         "plot_band_from_patches.py",
         "plot_ring_fit.py",
+        "plot_flattening.py",
     ):
         assert needed in examples
 
