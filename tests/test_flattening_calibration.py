@@ -71,6 +71,10 @@ def test_the_example_file_reads():
     "text, msg",
     [
         ("strain,alpha\n0.1,0.5\n", "must name the columns strain, alpha, p_Pa \\(or p_MPa\\)"),
+        (
+            "strain,alpha,p_Pa,p_MPa\n0.1,0.5,1e8,100\n0.2,0.6,1e8,100\n",
+            "both p_Pa and p_MPa columns",
+        ),
         ("strain,alpha,p_Pa\n0.1,x,1e8\n0.2,0.5,1e8\n", "line 2, column alpha: not a number"),
         ("strain,alpha,p_Pa\n0.1,1.5,1e8\n0.2,0.5,1e8\n", "alpha must be a contact fraction in"),
         ("strain,alpha,p_Pa\n0.1,35,1e8\n0.2,50,1e8\n", "looks like per cent: divide by 100"),
@@ -132,6 +136,7 @@ def test_data_the_model_cannot_describe_is_refused():
         "# lab sheet\nstrain;alpha;p_Pa\n0.0;0.3;2.4e8\n0.01;0.4;2.4e8\n0.02;0.46;2.4e8\n",
         "strain\talpha\tp_Pa\n0.0\t0.3\t2.4e8\n0.01\t0.4\t2.4e8\n0.02\t0.46\t2.4e8\n",
         "p_MPa,strain,alpha\n240,0.0,0.3\n240,0.01,0.4\n240,0.02,0.46\n",
+        "Strain, Alpha , P_MPa\n0.0,0.3,240\n0.01,0.4,240\n0.02,0.46,240\n",  # any case
     ],
 )
 def test_what_spreadsheets_write_reads_the_same(tmp_path, text):

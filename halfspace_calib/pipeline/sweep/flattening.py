@@ -74,7 +74,8 @@ def read_flattening_data(path) -> FlatteningData:
     """Read a CSV with the columns ``strain``, ``alpha`` and ``p_Pa`` or ``p_MPa`` (any order).
 
     What spreadsheets write is read as it comes: ``#`` comment lines, a UTF-8 byte-order mark,
-    and comma, semicolon or tab as the separator (the header row decides). At least two rows
+    comma, semicolon or tab as the separator (the header row decides), column names in any
+    case. At least two rows
     with a strain above 0 are needed to fit ``beta``. ``ValueError`` naming the file, the row and
     the column for anything else, with the likely cause where the numbers show it (a contact
     fraction or a strain in per cent, a decimal comma).
@@ -96,7 +97,14 @@ def read_flattening_data(path) -> FlatteningData:
         if any(c.strip() for c in r):
             line_of.append(n)
             rows.append(r)
-    head = [h.strip() for h in rows[0]] if rows else []
+    # the header as spreadsheets write it: any case ("Strain", "P_MPa"), spaces around
+    names = {"strain": "strain", "alpha": "alpha", "p_pa": "p_Pa", "p_mpa": "p_MPa"}
+    head = [names.get(h.strip().lower(), h.strip()) for h in rows[0]] if rows else []
+    if "p_Pa" in head and "p_MPa" in head:
+        raise ValueError(
+            f"{path}: both p_Pa and p_MPa columns: keep the one in the pressures' unit (which "
+            "one to read would be a guess)"
+        )
     unit = "p_Pa" if "p_Pa" in head else "p_MPa" if "p_MPa" in head else None
     if unit is None or "strain" not in head or "alpha" not in head:
         raise ValueError(
