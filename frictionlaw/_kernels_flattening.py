@@ -53,6 +53,7 @@ __all__ = [
     "alpha1_inverse",
     "flat_panels",
     "flat_weight",
+    "flat_rate",
     "flat_quad",
     "flattening_solve",
     "flattening_scalar",
@@ -123,6 +124,20 @@ def flat_weight(g, ch, sh, cl):
     return 1.0 + g * ch * sh * cl
 
 
+@nb.jit(types.UniTuple(float64, 2)(float64, float64, float64), **_opts)
+def flat_rate(m, a, cmax):
+    """The lattice's rate at the fraction ``a`` and the weight of its term in the tangent.
+
+    ``(c_L, 1)`` with ``c_L = 1 + m (1 - a)`` (``m = tan(theta)``; a function of ``t = p cosh v``
+    through ``a``), or ``(cmax, 0)`` where the hardening limits it (Eq. F2c: ``cmax = 6 p / h``,
+    a function of ``p`` itself, whose tangent has no such term; docs/flattening.md, F6).
+    """
+    cl = 1.0 + m * (1.0 - a)
+    if cl > cmax:
+        return cmax, 0.0
+    return cl, 1.0
+
+
 @nb.jit(
     types.UniTuple(float64, 2)(_RO, float64, float64, float64, float64, float64, float64), **_opts
 )
@@ -156,14 +171,10 @@ def flat_panels(c1, p, ua, ub, g, slope, cmax):
             ch = math.cosh(v)
             sh = math.sinh(v)
             a, d = first_scalar(c1, p * ch)
-            cl = 1.0 + slope * (1.0 - a)
-            if cl > cmax:
-                w = flat_weight(g, ch, sh, cmax)
-                s2 += _GW[j] * (d * ch / (w * w))
-            else:
-                w = flat_weight(g, ch, sh, cl)
-                s2 += _GW[j] * (d * ch * (1.0 - g * cl * ch * sh * sh * sh) / (w * w))
+            cl, lim = flat_rate(slope, a, cmax)
+            w = flat_weight(g, ch, sh, cl)
             s1 += _GW[j] * (d * ch * sh * sh / w)
+            s2 += _GW[j] * (d * ch * (1.0 - lim * g * cl * ch * sh * sh * sh) / (w * w))
     return 0.5 * h * s1, 0.5 * h * s2
 
 
@@ -249,11 +260,7 @@ def flattening_solve(c1, p, P0, D, cap, g, m, cmax):
         ch = math.cosh(u)
         sh = math.sinh(u)
         a, d = first_scalar(c1, p * ch)
-        cl = 1.0 + m * (1.0 - a)
-        lim = 1.0  # the tangent's term of a lattice rate that is a function of t = p cosh v
-        if cl > cmax:  # the hardening's limit, proportional to p: no such term (Eq. F2c)
-            cl = cmax
-            lim = 0.0
+        cl, lim = flat_rate(m, a, cmax)
         w = flat_weight(g, ch, sh, cl)
         d = d / w  # alpha1' / W: what the strain integral's integrand has
         un = math.nan
@@ -298,7 +305,7 @@ def flattening_solve(c1, p, P0, D, cap, g, m, cmax):
         return cap, 0.0, first_scalar(c1, cap)[0]
     sh = math.sinh(u)
     aP = first_scalar(c1, P)[0]
-    w = flat_weight(g, ch, sh, min(1.0 + m * (1.0 - aP), cmax))
+    w = flat_weight(g, ch, sh, flat_rate(m, aP, cmax)[0])
     return P, (D + Ic) * w / (ch * sh), aP
 
 
