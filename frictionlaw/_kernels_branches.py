@@ -308,21 +308,18 @@ def reload_table_at(coeffs, x):
     n0 = _TAB + 3 * k
     if k == 1:
         return coeffs[c0], coeffs[n0]
-    top = coeffs[c0 + k - 1]
-    slope = (top - coeffs[c0 + k - 2]) / (coeffs[zk + k - 1] - coeffs[zk + k - 2])
     if not x < 1.0:
-        if slope > 0.0:
-            return max(top, _LNC2_MAX), coeffs[n0 + k - 1]
-        return top, coeffs[n0 + k - 1]
-    u = 1.0 - x
-    z = x if u == 1.0 else -math.log(u) * (x / (1.0 - u))
+        z = math.inf  # p_hist >= H: the rule above the last level at its limit
+    else:
+        u = 1.0 - x
+        z = x if u == 1.0 else -math.log(u) * (x / (1.0 - u))
     if not z > coeffs[zk]:
         return coeffs[c0], coeffs[n0]
-    if not z < coeffs[zk + k - 1]:
+    if not z < coeffs[zk + k - 1]:  # above the last level: its secant, only here
+        top = coeffs[c0 + k - 1]
+        slope = (top - coeffs[c0 + k - 2]) / (coeffs[zk + k - 1] - coeffs[zk + k - 2])
         if slope > 0.0:
-            return min(top + slope * (z - coeffs[zk + k - 1]), max(top, _LNC2_MAX)), coeffs[
-                n0 + k - 1
-            ]
+            top = min(top + slope * (z - coeffs[zk + k - 1]), max(top, _LNC2_MAX))
         return top, coeffs[n0 + k - 1]
     j = 0
     while j < k - 2 and z >= coeffs[zk + j + 1]:

@@ -70,10 +70,12 @@ C     one level: its values for every p_hist
       END
 {% else %}
       DOUBLE PRECISION Z, HK, T, U, H00, H10, H01, H11, SLOPE, CMAX
-      DOUBLE PRECISION LCMAX
       INTEGER J, NK
       PARAMETER (NK = {{ reload.z | length }})
-      PARAMETER (LCMAX = {{ reload.ln_c2_max | double }})
+C     above the last level: ln C2's slope in z (frictionlaw's top_slope,
+C     the last two levels' secant, at least 0) and its cap
+      PARAMETER (SLOPE = {{ reload.top_slope | double }})
+      PARAMETER (CMAX = {{ [reload.lnC2[-1], reload.ln_c2_max] | max | double }})
       DOUBLE PRECISION ZK(NK), LCK(NK), DLCK(NK), LNK(NK), DLNK(NK)
 {% for name, values in (("ZK", reload.z), ("LCK", reload.lnC2), ("DLCK", reload.dlnC2),
                         ("LNK", reload.lnn2), ("DLNK", reload.dlnn2)) %}
@@ -81,8 +83,6 @@ C     one level: its values for every p_hist
      &  {{ values | map("double") | join(",
      &  ") }} /))
 {% endfor %}
-      SLOPE = (LCK(NK) - LCK(NK - 1))/(ZK(NK) - ZK(NK - 1))
-      CMAX = MAX(LCK(NK), LCMAX)
       IF (.NOT. (X .LT. 1.0D0)) THEN
         LNC = LCK(NK)
         IF (SLOPE .GT. 0.0D0) LNC = CMAX
