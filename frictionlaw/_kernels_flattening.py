@@ -58,7 +58,6 @@ __all__ = [
     "flattening_solve",
     "flattening_scalar",
     "flat_shear_scalar",
-    "flattening_array",
     "traction_array_flat",
     "traction_array_flat_parallel",
     "traction_array_zoned_flat",
@@ -384,15 +383,6 @@ def flat_shear_scalar(code, coeffs, fdata, p, p_hist, alpha_f, d_eps, sigy, hard
         pf = alpha1_inverse(c1, a, p_hist, fdata[4])
     t, d = shear_scalar(CODE_SBMF_RELOAD, coeffs, (p / p_hist) * pf, pf)
     return t, d * (pf / p_hist), a
-
-
-@nb.jit(types.void(_RO, _RO, _RO, _RO, _RO, _RO, _RO, float64[::1], float64[::1]), **_opts)
-def flattening_array(fdata, p, p_hist, alpha_f, d_eps, sigy, hard, alpha_out, p_f):
-    """:func:`flattening_scalar` at every node: the trial fraction and flattening pressure."""
-    for i in range(p.shape[0]):
-        a, pf, _ = flattening_scalar(fdata, p[i], p_hist[i], alpha_f[i], d_eps[i], sigy[i], hard[i])
-        alpha_out[i] = a
-        p_f[i] = pf
 
 
 _traction_flat_sig = types.void(
