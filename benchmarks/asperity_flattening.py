@@ -248,24 +248,27 @@ def convergence(args, mat):
     (RESULTS / "asperity_convergence.md").write_text("\n".join(lines) + "\n")
 
 
-def _refine_case(job):
-    os.environ.setdefault("OMP_NUM_THREADS", "1")
-    name, prof, ph, (nx, nz), mat = job
-    return run_case(name, prof, ph, REFINE_STRAINS, nx, nz, mat)
+def _run_job(job):
+    os.environ.setdefault("OMP_NUM_THREADS", "1")  # one thread a process
+    return run_case(*job)
+
+
+def run_cases(jobs, workers):
+    """:func:`run_case` of each ``(name, profile, p/H, strains, nx, nz, material)`` in ``jobs``,
+    ``workers`` processes; the rows of each job, in the jobs' order."""
+    from concurrent.futures import ProcessPoolExecutor
+
+    with ProcessPoolExecutor(max_workers=max(1, workers)) as pool:
+        return list(pool.map(_run_job, jobs))
 
 
 def refine(args, mat):
     """The table's extreme pressures on the fine mesh, beside the table's own mesh."""
-    from concurrent.futures import ProcessPoolExecutor
-
     profs = profiles()
-    fine = CONVERGENCE_MESHES[-1]
-    jobs = [(n, profs[n], ph, fine, mat) for ph in REFINE_P_OVER_H for n in profs]
+    nx, nz = CONVERGENCE_MESHES[-1]
+    jobs = [(n, profs[n], ph, REFINE_STRAINS, nx, nz, mat) for ph in REFINE_P_OVER_H for n in profs]
     jobs.sort(key=lambda j: -j[2])  # the slow high pressures first
-    rows = []
-    with ProcessPoolExecutor(max_workers=max(1, args.workers)) as pool:
-        for part in pool.map(_refine_case, jobs):
-            rows += part
+    rows = [r for part in run_cases(jobs, args.workers) for r in part]
     write_rows(RESULTS / "asperity_refined.csv", rows)
     base = RESULTS / "asperity_flattening.csv"
     coarse = {}
@@ -281,7 +284,7 @@ def refine(args, mat):
         "# The asperity truth refined: the lowest and a high pressure on the fine mesh",
         "",
         f"`benchmarks/asperity_flattening.py --refine`: every profile at p/H "
-        f"{', '.join(f'{v:g}' for v in REFINE_P_OVER_H)} on {fine[0]} x {fine[1]} elements, "
+        f"{', '.join(f'{v:g}' for v in REFINE_P_OVER_H)} on {nx} x {nz} elements, "
         f"beside the table's {nxc} x {args.nz} (`asperity_flattening.csv`); 'extrapolated' is "
         "the first-order (Richardson) 2 alpha_fine - alpha_table, clipped to [0, 1] (the "
         "contact edge lies between two nodes: the error is of the order of the top element).",

@@ -27,12 +27,11 @@ benchmarks/results/flattening_hardening.csv and .md (run record: .run.json).
 
 import argparse
 import math
-import os
 from pathlib import Path
 
 import numpy as np
 from _provenance import RESULTS, run_record, write_rows
-from asperity_flattening import profiles, run_case
+from asperity_flattening import profiles, run_cases
 from flattening_truth import EQUIVALENT_PER_STRETCH, law_of, law_strain, read_truth
 
 import frictionlaw as fl
@@ -95,20 +94,15 @@ def candidate_curve(P, p, slope, strains, mat, limited=True, grid=4001):
     return np.interp(np.asarray(strains, dtype=float), eps, A)
 
 
-def _fe_case(job):
-    os.environ.setdefault("OMP_NUM_THREADS", "1")
-    name, prof, ph, nx, nz, mat = job
-    fe = run_case(name, prof, ph, STRAINS, nx, nz, mat)
-    return (name, ph), (np.array([r["alpha"] for r in fe]), fe[0]["converged"])
-
-
 def _fe_runs(names, profs, args, mat):
     """The hardening truth of every (profile, pressure), ``--workers`` processes."""
-    from concurrent.futures import ProcessPoolExecutor
-
-    jobs = [(n, profs[n], ph, args.nx, args.nz, mat) for n in names for ph in P_OVER_H]
-    with ProcessPoolExecutor(max_workers=max(1, args.workers)) as pool:
-        return dict(pool.map(_fe_case, jobs))
+    keys = [(n, ph) for n in names for ph in P_OVER_H]
+    jobs = [(n, profs[n], ph, STRAINS, args.nx, args.nz, mat) for n, ph in keys]
+    runs = run_cases(jobs, args.workers)
+    return {
+        k: (np.array([r["alpha"] for r in fe]), fe[0]["converged"])
+        for k, fe in zip(keys, runs, strict=True)
+    }
 
 
 def _stored_truth():
