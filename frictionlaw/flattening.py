@@ -215,6 +215,11 @@ def _s0(params: "FrictionParams", sigma_y: float | None) -> float:
     return s0 * sy / params.sigma_y
 
 
+def _strain_scale(flat: Flattening, H: float, s0: float) -> float:
+    """Eq. F4's equivalent strain per unit ``J / (p / H)``: ``tan(theta) H / (r_s beta s0)``."""
+    return flat.slope * H / (flat.beta * STRETCH_PER_EQUIVALENT_STRAIN * s0)
+
+
 def _hardening(hardening: ArrayLike | None, shape: tuple) -> NDArray[np.float64]:
     """The hardening modulus broadcast to ``shape`` (0 for ``None``); ``ValueError`` naming it."""
     if hardening is None:
@@ -266,7 +271,7 @@ def equivalent_strain(
     s0 = _s0(params, sigma_y)
     c_max = lattice_hardening_limit(p, h).ravel()
     J = _j_integral(ph, u, coeffs, H, p.ravel() / s0, flat.slope, c_max)
-    kappa = flat.slope * H / (flat.beta * STRETCH_PER_EQUIVALENT_STRAIN * s0)
+    kappa = _strain_scale(flat, H, s0)
     return (kappa * J / ph).reshape(p.shape)
 
 
@@ -353,7 +358,7 @@ def flattening_update(
     ph = p[go] / H
     p0 = np.minimum(np.maximum(np.maximum(p_f[go], p_hist[go]), p[go]), cap)
     s0 = _s0(params, sigma_y)
-    kappa = flat.slope * H / (flat.beta * STRETCH_PER_EQUIVALENT_STRAIN * s0)
+    kappa = _strain_scale(flat, H, s0)
     c_max = lattice_hardening_limit(p[go], h[go])
     jx = (coeffs, H, p[go] / s0, flat.slope, c_max)  # what J needs besides p / H and u
     u0 = np.arccosh(np.maximum(p0 / p[go], 1.0))

@@ -75,10 +75,9 @@ def read_flattening_data(path) -> FlatteningData:
 
     What spreadsheets write is read as it comes: ``#`` comment lines, a UTF-8 byte-order mark,
     comma, semicolon or tab as the separator (the header row decides), column names in any
-    case. At least two rows
-    with a strain above 0 are needed to fit ``beta``. ``ValueError`` naming the file, the row and
-    the column for anything else, with the likely cause where the numbers show it (a contact
-    fraction or a strain in per cent, a decimal comma).
+    case. At least two rows with a strain above 0 are needed to fit ``beta``. ``ValueError``
+    naming the file, the row and the column for anything else, with the likely cause where the
+    numbers show it (a contact fraction or a strain in per cent, a decimal comma).
     """
     path = Path(path)
     try:
