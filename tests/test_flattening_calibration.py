@@ -223,6 +223,47 @@ def test_the_command_fits_beta_to_a_measurement(tmp_path, capsys):
     assert f"beta = {f['beta']:.4g} [" in said and "fitted to 6 measured points" in said
 
 
+def test_the_command_fits_beta_with_the_sheets_flow_curve(tmp_path, capsys):
+    """--flow-curve: the fit integrates each point along the sheet's curve; the record keeps the
+    curve (rebuilt, it gives the fit's own misfit), the console says to pass the modulus."""
+    from frictionlaw.flow_curve import flow_curve_from_dict
+
+    out = tmp_path / "o"
+    argv = [*QUICK, "--flattening-data", str(DATA), "--flow-curve", "swift:530e6,0.006,0.24"]
+    assert main([*argv, "--no-progress", "--out", str(out)]) == 0
+    doc = json.loads((out / "params.json").read_text())
+    fit = doc["provenance"]["flattening"]["fit"]
+    assert fit["flow_curve"] == "Swift: K 530 MPa, eps0 0.006, n 0.24"
+    P = FrictionParams.from_dict(doc)
+    fc = flow_curve_from_dict(fit["flow_curve_record"])
+    a = flattening_curve(np.array(fit["p_Pa"]), np.array(fit["strain"]), P, flow_curve=fc, steps=32)
+    r = a - np.array(fit["alpha"])
+    assert np.sqrt(np.mean(r * r)) == pytest.approx(fit["rms"], rel=1e-9)
+    said = capsys.readouterr()
+    assert "fitted with the sheet's flow curve (Swift" in said.out
+    assert "pass the bulk's flow stress and hardening modulus" in said.out
+    # the example's sheet (sigma_y 285.7 MPa) is not DC04's (155 MPa): said on stderr
+    assert "the flow curve's initial flow stress 155.3 MPa is 0.543 times" in said.err
+
+
+def test_bad_flow_curves_are_refused_before_any_sweep(tmp_path, capsys, monkeypatch):
+    def no_run(*a, **k):
+        raise AssertionError("a calibration started")
+
+    monkeypatch.setattr(cli, "calibrate", no_run)
+    o = ["--out", str(tmp_path / "o")]
+    assert main([*QUICK, "--flattening", "--flow-curve", "swift:530e6,0.006,0.24", *o]) == 2
+    assert "give the measurement too" in capsys.readouterr().err
+    data = ["--flattening-data", str(DATA)]
+    assert main([*QUICK, *data, "--flow-curve", "swift:530,0.006,0.24", *o]) == 2
+    assert "K (Pa) must be in [100000, 1e+11]" in capsys.readouterr().err
+    short = tmp_path / "short.csv"
+    short.write_text("strain,sigma_y_MPa\n0,155\n0.01,200\n")
+    assert main([*QUICK, *data, "--flow-curve", str(short), *o]) == 2
+    assert "--flow-curve ends at strain 0.01; " in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
+
+
 def test_bad_input_is_refused_before_any_sweep(tmp_path, capsys, monkeypatch):
     def no_run(*a, **k):
         raise AssertionError("a calibration started")

@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
+from frictionlaw.flow_curve import read_flow_curve
+
 from ..pipeline.sweep.flattening import (
     BAND_LEVEL,
     check_data_pressures,
@@ -29,6 +33,16 @@ def add_flattening_options(ap):
         "p_MPa), separated by commas, semicolons or tabs: fits "
         f"beta with its {100 * BAND_LEVEL:g} %% band (implies --flattening; default: none)",
     )
+    g.add_argument(
+        "--flow-curve",
+        metavar="SPEC",
+        help="the measured sheet's flow curve, for the fit of --flattening-data: swift:K,eps0,n "
+        "(K in Pa, e.g. swift:530e6,0.006,0.24) or a CSV with the columns strain and sigma_y_Pa "
+        "(or sigma_y_MPa), not extrapolated; each point is then integrated at the flow stress "
+        "and hardening modulus of its strain, as a host passing both runs the law (default: "
+        "none: a perfectly plastic sheet at the calibration's sigma_y, beta absorbing its "
+        "hardening)",
+    )
 
 
 def flattening_input(args, spec, scene):
@@ -37,6 +51,11 @@ def flattening_input(args, spec, scene):
     The data are read and checked now, before any sweep, their pressures against the scene's ``H``.
     """
     on = bool(args.flattening) or args.flattening_data is not None
+    if args.flow_curve is not None and args.flattening_data is None:
+        raise ValueError(
+            "--flow-curve is the measured sheet's, for the fit of --flattening-data: give the "
+            "measurement too (the block itself carries no flow curve: the host passes its own)"
+        )
     if not on:
         return False, None
     if spec.multi:
@@ -47,6 +66,15 @@ def flattening_input(args, spec, scene):
     data = None if args.flattening_data is None else read_flattening_data(args.flattening_data)
     if data is not None:
         check_data_pressures(data, scene.H)
+        if args.flow_curve is not None:
+            fc = read_flow_curve(args.flow_curve)
+            top = float(data.strain.max())
+            if top > fc.strain_max:
+                raise ValueError(
+                    f"--flow-curve ends at strain {fc.strain_max:g}; {data.path} reaches "
+                    f"{top:g}: extend the flow curve (it is not extrapolated)"
+                )
+            data = replace(data, flow_curve=fc)
     return True, data
 
 
@@ -55,6 +83,16 @@ def with_flattening(cal, on, data):
     if not on:
         return cal
     block, record = derive_flattening(cal, data)
+    fit = record.get("fit")
+    if fit and fit["flow_curve"] is not None:
+        ratio = fit["flow_curve_sigma_y0_Pa"] / cal.params.sigma_y
+        if not 0.8 <= ratio <= 1.25:
+            cal.notes = (
+                *cal.notes,
+                f"the flow curve's initial flow stress {fit['flow_curve_sigma_y0_Pa'] / 1e6:.4g} "
+                f"MPa is {ratio:.3g} times the calibration's sigma_y "
+                f"{cal.params.sigma_y / 1e6:.4g} MPa: are they the same sheet?",
+            )
     prov = dict(cal.params.provenance)
     prov["flattening"] = record
     cal.params = cal.params.replace(flattening=block, provenance=prov)
@@ -87,6 +125,16 @@ def flattening_lines(cal):
             f"({100 * f.band_level:g} %), {r['beta_source']}: |d alpha| rms {fit['rms']:.4f}, "
             f"max {fit['max_abs']:.4f}"
         )
+        if fit["flow_curve"] is None:
+            lines.append(
+                "    fitted as a perfectly plastic sheet: beta absorbs its hardening; run the "
+                "host without the hardening modulus (or fit with --flow-curve)"
+            )
+        else:
+            lines.append(
+                f"    fitted with the sheet's flow curve ({fit['flow_curve']}): pass the "
+                "bulk's flow stress and hardening modulus in the host"
+            )
     cross, patch = hs["from_crossings_m"], hs["from_patches_m"]
     lines.append(
         "    asperity half-spacing (not used by the model): "

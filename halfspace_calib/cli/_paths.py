@@ -28,6 +28,9 @@ from ..pipeline.sweep.hardness import (
 def run_inputs(args, scene=None):
     """The files a calibration reads (its output folder may not hold any of them)."""
     files = [args.scene, args.after_contact, getattr(args, "flattening_data", None)]
+    curve = getattr(args, "flow_curve", None)
+    if isinstance(curve, str) and not curve.strip().lower().startswith("swift:"):
+        files.append(curve)
     files += [*(args.workpiece or ()), *(args.tool or ())]
     if scene is not None:
         files += [scene.workpiece, scene.tool]

@@ -25,6 +25,7 @@ CURVE_P = (0.05, 0.1, 0.3, 0.6)
 def write_flattening(cal, out):
     """``flattening.csv`` (p_Pa, strain, alpha) and ``flattening.png`` of the calibrated block."""
     from frictionlaw import flattening_curve
+    from frictionlaw.flow_curve import flow_curve_from_dict
 
     P, rec = cal.params, cal.flattening
     out = Path(out)
@@ -44,6 +45,21 @@ def write_flattening(cal, out):
     fit = rec.get("fit")
     if fit:
         ax.plot(fit["strain"], fit["alpha"], "ko", ms=4, label="measured (beta fitted to it)")
+        fc = fit.get("flow_curve_record")
+        fc = None if fc is None else flow_curve_from_dict(fc)
+        top = max(fit["strain"])
+        line = np.linspace(0.0, top, 41)
+        for k, p in enumerate(fit["pressures_Pa"]):
+            ax.plot(
+                line,
+                flattening_curve(p, line, P, flow_curve=fc),
+                "k--",
+                lw=0.8,
+                label=None
+                if k
+                else "the fit at the measured pressures"
+                + ("" if fc is None else " (the sheet's flow curve)"),
+            )
     f = P.flattening
     ax.set(
         xlabel="bulk plastic strain",
@@ -93,7 +109,15 @@ def flattening_section(s, out):
         body.append(
             f"<p>beta fitted to {fit['points']} points of {html.escape(fit['file'])}: band "
             f"[{fit['band'][0]:.4g}, {fit['band'][1]:.4g}] at {100 * fit['level']:g} %, "
-            f"|d alpha| rms {fit['rms']:.4f}, max {fit['max_abs']:.4f}</p>"
+            f"|d alpha| rms {fit['rms']:.4f}, max {fit['max_abs']:.4f}; "
+            + (
+                "as a perfectly plastic sheet (beta absorbs its hardening: run the host without "
+                "the hardening modulus)"
+                if fit.get("flow_curve") is None
+                else f"with the sheet's flow curve ({html.escape(fit['flow_curve'])}: pass the "
+                "flow stress and hardening modulus in the host)"
+            )
+            + "</p>"
         )
     if r.get("problem"):
         body.append(f"<p class='bad'>{html.escape(r['problem'])}</p>")

@@ -18,7 +18,6 @@ squares in ``ln beta``, with a Student-t band from the linearised residuals (:fu
 
 from __future__ import annotations
 
-import csv
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -26,7 +25,9 @@ from pathlib import Path
 import numpy as np
 
 from frictionlaw import Flattening, alpha_first, flattening_curve
+from frictionlaw._table import read_rows
 from frictionlaw.flattening import BETA_RANGE, SLOPE_RANGE, equivalent_strain
+from frictionlaw.flow_curve import FlowCurve
 
 from ...contact.normal import solve_normal_pair
 
@@ -49,6 +50,9 @@ PATCH_ALPHA = 0.2
 #: pressures (in H) and strains of the summary's table of the flattened contact fraction
 TABLE_P = (0.05, 0.1, 0.3, 0.6)
 TABLE_EPS = (0.005, 0.01, 0.02, 0.05)
+#: strain steps per measured point of the fit with a flow curve (midpoint rule; within 5.2e-6
+#: in alpha of 1024 steps on DC04's Swift curve at 0.05 and 0.3 H, strains to 0.2)
+FIT_STEPS = 32
 
 
 @dataclass(frozen=True)
@@ -56,13 +60,17 @@ class FlatteningData:
     """A measured contact fraction against bulk strain (``--flattening-data``).
 
     ``strain`` (equivalent plastic strain, >= 0), ``alpha`` (contact fraction in [0, 1]) and
-    ``p`` (the contact pressure of each point, Pa, > 0), one value per row of the file.
+    ``p`` (the contact pressure of each point, Pa, > 0), one value per row of the file;
+    ``flow_curve`` the sheet's flow curve when it was given (the fit then runs the law at its
+    flow stress and hardening modulus, :func:`fit_beta`).
     """
 
     path: str
     strain: np.ndarray
     alpha: np.ndarray
     p: np.ndarray
+    #: the measured sheet's flow curve (``--flow-curve``), or ``None``: a perfectly plastic sheet
+    flow_curve: "FlowCurve | None" = None
 
 
 #: the largest equivalent plastic strain a flattening measurement is read with (a strip drawn or
@@ -80,22 +88,7 @@ def read_flattening_data(path) -> FlatteningData:
     numbers show it (a contact fraction or a strain in per cent, a decimal comma).
     """
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise ValueError(f"{path}: not a UTF-8 text file ({exc})") from None
-    numbered = [
-        (n, ln)
-        for n, ln in enumerate(text.splitlines(), start=1)
-        if not ln.lstrip().startswith("#") and ln.strip()
-    ]
-    sep = next((d for d in (",", ";", "\t") if numbered and d in numbered[0][1]), ",")
-    parsed = zip(numbered, csv.reader((ln for _, ln in numbered), delimiter=sep), strict=True)
-    line_of, rows = [], []
-    for (n, _), r in parsed:  # one record a line (the file's line numbers, for the messages)
-        if any(c.strip() for c in r):
-            line_of.append(n)
-            rows.append(r)
+    line_of, rows = read_rows(path)
     # the header as spreadsheets write it: any case ("Strain", "P_MPa"), spaces around
     names = {"strain": "strain", "alpha": "alpha", "p_pa": "p_Pa", "p_mpa": "p_MPa"}
     head = [names.get(h.strip().lower(), h.strip()) for h in rows[0]] if rows else []
@@ -248,15 +241,24 @@ def fit_beta(params, data: FlatteningData, level: float = BAND_LEVEL) -> dict:
     ``beta = 1`` at ``beta eps``: least squares in ``ln beta`` over ``BETA_RANGE`` (bounded
     scalar search, then the band from the linearised residuals: ``ln beta -+ t s / |g|``,
     ``g = d alpha / d ln beta``, ``s^2`` the residual variance, Student t of ``n - 1``).
+    With the sheet's flow curve (``data.flow_curve``) each point is integrated along its strain
+    at the curve's flow stress and hardening modulus (:func:`frictionlaw.flattening_curve`), as
+    a host passing both runs the law; ``beta`` then no longer scales the strain axis, and each
+    trial ``beta`` integrates anew. Without it the sheet is perfectly plastic at the
+    calibration's ``sigma_y`` and ``beta`` absorbs its hardening.
     Raises ``ValueError`` when the points do not constrain ``beta`` (all at zero strain or at
     full contact) or the best ``beta`` lies on the range's bound.
     """
     from scipy import optimize, stats
 
-    base = params.replace(flattening=Flattening(slope=params.flattening.slope))
+    slope, fc = params.flattening.slope, data.flow_curve
+    base = params.replace(flattening=Flattening(slope=slope))
 
     def model(ln_beta):
-        return flattening_curve(data.p, math.exp(ln_beta) * data.strain, base)
+        if fc is None:
+            return flattening_curve(data.p, math.exp(ln_beta) * data.strain, base)
+        law = params.replace(flattening=Flattening(slope=slope, beta=math.exp(ln_beta)))
+        return flattening_curve(data.p, data.strain, law, flow_curve=fc, steps=FIT_STEPS)
 
     def cost(ln_beta):
         return float(np.sum((model(ln_beta) - data.alpha) ** 2))
@@ -297,6 +299,9 @@ def fit_beta(params, data: FlatteningData, level: float = BAND_LEVEL) -> dict:
         "max_abs": float(np.max(np.abs(r))),
         "zero_strain_misfit": float(np.max(np.abs(r[at_zero]))) if at_zero.any() else None,
         "pressures_Pa": sorted({float(v) for v in data.p}),
+        "flow_curve": None if fc is None else fc.describe(),
+        "flow_curve_record": None if fc is None else fc.to_dict(),
+        "flow_curve_sigma_y0_Pa": None if fc is None else float(fc.sigma_y(0.0)),
         "file": data.path,
         "strain": data.strain.tolist(),
         "alpha": data.alpha.tolist(),
