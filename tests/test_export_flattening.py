@@ -9,6 +9,7 @@ state slots) it says so once and runs the law without flattening. Tables and zon
 file with a flattening block are refused.
 """
 
+import ctypes
 import dataclasses
 import re
 
@@ -69,13 +70,21 @@ def grid():
     return p, fac * p, af, de, np.where(sy > 0, 2.0 * BASE["sigma_y"], 0.0)
 
 
-def runtime(params, p, ph, af, de, sigy):
+def runtime(params, p, ph, af, de, sigy, hardening=None):
     """The runtime's traction update at slipping points: (|tau|, dtau/dp, trial alpha_f)."""
     n = p.size
     st = fl.HistoryState(p_hist=ph, alpha_f=af)
     sy = np.where(sigy > 0, sigy, params.sigma_y)
     res = fl.traction_update(
-        fl.SBMFLaw(params), p, np.ones(n), np.zeros(n), 1e30, st, d_eps=de, sigma_y=sy
+        fl.SBMFLaw(params),
+        p,
+        np.ones(n),
+        np.zeros(n),
+        1e30,
+        st,
+        d_eps=de,
+        sigma_y=sy,
+        hardening=hardening,
     )
     return np.abs(res.traction), res.dt_dp, st.alpha_f_trial.copy()
 
@@ -107,6 +116,42 @@ def _neutral_as_runtime(tmp_path, P, name):
     assert np.allclose(np.abs(out["dt_dp"][:, 0]), np.abs(dtdp), rtol=1e-11, atol=1e-300)
     assert np.allclose(state[:, 4], a_ref, rtol=1e-12, atol=0)
     assert np.array_equal(state[:, 0], np.maximum(ph, p))
+
+
+@pytest.mark.parametrize("form", ["eq24-paper", "tabulated"])
+def test_neutral_entry_limits_the_lattice_by_the_hardening_modulus(tmp_path, form):
+    """STATE(6), the bulk's hardening modulus (Eq. F2c): as the runtime's traction_update(...,
+    hardening=), where the limit acts everywhere, nowhere and from inside the step; never
+    written; 0 and NSTATE = 5 the perfectly plastic law bit for bit."""
+    P = law(form)
+    host, files = load(tmp_path, "lsdyna", P, name=f"neutral_h_{form}")
+    assert "STATE(6) the bulk's hardening modulus" in files["README.md"]
+    fn = host._lib.sbmf_nstate_
+    fn.restype = ctypes.c_int
+    assert fn() == 6
+    p, ph, af, de, sy = grid()
+    n = p.size
+    # 6 p / h: 0.2 (limited throughout), 1.02 (the limit starts inside the step: c_L falls
+    # from 1.05 as alpha rises), 50 (never), and DC04's modulus at eps 0.1 (700 MPa)
+    cmax = np.array([0.2, 1.02, 50.0, np.nan])[np.arange(n) % 4]
+    h = np.where(np.isnan(cmax), 7e8, 6.0 * p / np.nan_to_num(cmax, nan=1.0))
+    state = np.zeros((n, 6))
+    state[:, 0], state[:, 4], state[:, 5] = ph, af, h
+    out = host.friction("", p, state, np.ones((n, 1)), np.zeros((n, 1)), 1e30, deps=de, sigy=sy)
+    tau, dtdp, a_ref = runtime(P, p, ph, af, de, sy, hardening=h)
+    assert np.all(out["ierr"] == 0)
+    assert np.allclose(np.abs(out["t"][:, 0]), tau, rtol=1e-12, atol=0)
+    assert np.allclose(np.abs(out["dt_dp"][:, 0]), np.abs(dtdp), rtol=1e-11, atol=1e-300)
+    assert np.allclose(state[:, 4], a_ref, rtol=1e-12, atol=0)
+    assert np.array_equal(state[:, 5], h)  # an input: never written
+    plastic = runtime(P, p, ph, af, de, sy)[2]
+    slowed = (de > 0) & (cmax == 0.2) & (p > 0.05 * H) & (plastic < 1) & (plastic > af)
+    assert slowed.sum() > 10 and np.all(a_ref[slowed] < plastic[slowed])
+    for k in (5, 6):  # no slot, or a zero modulus: the perfectly plastic rate
+        st = np.zeros((n, k))
+        st[:, 0], st[:, 4] = ph, af
+        host.friction("", p, st, np.ones((n, 1)), np.zeros((n, 1)), 1e30, deps=de, sigy=sy)
+        assert np.allclose(st[:, 4], plastic, rtol=1e-12, atol=0)
 
 
 def test_neutral_entry_in_mm_t_s_and_without_strain(tmp_path):

@@ -268,7 +268,7 @@ def test_neutral_entry_version_and_bulk_strain(tmp_path, files):
     assert "IVERS = 3, but this routine implements version 2" in host.message(8, 3.0)
     fn = host._lib.sbmf_nstate_
     fn.restype = ctypes.c_int
-    assert fn() == 5
+    assert fn() == 6
 
 
 def test_header_and_readme_list_every_zone(files):

@@ -431,7 +431,9 @@ for _record in (
             zone_keys=_NEUTRAL_KEYS,
             bulk_strain="DEPS and SIGY, the arguments of SBMF_FRICTION_V (the caller's bulk "
             "plastic strain increment and flow stress under the point), STATE(5) the "
-            "flattened fraction (NSTATE >= 5)",
+            "flattened fraction (NSTATE >= 5), STATE(6) the bulk's hardening modulus, an input "
+            "the caller sets (NSTATE >= 6; without it the perfectly plastic rate, an upper limit "
+            "for a hardening metal)",
             no_strain=_NOT_RUN + "NSTATE < 5 leaves no state slot for the flattened fraction "
             "(STATE(5))" + _WITHOUT + " (IERR = 9)",
         ),
@@ -454,7 +456,9 @@ for _record in (
             "ANSYS); export one routine per parameter file",
             bulk_strain="DEPS and SIGY, the arguments of SBMF_FRICTION_V (the caller's bulk "
             "plastic strain increment and flow stress under the point), STATE(5) the "
-            "flattened fraction (NSTATE >= 5)",
+            "flattened fraction (NSTATE >= 5), STATE(6) the bulk's hardening modulus, an input "
+            "the caller sets (NSTATE >= 6; without it the perfectly plastic rate, an upper limit "
+            "for a hardening metal)",
             no_strain=_NOT_RUN + "NSTATE < 5 leaves no state slot for the flattened fraction "
             "(STATE(5))" + _WITHOUT + " (IERR = 9)",
         ),

@@ -3,7 +3,7 @@
   Eqs. F5-F6), included by core/sbmf_law.f after the law's routines when its parameter file has
   a flattening block: frictionlaw._kernels_flattening statement by statement ({{ zp }}A1D:
   alpha1 and its slope; FINV: alpha1_inverse; FPAN: flat_panels; FQUAD: flat_quad; FSOLV:
-  flattening_solve; FLAT: flattening_scalar; FSHR: flat_shear_scalar). Context: the law's
+  flattening_solve; FRATE: flat_rate; FLAT: flattening_scalar; FSHR: flat_shear_scalar). Context: the law's
   CoreLaw (zp, law, first) and flat, its FlatSpec (frictionlaw.export._flat, host units).
 #}
 C=======================================================================
@@ -84,18 +84,38 @@ C=======================================================================
       END
 C
 C=======================================================================
+C     The lattice's rate at the fraction A and the weight of its term
+C     in the tangent (Eq. F2c): CL = 1 + SL (1 - A), XL = 1, or where
+C     that exceeds the hardening's limit CMX (6 P / h; HUGE: none),
+C     CL = CMX, XL = 0.
+C=======================================================================
+      SUBROUTINE {{ zp }}FRATE(SL, A, CMX, CL, XL)
+      IMPLICIT NONE
+      DOUBLE PRECISION SL, A, CMX, CL, XL
+      CL = 1.0D0 + SL*(1.0D0 - A)
+      XL = 1.0D0
+      IF (CL .GT. CMX) THEN
+        CL = CMX
+        XL = 0.0D0
+      END IF
+      RETURN
+      END
+C
+C=======================================================================
 C     S1 = int alpha1'(P cosh v) cosh v sinh(v)**2 / W dv and S2 =
 C     int alpha1'(P cosh v) cosh v (1 - G CL cosh v sinh(v)**3) / W**2
 C     dv over UA..UB, W = 1 + G cosh v sinh v CL, CL = 1 + SL (1 -
 C     alpha1) the lattice's rate, G = P/s0, SL = tan(theta), where the
-C     integrand is smooth: Gauss-Legendre on equal panels no wider
-C     than WIDTH, 8 nodes a panel, 4 on an interval narrower than NARR2
-C     and 2 below NARR1.
+C     integrand is smooth; where CL exceeds the hardening's limit CMX
+C     (Eq. F2c, 6 P / h, a function of P itself) CL = CMX and the
+C     second integrand is alpha1' cosh v / W**2 (FLATRT). Gauss-Legendre
+C     on equal panels no wider than WIDTH, 8 nodes a panel, 4 on an
+C     interval narrower than NARR2 and 2 below NARR1.
 C=======================================================================
-      SUBROUTINE {{ zp }}FPAN(P, UA, UB, G, SL, S1, S2)
+      SUBROUTINE {{ zp }}FPAN(P, UA, UB, G, SL, CMX, S1, S2)
       IMPLICIT NONE
-      DOUBLE PRECISION P, UA, UB, G, SL, S1, S2
-      DOUBLE PRECISION SPAN, HP, XMID, V, CH, SH, A, D, CL, W
+      DOUBLE PRECISION P, UA, UB, G, SL, CMX, S1, S2
+      DOUBLE PRECISION SPAN, HP, XMID, V, CH, SH, A, D, CL, XL, W
       INTEGER N, K, J, K0, M
       DOUBLE PRECISION GX({{ flat.gx | length }}), GW({{ flat.gw | length }})
       DOUBLE PRECISION WIDTH, NARR1, NARR2
@@ -130,10 +150,10 @@ C=======================================================================
           CH = COSH(V)
           SH = SINH(V)
           CALL {{ zp }}A1D(P*CH, A, D)
-          CL = 1.0D0 + SL*(1.0D0 - A)
+          CALL {{ zp }}FRATE(SL, A, CMX, CL, XL)
           W = 1.0D0 + G*CH*SH*CL
           S1 = S1 + GW(J)*(D*CH*SH*SH/W)
-          S2 = S2 + GW(J)*(D*CH*(1.0D0 - G*CL*CH*SH*SH*SH)/(W*W))
+          S2 = S2 + GW(J)*(D*CH*(1.0D0 - XL*G*CL*CH*SH*SH*SH)/(W*W))
         END DO
       END DO
       S1 = 0.5D0*HP*S1
@@ -147,9 +167,9 @@ C     negatives){% if first %}, split where the tabulated first
 C     loading's slope has kinks: at its levels and where its top
 C     level's power law reaches ln alpha = 0 (v = acosh(p_j/P)){% endif %}.
 C=======================================================================
-      SUBROUTINE {{ zp }}FQUAD(P, UA, UB, G, SL, S1, S2)
+      SUBROUTINE {{ zp }}FQUAD(P, UA, UB, G, SL, CMX, S1, S2)
       IMPLICIT NONE
-      DOUBLE PRECISION P, UA, UB, G, SL, S1, S2, SGN, XLO, XHI
+      DOUBLE PRECISION P, UA, UB, G, SL, CMX, S1, S2, SGN, XLO, XHI
 {% if first %}
       DOUBLE PRECISION T1, T2, R1, R2, A, TK, VK
       INTEGER J, NJ
@@ -186,17 +206,17 @@ C=======================================================================
         VK = ACOSH(TK/P)
         IF (VK .GE. XHI) EXIT
         IF (VK .GT. A) THEN
-          CALL {{ zp }}FPAN(P, A, VK, G, SL, R1, R2)
+          CALL {{ zp }}FPAN(P, A, VK, G, SL, CMX, R1, R2)
           T1 = T1 + R1
           T2 = T2 + R2
           A = VK
         END IF
       END DO
-      CALL {{ zp }}FPAN(P, A, XHI, G, SL, R1, R2)
+      CALL {{ zp }}FPAN(P, A, XHI, G, SL, CMX, R1, R2)
       S1 = SGN*(T1 + R1)
       S2 = SGN*(T2 + R2)
 {% else %}
-      CALL {{ zp }}FPAN(P, XLO, XHI, G, SL, S1, S2)
+      CALL {{ zp }}FPAN(P, XLO, XHI, G, SL, CMX, S1, S2)
       S1 = SGN*S1
       S2 = SGN*S2
 {% endif %}
@@ -215,11 +235,11 @@ C     dP of the update, (D + S2) W(u1)/(cosh u1 sinh u1), S2 the
 C     second integral of {{ zp }}FPAN from u0 to u1; AP = alpha1(PF),
 C     which W(u1) needs too.
 C=======================================================================
-      SUBROUTINE {{ zp }}FSOLV(P, P0, D, CAP, G, SL, PF, DADP, AP)
+      SUBROUTINE {{ zp }}FSOLV(P, P0, D, CAP, G, SL, CMX, PF, DADP, AP)
       IMPLICIT NONE
-      DOUBLE PRECISION P, P0, D, CAP, G, SL, PF, DADP, AP
+      DOUBLE PRECISION P, P0, D, CAP, G, SL, CMX, PF, DADP, AP
       DOUBLE PRECISION U0, UCAP, U, F, XIC, XLO, XHI, R, CH, SH, A, DA
-      DOUBLE PRECISION CL, W
+      DOUBLE PRECISION CL, XL, W
       DOUBLE PRECISION UN, WN, DF, DI, FN, XIN, STEP
       INTEGER IT
       LOGICAL HICHK, HAVE
@@ -237,7 +257,7 @@ C=======================================================================
         CH = COSH(U)
         SH = SINH(U)
         CALL {{ zp }}A1D(P*CH, A, DA)
-        CL = 1.0D0 + SL*(1.0D0 - A)
+        CALL {{ zp }}FRATE(SL, A, CMX, CL, XL)
         W = 1.0D0 + G*CH*SH*CL
         DA = DA/W
         HAVE = .FALSE.
@@ -257,7 +277,7 @@ C=======================================================================
      &        XLO .LT. UN .AND. UN .LT. XHI) THEN
 C           the last step: the integrand is linear over it to below
 C           1D-13, so F + R and the tangent's integral by its value at U
-            XIC = XIC + (UN - U)*DA*CH*(1.0D0 - G*CL*CH*SH*SH*SH)/W
+            XIC = XIC + (UN - U)*DA*CH*(1.0D0 - XL*G*CL*CH*SH*SH*SH)/W
             U = UN
             EXIT
           END IF
@@ -272,7 +292,7 @@ C           1D-13, so F + R and the tangent's integral by its value at U
      &           (MOD(IT, 8) .EQ. 7 .AND. HICHK)) THEN
           UN = 0.5D0*(XLO + XHI)
         END IF
-        CALL {{ zp }}FQUAD(P, U, UN, G, SL, DF, DI)
+        CALL {{ zp }}FQUAD(P, U, UN, G, SL, CMX, DF, DI)
         FN = F + DF
         XIN = XIC + DI
         IF (UN .EQ. UCAP .AND. .NOT. HICHK) THEN
@@ -307,7 +327,8 @@ C           1D-13, so F + R and the tangent's integral by its value at U
       END IF
       SH = SINH(U)
       CALL {{ zp }}A1D(PF, AP, DA)
-      W = 1.0D0 + G*CH*SH*(1.0D0 + SL*(1.0D0 - AP))
+      CALL {{ zp }}FRATE(SL, AP, CMX, CL, XL)
+      W = 1.0D0 + G*CH*SH*CL
       DADP = (D + XIC)*W/(CH*SH)
       RETURN
       END
@@ -316,17 +337,21 @@ C=======================================================================
 C     One contact point's flattening over the increment (Eq. F6): from
 C     the committed flattened fraction AF and history PH, at the
 C     pressure P with the bulk's plastic strain increment DEPS (and
-C     flow stress SIGY, <= 0: the file's sigma_y): P0 = max(p_f, PH,
-C     P) (p_f the pressure whose alpha1 is AF), then F6. ANEW: the
-C     trial fraction (never below AF); PF: its flattening pressure
-C     where it was needed and the point is flattened beyond max(PH,
-C     P), else 0; DADP: the update's d alpha/dP (0 without one).
+C     flow stress SIGY, <= 0: the file's sigma_y; hardening modulus
+C     HMOD, d sigma_y / d eps_eq, <= 0: perfectly plastic, which
+C     limits the lattice's rate to 6 P / HMOD, Eq. F2c): P0 =
+C     max(p_f, PH, P) (p_f the pressure whose alpha1 is AF), then F6.
+C     ANEW: the trial fraction (never below AF); PF: its flattening
+C     pressure where it was needed and the point is flattened beyond
+C     max(PH, P), else 0; DADP: the update's d alpha/dP (0 without
+C     one).
 C     DEPS <= 0, P <= 1D-12 H and full contact leave AF as it is.
 C=======================================================================
-      SUBROUTINE {{ zp }}FLAT(P, PH, AF, DEPS, SIGY, ANEW, PF, DADP)
+      SUBROUTINE {{ zp }}FLAT(P, PH, AF, DEPS, SIGY, HMOD, ANEW, PF,
+     &                        DADP)
       IMPLICIT NONE
-      DOUBLE PRECISION P, PH, AF, DEPS, SIGY, ANEW, PF, DADP
-      DOUBLE PRECISION P0, A0, D0, S0, X, DD, PP, DA, AP
+      DOUBLE PRECISION P, PH, AF, DEPS, SIGY, HMOD, ANEW, PF, DADP
+      DOUBLE PRECISION P0, A0, D0, S0, X, DD, PP, DA, AP, CMX
       DOUBLE PRECISION {{ zp }}FINV
       EXTERNAL {{ zp }}FINV
       DOUBLE PRECISION H, SLOPE, BETA, STR, S0F, SIGYF, CAP, PMIN
@@ -355,7 +380,9 @@ C=======================================================================
       IF (SIGY .GT. 0.0D0) S0 = S0F*(SIGY/SIGYF)
       X = P/H
       DD = DEPS*STR*BETA*(S0/H)/(SLOPE*X*X)/H
-      CALL {{ zp }}FSOLV(P, P0, DD, CAP, P/S0, SLOPE, PP, DA, AP)
+      CMX = HUGE(1.0D0)
+      IF (HMOD .GT. 0.0D0) CMX = 6.0D0*P/HMOD
+      CALL {{ zp }}FSOLV(P, P0, DD, CAP, P/S0, SLOPE, CMX, PP, DA, AP)
       IF (AP .GT. AF) THEN
         ANEW = AP
         PF = PP
@@ -374,10 +401,11 @@ C     the law itself where ANEW <= alpha1(PH), else its reload branch
 C     of the level p_f at P p_f/PH (DTAU at that fixed level). G1OUT:
 C     the cache value for max(PH, P) where it is known, else G1H.
 C=======================================================================
-      SUBROUTINE {{ zp }}FSHR(P, PH, AF, DEPS, SIGY, G1H, TAU, DTAU,
-     &                        G1OUT, ANEW)
+      SUBROUTINE {{ zp }}FSHR(P, PH, AF, DEPS, SIGY, HMOD, G1H, TAU,
+     &                        DTAU, G1OUT, ANEW)
       IMPLICIT NONE
-      DOUBLE PRECISION P, PH, AF, DEPS, SIGY, G1H, TAU, DTAU, G1OUT
+      DOUBLE PRECISION P, PH, AF, DEPS, SIGY, HMOD, G1H, TAU, DTAU
+      DOUBLE PRECISION G1OUT
       DOUBLE PRECISION ANEW, PF, DADP, T1, D1, G1, TA, AH, DH, G1X
       DOUBLE PRECISION {{ zp }}FINV
       EXTERNAL {{ zp }}FINV
@@ -390,7 +418,7 @@ C=======================================================================
         CALL {{ zp }}SHEAR(P, PH, G1H, TAU, DTAU, G1OUT)
         RETURN
       END IF
-      CALL {{ zp }}FLAT(P, PH, AF, DEPS, SIGY, ANEW, PF, DADP)
+      CALL {{ zp }}FLAT(P, PH, AF, DEPS, SIGY, HMOD, ANEW, PF, DADP)
       IF (P .GE. PH) THEN
         CALL {{ zp }}FIRST(P, T1, D1, G1)
         G1OUT = G1

@@ -105,8 +105,8 @@ C       then (else it starts counting now)
         DEPS = 0.0D0
         IF (NINT(UH(7)) .EQ. MOD(NCYCLE - 1, 1048576) + 1)
      &    DEPS = MAX(DBLE(UE(1)) - DBLE(UH(6)), 0.0D0)
-        CALL SBMF_FSHR(P, PH, AF, DEPS, 0.0D0, G1H, TLIM, DTAU, G1NEW,
-     &                 ANEW)
+        CALL SBMF_FSHR(P, PH, AF, DEPS, 0.0D0, 0.0D0, G1H, TLIM, DTAU,
+     &                 G1NEW, ANEW)
         RA = REAL(ANEW)
         IF (DBLE(RA) .GT. ANEW) RA = NEAREST(RA, -1.0)
         UH(5) = RA

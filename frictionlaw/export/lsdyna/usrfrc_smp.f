@@ -196,8 +196,8 @@ C         then (else it starts counting now)
           DEPS = 0.0D0
           IF (NINT(UFHIST(7, IH)) .EQ. MOD(NCYCLE - 1, 1048576) + 1)
      &      DEPS = MAX(DBLE(UFEPS(1, IH)) - DBLE(UFHIST(6, IH)), 0.0D0)
-          CALL SBMF_FSHR(P, PH, AF, DEPS, 0.0D0, G1H, TLIM, DTAU,
-     &                   G1NEW, ANEW)
+          CALL SBMF_FSHR(P, PH, AF, DEPS, 0.0D0, 0.0D0, G1H, TLIM,
+     &                   DTAU, G1NEW, ANEW)
         ELSE
           CALL SBMF_SHEAR(P, PH, G1H, TLIM, DTAU, G1NEW)
         END IF

@@ -34,10 +34,17 @@ C          increment): 1 p_hist, 2 cache -ln alpha1(p_hist) (<= 0:
 C          recompute), 3 status of the last call, 4 the law (zone
 C          number) that wrote the cache, 5 the flattened contact
 {% if flat %}
-C          fraction alpha_f (0: never flattened; read and written).
+C          fraction alpha_f (0: never flattened; read and written),
+C          6 an input the caller sets before each call, read and
+C          never written: the bulk's hardening modulus d sigma_y /
+C          d eps_eq at the point (host stress unit; <= 0 or NSTATE < 6:
+C          perfectly plastic), which limits the flattening's lattice
+C          (Eq. F2c).
 {% else %}
 C          fraction alpha_f (0: never flattened; kept as passed: this
-C          law has no flattening block).
+C          law has no flattening block), 6 the bulk's hardening
+C          modulus (an input of a law with a flattening block; not
+C          read here).
 {% endif %}
 C     Out: STATE: the trial state, which the caller stores only when
 C          the host accepts (converges) the increment; TNEW(ND),
@@ -76,7 +83,7 @@ C=======================================================================
       DOUBLE PRECISION STATE(NSTATE), TNEW(ND), DTDDU(ND, ND), DTDP(ND)
       DOUBLE PRECISION PH, G1H, G1NEW, TLIM, DTAU, XKT
 {% if flat %}
-      DOUBLE PRECISION AF, ANEW
+      DOUBLE PRECISION AF, ANEW, HMOD
 {% endif %}
       INTEGER SBMF_ONCE
 {% if zones %}
@@ -148,8 +155,10 @@ C     guards: the stated unit system, the pressure (the caller reports)
 {% elif flat %}
       IF (NSTATE .GE. 5) THEN
         AF = STATE(5)
-        CALL SBMF_FSHR(P, PH, AF, DEPS, SIGY, G1H, TLIM, DTAU, G1NEW,
-     &                 ANEW)
+        HMOD = 0.0D0
+        IF (NSTATE .GE. 6) HMOD = MAX(STATE(6), 0.0D0)
+        CALL SBMF_FSHR(P, PH, AF, DEPS, SIGY, HMOD, G1H, TLIM, DTAU,
+     &                 G1NEW, ANEW)
         STATE(5) = ANEW
       ELSE
 C       no slot for the flattened fraction: the law without flattening
@@ -190,10 +199,11 @@ C     No friction: zero traction and tangents, status 0 (open).
 C
 C     The state count that gives every slot of SBMF_FRICTION_V's STATE
 C     (p_hist, its cache, the status, the law of the cache, the
-C     flattening state): allocate this many per contact point.
+C     flattening state, the bulk's hardening modulus): allocate this
+C     many per contact point.
       INTEGER FUNCTION SBMF_NSTATE()
       IMPLICIT NONE
-      SBMF_NSTATE = 5
+      SBMF_NSTATE = 6
       RETURN
       END
 C
