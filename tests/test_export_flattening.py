@@ -20,6 +20,7 @@ import frictionlaw as fl
 from frictionlaw import export as exp
 from frictionlaw.export import harness
 from frictionlaw.first_loading import FirstLoadingTable
+from frictionlaw.flow_curve import SwiftCurve, TabulatedCurve
 from frictionlaw.reload_form import ReloadTable
 
 pytestmark = pytest.mark.skipif(harness.gfortran() is None, reason="needs gfortran")
@@ -45,11 +46,13 @@ def law(form="eq24-paper", slope=0.05):
     return fl.FrictionParams(**BASE, **FORMS[form], flattening=fl.Flattening(slope=slope))
 
 
-def load(tmp_path, target, params, *, units="SI", prec="DP", name=None):
+def load(tmp_path, target, params, *, units="SI", prec="DP", name=None, flow_curve=None):
     path = tmp_path / f"{name or target}.json"
     params.to_json(path)
     carries = bool(exp.target(target).form.bulk_strain) or params.flattening is None
-    files, _ = exp.render(target, path, units=units, without_flattening=not carries)
+    files, _ = exp.render(
+        target, path, units=units, without_flattening=not carries, flow_curve=flow_curve
+    )
     src = {n: t for n, t in files.items() if n.endswith(".f")}
     tag = re.sub(r"[^a-z0-9]", "_", f"f_{name or target}_{units}_{prec}".lower())
     options, flags = {}, ("-O2",)
@@ -189,12 +192,28 @@ def test_neutral_entry_without_the_state_slot_says_so_once(tmp_path):
     assert "NSTATE < 5" in host.message(9)
 
 
-@pytest.mark.parametrize("prec", ["DP", "SP"])
-def test_lsdyna_usrfrc_flattens_over_cycles(tmp_path, prec):
-    """SMP and MPP: the element plastic strain's increments between cycles in contact."""
+#: the workpiece's flow curves of --flow-curve: DC04's Swift curve and a table (MPa), whose
+#: second and third segments the cycles' strains reach
+CURVES = {
+    None: None,
+    "swift": SwiftCurve(530e6, 0.006, 0.24),
+    "table": TabulatedCurve((0.0, 0.03, 0.1, 0.4), (2.0e8, 2.6e8, 3.1e8, 3.6e8)),
+}
+
+
+@pytest.mark.parametrize(
+    ("prec", "curve"),
+    [("DP", None), ("SP", None), ("DP", "swift"), ("DP", "table"), ("SP", "swift")],
+)
+def test_lsdyna_usrfrc_flattens_over_cycles(tmp_path, prec, curve):
+    """SMP and MPP: the element plastic strain's increments between cycles in contact; with
+    --flow-curve the flow stress and hardening modulus off the curve at the middle of each
+    cycle's strain, as the runtime given both (traction_update(..., sigma_y=, hardening=))."""
     P = law()
-    smp, _ = load(tmp_path, "lsdyna-usrfrc", P, prec=prec)
-    mpp, _ = load(tmp_path, "lsdyna-usrfrc-mpp", P, prec=prec)
+    fc = CURVES[curve]
+    smp, files = load(tmp_path, "lsdyna-usrfrc", P, prec=prec, flow_curve=fc)
+    mpp, _ = load(tmp_path, "lsdyna-usrfrc-mpp", P, prec=prec, flow_curve=fc)
+    assert ("SUBROUTINE SBMF_FLOW" in files["sbmf_usrfrc_smp.f"]) == (fc is not None)
     dt = np.float32 if prec == "SP" else np.float64
     tol = 1e-12 if prec == "DP" else 2e-6
     n = 4
@@ -208,6 +227,7 @@ def test_lsdyna_usrfrc_flattens_over_cycles(tmp_path, prec):
     d = np.tile([1.0, 0.0, 0.0], (n, 1))
     eps = np.zeros(n)
     prev_on = np.zeros(n, bool)
+    plain = fl.HistoryState(n)  # the runtime without the curve, to show that it counts
     for cycle, (step, on) in enumerate(
         [(0.0, [1, 1, 1, 1]), (0.02, [1, 1, 1, 1]), (0.05, [1, 0, 1, 1]), (0.05, [1, 1, 1, 1])],
         start=1,
@@ -236,9 +256,20 @@ def test_lsdyna_usrfrc_flattens_over_cycles(tmp_path, prec):
         de = np.where(on & prev_on, step, 0.0)
         af = state.alpha_f.copy()
         st = fl.HistoryState(p_hist=state.p_hist, alpha_f=af)
+        kw = {}
+        if fc is not None:  # at the middle of the cycle's strain, as the host's REAL holds it
+            e_host = eps.astype(dt).astype(float)
+            de_host = np.where(de > 0, e_host - (eps - step).astype(dt).astype(float), 0.0)
+            mid = np.maximum(e_host - 0.5 * de_host, 0.0)
+            kw = {"sigma_y": fc.sigma_y(mid), "hardening": fc.hardening(mid)}
+            de = de_host
         fl.traction_update(
-            fl.SBMFLaw(P), np.where(on, p, 0.0), np.ones(n), np.zeros(n), 1e30, st, d_eps=de
+            fl.SBMFLaw(P), np.where(on, p, 0.0), np.ones(n), np.zeros(n), 1e30, st, d_eps=de, **kw
         )
+        fl.traction_update(
+            fl.SBMFLaw(P), np.where(on, p, 0.0), np.ones(n), np.zeros(n), 1e30, plain, d_eps=de
+        )
+        plain.commit()
         st.commit()
         state = st
         if cycle == 1:
@@ -256,6 +287,8 @@ def test_lsdyna_usrfrc_flattens_over_cycles(tmp_path, prec):
         assert np.all(lim >= tau * (1 - 1e-12))
         prev_on = on
     assert smp.log()["messag"] == [] and mpp.log()["messag"] == []
+    moved = np.abs(state.alpha_f - plain.alpha_f).max()
+    assert (moved > 0.01) if fc is not None else (moved == 0.0)
 
 
 def test_lsdyna_without_strain_or_slots_says_so_once(tmp_path):
@@ -331,6 +364,52 @@ def test_hosts_without_bulk_strain_need_the_users_word_and_the_option_is_never_i
     base = ["abaqus-fric", "--params", str(flat), "--out"]
     assert main([*base, str(tmp_path / "a")]) == 2 and not (tmp_path / "a").exists()
     assert main([*base, str(tmp_path / "b"), "--without-flattening"]) == 0
+
+
+def test_a_flow_curve_is_read_where_the_host_passes_only_the_strain(tmp_path, capsys):
+    """--flow-curve: LS-DYNA's usrfrc (SMP, MPP) with a flattening block; refused, saying why,
+    where the caller passes the flow stress and modulus, the host no strain, or the file has no
+    block (no option silently ignored); the header names the curve."""
+    from frictionlaw.export.cli import main
+
+    flat = law().to_json(tmp_path / "flat.json")
+    plain = dataclasses.replace(law(), flattening=None).to_json(tmp_path / "plain.json")
+    swift = "swift:530e6,0.006,0.24"
+    with pytest.raises(ValueError, match="caller passes the flow stress .SIGY. and the hard"):
+        exp.render("lsdyna", flat, flow_curve=swift)
+    with pytest.raises(ValueError, match="its host passes no bulk plastic strain"):
+        exp.render("abaqus-fric", flat, flow_curve=swift, without_flattening=True)
+    with pytest.raises(ValueError, match="no flattening block"):
+        exp.render("lsdyna-usrfrc", plain, flow_curve=swift)
+    files, _ = exp.render("lsdyna-usrfrc-mpp", flat, flow_curve=swift, units="mm-t-s")
+    src = files["sbmf_usrfrc_mpp.f"]
+    assert "flow curve of the workpiece (--flow-curve): Swift: K 530 MPa" in src
+    assert "PARAMETER (K = 5.3" in src.replace("5.30", "5.3")  # K in MPa for mm-t-s
+    base = ["--params", str(flat), "--flow-curve"]
+    assert main(["lsdyna", *base, swift, "--out", str(tmp_path / "a")]) == 2
+    err = capsys.readouterr().err
+    assert "--flow-curve applies to lsdyna-usrfrc" in err and "Traceback" not in err
+    assert main(["lsdyna-usrfrc", *base, "swift:530,0.006,0.24", "--out", str(tmp_path / "b")]) == 2
+    assert "K (Pa) must be in" in capsys.readouterr().err
+    assert main(["lsdyna-usrfrc", *base, swift, "--out", str(tmp_path / "c")]) == 0
+    assert not (tmp_path / "a").exists() and not (tmp_path / "b").exists()
+
+
+@pytest.mark.parametrize("target", ["abaqus-fric", "lsdyna-usrfrc", "lsdyna"])
+def test_a_calibration_with_a_tabulated_first_loading_exports(tmp_path, target, capsys):
+    """The shipped calibration (fe_demo/data, the calibration's default tabulated first loading,
+    whose fit record has no rmse: it passes through its points) exported through the command:
+    exit 0, its fit in the header (the header once failed on the missing rmse, a traceback)."""
+    from pathlib import Path
+
+    from frictionlaw.export.cli import main
+
+    path = Path(__file__).parents[1] / "fe_demo" / "data" / "sbmf_example_flattening.json"
+    extra = ["--without-flattening"] if target == "abaqus-fric" else []
+    assert main([target, "--params", str(path), "--out", str(tmp_path / "o"), *extra]) == 0
+    assert "Traceback" not in capsys.readouterr().err
+    src = next(p for p in (tmp_path / "o").iterdir() if p.suffix == ".f").read_text()
+    assert "fit first_loading: tabulated form, max |d alpha|=0, points=11" in src
 
 
 def test_tables_and_zones_refuse_a_flattening_file(tmp_path):

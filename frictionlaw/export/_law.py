@@ -515,16 +515,20 @@ def _fit_summary(params):
     for key in ("first_loading", "reload"):
         f = fit.get(key)
         if isinstance(f, dict):
-            r2 = f.get("r_squared")
-            rmse = f.get("rmse")
-            npts = f.get("n_points")
-            if r2 is None:  # the tabulated reload form: judged by its error, it has no R^2
-                out.append(
-                    f"fit {key}: {f.get('form', '?')} form, rmse={rmse:.3g}, max |d alpha|="
-                    f"{f.get('max_abs_residual', float('nan')):.3g}, points={npts}"
+            r2, npts = f.get("r_squared"), f.get("n_points")
+            # a tabulated form is judged by its error (no R^2; the first loading's table passes
+            # through its points: no rmse either); a value the record lacks is left out
+            parts = [
+                f"{name}={v:{fmt}}"
+                for name, v, fmt in (
+                    ("R^2", r2, ".6g"),
+                    ("rmse", f.get("rmse"), ".3g"),
+                    ("max |d alpha|", None if r2 is not None else f.get("max_abs_residual"), ".3g"),
                 )
-            else:
-                out.append(f"fit {key}: R^2={r2:.6g}, rmse={rmse:.3g}, points={npts}")
+                if isinstance(v, int | float)
+            ]
+            form = "" if r2 is not None else f"{f.get('form', '?')} form, "
+            out.append(f"fit {key}: {form}{', '.join([*parts, f'points={npts}'])}")
     err = params.provenance.get("errors") if isinstance(params.provenance, dict) else None
     if isinstance(err, dict):
         held = [
