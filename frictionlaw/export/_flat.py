@@ -12,7 +12,14 @@ import numpy as np
 
 from ..flattening import STRETCH_PER_EQUIVALENT_STRAIN, flattening_data
 
-__all__ = ["FlatSpec", "flat_spec", "FLAT_STATE_NEUTRAL", "FLAT_STATE_LSDYNA"]
+__all__ = [
+    "FlatSpec",
+    "flat_spec",
+    "FlowSpec",
+    "flow_spec",
+    "FLAT_STATE_NEUTRAL",
+    "FLAT_STATE_LSDYNA",
+]
 
 #: the state slot of the flattened fraction in SBMF_FRICTION_V's STATE
 FLAT_STATE_NEUTRAL = 5
@@ -89,4 +96,44 @@ def flat_spec(params, units):
         tuple(float(w) for w in K._GW),
         float(K._WIDTH),
         tuple(float(x) for x in K._NARROW),
+    )
+
+
+@dataclass(frozen=True)
+class FlowSpec:
+    """The workpiece's flow curve baked into a routine, in the host's stress unit.
+
+    For a host that passes only the total plastic strain (LS-DYNA's ``usrfrc``,
+    ``--flow-curve``).
+
+    Attributes
+    ----------
+    form : str
+        ``"swift"`` (``K``, ``eps0``, ``n``) or ``"table"`` (``strain``, ``stress``: joined by
+        straight lines, the last segment continued beyond the last strain, as LS-DYNA continues
+        its load curves).
+    describe : str
+        The curve in words (SI), for the header and README.
+    """
+
+    form: str
+    describe: str
+    K: float = 0.0
+    eps0: float = 0.0
+    n: float = 0.0
+    strain: tuple = ()
+    stress: tuple = ()
+
+
+def flow_spec(curve, units):
+    """The :class:`FlowSpec` of a :mod:`frictionlaw.flow_curve` curve in ``units``."""
+    s = units.stress
+    d = curve.to_dict()
+    if d["form"] == "swift":
+        return FlowSpec("swift", curve.describe(), K=d["K_Pa"] * s, eps0=d["eps0"], n=d["n"])
+    return FlowSpec(
+        "table",
+        curve.describe(),
+        strain=tuple(d["strain"]),
+        stress=tuple(v * s for v in d["sigma_y_Pa"]),
     )

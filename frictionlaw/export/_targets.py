@@ -129,6 +129,10 @@ class Routine:
         The warning (the guards' kind 9, once per process) of a routine whose law has a
         flattening block but whose host, or deck, gives it no bulk strain: the law then runs
         without flattening.
+    total_strain : bool
+        The host passes the point's total equivalent plastic strain but neither its flow
+        stress nor its hardening modulus (LS-DYNA's ``usrfrc``): a flow curve baked in at
+        export (``--flow-curve``) gives both from the strain.
     """
 
     stick: str
@@ -141,6 +145,7 @@ class Routine:
     zone_keys: tuple = ()
     zone_refusal: str = "takes no zones"
     bulk_strain: str = ""
+    total_strain: bool = False
     no_strain: str = ""
     #: the README's frame (it includes ``stick``, the target's section and ``tested``)
     frame: ClassVar[str] = "readme/routine.md"
@@ -384,6 +389,7 @@ for _record in (
             state_name="NHV (user friction history variables)",
             units_input=("UA(1)", "the first user parameter of *USER_INTERFACE_FRICTION"),
             zone_keys=_LSDYNA_KEYS,
+            total_strain=True,
             bulk_strain="UFEPS(1, ILBSV(II)), the plastic strain of the slave node's element "
             "that LS-DYNA passes (NEPS >= 1); its increment between consecutive cycles in "
             "contact, UFHIST(5..7, .) holding the flattened fraction, the plastic strain and "
@@ -406,6 +412,7 @@ for _record in (
             state_name="NH (user friction history variables)",
             units_input=("UC(1)", "the first user parameter of *USER_INTERFACE_FRICTION"),
             zone_keys=_LSDYNA_KEYS,
+            total_strain=True,
             bulk_strain="UE(1), the plastic strain of the slave node's element that LS-DYNA "
             "passes (NE >= 1; LSTC's sample: not for SOFT = 4); its increment between "
             "consecutive cycles in contact, UH(5..7) holding the flattened fraction, the "

@@ -107,6 +107,15 @@ def build_parser():
         "calculix): the routine runs the law without the flattening and says so once (refused "
         "otherwise; default: off)",
     )
+    ap.add_argument(
+        "--flow-curve",
+        metavar="SPEC",
+        help="the workpiece's flow curve, for lsdyna-usrfrc and lsdyna-usrfrc-mpp with a "
+        "flattening block: swift:K,eps0,n (K in Pa, e.g. swift:530e6,0.006,0.24) or a CSV with "
+        "the columns strain and sigma_y_Pa (or sigma_y_MPa); the routine reads the flow stress "
+        "and hardening modulus off it at the element's plastic strain (default: none: the "
+        "file's sigma_y and the perfectly plastic rate, an upper limit for a hardening metal)",
+    )
     add_common_options(ap, progress=False)
     return ap
 
@@ -137,6 +146,7 @@ def main(argv=None):
             force=args.force,
             accept_failed=args.accept_failed_fit,
             without_flattening=args.without_flattening,
+            flow_curve=args.flow_curve,
         )
     except (ValueError, FileNotFoundError, IsADirectoryError) as exc:
         return con.error(exc, 2)

@@ -50,7 +50,10 @@ C
       REAL RPH
       LOGICAL USECAC
 {% if flat %}
-      DOUBLE PRECISION AF, ANEW, DEPS
+      DOUBLE PRECISION AF, ANEW, DEPS, SIGY, HMOD
+{% if flow %}
+      DOUBLE PRECISION EM
+{% endif %}
       REAL RA
 {% endif %}
 {% if zones %}
@@ -105,7 +108,17 @@ C       then (else it starts counting now)
         DEPS = 0.0D0
         IF (NINT(UH(7)) .EQ. MOD(NCYCLE - 1, 1048576) + 1)
      &    DEPS = MAX(DBLE(UE(1)) - DBLE(UH(6)), 0.0D0)
-        CALL SBMF_FSHR(P, PH, AF, DEPS, 0.0D0, 0.0D0, G1H, TLIM, DTAU,
+{% if flow %}
+C       the flow stress and hardening modulus off the workpiece's flow
+C       curve, at the middle of the cycle's strain
+        EM = MAX(DBLE(UE(1)) - 0.5D0*DEPS, 0.0D0)
+        CALL SBMF_FLOW(EM, SIGY, HMOD)
+{% else %}
+C       no flow curve: the file's sigma_y, perfectly plastic
+        SIGY = 0.0D0
+        HMOD = 0.0D0
+{% endif %}
+        CALL SBMF_FSHR(P, PH, AF, DEPS, SIGY, HMOD, G1H, TLIM, DTAU,
      &                 G1NEW, ANEW)
         RA = REAL(ANEW)
         IF (DBLE(RA) .GT. ANEW) RA = NEAREST(RA, -1.0)
@@ -140,3 +153,6 @@ C       then (else it starts counting now)
 C
 {% include host.guards %}
 {% include "core/sbmf_core.f" %}
+{% if flow %}
+{% include "lsdyna/flow.f" %}
+{% endif %}

@@ -69,7 +69,10 @@ C
       REAL RPH
       LOGICAL USECAC, REFUSE
 {% if flat %}
-      DOUBLE PRECISION AF, ANEW, DEPS
+      DOUBLE PRECISION AF, ANEW, DEPS, SIGY, HMOD
+{% if flow %}
+      DOUBLE PRECISION EM
+{% endif %}
       REAL RA
       LOGICAL FLATOK
 {% endif %}
@@ -196,7 +199,17 @@ C         then (else it starts counting now)
           DEPS = 0.0D0
           IF (NINT(UFHIST(7, IH)) .EQ. MOD(NCYCLE - 1, 1048576) + 1)
      &      DEPS = MAX(DBLE(UFEPS(1, IH)) - DBLE(UFHIST(6, IH)), 0.0D0)
-          CALL SBMF_FSHR(P, PH, AF, DEPS, 0.0D0, 0.0D0, G1H, TLIM,
+{% if flow %}
+C         the flow stress and hardening modulus off the workpiece's
+C         flow curve, at the middle of the cycle's strain
+          EM = MAX(DBLE(UFEPS(1, IH)) - 0.5D0*DEPS, 0.0D0)
+          CALL SBMF_FLOW(EM, SIGY, HMOD)
+{% else %}
+C         no flow curve: the file's sigma_y, perfectly plastic
+          SIGY = 0.0D0
+          HMOD = 0.0D0
+{% endif %}
+          CALL SBMF_FSHR(P, PH, AF, DEPS, SIGY, HMOD, G1H, TLIM,
      &                   DTAU, G1NEW, ANEW)
         ELSE
           CALL SBMF_SHEAR(P, PH, G1H, TLIM, DTAU, G1NEW)
@@ -245,3 +258,6 @@ C         stored rounded down (the fraction never falls), as p_hist
 C
 {% include host.guards %}
 {% include "core/sbmf_core.f" %}
+{% if flow %}
+{% include "lsdyna/flow.f" %}
+{% endif %}
