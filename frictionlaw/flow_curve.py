@@ -180,7 +180,7 @@ def _read_table(path: Path) -> TabulatedCurve:
     try:
         line_of, rows = read_rows(path)
     except OSError as exc:
-        raise ValueError(f"--flow-curve: cannot read {path}: {exc.strerror or exc}") from None
+        raise ValueError(f"flow curve: cannot read {path}: {exc.strerror or exc}") from None
     head = [h.strip().lower() for h in rows[0]] if rows else []
     units = [(c, f) for c, f in (("sigma_y_pa", 1.0), ("sigma_y_mpa", 1e6)) if c in head]
     if "strain" not in head or len(units) != 1:
@@ -223,11 +223,11 @@ def read_flow_curve(spec: str) -> "FlowCurve":
             K, eps0, n = (float(v) for v in parts)
         except ValueError:
             raise ValueError(
-                f"--flow-curve {spec!r}: swift takes three numbers K,eps0,n (K in Pa), e.g. "
+                f"flow curve {spec!r}: swift takes three numbers K,eps0,n (K in Pa), e.g. "
                 "swift:530e6,0.006,0.24"
             ) from None
         return SwiftCurve(K, eps0, n)
     path = Path(text)
     if not path.is_file():
-        raise ValueError(f"--flow-curve {spec!r}: neither swift:K,eps0,n nor an existing CSV file")
+        raise ValueError(f"flow curve {spec!r}: neither swift:K,eps0,n nor an existing CSV file")
     return _read_table(path)

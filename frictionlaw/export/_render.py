@@ -178,7 +178,7 @@ def _flow_curve(record, laws, flow_curve):
     if not any(law.params.flattening is not None for law in laws):
         raise ParameterError(
             "{flow_curve} is read by the flattening under bulk strain: this parameter file has "
-            "no flattening block (halfspace-calib --flattening); leave it out",
+            "no flattening block (a calibration with the flattening on); leave it out",
             "flow_curve",
         )
     if isinstance(flow_curve, str):
