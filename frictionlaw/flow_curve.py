@@ -24,8 +24,8 @@ from ._table import read_rows
 
 __all__ = ["SwiftCurve", "TabulatedCurve", "FlowCurve", "read_flow_curve", "flow_curve_from_dict"]
 
-#: validated range of a flow stress (Pa)
-STRESS_RANGE = (1e5, 1e11)
+#: validated range of a flow stress (Pa), as the runtime validates a host's sigma_y
+STRESS_RANGE = (1e3, 1e13)
 
 
 def _strain(eps: ArrayLike, top: float) -> NDArray[np.float64]:
@@ -47,7 +47,7 @@ class SwiftCurve:
     Parameters
     ----------
     K : float
-        Strength coefficient (Pa), in ``[1e5, 1e11]``.
+        Strength coefficient (Pa), in ``[1e3, 1e13]``.
     eps0 : float
         Prestrain, in ``(0, 1]`` (``> 0``: the modulus at zero strain is finite).
     n : float
@@ -103,7 +103,7 @@ class TabulatedCurve:
     strain : tuple of float
         Equivalent plastic strains, the first 0, strictly increasing (at least two).
     sigma_y : tuple of float
-        Flow stresses (Pa) at them, in ``[1e5, 1e11]``, never falling (a softening bulk is
+        Flow stresses (Pa) at them, in ``[1e3, 1e13]``, never falling (a softening bulk is
         outside the model, Eq. F2c).
     """
 

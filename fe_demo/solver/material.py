@@ -18,9 +18,12 @@ certified data set. Give a measured curve with :meth:`Material.from_json`.
 import json
 import math
 from dataclasses import asdict, dataclass
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
+
+from frictionlaw.flow_curve import SwiftCurve
 
 from . import _kernels
 from .element import check_kernels
@@ -87,13 +90,21 @@ class Material:
         """Initial yield stress ``K eps0**n`` (Pa)."""
         return self.flow_stress(0.0)
 
+    @cached_property
+    def flow_curve(self):
+        """The Swift curve as :class:`frictionlaw.flow_curve.SwiftCurve`.
+
+        One definition of it: the flattening's fits and exports take the same record.
+        """
+        return SwiftCurve(float(self.K), float(self.eps0), float(self.n))
+
     def flow_stress(self, eps_p):
         """Swift flow curve ``sigma_f = K (eps0 + eps_p)**n`` (Pa)."""
-        return self.K * (self.eps0 + np.maximum(eps_p, 0.0)) ** self.n
+        return self.flow_curve.sigma_y(np.maximum(eps_p, 0.0))
 
     def hardening(self, eps_p):
         """Slope ``d sigma_f / d eps_p`` (Pa)."""
-        return self.n * self.K * (self.eps0 + np.maximum(eps_p, 0.0)) ** (self.n - 1.0)
+        return self.flow_curve.hardening(np.maximum(eps_p, 0.0))
 
     @classmethod
     def from_json(cls, path):
