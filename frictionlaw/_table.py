@@ -1,8 +1,9 @@
 """A CSV as spreadsheets write it, read into its rows (for the lab sheets the tools take).
 
 ``#`` comment lines and blank lines skipped, a UTF-8 byte-order mark (Excel's "CSV UTF-8")
-dropped, commas, semicolons or tabs between the columns (the first of them the header row
-holds), the file's own line numbers kept for the messages. The csv module parses; this only
+dropped, commas, semicolons or tabs between the columns (the one the header row holds most
+often: a header cell "note (sample, lot)" in a semicolon sheet does not make it a comma
+sheet), the file's own line numbers kept for the messages. The csv module parses; this only
 fixes the conventions every reader of a lab sheet here shares.
 """
 
@@ -12,8 +13,11 @@ from pathlib import Path
 __all__ = ["read_rows"]
 
 
-def read_rows(path) -> tuple[list[int], list[list[str]]]:
-    """``(line_numbers, rows)``: the header row first, then the data rows, as cell strings.
+def read_rows(path) -> tuple[list[int], list[list[str]], str]:
+    """``(line_numbers, rows, separator)``: the header row first, then the data rows, as cells.
+
+    With a semicolon or tab separator a cell's decimal comma is the reader's to accept (as
+    spreadsheets in German or French write numbers); with commas it cannot be one.
 
     ``ValueError`` naming the file when it is not UTF-8 text (``OSError`` as the system says).
     """
@@ -27,11 +31,23 @@ def read_rows(path) -> tuple[list[int], list[list[str]]]:
         for n, ln in enumerate(text.splitlines(), start=1)
         if not ln.lstrip().startswith("#") and ln.strip()
     ]
-    sep = next((d for d in (",", ";", "\t") if numbered and d in numbered[0][1]), ",")
+    head = numbered[0][1] if numbered else ""
+    sep = max((";", "\t", ","), key=head.count) if any(d in head for d in ",;\t") else ","
     parsed = zip(numbered, csv.reader((ln for _, ln in numbered), delimiter=sep), strict=True)
     line_of, rows = [], []
     for (n, _), r in parsed:  # one record a line
         if any(c.strip() for c in r):
             line_of.append(n)
             rows.append(r)
-    return line_of, rows
+    return line_of, rows, sep
+
+
+def number(cell: str, sep: str) -> float:
+    """A cell's number; a decimal comma is read as a point where the separator is not a comma.
+
+    ``ValueError`` (the ``float`` message) for anything else.
+    """
+    text = cell.strip()
+    if sep != "," and text.count(",") == 1 and "." not in text:
+        text = text.replace(",", ".")
+    return float(text)

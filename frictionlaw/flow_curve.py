@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._table import read_rows
+from ._table import number, read_rows
 
 __all__ = ["SwiftCurve", "TabulatedCurve", "FlowCurve", "read_flow_curve", "flow_curve_from_dict"]
 
@@ -178,7 +178,7 @@ def flow_curve_from_dict(d: dict) -> "FlowCurve":
 def _read_table(path: Path) -> TabulatedCurve:
     """A CSV with the columns ``strain`` and ``sigma_y_Pa`` or ``sigma_y_MPa`` (any case)."""
     try:
-        line_of, rows = read_rows(path)
+        line_of, rows, sep = read_rows(path)
     except OSError as exc:
         raise ValueError(f"flow curve: cannot read {path}: {exc.strerror or exc}") from None
     head = [h.strip().lower() for h in rows[0]] if rows else []
@@ -193,8 +193,13 @@ def _read_table(path: Path) -> TabulatedCurve:
     js = head.index(col)
     eps, sig = [], []
     for i, row in zip(line_of[1:], rows[1:], strict=True):
+        if len(row) > len(head) and any(c.strip() for c in row[len(head) :]):
+            raise ValueError(
+                f"{path}: line {i}: {len(row)} cells under a header of {len(head)} columns (a "
+                "decimal comma in a comma-separated file, or a shifted row?)"
+            )
         try:
-            e, s = float(row[je]), float(row[js]) * factor
+            e, s = number(row[je], sep), number(row[js], sep) * factor
         except (IndexError, ValueError):
             cells = "".join(row[j] for j in (je, js) if j < len(row))
             hint = " (a decimal comma? write 0.5, not 0,5)" if "," in cells else ""

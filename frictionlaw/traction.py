@@ -171,6 +171,15 @@ def traction_update(
     if parallel is None:
         parallel = n >= PARALLEL_THRESHOLD
     tail = (du, t_old, kt, t_new, status, dt_ddu, dt_dp, p_trial)
+    if (
+        d_eps is None
+        and history
+        and getattr(law, "uses_flattening", False)
+        and np.any(state.alpha_f > 0)  # type: ignore[union-attr]
+    ):
+        # a stored flattening is the node's state, as p_hist is: without a strain increment it
+        # is read (no growth), never dropped
+        d_eps = 0.0
     if d_eps is not None:
         de, sy, hd, (a_c, a_t) = _flattening_inputs(law, d_eps, sigma_y, hardening, state, n)
         fk = flattening_kernels()

@@ -76,11 +76,20 @@ def test_the_example_file_reads():
             "both p_Pa and p_MPa columns",
         ),
         ("strain,alpha,p_Pa\n0.1,x,1e8\n0.2,0.5,1e8\n", "line 2, column alpha: not a number"),
-        ("strain,alpha,p_Pa\n0.1,1.5,1e8\n0.2,0.5,1e8\n", "alpha must be a contact fraction in"),
+        (
+            "strain,alpha,p_Pa\n0.1,0.4\n0.2,1.2,1e8\n",
+            "line 2, column p_Pa: empty",
+        ),
+        (
+            "strain,alpha,p_Pa\n0.1,0.4,1e8\n0.2,1.2,1e8\n",
+            "line 3, column alpha: 1.2 is not a contact fraction in \\[0, 1\\]$",
+        ),
+        ("eps,alpha,p_kPa\n0.1,0.5,1e5\n", "missing strain, p_Pa \\(or p_MPa\\), found 'eps'"),
+        ("strain,alpha,strain,p_Pa\n0.1,0.5,0.2,1e8\n", "line 1: the column strain appears twice"),
         ("strain,alpha,p_Pa\n0.1,35,1e8\n0.2,50,1e8\n", "looks like per cent: divide by 100"),
         (
-            "strain;alpha;p_Pa\n0,1;0,3;1e8\n0,2;0,5;1e8\n",
-            "line 2, column strain: not a number \\(a decimal comma",
+            "strain,alpha,p_Pa\n0,1,0.3,1e8\n0.2,0.5,1e8\n",
+            "line 2: 4 cells under a header of 3 columns \\(a decimal comma",
         ),
         (
             "strain,alpha,p_Pa\n-0.1,0.5,1e8\n0.2,0.5,1e8\n",
@@ -90,7 +99,7 @@ def test_the_example_file_reads():
             "strain,alpha,p_Pa\n0,0.3,1e8\n5,0.4,1e8\n20,0.6,1e8\n",
             "line 4, column strain: 20 is above 2.*it looks like per cent: divide by 100",
         ),
-        ("strain,alpha,p_Pa\n0.1,0.5,0\n0.2,0.5,1e8\n", "p_Pa must be > 0"),
+        ("strain,alpha,p_Pa\n0.1,0.5,0\n0.2,0.5,1e8\n", "line 2, column p_Pa: must be > 0"),
         ("strain,alpha,p_Pa\n0.0,0.5,1e8\n0.2,0.5,1e8\n", "at least two rows with strain > 0"),
         ("strain,alpha,p_Pa\n0.1,nan,1e8\n0.2,0.5,1e8\n", "not finite"),
     ],
@@ -137,6 +146,8 @@ def test_data_the_model_cannot_describe_is_refused():
         "strain\talpha\tp_Pa\n0.0\t0.3\t2.4e8\n0.01\t0.4\t2.4e8\n0.02\t0.46\t2.4e8\n",
         "p_MPa,strain,alpha\n240,0.0,0.3\n240,0.01,0.4\n240,0.02,0.46\n",
         "Strain, Alpha , P_MPa\n0.0,0.3,240\n0.01,0.4,240\n0.02,0.46,240\n",  # any case
+        # Excel's German or French CSV: semicolons and decimal commas, a note with a comma
+        "strain;alpha;p_MPa;note (sample, lot)\n0;0,3;240;a\n0,01;0,4;240;b\n0,02;0,46;240;\n",
     ],
 )
 def test_what_spreadsheets_write_reads_the_same(tmp_path, text):
@@ -163,6 +174,12 @@ def test_pressures_in_mpa_under_p_pa_are_refused():
     check_data_pressures(FlatteningData("ok", d.strain, d.alpha, np.full(3, 2.4e8)), 8e8)
     with pytest.raises(ValueError, match="at or above the hardness H = 8e.08 Pa"):
         check_data_pressures(FlatteningData("hi", d.strain, d.alpha, np.full(3, 9e8)), 8e8)
+    # one typo among the rows (MPa in a p_Pa file): its point would dominate the fit
+    one = FlatteningData(
+        "lab.csv", d.strain, d.alpha, np.array([2.4e8, 2.4e8, 1e3]), lines=(5, 6, 7)
+    )
+    with pytest.raises(ValueError, match="lab.csv: line 7, pressure 1000 Pa is below 1e-4 H"):
+        check_data_pressures(one, 8e8)
 
 
 # ----------------------------------------------------------------------------- the command
@@ -309,3 +326,22 @@ def test_a_polished_real_scan_calibrates(tmp_path):
     assert 1e-5 < slope < 1e-3
     a = flattening_curve(0.1 * P.H, [0.0, 0.1 * slope, 10 * slope], P)
     assert a[0] < a[1] < 1.0 and a[2] == 1.0
+
+
+def test_a_beta_far_from_one_and_a_poor_fit_are_noted():
+    """Strains in per cent under 2 (a model that reaches full contact within 2 % strain): beta
+    comes out 100 times too small; the fit says so in its notes (the command prints them on
+    stderr). A band that reaches the range's bound fails the fit."""
+    P = LAW.replace(flattening=Flattening(slope=0.05))
+    eps, p = np.array([0.0, 0.005, 0.01, 0.015, 0.02]), np.full(5, 0.3 * H)
+    a = flattening_curve(p, eps, P.replace(flattening=Flattening(slope=0.05, beta=0.3)))
+    a = a + np.array([0.0, 0.01, -0.01, 0.01, -0.01])
+    fit = fit_beta(P, FlatteningData("pct.csv", 100 * eps, a, p))
+    assert fit["beta"] == pytest.approx(0.003, rel=0.05)
+    assert any("per cent gives 100 times too small" in n for n in fit["notes"])
+    assert fit_beta(P, FlatteningData("ok.csv", eps, a, p))["notes"] == []
+    wide = FlatteningData(
+        "few.csv", np.array([0.0, 0.001, 0.002]), np.array([0.3, 0.9, 0.2]), p[:3]
+    )
+    with pytest.raises(ValueError, match="band reaches the bound|on the bound"):
+        fit_beta(P, wide)

@@ -106,8 +106,10 @@ def test_the_command_line_text(tmp_path):
     f.write_text("strain,stress\n0,1e8\n0.1,2e8\n")
     with pytest.raises(ValueError, match="must name the columns strain and one of sigma_y_Pa"):
         read_flow_curve(str(f))
-    f.write_text("strain;sigma_y_MPa\n0;155\n0,1;300\n")
-    with pytest.raises(ValueError, match="line 3: .*decimal comma"):
+    f.write_text("strain;sigma_y_MPa\n0;155\n0,1;300\n")  # a German sheet: decimal commas
+    assert read_flow_curve(str(f)).strain == (0.0, 0.1)
+    f.write_text("strain,sigma_y_MPa\n0,155\n0,1,300\n")
+    with pytest.raises(ValueError, match="line 3: 3 cells under a header of 2 columns .a decimal"):
         read_flow_curve(str(f))
     f.write_text("strain,sigma_y_MPa\n0,155\n0.1,140\n")
     with pytest.raises(ValueError, match=f"{f.name}: tabulated flow curve: sigma_y falls"):

@@ -84,6 +84,8 @@ def with_flattening(cal, on, data):
         return cal
     block, record = derive_flattening(cal, data)
     fit = record.get("fit")
+    if fit:
+        cal.notes = (*cal.notes, *fit.get("notes", ()))
     if fit and fit["flow_curve"] is not None:
         ratio = fit["flow_curve_sigma_y0_Pa"] / cal.params.sigma_y
         if not 0.8 <= ratio <= 1.25:

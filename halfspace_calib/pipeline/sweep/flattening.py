@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from frictionlaw import Flattening, alpha_first, flattening_curve
-from frictionlaw._table import read_rows
+from frictionlaw._table import number, read_rows
 from frictionlaw.flattening import BETA_RANGE, SLOPE_RANGE, equivalent_strain
 from frictionlaw.flow_curve import FlowCurve
 
@@ -71,6 +71,8 @@ class FlatteningData:
     p: np.ndarray
     #: the measured sheet's flow curve (``--flow-curve``), or ``None``: a perfectly plastic sheet
     flow_curve: "FlowCurve | None" = None
+    #: the file's line of each row (for the messages; empty for data made in code)
+    lines: tuple = ()
 
 
 #: the largest equivalent plastic strain a flattening measurement is read with (a strip drawn or
@@ -88,7 +90,7 @@ def read_flattening_data(path) -> FlatteningData:
     numbers show it (a contact fraction or a strain in per cent, a decimal comma).
     """
     path = Path(path)
-    line_of, rows = read_rows(path)
+    line_of, rows, sep = read_rows(path)
     # the header as spreadsheets write it: any case ("Strain", "P_MPa"), spaces around
     names = {"strain": "strain", "alpha": "alpha", "p_pa": "p_Pa", "p_mpa": "p_MPa"}
     head = [names.get(h.strip().lower(), h.strip()) for h in rows[0]] if rows else []
@@ -97,21 +99,38 @@ def read_flattening_data(path) -> FlatteningData:
             f"{path}: both p_Pa and p_MPa columns: keep the one in the pressures' unit (which "
             "one to read would be a guess)"
         )
+    twice = sorted({c for c in ("strain", "alpha", "p_Pa", "p_MPa") if head.count(c) > 1})
+    if twice:
+        raise ValueError(
+            f"{path}: line {line_of[0]}: the column {twice[0]} appears twice: keep one (which one "
+            "to read would be a guess)"
+        )
     unit = "p_Pa" if "p_Pa" in head else "p_MPa" if "p_MPa" in head else None
     if unit is None or "strain" not in head or "alpha" not in head:
+        missing = [c for c in ("strain", "alpha") if c not in head]
+        missing += [] if unit else ["p_Pa (or p_MPa)"]
+        found = ", ".join(repr(h) for h in head) or "nothing"
         raise ValueError(
             f"{path}: the first row must name the columns strain, alpha, p_Pa (or p_MPa) "
             "(strain: equivalent plastic strain; alpha: contact fraction in [0, 1]; the "
-            "pressure of each point in Pa or MPa), separated by commas, semicolons or tabs"
+            "pressure of each point in Pa or MPa), separated by commas, semicolons or tabs; "
+            f"missing {', '.join(missing)}, found {found}"
         )
     need = ("strain", "alpha", unit)
     cols = {c: head.index(c) for c in need}
     vals = {c: [] for c in need}
     for i, r in zip(line_of[1:], rows[1:], strict=True):
+        if len(r) > len(head) and any(c.strip() for c in r[len(head) :]):
+            raise ValueError(
+                f"{path}: line {i}: {len(r)} cells under a header of {len(head)} columns (a "
+                "decimal comma in a comma-separated file, or a shifted row?)"
+            )
         for c in need:
             cell = r[cols[c]].strip() if cols[c] < len(r) else ""
+            if not cell:
+                raise ValueError(f"{path}: line {i}, column {c}: empty")
             try:
-                v = float(cell)
+                v = number(cell, sep)
             except ValueError:
                 hint = " (a decimal comma? write 0.5, not 0,5)" if "," in cell else ""
                 raise ValueError(f"{path}: line {i}, column {c}: not a number{hint}") from None
@@ -120,7 +139,11 @@ def read_flattening_data(path) -> FlatteningData:
             vals[c].append(v)
     scale = 1e6 if unit == "p_MPa" else 1.0  # the pressures in Pa
     data = FlatteningData(
-        str(path), np.array(vals["strain"]), np.array(vals["alpha"]), np.array(vals[unit]) * scale
+        str(path),
+        np.array(vals["strain"]),
+        np.array(vals["alpha"]),
+        np.array(vals[unit]) * scale,
+        lines=tuple(line_of[1:]),
     )
     if np.any(data.strain < 0):
         i = line_of[1 + int(np.argmin(data.strain))]
@@ -136,34 +159,53 @@ def read_flattening_data(path) -> FlatteningData:
             "beyond any flattening measurement: the column is the equivalent plastic strain, "
             "not per cent (it looks like per cent: divide by 100)"
         )
-    if np.any((data.alpha < 0) | (data.alpha > 1)):
-        pct = np.all(data.alpha >= 0) and np.all(data.alpha <= 100)
+    bad = (data.alpha < 0) | (data.alpha > 1)
+    if np.any(bad):
+        i = line_of[1 + int(np.argmax(bad))]
+        pct = np.all(data.alpha >= 0) and np.all(data.alpha <= 100) and data.alpha.max() > 1.5
         hint = " (it looks like per cent: divide by 100)" if pct else ""
-        raise ValueError(f"{path}: alpha must be a contact fraction in [0, 1]{hint}")
+        raise ValueError(
+            f"{path}: line {i}, column alpha: {data.alpha[np.argmax(bad)]:g} is not a contact "
+            f"fraction in [0, 1]{hint}"
+        )
     if np.any(data.p <= 0):
-        raise ValueError(f"{path}: {unit} must be > 0")
+        i = line_of[1 + int(np.argmax(data.p <= 0))]
+        raise ValueError(f"{path}: line {i}, column {unit}: must be > 0")
     if np.count_nonzero(data.strain > 0) < 2:
         raise ValueError(f"{path}: at least two rows with strain > 0 are needed to fit beta")
     return data
 
 
 def check_data_pressures(data: FlatteningData, H: float) -> None:
-    """``ValueError`` when every measured pressure is below ``1e-4 H``, or one is at ``H`` or above.
+    """``ValueError`` when a measured pressure is below ``1e-4 H`` or at ``H`` or above.
 
-    Below: most likely pressures in MPa under ``p_Pa``, the strain such pressures need to flatten
+    Every one below: most likely pressures in MPa under ``p_Pa``; one below where the others are
+    not: a typo, whose point would dominate the fit; the strain such pressures need to flatten
     the surface exceeds any forming process. At ``H`` or above the surface is in full contact
     under the pressure alone (the half-space model's limit), so the point says nothing of
     flattening: most likely another hardness than the calibration's ``--H``, or another unit.
     """
-    if np.all(data.p < 1e-4 * H):
+    def line(k):
+        return f"line {data.lines[k]}, " if data.lines else f"row {k + 1}, "
+
+    low = data.p < 1e-4 * H
+    if np.all(low):
         raise ValueError(
             f"{data.path}: every pressure is below 1e-4 H ({data.p.max():g} Pa at most, H = "
             f"{H:g} Pa): pressures in MPa under p_Pa? Name the column p_MPa, or give Pa"
         )
-    if np.any(data.p >= H):
+    if np.any(low):  # one row: a typo, whose point would dominate the fit
+        k = int(np.argmax(low))
         raise ValueError(
-            f"{data.path}: a pressure of {data.p.max():g} Pa is at or above the hardness H = "
-            f"{H:g} Pa, where the surface is in full contact by the pressure alone: give the "
+            f"{data.path}: {line(k)}pressure {data.p[k]:g} Pa is below 1e-4 H (H = {H:g} Pa), "
+            f"where the others are {np.median(data.p[~low]):g} Pa typically: a typo or another "
+            "unit?"
+        )
+    if np.any(data.p >= H):
+        k = int(np.argmax(data.p >= H))
+        raise ValueError(
+            f"{data.path}: {line(k)}a pressure of {data.p[k]:g} Pa is at or above the hardness "
+            f"H = {H:g} Pa, where the surface is in full contact by the pressure alone: give the "
             "calibration the workpiece's hardness (--H), or check the pressures' unit"
         )
 
@@ -286,16 +328,39 @@ def fit_beta(params, data: FlatteningData, level: float = BAND_LEVEL) -> dict:
     s2 = float(np.sum(r * r)) / max(n - 1, 1)
     t = float(stats.t.ppf(0.5 + level / 2, max(n - 1, 1)))
     half = t * math.sqrt(s2 / gg)
-    band = tuple(
-        min(max(math.exp(ln_b + sgn * half), BETA_RANGE[0]), BETA_RANGE[1]) for sgn in (-1, 1)
-    )
+    if ln_b - half <= lo or ln_b + half >= hi:
+        raise ValueError(
+            f"{data.path}: beta = {math.exp(ln_b):.4g}, but its {100 * level:g} % band reaches the "
+            f"bound of [{BETA_RANGE[0]:g}, {BETA_RANGE[1]:g}]: the measurement does not determine "
+            "it within the range"
+            + (
+                " (a strain column in per cent gives a beta 100 times too small)"
+                if ln_b < math.log(0.05)
+                else ""
+            )
+        )
+    band = tuple(math.exp(ln_b + sgn * half) for sgn in (-1, 1))
     at_zero = data.strain == 0
+    rms = float(np.sqrt(np.mean(r * r)))
+    notes = []
+    if not 0.05 <= math.exp(ln_b) <= 20.0:
+        notes.append(
+            f"beta = {math.exp(ln_b):.3g} is far from the derived 1 (0.5-2 against our FE "
+            "truth): check the strain column's unit (per cent gives 100 times too small), the "
+            "pressures' unit and the slope's resolution"
+        )
+    if rms > 0.1:
+        notes.append(
+            f"the fit misses the measurement by {rms:.3f} RMS in alpha (largest "
+            f"{float(np.max(np.abs(r))):.3f}): the model with this slope describes it poorly"
+        )
     return {
         "beta": math.exp(ln_b),
         "band": list(band),
         "level": level,
         "points": int(n),
-        "rms": float(np.sqrt(np.mean(r * r))),
+        "rms": rms,
+        "notes": notes,
         "max_abs": float(np.max(np.abs(r))),
         "zero_strain_misfit": float(np.max(np.abs(r[at_zero]))) if at_zero.any() else None,
         "pressures_Pa": sorted({float(v) for v in data.p}),
