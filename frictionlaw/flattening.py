@@ -48,6 +48,12 @@ from ._flattening_block import (
     Flattening,
     _number,
 )
+from ._flattening_rates import (
+    contact_growth_rate,
+    lattice_hardening_limit,
+    lattice_sink_rate,
+    layer_sink_rate,
+)
 from .law import alpha_first, alpha_reload, as_float_array, evaluate, sbmf_coeffs
 
 if TYPE_CHECKING:
@@ -71,9 +77,12 @@ __all__ = [
     "flattening_curve",
     "flattening_pressure",
     "flattening_data",
+    "beta_absorbs_hardening",
 ]
 
-#: below this ``p / H`` a node does not flatten (the strain it would need exceeds any forming)
+#: below this ``p / H`` a node does not flatten: a numerical floor (the integrals' ``acosh(p_f /
+#: p)`` grows without bound); the lattice's rate itself does not vanish with ``p``
+#: (docs/flattening.md, F6)
 P_MIN_RATIO = 1e-12
 #: strain steps per point of :func:`flattening_curve` with a flow curve (midpoint rule)
 FLOW_CURVE_STEPS = 64
@@ -93,66 +102,6 @@ def _rule(panels: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
 
 
 # ----------------------------------------------------------------------------- equations
-def layer_sink_rate(r: ArrayLike, s0_over_pf: ArrayLike) -> NDArray[np.float64]:
-    """Sinking rate of the plateaus per half-spacing and strain in the yielding layer (Eq. F2).
-
-    ``c_E = v_b / (l eps_dot)`` of the layer (docs/flattening.md): normality on the layer's
-    yield ellipse ``(p / p_f)^2 + (s / s0)^2 = 1`` gives ``(s0 / p_f) r / sqrt(1 - r^2)`` with ``r = p / p_f``
-    in ``[0, 1)``; ``inf`` at ``r = 1`` (pressure alone at the zero-strain hardness).
-    """
-    r = np.asarray(r, dtype=float)
-    with np.errstate(divide="ignore"):
-        return np.where(r < 1.0, np.asarray(s0_over_pf) * r / np.sqrt(1.0 - r * r), np.inf)
-
-
-def lattice_sink_rate(alpha: ArrayLike, slope: float) -> NDArray[np.float64]:
-    """Sinking rate of the plateaus per half-spacing and strain in the slip-line lattice (Eq. F2).
-
-    ``c_L = v_b / (l eps_dot) = 1 + tan(theta) (1 - A)``: a rigid-plastic strip stretched at its
-    yield deforms on 45-degree slip lines through the plateaus' edges; under any pressure on the
-    plateaus the lines that sink them carry the whole stretch at no more dissipation than the
-    uniform flow, so the plateau wedges sink by ``l eps_dot`` against the flanks while the flanks
-    move apart by ``l eps_dot``, which adds ``tan(theta) (1 - A)`` (docs/flattening.md).
-    """
-    return 1.0 + slope * (1.0 - np.asarray(alpha, dtype=float))
-
-
-def lattice_hardening_limit(p: ArrayLike, hardening: ArrayLike | None) -> NDArray[np.float64]:
-    """The lattice's sinking rate a hardening bulk allows (Eq. F2c): ``2 p / h_k``.
-
-    The lattice sinks the plateaus by an uneven split of the slip between its two families; in a
-    hardening bulk the side that slipped more is stronger and the pressure pays for it. Material
-    carried through the sinking zone by the stretch gains the extra shear ``v_b / (l eps_dot)``
-    and on average half the flow stress ``h_k`` times it, ``h_k = dk/dgamma = h / 3`` (von Mises,
-    ``h = d sigma_y / d eps_eq``); the pressure's work equals that dissipation at
-    ``v_b / (l eps_dot) = 2 p / h_k = 6 p / h``. The lattice's rate is
-    ``min(c_L, 6 p / h)``: ``inf`` (no limit) for a perfectly plastic bulk, ``h = 0`` or ``None``
-    (docs/flattening.md, "A hardening bulk").
-    """
-    p = np.asarray(p, dtype=float)
-    if hardening is None:
-        return np.full(p.shape, np.inf)
-    h = np.asarray(hardening, dtype=float)
-    with np.errstate(divide="ignore"):
-        return np.where(h > 0, 6.0 * p / np.where(h > 0, h, 1.0), np.inf)
-
-
-def contact_growth_rate(
-    p: ArrayLike, p_f: ArrayLike, alpha: ArrayLike, slope: float, beta: float, s0: float
-) -> NDArray[np.float64]:
-    """``dA / d eps`` of Eq. F3 per unit equivalent plastic strain ``eps``, ``A = alpha1(p_f)``.
-
-    F1's kinematics with F2's two rates, ``r_s beta (c_L + c_E) / tan(theta)``, with ``c_L`` of
-    :func:`lattice_sink_rate` at ``alpha``, ``c_E`` of :func:`layer_sink_rate` at ``p / p_f``
-    and ``r_s`` = :data:`STRETCH_PER_EQUIVALENT_STRAIN` (the stretch across the ridges per unit
-    ``eps``); the spacing ``l`` cancels.
-    """
-    p_f = np.asarray(p_f, dtype=float)
-    c_e = layer_sink_rate(np.asarray(p) / p_f, s0 / p_f)
-    rate = beta * (lattice_sink_rate(alpha, slope) + c_e) / slope
-    return STRETCH_PER_EQUIVALENT_STRAIN * rate
-
-
 def _coeffs(params: "FrictionParams") -> NDArray[np.float64]:
     return sbmf_coeffs(params, 1.0)  # tau_max = 1: the kernel's tau is alpha1
 
@@ -279,6 +228,9 @@ def equivalent_strain(
     if not (np.all(np.isfinite(p)) and np.all(p > 0) and np.all(np.isfinite(p_f))):
         raise ValueError("p must be finite and > 0 and p_f finite")
     H, coeffs = params.H, _coeffs(params)
+    # below 1e-12 H nothing flattens (flattening_update's cutoff): no strain reaches p_f > p
+    tiny = p.ravel() <= P_MIN_RATIO * H
+    p = np.where(tiny.reshape(p.shape), P_MIN_RATIO * H, p)
     ph = (p / H).ravel()
     top = np.minimum(p_f.ravel(), _p_cap(params, coeffs))  # alpha1 is 1 beyond: J is complete
     u = np.arccosh(np.maximum(top / p.ravel(), 1.0))
@@ -286,7 +238,10 @@ def equivalent_strain(
     c_max = lattice_hardening_limit(p, h).ravel()
     J = _j_integral(ph, u, coeffs, H, p.ravel() / s0, flat.slope, c_max)
     kappa = _strain_scale(flat, H, s0)
-    return (kappa * J / ph).reshape(p.shape)
+    out = kappa * J / ph
+    out[tiny & (p_f.ravel() > p.ravel())] = np.inf
+    out[tiny & (p_f.ravel() <= p.ravel())] = 0.0
+    return out.reshape(p.shape)
 
 
 def flattened_alpha(
@@ -302,6 +257,8 @@ def flattened_alpha(
     p, p_hist, p_f = np.broadcast_arrays(
         as_float_array("p", p), as_float_array("p_hist", p_hist), as_float_array("p_f", p_f)
     )
+    if not (np.all(np.isfinite(p)) and np.all(np.isfinite(p_hist)) and np.all(np.isfinite(p_f))):
+        raise ValueError("p, p_hist and p_f must be finite (Pa)")
     if (p_hist < 0).any() or (p_f < 0).any():
         raise ValueError("p_hist and p_f must be >= 0")
     h = np.maximum(p_hist, p_f)
@@ -562,3 +519,19 @@ def flattening_curve(
         a[s:e] = np.maximum.accumulate(a[s:e])
     alpha[order] = a
     return alpha.reshape(p.shape)
+
+
+def beta_absorbs_hardening(params: "FrictionParams") -> bool:
+    """Whether the block's ``beta`` was fitted to a sheet taken as perfectly plastic.
+
+    True when the calibration's record (``provenance.flattening.fit``) shows a fit to a
+    measurement without the sheet's flow curve (``halfspace-calib --flattening-data`` without
+    ``--flow-curve``): that ``beta`` absorbs the sheet's hardening at the measured pressures, so
+    a host must then run the law without the hardening modulus (Eq. F2c), or the slowing counts
+    twice. False for ``beta = 1`` (nothing fitted), a fit with the flow curve, and a file
+    without the record.
+    """
+    prov = params.provenance if isinstance(params.provenance, dict) else {}
+    rec = prov.get("flattening")
+    fit = rec.get("fit") if isinstance(rec, dict) else None
+    return isinstance(fit, dict) and fit.get("flow_curve") is None

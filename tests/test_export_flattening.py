@@ -419,3 +419,16 @@ def test_tables_and_zones_refuse_a_flattening_file(tmp_path):
             exp.render(target, path)
     with pytest.raises(ValueError, match="zoned routines do not carry it yet"):
         exp.render("abaqus-fric", None, zones=[("rim", path)])
+
+
+def test_a_flow_curve_beside_a_beta_fitted_as_perfectly_plastic_is_warned(tmp_path, capsys):
+    from frictionlaw.export.cli import main
+
+    P = law()
+    fitted = P.replace(provenance={"flattening": {"fit": {"beta": 0.5, "flow_curve": None}}})
+    path = fitted.to_json(tmp_path / "fitted.json")
+    argv = ["lsdyna-usrfrc", "--params", str(path), "--flow-curve", "swift:530e6,0.006,0.24"]
+    assert main([*argv, "--out", str(tmp_path / "o")]) == 0
+    assert "absorbs the sheet's hardening" in capsys.readouterr().err
+    assert main(["lsdyna-usrfrc", "--params", str(path), "--out", str(tmp_path / "p")]) == 0
+    assert "absorbs" not in capsys.readouterr().err

@@ -122,3 +122,33 @@ def test_cli_flattening_options_are_checked(tmp_path, capsys):
 
 def _small():
     return ["--nr", "6", "--increments", "5", "--reduction", "0.3", "--vtu-every", "0"]
+
+
+def _fitted(flow_curve):
+    """The shipped example with a provenance record of beta fitted to a lab sheet."""
+    prov = dict(FLAT.provenance)
+    rec = dict(prov.get("flattening") or {})
+    rec["fit"] = {"beta": 0.5, "flow_curve": flow_curve}
+    prov["flattening"] = rec
+    return FLAT.replace(provenance=prov)
+
+
+def test_a_beta_fitted_as_perfectly_plastic_gets_no_hardening_modulus(tmp_path, capsys):
+    """beta fitted without the sheet's flow curve absorbs its hardening: the die passes the
+    flow stress but no modulus (Eq. F2c would count the slowing twice), and fe-demo says so;
+    with the flow curve, or beta not fitted, the modulus goes to the law."""
+    from frictionlaw.flattening import beta_absorbs_hardening
+
+    plastic, curved = _fitted(None), _fitted("Swift: K 530 MPa, eps0 0.006, n 0.24")
+    assert beta_absorbs_hardening(plastic) and not beta_absorbs_hardening(curved)
+    assert not beta_absorbs_hardening(FLAT)
+    die = lambda P: DieContact(np.arange(3), fl.SBMFLaw(P), 1e12, 1e12, flattening=True)  # noqa: E731
+    assert not die(plastic).pass_hardening
+    assert die(curved).pass_hardening and die(FLAT).pass_hardening
+    zoned = fl.ZonedLaw(("rim", "face"), (fl.SBMFLaw(FLAT), fl.SBMFLaw(plastic)))
+    assert not DieContact(np.arange(3), zoned, 1e12, 1e12, flattening=True).pass_hardening
+    path = tmp_path / "fitted.json"
+    plastic.to_json(path)
+    argv = ["upsetting", "--flattening", "--params", str(path), *_small()]
+    assert main([*argv, "--out", str(tmp_path / "o"), "--quiet"]) == 0
+    assert "fitted to a sheet taken as perfectly plastic" in capsys.readouterr().err

@@ -440,3 +440,31 @@ def test_the_export_says_where_a_host_runs_the_law_without_flattening(tmp_path):
     assert "runs without flattening" in readme
     assert main(["abaqus-table", "--params", str(path), "--out", str(tmp_path / "t")]) == 2
     assert not (tmp_path / "t").exists()
+
+
+def test_extreme_inputs_give_no_warning_and_bad_ones_are_named():
+    """A modulus of 1e-300 (no limit), a pressure of 1e-300 Pa (below the floor: no strain
+    flattens it), non-finite histories and the rate functions' domains (the probe's cases)."""
+    import warnings
+
+    from frictionlaw.flattening import lattice_hardening_limit
+
+    P = law()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        base = flattening_curve(0.1 * H, [0.0, 0.01], P)
+        assert np.array_equal(flattening_curve(0.1 * H, [0.0, 0.01], P, hardening=1e-300), base)
+        assert lattice_hardening_limit(1e8, 5e-324) == np.inf
+        eq = equivalent_strain([1e-300, 1e-100, 1e-300], [H, H, 1e-300], P)
+        assert eq.tolist() == [np.inf, np.inf, 0.0]
+    for call, name in (
+        (lambda: flattened_alpha(1e8, np.inf, 0.0, P), "p_hist and p_f must be finite"),
+        (lambda: layer_sink_rate(2.0, 1.0), "r must be in \\[0, 1\\]"),
+        (lambda: lattice_sink_rate(5.0, 0.1), "alpha must be a contact fraction"),
+        (lambda: lattice_hardening_limit(1e8, -1.0), "hardening must be finite and >= 0"),
+        (lambda: contact_growth_rate(np.nan, 1e8, 0.3, 0.1, 1.0, 3e8), "p must not contain NaN"),
+        (lambda: contact_growth_rate(1e8, 0.0, 0.3, 0.1, 1.0, 3e8), "p_f must be > 0"),
+        (lambda: contact_growth_rate(1e8, 2e8, 0.3, 0.0, 1.0, 3e8), "slope must be finite and > 0"),
+    ):
+        with pytest.raises(ValueError, match=name):
+            call()

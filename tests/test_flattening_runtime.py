@@ -361,3 +361,21 @@ def test_bad_input_is_named():
         fl.traction_update(fl.Coulomb(0.1), *args[1:], d_eps=0.1)
     with pytest.raises(ValueError, match="d_eps applies to a law with a flattening block"):
         fl.traction_update(fl.SBMFLaw(fl.FrictionParams(**BASE)), *args[1:], d_eps=0.1)
+
+
+def test_a_stored_flattened_fraction_is_read_without_a_strain_increment():
+    """alpha_f is the node's state, as p_hist: a call without d_eps reads it (no growth) rather
+    than dropping it; a never-flattened state runs the law itself."""
+    from fe_demo.scenes.laws import EXAMPLE_FLATTENING_PATH
+
+    P = fl.FrictionParams.from_json(EXAMPLE_FLATTENING_PATH)
+    law_ = fl.SBMFLaw(P)
+    p = [0.01 * P.H]
+
+    def shear(**kw):
+        st = fl.HistoryState(p_hist=[0.0], alpha_f=[0.9])
+        return fl.traction_update(law_, p, [1e-3], [0.0], 1e12, st, **kw).traction[0]
+
+    assert shear() == shear(d_eps=0.0) == pytest.approx(0.9 * P.tau_max, rel=1e-12)
+    virgin = fl.traction_update(law_, p, [1e-3], [0.0], 1e12, fl.HistoryState(1)).traction[0]
+    assert virgin == pytest.approx(float(fl.shear_limit(p[0], 0.0, P)), rel=1e-12)

@@ -325,6 +325,16 @@ def _load_params(args):
             f"--flattening: {args.params} has no flattening block (calibrate with "
             "halfspace-calib --flattening, docs/flattening.md)"
         )
+    from frictionlaw.flattening import beta_absorbs_hardening
+
+    if P.flattening is not None and args.flattening and beta_absorbs_hardening(P):
+        print(
+            f"fe-demo: note: {args.params}'s beta was fitted to a sheet taken as perfectly "
+            "plastic (halfspace-calib --flattening-data without --flow-curve): it absorbs the "
+            "sheet's hardening, so this run passes the die's flow stress but no hardening "
+            "modulus (docs/flattening.md, Eq. F2c); fit with --flow-curve to pass it",
+            file=sys.stderr,
+        )
     if P.flattening is not None and not args.flattening:
         print(
             f"fe-demo: WARNING: {args.params} carries a flattening block; this run evaluates the "

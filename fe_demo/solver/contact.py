@@ -131,6 +131,25 @@ class DieContact:
         self.flattening = bool(flattening)
         self.alpha = np.zeros(self.nodes.size)  # contact fraction of the last accepted increment
 
+    @property
+    def pass_hardening(self):
+        """Whether the bulk's hardening modulus goes to the law (Eq. F2c) in a flattening run.
+
+        Not where a law's ``beta`` was fitted to a sheet taken as perfectly plastic
+        (:func:`frictionlaw.flattening.beta_absorbs_hardening`): that ``beta`` absorbs the
+        sheet's hardening already, and the modulus would count it twice.
+        """
+        from frictionlaw.flattening import beta_absorbs_hardening
+
+        laws = getattr(self.law, "laws", None) or [self.law]
+        params = [getattr(w, "params", None) for w in laws]
+        return not any(
+            p is not None
+            and getattr(p, "flattening", None) is not None
+            and beta_absorbs_hardening(p)
+            for p in params
+        )
+
     def _reset_branches(self):
         """Forget the branch flips of the increment (after a commit or a cut-back)."""
         self._below = np.zeros(self.nodes.size, dtype=bool)

@@ -259,7 +259,9 @@ class FormingModel:
 
         The increment's equivalent plastic strain (trial ``ep`` less the committed), and the
         flow stress and hardening modulus ``d sigma_y / d eps_p`` at the trial strain (the
-        latter limits the lattice's rate, docs/flattening.md Eq. F2c), each carried from the
+        latter limits the lattice's rate, docs/flattening.md Eq. F2c; not passed where the
+        law's ``beta`` was fitted to a sheet taken as perfectly plastic, which absorbs the
+        hardening already: :attr:`DieContact.pass_hardening`), each carried from the
         Gauss points of the node's elements by :func:`~fe_demo.solver.contact.surface_projection`.
         """
         if not self.contact.flattening:
@@ -267,11 +269,10 @@ class FormingModel:
         nodes = self.contact.nodes
         d_eps = surface_projection(self.t, kin.N, kin.dV, ep - self.eps_p, nodes)
         eps = surface_projection(self.t, kin.N, kin.dV, ep, nodes)
-        return {
-            "d_eps": np.maximum(d_eps, 0.0),
-            "sigma_y": self.mat.flow_stress(eps),
-            "hardening": self.mat.hardening(eps),
-        }
+        out = {"d_eps": np.maximum(d_eps, 0.0), "sigma_y": self.mat.flow_stress(eps)}
+        if self.contact.pass_hardening:
+            out["hardening"] = self.mat.hardening(eps)
+        return out
 
     def surface_plastic_strain(self):
         """Equivalent plastic strain at the die nodes (accepted state), projected as :meth:`_bulk`."""

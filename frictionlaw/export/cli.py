@@ -161,6 +161,18 @@ def main(argv=None):
             "again for the new one (build.sh in the folder)"
         )
     con.result(f"wrote {', '.join(res.files)} to {res.out}")
+    if args.flow_curve is not None and args.params is not None:
+        from ..flattening import beta_absorbs_hardening
+        from ..params import FrictionParams
+
+        P = FrictionParams.from_json(args.params, accept_failed=True)
+        if beta_absorbs_hardening(P):
+            con.warn(
+                f"frictionlaw-export: warning: {args.params}'s beta was fitted to a sheet taken "
+                "as perfectly plastic (no --flow-curve in the calibration): it absorbs the "
+                "sheet's hardening, which the flow curve's modulus now limits again; refit beta "
+                "with halfspace-calib --flow-curve, or export without --flow-curve"
+            )
     if res.table is not None:
         con.result(
             f"table: {len(res.table.p)} pressures, measured max |tau_table - tau| = "

@@ -185,6 +185,7 @@ def check_data_pressures(data: FlatteningData, H: float) -> None:
     under the pressure alone (the half-space model's limit), so the point says nothing of
     flattening: most likely another hardness than the calibration's ``--H``, or another unit.
     """
+
     def line(k):
         return f"line {data.lines[k]}, " if data.lines else f"row {k + 1}, "
 

@@ -1,0 +1,98 @@
+"""The flattening's sinking rates (Eqs. F2a-F2c) and their sum, the growth rate (Eq. F3).
+
+Private: :mod:`frictionlaw.flattening` is their public home (docs/flattening.md). Each checks
+its domain and names the argument.
+"""
+
+import math
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ._flattening_block import STRETCH_PER_EQUIVALENT_STRAIN
+from .law import as_float_array
+
+__all__ = [
+    "layer_sink_rate",
+    "lattice_sink_rate",
+    "lattice_hardening_limit",
+    "contact_growth_rate",
+]
+
+
+def layer_sink_rate(r: ArrayLike, s0_over_pf: ArrayLike) -> NDArray[np.float64]:
+    """Sinking rate of the plateaus per half-spacing and strain in the yielding layer (Eq. F2).
+
+    ``c_E = v_b / (l eps_dot)`` of the layer (docs/flattening.md): normality on the layer's
+    yield ellipse ``(p / p_f)^2 + (s / s0)^2 = 1`` gives ``(s0 / p_f) r / sqrt(1 - r^2)`` with ``r = p / p_f``
+    in ``[0, 1)``; ``inf`` at ``r = 1`` (pressure alone at the zero-strain hardness).
+    """
+    r = _checked("r", r, 0.0, 1.0, "in [0, 1] (p / p_f)")
+    s = _checked("s0_over_pf", s0_over_pf, 0.0, math.inf, "finite and >= 0")
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(r < 1.0, s * r / np.sqrt(np.maximum(1.0 - r * r, 0.0)), np.inf)
+
+
+def lattice_sink_rate(alpha: ArrayLike, slope: float) -> NDArray[np.float64]:
+    """Sinking rate of the plateaus per half-spacing and strain in the slip-line lattice (Eq. F2).
+
+    ``c_L = v_b / (l eps_dot) = 1 + tan(theta) (1 - A)``: a rigid-plastic strip stretched at its
+    yield deforms on 45-degree slip lines through the plateaus' edges; under any pressure on the
+    plateaus the lines that sink them carry the whole stretch at no more dissipation than the
+    uniform flow, so the plateau wedges sink by ``l eps_dot`` against the flanks while the flanks
+    move apart by ``l eps_dot``, which adds ``tan(theta) (1 - A)`` (docs/flattening.md).
+    """
+    a = _checked("alpha", alpha, 0.0, 1.0, "a contact fraction in [0, 1]")
+    return 1.0 + float(_checked("slope", slope, 0.0, math.inf, "finite and >= 0")) * (1.0 - a)
+
+
+def _checked(name: str, value: ArrayLike, lo: float, hi: float, allowed: str) -> NDArray:
+    """``value`` as a float array, every entry finite and in ``[lo, hi]``; else ``ValueError``."""
+    a = as_float_array(name, value)
+    if not (np.all(np.isfinite(a)) and np.all((a >= lo) & (a <= hi))):
+        raise ValueError(f"{name} must be {allowed}")
+    return a
+
+
+def lattice_hardening_limit(p: ArrayLike, hardening: ArrayLike | None) -> NDArray[np.float64]:
+    """The lattice's sinking rate a hardening bulk allows (Eq. F2c): ``2 p / h_k``.
+
+    The lattice sinks the plateaus by an uneven split of the slip between its two families; in a
+    hardening bulk the side that slipped more is stronger and the pressure pays for it. Material
+    carried through the sinking zone by the stretch gains the extra shear ``v_b / (l eps_dot)``
+    and on average half the flow stress ``h_k`` times it, ``h_k = dk/dgamma = h / 3`` (von Mises,
+    ``h = d sigma_y / d eps_eq``); the pressure's work equals that dissipation at
+    ``v_b / (l eps_dot) = 2 p / h_k = 6 p / h``. The lattice's rate is
+    ``min(c_L, 6 p / h)``: ``inf`` (no limit) for a perfectly plastic bulk, ``h = 0`` or ``None``
+    (docs/flattening.md, "A hardening bulk").
+    """
+    p = _checked("p", p, 0.0, math.inf, "finite and >= 0 (Pa)")
+    if hardening is None:
+        return np.full(p.shape, np.inf)
+    why = "finite and >= 0 (Pa, d sigma_y / d eps_eq; 0: perfectly plastic)"
+    h = _checked("hardening", hardening, 0.0, math.inf, why)
+    with np.errstate(divide="ignore", over="ignore"):  # a modulus of 1e-300: no limit (inf)
+        return np.where(h > 0, 6.0 * p / np.where(h > 0, h, 1.0), np.inf)
+
+
+def contact_growth_rate(
+    p: ArrayLike, p_f: ArrayLike, alpha: ArrayLike, slope: float, beta: float, s0: float
+) -> NDArray[np.float64]:
+    """``dA / d eps`` of Eq. F3 per unit equivalent plastic strain ``eps``, ``A = alpha1(p_f)``.
+
+    F1's kinematics with F2's two rates, ``r_s beta (c_L + c_E) / tan(theta)``, with ``c_L`` of
+    :func:`lattice_sink_rate` at ``alpha``, ``c_E`` of :func:`layer_sink_rate` at ``p / p_f``
+    and ``r_s`` = :data:`STRETCH_PER_EQUIVALENT_STRAIN` (the stretch across the ridges per unit
+    ``eps``); the spacing ``l`` cancels.
+    """
+    p = _checked("p", p, 0.0, math.inf, "finite and >= 0 (Pa)")
+    p_f = _checked("p_f", p_f, 0.0, math.inf, "finite and > 0 (Pa)")
+    if np.any(p_f <= 0) or np.any(p > p_f):
+        raise ValueError("p_f must be > 0 and >= p (the flattening pressure, Pa)")
+    for name, v in (("slope", slope), ("beta", beta), ("s0", s0)):
+        _checked(name, v, 0.0, math.inf, "finite and > 0")
+        if not float(v) > 0:
+            raise ValueError(f"{name} must be finite and > 0")
+    c_e = layer_sink_rate(p / p_f, s0 / p_f)
+    rate = beta * (lattice_sink_rate(alpha, slope) + c_e) / slope
+    return STRETCH_PER_EQUIVALENT_STRAIN * rate
