@@ -19,7 +19,9 @@ def read_rows(path) -> tuple[list[int], list[list[str]], str]:
     With a semicolon or tab separator a cell's decimal comma is the reader's to accept (as
     spreadsheets in German or French write numbers); with commas it cannot be one.
 
-    ``ValueError`` naming the file when it is not UTF-8 text (``OSError`` as the system says).
+    ``ValueError`` naming the file when it is not UTF-8 text or a data row has more cells
+    than the header (a decimal comma in a comma-separated file, a shifted row), naming the
+    line; ``OSError`` as the system says.
     """
     path = Path(path)
     try:
@@ -34,11 +36,18 @@ def read_rows(path) -> tuple[list[int], list[list[str]], str]:
     head = numbered[0][1] if numbered else ""
     sep = max((";", "\t", ","), key=head.count) if any(d in head for d in ",;\t") else ","
     parsed = zip(numbered, csv.reader((ln for _, ln in numbered), delimiter=sep), strict=True)
-    line_of, rows = [], []
+    line_of: list[int] = []
+    rows: list[list[str]] = []
     for (n, _), r in parsed:  # one record a line
-        if any(c.strip() for c in r):
-            line_of.append(n)
-            rows.append(r)
+        if not any(c.strip() for c in r):
+            continue
+        if rows and len(r) > len(rows[0]) and any(c.strip() for c in r[len(rows[0]) :]):
+            raise ValueError(
+                f"{path}: line {n}: {len(r)} cells under a header of {len(rows[0])} columns (a "
+                "decimal comma in a comma-separated file, or a shifted row?)"
+            )
+        line_of.append(n)
+        rows.append(r)
     return line_of, rows, sep
 
 

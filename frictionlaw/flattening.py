@@ -424,7 +424,7 @@ def flattening_data(params: "FrictionParams") -> NDArray[np.float64]:
     head = [
         flat.slope,
         flat.beta,
-        2.0 * float(params.k),  # type: ignore[arg-type]
+        float(_s0(params, None, ())),
         float(params.sigma_y),
         _p_cap(params, coeffs),
     ]

@@ -193,11 +193,6 @@ def _read_table(path: Path) -> TabulatedCurve:
     js = head.index(col)
     eps, sig = [], []
     for i, row in zip(line_of[1:], rows[1:], strict=True):
-        if len(row) > len(head) and any(c.strip() for c in row[len(head) :]):
-            raise ValueError(
-                f"{path}: line {i}: {len(row)} cells under a header of {len(head)} columns (a "
-                "decimal comma in a comma-separated file, or a shifted row?)"
-            )
         try:
             e, s = number(row[je], sep), number(row[js], sep) * factor
         except (IndexError, ValueError):

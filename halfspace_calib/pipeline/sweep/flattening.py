@@ -120,11 +120,6 @@ def read_flattening_data(path) -> FlatteningData:
     cols = {c: head.index(c) for c in need}
     vals = {c: [] for c in need}
     for i, r in zip(line_of[1:], rows[1:], strict=True):
-        if len(r) > len(head) and any(c.strip() for c in r[len(head) :]):
-            raise ValueError(
-                f"{path}: line {i}: {len(r)} cells under a header of {len(head)} columns (a "
-                "decimal comma in a comma-separated file, or a shifted row?)"
-            )
         for c in need:
             cell = r[cols[c]].strip() if cols[c] < len(r) else ""
             if not cell:
