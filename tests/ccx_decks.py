@@ -225,9 +225,12 @@ _KINDS = {
     "contact stress": "stress",
     "relative contact displacement": "disp",
     "contact state variables": "sdv",
+    "equivalent plastic strain": "peeq",
+    "total force": "total",
 }
 _HEAD = re.compile(
-    r"\s*(forces|contact stress|relative contact displacement|contact state variables)"
+    r"\s*(forces|contact stress|relative contact displacement|contact state variables"
+    r"|equivalent plastic strain|total force)"
     r" .*time\s*(\S+)"
 )
 
@@ -235,8 +238,9 @@ _HEAD = re.compile(
 def read_blocks(path):
     """Output times of a ``.dat`` file: ``[(time, {kind: rows})]``, rows in the file's order.
 
-    Kinds: ``forces`` (``*NODE PRINT, RF``), ``stress`` (``*CONTACT PRINT, CSTR``), ``disp``
-    (``CDIS``), ``sdv`` (``CSDV``). A row is the tuple of the line's numbers: node-to-surface
+    Kinds: ``forces`` (``*NODE PRINT, RF``), ``total`` (the same with ``TOTALS=ONLY``),
+    ``stress`` (``*CONTACT PRINT, CSTR``), ``disp`` (``CDIS``), ``sdv`` (``CSDV``), ``peeq``
+    (``*EL PRINT, PEEQ``: element, integration point, value). A row is the tuple of the line's numbers: node-to-surface
     contact ``(node, ...)``, face-to-face ``(element, face, ...)`` (``sdv``: ``(element, face,
     integration point, ...)``). Other blocks of the file are skipped.
     """

@@ -4,8 +4,8 @@ Where the host gives the bulk plastic strain (the host-neutral SBMF_FRICTION_V's
 LS-DYNA's element plastic strain, UFEPS in SMP and UE in MPP), the routine flattens as the
 runtime's traction update does with the same strain increments (1e-12 relative in double
 precision, 1e-6 in LS-DYNA's single precision, where the history is stored rounded down);
-where it does not (Abaqus' FRIC, VFRIC, VFRICTION, the patched CalculiX, a deck without the
-state slots) it says so once and runs the law without flattening. Tables and zoned exports of a
+where it does not (Abaqus' FRIC, VFRIC, VFRICTION, a deck without the state slots) it says so
+once and runs the law without flattening (the patched CalculiX: tests/test_calculix_flattening.py). Tables and zoned exports of a
 file with a flattening block are refused.
 """
 
@@ -325,7 +325,7 @@ def test_lsdyna_without_strain_or_slots_says_so_once(tmp_path):
         assert "NHV < 7" in warn[0] or "NH < 7" in warn[0]
 
 
-@pytest.mark.parametrize("target", ["abaqus-fric", "calculix", "abaqus-vfric", "abaqus-vfriction"])
+@pytest.mark.parametrize("target", ["abaqus-fric", "abaqus-vfric", "abaqus-vfriction"])
 def test_hosts_without_bulk_strain_say_so_once_and_run_the_law(tmp_path, target):
     P = law()
     host, files = load(tmp_path, target, P)
@@ -333,7 +333,7 @@ def test_hosts_without_bulk_strain_say_so_once_and_run_the_law(tmp_path, target)
     assert "flattening" in readme
     p = np.array([0.1, 0.3]) * H
     for _ in range(3):
-        if target in ("abaqus-fric", "calculix"):
+        if target == "abaqus-fric":
             out = host(p, np.full((2, 1), 1e3), np.zeros((2, 1)), np.zeros((2, 3)), 1e-3)
             tau = np.abs(out["tau"][:, 0])
         else:  # Abaqus/Explicit: forces over the nodal area, a stick force far above
@@ -353,12 +353,13 @@ def test_hosts_without_bulk_strain_need_the_users_word_and_the_option_is_never_i
 
     flat = law().to_json(tmp_path / "flat.json")
     plain = dataclasses.replace(law(), flattening=None).to_json(tmp_path / "plain.json")
-    for target in ("abaqus-fric", "abaqus-vfric", "abaqus-vfriction", "calculix"):
+    for target in ("abaqus-fric", "abaqus-vfric", "abaqus-vfriction"):
         with pytest.raises(ValueError, match="passes no bulk plastic strain"):
             exp.render(target, flat)
         assert exp.render(target, flat, without_flattening=True)[0]
-    with pytest.raises(ValueError, match="runs the flattening"):
-        exp.render("lsdyna-usrfrc", flat, without_flattening=True)
+    for target in ("lsdyna-usrfrc", "calculix"):
+        with pytest.raises(ValueError, match="runs the flattening"):
+            exp.render(target, flat, without_flattening=True)
     with pytest.raises(ValueError, match="has none"):
         exp.render("abaqus-fric", plain, without_flattening=True)
     base = ["abaqus-fric", "--params", str(flat), "--out"]

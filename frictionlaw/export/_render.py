@@ -108,11 +108,17 @@ def _check_exportable(params, path):
             )
 
 
+def _strain_targets(test):
+    """The names of the routine targets whose form passes ``test`` (the hosts giving a strain)."""
+    forms = {name: _targets.target(name).form for name in _targets.TARGETS}
+    return [n for n, f in forms.items() if isinstance(f, _targets.Routine) and test(f)]
+
+
 def _check_flattening(record, laws, zones, without_flattening=False):
     """``ValueError`` where a file's flattening block (issue 43) would be lost without a word.
 
     A routine whose host passes the bulk strain runs it; a routine whose host passes none
-    (Abaqus FRIC, VFRIC, VFRICTION, CalculiX) runs the law without it only when the user says so
+    (Abaqus FRIC, VFRIC, VFRICTION) runs the law without it only when the user says so
     (``without_flattening``; the routine then also says it once at run time); a table (a law of
     the pressure alone) and a zoned routine (not yet) cannot carry it. ``without_flattening``
     where nothing would be dropped is refused too (no option silently ignored).
@@ -149,7 +155,7 @@ def _check_flattening(record, laws, zones, without_flattening=False):
             f"{path}: the file carries a flattening block (issue 43), but {record.name}'s host "
             "passes no bulk plastic strain to the routine, so the law would run without it: "
             "give {without_flattening} to export it that way, or export for a host that "
-            "passes the strain (lsdyna-usrfrc, lsdyna-usrfrc-mpp, lsdyna, ansys-userfric)",
+            f"passes the strain ({', '.join(_strain_targets(lambda f: f.bulk_strain))})",
             "without_flattening",
         )
 
@@ -158,7 +164,7 @@ def _flow_curve(record, laws, flow_curve):
     """The flow curve to bake in (``--flow-curve``), or None; ParameterError where it is not read.
 
     Only a routine whose host passes the total plastic strain but not the flow stress and
-    hardening modulus (LS-DYNA's ``usrfrc``) reads one, and only for a law with a flattening
+    hardening modulus (LS-DYNA's ``usrfrc``, the patched CalculiX) reads one, and only for a law with a flattening
     block.
     """
     if flow_curve is None:
@@ -170,9 +176,9 @@ def _flow_curve(record, laws, flow_curve):
             else "its host passes no bulk plastic strain"
         )
         raise ParameterError(
-            f"{{flow_curve}} applies to lsdyna-usrfrc and lsdyna-usrfrc-mpp, whose host passes "
-            f"the element's plastic strain but not its flow stress and hardening; {record.name}: "
-            f"{how}",
+            f"{{flow_curve}} applies to {', '.join(_strain_targets(lambda f: f.total_strain))}, "
+            "whose host passes the element's plastic strain but not its flow stress and "
+            f"hardening; {record.name}: {how}",
             "flow_curve",
         )
     if not any(law.params.flattening is not None for law in laws):

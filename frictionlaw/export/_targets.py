@@ -131,8 +131,8 @@ class Routine:
         without flattening.
     total_strain : bool
         The host passes the point's total equivalent plastic strain but neither its flow
-        stress nor its hardening modulus (LS-DYNA's ``usrfrc``): a flow curve baked in at
-        export (``--flow-curve``) gives both from the strain.
+        stress nor its hardening modulus (LS-DYNA's ``usrfrc``, the patched CalculiX): a flow
+        curve baked in at export (``--flow-curve``) gives both from the strain.
     """
 
     stick: str
@@ -475,7 +475,7 @@ for _record in (
         "calculix",
         CALCULIX,
         "sbmf_fric.f",
-        "abaqus/fric.f",  # the abaqus-fric routine, unchanged
+        "abaqus/fric.f",  # the abaqus-fric routine (but for the flattening's PREDEF field)
         "calculix/calculix.md",
         Routine(
             stick=_CHRLNGTH,
@@ -487,8 +487,17 @@ for _record in (
             ),
             implicit=True,
             zone_keys=_CALCULIX_KEYS,
-            no_strain=_NOT_RUN + "the patched ccx passes FRIC no plastic strain of the slave "
-            "element (FRIC's Abaqus argument list has none to carry it)" + _WITHOUT,
+            total_strain=True,
+            bulk_strain="PREDEF(1, 1) and PREDEF(2, 1) (NPRED = 1), the equivalent plastic "
+            "strain of the slave point's solid element (CalculiX's PEEQ, averaged over its "
+            "integration points) at the iterate and its increment over the increment, which "
+            "the patched ccx passes for face-to-face contact; STATEV(5) the flattened "
+            "fraction (DEPVAR >= 5)",
+            no_strain="the parameter file's flattening block (issue 43) does not grow here: "
+            "the patched ccx passes the slave element's plastic strain for face-to-face "
+            "contact only (TYPE=SURFACE TO SURFACE; not node-to-surface, not layered or beam "
+            "elements); the law runs with the flattened fraction it has (written once per "
+            "process)",
         ),
         extras=(
             Extra("ABA_PARAM.INC", "abaqus/ABA_PARAM.INC"),

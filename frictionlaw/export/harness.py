@@ -249,6 +249,7 @@ class FricLib(_Host):
         ciname="CP",
         slname="SLAVE",
         msname="MASTER",
+        predef=None,
     ):
         """One iteration: every point gets the start-of-increment ``TAU`` and ``STATEV``.
 
@@ -257,9 +258,14 @@ class FricLib(_Host):
         times, for timing). ``kstep``, ``kinc``, ``dtime``: the step, the increment and its
         size (``KSTEP``, ``KINC``, ``DTIME``) of every call; ``ciname``, ``slname``,
         ``msname``: the contact interaction's and the surfaces' names (``CHARACTER*80``) every
-        call passes (a zoned routine chooses its law by one of them).
+        call passes (a zoned routine chooses its law by one of them). ``predef``: (n, 2), each
+        point's predefined field 1 (``PREDEF(1, 1)``, ``PREDEF(2, 1)``: the patched CalculiX's
+        slave-element plastic strain and its increment), passed with ``NPRED = 1``; None:
+        ``NPRED = 0``.
         """
         press, dgam, tau_start, sv = map(_f, (press, dgam, tau_start, statev_start))
+        npred = 0 if predef is None else 1
+        fields = _f(np.zeros((press.shape[0], 2)) if predef is None else predef)
         chr_ = _f(np.broadcast_to(chrlngth, press.shape))
         n, nd = dgam.shape
         nsv = sv.shape[1]
@@ -292,6 +298,8 @@ class FricLib(_Host):
             *map(_ptr, (press, dgam, tau_start, sv, chr_)),
             *map(_ptr, out.values()),
             *map(_name80, (ciname, slname, msname)),
+            ctypes.c_int(npred),
+            _ptr(fields),
         )
         # Fortran DDTDDG(a, b) -> row-major [b, a] in memory: transposed to [a, b] (a view)
         return {**out, "ddtddg": out["ddtddg"].transpose(0, 2, 1)}

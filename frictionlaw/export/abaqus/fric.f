@@ -17,6 +17,16 @@ C     increment) above 100 H stops the run, one beyond the calibrated
 C     range gives one warning per process. An iterate's PRESS above
 C     100 H asks for a smaller increment (PNEWDT) until the increment
 C     is 1/{{ (1 / guard.cut_floor) | round | int }} of the size at which that first happened.
+{% if flat and target.form.bulk_strain %}
+C     Flattening under bulk strain (the file's flattening block): the
+C     patched ccx passes the equivalent plastic strain of the slave
+C     point's solid element as the predefined field 1 (NPRED = 1;
+C     PREDEF(1,1) at this iterate, PREDEF(2,1) its increment since the
+C     start of the increment: face-to-face contact); STATEV(5) = the
+C     flattened contact fraction (DEPVAR >= 5, FRIC_DEPVAR), a trial
+C     value kept only when the increment converges, as p_hist. NPRED = 0
+C     (node-to-surface contact): the law without flattening, said once.
+{% endif %}
 {% if zones %}
 C     Zones: the law of the name in {{ zones.key.argument }}, compared trimmed
 C     and case-insensitive (SBMF_ZONE); {% if zones.default %}a name no zone gives
@@ -43,6 +53,12 @@ C
      3 RCOORD(MCRD),DROT(2,2),TEMP(2),PREDEF(2,*),PROPS(NPROPS)
 C
       DOUBLE PRECISION P, PH, G1H, G1NEW, TLIM, DTAU, XKT, KFALL
+{% if flat and target.form.bulk_strain %}
+      DOUBLE PRECISION AF, ANEW, DEPS, SIGY, HMOD
+{% if flow %}
+      DOUBLE PRECISION EM
+{% endif %}
+{% endif %}
       DOUBLE PRECISION TOLD(2), TNEW(2), DTDDU(2,2), DTDP(2)
       INTEGER ISTAT, IA, IB
 {% if zones %}
@@ -78,7 +94,7 @@ C     guards: the deck's state variables and unit system
         CALL SBMF_GUARD(3, PROPS(1))
         RETURN
       END IF
-{% if flat %}
+{% if flat and not target.form.bulk_strain %}
 C     the flattening block: no bulk strain reaches FRIC (a warning,
 C     once per process; the law runs without it)
       CALL SBMF_GUARD(9, 0.0D0)
@@ -141,6 +157,30 @@ C       open (no pressure): no friction, history unchanged
       CALL SBMF_ZSHEAR(IZ, P, PH, G1H, TLIM, DTAU, G1NEW)
       KFALL = MAX(TLIM, TINY(1.0D0))/(FSLIP*CHRLNGTH)
       XKT = SBMF_ZKT(IZ, P, KFALL)
+{% elif flat and target.form.bulk_strain %}
+      DEPS = 0.0D0
+      SIGY = 0.0D0
+      HMOD = 0.0D0
+      IF (NPRED .GE. 1) THEN
+        DEPS = MAX(PREDEF(2, 1), 0.0D0)
+{% if flow %}
+C       the flow stress and hardening modulus off the workpiece's flow
+C       curve, at the middle of the increment's strain
+        EM = MAX(PREDEF(1, 1) - 0.5D0*DEPS, 0.0D0)
+        CALL SBMF_FLOW(EM, SIGY, HMOD)
+{% endif %}
+{% if guards %}
+      ELSE
+C       no strain passed: the flattened fraction is kept, not grown
+        CALL SBMF_GUARD(9, 0.0D0)
+{% endif %}
+      END IF
+      AF = 0.0D0
+      IF (NSTATV .GE. 5) AF = MIN(MAX(STATEV(5), 0.0D0), 1.0D0)
+      CALL SBMF_FSHR(P, PH, AF, DEPS, SIGY, HMOD, G1H, TLIM, DTAU,
+     &               G1NEW, ANEW)
+      KFALL = MAX(TLIM, TINY(1.0D0))/(FSLIP*CHRLNGTH)
+      XKT = SBMF_KT(P, KFALL)
 {% else %}
       CALL SBMF_SHEAR(P, PH, G1H, TLIM, DTAU, G1NEW)
       KFALL = MAX(TLIM, TINY(1.0D0))/(FSLIP*CHRLNGTH)
@@ -171,15 +211,27 @@ C     trial history max(p_hist, p): kept by Abaqus only if converged
 {% if zones %}
       IF (NSTATV .GE. 4) STATEV(4) = DBLE(IZ)
 {% endif %}
+{% if flat and target.form.bulk_strain %}
+      IF (NSTATV .GE. 5) STATEV(5) = ANEW
+{% endif %}
       RETURN
       END
 C
+{% if flat and target.form.bulk_strain %}
+C     The state variables FRIC needs (DEPVAR >= 5: STATEV(1) = p_hist,
+C     STATEV(5) = the flattened contact fraction). The CalculiX patch
+C     checks DEPVAR against it when ccx reads the deck.
+      INTEGER FUNCTION FRIC_DEPVAR()
+      IMPLICIT NONE
+      FRIC_DEPVAR = 5
+{% else %}
 C     The state variables FRIC needs (DEPVAR >= 1: STATEV(1) = p_hist).
 C     The CalculiX patch checks DEPVAR against it when ccx reads the
 C     deck; Abaqus does not call it.
       INTEGER FUNCTION FRIC_DEPVAR()
       IMPLICIT NONE
       FRIC_DEPVAR = 1
+{% endif %}
       RETURN
       END
 C
@@ -222,3 +274,6 @@ C=======================================================================
 C
 {% include host.guards %}
 {% include "core/sbmf_core.f" %}
+{% if flow %}
+{% include "core/sbmf_flow.f" %}
+{% endif %}

@@ -154,5 +154,5 @@ C
 {% include host.guards %}
 {% include "core/sbmf_core.f" %}
 {% if flow %}
-{% include "lsdyna/flow.f" %}
+{% include "core/sbmf_flow.f" %}
 {% endif %}

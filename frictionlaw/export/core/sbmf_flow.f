@@ -1,8 +1,9 @@
 {#
-  The workpiece's flow curve baked in by --flow-curve (LS-DYNA's usrfrc passes the element's
-  plastic strain, not its flow stress or hardening): frictionlaw.flow_curve's SwiftCurve or
-  TabulatedCurve statement by statement, but that a table's last segment continues beyond its
-  last strain (as LS-DYNA continues its load curves) where the Python curve refuses. Context:
+  The workpiece's flow curve baked in by --flow-curve (LS-DYNA's usrfrc and the patched
+  CalculiX pass the element's plastic strain, not its flow stress or hardening):
+  frictionlaw.flow_curve's SwiftCurve or TabulatedCurve statement by statement, but that a
+  table's last segment continues beyond its last strain (as LS-DYNA continues its load curves)
+  where the Python curve refuses. Context:
   flow, the export's FlowSpec (frictionlaw.export._flat, host stress unit).
 #}
 C=======================================================================

@@ -1,0 +1,275 @@
+"""The flattening under bulk strain in CalculiX (issue 43): the slave element's plastic strain.
+
+The patched ccx passes the routine of ``frictionlaw-export calculix`` the equivalent plastic
+strain of the solid element whose face carries a face-to-face contact point (CalculiX's PEEQ,
+averaged over the element's integration points) as its predefined field 1: ``PREDEF(1, 1)`` at
+the iterate, ``PREDEF(2, 1)`` its increment since the start of the increment (``NPRED = 1``);
+the contact elements are computed after every solid element of the iterate, so that it is the
+iterate's strain. The routine keeps the flattened fraction in ``STATEV(5)``.
+
+- Host emulation (gfortran): the routine given ``PREDEF`` flattens as the runtime's traction
+  update given the same increments (1e-12), with a flow curve baked in (``--flow-curve``) at the
+  middle of the increment's strain; without the field (node-to-surface contact) it says so once
+  and keeps the fraction it has.
+- Real ccx runs: each contact point's flattened fraction is the runtime's replay of its
+  converged increments, from the pressures and slave-element strains ccx printed; one thread and
+  two give the same; while sliding, the shear at slipping points is the flattened law's and the
+  friction force exceeds the law's without flattening; node-to-surface contact runs with one
+  warning and no growth; a deck with too few state variables is refused while ccx reads it.
+"""
+
+import dataclasses
+
+import numpy as np
+import pytest
+import test_calculix as base
+from ccx_decks import plastic_block, read_blocks
+from test_calculix import ROOT, _link, _run
+from test_export_flattening import grid, law, load, runtime
+
+import frictionlaw as fl
+from frictionlaw.export import harness
+from frictionlaw.export.cli import main as export_main
+from frictionlaw.flattening import flattened_alpha, flattening_pressure
+from frictionlaw.flow_curve import SwiftCurve
+
+ccx_work = base.ccx_work
+
+FLAT = ROOT / "fe_demo" / "data" / "sbmf_example_flattening.json"
+LINES = ["*SURFACE INTERACTION, NAME=SBMF", "*FRICTION, USER, DEPVAR=5, PROPERTIES=1", "MM-T-S"]
+DC04 = SwiftCurve(530e6, 0.006, 0.24)
+
+needs_gfortran = pytest.mark.skipif(harness.gfortran() is None, reason="needs gfortran")
+
+
+# -- host emulation ------------------------------------------------------------------------------
+
+
+@needs_gfortran
+@pytest.mark.parametrize("form", ["eq24-paper", "tabulated"])
+@pytest.mark.parametrize("curve", [None, DC04], ids=["perfectly-plastic", "flow-curve"])
+def test_routine_flattens_with_the_slave_strain_as_the_runtime(tmp_path, form, curve):
+    P = law(form)
+    spec = None if curve is None else "swift:530e6,0.006,0.24"
+    host, files = load(tmp_path, "calculix", P, name=f"ccx_{form}", flow_curve=spec)
+    assert "PREDEF(2, 1)" in files["README.md"] and "DEPVAR >= 5" in files["README.md"]
+    p, ph, af, de, _ = grid()
+    n = p.size
+    eps = de + np.linspace(0.0, 0.3, n)  # the element's strain at the iterate
+    sv = np.zeros((n, 5))
+    sv[:, 0], sv[:, 4] = ph, af
+    out = host(
+        p, np.full((n, 1), 1e3), np.zeros((n, 1)), sv, 1e-3, predef=np.column_stack([eps, de])
+    )
+    kw = {"sigy": np.zeros(n)}
+    if curve is not None:
+        mid = np.maximum(eps - 0.5 * de, 0.0)
+        kw = {"sigy": curve.sigma_y(mid), "hardening": curve.hardening(mid)}
+    tau, _, a_ref = runtime(P, p, ph, af, de, **kw)
+    assert np.all(out["lm"] == 0) and host.exits() == 0 and host.log() == []
+    assert np.allclose(np.abs(out["tau"][:, 0]), tau, rtol=1e-12, atol=0)
+    assert np.allclose(out["statev"][:, 4], a_ref, rtol=1e-12, atol=0)
+    assert np.array_equal(out["statev"][:, 0], np.maximum(ph, p))
+    assert np.any(a_ref > fl.alpha_first(p, P) + 0.1)  # it flattened
+
+
+@needs_gfortran
+def test_routine_without_the_field_keeps_its_fraction_and_says_so_once(tmp_path):
+    """``NPRED = 0`` (node-to-surface contact): one warning, the stored fraction read, no growth."""
+    P = law()
+    host, _ = load(tmp_path, "calculix", P, name="ccx_nofield")
+    p = np.array([0.1, 0.3, 0.5]) * P.H
+    af = np.array([0.0, 0.6, 0.2])
+    sv = np.zeros((3, 5))
+    sv[:, 4] = af
+    for _ in range(3):
+        out = host(p, np.full((3, 1), 1e3), np.zeros((3, 1)), sv, 1e-3)
+        tau, _, a_ref = runtime(P, p, np.zeros(3), af, np.zeros(3), np.zeros(3))
+        assert np.allclose(np.abs(out["tau"][:, 0]), tau, rtol=1e-12)
+        assert np.array_equal(out["statev"][:, 4], a_ref) and np.array_equal(a_ref, af)
+    log = [t for _, t in host.log() if "flattening block" in t]
+    assert len(log) == 1 and host.exits() == 0
+    assert "face-to-face contact only" in log[0]
+
+
+def test_export_says_what_the_deck_needs(tmp_path, capsys):
+    """The README gives DEPVAR=5 and the field; --without-flattening is refused (it runs)."""
+    out = tmp_path / "x"
+    assert export_main(["calculix", "--params", str(FLAT), "--out", str(out), "--quiet"]) == 0
+    readme = (out / "README.md").read_text()
+    assert "*FRICTION, USER, DEPVAR=5, PROPERTIES=1" in readme
+    assert "TYPE=SURFACE TO SURFACE" in readme
+    code = export_main(
+        ["calculix", "--params", str(FLAT), "--out", str(tmp_path / "y"), "--without-flattening"]
+    )
+    assert code == 2 and "runs the flattening" in capsys.readouterr().err
+
+
+# -- real ccx runs -------------------------------------------------------------------------------
+
+
+def _export(tmp_path, params_path, name):
+    out = tmp_path / name
+    code = export_main(
+        ["calculix", "--params", str(params_path), "--out", str(out), "--units", "mm-t-s"]
+        + ["--quiet"]
+    )
+    assert code == 0
+    return out
+
+
+@pytest.fixture(scope="module")
+def ccx_flat(ccx_work, tmp_path_factory):
+    out = _export(tmp_path_factory.mktemp("ccxflat"), FLAT, "flat")
+    return _link(ccx_work, out / "sbmf_fric.f", out / "ccx")
+
+
+def _with_peeq(deck):
+    """The deck with ``*EL PRINT`` of the block's PEEQ in every step."""
+    return deck.replace("*END STEP", "*EL PRINT, ELSET=EBLOCK\nPEEQ\n*END STEP")
+
+
+def _points(dat):
+    """Per output time: (time, {(element, face, point): (p, sdv...)}, {element: mean PEEQ})."""
+    out = []
+    for t, block in read_blocks(dat):
+        stress, sdv = np.array(block["stress"]), np.array(block["sdv"])
+        assert np.array_equal(stress[:, :2], sdv[:, :2])
+        pts = {
+            (int(r[0]), int(r[1]), int(r[2])): (s[2], *r[3:])
+            for s, r in zip(stress, sdv, strict=True)
+        }
+        peeq = {}
+        for el, _, pe in block["peeq"]:
+            peeq.setdefault(int(el), []).append(pe)
+        out.append((t, pts, {el: float(np.mean(v)) for el, v in peeq.items()}))
+    return out
+
+
+PRESS = [(200.0, 0.0), (350.0, 0.0)]
+INCREMENTS = "0.1, 1., 1e-6, 0.1"
+
+
+@pytest.fixture(scope="module")
+def pressed(ccx_flat, tmp_path_factory):
+    folder = tmp_path_factory.mktemp("pressed")
+    deck = _with_peeq(plastic_block(PRESS, LINES, static=INCREMENTS))
+    runs = []
+    for threads in (1, 2):
+        proc, dat = _run(ccx_flat, deck, folder / f"t{threads}", threads=threads)
+        assert proc.returncode == 0 and "Job finished" in proc.stdout, proc.stdout[-2000:]
+        assert "*WARNING in a user routine" not in proc.stdout
+        runs.append(_points(dat))
+    return runs
+
+
+def _replay_miss(run, P, lag=False):
+    """The largest miss of each point's STATEV(5) against the runtime's update of its face's
+    previous states, and how many points flattened by more than 0.05.
+
+    Face-to-face contact lays the slave integration points out anew as the block spreads, and
+    each new point takes the whole state of one old point of its face (the patch's rule), so a
+    point's previous state is one of its face's at the previous output: the miss of a point is
+    the smallest over them. ``lag``: the strain increment of the increment before (what a
+    routine reading the previous iterate's strain would come close to)."""
+    prev_pts, prev_peeq, prev_de = {}, {}, {}
+    worst, grew = 0.0, 0
+    for _, pts, peeq in run:
+        de_now = {el: peeq[el] - prev_peeq.get(el, 0.0) for el in peeq}
+        faces, old = {}, {}
+        for k in pts:
+            faces.setdefault(k[:2], []).append(k)
+        for k in prev_pts:
+            old.setdefault(k[:2], []).append(prev_pts[k])
+        for face, keys in faces.items():
+            p = np.array([pts[k][0] for k in keys]) * 1e6
+            got = np.array([pts[k][5] for k in keys])
+            de = np.full(len(keys), (prev_de if lag else de_now).get(face[0], 0.0))
+            best = np.full(len(keys), np.inf)
+            for row in old.get(face, [(0.0, 0.0, 0.0, 0.0, 0.0, 0.0)]):
+                st = fl.HistoryState(
+                    p_hist=np.full(len(keys), row[1] * 1e6), alpha_f=np.full(len(keys), row[5])
+                )
+                fl.traction_update(
+                    fl.SBMFLaw(P), p, np.ones(len(keys)), np.zeros(len(keys)), 1e30, st, d_eps=de
+                )
+                best = np.minimum(best, np.abs(st.alpha_f_trial - got))
+            on = p > 0
+            worst = max(worst, float(best[on].max(initial=0.0)))
+            grew += int(np.sum(got[on] > fl.alpha_first(p[on], P) + 0.05))
+        prev_pts, prev_peeq, prev_de = pts, peeq, de_now
+    return worst, grew
+
+
+def test_each_point_flattens_as_the_runtime_replay_of_its_increments(pressed):
+    """Pressing the elastic-plastic block (yield 250 MPa) to 350 MPa in 20 increments: at each
+    converged increment every contact point's STATEV(5) is the runtime's update, from one of
+    its face's previous states, with the increment of its slave element's mean PEEQ at its
+    pressure (1.4e-7 seen: ccx prints 7 digits). The slave elements flow (PEEQ to 0.045) and
+    the points reach full contact; the increment before's strain misses by far more."""
+    P = fl.FrictionParams.from_json(FLAT)
+    run = pressed[0]
+    assert len(run) == 20
+    assert max(run[-1][2].values()) > 0.01  # the slave elements flowed
+    worst, grew = _replay_miss(run, P)
+    assert worst < 1e-6, worst
+    assert grew > 1000 and max(v[5] for v in run[-1][1].values()) == 1.0
+    assert _replay_miss(run, P, lag=True)[0] > 1e-2
+
+
+def test_two_threads_give_the_one_threads_flattening(pressed):
+    one, two = pressed
+    for (t1, a, _), (t2, b, _) in zip(one, two, strict=True):
+        assert t1 == t2 and a.keys() == b.keys()
+        for k in a:
+            assert abs(a[k][5] - b[k][5]) <= 1e-6
+
+
+def test_sliding_shear_is_the_flattened_laws_and_above_the_law_without(
+    ccx_work, ccx_flat, tmp_path
+):
+    """Press to 350 MPa, then slide 0.3 mm: at every slipping point ccx's shear is the
+    flattened law's, ``tau = tau_law(p, p_hist) alpha_F5 / alpha_law`` (7 digits), and the
+    friction force at the end of the slide is above the same deck's with the law exported
+    without its flattening block."""
+    P = fl.FrictionParams.from_json(FLAT)
+    deck = plastic_block([*PRESS, (350.0, 0.3)], LINES, static=INCREMENTS)
+    proc, dat = _run(ccx_flat, deck, tmp_path / "flat")
+    assert proc.returncode == 0 and "Job finished" in proc.stdout, proc.stdout[-2000:]
+    plain = dataclasses.replace(P, flattening=None).to_json(tmp_path / "plain.json")
+    out = _export(tmp_path, plain, "plain")
+    binary = _link(ccx_work, out / "sbmf_fric.f", out / "ccx")
+    proc0, dat0 = _run(binary, deck, tmp_path / "plain_run")
+    assert proc0.returncode == 0 and "Job finished" in proc0.stdout
+    n_slip = 0
+    for _, block in read_blocks(dat):
+        stress, sdv = np.array(block["stress"]), np.array(block["sdv"])
+        slip = sdv[:, 5] == 2.0
+        p, tau = stress[slip, 2] * 1e6, np.hypot(stress[slip, 3], stress[slip, 4]) * 1e6
+        ph, af = sdv[slip, 3] * 1e6, sdv[slip, 7]
+        ratio = flattened_alpha(p, ph, flattening_pressure(af, P), P) / flattened_alpha(
+            p, ph, 0.0, P
+        )
+        law = fl.shear_limit(p, ph, P) * ratio
+        assert np.allclose(tau, law, rtol=2e-6), np.abs(tau / law - 1).max()
+        n_slip += int(slip.sum())
+    assert n_slip > 100
+    # the reaction at the block's top in the sliding direction (TOTALS=ONLY)
+    force, force0 = (read_blocks(d)[-1][1]["total"][0][0] for d in (dat, dat0))
+    assert abs(force) > 1.2 * abs(force0) > 0, (force, force0)
+
+
+def test_node_to_surface_runs_with_one_warning_and_no_growth(ccx_flat, tmp_path):
+    deck = plastic_block(PRESS, LINES, static=INCREMENTS, contact="NODE TO SURFACE", element="C3D8")
+    proc, dat = _run(ccx_flat, deck, tmp_path)
+    assert proc.returncode == 0 and "Job finished" in proc.stdout, proc.stdout[-2000:]
+    assert proc.stdout.count("face-to-face contact only") == 1
+    sdv = np.concatenate([np.array(b["sdv"]) for _, b in read_blocks(dat)])
+    assert sdv.shape[0] > 100 and np.all(sdv[:, -1] == 0.0)
+
+
+def test_too_few_state_variables_are_refused_while_ccx_reads_the_deck(ccx_flat, tmp_path):
+    lines = [LINES[0], "*FRICTION, USER, DEPVAR=3, PROPERTIES=1", "MM-T-S"]
+    proc, _ = _run(ccx_flat, plastic_block(PRESS, lines), tmp_path)
+    assert proc.returncode != 0 and "Job finished" not in proc.stdout
+    assert "USER needs DEPVAR" in proc.stdout and ">= 5" in proc.stdout
