@@ -439,7 +439,7 @@ def flattening_curve(
     sigma_y: float | None = None,
     hardening: float | None = None,
     flow_curve: "FlowCurve | None" = None,
-    steps: int = FLOW_CURVE_STEPS,
+    steps: int | None = None,
 ) -> NDArray[np.float64]:
     """Contact fraction of a virgin surface after bulk strain ``strains`` at constant ``p``.
 
@@ -466,11 +466,23 @@ def flattening_curve(
         ``sigma_y`` and ``hardening``: each point is integrated over ``steps`` equal strain steps
         (Eq. F6 per step), each at the flow stress and modulus of its middle, as an FE host
         passes them increment by increment.
-    steps : int
+    steps : int, optional
         Strain steps per point with ``flow_curve`` (midpoint rule: the error falls as
         ``1 / steps^2``; 64 is within 1.4e-6 of 1024 on DC04's Swift curve at 0.05 and 0.3
-        ``H``, strains to 0.2), in ``[1, 100000]``.
+        ``H``, strains to 0.2), in ``[1, 100000]``; ``None``: 64 (:data:`FLOW_CURVE_STEPS`).
+        Given without ``flow_curve`` it is refused: there each point is solved exactly at once.
     """
+    if steps is not None and (
+        isinstance(steps, bool)
+        or not isinstance(steps, (int, np.integer))
+        or not (1 <= steps <= 100_000)
+    ):
+        raise ValueError(f"steps must be an integer in [1, 100000], got {steps!r}")
+    if steps is not None and flow_curve is None:
+        raise ValueError(
+            f"steps applies with flow_curve only, got steps={steps!r} without one (at a "
+            "constant flow stress and hardening each point is solved exactly in one step)"
+        )
     p, eps = np.broadcast_arrays(as_float_array("p", p), as_float_array("strains", strains))
     if not (np.all(np.isfinite(p)) and np.all(p > 0)):
         raise ValueError("p must be finite and > 0 (Pa)")
@@ -484,20 +496,15 @@ def flattening_curve(
             raise ValueError(
                 "give flow_curve or sigma_y / hardening, not both (the curve gives both)"
             )
-        if (
-            isinstance(steps, bool)
-            or not isinstance(steps, (int, np.integer))
-            or not (1 <= steps <= 100_000)
-        ):
-            raise ValueError(f"steps must be an integer in [1, 100000], got {steps!r}")
+        n_steps = FLOW_CURVE_STEPS if steps is None else int(steps)
         if ef.size and float(ef.max()) > flow_curve.strain_max:
             raise ValueError(
                 f"strains reach {float(ef.max()):.4g}, beyond the flow curve's last strain "
                 f"{flow_curve.strain_max:g}: extend the table (it is not extrapolated)"
             )
         p_f = np.array(pf, dtype=float)
-        de = ef / steps
-        for j in range(steps):
+        de = ef / n_steps
+        for j in range(n_steps):
             mid = (j + 0.5) * de
             p_f = flattening_update(
                 p_f,
