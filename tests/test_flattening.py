@@ -363,6 +363,48 @@ def test_hostile_input_is_refused_or_finite():
         flattening_curve(1e8, -0.1, P)
 
 
+def test_shape_mismatches_name_the_argument_and_both_shapes_before_any_work(monkeypatch):
+    import frictionlaw.flattening as F
+
+    P = law()
+
+    def no_work(*a, **k):
+        raise AssertionError("the law was evaluated before the shapes were checked")
+
+    monkeypatch.setattr(F, "_coeffs", no_work)
+    n3, n4 = np.full(3, 1e8), np.full(4, 1e8)
+    for call, msg in [
+        (lambda: flattening_update(n3, n3, n4, 0.1, P), r"p has shape \(4,\), p_f \(3,\)"),
+        (lambda: flattening_update(0.0, n3, n3, n4, P), r"d_eps has shape \(4,\), p_hist \(3,\)"),
+        (
+            lambda: flattening_update(n3, n3, n3, 0.1, P, hardening=np.ones(4)),
+            r"hardening has shape \(4,\), the nodes \(3,\)",
+        ),
+        (
+            lambda: flattening_update(n3, n3, n3, 0.1, P, sigma_y=np.full(4, 2e8)),
+            r"sigma_y has shape \(4,\), the nodes \(3,\)",
+        ),
+        (lambda: flattened_alpha(n3, n4, n3, P), r"p_hist has shape \(4,\), p \(3,\)"),
+        (lambda: flattened_alpha(n3, 0.0, n4, P), r"p_f has shape \(4,\), p \(3,\)"),
+        (lambda: equivalent_strain(n3, n4, P), r"p_f has shape \(4,\), p \(3,\)"),
+        (
+            lambda: equivalent_strain(n3, 2 * n3, P, hardening=np.ones(4)),
+            r"hardening has shape \(4,\), the nodes \(3,\)",
+        ),
+        (lambda: flattening_curve(n3, np.zeros(4), P), r"strains has shape \(4,\), p \(3,\)"),
+        (
+            lambda: flattening_update(n3[:, None], n4, 1e8, np.zeros(5), P),
+            r"d_eps has shape \(5,\), p_hist \(4,\)",
+        ),
+    ]:
+        with pytest.raises(ValueError, match=msg):
+            call()
+    monkeypatch.undo()
+    # shapes that broadcast still do: a column of pressures against a row of strains
+    a = flattening_curve(n3[:, None] * [[0.5], [1.0], [2.0]], np.array([0.0, 0.1]), P)
+    assert a.shape == (3, 2) and np.all(a[:, 1] > a[:, 0])
+
+
 def test_extreme_input_stays_finite_without_warnings():
     """Pressures, histories and strains from the subnormals to the largest doubles, the validated
     ranges' ends of slope and beta: finite results in [0, 1], no warning (warnings are errors)."""
