@@ -81,6 +81,18 @@ def test_record_validates_and_round_trips(tmp_path):
         (lambda b: b.pop("slope"), "missing 'slope'"),
         (lambda b: b.update(slope="steep"), "flattening.slope must be a real number"),
         (lambda b: b.update(slope=-0.1), "flattening.slope must be in"),
+        # JSON numbers only: a quoted number is text, not converted
+        (lambda b: b.update(slope="0.05"), "flattening.slope must be a real number.*string"),
+        (lambda b: b.update(beta="2"), "flattening.beta must be a real number.*string"),
+        (lambda b: b.update(beta=True), "flattening.beta must be a real number"),
+        (
+            lambda b: b.update(beta=2.0, beta_band=["1.5", 2.5], band_level=0.9),
+            "flattening.beta_band lower must be a real number.*string",
+        ),
+        (
+            lambda b: b.update(beta=2.0, beta_band=[1.5, 2.5], band_level="0.9"),
+            "flattening.band_level must be a real number.*string",
+        ),
         (lambda b: b.update(beta_band=[1.0], band_level=0.9), "flattening.beta_band must be"),
         (lambda b: b.update(units={"slope": "deg"}), "flattening.units"),
         (lambda b: b.update(spacing=1e-5), "unknown fields"),
