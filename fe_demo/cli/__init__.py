@@ -39,7 +39,7 @@ from ..analysis.ring_chart import CHART_M
 from ..scenes.laws import EXAMPLE_FLATTENING_PATH, LAW_OPTIONS, LAWS
 from ..scenes.zones import check_radial_zones
 from . import ring_fit
-from .runs import cmd_band, cmd_multistage, cmd_ring, cmd_upsetting
+from .runs import cmd_band, cmd_multistage, cmd_ring, cmd_upsetting, material_file, path_arg
 
 __all__ = ["main", "build_parser"]
 
@@ -79,7 +79,7 @@ def _add_common(p, *, law, nr, increments, reduction, out):
     )
     p.add_argument(
         "--params",
-        type=Path,
+        type=path_arg,
         default=None,
         help="SBMF parameter JSON (FrictionParams file; default: the shipped illustrative set)",
     )
@@ -91,7 +91,7 @@ def _add_common(p, *, law, nr, increments, reduction, out):
     )
     p.add_argument(
         "--material",
-        type=Path,
+        type=path_arg,
         default=None,
         help="material JSON (E, nu, K, eps0, n; default: DC04)",
     )
@@ -262,6 +262,7 @@ def _check_options(args):
     _check_flattening(args)
     _check_sweep_and_band(args)
     _check_zones(args)
+    args.material_loaded = material_file(args.material)
     args.m_given = args.m is not None
     args.mu = _MU if args.mu is None else args.mu
     args.m = _M if args.m is None else args.m
