@@ -207,6 +207,13 @@ def _check_zones(args):
         if not Path(path).exists():
             raise ValueError(f"--zone {name}: parameter file {path} does not exist")
         params = FrictionParams.from_json(path, accept_failed=args.accept_failed_fit)
+        if params.flattening is not None and not args.flattening:  # as --params's block
+            print(
+                f"fe-demo: WARNING: --zone {name}: {path} carries a flattening block; this run "
+                "evaluates the zone's law without flattening (zero bulk strain; --flattening "
+                "passes the die's plastic strain to it)",
+                file=sys.stderr,
+            )
         zones.append((name, params, r))
     args.zones_loaded = tuple(check_radial_zones(zones))  # before any run
 
