@@ -37,7 +37,15 @@ BETA_RANGE = (1e-3, 1e3)
 
 
 def _number(name: str, value: Any, lo: float, hi: float) -> float:
-    """``float(value)`` in ``[lo, hi]`` or ``ValueError`` naming ``name`` and the range."""
+    """``float(value)`` in ``[lo, hi]`` or ``ValueError`` naming ``name`` and the range.
+
+    A number only: a string (a JSON ``"0.05"``) or a boolean is refused, not converted.
+    """
+    if isinstance(value, (str, bytes)):
+        raise ValueError(
+            f"{name} must be a real number in [{lo:g}, {hi:g}], got the string {value!r} "
+            "(a number, not text)"
+        )
     if isinstance(value, (bool, np.bool_)):
         raise ValueError(f"{name} must be a real number in [{lo:g}, {hi:g}], got {value!r}")
     try:

@@ -54,7 +54,14 @@ from ._flattening_rates import (
     lattice_sink_rate,
     layer_sink_rate,
 )
-from .law import alpha_first, alpha_reload, as_float_array, evaluate, sbmf_coeffs
+from .law import (
+    alpha_first,
+    alpha_reload,
+    as_float_array,
+    broadcast_named,
+    evaluate,
+    sbmf_coeffs,
+)
 
 if TYPE_CHECKING:
     from .flow_curve import FlowCurve
@@ -192,7 +199,10 @@ def _hardening(hardening: ArrayLike | None, shape: tuple) -> NDArray[np.float64]
         raise ValueError(
             "hardening must be finite and >= 0 (Pa, d sigma_y / d eps_eq; 0: perfectly plastic)"
         )
-    return np.broadcast_to(h, shape)
+    try:
+        return np.broadcast_to(h, shape)
+    except ValueError:
+        raise ValueError(f"hardening has shape {h.shape}, the nodes {shape}") from None
 
 
 def _flattening_of(params: "FrictionParams") -> Flattening:
@@ -223,8 +233,9 @@ def equivalent_strain(
     Pa, at a constant value) limits the lattice's rate (Eq. F2c).
     """
     flat = _flattening_of(params)
-    p, p_f = np.broadcast_arrays(as_float_array("p", p), as_float_array("p_f", p_f))
+    p, p_f = broadcast_named(p=p, p_f=p_f)
     h = _hardening(hardening, p.shape)
+    s0 = _s0(params, sigma_y, p.shape).ravel()
     if not (np.all(np.isfinite(p)) and np.all(p > 0) and np.all(np.isfinite(p_f))):
         raise ValueError("p must be finite and > 0 and p_f finite")
     H, coeffs = params.H, _coeffs(params)
@@ -234,7 +245,6 @@ def equivalent_strain(
     ph = (p / H).ravel()
     top = np.minimum(p_f.ravel(), _p_cap(params, coeffs))  # alpha1 is 1 beyond: J is complete
     u = np.arccosh(np.maximum(top / p.ravel(), 1.0))
-    s0 = _s0(params, sigma_y, p.shape).ravel()
     c_max = lattice_hardening_limit(p, h).ravel()
     J = _j_integral(ph, u, coeffs, H, p.ravel() / s0, flat.slope, c_max)
     kappa = _strain_scale(flat, H, s0)
@@ -254,9 +264,7 @@ def flattened_alpha(
     ``alpha2(p h / p_hist; h)``. For ``p_f <= p_hist`` this is the calibrated law itself (Eqs.
     24-25, any reload form); flattening moves the level the reload shape is read at.
     """
-    p, p_hist, p_f = np.broadcast_arrays(
-        as_float_array("p", p), as_float_array("p_hist", p_hist), as_float_array("p_f", p_f)
-    )
+    p, p_hist, p_f = broadcast_named(p=p, p_hist=p_hist, p_f=p_f)
     if not (np.all(np.isfinite(p)) and np.all(np.isfinite(p_hist)) and np.all(np.isfinite(p_f))):
         raise ValueError("p, p_hist and p_f must be finite (Pa)")
     if (p_hist < 0).any() or (p_f < 0).any():
@@ -310,10 +318,9 @@ def flattening_update(
         it limits the lattice's rate (Eq. F2c). ``None`` or 0: a perfectly plastic bulk.
     """
     flat = _flattening_of(params)
-    arrs = [as_float_array(n, v) for n, v in (("p_f", p_f), ("p_hist", p_hist), ("p", p))]
-    arrs.append(as_float_array("d_eps", d_eps))
-    p_f, p_hist, p, d_eps = np.broadcast_arrays(*arrs)
+    p_f, p_hist, p, d_eps = broadcast_named(p_f=p_f, p_hist=p_hist, p=p, d_eps=d_eps)
     h = _hardening(hardening, p.shape)
+    s0_all = _s0(params, sigma_y, p.shape)
     for name, a in (("p_f", p_f), ("p_hist", p_hist), ("p", p), ("d_eps", d_eps)):
         if not np.all(np.isfinite(a)):
             raise ValueError(f"{name} must be finite")
@@ -329,7 +336,7 @@ def flattening_update(
         return out
     ph = p[go] / H
     p0 = np.minimum(np.maximum(np.maximum(p_f[go], p_hist[go]), p[go]), cap)
-    s0 = _s0(params, sigma_y, p.shape)[go]
+    s0 = s0_all[go]
     kappa = _strain_scale(flat, H, s0)
     c_max = lattice_hardening_limit(p[go], h[go])
     jx = (coeffs, H, p[go] / s0, flat.slope, c_max)  # what J needs besides p / H and u
@@ -439,7 +446,7 @@ def flattening_curve(
     sigma_y: float | None = None,
     hardening: float | None = None,
     flow_curve: "FlowCurve | None" = None,
-    steps: int = FLOW_CURVE_STEPS,
+    steps: int | None = None,
 ) -> NDArray[np.float64]:
     """Contact fraction of a virgin surface after bulk strain ``strains`` at constant ``p``.
 
@@ -466,12 +473,24 @@ def flattening_curve(
         ``sigma_y`` and ``hardening``: each point is integrated over ``steps`` equal strain steps
         (Eq. F6 per step), each at the flow stress and modulus of its middle, as an FE host
         passes them increment by increment.
-    steps : int
+    steps : int, optional
         Strain steps per point with ``flow_curve`` (midpoint rule: the error falls as
         ``1 / steps^2``; 64 is within 1.4e-6 of 1024 on DC04's Swift curve at 0.05 and 0.3
-        ``H``, strains to 0.2), in ``[1, 100000]``.
+        ``H``, strains to 0.2), in ``[1, 100000]``; ``None``: 64 (:data:`FLOW_CURVE_STEPS`).
+        Given without ``flow_curve`` it is refused: there each point is solved exactly at once.
     """
-    p, eps = np.broadcast_arrays(as_float_array("p", p), as_float_array("strains", strains))
+    if steps is not None and (
+        isinstance(steps, bool)
+        or not isinstance(steps, (int, np.integer))
+        or not (1 <= steps <= 100_000)
+    ):
+        raise ValueError(f"steps must be an integer in [1, 100000], got {steps!r}")
+    if steps is not None and flow_curve is None:
+        raise ValueError(
+            f"steps applies with flow_curve only, got steps={steps!r} without one (at a "
+            "constant flow stress and hardening each point is solved exactly in one step)"
+        )
+    p, eps = broadcast_named(p=p, strains=strains)
     if not (np.all(np.isfinite(p)) and np.all(p > 0)):
         raise ValueError("p must be finite and > 0 (Pa)")
     if not (np.all(np.isfinite(eps)) and np.all(eps >= 0)):
@@ -484,20 +503,15 @@ def flattening_curve(
             raise ValueError(
                 "give flow_curve or sigma_y / hardening, not both (the curve gives both)"
             )
-        if (
-            isinstance(steps, bool)
-            or not isinstance(steps, (int, np.integer))
-            or not (1 <= steps <= 100_000)
-        ):
-            raise ValueError(f"steps must be an integer in [1, 100000], got {steps!r}")
+        n_steps = FLOW_CURVE_STEPS if steps is None else int(steps)
         if ef.size and float(ef.max()) > flow_curve.strain_max:
             raise ValueError(
                 f"strains reach {float(ef.max()):.4g}, beyond the flow curve's last strain "
                 f"{flow_curve.strain_max:g}: extend the table (it is not extrapolated)"
             )
         p_f = np.array(pf, dtype=float)
-        de = ef / steps
-        for j in range(steps):
+        de = ef / n_steps
+        for j in range(n_steps):
             mid = (j + 0.5) * de
             p_f = flattening_update(
                 p_f,

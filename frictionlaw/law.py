@@ -61,6 +61,43 @@ def as_float_array(name: str, value: ArrayLike) -> NDArray[np.float64]:
     return arr
 
 
+def broadcast_named(**arrays: ArrayLike) -> list[NDArray[np.float64]]:
+    """The named arrays (:func:`as_float_array`) broadcast together, in the order given.
+
+    ``ValueError`` naming the argument that does not broadcast, its shape and the shape of the
+    one before it that it disagrees with, instead of NumPy's positional message.
+    """
+    named = {name: as_float_array(name, value) for name, value in arrays.items()}
+    try:
+        return list(np.broadcast_arrays(*named.values()))
+    except ValueError:
+        pass
+    seen: dict[str, tuple[int, ...]] = {}
+    shape: tuple[int, ...] = ()
+    for name, a in named.items():
+        try:
+            shape = np.broadcast_shapes(shape, a.shape)
+        except ValueError:
+            other = next(
+                (n for n, s in seen.items() if not _broadcastable(s, a.shape)), ", ".join(seen)
+            )
+            theirs = seen.get(other, shape)
+            raise ValueError(
+                f"{name} has shape {a.shape}, {other} {theirs}: they need one shape, or shapes "
+                "that broadcast (a scalar applies to every node)"
+            ) from None
+        seen[name] = a.shape
+    raise AssertionError("unreachable: the shapes broadcast")  # pragma: no cover
+
+
+def _broadcastable(a: tuple[int, ...], b: tuple[int, ...]) -> bool:
+    try:
+        np.broadcast_shapes(a, b)
+    except ValueError:
+        return False
+    return True
+
+
 def sbmf_coeffs(params: "FrictionParams", tau_max: float | None = None) -> NDArray[np.float64]:
     """Kernel coefficient vector of the SBMF law (layout in :mod:`frictionlaw._kernels`).
 

@@ -108,6 +108,8 @@ def check_range(
     lb = "(" if lo_open else "["
     rb = ")" if hi_open else "]"
     rng = f"{lb}{lo:g}, {hi:g}{rb}"
+    if isinstance(value, (str, bytes, bool, np.bool_)):  # a JSON "8e8" or true is no number
+        raise ValueError(f"{name} must be a real number in {rng}, got {value!r}")
     try:
         v = float(value)
     except (TypeError, ValueError):
@@ -123,6 +125,8 @@ def _check_p_range(p_range: Any) -> tuple[float, float] | None:
     if p_range is None:
         return None
     try:
+        if any(isinstance(v, (str, bytes, bool, np.bool_)) for v in p_range):
+            raise TypeError
         lo, hi = (float(v) for v in p_range)
     except (TypeError, ValueError):
         raise ValueError(f"p_range must be (p_min, p_max) in Pa, got {p_range!r}") from None

@@ -11,6 +11,9 @@ that they agree:
   summary for ``summary.txt``);
 - every option's help shows its default (:class:`HelpFormatter`), and ``--help`` carries no
   reStructuredText markup;
+- a value option given twice is refused rather than the last kept (:func:`refuse_repeats`;
+  ``halfspace-calib`` so far), and an empty file path is refused naming its option
+  (:func:`file_path`);
 - library code raises :class:`ParameterError` naming its parameters by their Python names, and a
   command words the message with its own flags (:func:`flags_of`, :meth:`Console.error`);
 - output folders appear whole or not at all (:class:`OutputFolder`): a run writes into a fresh
@@ -44,6 +47,7 @@ _SOURCES = {
     "column_name": "._units",
     "Console": "._console",
     "DISTRIBUTION": "._options",
+    "file_path": "._options",
     "flags_of": "._options",
     "HelpFormatter": "._options",
     "Interrupted": "._processes",
@@ -58,6 +62,7 @@ _SOURCES = {
     "process_pool": "._processes",
     "process_seconds": "._processes",
     "read_marker": "._output",
+    "refuse_repeats": "._options",
     "UNIT_SUFFIXES": "._units",
     "version": "._options",
     "Worded": "._errors",

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+import weakref
 from importlib import metadata
 
 __all__ = [
@@ -12,8 +13,10 @@ __all__ = [
     "add_common_options",
     "add_version",
     "flags_of",
+    "file_path",
     "parse",
     "print_version",
+    "refuse_repeats",
     "version",
 ]
 
@@ -138,3 +141,46 @@ def flags_of(parser, **renamed):
         flags[action.dest] = spelt if spelt in longs else longs[0]
     flags.update(renamed)
     return flags
+
+
+def file_path(text):
+    """The argparse ``type`` of a file option: the text; an empty (or blank) value is refused.
+
+    An empty path would read as the working folder (``Path("")`` is ``.``) or, where an option's
+    value is tested for truth, as the option not given; argparse reports the error naming the
+    option (exit 2).
+    """
+    if not text.strip():
+        raise argparse.ArgumentTypeError("an empty value: give a file path")
+    return text
+
+
+class _StoreOnce(argparse._StoreAction):
+    """A value option that refuses a second occurrence in one command line."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        seen = getattr(self, "_seen", None)
+        if seen is not None and seen() is namespace:
+            raise argparse.ArgumentError(
+                self,
+                f"given more than once ({getattr(namespace, self.dest)!r}, then {values!r}): "
+                "give it once",
+            )
+        self._seen = weakref.ref(namespace)
+        super().__call__(parser, namespace, values, option_string)
+
+
+def refuse_repeats(parser):
+    """Make every value option of ``parser`` (and its subcommands) refuse a repetition.
+
+    argparse keeps the last of ``--opt A --opt B`` and drops ``A`` without a word; after this
+    call the command line is refused (exit 2) naming the option. Flags (``store_true``) and
+    options that collect (``append``) are left as they are. Returns ``parser``.
+    """
+    for action in parser._actions:
+        if type(action) is argparse._StoreAction:
+            action.__class__ = _StoreOnce
+        elif isinstance(action, argparse._SubParsersAction):
+            for sub in set(action.choices.values()):
+                refuse_repeats(sub)
+    return parser

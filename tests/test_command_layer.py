@@ -103,3 +103,34 @@ def test_ring_tests_name_paths_in_python_and_measured_on_the_command_line(tmp_pa
         rc == 2
         and f"--measured {tmp_path / 'missing.csv'}: no such file" in capsys.readouterr().err
     )
+
+
+def test_refuse_repeats_refuses_a_second_value_and_leaves_flags_and_appends(capsys):
+    import argparse
+
+    from sbmf_cli import file_path, refuse_repeats
+
+    ap = argparse.ArgumentParser(prog="x")
+    ap.add_argument("--data", type=file_path)
+    ap.add_argument("--grid", type=int, default=128)
+    ap.add_argument("--zone", action="append")
+    ap.add_argument("--force", action="store_true")
+    sub = ap.add_subparsers(dest="cmd")
+    sub.add_parser("run").add_argument("--n", type=int)
+    refuse_repeats(ap)
+    # one of each, flags twice and appends many times are fine; the parser runs again and again
+    for _ in range(3):
+        a = ap.parse_args(["--data", "a.csv", "--grid", "16", "--zone", "a", "--zone", "b"])
+        assert (a.data, a.grid, a.zone) == ("a.csv", 16, ["a", "b"])
+    assert ap.parse_args(["--force", "--force"]).force is True
+    assert ap.parse_args(["run", "--n", "3"]).n == 3
+    for argv, said in [
+        (["--data", "a.csv", "--data", "b.csv"], "given more than once ('a.csv', then 'b.csv')"),
+        (["--grid", "16", "--grid=32"], "given more than once (16, then 32)"),
+        (["--gr", "16", "--grid", "32"], "given more than once"),  # an abbreviation counts
+        (["run", "--n", "1", "--n", "2"], "given more than once (1, then 2)"),
+        (["--data", ""], "an empty value: give a file path"),
+    ]:
+        with pytest.raises(SystemExit) as exc:
+            ap.parse_args(argv)
+        assert exc.value.code == 2 and said in capsys.readouterr().err

@@ -119,6 +119,44 @@ def test_bad_input(tmp_path, capsys):
         make_law_factory("coulomb", mu=-1)
 
 
+@pytest.mark.parametrize("scene", ["upsetting", "ring", "multistage", "ring-fit"])
+def test_a_bad_material_file_is_bad_input_naming_the_option(tmp_path, capsys, monkeypatch, scene):
+    """--material missing, a folder, not JSON, or wrong: exit 2 naming --material and the path,
+    before any FE run, no traceback, no output (a missing file exited 1 as a failed write)."""
+    import fe_demo.analysis.ringfit as ringfit
+    import fe_demo.cli.runs as runs
+
+    def no_fe(*a, **k):
+        raise AssertionError("an FE run started")
+
+    for name in ("run_upsetting", "run_ring", "run_multistage"):
+        monkeypatch.setattr(runs, name, no_fe)
+    monkeypatch.setattr(ringfit, "run_ring", no_fe)
+    argv = [scene, "--out", str(tmp_path / "o")]
+    if scene == "ring-fit":
+        measured = tmp_path / "r.csv"
+        measured.write_text(
+            "# geometry: OD = 18 mm, ID = 9 mm, H = 6 mm\n"
+            "height_reduction,inner_diameter_change\n0.15,0.02\n0.3,0.05\n0.5,0.12\n"
+        )
+        argv += ["--measured", str(measured), "--illustrative"]
+    (tmp_path / "bad.json").write_text("{not json")
+    (tmp_path / "soft.json").write_text('{"E": 210e9, "n": 1.5}')
+    for path, said in [
+        (tmp_path / "gone.json", "no such file"),
+        (tmp_path, "a folder, not a material JSON file"),
+        (tmp_path / "bad.json", "not valid JSON"),
+        (tmp_path / "soft.json", "n must be in [0, 1]"),
+    ]:
+        assert main([*argv, "--material", str(path)]) == 2
+        err = capsys.readouterr().err
+        assert f"--material {path}: {said}" in err and "Traceback" not in err
+        assert len(err.strip().splitlines()) == 1
+    assert main([*argv, "--material", ""]) == 2
+    assert "argument --material: an empty value" in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
+
+
 def test_fe_demo_never_imports_halfspace_calib():
     import subprocess
     import sys

@@ -92,3 +92,24 @@ def test_cli_bad_zones_exit_2(tmp_path, capsys, extra, match):
     assert rc == 2
     assert match in capsys.readouterr().err
     assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("flattening", [False, True])
+def test_a_zone_file_with_a_flattening_block_run_without_it_is_warned(tmp_path, capsys, flattening):
+    """Like --params's: a zone whose file carries a flattening block, run without --flattening,
+    is said once on stderr (it was silently run without it); with --flattening nothing is said."""
+    from fe_demo.cli import _check_options, build_parser
+    from frictionlaw import Flattening
+
+    rim = tmp_path / "rim.json"
+    dataclasses.replace(ROUGH, flattening=Flattening(slope=0.05)).to_json(rim)
+    plain = tmp_path / "plain.json"
+    ROUGH.to_json(plain)
+    argv = ["upsetting", "--zone", f"rim={rim}", "--zone", f"mid={plain}"]
+    argv += ["--zone-from-radius", "rim=0.008", "--zone-from-radius", "mid=0.004"]
+    args = build_parser().parse_args([*argv, *(["--flattening"] if flattening else [])])
+    _check_options(args)
+    err = capsys.readouterr().err
+    said = f"--zone rim: {rim} carries a flattening block"
+    assert (said in err) is not flattening and "--zone mid" not in err
+    assert {z[0] for z in args.zones_loaded} >= {"mid", "rim"}

@@ -81,6 +81,18 @@ def test_record_validates_and_round_trips(tmp_path):
         (lambda b: b.pop("slope"), "missing 'slope'"),
         (lambda b: b.update(slope="steep"), "flattening.slope must be a real number"),
         (lambda b: b.update(slope=-0.1), "flattening.slope must be in"),
+        # JSON numbers only: a quoted number is text, not converted
+        (lambda b: b.update(slope="0.05"), "flattening.slope must be a real number.*string"),
+        (lambda b: b.update(beta="2"), "flattening.beta must be a real number.*string"),
+        (lambda b: b.update(beta=True), "flattening.beta must be a real number"),
+        (
+            lambda b: b.update(beta=2.0, beta_band=["1.5", 2.5], band_level=0.9),
+            "flattening.beta_band lower must be a real number.*string",
+        ),
+        (
+            lambda b: b.update(beta=2.0, beta_band=[1.5, 2.5], band_level="0.9"),
+            "flattening.band_level must be a real number.*string",
+        ),
         (lambda b: b.update(beta_band=[1.0], band_level=0.9), "flattening.beta_band must be"),
         (lambda b: b.update(units={"slope": "deg"}), "flattening.units"),
         (lambda b: b.update(spacing=1e-5), "unknown fields"),
@@ -361,6 +373,48 @@ def test_hostile_input_is_refused_or_finite():
         flattening_curve(0.0, 0.1, P)
     with pytest.raises(ValueError, match="strains must be finite and >= 0"):
         flattening_curve(1e8, -0.1, P)
+
+
+def test_shape_mismatches_name_the_argument_and_both_shapes_before_any_work(monkeypatch):
+    import frictionlaw.flattening as F
+
+    P = law()
+
+    def no_work(*a, **k):
+        raise AssertionError("the law was evaluated before the shapes were checked")
+
+    monkeypatch.setattr(F, "_coeffs", no_work)
+    n3, n4 = np.full(3, 1e8), np.full(4, 1e8)
+    for call, msg in [
+        (lambda: flattening_update(n3, n3, n4, 0.1, P), r"p has shape \(4,\), p_f \(3,\)"),
+        (lambda: flattening_update(0.0, n3, n3, n4, P), r"d_eps has shape \(4,\), p_hist \(3,\)"),
+        (
+            lambda: flattening_update(n3, n3, n3, 0.1, P, hardening=np.ones(4)),
+            r"hardening has shape \(4,\), the nodes \(3,\)",
+        ),
+        (
+            lambda: flattening_update(n3, n3, n3, 0.1, P, sigma_y=np.full(4, 2e8)),
+            r"sigma_y has shape \(4,\), the nodes \(3,\)",
+        ),
+        (lambda: flattened_alpha(n3, n4, n3, P), r"p_hist has shape \(4,\), p \(3,\)"),
+        (lambda: flattened_alpha(n3, 0.0, n4, P), r"p_f has shape \(4,\), p \(3,\)"),
+        (lambda: equivalent_strain(n3, n4, P), r"p_f has shape \(4,\), p \(3,\)"),
+        (
+            lambda: equivalent_strain(n3, 2 * n3, P, hardening=np.ones(4)),
+            r"hardening has shape \(4,\), the nodes \(3,\)",
+        ),
+        (lambda: flattening_curve(n3, np.zeros(4), P), r"strains has shape \(4,\), p \(3,\)"),
+        (
+            lambda: flattening_update(n3[:, None], n4, 1e8, np.zeros(5), P),
+            r"d_eps has shape \(5,\), p_hist \(4,\)",
+        ),
+    ]:
+        with pytest.raises(ValueError, match=msg):
+            call()
+    monkeypatch.undo()
+    # shapes that broadcast still do: a column of pressures against a row of strains
+    a = flattening_curve(n3[:, None] * [[0.5], [1.0], [2.0]], np.array([0.0, 0.1]), P)
+    assert a.shape == (3, 2) and np.all(a[:, 1] > a[:, 0])
 
 
 def test_extreme_input_stays_finite_without_warnings():

@@ -300,6 +300,42 @@ def test_bad_input_is_refused_before_any_sweep(tmp_path, capsys, monkeypatch):
     assert not (tmp_path / "o").exists()
 
 
+@pytest.mark.parametrize(
+    "extra, said",
+    [
+        # argparse would keep the last and drop A without a word
+        (["--flattening-data", "A", "--flattening-data", "B"], "argument --flattening-data: given "
+         "more than once ('A', then 'B')"),
+        (["--flattening-data", ""], "argument --flattening-data: an empty value"),
+        (["--flattening-data", "  "], "argument --flattening-data: an empty value"),
+        # the other single-valued options of the command are refused alike
+        (["--grid", "32"], "argument --grid: given more than once (16, then 32)"),
+        (["--flow-curve", "swift:5e8,0.006,0.2", "--flow-curve", "swift:5e8,0.006,0.3"],
+         "argument --flow-curve: given more than once"),
+        (["--workpiece", "a", "b", "--workpiece", "c"], "argument --workpiece: given more than once"),
+        (["--scene", ""], "argument --scene: an empty value"),  # was: no scene, a default run
+        (["--after-contact", ""], "argument --after-contact: an empty value"),
+    ],
+)  # fmt: skip
+def test_a_repeated_or_empty_option_is_refused_naming_it(
+    tmp_path, capsys, monkeypatch, extra, said
+):
+    monkeypatch.setattr(cli, "calibrate", lambda *a, **k: pytest.fail("a calibration started"))
+    assert main([*QUICK, *extra, "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert said in err and "Traceback" not in err
+    assert not (tmp_path / "o").exists()
+
+
+def test_a_missing_measurement_is_named_with_its_option(tmp_path, capsys, monkeypatch):
+    monkeypatch.setattr(cli, "calibrate", lambda *a, **k: pytest.fail("a calibration started"))
+    gone = tmp_path / "gone.csv"
+    assert main([*QUICK, "--flattening-data", str(gone), "--out", str(tmp_path / "o")]) == 2
+    assert f"--flattening-data {gone}: no such file" in capsys.readouterr().err
+    assert main([*QUICK, "--flattening-data", str(tmp_path), "--out", str(tmp_path / "o")]) == 2
+    assert f"--flattening-data {tmp_path}: a folder, not a CSV file" in capsys.readouterr().err
+
+
 def test_a_measurement_the_model_cannot_describe_fails_the_run(tmp_path, capsys):
     """Contact fractions below the calibrated first loading at every strain: beta would have to
     vanish; the run fails (exit 1) and keeps its parameters as params.failed.json, saying why."""

@@ -185,6 +185,22 @@ def test_hardening_slows_the_flattening_at_low_pressure():
     assert rising.sum() >= 4 and np.all(a[1:][rising[1:]] < plastic[1:][rising[1:]] - 0.05)
 
 
+@pytest.mark.parametrize("steps", [0, -3, 2.5, True, np.int64(0), "64", 100_001])
+def test_steps_is_checked_with_and_without_a_flow_curve(steps):
+    for kw in ({}, {"flow_curve": DC04}):  # a typo is caught whether or not a curve is given
+        with pytest.raises(ValueError, match=r"steps must be an integer in \[1, 100000\]"):
+            flattening_curve(0.1 * H, 0.01, LAW, steps=steps, **kw)
+
+
+def test_steps_without_a_flow_curve_is_refused_not_ignored():
+    with pytest.raises(ValueError, match="steps applies with flow_curve only"):
+        flattening_curve(0.1 * H, 0.01, LAW, steps=8)
+    # the default (None) is 64 steps with a curve; a numpy integer counts as an integer
+    a = flattening_curve(0.1 * H, [0.0, 0.05], LAW, flow_curve=DC04)
+    b = flattening_curve(0.1 * H, [0.0, 0.05], LAW, flow_curve=DC04, steps=np.int64(64))
+    assert np.array_equal(a, b) and a[1] > a[0]
+
+
 def test_bad_flow_curve_arguments_are_refused():
     with pytest.raises(ValueError, match="not both"):
         flattening_curve(0.1 * H, 0.01, LAW, flow_curve=DC04, sigma_y=2e8)

@@ -80,6 +80,13 @@ def test_malformed_files_raise_clear_errors(tmp_path):
         (lambda d: d["units"].update(H="MPa"), "H must be given in 'Pa'"),
         (lambda d: d["parameters"].update(bogus=1.0), "unknown parameters"),
         (lambda d: d["parameters"].update(n1=-1.0), "n1 must be in"),
+        # JSON numbers only: a quoted number or a boolean is refused, not converted
+        (lambda d: d["parameters"].update(H="8e8"), "H must be a real number in .*got '8e8'"),
+        (lambda d: d["parameters"].update(m=True), "m must be a real number in .*got True"),
+        (
+            lambda d: d.update(calibrated_range={"p_min": "1e8", "p_max": 6e8}),
+            "calibrated_range: p_range must be",
+        ),
     ]:
         d = json.loads(json.dumps(good))
         mutate(d)

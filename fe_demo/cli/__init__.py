@@ -39,7 +39,7 @@ from ..analysis.ring_chart import CHART_M
 from ..scenes.laws import EXAMPLE_FLATTENING_PATH, LAW_OPTIONS, LAWS
 from ..scenes.zones import check_radial_zones
 from . import ring_fit
-from .runs import cmd_band, cmd_multistage, cmd_ring, cmd_upsetting
+from .runs import cmd_band, cmd_multistage, cmd_ring, cmd_upsetting, material_file, path_arg
 
 __all__ = ["main", "build_parser"]
 
@@ -79,7 +79,7 @@ def _add_common(p, *, law, nr, increments, reduction, out):
     )
     p.add_argument(
         "--params",
-        type=Path,
+        type=path_arg,
         default=None,
         help="SBMF parameter JSON (FrictionParams file; default: the shipped illustrative set)",
     )
@@ -91,7 +91,7 @@ def _add_common(p, *, law, nr, increments, reduction, out):
     )
     p.add_argument(
         "--material",
-        type=Path,
+        type=path_arg,
         default=None,
         help="material JSON (E, nu, K, eps0, n; default: DC04)",
     )
@@ -207,6 +207,13 @@ def _check_zones(args):
         if not Path(path).exists():
             raise ValueError(f"--zone {name}: parameter file {path} does not exist")
         params = FrictionParams.from_json(path, accept_failed=args.accept_failed_fit)
+        if params.flattening is not None and not args.flattening:  # as --params's block
+            print(
+                f"fe-demo: WARNING: --zone {name}: {path} carries a flattening block; this run "
+                "evaluates the zone's law without flattening (zero bulk strain; --flattening "
+                "passes the die's plastic strain to it)",
+                file=sys.stderr,
+            )
         zones.append((name, params, r))
     args.zones_loaded = tuple(check_radial_zones(zones))  # before any run
 
@@ -262,6 +269,7 @@ def _check_options(args):
     _check_flattening(args)
     _check_sweep_and_band(args)
     _check_zones(args)
+    args.material_loaded = material_file(args.material)
     args.m_given = args.m is not None
     args.mu = _MU if args.mu is None else args.mu
     args.m = _M if args.m is None else args.m

@@ -21,6 +21,7 @@ from ..analysis.ringfit import RingFitError, fit_m, read_ring_tests
 from ..output.ring_fit import input_rows, write_ring_fit
 from ..scenes.laws import EXAMPLE_PARAMS_PATH
 from ..solver.material import DC04, Material
+from .runs import material_file, path_arg
 
 __all__ = ["add_force", "add_parser", "run"]
 
@@ -65,7 +66,7 @@ def add_parser(sub, formatter):
     )
     p.add_argument(
         "--params",
-        type=Path,
+        type=path_arg,
         default=None,
         help="the calibration's SBMF parameter JSON whose m is fitted (halfspace-calib's "
         "params.json; required for --law sbmf unless --illustrative; default: none)",
@@ -89,7 +90,7 @@ def add_parser(sub, formatter):
     )
     p.add_argument(
         "--material",
-        type=Path,
+        type=path_arg,
         default=None,
         help="material JSON (as fe-demo ring; default: the files' '# material:' line, else DC04)",
     )
@@ -168,7 +169,7 @@ def _choose_material(args, test):
     files = ", ".join(Path(s).name for s in test.sources)
     stated = Material(**test.material) if test.material is not None else None
     if args.material is not None:
-        given = Material.from_json(args.material)
+        given = material_file(args.material)
         if stated is not None and any(
             not math.isclose(getattr(given, k), getattr(stated, k), rel_tol=1e-6)
             for k in ("E", "nu", "K", "eps0", "n")

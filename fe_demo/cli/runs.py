@@ -10,6 +10,8 @@ from pathlib import Path
 
 import numpy as np
 
+from sbmf_cli import file_path
+
 from ..analysis.band import band_result
 from ..analysis.ring_chart import CHART_M, ring_chart
 from ..output import (
@@ -28,11 +30,51 @@ from ..scenes import contact_profile, run_multistage, run_ring, run_upsetting
 from ..scenes.laws import LAWS
 from ..solver.material import DC04, Material
 
-__all__ = ["cmd_band", "cmd_multistage", "cmd_ring", "cmd_upsetting", "write_run"]
+__all__ = [
+    "cmd_band",
+    "cmd_multistage",
+    "cmd_ring",
+    "cmd_upsetting",
+    "material_file",
+    "path_arg",
+    "write_run",
+]
 
 
 def _material(args):
-    return Material.from_json(args.material) if args.material else DC04
+    loaded = getattr(args, "material_loaded", None)  # read before the run (material_file)
+    return loaded or material_file(args.material)
+
+
+def path_arg(text):
+    """The argparse ``type`` of a file option: a :class:`~pathlib.Path`, an empty one refused.
+
+    ``Path("")`` is the working folder: without this, ``--material ""`` read as ``.``.
+    """
+    return Path(file_path(text))
+
+
+def material_file(path):
+    """The :class:`Material` of ``--material`` (DC04 without one), read before any run.
+
+    A missing, unreadable or malformed file is bad input (``ValueError``) naming the option and
+    the path.
+    """
+    if path is None:
+        return DC04
+    path = Path(path)
+    if not path.is_file():
+        what = "a folder, not a material JSON file" if path.is_dir() else "no such file"
+        raise ValueError(f"--material {path}: {what}")
+    try:
+        return Material.from_json(path)
+    except json.JSONDecodeError as exc:
+        raise ValueError(f"--material {path}: not valid JSON ({exc})") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ValueError(f"--material {path}: cannot be read ({exc})") from None
+    except (TypeError, ValueError) as exc:
+        text = str(exc).removeprefix(f"{path}: ")
+        raise ValueError(f"--material {path}: {text}") from None
 
 
 def _common_kw(args, law):

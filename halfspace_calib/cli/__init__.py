@@ -21,10 +21,12 @@ from sbmf_cli import (
     OutputFolder,
     add_common_options,
     add_version,
+    file_path,
     flags_of,
     interruptible,
     parse,
     process_seconds,
+    refuse_repeats,
 )
 
 from ..output.hardness import write_hardness_fit
@@ -89,18 +91,21 @@ def build_parser():
     ap.add_argument("--out", default="out/calibration", help="output folder")
     ap.add_argument(
         "--scene",
+        type=file_path,
         help="scene file (TOML, keys as the Scene fields); options override it (default: none)",
     )
     g = ap.add_argument_group("surfaces")
     g.add_argument(
         "--workpiece",
         nargs="+",
+        type=file_path,
         help="workpiece topography file(s) (default: synthetic DC04 EDT); several files: a "
         "multi-sample calibration with a band (each against the one --tool, or paired in order)",
     )
     g.add_argument(
         "--tool",
         nargs="+",
+        type=file_path,
         help="tool topography file(s) (default: synthetic hardened tool): one for all "
         "workpieces, or one per workpiece",
     )
@@ -197,6 +202,7 @@ def build_parser():
     g.add_argument(
         "--after-contact",
         metavar="FILE",
+        type=file_path,
         help="fit H to the workpiece's measured roughness after pressing (Sec. 3.1, Figs. 3-4): "
         "a text table 'p_mean [MPa], Ra [um], Rq [um]', one row per sample, >= 2 loads, a "
         "p_mean = 0 row for before contact; or a table 'p_mean [MPa], file' naming surfaces "
@@ -347,7 +353,7 @@ def build_parser():
     )
     add_flattening_options(ap)
     add_common_options(ap)
-    return ap
+    return refuse_repeats(ap)  # a value option given twice is refused, not the last kept
 
 
 def scene_from_args(args):

@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 from dataclasses import replace
+from pathlib import Path
 
 from frictionlaw.flow_curve import read_flow_curve
+from sbmf_cli import file_path
 
 from ..pipeline.sweep.flattening import (
     BAND_LEVEL,
@@ -29,6 +31,7 @@ def add_flattening_options(ap):
     g.add_argument(
         "--flattening-data",
         metavar="CSV",
+        type=file_path,
         help="measured contact fraction against bulk strain, columns strain, alpha, p_Pa (or "
         "p_MPa), separated by commas, semicolons or tabs: fits "
         f"beta with its {100 * BAND_LEVEL:g} %% band (implies --flattening; default: none)",
@@ -36,6 +39,7 @@ def add_flattening_options(ap):
     g.add_argument(
         "--flow-curve",
         metavar="SPEC",
+        type=file_path,
         help="the measured sheet's flow curve, for the fit of --flattening-data: swift:K,eps0,n "
         "(K in Pa, e.g. swift:530e6,0.006,0.24) or a CSV with the columns strain and sigma_y_Pa "
         "(or sigma_y_MPa), not extrapolated; each point is then integrated at the flow stress "
@@ -63,7 +67,7 @@ def flattening_input(args, spec, scene):
             "--flattening derives the block from one workpiece/tool pair; with several samples "
             "calibrate one pair with --flattening"
         )
-    data = None if args.flattening_data is None else read_flattening_data(args.flattening_data)
+    data = None if args.flattening_data is None else _read_data(args.flattening_data)
     if data is not None:
         check_data_pressures(data, scene.H)
         if args.flow_curve is not None:
@@ -76,6 +80,14 @@ def flattening_input(args, spec, scene):
                 )
             data = replace(data, flow_curve=fc)
     return True, data
+
+
+def _read_data(path):
+    """``--flattening-data``'s measurement; a path that is no file is named with the option."""
+    if not Path(path).is_file():
+        what = "a folder, not a CSV file" if Path(path).is_dir() else "no such file"
+        raise ValueError(f"--flattening-data {path}: {what}")
+    return read_flattening_data(path)
 
 
 def with_flattening(cal, on, data):
