@@ -7,7 +7,14 @@ import argparse
 import math
 import sys
 
-from sbmf_cli import Console, HelpFormatter, add_version, light_entry, parse
+from sbmf_cli import (
+    Console,
+    HelpFormatter,
+    add_version,
+    light_entry,
+    parse,
+    refuse_repeats,
+)
 
 
 def default_params():
@@ -30,7 +37,7 @@ def build_parser():
     ap.add_argument(
         "--p-hist", type=float, default=400e6, help="history pressure for the reload column (Pa)"
     )
-    return ap
+    return refuse_repeats(ap)  # a value option given twice is refused, not the last kept
 
 
 def run(argv=None):

@@ -11,8 +11,8 @@ that they agree:
   summary for ``summary.txt``);
 - every option's help shows its default (:class:`HelpFormatter`), and ``--help`` carries no
   reStructuredText markup;
-- a value option given twice is refused rather than the last kept (:func:`refuse_repeats`;
-  ``halfspace-calib`` so far), and an empty file path is refused naming its option
+- a value option given twice is refused rather than the last kept (:func:`refuse_repeats`,
+  every command), and an empty file path is refused naming its option
   (:func:`file_path`);
 - library code raises :class:`ParameterError` naming its parameters by their Python names, and a
   command words the message with its own flags (:func:`flags_of`, :meth:`Console.error`);

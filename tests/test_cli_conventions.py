@@ -80,8 +80,15 @@ def test_the_help_formatter_adds_a_default_only_where_missing():
     assert text.count("default") == 3 and "a flag" in text
 
 
+def _fast(*extra):
+    """FE_FAST with the options ``extra`` gives left out (a value option is given once)."""
+    given = {x for x in extra if str(x).startswith("--")}
+    pairs = zip(FE_FAST[::2], FE_FAST[1::2], strict=True)
+    return [x for opt, v in pairs if opt not in given for x in (opt, v)]
+
+
 def _fe(tmp_path, *extra, scene="upsetting"):
-    return fe_cli.main([scene, *FE_FAST, "--out", str(tmp_path), *extra])
+    return fe_cli.main([scene, *_fast(*extra), "--out", str(tmp_path), *extra])
 
 
 def test_quiet_hides_progress_and_summary_no_progress_only_progress(tmp_path, capsys):
@@ -159,7 +166,10 @@ def test_the_law_demo_shows_a_flattening_block(capsys):
 
 def test_fe_demo_output_folder_appears_whole(tmp_path, capsys):
     out = tmp_path / "ups"
-    assert fe_cli.main(["upsetting", *FE_FAST, "--increments", "5", "--out", str(out)]) == 0
+    assert (
+        fe_cli.main(["upsetting", *_fast("--increments"), "--increments", "5", "--out", str(out)])
+        == 0
+    )
     assert sorted(p.name for p in (out / "vtu").glob("*.vtu"))[-1] == "step_0005.vtu"
     assert _fe(out, "--increments", "2") == 0
     vtu = sorted(p.name for p in (out / "vtu").glob("*.vtu"))
@@ -217,3 +227,24 @@ def test_output_folder_policy(tmp_path):
     with pytest.raises(ValueError, match="holds no thing"):
         OutputFolder(tmp_path / "x", command="thing", what="thing", force=True)
     assert (tmp_path / "x" / "y").is_file()
+
+
+@pytest.mark.parametrize("name", sorted(PARSERS))
+def test_a_value_option_given_twice_is_refused_in_every_command(name, capsys):
+    """argparse keeps the last of ``--opt A --opt B`` without a word; every command (and each
+    subcommand) refuses the repetition instead, naming the option (exit 2)."""
+    from sbmf_cli._options import _StoreOnce
+
+    parsers = _all_parsers(PARSERS[name]())
+    stores = [a for p in parsers for a in p._actions if isinstance(a, argparse._StoreAction)]
+    assert stores and all(type(a) is _StoreOnce for a in stores)
+    option = {
+        "halfspace-calib": ["--grid", "16", "--grid", "32"],
+        "fe-demo": ["upsetting", "--nr", "4", "--nr", "8"],
+        "frictionlaw-export": ["calculix", "--out", "a", "--out", "b"],
+        "frictionlaw-demo": ["--params", "a.json", "--params", "b.json"],
+    }[name]
+    with pytest.raises(SystemExit) as e:
+        PARSERS[name]().parse_args(option)
+    assert e.value.code == 2
+    assert f"argument {option[-2]}: given more than once" in capsys.readouterr().err

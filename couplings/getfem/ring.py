@@ -74,6 +74,7 @@ from sbmf_cli import (
     flags_of,
     interruptible,
     parse,
+    refuse_repeats,
 )
 
 __all__ = ["Material", "RingSetup", "run", "main", "HISTORY_COLUMNS"]
@@ -435,7 +436,7 @@ def _parser():
     )
     ap.add_argument("--out", default="getfem_out/ring", help="output folder")
     add_common_options(ap)
-    return ap
+    return refuse_repeats(ap)  # a value option given twice is refused, not the last kept
 
 
 def _setup(a):

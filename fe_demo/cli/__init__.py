@@ -32,6 +32,7 @@ from sbmf_cli import (
     flags_of,
     interruptible,
     parse,
+    refuse_repeats,
 )
 
 from ..analysis.band import band_laws
@@ -256,7 +257,7 @@ def build_parser():
     _add_common(p, law="sbmf", nr=24, increments=30, reduction=0.45, out="fe_out/multistage")
     p.add_argument("--first-reduction", type=float, default=0.3, help="reduction of stage 1")
     ring_fit.add_parser(sub, HelpFormatter)
-    return ap
+    return refuse_repeats(ap)  # a value option given twice is refused, not the last kept
 
 
 def _check_options(args):

@@ -20,6 +20,7 @@ from sbmf_cli import (
     flags_of,
     interruptible,
     parse,
+    refuse_repeats,
 )
 
 from ..params import fit_failure
@@ -117,7 +118,7 @@ def build_parser():
         "file's sigma_y and the perfectly plastic rate, an upper limit for a hardening metal)",
     )
     add_common_options(ap, progress=False)
-    return ap
+    return refuse_repeats(ap)  # a value option given twice is refused, not the last kept
 
 
 @interruptible("frictionlaw-export", "the export")
