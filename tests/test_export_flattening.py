@@ -413,12 +413,14 @@ def test_a_calibration_with_a_tabulated_first_loading_exports(tmp_path, target, 
     assert "fit first_loading: tabulated form, max |d alpha|=0, points=11" in src
 
 
-def test_tables_and_zones_refuse_a_flattening_file(tmp_path):
+def test_tables_refuse_a_flattening_file(tmp_path):
+    """A table is a law of the pressure alone; zoned routines carry the block
+    (tests/test_export_zones_flattening.py), under the same rule for hosts without strain."""
     path = law().to_json(tmp_path / "flat.json")
     for target in ("abaqus-table", "lsdyna-table"):
         with pytest.raises(ValueError, match="table of the pressure alone"):
             exp.render(target, path)
-    with pytest.raises(ValueError, match="zoned routines do not carry it yet"):
+    with pytest.raises(ValueError, match="passes no bulk plastic strain"):
         exp.render("abaqus-fric", None, zones=[("rim", path)])
 
 

@@ -120,7 +120,7 @@ def _check_flattening(record, laws, zones, without_flattening=False):
     A routine whose host passes the bulk strain runs it; a routine whose host passes none
     (Abaqus FRIC, VFRIC, VFRICTION) runs the law without it only when the user says so
     (``without_flattening``; the routine then also says it once at run time); a table (a law of
-    the pressure alone) and a zoned routine (not yet) cannot carry it. ``without_flattening``
+    the pressure alone) cannot carry it. A zoned routine runs each zone's own block. ``without_flattening``
     where nothing would be dropped is refused too (no option silently ignored).
     """
     flat = [law for law in laws if law.params.flattening is not None]
@@ -138,11 +138,6 @@ def _check_flattening(record, laws, zones, without_flattening=False):
             f"{path}: the file carries a flattening block (issue 43): {record.name} writes a "
             "table of the pressure alone, which cannot carry it; export a routine target, or "
             "a calibration without the block"
-        )
-    if zones:
-        raise ValueError(
-            f"{path}: the file carries a flattening block (issue 43): zoned routines do not "
-            "carry it yet; export the zone's law alone, or a calibration without the block"
         )
     if record.form.bulk_strain and without_flattening:
         raise ParameterError(

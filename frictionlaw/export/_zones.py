@@ -239,7 +239,9 @@ def zoned_context(table):
         "kt": first.kt,
         "ln_h": first.ln_h,
         "guard": first.guard,
-        "flat": None,  # a zoned export of a flattening block is refused (_render.plan)
+        # the first flattening block of the zones (None without one): the templates declare and
+        # run the flattening where it is set, each zone's law its own (SBMF_ZFSHR)
+        "flat": next((law.core.flat for law in table.laws if law.core.flat), None),
         **shared_constants(),
     }
 

@@ -153,11 +153,7 @@ C       open (no pressure): no friction, history unchanged
         IF (NSTATV .GE. 3) STATEV(3) = 0.0D0
         RETURN
       END IF
-{% if zones %}
-      CALL SBMF_ZSHEAR(IZ, P, PH, G1H, TLIM, DTAU, G1NEW)
-      KFALL = MAX(TLIM, TINY(1.0D0))/(FSLIP*CHRLNGTH)
-      XKT = SBMF_ZKT(IZ, P, KFALL)
-{% elif flat and target.form.bulk_strain %}
+{% if flat and target.form.bulk_strain %}
       DEPS = 0.0D0
       SIGY = 0.0D0
       HMOD = 0.0D0
@@ -177,10 +173,14 @@ C       no strain passed: the flattened fraction is kept, not grown
       END IF
       AF = 0.0D0
       IF (NSTATV .GE. 5) AF = MIN(MAX(STATEV(5), 0.0D0), 1.0D0)
-      CALL SBMF_FSHR(P, PH, AF, DEPS, SIGY, HMOD, G1H, TLIM, DTAU,
-     &               G1NEW, ANEW)
+      CALL {{ "SBMF_ZFSHR(IZ, " if zones else "SBMF_FSHR(" }}P, PH, AF, DEPS, SIGY, HMOD, G1H, TLIM,
+     &               DTAU, G1NEW, ANEW)
       KFALL = MAX(TLIM, TINY(1.0D0))/(FSLIP*CHRLNGTH)
-      XKT = SBMF_KT(P, KFALL)
+      XKT = {{ "SBMF_ZKT(IZ, " if zones else "SBMF_KT(" }}P, KFALL)
+{% elif zones %}
+      CALL SBMF_ZSHEAR(IZ, P, PH, G1H, TLIM, DTAU, G1NEW)
+      KFALL = MAX(TLIM, TINY(1.0D0))/(FSLIP*CHRLNGTH)
+      XKT = SBMF_ZKT(IZ, P, KFALL)
 {% else %}
       CALL SBMF_SHEAR(P, PH, G1H, TLIM, DTAU, G1NEW)
       KFALL = MAX(TLIM, TINY(1.0D0))/(FSLIP*CHRLNGTH)

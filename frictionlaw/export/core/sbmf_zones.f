@@ -103,6 +103,42 @@ C=======================================================================
       RETURN
       END
 C
+{% if target.form.bulk_strain and laws | selectattr("flat") | list %}
+C=======================================================================
+C     The flattening (issue 43) of law IZ: its SBMF_FSHR where the law
+C     has a flattening block (the flattened fraction AF read through
+C     that law's alpha1, grown by DEPS); a law without one runs its
+C     SBMF_SHEAR and passes AF on unchanged (ANEW = AF), as the
+C     runtime's ZonedLaw; IZ outside 1..{{ laws | length }}: no friction.
+C=======================================================================
+      SUBROUTINE SBMF_ZFSHR(IZ, P, PH, AF, DEPS, SIGY, HMOD, G1H, TAU,
+     &                      DTAU, G1OUT, ANEW)
+      IMPLICIT NONE
+      INTEGER IZ
+      DOUBLE PRECISION P, PH, AF, DEPS, SIGY, HMOD, G1H, TAU, DTAU
+      DOUBLE PRECISION G1OUT, ANEW
+      ANEW = AF
+      SELECT CASE (IZ)
+{% for law in laws %}
+      CASE ({{ loop.index }})
+{% if law.flat %}
+        CALL {{ law.prefix }}FSHR(P, PH, AF, DEPS, SIGY, HMOD, G1H, TAU,
+     &                  DTAU, G1OUT, ANEW)
+{% else %}
+        CALL {{ law.prefix }}SHEAR(P, PH, G1H, TAU, DTAU, G1OUT)
+        IF (DEPS .LT. 0.0D0 .AND. SIGY .LT. 0.0D0 .AND. HMOD .LT. 0.0D0)
+     &    CONTINUE
+{% endif %}
+{% endfor %}
+      CASE DEFAULT
+        TAU = 0.0D0
+        DTAU = 0.0D0
+        G1OUT = G1H
+      END SELECT
+      RETURN
+      END
+C
+{% endif %}
       DOUBLE PRECISION FUNCTION SBMF_ZKT(IZ, P, KFALL)
       IMPLICIT NONE
       INTEGER IZ

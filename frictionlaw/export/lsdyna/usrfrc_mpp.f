@@ -94,13 +94,14 @@ C     guards: a failed one refuses the law (no friction, no history)
       PH = 0.0D0
       IF (NH .GE. 1) PH = MAX(DBLE(UH(1)), 0.0D0)
       G1H = -1.0D0
+{% if flat %}
 {% if zones %}
       IF (USECAC) THEN
         IF (DBLE(UH(4)) .EQ. DBLE(IZ)) G1H = DBLE(UH(2))
       END IF
-      CALL SBMF_ZSHEAR(IZ, P, PH, G1H, TLIM, DTAU, G1NEW)
-{% elif flat %}
+{% else %}
       IF (USECAC) G1H = DBLE(UH(2))
+{% endif %}
       IF (NE .GE. 1 .AND. NH .GE. 7) THEN
         AF = MIN(MAX(DBLE(UH(5)), 0.0D0), 1.0D0)
 C       the strain since the last cycle, if the point was in contact
@@ -118,8 +119,8 @@ C       no flow curve: the file's sigma_y, perfectly plastic
         SIGY = 0.0D0
         HMOD = 0.0D0
 {% endif %}
-        CALL SBMF_FSHR(P, PH, AF, DEPS, SIGY, HMOD, G1H, TLIM, DTAU,
-     &                 G1NEW, ANEW)
+        CALL {{ "SBMF_ZFSHR(IZ, " if zones else "SBMF_FSHR(" }}P, PH, AF, DEPS, SIGY, HMOD, G1H, TLIM,
+     &                 DTAU, G1NEW, ANEW)
         RA = REAL(ANEW)
         IF (DBLE(RA) .GT. ANEW) RA = NEAREST(RA, -1.0)
         UH(5) = RA
@@ -129,8 +130,13 @@ C       no flow curve: the file's sigma_y, perfectly plastic
 {% if guards %}
         CALL SBMF_GUARD(9, 0.0D0)
 {% endif %}
-        CALL SBMF_SHEAR(P, PH, G1H, TLIM, DTAU, G1NEW)
+        CALL {{ "SBMF_ZSHEAR(IZ, " if zones else "SBMF_SHEAR(" }}P, PH, G1H, TLIM, DTAU, G1NEW)
       END IF
+{% elif zones %}
+      IF (USECAC) THEN
+        IF (DBLE(UH(4)) .EQ. DBLE(IZ)) G1H = DBLE(UH(2))
+      END IF
+      CALL SBMF_ZSHEAR(IZ, P, PH, G1H, TLIM, DTAU, G1NEW)
 {% else %}
       IF (USECAC) G1H = DBLE(UH(2))
       CALL SBMF_SHEAR(P, PH, G1H, TLIM, DTAU, G1NEW)

@@ -189,9 +189,7 @@ C       a calibrated k_t (table or --k-t) replaces the penalty's
         DO A = 1, 3
           TOLD(A) = MAX(MIN(FO(A)/AR, HD), -HD)
         END DO
-{% if zones %}
-        CALL SBMF_ZSHEAR(IZ, P, PH, G1H, TLIM, DTAU, G1NEW)
-{% elif flat %}
+{% if flat %}
         IF (FLATOK) THEN
           AF = MIN(MAX(DBLE(UFHIST(5, IH)), 0.0D0), 1.0D0)
 C         the strain since the last cycle, if the point was in contact
@@ -209,11 +207,13 @@ C         no flow curve: the file's sigma_y, perfectly plastic
           SIGY = 0.0D0
           HMOD = 0.0D0
 {% endif %}
-          CALL SBMF_FSHR(P, PH, AF, DEPS, SIGY, HMOD, G1H, TLIM,
-     &                   DTAU, G1NEW, ANEW)
+          CALL {{ "SBMF_ZFSHR(IZ, " if zones else "SBMF_FSHR(" }}P, PH, AF, DEPS, SIGY, HMOD, G1H,
+     &                   TLIM, DTAU, G1NEW, ANEW)
         ELSE
-          CALL SBMF_SHEAR(P, PH, G1H, TLIM, DTAU, G1NEW)
+          CALL {{ "SBMF_ZSHEAR(IZ, " if zones else "SBMF_SHEAR(" }}P, PH, G1H, TLIM, DTAU, G1NEW)
         END IF
+{% elif zones %}
+        CALL SBMF_ZSHEAR(IZ, P, PH, G1H, TLIM, DTAU, G1NEW)
 {% else %}
         CALL SBMF_SHEAR(P, PH, G1H, TLIM, DTAU, G1NEW)
 {% endif %}

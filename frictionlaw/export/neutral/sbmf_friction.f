@@ -149,25 +149,25 @@ C     guards: the stated unit system, the pressure (the caller reports)
         IF (NSTATE .GE. 3) STATE(3) = 0.0D0
         RETURN
       END IF
-{% if zones %}
-      CALL SBMF_ZSHEAR(IZ, P, PH, G1H, TLIM, DTAU, G1NEW)
-      XKT = SBMF_ZKT(IZ, P, KHOST)
-{% elif flat %}
+{% if flat %}
       IF (NSTATE .GE. 5) THEN
         AF = STATE(5)
         HMOD = 0.0D0
         IF (NSTATE .GE. 6) HMOD = MAX(STATE(6), 0.0D0)
-        CALL SBMF_FSHR(P, PH, AF, DEPS, SIGY, HMOD, G1H, TLIM, DTAU,
-     &                 G1NEW, ANEW)
+        CALL {{ "SBMF_ZFSHR(IZ, " if zones else "SBMF_FSHR(" }}P, PH, AF, DEPS, SIGY, HMOD, G1H, TLIM,
+     &                 DTAU, G1NEW, ANEW)
         STATE(5) = ANEW
       ELSE
 C       no slot for the flattened fraction: the law without flattening
         IF (DEPS .GT. 0.0D0 .AND. IERR .EQ. 0) THEN
           IF (SBMF_ONCE(9) .EQ. 1) IERR = 9
         END IF
-        CALL SBMF_SHEAR(P, PH, G1H, TLIM, DTAU, G1NEW)
+        CALL {{ "SBMF_ZSHEAR(IZ, " if zones else "SBMF_SHEAR(" }}P, PH, G1H, TLIM, DTAU, G1NEW)
       END IF
-      XKT = SBMF_KT(P, KHOST)
+      XKT = {{ "SBMF_ZKT(IZ, " if zones else "SBMF_KT(" }}P, KHOST)
+{% elif zones %}
+      CALL SBMF_ZSHEAR(IZ, P, PH, G1H, TLIM, DTAU, G1NEW)
+      XKT = SBMF_ZKT(IZ, P, KHOST)
 {% else %}
       CALL SBMF_SHEAR(P, PH, G1H, TLIM, DTAU, G1NEW)
       XKT = SBMF_KT(P, KHOST)
