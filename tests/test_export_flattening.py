@@ -413,13 +413,28 @@ def test_a_calibration_with_a_tabulated_first_loading_exports(tmp_path, target, 
     assert "fit first_loading: tabulated form, max |d alpha|=0, points=11" in src
 
 
-def test_tables_refuse_a_flattening_file(tmp_path):
-    """A table is a law of the pressure alone; zoned routines carry the block
-    (tests/test_export_zones_flattening.py), under the same rule for hosts without strain."""
+def test_tables_carry_no_flattening_and_say_so(tmp_path, capsys):
+    """A table is a law of the pressure alone: a file with a flattening block is refused (exit
+    2, naming --without-flattening); with the option the table of the law without it is
+    written, the same rows as the file without its block, and its header says so. Zoned
+    routines carry the block (tests/test_export_zones_flattening.py), under the same rule for
+    hosts without strain."""
+    from frictionlaw.export.cli import main
+
     path = law().to_json(tmp_path / "flat.json")
+    plain = dataclasses.replace(law(), flattening=None).to_json(tmp_path / "plain.json")
     for target in ("abaqus-table", "lsdyna-table"):
         with pytest.raises(ValueError, match="table of the pressure alone"):
             exp.render(target, path)
+        out = tmp_path / target
+        assert main([target, "--params", str(path), "--out", str(out)]) == 2
+        assert "give --without-flattening" in capsys.readouterr().err and not out.exists()
+        files, table = exp.render(target, path, without_flattening=True)
+        _, table0 = exp.render(target, plain)
+        name = exp.target(target).file
+        assert "flattening block (issue 43) is not carried" in " ".join(files[name].split())
+        np.testing.assert_array_equal(table.p, table0.p)
+        np.testing.assert_array_equal(table.mu, table0.mu)
     with pytest.raises(ValueError, match="passes no bulk plastic strain"):
         exp.render("abaqus-fric", None, zones=[("rim", path)])
 

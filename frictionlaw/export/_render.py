@@ -119,8 +119,9 @@ def _check_flattening(record, laws, zones, without_flattening=False):
 
     A routine whose host passes the bulk strain runs it; a routine whose host passes none
     (Abaqus FRIC, VFRIC, VFRICTION) runs the law without it only when the user says so
-    (``without_flattening``; the routine then also says it once at run time); a table (a law of
-    the pressure alone) cannot carry it. A zoned routine runs each zone's own block. ``without_flattening``
+    (``without_flattening``; the routine then also says it once at run time), and so does a
+    table (a law of the pressure alone; its header says so). A zoned routine runs each zone's
+    own block. ``without_flattening``
     where nothing would be dropped is refused too (no option silently ignored).
     """
     flat = [law for law in laws if law.params.flattening is not None]
@@ -134,10 +135,14 @@ def _check_flattening(record, laws, zones, without_flattening=False):
         return
     path = flat[0].path
     if not isinstance(record.form, _targets.Routine):
-        raise ValueError(
+        if without_flattening:
+            return  # the table of the law without it; its header says so
+        raise ParameterError(
             f"{path}: the file carries a flattening block (issue 43): {record.name} writes a "
-            "table of the pressure alone, which cannot carry it; export a routine target, or "
-            "a calibration without the block"
+            "table of the pressure alone, which cannot carry it: give {without_flattening} to "
+            "export the law without it, or export a routine target whose host passes the "
+            f"strain ({', '.join(_strain_targets(lambda f: f.bulk_strain))})",
+            "without_flattening",
         )
     if record.form.bulk_strain and without_flattening:
         raise ParameterError(
@@ -258,6 +263,11 @@ def plan(
     if table is None:
         kt, ftable = record.form.decide(params, us, k_t, table_tol)
         header = tuple(header_lines(record.name, params, laws[0].path, sha, us, kt))
+        if params.flattening is not None and not isinstance(record.form, _targets.Routine):
+            header += (
+                "the file's flattening block (issue 43) is not carried (--without-flattening): "
+                "a table is a law of the pressure alone",
+            )
         ctx = core_context(params, us, kt)
         ctx["flow"] = None if curve is None else flow_spec(curve, us)
         if curve is not None:
@@ -312,7 +322,8 @@ def texts(job, *, guards=True):
     if "guard_text" in context:
         if isinstance(t.form, _targets.Routine) and t.form.status:
             context["guard_text"][8] = VERSION_MESSAGE
-        if context.get("flat") is not None:  # kind 9: the law runs without its flattening
+        if context.get("flat") is not None and isinstance(t.form, _targets.Routine):
+            # kind 9: the law runs without its flattening
             context["guard_text"][9] = ("SBMF friction: " + t.form.no_strain, None)
         context["guard_kinds"] = max(*context["guard_text"], 7 if job.zones else 6)
     text = comment_block(job.header, t.style.comment, t.style.columns)
