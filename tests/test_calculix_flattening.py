@@ -1,21 +1,23 @@
 """The flattening under bulk strain in CalculiX (issue 43): the slave element's plastic strain.
 
 The patched ccx passes the routine of ``frictionlaw-export calculix`` the equivalent plastic
-strain of the solid element whose face carries a face-to-face contact point (CalculiX's PEEQ,
-averaged over the element's integration points) as its predefined field 1: ``PREDEF(1, 1)`` at
+strain under a contact point (CalculiX's PEEQ averaged over a solid element's integration points:
+face-to-face, the element whose face carries the point; node-to-surface, the elements of the
+slave node's faces, weighted by area) as its predefined field 1: ``PREDEF(1, 1)`` at
 the iterate, ``PREDEF(2, 1)`` its increment since the start of the increment (``NPRED = 1``);
 the contact elements are computed after every solid element of the iterate, so that it is the
 iterate's strain. The routine keeps the flattened fraction in ``STATEV(5)``.
 
 - Host emulation (gfortran): the routine given ``PREDEF`` flattens as the runtime's traction
   update given the same increments (1e-12), with a flow curve baked in (``--flow-curve``) at the
-  middle of the increment's strain; without the field (node-to-surface contact) it says so once
+  middle of the increment's strain; without the field (layered or beam elements) it says so once
   and keeps the fraction it has.
 - Real ccx runs: each contact point's flattened fraction is the runtime's replay of its
   converged increments, from the pressures and slave-element strains ccx printed; one thread and
-  two give the same; while sliding, the shear at slipping points is the flattened law's and the
-  friction force exceeds the law's without flattening; node-to-surface contact runs with one
-  warning and no growth; a deck with too few state variables is refused while ccx reads it.
+  two give the same; node-to-surface, each slave node's fraction is the replay with the mean
+  strain of its faces' elements; while sliding, the shear at slipping points is the flattened
+  law's and the friction force exceeds the law's without flattening; a deck with too few state
+  variables is refused while ccx reads it.
 """
 
 import dataclasses
@@ -23,7 +25,7 @@ import dataclasses
 import numpy as np
 import pytest
 import test_calculix as base
-from ccx_decks import plastic_block, read_blocks
+from ccx_decks import SLAVE0, plastic_block, read_blocks
 from test_calculix import ROOT, _link, _run
 from test_export_flattening import grid, law, load, runtime
 
@@ -75,7 +77,7 @@ def test_routine_flattens_with_the_slave_strain_as_the_runtime(tmp_path, form, c
 
 @needs_gfortran
 def test_routine_without_the_field_keeps_its_fraction_and_says_so_once(tmp_path):
-    """``NPRED = 0`` (node-to-surface contact): one warning, the stored fraction read, no growth."""
+    """``NPRED = 0`` (layered or beam elements): one warning, the stored fraction read, no growth."""
     P = law()
     host, _ = load(tmp_path, "calculix", P, name="ccx_nofield")
     p = np.array([0.1, 0.3, 0.5]) * P.H
@@ -89,7 +91,7 @@ def test_routine_without_the_field_keeps_its_fraction_and_says_so_once(tmp_path)
         assert np.array_equal(out["statev"][:, 4], a_ref) and np.array_equal(a_ref, af)
     log = [t for _, t in host.log() if "flattening block" in t]
     assert len(log) == 1 and host.exits() == 0
-    assert "face-to-face contact only" in log[0]
+    assert "layered (composite) or beam-derived" in log[0]
 
 
 def test_export_says_what_the_deck_needs(tmp_path, capsys):
@@ -259,13 +261,59 @@ def test_sliding_shear_is_the_flattened_laws_and_above_the_law_without(
     assert abs(force) > 1.2 * abs(force0) > 0, (force, force0)
 
 
-def test_node_to_surface_runs_with_one_warning_and_no_growth(ccx_flat, tmp_path):
-    deck = plastic_block(PRESS, LINES, static=INCREMENTS, contact="NODE TO SURFACE", element="C3D8")
+def test_node_to_surface_nodes_flatten_with_their_elements_strain(ccx_flat, tmp_path):
+    """Node-to-surface contact (C3D8): each slave node's STATEV(5) is the runtime's update of its
+    previous one with the mean PEEQ increment of the elements of its slave faces (ccx weighs
+    them as the node's area takes each face: equal faces here, to the spread of the block;
+    3e-6 seen), at its pressure; the increment before's strain misses by far more."""
+    P = fl.FrictionParams.from_json(FLAT)
+    deck = _with_peeq(
+        plastic_block(PRESS, LINES, static=INCREMENTS, contact="NODE TO SURFACE", element="C3D8")
+    )
     proc, dat = _run(ccx_flat, deck, tmp_path)
     assert proc.returncode == 0 and "Job finished" in proc.stdout, proc.stdout[-2000:]
-    assert proc.stdout.count("face-to-face contact only") == 1
-    sdv = np.concatenate([np.array(b["sdv"]) for _, b in read_blocks(dat)])
-    assert sdv.shape[0] > 100 and np.all(sdv[:, -1] == 0.0)
+    assert "*WARNING in a user routine" not in proc.stdout
+    # the block's bottom layer (its slave faces S1: the first four nodes of each element)
+    rows = deck.split("ELSET=EBLOCK\n", 1)[1].split("*", 1)[0].strip().splitlines()
+    faces = {}
+    for row in rows:
+        el, *nodes = (int(v) for v in row.split(","))
+        if min(nodes) < SLAVE0 + 7 * 5:  # the bottom layer's nodes: 7 x 5 of them
+            for node in nodes[:4]:
+                faces.setdefault(node, []).append(el)
+
+    def miss(lag):
+        prev, prev_peeq, prev_de, worst = {}, {}, {}, 0.0
+        for _, block in read_blocks(dat):
+            peeq = {}
+            for el, _, pe in block["peeq"]:
+                peeq.setdefault(int(el), []).append(pe)
+            peeq = {el: float(np.mean(v)) for el, v in peeq.items()}
+            de_now = {
+                n: float(np.mean([peeq[e] - prev_peeq.get(e, 0.0) for e in els]))
+                for n, els in faces.items()
+            }
+            sdv = {int(r[0]): r[1:] for r in block["sdv"]}
+            stress = {int(r[0]): r[1] for r in block["stress"]}
+            nodes = sorted(sdv)
+            p = np.array([stress[n] for n in nodes]) * 1e6
+            st = fl.HistoryState(
+                p_hist=np.array([prev.get(n, (0.0,) * 5)[0] for n in nodes]) * 1e6,
+                alpha_f=np.array([prev.get(n, (0.0,) * 5)[4] for n in nodes]),
+            )
+            de = np.array([(prev_de if lag else de_now).get(n, 0.0) for n in nodes])
+            fl.traction_update(
+                fl.SBMFLaw(P), p, np.ones(len(nodes)), np.zeros(len(nodes)), 1e30, st, d_eps=de
+            )
+            got = np.array([sdv[n][4] for n in nodes])
+            worst = max(worst, float(np.abs(got - st.alpha_f_trial)[p > 0].max(initial=0.0)))
+            prev, prev_peeq, prev_de = sdv, peeq, de_now
+        return worst, prev
+
+    worst, last = miss(False)
+    assert worst < 1e-5, worst
+    assert len(last) == len(faces) == 35 and max(v[4] for v in last.values()) > 0.5
+    assert miss(True)[0] > 1e-2
 
 
 def test_too_few_state_variables_are_refused_while_ccx_reads_the_deck(ccx_flat, tmp_path):

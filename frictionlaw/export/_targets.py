@@ -489,15 +489,15 @@ for _record in (
             zone_keys=_CALCULIX_KEYS,
             total_strain=True,
             bulk_strain="PREDEF(1, 1) and PREDEF(2, 1) (NPRED = 1), the equivalent plastic "
-            "strain of the slave point's solid element (CalculiX's PEEQ, averaged over its "
-            "integration points) at the iterate and its increment over the increment, which "
-            "the patched ccx passes for face-to-face contact; STATEV(5) the flattened "
-            "fraction (DEPVAR >= 5)",
+            "strain under the contact point (CalculiX's PEEQ averaged over a solid element's "
+            "integration points: face-to-face, the slave point's element; node-to-surface, the "
+            "elements of the slave node's faces, weighted as its area) at the iterate and its "
+            "increment over the increment, which the patched ccx passes; STATEV(5) the "
+            "flattened fraction (DEPVAR >= 5)",
             no_strain="the parameter file's flattening block (issue 43) does not grow here: "
-            "the patched ccx passes the slave element's plastic strain for face-to-face "
-            "contact only (TYPE=SURFACE TO SURFACE; not node-to-surface, not layered or beam "
-            "elements); the law runs with the flattened fraction it has (written once per "
-            "process)",
+            "the patched ccx passes no plastic strain for layered (composite) or beam-derived "
+            "slave elements; the law runs with the flattened fraction it has (written once "
+            "per process)",
         ),
         extras=(
             Extra("ABA_PARAM.INC", "abaqus/ABA_PARAM.INC"),

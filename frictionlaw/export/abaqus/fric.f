@@ -19,13 +19,13 @@ C     100 H asks for a smaller increment (PNEWDT) until the increment
 C     is 1/{{ (1 / guard.cut_floor) | round | int }} of the size at which that first happened.
 {% if flat and target.form.bulk_strain %}
 C     Flattening under bulk strain (the file's flattening block): the
-C     patched ccx passes the equivalent plastic strain of the slave
-C     point's solid element as the predefined field 1 (NPRED = 1;
+C     patched ccx passes the equivalent plastic strain under the point
+C     (its solid elements' PEEQ) as the predefined field 1 (NPRED = 1;
 C     PREDEF(1,1) at this iterate, PREDEF(2,1) its increment since the
-C     start of the increment: face-to-face contact); STATEV(5) = the
-C     flattened contact fraction (DEPVAR >= 5, FRIC_DEPVAR), a trial
-C     value kept only when the increment converges, as p_hist. NPRED = 0
-C     (node-to-surface contact): the law without flattening, said once.
+C     start of the increment); STATEV(5) = the flattened contact
+C     fraction (DEPVAR >= 5, FRIC_DEPVAR), a trial value kept only when
+C     the increment converges, as p_hist. NPRED = 0 (layered or beam
+C     elements): the fraction kept, not grown, said once.
 {% endif %}
 {% if zones %}
 C     Zones: the law of the name in {{ zones.key.argument }}, compared trimmed
