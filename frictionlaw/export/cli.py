@@ -104,15 +104,18 @@ def build_parser():
         "--without-flattening",
         action="store_true",
         help="export a parameter file with a flattening block (halfspace-calib --flattening) for "
-        "a host that passes no bulk strain (abaqus-fric, abaqus-vfric, abaqus-vfriction, "
-        "calculix): the routine runs the law without the flattening and says so once (refused "
-        "otherwise; default: off)",
+        "a host that passes no bulk strain (abaqus-fric, abaqus-vfric, abaqus-vfriction): the "
+        "routine runs the law without the flattening and says so once; or as a table "
+        "(abaqus-table, lsdyna-table: the law of the pressure alone, its header says so); "
+        "refused for the targets that run the flattening and for a file without the block "
+        "(default: off)",
     )
     ap.add_argument(
         "--flow-curve",
         metavar="SPEC",
-        help="the workpiece's flow curve, for lsdyna-usrfrc and lsdyna-usrfrc-mpp with a "
-        "flattening block: swift:K,eps0,n (K in Pa, e.g. swift:530e6,0.006,0.24) or a CSV with "
+        help="the workpiece's flow curve, for lsdyna-usrfrc, lsdyna-usrfrc-mpp and calculix "
+        "with a flattening block (their hosts pass the plastic strain, not the flow stress): "
+        "swift:K,eps0,n (K in Pa, e.g. swift:530e6,0.006,0.24) or a CSV with "
         "the columns strain and sigma_y_Pa (or sigma_y_MPa); the routine reads the flow stress "
         "and hardening modulus off it at the element's plastic strain (default: none: the "
         "file's sigma_y and the perfectly plastic rate, an upper limit for a hardening metal)",
