@@ -120,20 +120,15 @@ C=======================================================================
       ANEW = AF
       SELECT CASE (IZ)
 {% for law in laws %}
-      CASE ({{ loop.index }})
 {% if law.flat %}
+      CASE ({{ loop.index }})
         CALL {{ law.prefix }}FSHR(P, PH, AF, DEPS, SIGY, HMOD, G1H, TAU,
      &                  DTAU, G1OUT, ANEW)
-{% else %}
-        CALL {{ law.prefix }}SHEAR(P, PH, G1H, TAU, DTAU, G1OUT)
-        IF (DEPS .LT. 0.0D0 .AND. SIGY .LT. 0.0D0 .AND. HMOD .LT. 0.0D0)
-     &    CONTINUE
 {% endif %}
 {% endfor %}
       CASE DEFAULT
-        TAU = 0.0D0
-        DTAU = 0.0D0
-        G1OUT = G1H
+C       a law without a flattening block (or no law): SBMF_ZSHEAR
+        CALL SBMF_ZSHEAR(IZ, P, PH, G1H, TAU, DTAU, G1OUT)
       END SELECT
       RETURN
       END
