@@ -352,3 +352,29 @@ def test_ring_compression_with_flattening_matches_fe_demo(ccx_work, tmp_path):
     assert abs(force - f_ref) < 0.015 * f_ref, (force, f_ref)
     assert abs(d_inner - d_ref) < 0.015, (d_inner, d_ref)
     assert d_ref < d_plain - 0.1 and d_inner < d_plain - 0.1
+
+
+def test_a_zoned_routine_flattens_its_zone_in_ccx(ccx_work, tmp_path):
+    """A zoned export (``--zone SBMF=flattening file --zone OTHER=the same law without its
+    block``) in the pressed block's deck, whose interaction is SBMF: the routine chooses the
+    zone by CINAME and runs its flattening (``SBMF_ZFSHR``), every point as the one-law replay
+    (1e-6); the interaction renamed OTHER runs the law without flattening (SDV5 stays 0)."""
+    P = fl.FrictionParams.from_json(FLAT)
+    plain = dataclasses.replace(P, flattening=None).to_json(tmp_path / "plain.json")
+    out = tmp_path / "zoned"
+    code = export_main(
+        ["calculix", "--zone", f"SBMF={FLAT}", "--zone", f"OTHER={plain}", "--out", str(out)]
+        + ["--units", "mm-t-s", "--quiet"]
+    )
+    assert code == 0
+    binary = _link(ccx_work, out / "sbmf_fric.f", out / "ccx")
+    deck = _with_peeq(plastic_block(PRESS, LINES, static=INCREMENTS))
+    proc, dat = _run(binary, deck, tmp_path / "sbmf")
+    assert proc.returncode == 0 and "Job finished" in proc.stdout, proc.stdout[-2000:]
+    run = _points(dat)
+    worst, grew = _replay_miss(run, P)
+    assert worst < 1e-6 and grew > 1000, (worst, grew)
+    other = deck.replace("NAME=SBMF", "NAME=OTHER").replace("INTERACTION=SBMF", "INTERACTION=OTHER")
+    proc, dat = _run(binary, other, tmp_path / "other")
+    assert proc.returncode == 0 and "Job finished" in proc.stdout, proc.stdout[-2000:]
+    assert all(v[5] == 0.0 for _, pts, _ in _points(dat) for v in pts.values())
