@@ -113,9 +113,13 @@ def _coeffs(params: "FrictionParams") -> NDArray[np.float64]:
     return sbmf_coeffs(params, 1.0)  # tau_max = 1: the kernel's tau is alpha1
 
 
-def _panels(u_max: float) -> int:
-    """Panels of the ``J`` sum up to ``u_max``: at least ``_PANELS``, none wider than ``_WIDTH``."""
-    return max(_PANELS, math.ceil(u_max / _WIDTH))
+def _panels(u_max: float, kinked: bool = False) -> int:
+    """Panels of the ``J`` sum up to ``u_max``: at least ``_PANELS``, none wider than ``_WIDTH``.
+
+    ``kinked``: the kinks of a tabulated ``alpha1`` split the interval as well, and half the
+    floor does (the width rule stays), so that the split costs little more than the plain sum.
+    """
+    return max(_PANELS // 2 if kinked else _PANELS, math.ceil(u_max / _WIDTH))
 
 
 def _j_integral(
@@ -127,6 +131,7 @@ def _j_integral(
     slope: float,
     c_max: NDArray,
     panels: int | None = None,
+    kinks: NDArray | None = None,
 ) -> NDArray[np.float64]:
     """``J / H^2`` of Eq. F4 up to ``p_f = p cosh(u)``, pressures in units of ``H`` (``ph``).
 
@@ -136,14 +141,33 @@ def _j_integral(
     starts to act), summed by
     composite Gauss-Legendre (``_NODES`` per panel, at least ``_PANELS`` panels, none wider than
     ``_WIDTH``); a solve passes one ``panels`` for all its calls, so that ``J`` is one function of
-    ``u`` throughout.
+    ``u`` throughout. ``kinks`` (:func:`_kinks`, pressures in units of ``H``): a tabulated
+    ``alpha1``'s slope jumps there, and the panels are split at them, as the kernels split.
     """
     if panels is None:
-        panels = _panels(float(u.max(initial=0.0)))
-    x, w = _rule(panels)
-    v = u[:, None] * x[None, :]
+        panels = _panels(float(u.max(initial=0.0)), kinks is not None and kinks.size > 0)
+    if kinks is None or kinks.size == 0:
+        x, w = _rule(panels)
+        v = u[:, None] * x[None, :]
+        f = _j_integrand(ph, v, coeffs, H, g, slope, c_max)
+        return ph**3 * u * (f @ w)
+    # the panels' edges and each row's kinks (v_k = acosh(t_k / p) inside 0..u), sorted: every
+    # panel lies between two kinks, where alpha1' is smooth (the kernels split there too)
+    with np.errstate(invalid="ignore"):
+        vk = np.arccosh(np.maximum(kinks[None, :] / ph[:, None], 1.0))
+    # kinks outside every row's 0..u split nothing
+    vk = vk[:, ((vk > 0.0) & (vk < u[:, None])).any(axis=0)]
+    edges = np.sort(
+        np.concatenate(
+            [u[:, None] * np.linspace(0.0, 1.0, panels + 1)[None, :], np.minimum(vk, u[:, None])],
+            axis=1,
+        ),
+        axis=1,
+    )
+    half = np.diff(edges, axis=1)[:, :, None] / 2
+    v = ((edges[:, :-1, None] + edges[:, 1:, None]) / 2 + half * _GX).reshape(len(ph), -1)
     f = _j_integrand(ph, v, coeffs, H, g, slope, c_max)
-    return ph**3 * u * (f @ w)
+    return ph**3 * np.sum(f * (half * _GW).reshape(len(ph), -1), axis=1)
 
 
 def _j_integrand(ph, v, coeffs, H, g, slope, c_max):
@@ -153,6 +177,15 @@ def _j_integrand(ph, v, coeffs, H, g, slope, c_max):
     c = np.minimum(lattice_sink_rate(np.asarray(a), slope), c_max[:, None])
     W = 1.0 + g[:, None] * ch * sh * c
     return np.asarray(d) * H * ch * sh**2 / W
+
+
+def _kinks(params: "FrictionParams", cap: float) -> NDArray[np.float64] | None:
+    """The pressures (in units of ``H``) where a tabulated ``alpha1`` has kinks in its slope:
+    its levels and ``cap``, where it reaches 1 (None for Eq. 24, smooth)."""
+    if params.first_loading_form != "tabulated":
+        return None
+    levels = np.asarray(params.first_loading_table.p, dtype=float)
+    return np.append(levels[levels < cap], cap) / params.H
 
 
 def _p_cap(params: "FrictionParams", coeffs: NDArray) -> float:
@@ -246,7 +279,8 @@ def equivalent_strain(
     top = np.minimum(p_f.ravel(), _p_cap(params, coeffs))  # alpha1 is 1 beyond: J is complete
     u = np.arccosh(np.maximum(top / p.ravel(), 1.0))
     c_max = lattice_hardening_limit(p, h).ravel()
-    J = _j_integral(ph, u, coeffs, H, p.ravel() / s0, flat.slope, c_max)
+    kinks = _kinks(params, _p_cap(params, coeffs))
+    J = _j_integral(ph, u, coeffs, H, p.ravel() / s0, flat.slope, c_max, kinks=kinks)
     kappa = _strain_scale(flat, H, s0)
     out = kappa * J / ph
     out[tiny & (p_f.ravel() > p.ravel())] = np.inf
@@ -339,12 +373,13 @@ def flattening_update(
     s0 = s0_all[go]
     kappa = _strain_scale(flat, H, s0)
     c_max = lattice_hardening_limit(p[go], h[go])
-    jx = (coeffs, H, p[go] / s0, flat.slope, c_max)  # what J needs besides p / H and u
+    # what J needs besides p / H and u
+    jx = (coeffs, H, p[go] / s0, flat.slope, c_max, _kinks(params, cap))
     u0 = np.arccosh(np.maximum(p0 / p[go], 1.0))
     ucap = np.arccosh(cap / p[go])
-    panels = _panels(float(ucap.max()))
+    panels = _panels(float(ucap.max()), jx[5] is not None)
     with np.errstate(over="ignore"):  # a strain beyond any forming: full contact
-        target = _j_integral(ph, u0, *jx, panels=panels) + d_eps[go] * (ph / kappa)
+        target = _j_integral(ph, u0, *jx[:5], panels, jx[5]) + d_eps[go] * (ph / kappa)
     u = _solve_j(ph, target, u0, ucap, jx, panels)
     out[go] = np.maximum(np.minimum(p[go] * np.cosh(u), cap), p_f[go])
     return out
@@ -358,8 +393,8 @@ def _solve_j(ph, target, lo, hi, jx, panels):
     where rounding makes Newton circle the root); ``J`` increases with ``u``.
     """
     lo, hi = lo.copy(), hi.copy()
-    coeffs, H, g, slope, c_max = jx
-    full = _j_integral(ph, hi, coeffs, H, g, slope, c_max, panels) <= target
+    coeffs, H, g, slope, c_max, kinks = jx
+    full = _j_integral(ph, hi, coeffs, H, g, slope, c_max, panels, kinks) <= target
     u = np.where(full, hi, 0.5 * (lo + hi))
     act = ~full
     for it in range(300):
@@ -367,7 +402,7 @@ def _solve_j(ph, target, lo, hi, jx, panels):
             break
         ua = u[act]
         ga, ca = g[act], c_max[act]
-        J = _j_integral(ph[act], ua, coeffs, H, ga, slope, ca, panels)
+        J = _j_integral(ph[act], ua, coeffs, H, ga, slope, ca, panels, kinks)
         dJ = ph[act] ** 3 * _j_integrand(ph[act], ua[:, None], coeffs, H, ga, slope, ca)[:, 0]
         below = J < target[act]
         la, ha = np.where(below, ua, lo[act]), np.where(below, hi[act], ua)

@@ -85,9 +85,8 @@ def test_kernel_update_and_law_against_the_numpy_model(form):
     pf0 = flattening_pressure(af, P)
     pf = flattening_update(pf0, np.maximum(ph, p), p, de, P)
     a_ref = np.maximum(fl.alpha_first(pf, P), af)
-    # part A's quadrature runs over the tabulated form's kinks (its levels) unsplit: up to 3e-5
-    # off there (the kernel splits them: next test, against SciPy to 1e-12)
-    tol = 1e-9 if form != "tabulated-first" else 5e-5
+    # both quadratures split at the tabulated form's kinks (its levels and where it reaches 1)
+    tol = 1e-9
     assert np.allclose(a_k, a_ref, rtol=tol, atol=1e-12)
     assert np.all(a_k >= af) and np.all(a_k <= 1.0)
     assert np.array_equal(ph_trial, np.maximum(ph, p))
@@ -238,7 +237,7 @@ def test_tangent_is_the_derivative_of_the_flattened_shear():
 def test_the_hardening_limit_against_the_numpy_model(form):
     """Eq. F2c in the kernels against the NumPy model: moduli that limit the lattice everywhere
     (1e11 Pa), nowhere (1e6) and in between (where the limit starts inside the step: a kink the
-    quadratures do not split, 5e-5 there; the tabulated form's own kinks as in the test above)."""
+    quadratures do not split, 5e-5 there; the tabulated form's own kinks are split by both)."""
     P = law(**FORMS[form])
     p, ph, af, de = grid()
     pf0 = flattening_pressure(af, P)
@@ -246,7 +245,6 @@ def test_the_hardening_limit_against_the_numpy_model(form):
         _, _, a_k, _ = update(P, p, ph, af, de, hardening=h)
         pf = flattening_update(pf0, np.maximum(ph, p), p, de, P, hardening=h)
         a_ref = np.maximum(fl.alpha_first(pf, P), af)
-        tol = max(tol, 5e-5) if form == "tabulated-first" else tol
         assert np.allclose(a_k, a_ref, rtol=tol, atol=1e-12), h
     _, _, a0, _ = update(P, p, ph, af, de)
     _, _, a1, _ = update(P, p, ph, af, de, hardening=0.0)
