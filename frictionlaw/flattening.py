@@ -180,8 +180,10 @@ def _j_integrand(ph, v, coeffs, H, g, slope, c_max):
 
 
 def _kinks(params: "FrictionParams", cap: float) -> NDArray[np.float64] | None:
-    """The pressures (in units of ``H``) where a tabulated ``alpha1`` has kinks in its slope:
-    its levels and ``cap``, where it reaches 1 (None for Eq. 24, smooth)."""
+    """The kinks of a tabulated ``alpha1``'s slope, pressures in units of ``H``.
+
+    Its levels and ``cap``, where it reaches 1; None for Eq. 24 (smooth).
+    """
     if params.first_loading_form != "tabulated":
         return None
     levels = np.asarray(params.first_loading_table.p, dtype=float)
