@@ -184,9 +184,10 @@ def _kinks(params: "FrictionParams", cap: float) -> NDArray[np.float64] | None:
 
     Its levels and ``cap``, where it reaches 1; None for Eq. 24 (smooth).
     """
-    if params.first_loading_form != "tabulated":
+    table = params.first_loading_table
+    if params.first_loading_form != "tabulated" or table is None:
         return None
-    levels = np.asarray(params.first_loading_table.p, dtype=float)
+    levels = np.asarray(table.p, dtype=float)
     return np.append(levels[levels < cap], cap) / params.H
 
 
