@@ -279,10 +279,11 @@ def equivalent_strain(
     tiny = p.ravel() <= P_MIN_RATIO * H
     p = np.where(tiny.reshape(p.shape), P_MIN_RATIO * H, p)
     ph = (p / H).ravel()
-    top = np.minimum(p_f.ravel(), _p_cap(params, coeffs))  # alpha1 is 1 beyond: J is complete
+    cap = _p_cap(params, coeffs)
+    top = np.minimum(p_f.ravel(), cap)  # alpha1 is 1 beyond: J is complete
     u = np.arccosh(np.maximum(top / p.ravel(), 1.0))
     c_max = lattice_hardening_limit(p, h).ravel()
-    kinks = _kinks(params, _p_cap(params, coeffs))
+    kinks = _kinks(params, cap)
     J = _j_integral(ph, u, coeffs, H, p.ravel() / s0, flat.slope, c_max, kinks=kinks)
     kappa = _strain_scale(flat, H, s0)
     out = kappa * J / ph

@@ -47,6 +47,7 @@ _SOURCES = {
     "column_name": "._units",
     "Console": "._console",
     "DISTRIBUTION": "._options",
+    "existing_file": "._options",
     "file_path": "._options",
     "flags_of": "._options",
     "HelpFormatter": "._options",

@@ -6,12 +6,14 @@ import argparse
 import sys
 import weakref
 from importlib import metadata
+from pathlib import Path
 
 __all__ = [
     "DISTRIBUTION",
     "HelpFormatter",
     "add_common_options",
     "add_version",
+    "existing_file",
     "flags_of",
     "file_path",
     "parse",
@@ -153,6 +155,20 @@ def file_path(text):
     if not text.strip():
         raise argparse.ArgumentTypeError("an empty value: give a file path")
     return text
+
+
+def existing_file(option, path, kind):
+    """``Path(path)`` of an option's input file, read before any work.
+
+    ``ValueError`` naming the option and the path where it is no file: ``"<option> <path>: no
+    such file"``, or ``"... : a folder, not <kind>"`` (``kind``: what the option takes, e.g.
+    ``"a CSV file"``).
+    """
+    path = Path(path)
+    if not path.is_file():
+        what = f"a folder, not {kind}" if path.is_dir() else "no such file"
+        raise ValueError(f"{option} {path}: {what}")
+    return path
 
 
 class _StoreOnce(argparse._StoreAction):

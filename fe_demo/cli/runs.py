@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from sbmf_cli import file_path
+from sbmf_cli import existing_file, file_path
 
 from ..analysis.band import band_result
 from ..analysis.ring_chart import CHART_M, ring_chart
@@ -62,10 +62,7 @@ def material_file(path):
     """
     if path is None:
         return DC04
-    path = Path(path)
-    if not path.is_file():
-        what = "a folder, not a material JSON file" if path.is_dir() else "no such file"
-        raise ValueError(f"--material {path}: {what}")
+    path = existing_file("--material", path, "a material JSON file")
     try:
         return Material.from_json(path)
     except json.JSONDecodeError as exc:

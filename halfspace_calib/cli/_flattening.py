@@ -3,10 +3,9 @@
 from __future__ import annotations
 
 from dataclasses import replace
-from pathlib import Path
 
 from frictionlaw.flow_curve import read_flow_curve
-from sbmf_cli import file_path
+from sbmf_cli import existing_file, file_path
 
 from ..pipeline.sweep.flattening import (
     BAND_LEVEL,
@@ -84,10 +83,7 @@ def flattening_input(args, spec, scene):
 
 def _read_data(path):
     """``--flattening-data``'s measurement; a path that is no file is named with the option."""
-    if not Path(path).is_file():
-        what = "a folder, not a CSV file" if Path(path).is_dir() else "no such file"
-        raise ValueError(f"--flattening-data {path}: {what}")
-    return read_flattening_data(path)
+    return read_flattening_data(existing_file("--flattening-data", path, "a CSV file"))
 
 
 def with_flattening(cal, on, data):
