@@ -175,17 +175,11 @@ C       no strain passed: the flattened fraction is kept, not grown
       IF (NSTATV .GE. 5) AF = MIN(MAX(STATEV(5), 0.0D0), 1.0D0)
       CALL {{ "SBMF_ZFSHR(IZ, " if zones else "SBMF_FSHR(" }}P, PH, AF, DEPS, SIGY, HMOD, G1H, TLIM,
      &               DTAU, G1NEW, ANEW)
+{% else %}
+      CALL {{ "SBMF_ZSHEAR(IZ, " if zones else "SBMF_SHEAR(" }}P, PH, G1H, TLIM, DTAU, G1NEW)
+{% endif %}
       KFALL = MAX(TLIM, TINY(1.0D0))/(FSLIP*CHRLNGTH)
       XKT = {{ "SBMF_ZKT(IZ, " if zones else "SBMF_KT(" }}P, KFALL)
-{% elif zones %}
-      CALL SBMF_ZSHEAR(IZ, P, PH, G1H, TLIM, DTAU, G1NEW)
-      KFALL = MAX(TLIM, TINY(1.0D0))/(FSLIP*CHRLNGTH)
-      XKT = SBMF_ZKT(IZ, P, KFALL)
-{% else %}
-      CALL SBMF_SHEAR(P, PH, G1H, TLIM, DTAU, G1NEW)
-      KFALL = MAX(TLIM, TINY(1.0D0))/(FSLIP*CHRLNGTH)
-      XKT = SBMF_KT(P, KFALL)
-{% endif %}
       DO IA = 1, NFDIR
         TOLD(IA) = TAU(IA)
       END DO

@@ -164,14 +164,10 @@ C       no slot for the flattened fraction: the law without flattening
         END IF
         CALL {{ "SBMF_ZSHEAR(IZ, " if zones else "SBMF_SHEAR(" }}P, PH, G1H, TLIM, DTAU, G1NEW)
       END IF
-      XKT = {{ "SBMF_ZKT(IZ, " if zones else "SBMF_KT(" }}P, KHOST)
-{% elif zones %}
-      CALL SBMF_ZSHEAR(IZ, P, PH, G1H, TLIM, DTAU, G1NEW)
-      XKT = SBMF_ZKT(IZ, P, KHOST)
 {% else %}
-      CALL SBMF_SHEAR(P, PH, G1H, TLIM, DTAU, G1NEW)
-      XKT = SBMF_KT(P, KHOST)
+      CALL {{ "SBMF_ZSHEAR(IZ, " if zones else "SBMF_SHEAR(" }}P, PH, G1H, TLIM, DTAU, G1NEW)
 {% endif %}
+      XKT = {{ "SBMF_ZKT(IZ, " if zones else "SBMF_KT(" }}P, KHOST)
       CALL SBMF_RMAP(ND, TLIM, DTAU, DU, TOLD, XKT, TNEW, DTDDU, DTDP,
      &               ISTAT)
       STATE(1) = MAX(PH, P)
