@@ -198,6 +198,25 @@ def test_stretch_raises_alpha_monotonically_at_constant_pressure(wedge):
         assert np.allclose(res.history.p_nominal[1:], p * H, rtol=1e-5)
 
 
+def test_history_records_the_surface_the_fraction_is_read_from(wedge):
+    """Each increment's top surface and tool height (benchmarks/flattening_flank.py reads the
+    flank from them): the nodes above the tool, with half their edges, are the recorded alpha;
+    the last node sits on the stretched side ``x = L0 exp(eps)``; the valley rises towards the
+    tool as the stretch flattens the wedge."""
+    for res in wedge.values():
+        h = res.history
+        assert len(h.top) == len(h.tool) == len(h.alpha)
+        for top, tool, a, e in zip(h.top, h.tool, h.alpha, h.strain, strict=True):
+            x, z = top[:, 0], top[:, 1]
+            trib = np.zeros(x.size)
+            trib[:-1] += 0.5 * np.diff(x)
+            trib[1:] += 0.5 * np.diff(x)
+            assert trib[z > tool].sum() / x[-1] == pytest.approx(a, abs=1e-12)
+            assert x[-1] == pytest.approx(50e-6 * math.exp(e), rel=1e-9)
+        depth = np.array(h.tool) - np.array([t[-1, 1] for t in h.top])
+        assert depth[-1] < 0.8 * depth[0]
+
+
 def test_wedge_conserves_volume_and_balances_forces(wedge):
     """After 5 % of bulk strain (local plastic strains far larger) the strip's volume change is
     its elastic dilatation to 1e-7 (measured 3e-9): the plastic flow is isochoric; the bottom

@@ -129,6 +129,8 @@ class AsperityHistory:
     p_nominal: list = field(default_factory=list)  # sum of contact forces / L (Pa)
     lateral_stress: list = field(default_factory=list)  # side force / side height (Pa)
     nit: list = field(default_factory=list)  # Newton iterations of the increment
+    top: list = field(default_factory=list)  # the top surface's nodes (x, z) (m), (n, 2) each
+    tool: list = field(default_factory=list)  # the flat's height (m)
 
 
 @dataclass
@@ -301,6 +303,8 @@ def asperity_contact_fraction(
         side = model.x[strip.right, 1].max()
         hist.lateral_stress.append(float(model.reactions[2 * strip.right].sum()) / side)
         hist.nit.append(nit)
+        hist.top.append(model.x[strip.top].copy())
+        hist.tool.append(float(model.w))
 
     ctl = _Controller()
     ok, message = _press(model, p, opt, ctl)

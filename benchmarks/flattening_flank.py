@@ -1,0 +1,159 @@
+"""How the FE asperity truth's flanks move under stretch (issue 43, a study of the truth).
+
+The flattening law's kinematics (docs/flattening.md, Eq. F1) keep the flank rigid: the contact
+edge advances because the flank block rises against the plateau, at ``c`` half-spacings per unit
+stretch (the slip-line lattice, F2a: ``c = 1`` with a rigid flank, whatever the pressure). This
+script reruns a few of the truth's cases (``fe_demo.asperity``, the same strip, mesh, material
+and profiles as ``asperity_flattening.py``) with small strain steps and records the free flank
+itself: its slope (a line fitted to the free top nodes between 10 % and 90 % of the flank,
+against the profile's initial ``tan(theta)``), the valley's rise towards the tool, and the
+contact fraction. For a straight flank of slope ``s`` and a valley ``d_v`` below the tool on a
+half-spacing ``l``, ``A = 1 - d_v / (s l)`` (exact), so
+
+``dA / d eps = R / s + (1 - A) (1 + d ln s / d eps)``,  ``R = -d d_v / (l d eps)``:
+
+the valley's rise ``R`` grows the contact, a flank flattening faster than the stretch's own
+convection (``d ln s / d eps = -2``, under which ``A`` does not change) shrinks it. Nothing is
+fitted; the table shows which of the two terms carries the truth at each pressure.
+
+Writes ``benchmarks/results/flattening_flank.csv`` and ``.md``. Run: python
+benchmarks/flattening_flank.py [--quick] (six cases, about 6 min on the shared 2-core machine).
+"""
+
+import argparse
+import math
+
+import numpy as np
+from _provenance import RESULTS, run_record, write_rows
+
+from fe_demo.asperity import (
+    AsperityMesh,
+    asperity_contact_fraction,
+    perfectly_plastic,
+    prandtl_hardness,
+    wedge_profile,
+)
+from fe_demo.asperity.flattening import AsperityOptions
+
+SPACING = 100e-6  # as asperity_flattening.py: 2 l
+DEPTH = 8 * SPACING / 2
+CASES = ((3.0, 0.05), (3.0, 0.15), (10.0, 0.05), (10.0, 0.15), (10.0, 0.3), (5.0, 0.05))
+REPORT = np.round(np.arange(0.0, 0.1201, 0.01), 3)  # strains of the table's rows
+WINDOW = 0.005  # half-width of the strain window the rates are taken over
+
+
+def flank_state(top, tool, length):
+    """``(s, d_v)`` of a top surface: the free flank's fitted slope and the valley's depth."""
+    x, z = top[:, 0], top[:, 1]
+    free = z <= tool
+    if free.sum() < 4:
+        return math.nan, max(tool - z[-1], 0.0)
+    edge = x[free].min()
+    span = length - edge
+    use = free & (x > edge + 0.1 * span) & (x < length - 0.1 * span)
+    if use.sum() < 3:
+        use = free
+    s = -np.polyfit(x[use], z[use], 1)[0]
+    return float(s), float(tool - z[-1])
+
+
+def run(deg, p_over_h, nx=64, nz=32, e_max=0.12):
+    """One case: the history at every increment, ``(strain, alpha, s, d_v, l)`` arrays."""
+    mat = perfectly_plastic()
+    H = prandtl_hardness(mat.sigma_y0)
+    x, z = wedge_profile(deg, SPACING)
+    opt = AsperityOptions(max_strain_step=0.002)
+    res = asperity_contact_fraction(
+        x, z, p_over_h * H, [0.0, e_max], mat, AsperityMesh(nx, nz, DEPTH), opt
+    )
+    h = res.history
+    e = np.array(h.strain)
+    L = SPACING / 2 * np.exp(e)
+    s, dv = np.array([flank_state(t, w, le) for t, w, le in zip(h.top, h.tool, L, strict=True)]).T
+    return res, e, np.array(h.alpha), s, dv, L
+
+
+def rows_of(deg, p_over_h, e, A, s, dv, L):
+    """The table's rows: values at the report strains, rates over +-WINDOW."""
+    t0 = math.tan(math.radians(deg))
+    out = []
+    for ek in REPORT:
+        if ek > e[-1] + 1e-12:
+            break
+        lo, hi = max(ek - WINDOW, 0.0), min(ek + WINDOW, e[-1])
+
+        def at(v, q):
+            return float(np.interp(q, e, v))
+
+        d = hi - lo
+        a_k = at(A, ek)
+        s_k = at(s, ek)
+        R = -(at(dv, hi) - at(dv, lo)) / (at(L, ek) * d)
+        dln_s = (math.log(at(s, hi)) - math.log(at(s, lo))) / d
+        dA = (at(A, hi) - at(A, lo)) / d
+        out.append(
+            {
+                "slope_deg": deg,
+                "p_over_H": p_over_h,
+                "strain": float(ek),
+                "alpha": round(a_k, 4),
+                "alpha_of_flank": round(1.0 - at(dv, ek) / (s_k * at(L, ek)), 4),
+                "slope_ratio": round(s_k / t0, 4),
+                "convected_ratio": round(math.exp(-2.0 * ek), 4),
+                "dln_s_de": round(dln_s, 3),
+                "valley_rise": round(R, 3),
+                "c_truth": round(t0 * dA, 3),
+                "c_rise": round(t0 * R / s_k, 3),
+                "c_flank": round(t0 * (1.0 - a_k) * (1.0 + dln_s), 3),
+                "c_lattice": round(1.0 + t0 * (1.0 - a_k), 3),
+            }
+        )
+    return out
+
+
+def _markdown(rows, path):
+    lines = [
+        "# How the FE asperity truth's flanks move under stretch",
+        "",
+        "`benchmarks/flattening_flank.py`: the truth's strip (64 x 32, perfectly plastic), each "
+        "case stretched in steps of at most 0.002. `c` is the contact's growth in half-spacings "
+        "per unit stretch, `tan(theta) dA / d eps`; `c_rise` and `c_flank` its two parts "
+        "(`tan(theta) R / s` and `tan(theta) (1 - A)(1 + d ln s / d eps)`); `c_lattice` the "
+        "rigid-flank lattice of Eq. F2a. Rates over a strain window of +-0.005.",
+        "",
+        "| wedge, p/H | strain | alpha (from the flank) | flank slope / initial (convected) | "
+        "d ln s / d eps | valley rise R | c: truth = rise + flank | c_lattice |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for r in rows:
+        if r["alpha"] > 0.97:
+            continue
+        lines.append(
+            f"| {r['slope_deg']:g} deg, {r['p_over_H']:g} | {r['strain']:.2f} | "
+            f"{r['alpha']:.3f} ({r['alpha_of_flank']:.3f}) | {r['slope_ratio']:.3f} "
+            f"({r['convected_ratio']:.3f}) | {r['dln_s_de']:.2f} | {r['valley_rise']:.2f} | "
+            f"{r['c_truth']:.2f} = {r['c_rise']:.2f} + {r['c_flank']:.2f} | "
+            f"{r['c_lattice']:.2f} |"
+        )
+    path.write_text("\n".join(lines) + "\n")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="one case (10 deg at 0.05 H)")
+    args = ap.parse_args()
+    cases = CASES[2:3] if args.quick else CASES
+    rows = []
+    for deg, ph in cases:
+        res, e, A, s, dv, L = run(deg, ph)
+        status = "ok" if res.converged else f"STOPPED: {res.message}"
+        print(f"wedge {deg:g} deg, p/H {ph:g}: {len(e)} increments, {res.seconds:.0f} s, {status}")
+        rows += rows_of(deg, ph, e, A, s, dv, L)
+    write_rows(RESULTS / "flattening_flank.csv", rows)
+    _markdown(rows, RESULTS / "flattening_flank.md")
+    print((RESULTS / "flattening_flank.md").read_text())
+
+
+if __name__ == "__main__":
+    with run_record(__file__):
+        main()
