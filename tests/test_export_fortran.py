@@ -98,8 +98,7 @@ for _key, _first, _extra in (
     )
 UNITS = exp.UNIT_SYSTEMS
 TINY = np.finfo(float).tiny
-#: the FRIC targets' elastic slip (fraction of CHRLNGTH) where the export has no k_t
-FSLIP = {"abaqus-fric": 0.005, "calculix": 0.001}
+FSLIP = 0.005
 
 _LIBS = {}
 
@@ -164,15 +163,14 @@ def slips(rng, n, nd, params, k_scale):
     return rng.normal(size=(n, nd)) * mag
 
 
-def expected_kt(params, kt_spec, units, p, tau, chr_, fslip=FSLIP["abaqus-fric"]):
-    """The k_t the routine must use (SI), mirroring the three stiffness sources (``fslip``:
-    the target's elastic slip over CHRLNGTH, the host's source)."""
+def expected_kt(params, kt_spec, units, p, tau, chr_):
+    """The k_t the routine must use (SI), mirroring the three stiffness sources."""
     if kt_spec.kind == "constant":
         return np.full(p.shape, kt_spec.value / units.stiffness)
     if kt_spec.kind == "table":
         return params.k_t(p)
     # the floor acts in the host's units (TINY MPa is not TINY Pa)
-    return np.maximum(tau * units.stress, TINY) / (fslip * chr_ * units.length) / units.stiffness
+    return np.maximum(tau * units.stress, TINY) / (FSLIP * chr_ * units.length) / units.stiffness
 
 
 def assert_close(a, b, rtol, what, scale=None, floor=TINY):
@@ -294,7 +292,7 @@ def check_cache(params, p_hist, cache):
 
 
 # -- FRIC ---------------------------------------------------------------------------------------
-def run_fric(host, params, kt_spec, units, seed, nd, nstatv, n=48, n_incr=6, target="abaqus-fric"):
+def run_fric(host, params, kt_spec, units, seed, nd, nstatv, n=48, n_incr=6):
     """Drive FRIC through increments/iterations/cut-backs and compare with the runtime."""
     rng = np.random.default_rng(seed)
     law = fl.SBMFLaw(params)
@@ -303,7 +301,7 @@ def run_fric(host, params, kt_spec, units, seed, nd, nstatv, n=48, n_incr=6, tar
     sv = np.zeros((n, nstatv))  # Abaqus' STATEV at the start of the increment (committed)
     tau_c = np.zeros((n, nd))  # TAU at the start of the increment (SI)
     chr_ = 10.0 ** rng.uniform(-4, -2, n)  # CHRLNGTH (m)
-    k_scale = params.tau_max / (FSLIP[target] * 1e-3)
+    k_scale = params.tau_max / (FSLIP * 1e-3)
     checked = 0
     for _ in range(n_incr):
         for _attempt in range(2):
@@ -313,7 +311,7 @@ def run_fric(host, params, kt_spec, units, seed, nd, nstatv, n=48, n_incr=6, tar
                 p = pressures(rng, n, ph, params.H, levels(params))
                 dgam = dgam + slips(rng, n, nd, params, k_scale)  # total since increment start
                 tau_lim = law.shear_limit(p, ph)[0]
-                kt = expected_kt(params, kt_spec, units, p, tau_lim, chr_, FSLIP[target])
+                kt = expected_kt(params, kt_spec, units, p, tau_lim, chr_)
                 ref = fl.traction_update(law, p, dgam, tau_c, kt, state)
                 out = host(p * s, dgam * ln, tau_c * s, sv, chr_ * ln)
                 # traction, tangents (host units -> SI), state
@@ -378,35 +376,32 @@ FRIC_CASES = st.tuples(
 
 
 @pytest.mark.parametrize(
-    "target,key,units,k_t",
+    "key,units,k_t",
     [
-        ("abaqus-fric", "default", "SI", None),
-        ("abaqus-fric", "default", "mm-t-s", None),
-        ("abaqus-fric", "soft", "SI", None),
-        ("abaqus-fric", "soft", "mm-t-s", None),
-        ("abaqus-fric", "sharp", "SI", 5e12),
-        ("abaqus-fric", "tab", "SI", None),
-        ("abaqus-fric", "tab", "mm-t-s", None),
-        ("abaqus-fric", "tab_flat", "SI", None),
-        ("abaqus-fric", "tab_flat", "mm-t-s", 5e12),
-        ("abaqus-fric", "first_bump", "mm-t-s", None),
-        ("abaqus-fric", "first_full", "SI", None),
-        # the same routine with CalculiX's elastic slip of 0.001 CHRLNGTH
-        ("calculix", "default", "mm-t-s", None),
-        ("calculix", "soft", "SI", None),
+        ("default", "SI", None),
+        ("default", "mm-t-s", None),
+        ("soft", "SI", None),
+        ("soft", "mm-t-s", None),
+        ("sharp", "SI", 5e12),
+        ("tab", "SI", None),
+        ("tab", "mm-t-s", None),
+        ("tab_flat", "SI", None),
+        ("tab_flat", "mm-t-s", 5e12),
+        ("first_bump", "mm-t-s", None),
+        ("first_full", "SI", None),
     ],
 )
 @settings(
     max_examples=12, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
 )
 @given(case=FRIC_CASES)
-def test_fric_agrees_with_runtime(tmp_path_factory, target, key, units, k_t, case):
+def test_fric_agrees_with_runtime(tmp_path_factory, key, units, k_t, case):
     seed, nd, nstatv = case
-    host, _ = lib_for(tmp_path_factory, target, key, units, k_t)
+    host, _ = lib_for(tmp_path_factory, "abaqus-fric", key, units, k_t)
     params = PARAM_SETS[key]
     us = UNITS[units]
     kt_spec = exp.stiffness_spec(params, us, k_t)
-    assert run_fric(host, params, kt_spec, us, seed, nd, nstatv, target=target) > 0
+    assert run_fric(host, params, kt_spec, us, seed, nd, nstatv) > 0
 
 
 # -- VFRIC --------------------------------------------------------------------------------------

@@ -133,11 +133,6 @@ class Routine:
         The host passes the point's total equivalent plastic strain but neither its flow
         stress nor its hardening modulus (LS-DYNA's ``usrfrc``, the patched CalculiX): a flow
         curve baked in at export (``--flow-curve``) gives both from the strain.
-    elastic_slip : float
-        The host convention of a ``FRIC`` routine's stick stiffness where the export has no
-        ``k_t`` (no table, no ``--k-t``): the elastic slip at the shear limit as a fraction of
-        ``CHRLNGTH``, ``k_t = tau(p, p_hist) / (elastic_slip CHRLNGTH)``. Abaqus' own penalty
-        friction: 0.005; CalculiX: 0.001 (docs/fe_codes.md, "CalculiX", node-to-surface).
     """
 
     stick: str
@@ -152,7 +147,6 @@ class Routine:
     bulk_strain: str = ""
     total_strain: bool = False
     no_strain: str = ""
-    elastic_slip: float = 5e-3
     #: the README's frame (it includes ``stick``, the target's section and ``tested``)
     frame: ClassVar[str] = "readme/routine.md"
     #: ``--k-t`` applies
@@ -481,8 +475,7 @@ for _record in (
         "calculix",
         CALCULIX,
         "sbmf_fric.f",
-        # the abaqus-fric routine (but for the flattening's PREDEF field and the elastic slip)
-        "abaqus/fric.f",
+        "abaqus/fric.f",  # the abaqus-fric routine (but for the flattening's PREDEF field)
         "calculix/calculix.md",
         Routine(
             stick=_CHRLNGTH,
@@ -495,7 +488,6 @@ for _record in (
             implicit=True,
             zone_keys=_CALCULIX_KEYS,
             total_strain=True,
-            elastic_slip=1e-3,
             bulk_strain="PREDEF(1, 1) and PREDEF(2, 1) (NPRED = 1), the equivalent plastic "
             "strain under the contact point (CalculiX's PEEQ averaged over a solid element's "
             "integration points: face-to-face, the slave point's element; node-to-surface, the "

@@ -74,12 +74,9 @@ C     the increment's size below which no more is asked for
       DOUBLE PRECISION SBMFCB, SBMFCF
       PARAMETER (SBMFCB = {{ guard.cut_factor | double }})
       PARAMETER (SBMFCF = {{ guard.cut_floor | double }})
-C     elastic slip at the shear limit, as a fraction of CHRLNGTH, where
-C     the export has no k_t: Abaqus' own penalty friction 0.005; the
-C     CalculiX target 0.001 (a stiffer stick for ccx's node-to-surface
-C     contact: docs/fe_codes.md, "CalculiX")
+C     elastic slip of Abaqus' own penalty friction: 0.005 CHRLNGTH
       DOUBLE PRECISION FSLIP
-      PARAMETER (FSLIP = {{ target.form.elastic_slip | double }})
+      PARAMETER (FSLIP = 5.0D-3)
 {% include "core/guard_decl.f" %}
 C
       P = PRESS
