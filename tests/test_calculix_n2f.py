@@ -5,7 +5,7 @@ iterations of an increment and keeps them from the 9th on. The block's bottom ce
 on an edge between two faces of the plate; the loaded plate dishes, the two faces' normals
 differ, and the slave node there is pushed across the edge and back from one iteration to the
 next while every slave node sticks. At ccx's default ``I_R = 8`` (it judges the convergence
-rate from the 8th iteration on) that bounce, about 5e-6 mm at 330 MPa with the routine's
+rate from the 8th iteration on) that bounce, 5.0e-6 mm at 340 MPa with the routine's
 default stick, was above ccx's 1 % displacement criterion and ccx gave up ("too many
 cutbacks": a smaller increment does not shrink the bounce). With ``*CONTROLS`` setting
 ``I_R = 9`` ccx reaches its 9th iteration, where it keeps the master faces, and the increment
