@@ -11,7 +11,7 @@ pressure, and a point costs a few polynomial evaluations:
   integral); a point finds its segment in the running sums and solves the rest in it, on the
   degree-7 Legendre interpolant of the integrand at those nodes. ``beta`` only scales the strain
   axis (Eq. F4), so one table serves every trial ``beta`` of a fit.
-* :func:`flattening_paths`, along a flow curve: each distinct pressure is integrated once along
+* :class:`FlatteningPaths`, along a flow curve: each distinct pressure is integrated once along
   its strains (Eq. F6 step by step, the flow stress and hardening modulus of each step's middle,
   as a host passes them increment by increment), on :data:`PATH_STEPS` steps graded toward zero
   strain plus the points of a tabulated curve; a point is one more step from the node below it.
@@ -48,14 +48,17 @@ if TYPE_CHECKING:
     from .flow_curve import FlowCurve
     from .params import FrictionParams
 
-__all__ = ["FlatteningCurves", "flattening_paths", "SEGMENT_WIDTH", "PATH_STEPS"]
+__all__ = ["FlatteningCurves", "FlatteningPaths", "SEGMENT_WIDTH", "PATH_STEPS"]
 
 #: widest segment of ``u`` (``p_f = p cosh u``) the integrand is interpolated on: the degree-7
 #: interpolant's error is below 1e-13 of ``J`` there (tests/test_flattening_curves.py)
 SEGMENT_WIDTH = 0.05
-#: steps of a pressure's path along a flow curve (graded: the k-th ends at ``(k / n)^2`` of the
-#: largest strain), besides the points of a tabulated curve
-PATH_STEPS = 128
+#: steps of a pressure's path along a flow curve (graded, :class:`FlatteningPaths`), besides
+#: the points of a tabulated curve
+PATH_STEPS = 256
+#: the paths' grading: the first of ``steps`` steps is about ``ln(1 + R) / (R steps)`` of the
+#: largest strain, a step a fixed fraction ``ln(1 + R) / steps`` of ``a`` plus its strain
+_GRADING = 100.0
 #: nodes evaluated at once while a table is built (bounds the memory: about 8 arrays of it)
 _CHUNK = 1 << 20
 
@@ -122,15 +125,17 @@ class _Grid:
             out[j] = (w / 2 * (f @ _GW)).reshape(j.size, k)
         return out
 
-    def solve(self, j, seg, rest, g, c_max) -> NDArray[np.float64]:
+    def solve(self, j, seg, rest, g, c_max, f=None) -> NDArray[np.float64]:
         """``u`` in segment ``seg`` of pressure ``j`` where ``int f`` from its start is ``rest``.
 
         Newton on the Legendre interpolant's integral in ``s`` (``[-1, 1]`` over the segment),
         bisection where a step leaves the bracket; ``rest`` at most the segment's integral.
+        ``f``: the segment's :meth:`samples` if at hand.
         """
         a, b = self.edges[j, seg], self.edges[j, seg + 1]
         half = (b - a) / 2
-        c = self.samples(j, seg, g, c_max) @ _PROJ.T  # (n, 8) Legendre coefficients
+        f = self.samples(j, seg, g, c_max) if f is None else f
+        c = f @ _PROJ.T  # (n, 8) Legendre coefficients
         d = c @ _INT.T  # (n, 9): the integral from s = -1
         total = half * d.sum(axis=1)  # P_m(1) = 1
         frac = np.clip(np.divide(rest, total, out=np.zeros_like(rest), where=total > 0), 0, 1)
@@ -151,9 +156,9 @@ class _Grid:
                 step = sa - F / dF
             bad = ~np.isfinite(step) | (step <= la) | (step >= ha)
             new = np.where(bad, 0.5 * (la + ha), step)
-            hit = np.abs(F) <= 4e-16 * np.abs(rest[act])
+            hit = np.abs(F) <= 4e-16 * (np.abs(rest[act]) + total[act])
             new = np.where(hit, sa, new)
-            done = hit | (np.abs(new - sa) <= 1e-15) | (ha - la <= 1e-15)
+            done = hit | (np.abs(new - sa) <= 1e-14) | (ha - la <= 1e-14)
             lo[act], hi[act], s[act] = la, ha, new
             act[np.flatnonzero(act)[done]] = False
         if act.any():  # a bracket halved 100 times is below rounding: unreachable
@@ -241,16 +246,17 @@ class FlatteningCurves:
     def alpha(self, strains: ArrayLike, beta: float | None = None) -> NDArray[np.float64]:
         """The contact fraction of each point after ``strains`` (broadcast to the points).
 
-        ``beta`` (in the block's range) replaces the block's ``beta``; ``None`` keeps it.
+        ``beta`` (finite, ``> 0``) replaces the block's; ``None`` keeps it (Eq. F4: the strain
+        axis scales as ``1 / beta``).
         """
         eps = np.broadcast_to(np.asarray(strains, dtype=float), self.shape).ravel()
         if not (np.all(np.isfinite(eps)) and np.all(eps >= 0)):
             raise ValueError("strains must be finite and >= 0")
         scale = 1.0
         if beta is not None:
-            from ._flattening_block import BETA_RANGE, _number
-
-            scale = _number("beta", beta, *BETA_RANGE) / _flattening_of(self.params).beta
+            if not (isinstance(beta, (int, float)) and math.isfinite(beta) and beta > 0):
+                raise ValueError(f"beta must be a finite number > 0, got {beta!r}")
+            scale = float(beta) / _flattening_of(self.params).beta
         out = self._alpha0.copy()
         go = self._live & (eps > 0)
         if go.any():
@@ -271,62 +277,123 @@ class FlatteningCurves:
         return running_max(out, self._runs).reshape(self.shape)
 
 
-def flattening_paths(
-    p: ArrayLike,
-    strains: ArrayLike,
-    params: "FrictionParams",
-    flow_curve: "FlowCurve",
-    *,
-    steps: int = PATH_STEPS,
-) -> NDArray[np.float64]:
-    """The contact fraction after ``strains`` at constant ``p`` along the bulk's flow curve.
+class FlatteningPaths:
+    """The contact fraction after bulk strain at constant pressures along the bulk's flow curve.
 
-    :func:`~frictionlaw.flattening_curve` with ``flow_curve``, integrated once per distinct
-    pressure along its strains instead of once per point: Eq. F6 over ``steps`` steps from 0 to
-    the pressure's largest strain (the k-th ending at ``(k / steps)^2`` of it, finer where a
-    Swift curve hardens fastest; a tabulated curve's points are ends too, so no step straddles a
-    jump of its modulus), each at the flow stress and hardening modulus of its middle; a point
-    between two ends is one more such step from the end below it. The cost grows with the
-    distinct pressures times ``steps``, a point's with a few polynomial evaluations.
+    What :func:`~frictionlaw.flattening_curve` with ``flow_curve`` gives for ``(p, strains)``,
+    integrated once per distinct pressure along its strains instead of once per point: Eq. F6
+    over ``steps`` steps from 0 to the pressure's largest strain, the k-th ending at
+    ``a ((1 + 100)^(k / steps) - 1)`` with ``a`` a hundredth of it (a step is about a fixed
+    fraction of the strain, finer where a Swift curve hardens fastest), a tabulated curve's
+    points ends too (no step straddles a jump of its modulus), each step at the flow stress and
+    hardening modulus of its middle; a point is one more such step from the end below it.
+    Build it for the points, then :meth:`alpha` for one ``beta`` or many at once (their paths
+    run side by side): the cost grows with the distinct pressures (times the ``beta`` values)
+    times ``steps``, a point's with a few polynomial evaluations.
+
+    Parameters
+    ----------
+    p, strains : array_like
+        Contact pressure (Pa, ``> 0``) and equivalent bulk plastic strain (``>= 0``, at most the
+        curve's last strain) of each point, broadcast together.
+    params : FrictionParams
+        A law with a ``flattening`` block.
+    flow_curve : SwiftCurve or TabulatedCurve
+        The bulk's flow curve from zero strain (:mod:`frictionlaw.flow_curve`).
+    steps : int
+        Steps of each pressure's path, in ``[1, 100000]`` (default :data:`PATH_STEPS`).
     """
-    if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)):
-        raise ValueError(f"steps must be an integer in [1, 100000], got {steps!r}")
-    if not 1 <= steps <= 100_000:
-        raise ValueError(f"steps must be an integer in [1, 100000], got {steps!r}")
-    shape, pf, ef, cap, levels, j, live = _prepare(p, strains, params)
-    if ef.size and float(ef.max()) > flow_curve.strain_max:
-        raise ValueError(
-            f"strains reach {float(ef.max()):.4g}, beyond the flow curve's last strain "
-            f"{flow_curve.strain_max:g}: extend the table (it is not extrapolated)"
-        )
-    out = np.asarray(alpha_first(pf, params), dtype=float).copy()
-    go = live & (ef > 0)
-    if go.any():
-        H = params.H
+
+    def __init__(
+        self,
+        p: ArrayLike,
+        strains: ArrayLike,
+        params: "FrictionParams",
+        flow_curve: "FlowCurve",
+        *,
+        steps: int = PATH_STEPS,
+    ) -> None:
+        if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)):
+            raise ValueError(f"steps must be an integer in [1, 100000], got {steps!r}")
+        if not 1 <= steps <= 100_000:
+            raise ValueError(f"steps must be an integer in [1, 100000], got {steps!r}")
+        shape, pf, ef, cap, levels, j, live = _prepare(p, strains, params)
+        if ef.size and float(ef.max()) > flow_curve.strain_max:
+            raise ValueError(
+                f"strains reach {float(ef.max()):.4g}, beyond the flow curve's last strain "
+                f"{flow_curve.strain_max:g}: extend the table (it is not extrapolated)"
+            )
+        self.params, self.flow_curve, self.shape, self.cap = params, flow_curve, shape, cap
+        self.p, self.strains, self.levels = pf, ef, levels
+        self._alpha0 = np.asarray(alpha_first(pf, params), dtype=float)
+        self._runs = strain_runs(pf, ef)
+        self._go = live & (ef > 0)
+        self._j = j[self._go]
         top = np.zeros(levels.size)
-        np.maximum.at(top, j[go], ef[go])
-        grid = _Grid(levels / H, params, cap)
-        nodes = _path_nodes(top, steps, flow_curve)  # (n_p, n_nodes), rows end at top
-        u = np.zeros(nodes.shape)
-        lv = np.arange(levels.size)
-        for k in range(nodes.shape[1] - 1):
-            de = nodes[:, k + 1] - nodes[:, k]
-            mid = (nodes[:, k] + nodes[:, k + 1]) / 2
-            g, c_max, per = _step_terms(levels, mid, params, flow_curve)
-            u[:, k + 1] = _advance(grid, lv, u[:, k], de * per, g, c_max)
-        jg, eg = j[go], ef[go]
-        k = _search(nodes, jg, eg)
-        g, c_max, per = _step_terms(levels[jg], (nodes[jg, k] + eg) / 2, params, flow_curve)
-        ur = _advance(grid, jg, u[jg, k], (eg - nodes[jg, k]) * per, g, c_max)
-        ur = np.minimum(ur, u[jg, k + 1])  # the step to the next end holds the point
-        p_f = np.minimum(pf[go] * np.cosh(ur), cap)
-        out[go] = alpha_first(np.maximum(p_f, pf[go]), params)
-    return running_max(out, strain_runs(pf, ef)).reshape(shape)
+        np.maximum.at(top, self._j, ef[self._go])
+        self._grid = _Grid(levels / params.H, params, cap)
+        self._nodes = _path_nodes(top, int(steps), flow_curve)  # (n_p, n_ends), rows end at top
+        self._k = _search(self._nodes, self._j, ef[self._go])
+        # each step's terms and each point's last step: fixed, whatever beta
+        mids = (self._nodes[:, :-1] + self._nodes[:, 1:]) / 2
+        self._steps = [
+            _step_terms(levels, mids[:, k], params, flow_curve) for k in range(mids.shape[1])
+        ]
+        kn, eg = self._nodes[self._j, self._k], ef[self._go]
+        self._last = _step_terms(levels[self._j], (kn + eg) / 2, params, flow_curve)
+        self._last_de = eg - kn
+
+    @property
+    def pressures(self) -> int:
+        """The number of distinct pressures that flatten (one path each)."""
+        return int(self.levels.size)
+
+    def alpha(self, beta: ArrayLike | None = None) -> NDArray[np.float64]:
+        """The contact fraction of each point; ``beta`` replaces the block's (``None`` keeps it).
+
+        An array of ``beta`` (each finite and ``> 0``) gives one row per value.
+        """
+        block = _flattening_of(self.params).beta
+        b = np.atleast_1d(np.asarray(block if beta is None else beta, dtype=float))
+        if b.ndim != 1 or not (np.all(np.isfinite(b)) and np.all(b > 0)):
+            raise ValueError("beta must be finite and > 0 (one value or a 1-D array)")
+        n_b, n_p = b.size, self.levels.size
+        out = np.repeat(self._alpha0[None, :], n_b, axis=0)
+        if self._go.any():
+            scale = np.repeat(b / block, n_p)  # Eq. F4: the strain per J scales as 1 / beta
+            lv = np.tile(np.arange(n_p), n_b)
+            u = np.zeros((n_b * n_p, self._nodes.shape[1]))
+            for k, (g, c_max, per) in enumerate(self._steps):
+                de = np.tile(self._nodes[:, k + 1] - self._nodes[:, k], n_b)
+                q = scale * de * np.tile(per, n_b)
+                u[:, k + 1] = _advance(
+                    self._grid, lv, u[:, k], q, np.tile(g, n_b), np.tile(c_max, n_b)
+                )
+            g, c_max, per = self._last
+            n_g = self._j.size
+            row = (np.arange(n_b)[:, None] * n_p + self._j[None, :]).ravel()
+            k = np.tile(self._k, n_b)
+            q = np.repeat(b / block, n_g) * np.tile(self._last_de * per, n_b)
+            jj = np.tile(self._j, n_b)
+            ur = _advance(self._grid, jj, u[row, k], q, np.tile(g, n_b), np.tile(c_max, n_b))
+            ur = np.minimum(ur, u[row, k + 1])  # the step to the next end holds the point
+            pg = np.tile(self.p[self._go], n_b)
+            p_f = np.minimum(pg * np.cosh(ur), self.cap)
+            a = np.asarray(alpha_first(np.maximum(p_f, pg), self.params), dtype=float)
+            out[:, self._go] = a.reshape(n_b, n_g)
+        res = np.stack([running_max(o, self._runs) for o in out])
+        if beta is not None and np.ndim(beta) == 1:
+            return res.reshape(n_b, *self.shape)
+        return res[0].reshape(self.shape)
 
 
 def _path_nodes(top: NDArray, steps: int, flow_curve: "FlowCurve") -> NDArray[np.float64]:
-    """Each pressure's path: 0, the graded ends up to ``top``, a tabulated curve's points below."""
-    ends = top[:, None] * (np.arange(steps + 1) / steps)[None, :] ** 2
+    """Each pressure's path: 0, the graded ends up to ``top``, a tabulated curve's points below.
+
+    ``a ((1 + R)^(k / steps) - 1)``, ``a = top / R``, ``R`` = :data:`_GRADING`.
+    """
+    ends = top[:, None] / _GRADING * ((1.0 + _GRADING) ** (np.arange(steps + 1) / steps) - 1.0)
+    ends[:, -1] = top
     pts = np.asarray(getattr(flow_curve, "strain", ()), dtype=float)
     if pts.size:
         extra = np.minimum(pts[None, :], top[:, None])
@@ -363,7 +430,7 @@ def _advance(grid: _Grid, j, u0, q, g, c_max) -> NDArray[np.float64]:
         inside = act & (rest <= total)
         if inside.any():
             i = np.flatnonzero(inside)
-            out[i] = grid.solve(j[i], seg[i], rest[i], g[i], c_max[i])
+            out[i] = grid.solve(j[i], seg[i], rest[i], g[i], c_max[i], f[i])
         act &= ~inside
         act &= seg < last  # beyond the last segment: full contact (ucap)
         if not act.any():
@@ -371,6 +438,6 @@ def _advance(grid: _Grid, j, u0, q, g, c_max) -> NDArray[np.float64]:
         i = np.flatnonzero(act)
         rest[i] -= total[i]
         seg[i] += 1
-        ai, bi = edges[j[i], seg[i]], edges[j[i], seg[i] + 1]
-        total[i] = (bi - ai) / 2 * (grid.samples(j[i], seg[i], g[i], c_max[i]) @ _GW)
+        f[i] = grid.samples(j[i], seg[i], g[i], c_max[i])
+        total[i] = (edges[j[i], seg[i] + 1] - edges[j[i], seg[i]]) / 2 * (f[i] @ _GW)
     return np.maximum(out, u0)

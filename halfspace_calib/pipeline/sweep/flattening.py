@@ -27,6 +27,7 @@ import numpy as np
 from frictionlaw import Flattening, alpha_first, flattening_curve
 from frictionlaw._table import number, read_rows
 from frictionlaw.flattening import BETA_RANGE, SLOPE_RANGE, equivalent_strain
+from frictionlaw.flattening_curves import FlatteningCurves, FlatteningPaths
 from frictionlaw.flow_curve import FlowCurve
 
 from ...contact.normal import solve_normal_pair
@@ -279,31 +280,50 @@ def fit_beta(params, data: FlatteningData, level: float = BAND_LEVEL) -> dict:
     ``beta = 1`` at ``beta eps``: least squares in ``ln beta`` over ``BETA_RANGE`` (bounded
     scalar search, then the band from the linearised residuals: ``ln beta -+ t s / |g|``,
     ``g = d alpha / d ln beta``, ``s^2`` the residual variance, Student t of ``n - 1``).
-    With the sheet's flow curve (``data.flow_curve``) each point is integrated along its strain
-    at the curve's flow stress and hardening modulus (:func:`frictionlaw.flattening_curve`), as
-    a host passing both runs the law; ``beta`` then no longer scales the strain axis, and each
-    trial ``beta`` integrates anew. Without it the sheet is perfectly plastic at the
+    The curves are evaluated once per distinct pressure
+    (:class:`frictionlaw.flattening_curves.FlatteningCurves`: the table of Eq. F4 built once,
+    each trial ``beta`` a few polynomial evaluations a point), what
+    :func:`frictionlaw.flattening_curve` gives point by point to rounding.
+    With the sheet's flow curve (``data.flow_curve``) each distinct pressure is integrated along
+    its strains at the curve's flow stress and hardening modulus
+    (:class:`~frictionlaw.flattening_curves.FlatteningPaths`), as a host passing both runs the
+    law; ``beta`` then no longer scales the strain axis, and each trial ``beta`` integrates anew
+    (the first grid's 25 side by side). Without it the sheet is perfectly plastic at the
     calibration's ``sigma_y`` and ``beta`` absorbs its hardening.
     Raises ``ValueError`` when the points do not constrain ``beta`` (all at zero strain or at
     full contact) or the best ``beta`` lies on the range's bound.
     """
+    slope, fc = params.flattening.slope, data.flow_curve
+    base = params.replace(flattening=Flattening(slope=slope))  # beta = 1
+    if fc is None:
+        curves = FlatteningCurves(data.p, base)
+
+        def models(ln_beta):
+            return np.stack([curves.alpha(data.strain, beta=math.exp(b)) for b in ln_beta])
+    else:
+        paths = FlatteningPaths(data.p, data.strain, base, fc)
+
+        def models(ln_beta):
+            return paths.alpha(np.exp(np.asarray(ln_beta, dtype=float)))
+
+    return _fit(models, data, level)
+
+
+def _fit(models, data: FlatteningData, level: float) -> dict:
+    """:func:`fit_beta` for ``models(ln_betas)``: the model's ``alpha`` per ``ln beta``, a row each."""
     from scipy import optimize, stats
 
-    slope, fc = params.flattening.slope, data.flow_curve
-    base = params.replace(flattening=Flattening(slope=slope))
+    fc = data.flow_curve
 
     def model(ln_beta):
-        if fc is None:
-            return flattening_curve(data.p, math.exp(ln_beta) * data.strain, base)
-        law = params.replace(flattening=Flattening(slope=slope, beta=math.exp(ln_beta)))
-        return flattening_curve(data.p, data.strain, law, flow_curve=fc, steps=FIT_STEPS)
+        return models([ln_beta])[0]
 
     def cost(ln_beta):
         return float(np.sum((model(ln_beta) - data.alpha) ** 2))
 
     lo, hi = math.log(BETA_RANGE[0]), math.log(BETA_RANGE[1])
     grid = np.linspace(lo, hi, 25)
-    k = int(np.argmin([cost(g) for g in grid]))
+    k = int(np.argmin(np.sum((models(grid) - data.alpha[None, :]) ** 2, axis=1)))
     a, b = grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)]
     res = optimize.minimize_scalar(cost, bounds=(a, b), method="bounded", options={"xatol": 1e-10})
     ln_b = float(res.x)
@@ -312,9 +332,10 @@ def fit_beta(params, data: FlatteningData, level: float = BAND_LEVEL) -> dict:
             f"{data.path}: the best beta lies on the bound of [{BETA_RANGE[0]:g}, "
             f"{BETA_RANGE[1]:g}]: the measurement cannot be described by the model with this slope"
         )
-    r = model(ln_b) - data.alpha
     h = 1e-5
-    g = (model(ln_b + h) - model(ln_b - h)) / (2 * h)
+    m0, mp, mm = models([ln_b, ln_b + h, ln_b - h])
+    r = m0 - data.alpha
+    g = (mp - mm) / (2 * h)
     gg = float(np.sum(g * g))
     if gg <= 1e-20:
         raise ValueError(
