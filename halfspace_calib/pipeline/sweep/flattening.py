@@ -18,6 +18,7 @@ squares in ``ln beta``, with a Student-t band from the linearised residuals (:fu
 
 from __future__ import annotations
 
+import hashlib
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -51,9 +52,16 @@ PATCH_ALPHA = 0.2
 #: pressures (in H) and strains of the summary's table of the flattened contact fraction
 TABLE_P = (0.05, 0.1, 0.3, 0.6)
 TABLE_EPS = (0.005, 0.01, 0.02, 0.05)
-#: strain steps per measured point of the fit with a flow curve (midpoint rule; within 5.2e-6
-#: in alpha of 1024 steps on DC04's Swift curve at 0.05 and 0.3 H, strains to 0.2)
-FIT_STEPS = 32
+#: version of the fit's record (``provenance.flattening.fit``): 2 keeps the rows (``strain``,
+#: ``alpha``, ``p_Pa``) only up to :data:`ROWS_KEPT` and adds ``data`` (the file's SHA-256,
+#: ranges and residuals); 1, without the key, kept every row
+FIT_RECORD_VERSION = 2
+#: the most rows of a measurement the fit's record keeps (a larger sheet: its digest and summary)
+ROWS_KEPT = 1000
+#: the most distinct pressures listed in the record (``pressures_Pa``, the residuals by pressure)
+PRESSURES_KEPT = 64
+#: bins of equal row count of the residuals by strain (and by pressure beyond PRESSURES_KEPT)
+RESIDUAL_BINS = 8
 
 
 @dataclass(frozen=True)
@@ -74,6 +82,9 @@ class FlatteningData:
     flow_curve: "FlowCurve | None" = None
     #: the file's line of each row (for the messages; empty for data made in code)
     lines: tuple = ()
+    #: SHA-256 of the file's bytes and their number (``None`` for data made in code)
+    sha256: str | None = None
+    size_bytes: int | None = None
 
 
 #: the largest equivalent plastic strain a flattening measurement is read with (a strip drawn or
@@ -134,12 +145,16 @@ def read_flattening_data(path) -> FlatteningData:
                 raise ValueError(f"{path}: line {i}, column {c}: not finite")
             vals[c].append(v)
     scale = 1e6 if unit == "p_MPa" else 1.0  # the pressures in Pa
+    with open(path, "rb") as fh:  # what a rerun checks the file against
+        digest = hashlib.file_digest(fh, "sha256").hexdigest()
     data = FlatteningData(
         str(path),
         np.array(vals["strain"]),
         np.array(vals["alpha"]),
         np.array(vals[unit]) * scale,
         lines=tuple(line_of[1:]),
+        sha256=digest,
+        size_bytes=path.stat().st_size,
     )
     if np.any(data.strain < 0):
         i = line_of[1 + int(np.argmin(data.strain))]
@@ -371,7 +386,10 @@ def _fit(models, data: FlatteningData, level: float) -> dict:
             f"the fit misses the measurement by {rms:.3f} RMS in alpha (largest "
             f"{float(np.max(np.abs(r))):.3f}): the model with this slope describes it poorly"
         )
+    levels = np.unique(data.p)
+    n_rows = data.strain.size
     return {
+        "record_version": FIT_RECORD_VERSION,
         "beta": math.exp(ln_b),
         "band": list(band),
         "level": level,
@@ -380,14 +398,76 @@ def _fit(models, data: FlatteningData, level: float) -> dict:
         "notes": notes,
         "max_abs": float(np.max(np.abs(r))),
         "zero_strain_misfit": float(np.max(np.abs(r[at_zero]))) if at_zero.any() else None,
-        "pressures_Pa": sorted({float(v) for v in data.p}),
+        "pressures_Pa": levels.tolist() if levels.size <= PRESSURES_KEPT else None,
         "flow_curve": None if fc is None else fc.describe(),
         "flow_curve_record": None if fc is None else fc.to_dict(),
         "flow_curve_sigma_y0_Pa": None if fc is None else float(fc.sigma_y(0.0)),
         "file": data.path,
-        "strain": data.strain.tolist(),
-        "alpha": data.alpha.tolist(),
-        "p_Pa": data.p.tolist(),
+        "data": _data_summary(data, levels, r),
+        # the rows themselves up to ROWS_KEPT: a lab sheet's rows stay in its file (sha256)
+        **(
+            {"strain": data.strain.tolist(), "alpha": data.alpha.tolist(), "p_Pa": data.p.tolist()}
+            if n_rows <= ROWS_KEPT
+            else {}
+        ),
+    }
+
+
+def _data_summary(data: FlatteningData, levels, r) -> dict:
+    """The fit record's ``data``: which file, its size and digest, its ranges, the residuals.
+
+    The residuals ``model - measured`` by pressure (each distinct pressure while there are at
+    most :data:`PRESSURES_KEPT`, else :data:`RESIDUAL_BINS` bins of equal row count in pressure)
+    and by strain (bins of equal row count): a rerun on the same file reproduces them.
+    """
+
+    def bins(key):
+        order = np.argsort(key, kind="stable")
+        out = []
+        for idx in np.array_split(order, min(RESIDUAL_BINS, key.size)):
+            rr = r[idx]
+            out.append(
+                {
+                    "from": float(key[idx].min()),
+                    "to": float(key[idx].max()),
+                    "rows": int(idx.size),
+                    "rms": float(np.sqrt(np.mean(rr * rr))),
+                    "mean": float(np.mean(rr)),
+                    "max_abs": float(np.max(np.abs(rr))),
+                }
+            )
+        return out
+
+    if levels.size <= PRESSURES_KEPT:
+        by_p = []
+        for v in levels:
+            rr = r[data.p == v]
+            by_p.append(
+                {
+                    "p_Pa": float(v),
+                    "rows": int(rr.size),
+                    "rms": float(np.sqrt(np.mean(rr * rr))),
+                    "mean": float(np.mean(rr)),
+                    "max_abs": float(np.max(np.abs(rr))),
+                }
+            )
+    else:
+        by_p = bins(data.p)
+    n = int(data.strain.size)
+    return {
+        "sha256": data.sha256,
+        "size_bytes": data.size_bytes,
+        "rows": n,
+        "rows_at_zero_strain": int(np.count_nonzero(data.strain == 0)),
+        "rows_kept": n <= ROWS_KEPT,
+        "rows_kept_up_to": ROWS_KEPT,
+        "pressures": int(levels.size),
+        "p_Pa": [float(data.p.min()), float(data.p.max())],
+        "strain": [float(data.strain.min()), float(data.strain.max())],
+        "alpha": [float(data.alpha.min()), float(data.alpha.max())],
+        "residual_mean": float(np.mean(r)),
+        "residuals_by_pressure": by_p,
+        "residuals_by_strain": bins(data.strain),
     }
 
 
