@@ -272,7 +272,7 @@ class FlatteningCurves:
                 u[~full] = self._grid.solve(jn, seg, rest, self._g[jn], self._c_max[jn])
             p_f = np.minimum(self.p[go] * np.cosh(u), self.cap)
             out[go] = alpha_first(np.maximum(p_f, self.p[go]), self.params)
-        if self._runs is None or not np.array_equal(self._runs_of, eps):
+        if self._runs is None or self._runs_of is None or not np.array_equal(self._runs_of, eps):
             self._runs, self._runs_of = strain_runs(self.p, eps), eps.copy()
         return running_max(out, self._runs).reshape(self.shape)
 
@@ -372,11 +372,11 @@ class FlatteningPaths:
             g, c_max, per = self._last
             n_g = self._j.size
             row = (np.arange(n_b)[:, None] * n_p + self._j[None, :]).ravel()
-            k = np.tile(self._k, n_b)
+            kr = np.tile(self._k, n_b)
             q = np.repeat(b / block, n_g) * np.tile(self._last_de * per, n_b)
             jj = np.tile(self._j, n_b)
-            ur = _advance(self._grid, jj, u[row, k], q, np.tile(g, n_b), np.tile(c_max, n_b))
-            ur = np.minimum(ur, u[row, k + 1])  # the step to the next end holds the point
+            ur = _advance(self._grid, jj, u[row, kr], q, np.tile(g, n_b), np.tile(c_max, n_b))
+            ur = np.minimum(ur, u[row, kr + 1])  # the step to the next end holds the point
             pg = np.tile(self.p[self._go], n_b)
             p_f = np.minimum(pg * np.cosh(ur), self.cap)
             a = np.asarray(alpha_first(np.maximum(p_f, pg), self.params), dtype=float)
