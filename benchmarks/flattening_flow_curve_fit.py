@@ -31,8 +31,9 @@ from _provenance import RESULTS, run_record, write_rows
 from flattening_truth import BAR, law_of, law_strain, read_truth
 
 import frictionlaw as fl
+from frictionlaw.flattening_curves import FlatteningPaths
 from frictionlaw.flow_curve import SwiftCurve
-from halfspace_calib.pipeline.sweep.flattening import FIT_STEPS, FlatteningData, fit_beta
+from halfspace_calib.pipeline.sweep.flattening import FlatteningData, fit_beta
 
 #: DC04, fe_demo's sheet and the hardening truth's (K 530 MPa, eps0 0.006, n 0.24)
 DC04 = SwiftCurve(530e6, 0.006, 0.24)
@@ -58,7 +59,7 @@ def predict(P, p, strains, beta, with_curve):
     """The law with ``beta`` at ``p`` after the equivalent ``strains``, as the fit made it."""
     law = P.replace(flattening=fl.Flattening(slope=P.flattening.slope, beta=beta))
     if with_curve:
-        return fl.flattening_curve(p, strains, law, flow_curve=DC04, steps=FIT_STEPS)
+        return FlatteningPaths(p, strains, law, DC04).alpha()
     return fl.flattening_curve(p, strains, law)
 
 

@@ -54,6 +54,7 @@ from ._flattening_rates import (
     lattice_sink_rate,
     layer_sink_rate,
 )
+from ._flattening_runs import running_max, strain_runs
 from .law import (
     alpha_first,
     alpha_reload,
@@ -182,13 +183,17 @@ def _j_integrand(ph, v, coeffs, H, g, slope, c_max):
 def _kinks(params: "FrictionParams", cap: float) -> NDArray[np.float64] | None:
     """The kinks of a tabulated ``alpha1``'s slope, pressures in units of ``H``.
 
-    Its levels and ``cap``, where it reaches 1; None for Eq. 24 (smooth).
+    Its levels, the pressure where the top level's power law reaches 1 (the kernels split there
+    too) and ``cap``; None for Eq. 24 (smooth).
     """
     table = params.first_loading_table
     if params.first_loading_form != "tabulated" or table is None:
         return None
+    k = table.knots(params.H)
     levels = np.asarray(table.p, dtype=float)
-    return np.append(levels[levels < cap], cap) / params.H
+    if k["d"][-1] > 0.0:  # alpha_top (p / p_top)^d_top = 1
+        levels = np.append(levels, params.H * math.exp(k["u"][-1] - k["v"][-1] / k["d"][-1]))
+    return np.append(np.sort(levels[levels < cap]), cap) / params.H
 
 
 def _p_cap(params: "FrictionParams", coeffs: NDArray) -> float:
@@ -562,16 +567,7 @@ def flattening_curve(
                 hardening=flow_curve.hardening(mid),
             )
     alpha = flattened_alpha(pf, pf, p_f, params)
-    # a running maximum over increasing strain per pressure: the solver's last-digit scatter
-    # cannot make the curve fall
-    order = np.lexsort((ef, pf))
-    a = alpha[order]
-    same = np.r_[False, pf[order][1:] == pf[order][:-1]]
-    starts = np.flatnonzero(~same)
-    for s, e in zip(starts, np.r_[starts[1:], a.size], strict=True):
-        a[s:e] = np.maximum.accumulate(a[s:e])
-    alpha[order] = a
-    return alpha.reshape(p.shape)
+    return running_max(alpha, strain_runs(pf, ef)).reshape(p.shape)
 
 
 def beta_absorbs_hardening(params: "FrictionParams") -> bool:

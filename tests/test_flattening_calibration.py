@@ -15,6 +15,7 @@ from realfiles import real_file
 
 import halfspace_calib.cli as cli
 from frictionlaw import Flattening, FrictionParams, flattening_curve
+from frictionlaw.flattening_curves import FlatteningPaths
 from halfspace_calib.cli import main
 from halfspace_calib.pipeline.sweep.flattening import (
     FlatteningData,
@@ -253,7 +254,7 @@ def test_the_command_fits_beta_with_the_sheets_flow_curve(tmp_path, capsys):
     assert fit["flow_curve"] == "Swift: K 530 MPa, eps0 0.006, n 0.24"
     P = FrictionParams.from_dict(doc)
     fc = flow_curve_from_dict(fit["flow_curve_record"])
-    a = flattening_curve(np.array(fit["p_Pa"]), np.array(fit["strain"]), P, flow_curve=fc, steps=32)
+    a = FlatteningPaths(np.array(fit["p_Pa"]), np.array(fit["strain"]), P, fc).alpha()
     r = a - np.array(fit["alpha"])
     assert np.sqrt(np.mean(r * r)) == pytest.approx(fit["rms"], rel=1e-9)
     said = capsys.readouterr()

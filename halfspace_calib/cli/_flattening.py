@@ -107,6 +107,7 @@ def with_flattening(cal, on, data):
     prov["flattening"] = record
     cal.params = cal.params.replace(flattening=block, provenance=prov)
     cal.flattening = record
+    cal.flattening_data = data if fit else None
     return cal
 
 
@@ -134,6 +135,17 @@ def flattening_lines(cal):
             f"    beta = {f.beta:.4g} [{f.beta_band[0]:.4g}, {f.beta_band[1]:.4g}] "
             f"({100 * f.band_level:g} %), {r['beta_source']}: |d alpha| rms {fit['rms']:.4f}, "
             f"max {fit['max_abs']:.4f}"
+        )
+        d = fit["data"]
+        lines.append(
+            f"    the measurement: {d['rows']} rows at {d['pressures']} pressures, sha256 "
+            f"{d['sha256']}; "
+            + (
+                "its rows kept in params.json"
+                if d["rows_kept"]
+                else f"params.json keeps its digest and residuals, not its rows (kept up to "
+                f"{d['rows_kept_up_to']})"
+            )
         )
         if fit["flow_curve"] is None:
             lines.append(

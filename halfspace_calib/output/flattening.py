@@ -7,6 +7,7 @@ calibration's record.
 from __future__ import annotations
 
 import html
+import math
 from pathlib import Path
 
 import numpy as np
@@ -20,12 +21,15 @@ __all__ = ["FLATTENING_PNG", "write_flattening", "flattening_section"]
 FLATTENING_PNG = "flattening.png"
 #: pressures (in H) of the written curves
 CURVE_P = (0.05, 0.1, 0.3, 0.6)
+#: the most measured points the plot marks (every k-th row of a larger sheet)
+MAX_MARKERS = 2000
+#: the most measured pressures the plot draws the fit at (spread over their range beyond)
+MAX_FIT_LINES = 8
 
 
 def write_flattening(cal, out):
     """``flattening.csv`` (p_Pa, strain, alpha) and ``flattening.png`` of the calibrated block."""
     from frictionlaw import flattening_curve
-    from frictionlaw.flow_curve import flow_curve_from_dict
 
     P, rec = cal.params, cal.flattening
     out = Path(out)
@@ -44,22 +48,7 @@ def write_flattening(cal, out):
         ax.plot(eps, al, "-", color=f"C{i}", label=f"p = {f:g} H = {f * P.H / 1e6:.0f} MPa")
     fit = rec.get("fit")
     if fit:
-        ax.plot(fit["strain"], fit["alpha"], "ko", ms=4, label="measured (beta fitted to it)")
-        fc = fit.get("flow_curve_record")
-        fc = None if fc is None else flow_curve_from_dict(fc)
-        top = max(fit["strain"])
-        line = np.linspace(0.0, top, 41)
-        for k, p in enumerate(fit["pressures_Pa"]):
-            ax.plot(
-                line,
-                flattening_curve(p, line, P, flow_curve=fc),
-                "k--",
-                lw=0.8,
-                label=None
-                if k
-                else "the fit at the measured pressures"
-                + ("" if fc is None else " (the sheet's flow curve)"),
-            )
+        _plot_measurement(ax, P, fit, getattr(cal, "flattening_data", None))
     f = P.flattening
     ax.set(
         xlabel="bulk plastic strain",
@@ -71,6 +60,58 @@ def write_flattening(cal, out):
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(out / FLATTENING_PNG, dpi=120)
+
+
+def _plot_measurement(ax, P, fit, data):
+    """The measured points beta was fitted to and the fit at their pressures.
+
+    The points from the run's measurement (``data``) or, for a record alone, its rows where it
+    kept them; at most :data:`MAX_MARKERS` (every k-th row beyond, said in the legend). The
+    fit's curves at each measured pressure while there are at most :data:`MAX_FIT_LINES`, else
+    at that many of them spread over their range; by the fit's own model (one curve per
+    pressure: :mod:`frictionlaw.flattening_curves`).
+    """
+    from frictionlaw.flattening_curves import FlatteningCurves, FlatteningPaths
+    from frictionlaw.flow_curve import flow_curve_from_dict
+
+    if data is not None:
+        strain, alpha, p = data.strain, data.alpha, data.p
+    elif "strain" in fit:
+        strain, alpha, p = (np.asarray(fit[k], dtype=float) for k in ("strain", "alpha", "p_Pa"))
+    else:  # a record without its rows: the curves over its strain range only
+        strain = alpha = None
+        p = np.asarray(fit.get("pressures_Pa") or fit["data"]["p_Pa"], dtype=float)
+    if strain is not None:
+        step = max(1, math.ceil(strain.size / MAX_MARKERS))
+        label = "measured (beta fitted to it)" + (
+            f", every {step}th of {strain.size} rows" if step > 1 else ""
+        )
+        ax.plot(strain[::step], alpha[::step], "ko", ms=4 if step == 1 else 1.5, label=label)
+        top = float(strain.max())
+    else:
+        top = float(fit["data"]["strain"][1])
+    levels = np.unique(p)
+    if levels.size > MAX_FIT_LINES:
+        levels = np.unique(np.quantile(levels, np.linspace(0, 1, MAX_FIT_LINES), method="nearest"))
+    line = np.linspace(0.0, top, 41)
+    pp, ee = np.repeat(levels, line.size), np.tile(line, levels.size)
+    fc = fit.get("flow_curve_record")
+    if fc is None:
+        curves = FlatteningCurves(pp, P).alpha(ee)
+    else:
+        curves = FlatteningPaths(pp, ee, P, flow_curve_from_dict(fc)).alpha()
+    shown = "" if levels.size == np.unique(p).size else f" ({levels.size} of {np.unique(p).size})"
+    for k, a in enumerate(curves.reshape(levels.size, line.size)):
+        ax.plot(
+            line,
+            a,
+            "k--",
+            lw=0.8,
+            label=None
+            if k
+            else f"the fit at the measured pressures{shown}"
+            + ("" if fc is None else " (the sheet's flow curve)"),
+        )
 
 
 def flattening_section(s, out):
@@ -119,6 +160,21 @@ def flattening_section(s, out):
             )
             + "</p>"
         )
+        d = fit.get("data")
+        if d:  # record version 2: the file's digest and what params.json keeps of it
+            body.append(
+                f"<p>The measurement: {d['rows']} rows at {d['pressures']} pressures "
+                f"({d['p_Pa'][0] / 1e6:.4g}-{d['p_Pa'][1] / 1e6:.4g} MPa), strains "
+                f"{d['strain'][0]:.4g}-{d['strain'][1]:.4g}, sha256 "
+                f"<code>{html.escape(str(d['sha256']))}</code>; "
+                + (
+                    "its rows are in params.json (provenance.flattening.fit)"
+                    if d["rows_kept"]
+                    else f"params.json keeps its digest and residual summary, not its rows "
+                    f"(kept up to {d['rows_kept_up_to']})"
+                )
+                + "</p>"
+            )
     if r.get("problem"):
         body.append(f"<p class='bad'>{html.escape(r['problem'])}</p>")
     png = Path(out) / FLATTENING_PNG

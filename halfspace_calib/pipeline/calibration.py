@@ -104,6 +104,8 @@ class Calibration:
     first_fits: dict = field(default_factory=dict)  # name -> fit of each first-loading form
     checks: dict = field(default_factory=dict)  # law_checks: jump at p_hist, reload below first
     flattening: dict | None = None  # what the flattening block was derived from (--flattening)
+    #: the measurement beta was fitted to (--flattening-data), for the plot; not in any record
+    flattening_data: object = None
 
     def __repr__(self):
         """One line a notebook can show: the law, the fit quality, the sweep and the time."""

@@ -18,6 +18,7 @@ squares in ``ln beta``, with a Student-t band from the linearised residuals (:fu
 
 from __future__ import annotations
 
+import hashlib
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -27,6 +28,7 @@ import numpy as np
 from frictionlaw import Flattening, alpha_first, flattening_curve
 from frictionlaw._table import number, read_rows
 from frictionlaw.flattening import BETA_RANGE, SLOPE_RANGE, equivalent_strain
+from frictionlaw.flattening_curves import FlatteningCurves, FlatteningPaths
 from frictionlaw.flow_curve import FlowCurve
 
 from ...contact.normal import solve_normal_pair
@@ -50,9 +52,16 @@ PATCH_ALPHA = 0.2
 #: pressures (in H) and strains of the summary's table of the flattened contact fraction
 TABLE_P = (0.05, 0.1, 0.3, 0.6)
 TABLE_EPS = (0.005, 0.01, 0.02, 0.05)
-#: strain steps per measured point of the fit with a flow curve (midpoint rule; within 5.2e-6
-#: in alpha of 1024 steps on DC04's Swift curve at 0.05 and 0.3 H, strains to 0.2)
-FIT_STEPS = 32
+#: version of the fit's record (``provenance.flattening.fit``): 2 keeps the rows (``strain``,
+#: ``alpha``, ``p_Pa``) only up to :data:`ROWS_KEPT` and adds ``data`` (the file's SHA-256,
+#: ranges and residuals); 1, without the key, kept every row
+FIT_RECORD_VERSION = 2
+#: the most rows of a measurement the fit's record keeps (a larger sheet: its digest and summary)
+ROWS_KEPT = 1000
+#: the most distinct pressures listed in the record (``pressures_Pa``, the residuals by pressure)
+PRESSURES_KEPT = 64
+#: bins of equal row count of the residuals by strain (and by pressure beyond PRESSURES_KEPT)
+RESIDUAL_BINS = 8
 
 
 @dataclass(frozen=True)
@@ -73,6 +82,9 @@ class FlatteningData:
     flow_curve: "FlowCurve | None" = None
     #: the file's line of each row (for the messages; empty for data made in code)
     lines: tuple = ()
+    #: SHA-256 of the file's bytes and their number (``None`` for data made in code)
+    sha256: str | None = None
+    size_bytes: int | None = None
 
 
 #: the largest equivalent plastic strain a flattening measurement is read with (a strip drawn or
@@ -133,12 +145,16 @@ def read_flattening_data(path) -> FlatteningData:
                 raise ValueError(f"{path}: line {i}, column {c}: not finite")
             vals[c].append(v)
     scale = 1e6 if unit == "p_MPa" else 1.0  # the pressures in Pa
+    with open(path, "rb") as fh:  # what a rerun checks the file against
+        digest = hashlib.file_digest(fh, "sha256").hexdigest()
     data = FlatteningData(
         str(path),
         np.array(vals["strain"]),
         np.array(vals["alpha"]),
         np.array(vals[unit]) * scale,
         lines=tuple(line_of[1:]),
+        sha256=digest,
+        size_bytes=path.stat().st_size,
     )
     if np.any(data.strain < 0):
         i = line_of[1 + int(np.argmin(data.strain))]
@@ -279,31 +295,50 @@ def fit_beta(params, data: FlatteningData, level: float = BAND_LEVEL) -> dict:
     ``beta = 1`` at ``beta eps``: least squares in ``ln beta`` over ``BETA_RANGE`` (bounded
     scalar search, then the band from the linearised residuals: ``ln beta -+ t s / |g|``,
     ``g = d alpha / d ln beta``, ``s^2`` the residual variance, Student t of ``n - 1``).
-    With the sheet's flow curve (``data.flow_curve``) each point is integrated along its strain
-    at the curve's flow stress and hardening modulus (:func:`frictionlaw.flattening_curve`), as
-    a host passing both runs the law; ``beta`` then no longer scales the strain axis, and each
-    trial ``beta`` integrates anew. Without it the sheet is perfectly plastic at the
+    The curves are evaluated once per distinct pressure
+    (:class:`frictionlaw.flattening_curves.FlatteningCurves`: the table of Eq. F4 built once,
+    each trial ``beta`` a few polynomial evaluations a point), what
+    :func:`frictionlaw.flattening_curve` gives point by point to rounding.
+    With the sheet's flow curve (``data.flow_curve``) each distinct pressure is integrated along
+    its strains at the curve's flow stress and hardening modulus
+    (:class:`~frictionlaw.flattening_curves.FlatteningPaths`), as a host passing both runs the
+    law; ``beta`` then no longer scales the strain axis, and each trial ``beta`` integrates anew
+    (the first grid's 25 side by side). Without it the sheet is perfectly plastic at the
     calibration's ``sigma_y`` and ``beta`` absorbs its hardening.
     Raises ``ValueError`` when the points do not constrain ``beta`` (all at zero strain or at
     full contact) or the best ``beta`` lies on the range's bound.
     """
+    slope, fc = params.flattening.slope, data.flow_curve
+    base = params.replace(flattening=Flattening(slope=slope))  # beta = 1
+    if fc is None:
+        curves = FlatteningCurves(data.p, base)
+
+        def models(ln_beta):
+            return np.stack([curves.alpha(data.strain, beta=math.exp(b)) for b in ln_beta])
+    else:
+        paths = FlatteningPaths(data.p, data.strain, base, fc)
+
+        def models(ln_beta):
+            return paths.alpha(np.exp(np.asarray(ln_beta, dtype=float)))
+
+    return _fit(models, data, level)
+
+
+def _fit(models, data: FlatteningData, level: float) -> dict:
+    """:func:`fit_beta` for ``models(ln_betas)``: the model's ``alpha`` per ``ln beta``, a row each."""
     from scipy import optimize, stats
 
-    slope, fc = params.flattening.slope, data.flow_curve
-    base = params.replace(flattening=Flattening(slope=slope))
+    fc = data.flow_curve
 
     def model(ln_beta):
-        if fc is None:
-            return flattening_curve(data.p, math.exp(ln_beta) * data.strain, base)
-        law = params.replace(flattening=Flattening(slope=slope, beta=math.exp(ln_beta)))
-        return flattening_curve(data.p, data.strain, law, flow_curve=fc, steps=FIT_STEPS)
+        return models([ln_beta])[0]
 
     def cost(ln_beta):
         return float(np.sum((model(ln_beta) - data.alpha) ** 2))
 
     lo, hi = math.log(BETA_RANGE[0]), math.log(BETA_RANGE[1])
     grid = np.linspace(lo, hi, 25)
-    k = int(np.argmin([cost(g) for g in grid]))
+    k = int(np.argmin(np.sum((models(grid) - data.alpha[None, :]) ** 2, axis=1)))
     a, b = grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)]
     res = optimize.minimize_scalar(cost, bounds=(a, b), method="bounded", options={"xatol": 1e-10})
     ln_b = float(res.x)
@@ -312,9 +347,10 @@ def fit_beta(params, data: FlatteningData, level: float = BAND_LEVEL) -> dict:
             f"{data.path}: the best beta lies on the bound of [{BETA_RANGE[0]:g}, "
             f"{BETA_RANGE[1]:g}]: the measurement cannot be described by the model with this slope"
         )
-    r = model(ln_b) - data.alpha
     h = 1e-5
-    g = (model(ln_b + h) - model(ln_b - h)) / (2 * h)
+    m0, mp, mm = models([ln_b, ln_b + h, ln_b - h])
+    r = m0 - data.alpha
+    g = (mp - mm) / (2 * h)
     gg = float(np.sum(g * g))
     if gg <= 1e-20:
         raise ValueError(
@@ -350,7 +386,10 @@ def fit_beta(params, data: FlatteningData, level: float = BAND_LEVEL) -> dict:
             f"the fit misses the measurement by {rms:.3f} RMS in alpha (largest "
             f"{float(np.max(np.abs(r))):.3f}): the model with this slope describes it poorly"
         )
+    levels = np.unique(data.p)
+    n_rows = data.strain.size
     return {
+        "record_version": FIT_RECORD_VERSION,
         "beta": math.exp(ln_b),
         "band": list(band),
         "level": level,
@@ -359,14 +398,76 @@ def fit_beta(params, data: FlatteningData, level: float = BAND_LEVEL) -> dict:
         "notes": notes,
         "max_abs": float(np.max(np.abs(r))),
         "zero_strain_misfit": float(np.max(np.abs(r[at_zero]))) if at_zero.any() else None,
-        "pressures_Pa": sorted({float(v) for v in data.p}),
+        "pressures_Pa": levels.tolist() if levels.size <= PRESSURES_KEPT else None,
         "flow_curve": None if fc is None else fc.describe(),
         "flow_curve_record": None if fc is None else fc.to_dict(),
         "flow_curve_sigma_y0_Pa": None if fc is None else float(fc.sigma_y(0.0)),
         "file": data.path,
-        "strain": data.strain.tolist(),
-        "alpha": data.alpha.tolist(),
-        "p_Pa": data.p.tolist(),
+        "data": _data_summary(data, levels, r),
+        # the rows themselves up to ROWS_KEPT: a lab sheet's rows stay in its file (sha256)
+        **(
+            {"strain": data.strain.tolist(), "alpha": data.alpha.tolist(), "p_Pa": data.p.tolist()}
+            if n_rows <= ROWS_KEPT
+            else {}
+        ),
+    }
+
+
+def _data_summary(data: FlatteningData, levels, r) -> dict:
+    """The fit record's ``data``: which file, its size and digest, its ranges, the residuals.
+
+    The residuals ``model - measured`` by pressure (each distinct pressure while there are at
+    most :data:`PRESSURES_KEPT`, else :data:`RESIDUAL_BINS` bins of equal row count in pressure)
+    and by strain (bins of equal row count): a rerun on the same file reproduces them.
+    """
+
+    def bins(key):
+        order = np.argsort(key, kind="stable")
+        out = []
+        for idx in np.array_split(order, min(RESIDUAL_BINS, key.size)):
+            rr = r[idx]
+            out.append(
+                {
+                    "from": float(key[idx].min()),
+                    "to": float(key[idx].max()),
+                    "rows": int(idx.size),
+                    "rms": float(np.sqrt(np.mean(rr * rr))),
+                    "mean": float(np.mean(rr)),
+                    "max_abs": float(np.max(np.abs(rr))),
+                }
+            )
+        return out
+
+    if levels.size <= PRESSURES_KEPT:
+        by_p = []
+        for v in levels:
+            rr = r[data.p == v]
+            by_p.append(
+                {
+                    "p_Pa": float(v),
+                    "rows": int(rr.size),
+                    "rms": float(np.sqrt(np.mean(rr * rr))),
+                    "mean": float(np.mean(rr)),
+                    "max_abs": float(np.max(np.abs(rr))),
+                }
+            )
+    else:
+        by_p = bins(data.p)
+    n = int(data.strain.size)
+    return {
+        "sha256": data.sha256,
+        "size_bytes": data.size_bytes,
+        "rows": n,
+        "rows_at_zero_strain": int(np.count_nonzero(data.strain == 0)),
+        "rows_kept": n <= ROWS_KEPT,
+        "rows_kept_up_to": ROWS_KEPT,
+        "pressures": int(levels.size),
+        "p_Pa": [float(data.p.min()), float(data.p.max())],
+        "strain": [float(data.strain.min()), float(data.strain.max())],
+        "alpha": [float(data.alpha.min()), float(data.alpha.max())],
+        "residual_mean": float(np.mean(r)),
+        "residuals_by_pressure": by_p,
+        "residuals_by_strain": bins(data.strain),
     }
 
 
