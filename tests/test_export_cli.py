@@ -68,9 +68,12 @@ def test_bad_input_exit_2_and_no_output(tmp_path, params_file, capsys):
     args = ["abaqus-table", "--params", str(params_file), "--out", str(out)]
     assert main([*args, "--table-tol", "0.5"]) == 2
     assert main([*args, "--k-t", "1e12"]) == 2  # no option silently ignored
+    routine = ["calculix", "--params", str(params_file), "--out", str(out)]
+    assert main([*routine, "--table-tol", "1e-2"]) == 2  # a routine has no table
     assert not out.exists()
     err = capsys.readouterr().err
     assert "target must be one of" in err and "Traceback" not in err
+    assert "--table-tol applies to the table targets only" in err
     assert main(args) == 0
     assert main(args) == 2  # exists
     assert main([*args, "--force"]) == 0

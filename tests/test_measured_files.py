@@ -298,6 +298,7 @@ def test_cli_refusals_exit_2_without_traceback(tmp_path, capsys):
         (["--pressures", "10,25,50,100"], "MPa were typed as Pa"),
         (["--grid", "65536"], "GiB"),
         (["--unit", "um"], "apply to surface files only"),
+        (["--max-undefined", "0.5"], "--max-undefined applies to surface files only"),
         (["--geo-threshold", "0.1"], "--geo-threshold"),
         (["--workers", "2", "--scheduler", "tcp://x:1"], "workers"),
         (["--grid", "16", "--out", str(blocker / "sub")], "not writable"),

@@ -16,7 +16,7 @@ from ..params import FrictionParams
 from . import _targets
 from ._flat import flow_spec
 from ._law import UNIT_SYSTEMS, StiffnessSpec, UnitSystem, core_context, header_lines
-from ._tables import FrictionTable
+from ._tables import TABLE_TOL, FrictionTable
 from ._templates import check_columns, comment_block, render_template, template_path
 from ._zones import (
     ZoneTable,
@@ -223,7 +223,7 @@ def plan(
     zone_by=None,
     units="SI",
     k_t=None,
-    table_tol=1e-3,
+    table_tol=None,
     accept_failed=False,
     without_flattening=False,
     flow_curve=None,
@@ -237,6 +237,12 @@ def plan(
     record = _targets.target(target)
     if units not in UNIT_SYSTEMS:
         raise ValueError(f"units must be one of {', '.join(UNIT_SYSTEMS)}; got {units!r}")
+    if table_tol is not None and not record.form.takes_table_tol:
+        raise ParameterError(
+            "{table_tol} applies to the table targets only (a routine runs the law itself)",
+            "table_tol",
+        )
+    table_tol = TABLE_TOL if table_tol is None else table_tol
     if not (1e-6 <= float(table_tol) <= 0.1):
         raise ParameterError(
             f"{{table_tol}} must be in [1e-6, 0.1], got {table_tol!r}", "table_tol"
@@ -355,7 +361,7 @@ def export(
     zone_by=None,
     units="SI",
     k_t=None,
-    table_tol=1e-3,
+    table_tol=None,
     force=False,
     accept_failed=False,
     without_flattening=False,
@@ -387,8 +393,9 @@ def export(
         Unit system of the host model (Pa, m or MPa, mm).
     k_t : float, optional
         Constant tangential stick stiffness in Pa/m (overrides the files' calibrated tables).
-    table_tol : float
-        Table targets: bound on ``|tau_table - tau| / tau_max`` on first loading.
+    table_tol : float, optional
+        Table targets: bound on ``|tau_table - tau| / tau_max`` on first loading (default
+        :data:`TABLE_TOL`); refused for the routine targets.
     force : bool
         Replace an earlier export in ``out`` (never files the export did not write, but for
         the target's products, such as the ``ccx`` CalculiX's ``build.sh`` links there: they

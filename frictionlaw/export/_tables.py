@@ -17,7 +17,10 @@ import numpy as np
 
 from ..law import shear_limit
 
-__all__ = ["FrictionTable", "build_table", "table_shear", "table_error"]
+__all__ = ["TABLE_TOL", "FrictionTable", "build_table", "table_shear", "table_error"]
+
+#: the tables' default bound on ``|tau_table - tau| / tau_max`` (``--table-tol``)
+TABLE_TOL = 1e-3
 
 _SAMPLES = 65  # error samples inside each interval while bisecting
 _SAFETY = 0.5  # bisect until the sampled error is below SAFETY * tol
@@ -110,7 +113,7 @@ def table_error(params, table_p, table_mu, n_check=200_000):
     return float(err[i] / params.tau_max), float(p[i])
 
 
-def build_table(params, tol=1e-3):
+def build_table(params, tol=TABLE_TOL):
     """Pressures and coefficients so that the table's shear is within ``tol tau_max`` of the law.
 
     The law's first loading: ``shear_limit`` at ``p_hist = 0``, the form the parameter file runs.

@@ -151,6 +151,8 @@ class Routine:
     frame: ClassVar[str] = "readme/routine.md"
     #: ``--k-t`` applies
     takes_k_t: ClassVar[bool] = True
+    #: ``--table-tol`` applies
+    takes_table_tol: ClassVar[bool] = False
 
     def decide(self, params, units, k_t, table_tol):
         """``(stiffness, table)``: the stick stiffness source; a routine has no table."""
@@ -171,6 +173,7 @@ class Table:
 
     frame: ClassVar[str] = "readme/table.md"
     takes_k_t: ClassVar[bool] = False
+    takes_table_tol: ClassVar[bool] = True
     zone_keys: ClassVar[tuple] = ()
     zone_refusal: ClassVar[str] = (
         "writes a friction table, one law of the pressure alone for the contact it is "

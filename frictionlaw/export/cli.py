@@ -86,8 +86,9 @@ def build_parser():
     ap.add_argument(
         "--table-tol",
         type=float,
-        default=1e-3,
-        help="table targets: max |tau_table - tau| / tau_max on first loading",
+        default=None,
+        help="table targets (abaqus-table, lsdyna-table): max |tau_table - tau| / tau_max on "
+        "first loading (default: 1e-3; refused for the routine targets)",
     )
     ap.add_argument(
         "--force",

@@ -433,6 +433,10 @@ def scene_from_args(args):
         scene = load_scene(args.scene, **over)
     else:
         scene = Scene(**{k: v for k, v in over.items() if v is not None})
+    if over["max_undefined"] is not None and not scene.from_files:
+        raise ValueError(
+            "--max-undefined applies to surface files only; no workpiece or tool file was given"
+        )
     if over["geo_threshold"] is not None and "inclined" not in scene.effects:
         raise ValueError("--geo-threshold applies to the inclined effect: add --effects inclined")
     return scene
