@@ -482,12 +482,17 @@ def _export(tmp_path, name, params, units):
             "SBMF friction: the deck does not state its unit system; this routine was exported "
             "for mm-t-s (MPa, mm): set PROPS(1) = 2",
         ),
+        (
+            ["*FRICTION, USER, DEPVAR=3, PROPERTIES=2", "MM-T-S, 0.5"],
+            "SBMF friction: the deck gives 2 properties, but the routine takes one, its unit "
+            "system PROPS(1) = 2",
+        ),
     ],
-    ids=["contradicting", "unstated"],
+    ids=["contradicting", "unstated", "a property too many"],
 )
 def test_a_deck_that_does_not_state_the_routines_units_stops(ccx, friction, message, tmp_path):
-    """The mm-t-s routine in a deck that states SI, or no unit system: ccx stops (exit 201) at
-    the routine's first call, with its message."""
+    """The mm-t-s routine in a deck that states SI, or no unit system, or a leftover value beside
+    the unit system's: ccx stops (exit 201) at the routine's first call, with its message."""
     deck = two_blocks(STEPS[:1], ["*SURFACE INTERACTION, NAME=SBMF", *friction])
     proc, _ = _run(ccx, deck, tmp_path)
     assert proc.returncode == 201 and "Job finished" not in proc.stdout

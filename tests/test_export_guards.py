@@ -213,6 +213,16 @@ def test_the_deck_must_state_the_routines_unit_system(tmp_path, params_files, ta
             assert exits == 0 and np.all(tau == 0)
         else:
             assert exits == 1 and np.isnan(tau).all()
+    # FRIC (Abaqus, CalculiX): a property beside the unit system's (a leftover coefficient on
+    # the *FRICTION, USER data line) is refused, not ignored
+    if target in ("abaqus-fric", "calculix"):
+        host.deck_units = (us.code, 0.5)
+        tau, _ = drive(target, host, p)
+        errs, _, exits = messages(target, host)
+        assert exits == 1 and np.isnan(tau).all() and len(errs) == 1
+        assert errs[0].startswith("SBMF friction: the deck gives 2 properties, but the routine ")
+        assert f"takes one, its unit system {name} = {us.code}" in errs[0], errs[0]
+        host.deck_units = us.code
     # LS-DYNA: one message per kind and process, however often it is called
     if target in LSDYNA:
         host.deck_units = other.code

@@ -42,10 +42,15 @@ class _Host:
         lib.h_log_exits.restype = ctypes.c_int
 
     def _props(self, dtype=np.float64):
-        """``(count, array)`` of the unit property as the shim passes it."""
+        """``(count, array)`` of the unit property as the shim passes it.
+
+        A sequence ``deck_units`` passes all its values (a deck with more properties than the
+        unit's, to test the guard that refuses them).
+        """
         if self.deck_units is None:
             return 0, np.zeros(1, dtype)
-        return 1, np.array([self.deck_units], dtype)
+        values = np.atleast_1d(np.asarray(self.deck_units, dtype))
+        return values.size, values
 
     def log(self):
         """What the routine wrote through the host's message routine since the last call.

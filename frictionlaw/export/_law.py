@@ -324,7 +324,8 @@ class GuardSpec:
         pressure above ``100 H`` in the call (value: the pressure; the explicit hosts and
         ``SBMF_FRICTION``), 5 a pressure beyond the calibrated range (the one warning; value:
         the pressure), 6 a converged pressure, the committed ``p_hist``, above ``100 H``
-        (``FRIC``). ``state_name`` names the deck's
+        (``FRIC``), 10 more properties than the unit system's (value: their number; ``FRIC``).
+        ``state_name`` names the deck's
         state count (``DEPVAR``), ``units_input`` is ``(name, where)`` of its unit value
         (``PROPS(1)``, ``the data line of *FRICTION, USER, PROPERTIES=1``): the fields of
         :class:`frictionlaw.export.Routine`. ``implicit``: the routine's host calls it on
@@ -367,6 +368,11 @@ class GuardSpec:
                 "(frictionlaw-export --units) or correct the deck",
             ),
             4: (f"{pre}contact pressure ", f"{limit}: {units}"),
+            10: (
+                f"{pre}the deck gives ",
+                f" properties, but the routine takes one, its unit system {name} = "
+                f"{self.code} ({self.codes}): give only that value, {where}",
+            ),
             5: (
                 f"{pre}{seen}",
                 f" {s} is beyond the calibrated range (p_max = {top}): the law is "

@@ -249,13 +249,13 @@ def zoned_context(table):
 def zoned_messages(table, state_name, units_input, implicit=False):
     """The guards' messages of a zoned routine, ``{kind: (before, after)}``.
 
-    Kinds 1-3 (the deck: state variables, unit system) once; kinds 4-6 (a pressure above
+    Kinds 1-3 and 10 (the deck: state variables, unit system, properties) once; kinds 4-6 (a pressure above
     ``100 H``, beyond the calibrated range, a committed ``p_hist`` above ``100 H``) once per law
     as ``kind + 10 i`` (law ``i``), each naming its zone and its own ``100 H`` and ``p_max``.
     The unknown name (kind 7) is ``SBMF_ZMESSAGE``'s, which names it.
     """
     deck = table.laws[0].core.guard.messages(state_name, units_input, implicit, zone="")
-    out = {k: deck[k] for k in (1, 2, 3)}
+    out = {k: deck[k] for k in (1, 2, 3, 10)}
     for law in table.laws:
         text = law.core.guard.messages(state_name, units_input, implicit, zone=law.label)
         for k in (4, 5, 6):

@@ -90,6 +90,10 @@ C     guards: the deck's state variables and unit system
         CALL SBMF_GUARD(2, 0.0D0)
         RETURN
       END IF
+      IF (NPROPS .GT. 1) THEN
+        CALL SBMF_GUARD(10, DBLE(NPROPS))
+        RETURN
+      END IF
       IF (PROPS(1) .NE. SBMFU) THEN
         CALL SBMF_GUARD(3, PROPS(1))
         RETURN

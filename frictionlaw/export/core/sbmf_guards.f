@@ -38,8 +38,10 @@ C     KIND 1: too few state variables (XV: their number); 2: the deck
 C     states no unit system; 3: it states another one (XV: the value
 C     stated); 4: a pressure above 100 H (XV: p); 5: a pressure beyond
 C     the calibrated range (XV: p; a warning, written once per
-C     process); 6: a committed p_hist above 100 H (FRIC; XV: p_hist).
-C     Errors (all but 5) stop the analysis. MSG: 400 characters.
+C     process); 6: a committed p_hist above 100 H (FRIC; XV: p_hist);
+C     10: more properties than the unit system's (FRIC; XV: their
+C     number). Errors (all but 5) stop the analysis. MSG: 400
+C     characters.
 C=======================================================================
       SUBROUTINE SBMF_MESSAGE(KIND, XV, MSG, NMSG)
       IMPLICIT NONE
