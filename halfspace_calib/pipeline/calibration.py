@@ -367,9 +367,7 @@ def _calibrate(scene, progress, surfaces):
     wp, tl = sweeps.surfaces["workpiece"], sweeps.surfaces["tool"]
     effects = _run_effects(scene, sweeps, surfs, progress)
     resolution = (
-        resolution_check(scene, law, sweeps, progress=progress)
-        if scene.resolution_check
-        else None
+        resolution_check(scene, law, sweeps, progress=progress) if scene.resolution_check else None
     )
     params = make_params(
         first,
