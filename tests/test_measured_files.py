@@ -197,7 +197,10 @@ def test_cli_calibrates_each_shared_file(tmp_path, capsys, name):
     assert summary["boundary"] == "mirror" and summary["periodic"] is False
     assert summary["notes"] == [] and summary["grid"] == 16
     rc = summary["resolution_check"]
-    assert rc["half_grid"] == 8 and set(rc["params"]) == {"mu_eff", "C1", "n1", "C2", "n2"}
+    # the law the file runs: its mu_eff, and C1, n1 / C2, n2 only where Eq. 24 / Eq. 25 run
+    named = {"first_loading": ("eq24", {"C1", "n1"}), "reload": ("paper", {"C2", "n2"})}
+    want = {"mu_eff"}.union(*(ks for b, (f, ks) in named.items() if rc["forms"][b] == f))
+    assert rc["half_grid"] == 8 and set(rc["params"]) == want
     # the same record, but its wall time only in summary.json (params.json: the same bytes for
     # the same inputs)
     assert params["provenance"]["extra"]["resolution_check"] == {

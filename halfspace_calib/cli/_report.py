@@ -61,18 +61,27 @@ def print_input(con, scene, surfaces, derived=False):
 
 
 def print_resolution(con, rc):
+    """The resolution check: the law the file runs at both grids, the other forms labelled."""
     if rc is None:
         return
     if rc.skipped:
         con.result(f"  resolution check skipped: {rc.skipped}")
         return
+
+    def moved(d):
+        return ", ".join(f"{k} {a:.4g} -> {b:.4g} ({100 * c:.1f} %)" for k, (a, b, c) in d.items())
+
     con.result(
-        f"  resolution check (grid {rc.grid} against {rc.half_grid}, {rc.seconds:.1f} s): "
+        f"  resolution check (grid {rc.grid} against {rc.half_grid}, {rc.seconds:.1f} s), the law "
+        f"that runs ({rc.forms['first_loading']} + {rc.forms['reload']}): {moved(rc.params)}; "
         + ", ".join(
-            f"{k} {a:.4g} -> {b:.4g} ({100 * d:.1f} %)" for k, (a, b, d) in rc.params.items()
+            f"{k.replace('_', '-')} alpha of the law up to {100 * v:.1f} %"
+            for k, v in rc.law_alpha.items()
         )
-        + f"; alpha up to {100 * rc.alpha_change:.1f} %"
+        + f"; computed alpha up to {100 * rc.alpha_change:.1f} %"
     )
+    if rc.beside:
+        con.result(f"    beside it, not run (Eq. 24 / Eq. 25 fitted again): {moved(rc.beside)}")
     if rc.warning:
         con.warn(f"halfspace-calib: WARNING: {rc.warning}")
 

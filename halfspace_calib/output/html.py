@@ -124,12 +124,16 @@ def _resolution(s):
         f"<p>grid {rc['grid']} against {rc['half_grid']}</p><table><tr><th>parameter</th>"
         "<th>grid</th><th>half grid</th><th>change</th></tr>"
     ]
-    for k, (a, b, d) in rc["params"].items():
-        out.append(
-            f"<tr><td class='t'>{k}</td>{number_cell(a, f'resolution_check.params.{k}.0')}"
-            f"{number_cell(b, f'resolution_check.params.{k}.1')}<td>{100 * d:.2f} %</td></tr>"
-        )
+    for key, label in (("params", "{k}"), ("beside_not_run", "{k} (beside it, not run)")):
+        for k, (a, b, d) in rc.get(key, {}).items():
+            out.append(
+                f"<tr><td class='t'>{html.escape(label.format(k=k))}</td>"
+                f"{number_cell(a, f'resolution_check.{key}.{k}.0')}"
+                f"{number_cell(b, f'resolution_check.{key}.{k}.1')}<td>{100 * d:.2f} %</td></tr>"
+            )
     out.append("</table>")
+    for k, v in rc.get("law_alpha", {}).items():
+        out.append(f"<p>{html.escape(k)} alpha of the law that runs: up to {100 * v:.2f} %</p>")
     if rc.get("warning"):
         out.append(f"<p class='bad'>{html.escape(rc['warning'])}</p>")
     return "".join(out)

@@ -36,7 +36,7 @@ from .sweep import effects as _eff
 from .sweep.conformity import punch_edge_problem
 from .sweep.lateral_scale import full_contact_problem, scale_record
 from .sweep.registry import REGISTRY
-from .sweep.resolution import ResolutionCheck, check_sweeps, fit_sweeps, resolution_check
+from .sweep.resolution import ResolutionCheck, check_sweeps, resolution_check
 from .sweep.scene import MIN_TOL, Scene, load_scene
 from .sweep.scene_surfaces import SceneSurfaces, load_scene_surfaces
 from .sweep.sweeps import SweepResult, run_sweeps, scene_surfaces
@@ -367,9 +367,7 @@ def _calibrate(scene, progress, surfaces):
     wp, tl = sweeps.surfaces["workpiece"], sweeps.surfaces["tool"]
     effects = _run_effects(scene, sweeps, surfs, progress)
     resolution = (
-        resolution_check(scene, *fit_sweeps(scene, sweeps), sweeps, progress=progress)
-        if scene.resolution_check
-        else None
+        resolution_check(scene, law, sweeps, progress=progress) if scene.resolution_check else None
     )
     params = make_params(
         first,
