@@ -325,8 +325,8 @@ class GuardSpec:
         ``SBMF_FRICTION``), 5 a pressure beyond the calibrated range (the one warning; value:
         the pressure), 6 a converged pressure, the committed ``p_hist``, above ``100 H``
         (``FRIC``), 10 more properties than the unit system's (value: their number; ``FRIC``).
-        ``state_name`` names the deck's
-        state count (``DEPVAR``), ``units_input`` is ``(name, where)`` of its unit value
+        ``state_name`` names the deck's state count (``DEPVAR``), ``units_input`` is ``(name,
+        where)`` of its unit value
         (``PROPS(1)``, ``the data line of *FRICTION, USER, PROPERTIES=1``): the fields of
         :class:`frictionlaw.export.Routine`. ``implicit``: the routine's host calls it on
         Newton iterates and commits its state on convergence (``Routine.implicit``), so its
