@@ -25,7 +25,6 @@ import numpy as np
 from frictionlaw import Flattening, alpha_first, flattening_curve
 from frictionlaw.flattening import BETA_RANGE, SLOPE_RANGE, equivalent_strain
 from frictionlaw.flattening_curves import FlatteningCurves, FlatteningPaths
-from frictionlaw.flow_curve import FlowCurve
 
 from ...contact.normal import solve_normal_pair
 from .flattening_sheet import FlatteningData, read_flattening_data
