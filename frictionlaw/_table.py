@@ -19,15 +19,22 @@ def read_rows(path) -> tuple[list[int], list[list[str]], str]:
     With a semicolon or tab separator a cell's decimal comma is the reader's to accept (as
     spreadsheets in German or French write numbers); with commas it cannot be one.
 
-    ``ValueError`` naming the file when it is not UTF-8 text or a data row has more cells
+    ``ValueError`` naming the file when it is not UTF-8 text (with the line and what to save it
+    as; the ring-test reader of ``fe_demo`` refuses such a sheet the same way) or a data row has more cells
     than the header (a decimal comma in a comma-separated file, a shifted row), naming the
     line; ``OSError`` as the system says.
     """
     path = Path(path)
+    raw = path.read_bytes()
     try:
-        text = path.read_text(encoding="utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise ValueError(f"{path}: not a UTF-8 text file ({exc})") from None
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:  # Excel's "CSV (Trennzeichen-getrennt)": a code page
+        line = raw[: exc.start].count(b"\n") + 1
+        raise ValueError(
+            f"{path}: line {line}: not UTF-8 text (byte 0x{raw[exc.start]:02x}, an umlaut or a "
+            "degree sign of a sheet saved in a code page such as Windows-1252?): save the sheet "
+            'as "CSV UTF-8"'
+        ) from None
     numbered = [
         (n, ln)
         for n, ln in enumerate(text.splitlines(), start=1)

@@ -71,10 +71,13 @@ def test_the_example_file_reads():
 @pytest.mark.parametrize(
     "text, msg",
     [
-        ("strain,alpha\n0.1,0.5\n", "must name the columns strain, alpha, p_Pa \\(or p_MPa\\)"),
+        (
+            "strain,alpha\n0.1,0.5\n",
+            "must name the columns strain, alpha and p with its unit.*missing p,",
+        ),
         (
             "strain,alpha,p_Pa,p_MPa\n0.1,0.5,1e8,100\n0.2,0.6,1e8,100\n",
-            "both p_Pa and p_MPa columns",
+            "line 1: the column p appears twice \\('p_Pa' and 'p_MPa'\\)",
         ),
         ("strain,alpha,p_Pa\n0.1,x,1e8\n0.2,0.5,1e8\n", "line 2, column alpha: not a number"),
         (
@@ -85,7 +88,13 @@ def test_the_example_file_reads():
             "strain,alpha,p_Pa\n0.1,0.4,1e8\n0.2,1.2,1e8\n",
             "line 3, column alpha: 1.2 is not a contact fraction in \\[0, 1\\]$",
         ),
-        ("eps,alpha,p_kPa\n0.1,0.5,1e5\n", "missing strain, p_Pa \\(or p_MPa\\), found 'eps'"),
+        ("eps,alpha,p\n0.1,0.5,1e5\n", "line 1: the pressure column 'p' gives no unit"),
+        (
+            "strain,alpha,p [bar]\n0.1,0.5,1e5\n",
+            "'p \\[bar\\]': unknown unit 'bar'; p takes Pa, kPa",
+        ),
+        ("strain,alpha [ppm],p_Pa\n0.1,0.5,1e5\n", "unknown unit 'ppm'; alpha takes none, -, 1, %"),
+        ("strain,alpha\n0.1,0.5\n", "found 'strain', 'alpha'; names read: strain: strain, eps"),
         ("strain,alpha,strain,p_Pa\n0.1,0.5,0.2,1e8\n", "line 1: the column strain appears twice"),
         ("strain,alpha,p_Pa\n0.1,35,1e8\n0.2,50,1e8\n", "looks like per cent: divide by 100"),
         (
@@ -157,6 +166,58 @@ def test_what_spreadsheets_write_reads_the_same(tmp_path, text):
     d = read_flattening_data(f)
     assert np.array_equal(d.strain, [0.0, 0.01, 0.02]) and np.array_equal(d.alpha, [0.3, 0.4, 0.46])
     assert np.array_equal(d.p, [2.4e8] * 3)
+
+
+@pytest.mark.parametrize(
+    "head, scale",
+    [
+        ("strain,alpha [%],p_MPa", (1, 100, 1e-6)),
+        ("strain [-],alpha [-],p [MPa]", (1, 1, 1e-6)),
+        ("strain,alpha,p_kPa", (1, 1, 1e-3)),
+        ("strain,\u03b1,p_MPa", (1, 1, 1e-6)),
+        ("Dehnung;Traganteil in %;Druck [N/mm\u00b2]", (1, 100, 1e-6)),
+        ("strain (%),alpha_%,p / Pa", (100, 100, 1)),
+        ("Umformgrad\tKontaktflaechenanteil\tp_GPa", None),  # unknown alpha name: refused
+    ],
+)
+def test_unit_bearing_headers_convert_to_fractions_and_pa(tmp_path, head, scale):
+    """The same sheet with its unit in the header reads the same numbers (alpha 0.3-0.46 at
+    240 MPa): per cent divided by 100, kPa, MPa and N/mm2 multiplied to Pa."""
+    sep = ";" if ";" in head else "\t" if "\t" in head else ","
+    rows = [(0.0, 0.3, 2.4e8), (0.01, 0.4, 2.4e8), (0.02, 0.46, 2.4e8)]
+    f = tmp_path / "d.csv"
+    if scale is None:
+        f.write_text(head + "\n" + "\n".join(sep.join(map(str, r)) for r in rows) + "\n")
+        with pytest.raises(ValueError, match="missing alpha"):
+            read_flattening_data(f)
+        return
+    body = [sep.join(f"{v * k:.10g}" for v, k in zip(r, scale, strict=True)) for r in rows]
+    f.write_text(head + "\n" + "\n".join(body) + "\n", encoding="utf-8")
+    d = read_flattening_data(f)
+    assert d.strain == pytest.approx([0.0, 0.01, 0.02], rel=1e-12)
+    assert d.alpha == pytest.approx([0.3, 0.4, 0.46], rel=1e-12)
+    assert d.p == pytest.approx([2.4e8] * 3, rel=1e-12)
+
+
+def test_an_engineering_strain_column_is_refused_with_the_conversion(tmp_path):
+    """The law's strain is a true strain: e = 0.0202 engineering is eps = ln(1.0202) = 0.02."""
+    f = tmp_path / "d.csv"
+    f.write_text("engineering strain,alpha,p_MPa\n0,0.3,240\n0.0101,0.4,240\n0.0202,0.46,240\n")
+    with pytest.raises(ValueError, match="true \\(logarithmic\\) strain.*ln\\(1 \\+ e\\)"):
+        read_flattening_data(f)
+    assert math.log(1.0202) == pytest.approx(0.02, abs=2e-4)  # the conversion the message asks
+
+
+def test_a_code_page_sheet_is_refused_saying_save_as_csv_utf8(tmp_path):
+    """German Excel's "CSV (Trennzeichen-getrennt)" writes Windows-1252: refused naming the line
+    of the first byte that is no UTF-8, as the ring-test reader refuses it."""
+    f = tmp_path / "d.csv"
+    text = "strain;alpha;p_MPa\n# Prüfling DC04\n0,0;0,3;240\n0,01;0,4;240\n0,02;0,5;240\n"
+    f.write_bytes(text.encode("cp1252"))
+    with pytest.raises(ValueError, match='line 2: not UTF-8 text.*save the sheet as "CSV UTF-8"'):
+        read_flattening_data(f)
+    f.write_text(text, encoding="utf-8")  # saved as CSV UTF-8: read
+    assert read_flattening_data(f).alpha[-1] == 0.5
 
 
 def test_messages_name_the_files_own_line(tmp_path):

@@ -77,7 +77,15 @@ class UnitContradiction(FileScaleError):
 
 
 class SizeRequired(FileScaleError):
-    """The file has no lateral calibration and neither ``dx`` nor ``size`` was given."""
+    """The file has no lateral calibration and neither ``dx`` nor ``size`` was given.
+
+    ``note``: what the file's header says of its size when it says half of it (``"its header
+    gives '# Width: 10 um' but no '# Height:' line ..."``), else empty.
+    """
+
+    def __init__(self, message, note=""):
+        super().__init__(message)
+        self.note = note
 
 
 class SizeContradiction(FileScaleError):
@@ -206,7 +214,8 @@ def matrix_header(path):
     Returns
     -------
     dict
-        ``size`` ``(Lx, Ly)`` in m if both extents are given, ``unit`` if given; else empty.
+        ``size`` ``(Lx, Ly)`` in m if both extents are given; ``half_size`` ``(key, as written,
+        length in m)`` if only one is; ``unit`` if given; else empty.
     """
     found = {}
     with open(path, encoding="utf-8", errors="replace") as fh:
@@ -225,6 +234,9 @@ def matrix_header(path):
             _length(path, "Height", found["height"]),
             _length(path, "Width", found["width"]),
         )
+    elif "width" in found or "height" in found:  # half a size: said, not dropped
+        key = "Width" if "width" in found else "Height"
+        out["half_size"] = (key, found[key.lower()], _length(path, key, found[key.lower()]))
     for key in ("value units", "value unit", "z unit", "unit"):
         if key in found:
             u = found[key].strip()
@@ -267,31 +279,90 @@ def load_npy(path, unit, allow_undefined=False):
     return arr * f
 
 
-def _delimiter(path):
-    with open(path, encoding="utf-8", errors="replace") as fh:
-        for line in fh:
-            s = line.strip()
-            if s and not s.startswith("#"):
-                return "," if "," in s else None
-    raise ValueError(f"{path}: the file holds no data lines")
+def _separation(line):
+    """``(delimiter for np.loadtxt, decimal comma)`` of a text file's first data line.
+
+    Semicolons separate (a decimal comma then reads as a point, as European spreadsheets write
+    numbers); whitespace separates where each value holds one comma and no point (``1,88e-08``
+    and ``1,85e-08`` with tabs between: decimal commas); otherwise commas separate (a CSV). The lab-sheet reader
+    (:func:`frictionlaw._table.number`) reads decimal commas by the same rule.
+    """
+    s = line.split("#", 1)[0].strip()
+    if ";" in s:
+        return ";", "," in s
+    fields = s.split()
+    if "," in s and len(fields) > 1 and "." not in s:
+        if all(f.count(",") == 1 and f.strip(",") == f for f in fields):
+            return None, True
+    return ("," if "," in s else None), False
+
+
+def _text_problem(lines, sep, comma, what):
+    """The first line that keeps ``lines`` from being a table of numbers, in words, or ``None``."""
+    first = width = 0
+    for n, line in enumerate(lines, start=1):
+        s = line.split("#", 1)[0].strip()
+        if not s:
+            continue
+        cells = [c.strip() for c in (s.split(sep) if sep else s.split())]
+        for k, c in enumerate(cells, start=1):
+            try:
+                float(c.replace(",", ".") if comma else c)
+            except ValueError:
+                hint = (
+                    " (empty: a missing value or a separator at the end of the line)"
+                    if not c
+                    else " (a thousands separator? write 1234.5)"
+                    if comma and "." in c
+                    else " (a decimal comma in a comma-separated file? write 0.5 or separate the "
+                    "values by semicolons)"
+                    if sep == ","
+                    else ""
+                )
+                return f"line {n}, value {k}: {c[:24]!r} is not a number{hint}"
+        if not width:
+            first, width = n, len(cells)
+        elif len(cells) != width:
+            return (
+                f"line {n} holds {len(cells)} values where line {first} holds {width}: every row "
+                f"of a {what} has as many values (a row cut short or run on?)"
+            )
+    return None
 
 
 def _loadtxt(path, what):
+    """The numbers of a text table, as an array with a row per line.
+
+    ``#`` comments; whitespace, commas or semicolons between the values, decimal commas as
+    :func:`_separation` reads them. ``ValueError`` naming the file's line and what is wrong there.
+    """
+    raw = Path(path).read_bytes()
     try:
-        delim = _delimiter(path)
-        return np.loadtxt(path, delimiter=delim, comments="#", dtype=np.float64, ndmin=2)
+        text = raw.decode("utf-8-sig")
     except UnicodeDecodeError:
-        raise ValueError(f"{path}: cannot read as a text {what} (not a text file)") from None
+        if b"\0" in raw[:4096]:
+            raise ValueError(f"{path}: cannot read as a text {what} (not a text file)") from None
+        text = raw.decode("latin-1")  # a code page's degree sign or micro sign in a comment
+    lines = text.splitlines()
+    first = next((ln for ln in lines if ln.split("#", 1)[0].strip()), None)
+    if first is None:
+        raise ValueError(f"{path}: the file holds no data lines")
+    sep, comma = _separation(first)
+    rows = [ln.replace(",", ".") for ln in lines] if comma else lines
+    try:
+        return np.loadtxt(rows, delimiter=sep, comments="#", dtype=np.float64, ndmin=2)
     except ValueError as exc:
-        raise ValueError(f"{path}: cannot read as a text {what} ({exc})") from None
+        problem = _text_problem(lines, sep, comma, what) or str(exc)
+        raise ValueError(f"{path}: cannot read as a text {what}: {problem}") from None
 
 
 def load_matrix(path, unit, allow_undefined=False):
-    """Heights (m) from a whitespace- or comma-separated matrix in ``unit``.
+    """Heights (m) from a whitespace-, comma- or semicolon-separated matrix in ``unit``.
 
     Row ``i`` of the file becomes ``heights[i, :]`` (``x`` along the rows). Lines starting
     with ``#`` are comments (see :func:`matrix_header` for the ones that carry units and
-    sizes); ``nan`` marks an undefined point.
+    sizes); ``nan`` marks an undefined point. Decimal commas are read where the values are
+    separated by semicolons or whitespace (:func:`_separation`).
     """
     f = unit_factor(unit)
     arr = _check_matrix(path, _loadtxt(path, "height matrix"), allow_undefined)

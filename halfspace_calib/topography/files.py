@@ -158,6 +158,8 @@ def read_raw(
     if size is not None and (dx is not None or dy is not None):
         raise ValueError("give either size or dx (and dy), not both")
     header = _io.matrix_header(path) if layout == "matrix" else {}
+    if "half_size" in header:
+        _half_size(path, header["half_size"], size, dx)
     unit, unit_source = _header_unit(path, header, unit)
     size = _header_size(path, header, size, dx, dy)
     h, fdx, fdy, info = _load(path, layout, unit, xy_unit, (dx, dy, size))
@@ -191,8 +193,8 @@ def _overridden(path, unit, lateral, xy_unit, layout, override_size):
     try:
         h, fdx, fdy, prov = read_raw(path, unit=unit, xy_unit=xy_unit, layout=layout)
         own = [h.shape[0] * fdx, h.shape[1] * fdy]
-    except SizeRequired:  # a plain file without a size: the override is its size
-        h, fdx, fdy, prov = read_raw(path, unit=unit, size=(lx, ly), layout=layout)
+    except SizeRequired:  # a plain file without a size (or half of one): the override is its size
+        h, fdx, fdy, prov = read_raw(path, unit=unit, dx=1.0, layout=layout)  # dx replaced
         own = None
     nx, ny = h.shape
     prov.update(dx=lx / nx, dy=ly / ny, size_source="override", file_size=own)
@@ -207,6 +209,29 @@ def _layout(path, layout):
     if not path.is_file():
         raise FileNotFoundError(f"surface file not found: {path}")
     return _io.layout_for(path) if layout is None else layout
+
+
+def _half_size(path, half, size, dx):
+    """Check a header with ``# Width:`` but no ``# Height:`` (or the reverse) against the options.
+
+    ``SizeRequired`` saying which line is missing when no size is given, ``SizeContradiction``
+    where ``size`` gives the stated extent otherwise.
+    """
+    key, written, length = half
+    other = "Height" if key == "Width" else "Width"
+    if size is None and dx is None:
+        note = f"its header gives '# {key}: {written}' but no '# {other}:' line (the extent " + (
+            "over the lines, axis 0)" if other == "Height" else "along a line, axis 1)"
+        )
+        raise SizeRequired(f"{path}: {note}; add it, or pass size (m)", note=note)
+    if size is not None:
+        lx, ly = pair("size", size, positive)
+        given = ly if key == "Width" else lx
+        if abs(given - length) > 1e-6 * length:
+            raise SizeContradiction(
+                f"{path}: the size given makes the {key.lower()} {given:g} m where the file's "
+                f"header says '# {key}: {written}' ({length:g} m)"
+            )
 
 
 def _header_unit(path, header, unit):

@@ -18,20 +18,16 @@ squares in ``ln beta``, with a Student-t band from the linearised residuals (:fu
 
 from __future__ import annotations
 
-import hashlib
 import math
-from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
 from frictionlaw import Flattening, alpha_first, flattening_curve
-from frictionlaw._table import number, read_rows
 from frictionlaw.flattening import BETA_RANGE, SLOPE_RANGE, equivalent_strain
 from frictionlaw.flattening_curves import FlatteningCurves, FlatteningPaths
-from frictionlaw.flow_curve import FlowCurve
 
 from ...contact.normal import solve_normal_pair
+from .flattening_sheet import FlatteningData, read_flattening_data
 
 __all__ = [
     "BAND_LEVEL",
@@ -62,129 +58,6 @@ ROWS_KEPT = 1000
 PRESSURES_KEPT = 64
 #: bins of equal row count of the residuals by strain (and by pressure beyond PRESSURES_KEPT)
 RESIDUAL_BINS = 8
-
-
-@dataclass(frozen=True)
-class FlatteningData:
-    """A measured contact fraction against bulk strain (``--flattening-data``).
-
-    ``strain`` (equivalent plastic strain, >= 0), ``alpha`` (contact fraction in [0, 1]) and
-    ``p`` (the contact pressure of each point, Pa, > 0), one value per row of the file;
-    ``flow_curve`` the sheet's flow curve when it was given (the fit then runs the law at its
-    flow stress and hardening modulus, :func:`fit_beta`).
-    """
-
-    path: str
-    strain: np.ndarray
-    alpha: np.ndarray
-    p: np.ndarray
-    #: the measured sheet's flow curve (``--flow-curve``), or ``None``: a perfectly plastic sheet
-    flow_curve: "FlowCurve | None" = None
-    #: the file's line of each row (for the messages; empty for data made in code)
-    lines: tuple = ()
-    #: SHA-256 of the file's bytes and their number (``None`` for data made in code)
-    sha256: str | None = None
-    size_bytes: int | None = None
-
-
-#: the largest equivalent plastic strain a flattening measurement is read with (a strip drawn or
-#: upset to it would have failed long before); above it the column is most likely in per cent
-STRAIN_MAX = 2.0
-
-
-def read_flattening_data(path) -> FlatteningData:
-    """Read a CSV with the columns ``strain``, ``alpha`` and ``p_Pa`` or ``p_MPa`` (any order).
-
-    What spreadsheets write is read as it comes: ``#`` comment lines, a UTF-8 byte-order mark,
-    comma, semicolon or tab as the separator (the header row decides), column names in any
-    case. At least two rows with a strain above 0 are needed to fit ``beta``. ``ValueError``
-    naming the file, the row and the column for anything else, with the likely cause where the
-    numbers show it (a contact fraction or a strain in per cent, a decimal comma).
-    """
-    path = Path(path)
-    line_of, rows, sep = read_rows(path)
-    # the header as spreadsheets write it: any case ("Strain", "P_MPa"), spaces around
-    names = {"strain": "strain", "alpha": "alpha", "p_pa": "p_Pa", "p_mpa": "p_MPa"}
-    head = [names.get(h.strip().lower(), h.strip()) for h in rows[0]] if rows else []
-    if "p_Pa" in head and "p_MPa" in head:
-        raise ValueError(
-            f"{path}: both p_Pa and p_MPa columns: keep the one in the pressures' unit (which "
-            "one to read would be a guess)"
-        )
-    twice = sorted({c for c in ("strain", "alpha", "p_Pa", "p_MPa") if head.count(c) > 1})
-    if twice:
-        raise ValueError(
-            f"{path}: line {line_of[0]}: the column {twice[0]} appears twice: keep one (which one "
-            "to read would be a guess)"
-        )
-    unit = "p_Pa" if "p_Pa" in head else "p_MPa" if "p_MPa" in head else None
-    if unit is None or "strain" not in head or "alpha" not in head:
-        missing = [c for c in ("strain", "alpha") if c not in head]
-        missing += [] if unit else ["p_Pa (or p_MPa)"]
-        found = ", ".join(repr(h) for h in head) or "nothing"
-        raise ValueError(
-            f"{path}: the first row must name the columns strain, alpha, p_Pa (or p_MPa) "
-            "(strain: equivalent plastic strain; alpha: contact fraction in [0, 1]; the "
-            "pressure of each point in Pa or MPa), separated by commas, semicolons or tabs; "
-            f"missing {', '.join(missing)}, found {found}"
-        )
-    need = ("strain", "alpha", unit)
-    cols = {c: head.index(c) for c in need}
-    vals = {c: [] for c in need}
-    for i, r in zip(line_of[1:], rows[1:], strict=True):
-        for c in need:
-            cell = r[cols[c]].strip() if cols[c] < len(r) else ""
-            if not cell:
-                raise ValueError(f"{path}: line {i}, column {c}: empty")
-            try:
-                v = number(cell, sep)
-            except ValueError:
-                hint = " (a decimal comma? write 0.5, not 0,5)" if "," in cell else ""
-                raise ValueError(f"{path}: line {i}, column {c}: not a number{hint}") from None
-            if not math.isfinite(v):
-                raise ValueError(f"{path}: line {i}, column {c}: not finite")
-            vals[c].append(v)
-    scale = 1e6 if unit == "p_MPa" else 1.0  # the pressures in Pa
-    with open(path, "rb") as fh:  # what a rerun checks the file against
-        digest = hashlib.file_digest(fh, "sha256").hexdigest()
-    data = FlatteningData(
-        str(path),
-        np.array(vals["strain"]),
-        np.array(vals["alpha"]),
-        np.array(vals[unit]) * scale,
-        lines=tuple(line_of[1:]),
-        sha256=digest,
-        size_bytes=path.stat().st_size,
-    )
-    if np.any(data.strain < 0):
-        i = line_of[1 + int(np.argmin(data.strain))]
-        raise ValueError(
-            f"{path}: line {i}, column strain: strain must be >= 0 (the equivalent plastic strain; "
-            "a thickness strain is negative: give its equivalent, e.g. 2 / sqrt(3) |e_t| in plane "
-            "strain)"
-        )
-    if np.any(data.strain > STRAIN_MAX):
-        i = line_of[1 + int(np.argmax(data.strain))]
-        raise ValueError(
-            f"{path}: line {i}, column strain: {data.strain.max():g} is above {STRAIN_MAX:g}, "
-            "beyond any flattening measurement: the column is the equivalent plastic strain, "
-            "not per cent (it looks like per cent: divide by 100)"
-        )
-    bad = (data.alpha < 0) | (data.alpha > 1)
-    if np.any(bad):
-        i = line_of[1 + int(np.argmax(bad))]
-        pct = np.all(data.alpha >= 0) and np.all(data.alpha <= 100) and data.alpha.max() > 1.5
-        hint = " (it looks like per cent: divide by 100)" if pct else ""
-        raise ValueError(
-            f"{path}: line {i}, column alpha: {data.alpha[np.argmax(bad)]:g} is not a contact "
-            f"fraction in [0, 1]{hint}"
-        )
-    if np.any(data.p <= 0):
-        i = line_of[1 + int(np.argmax(data.p <= 0))]
-        raise ValueError(f"{path}: line {i}, column {unit}: must be > 0")
-    if np.count_nonzero(data.strain > 0) < 2:
-        raise ValueError(f"{path}: at least two rows with strain > 0 are needed to fit beta")
-    return data
 
 
 def check_data_pressures(data: FlatteningData, H: float) -> None:

@@ -346,10 +346,10 @@ def _read_scan(role, path, stamp, unit, size, own_size, max_undefined):
         ) from None
     except _surf.UnitContradiction as exc:
         raise ParameterError(f"{exc} (the option is {unit_opt})", *unit_names) from None
-    except _surf.SizeRequired:
+    except _surf.SizeRequired as exc:
+        said = f"{exc.note}; add it, or" if exc.note else "a plain file does not say its size:"
         raise ParameterError(
-            f"{path}: a plain file does not say its size: give {{size}} or {{{role}_size}} "
-            "(LX [LY] in m)",
+            f"{path}: {said} give {{size}} or {{{role}_size}} (LX [LY] in m)",
             "size",
             f"{role}_size",
         ) from None
