@@ -345,6 +345,7 @@ class GuardSpec:
         top = "none" if self.p_max is None else f"{self.p_max:.6g} {s}"
         units = f"this routine was exported for {self.units} and the model {self.other}"
         limit = f" {s} > 100 H = {self.p_unit:.6g} {s}"
+        only = f"its unit system {name} = {self.code} ({self.codes}): give only that value, {where}"
         seen = (
             "converged contact pressure (p_hist at the start of an increment) "
             if implicit
@@ -368,11 +369,7 @@ class GuardSpec:
                 "(frictionlaw-export --units) or correct the deck",
             ),
             4: (f"{pre}contact pressure ", f"{limit}: {units}"),
-            10: (
-                f"{pre}the deck gives ",
-                f" properties, but the routine takes one, its unit system {name} = "
-                f"{self.code} ({self.codes}): give only that value, {where}",
-            ),
+            10: (f"{pre}the deck gives ", f" properties, but the routine takes one, {only}"),
             5: (
                 f"{pre}{seen}",
                 f" {s} is beyond the calibrated range (p_max = {top}): the law is "
