@@ -292,6 +292,26 @@ def test_header_and_readme_list_every_zone(files):
     assert "DEPVAR=4" in readme
 
 
+def test_laws_in_files_of_one_name_are_told_apart(tmp_path, files):
+    """Every calibration writes ``params.json``: the README, the header and the messages name
+    each law's file with the parent folder that tells it from the others (same name, same
+    file: one name)."""
+    a, d = tmp_path / "calibration" / "params.json", tmp_path / "mnt-1" / "params.json"
+    for path, key in ((a, "a"), (d, "d")):
+        path.parent.mkdir()
+        path.write_bytes(files[key].read_bytes())
+    out, _ = exp.render("calculix", d, zones=[("Rim", a)])
+    src, readme = out["sbmf_fric.f"], out["README.md"]
+    assert "| `Rim` | 1 | `calibration/params.json` |" in readme
+    assert "| any other name | 2 | `mnt-1/params.json` |" in readme
+    assert "C zone 1 'Rim': parameter file calibration/params.json" in src
+    text = re.sub(r"'\n\s+&\s+// '", "", src).replace("''", "'")  # Fortran's strings joined
+    assert "zone 'Rim' (calibration/params.json)" in text
+    assert "the default law (mnt-1/params.json)" in text
+    out, _ = exp.render("calculix", a, zones=[("Rim", a)])
+    assert "| `Rim` | 1 | `params.json` |" in out["README.md"]
+
+
 @pytest.mark.parametrize(
     "target, zones, extra, match",
     [

@@ -18,7 +18,7 @@ numbers in its own messages, and :func:`zone_header` the provenance header's lin
 """
 
 import hashlib
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from sbmf_cli import ParameterError
@@ -94,13 +94,16 @@ class ExportLaw:
     sha: str
     core: CoreLaw
     origin: MOrigin
+    #: the file as the README and the messages name it: its name, with as many parent folders
+    #: as tell it from the export's other files (every calibration writes ``params.json``)
+    shown: str = ""
 
     @property
     def label(self):
         """``zone 'rim' (rim.json)``, or ``the default law (params.json)``."""
         if self.name is None:
-            return f"the default law ({self.path.name})"
-        return f"zone '{self.name}' ({self.path.name})"
+            return f"the default law ({self.shown})"
+        return f"zone '{self.name}' ({self.shown})"
 
     @property
     def key(self):
@@ -186,6 +189,21 @@ def check_zone_names(zones, key):
         seen[norm] = name
 
 
+def shown_names(paths):
+    """Each file's name with the fewest parent folders that tell different files apart.
+
+    ``calibration/params.json`` and ``mnt-1/params.json`` where both are ``params.json``; the
+    same file given twice keeps one name.
+    """
+    full = [Path(p).resolve() for p in paths]
+    depth = max(len(p.parts) for p in full)
+    for k in range(1, depth + 1):
+        names = ["/".join(p.parts[-k:]) for p in full]
+        if len(set(names)) == len(set(full)):
+            return names
+    return [str(p) for p in full]
+
+
 def plan_laws(params_path, zones, key, units, k_t, *, accept_failed, check):
     """Read and check every law of an export: ``(laws, table)``.
 
@@ -214,6 +232,8 @@ def plan_laws(params_path, zones, key, units, k_t, *, accept_failed, check):
                 m_origin(params),
             )  # fmt: skip
         )
+    shown = shown_names([law.path for law in laws])
+    laws = [replace(law, shown=name) for law, name in zip(laws, shown, strict=True)]
     if not zones:
         return tuple(laws), None
     default = len(laws) if params_path is not None else 0
@@ -279,7 +299,7 @@ def zone_header(table, units):
     """The provenance header's lines on the zones: how the routine chooses, then each law."""
     key = table.key
     default = (
-        f"a name no zone gives runs the default law ({table.laws[table.default - 1].path.name})"
+        f"a name no zone gives runs the default law ({table.laws[table.default - 1].shown})"
         if table.default
         else "a name no zone gives stops the run (no default law)"
     )
@@ -291,7 +311,7 @@ def zone_header(table, units):
     for law in table.laws:
         head = f"zone {law.index} '{law.name}'" if law.name else f"law {law.index}, the default"
         lines += [
-            f"{head}: parameter file {law.path.name}",
+            f"{head}: parameter file {law.shown}",
             f"  sha256: {law.sha}",
             *(f"  {line}" for line in law_lines(law.params, units, law.core.kt)),
         ]
