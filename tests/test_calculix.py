@@ -405,6 +405,14 @@ def test_decks_without_user_match_the_unpatched_ccx(ccx_work, ccx, interaction, 
         (["*FRICTION, USER, DEPVAR=3, PROPERTIES=1", "MM-T-S, 2.0"], "more values"),
         (["*FRICTION, USER, DEPVAR=3, PROPERTIES=1", "2."], "first property names the"),
         (["*FRICTION, USER, DEPVAR=3, PROPERTIES=1", "MPA"], "first property names the"),
+        (
+            ["*FRICTION, USER, DEPVAR=3, PROPERTIES=1", "MM-T-S", "*FRICTION", "0.1, 1e5"],
+            "a second *FRICTION card",
+        ),
+        (
+            ["*FRICTION", "0.1, 1e5", "*FRICTION, USER, DEPVAR=3, PROPERTIES=1", "MM-T-S"],
+            "a second *FRICTION card",
+        ),
     ],
     ids=[
         "negative-depvar",
@@ -412,6 +420,8 @@ def test_decks_without_user_match_the_unpatched_ccx(ccx_work, ccx, interaction, 
         "too-many-properties",
         "unit-number",
         "unit-unknown",
+        "coulomb-after-user",
+        "user-after-coulomb",
     ],
 )
 def test_bad_friction_cards_are_refused(ccx, friction, message, tmp_path):
