@@ -152,23 +152,25 @@ def _j_integral(
         v = u[:, None] * x[None, :]
         f = _j_integrand(ph, v, coeffs, H, g, slope, c_max)
         return ph**3 * u * (f @ w)
-    # the panels' edges and each row's kinks (v_k = acosh(t_k / p) inside 0..u), sorted: every
-    # panel lies between two kinks, where alpha1' is smooth (the kernels split there too)
-    with np.errstate(invalid="ignore"):
-        vk = np.arccosh(np.maximum(kinks[None, :] / ph[:, None], 1.0))
-    # kinks outside every row's 0..u split nothing
-    vk = vk[:, ((vk > 0.0) & (vk < u[:, None])).any(axis=0)]
-    edges = np.sort(
-        np.concatenate(
-            [u[:, None] * np.linspace(0.0, 1.0, panels + 1)[None, :], np.minimum(vk, u[:, None])],
-            axis=1,
-        ),
-        axis=1,
-    )
+    edges = _split_at_kinks(u[:, None] * np.linspace(0.0, 1.0, panels + 1)[None, :], ph, u, kinks)
     half = np.diff(edges, axis=1)[:, :, None] / 2
     v = ((edges[:, :-1, None] + edges[:, 1:, None]) / 2 + half * _GX).reshape(len(ph), -1)
     f = _j_integrand(ph, v, coeffs, H, g, slope, c_max)
     return ph**3 * np.sum(f * (half * _GW).reshape(len(ph), -1), axis=1)
+
+
+def _split_at_kinks(edges: NDArray, ph: NDArray, u: NDArray, kinks: NDArray) -> NDArray:
+    """``edges`` (a row per pressure ``ph``, from 0 to ``u``) with each row's kinks, sorted.
+
+    A kink ``t_k`` (units of ``H``) lies at ``v_k = acosh(t_k / p)`` of row ``p``: every segment
+    between the result's edges is then one where ``alpha1'`` is smooth (the kernels split there
+    too). Kinks outside every row's ``0..u`` split nothing and are left out; inside some rows,
+    they end empty segments in the others.
+    """
+    with np.errstate(invalid="ignore"):
+        vk = np.arccosh(np.maximum(kinks[None, :] / ph[:, None], 1.0))
+    vk = vk[:, ((vk > 0.0) & (vk < u[:, None])).any(axis=0)]
+    return np.sort(np.concatenate([edges, np.minimum(vk, u[:, None])], axis=1), axis=1)
 
 
 def _j_integrand(ph, v, coeffs, H, g, slope, c_max):
@@ -382,13 +384,13 @@ def flattening_update(
     s0 = s0_all[go]
     kappa = _strain_scale(flat, H, s0)
     c_max = lattice_hardening_limit(p[go], h[go])
-    # what J needs besides p / H and u
-    jx = (coeffs, H, p[go] / s0, flat.slope, c_max, _kinks(params, cap))
+    kinks = _kinks(params, cap)
+    jx = (coeffs, H, p[go] / s0, flat.slope, c_max, kinks)  # what J needs besides p / H and u
     u0 = np.arccosh(np.maximum(p0 / p[go], 1.0))
     ucap = np.arccosh(cap / p[go])
-    panels = _panels(float(ucap.max()), jx[5] is not None)
+    panels = _panels(float(ucap.max()), kinks is not None)
     with np.errstate(over="ignore"):  # a strain beyond any forming: full contact
-        target = _j_integral(ph, u0, *jx[:5], panels, jx[5]) + d_eps[go] * (ph / kappa)
+        target = _j_integral(ph, u0, *jx[:5], panels, kinks) + d_eps[go] * (ph / kappa)
     u = _solve_j(ph, target, u0, ucap, jx, panels)
     out[go] = np.maximum(np.minimum(p[go] * np.cosh(u), cap), p_f[go])
     return out

@@ -39,6 +39,7 @@ from .flattening import (
     _kinks,
     _p_cap,
     _s0,
+    _split_at_kinks,
     _strain_scale,
     lattice_hardening_limit,
 )
@@ -97,10 +98,7 @@ class _Grid:
         edges = self.ucap[:, None] * np.linspace(0.0, 1.0, m + 1)[None, :]
         kinks = _kinks(params, cap)
         if kinks is not None and kinks.size:
-            with np.errstate(invalid="ignore"):
-                vk = np.arccosh(np.maximum(kinks[None, :] / ph[:, None], 1.0))
-            vk = np.minimum(vk, self.ucap[:, None])
-            edges = np.sort(np.concatenate([edges, vk], axis=1), axis=1)
+            edges = _split_at_kinks(edges, ph, self.ucap, kinks)
         self.edges = edges
 
     def samples(self, j: NDArray, seg: NDArray, g: NDArray, c_max: NDArray) -> NDArray:
