@@ -25,6 +25,7 @@ from sbmf_cli import (
 
 from ..params import fit_failure
 from . import TARGETS, export
+from ._tables import TABLE_TOL
 from ._zones import parse_zone
 
 __all__ = ["build_parser", "main"]
@@ -88,7 +89,7 @@ def build_parser():
         type=float,
         default=None,
         help="table targets (abaqus-table, lsdyna-table): max |tau_table - tau| / tau_max on "
-        "first loading (default: 1e-3; refused for the routine targets)",
+        f"first loading (default: {TABLE_TOL:g}; refused for the routine targets)",
     )
     ap.add_argument(
         "--force",

@@ -90,7 +90,7 @@ def _plot_measurement(ax, P, fit, data):
         top = float(strain.max())
     else:
         top = float(fit["data"]["strain"][1])
-    levels = np.unique(p)
+    levels = measured = np.unique(p)
     if levels.size > MAX_FIT_LINES:
         levels = np.unique(np.quantile(levels, np.linspace(0, 1, MAX_FIT_LINES), method="nearest"))
     line = np.linspace(0.0, top, 41)
@@ -100,7 +100,7 @@ def _plot_measurement(ax, P, fit, data):
         curves = FlatteningCurves(pp, P).alpha(ee)
     else:
         curves = FlatteningPaths(pp, ee, P, flow_curve_from_dict(fc)).alpha()
-    shown = "" if levels.size == np.unique(p).size else f" ({levels.size} of {np.unique(p).size})"
+    shown = "" if levels.size == measured.size else f" ({levels.size} of {measured.size})"
     for k, a in enumerate(curves.reshape(levels.size, line.size)):
         ax.plot(
             line,

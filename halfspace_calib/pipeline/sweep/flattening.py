@@ -294,36 +294,23 @@ def _data_summary(data: FlatteningData, levels, r) -> dict:
     and by strain (bins of equal row count): a rerun on the same file reproduces them.
     """
 
+    def stats(rr):
+        return {
+            "rows": int(rr.size),
+            "rms": float(np.sqrt(np.mean(rr * rr))),
+            "mean": float(np.mean(rr)),
+            "max_abs": float(np.max(np.abs(rr))),
+        }
+
     def bins(key):
         order = np.argsort(key, kind="stable")
-        out = []
-        for idx in np.array_split(order, min(RESIDUAL_BINS, key.size)):
-            rr = r[idx]
-            out.append(
-                {
-                    "from": float(key[idx].min()),
-                    "to": float(key[idx].max()),
-                    "rows": int(idx.size),
-                    "rms": float(np.sqrt(np.mean(rr * rr))),
-                    "mean": float(np.mean(rr)),
-                    "max_abs": float(np.max(np.abs(rr))),
-                }
-            )
-        return out
+        return [
+            {"from": float(key[idx].min()), "to": float(key[idx].max()), **stats(r[idx])}
+            for idx in np.array_split(order, min(RESIDUAL_BINS, key.size))
+        ]
 
     if levels.size <= PRESSURES_KEPT:
-        by_p = []
-        for v in levels:
-            rr = r[data.p == v]
-            by_p.append(
-                {
-                    "p_Pa": float(v),
-                    "rows": int(rr.size),
-                    "rms": float(np.sqrt(np.mean(rr * rr))),
-                    "mean": float(np.mean(rr)),
-                    "max_abs": float(np.max(np.abs(rr))),
-                }
-            )
+        by_p = [{"p_Pa": float(v), **stats(r[data.p == v])} for v in levels]
     else:
         by_p = bins(data.p)
     n = int(data.strain.size)

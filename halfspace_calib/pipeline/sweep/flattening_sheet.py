@@ -11,7 +11,6 @@ column headed as an engineering strain is refused with the conversion.
 
 from __future__ import annotations
 
-import hashlib
 import math
 import re
 from dataclasses import dataclass
@@ -21,6 +20,8 @@ import numpy as np
 
 from frictionlaw._table import number, read_rows
 from frictionlaw.flow_curve import FlowCurve
+
+from ...topography._formats import file_sha256
 
 __all__ = ["FlatteningData", "read_flattening_data", "NAMES", "UNITS", "STRAIN_MAX"]
 
@@ -176,8 +177,6 @@ def read_flattening_data(path) -> FlatteningData:
     """
     path = Path(path)
     line_of, rows, sep = read_rows(path)
-    if not rows:
-        _columns(path, 1, [])
     cols = _columns(path, line_of[0] if line_of else 1, rows[0] if rows else [])
     vals: dict[str, list[float]] = {c: [] for c in cols}
     for i, r in zip(line_of[1:], rows[1:], strict=True):
@@ -195,15 +194,13 @@ def read_flattening_data(path) -> FlatteningData:
             if not math.isfinite(v):
                 raise ValueError(f"{path}: line {i}, column {written}: not finite")
             vals[c].append(v * factor)
-    with open(path, "rb") as fh:  # what a rerun checks the file against
-        digest = hashlib.file_digest(fh, "sha256").hexdigest()
     data = FlatteningData(
         str(path),
         np.array(vals["strain"]),
         np.array(vals["alpha"]),
         np.array(vals["p"]),
         lines=tuple(line_of[1:]),
-        sha256=digest,
+        sha256=file_sha256(path),  # what a rerun checks the file against
         size_bytes=path.stat().st_size,
     )
     _check_values(path, data, line_of, {c: w for c, (_, _, w) in cols.items()})

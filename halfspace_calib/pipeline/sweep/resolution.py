@@ -206,15 +206,10 @@ def _compared(law, law2, fine, coarse):
     for running, vals in ((law.first.form == "eq24", eq), (law.reload.form == "paper", pa)):
         for k, (a, b) in vals.items():
             (params if running else beside)[k] = _change(a, b)
-    if law.first.form != "eq24":  # Eq. 24's own Coulomb slope, beside the running one
-        mu = scene_mu(fine)
+    if law.first.form != "eq24":  # Eq. 24's own Coulomb slope m k C1 / H, beside the running one
+        mu = fine.tau_max / fine.H
         beside = {"mu_eff": _change(mu * f1.C1, mu * f2.C1), **beside}
     return params, beside
-
-
-def scene_mu(params):
-    """``m k / H`` of ``params`` (times ``C1``: Eq. 24's Coulomb slope ``mu_eff``)."""
-    return params.m * params.k / params.H
 
 
 def resolution_check(scene, law, sweeps, *, progress=False):
