@@ -199,6 +199,56 @@ def test_unit_bearing_headers_convert_to_fractions_and_pa(tmp_path, head, scale)
     assert d.p == pytest.approx([2.4e8] * 3, rel=1e-12)
 
 
+@pytest.mark.parametrize(
+    "units, scale",
+    [
+        ("-;%;MPa", (1, 100, 1e-6)),  # lab software's second header row
+        (";[%];(kPa)", (1, 100, 1e-3)),  # bracketed, the strain's cell empty
+        ("[1];-;N/mm\u00b2", (1, 1, 1e-6)),  # "1" alone would be a number
+    ],
+)
+def test_a_units_row_under_the_header_gives_the_units(tmp_path, units, scale):
+    """``strain; alpha; p`` over a row of units reads as ``alpha [%]``, ``p [MPa]``: the same
+    numbers (alpha 0.3-0.46 at 240 MPa), and the messages keep the file's own lines."""
+    rows = [(0.0, 0.3, 2.4e8), (0.01, 0.4, 2.4e8), (0.02, 0.46, 2.4e8)]
+    body = [
+        ";".join(f"{v * k:.10g}".replace(".", ",") for v, k in zip(r, scale, strict=True))
+        for r in rows
+    ]
+    f = tmp_path / "d.csv"
+    f.write_text("strain;alpha;p\n" + units + "\n" + "\n".join(body) + "\n", encoding="utf-8")
+    d = read_flattening_data(f)
+    assert d.strain == pytest.approx([0.0, 0.01, 0.02], rel=1e-12)
+    assert d.alpha == pytest.approx([0.3, 0.4, 0.46], rel=1e-12)
+    assert d.p == pytest.approx([2.4e8] * 3, rel=1e-12) and d.lines == (3, 4, 5)
+
+
+@pytest.mark.parametrize(
+    "text, msg",
+    [
+        (
+            "strain,alpha,p\n-,%,mm\n0,30,240\n",
+            "line 2 \\(the units row\\), column 'p': unknown unit 'mm'",
+        ),
+        ("strain,alpha,p_kPa\n-,%,MPa\n0,30,240\n", "says 'kPa' and the units row 'MPa': keep one"),
+        ("strain,alpha,p\n-,%,\n0,30,240\n", "the pressure column 'p' gives no unit"),
+        (
+            'strain,alpha,p_Pa\n0,0.3,"240,000,000"\n',
+            "line 2, column p_Pa: not a number \\(thousands",
+        ),
+        (
+            "strain;alpha;p_Pa\n0;0,3;240.000.000\n",
+            "line 2, column p_Pa: not a number \\(thousands",
+        ),
+    ],
+)
+def test_a_bad_units_row_and_thousands_separators_are_refused_by_line(tmp_path, text, msg):
+    f = tmp_path / "d.csv"
+    f.write_text(text + "0.01,0.4,2.4e8\n")
+    with pytest.raises(ValueError, match=msg):
+        read_flattening_data(f)
+
+
 def test_an_engineering_strain_column_is_refused_with_the_conversion(tmp_path):
     """The law's strain is a true strain: e = 0.0202 engineering is eps = ln(1.0202) = 0.02."""
     f = tmp_path / "d.csv"

@@ -5,7 +5,8 @@ comments, a byte-order mark, commas, semicolons or tabs, decimal commas where th
 no comma). Its three columns are found by name, in English or German, with the unit the header
 gives (``alpha [%]``, ``p [MPa]``, ``p_kPa``, ``strain [-]``, :data:`NAMES`, :data:`UNITS`); a
 unit the reader does not know is refused naming the column and the units it takes, never
-guessed. The strain is the host's equivalent plastic strain, a true (logarithmic) strain: a
+guessed; a second header row of units (``-; %; MPa``, ``[%]``, as lab software writes it) is
+read as the header's units. The strain is the host's equivalent plastic strain, a true (logarithmic) strain: a
 column headed as an engineering strain is refused with the conversion.
 """
 
@@ -177,7 +178,11 @@ def read_flattening_data(path) -> FlatteningData:
     """
     path = Path(path)
     line_of, rows, sep = read_rows(path)
-    cols = _columns(path, line_of[0] if line_of else 1, rows[0] if rows else [])
+    head = rows[0] if rows else []
+    if len(rows) > 1 and _is_units_row(head, rows[1], sep):
+        head = _with_units(path, line_of[1], head, rows[1])
+        line_of, rows = line_of[:1] + line_of[2:], rows[:1] + rows[2:]
+    cols = _columns(path, line_of[0] if line_of else 1, head)
     vals: dict[str, list[float]] = {c: [] for c in cols}
     for i, r in zip(line_of[1:], rows[1:], strict=True):
         for c, (j, factor, written) in cols.items():
@@ -188,6 +193,8 @@ def read_flattening_data(path) -> FlatteningData:
                 v = number(cell, sep)
             except ValueError:
                 hint = " (a decimal comma? write 0.5, not 0,5)" if "," in cell else ""
+                if _THOUSANDS.match(cell):
+                    hint = " (thousands separators are not read: write the digits alone)"
                 raise ValueError(
                     f"{path}: line {i}, column {written}: not a number{hint}"
                 ) from None
@@ -205,6 +212,51 @@ def read_flattening_data(path) -> FlatteningData:
     )
     _check_values(path, data, line_of, {c: w for c, (_, _, w) in cols.items()})
     return data
+
+
+#: a number written with thousands separators (``1,234.5``, ``12.000.000``, ``1'234``)
+_THOUSANDS = re.compile(r"^[+-]?\d{1,3}(?:([,.' \u00a0\u202f])\d{3})(?:\1\d{3})*(?:[.,]\d*)?$")
+
+
+def _is_units_row(head: list[str], row: list[str], sep: str) -> bool:
+    """Whether the row under the header gives units: no number in a read column, one unit."""
+    cells = [
+        row[j].strip() if j < len(row) else "" for j, c in enumerate(head) if _header_cell(c)[0]
+    ]
+    if not any(cells):
+        return False
+    for cell in cells:
+        try:
+            number(cell, sep)
+            return False
+        except ValueError:
+            pass
+    return True
+
+
+def _with_units(path: Path, line: int, head: list[str], units: list[str]) -> list[str]:
+    """The header with the units row's units (``p`` over ``MPa`` is ``p [MPa]``)."""
+    out = list(head)
+    for j, cell in enumerate(head):
+        quantity, unit = _header_cell(cell)
+        given = units[j].strip() if j < len(units) else ""
+        given = given[1:-1].strip() if given[:1] + given[-1:] in ("[]", "()") else given
+        if quantity is None or not given:
+            continue
+        if unit.strip() and unit.strip().lower() == given.lower():
+            continue  # p_MPa over MPa
+        if unit.strip():
+            raise ValueError(
+                f"{path}: line {line} (the units row): the column {cell.strip()!r} says "
+                f"{unit.strip()!r} and the units row {given!r}: keep one"
+            )
+        if UNITS[quantity].get(given.lower()) is None:
+            raise ValueError(
+                f"{path}: line {line} (the units row), column {cell.strip()!r}: unknown unit "
+                f"{given!r}; {quantity} takes {_SHOWN[quantity]}"
+            )
+        out[j] = f"{cell.strip()} [{given}]"
+    return out
 
 
 def _check_values(path: Path, data: FlatteningData, line_of: list[int], name: dict) -> None:
