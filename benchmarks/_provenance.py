@@ -102,8 +102,11 @@ def machine():
 
 
 @contextlib.contextmanager
-def run_record(script):
-    """Write ``results/<script stem>.run.json`` after the block (also when it fails).
+def run_record(script, stem=None):
+    """Write ``results/<stem>.run.json`` after the block (also when it fails).
+
+    ``stem`` defaults to the script's; a mode that writes other results than the script's
+    default run names its own, so that the default run's record is kept.
 
     A block that exits (``SystemExit``: ``--help``, a usage error) before writing any result
     ran nothing: the earlier run's record is kept.
@@ -124,10 +127,10 @@ def run_record(script):
             if p.is_file() and p.stat().st_mtime >= t0_wall - 1 and not p.name.endswith(".run.json")
         )
         if not (exited and not written):
-            _write_record(script, status, t0_wall, t0, written)
+            _write_record(script, status, t0_wall, t0, written, stem)
 
 
-def _write_record(script, status, t0_wall, t0, written):
+def _write_record(script, status, t0_wall, t0, written, stem=None):
     """The run record of :func:`run_record` (the files the run wrote, its status and machine)."""
     record = {
         "script": f"benchmarks/{Path(script).name}",
@@ -141,6 +144,6 @@ def _write_record(script, status, t0_wall, t0, written):
         "files_written": written,
     }
     RESULTS.mkdir(exist_ok=True)
-    path = RESULTS / f"{Path(script).stem}.run.json"
+    path = RESULTS / f"{stem or Path(script).stem}.run.json"
     path.write_text(json.dumps(record, indent=1) + "\n")
     print(f"run record: {path.relative_to(ROOT)}")

@@ -18,10 +18,14 @@ fitted; the table shows which of the two terms carries the truth at each pressur
 
 Writes ``benchmarks/results/flattening_flank.csv`` and ``.md``. Run: python
 benchmarks/flattening_flank.py [--quick] (six cases, about 6 min on the shared 2-core machine).
+``--young-factor F`` instead reruns the 10 deg wedge at 0.05 and 0.15 H with Young's modulus
+times ``F`` beside the truth's own and writes ``flattening_flank_young.md``: whether the flank's
+flattening and the valley's slowing are elastic (about 5 min at ``F = 10``).
 """
 
 import argparse
 import math
+import sys
 
 import numpy as np
 from _provenance import RESULTS, run_record, write_rows
@@ -57,9 +61,13 @@ def flank_state(top, tool, length):
     return float(s), float(tool - z[-1])
 
 
-def run(deg, p_over_h, nx=64, nz=32, e_max=0.12):
-    """One case: the history at every increment, ``(strain, alpha, s, d_v, l)`` arrays."""
-    mat = perfectly_plastic()
+def run(deg, p_over_h, nx=64, nz=32, e_max=0.12, young=1.0):
+    """One case: the history at every increment, ``(strain, alpha, s, d_v, l)`` arrays.
+
+    ``young`` multiplies the truth's Young's modulus (the yield stress, and so ``H``, unchanged).
+    """
+    base = perfectly_plastic()
+    mat = perfectly_plastic(E=base.E * young)
     H = prandtl_hardness(mat.sigma_y0)
     x, z = wedge_profile(deg, SPACING)
     opt = AsperityOptions(max_strain_step=0.002)
@@ -138,10 +146,58 @@ def _markdown(rows, path):
     path.write_text("\n".join(lines) + "\n")
 
 
+def young_study(factor):
+    """The 10 deg wedge at 0.05 and 0.15 H with Young's modulus times ``factor`` beside the truth."""
+    t0 = math.tan(math.radians(10.0))
+    lines = [
+        "# Is the truth's flank elastic? Young's modulus times " + f"{factor:g}",
+        "",
+        "`benchmarks/flattening_flank.py --young-factor`: the 10 deg wedge, the truth's strip "
+        "(64 x 32, perfectly plastic, the same yield stress and `H`), steps of at most 0.002; "
+        "alpha and the free flank's slope over its initial, the truth's modulus / times "
+        f"{factor:g}.",
+        "",
+        "| p/H | strain | alpha | flank slope / initial | valley depth / l |",
+        "|---|---|---|---|---|",
+    ]
+    worst = {"alpha": 0.0, "slope": 0.0}
+    for ph in (0.05, 0.15):
+        runs = [run(10.0, ph, e_max=0.1, young=y) for y in (1.0, factor)]
+        for ek in REPORT[REPORT <= 0.1 + 1e-12]:
+            v = [
+                [float(np.interp(ek, e, q)) for q in (A, s / t0, dv / L)]
+                for _, e, A, s, dv, L in runs
+            ]
+            worst["alpha"] = max(worst["alpha"], abs(v[0][0] - v[1][0]))
+            worst["slope"] = max(worst["slope"], abs(v[0][1] - v[1][1]))
+            lines.append(
+                f"| {ph:g} | {ek:.2f} | "
+                + " | ".join(f"{v[0][k]:.3f} / {v[1][k]:.3f}" for k in range(3))
+                + " |"
+            )
+    lines += [
+        "",
+        f"Largest difference: {worst['alpha']:.3f} in alpha, {worst['slope']:.3f} in the flank's "
+        "slope ratio.",
+    ]
+    path = RESULTS / "flattening_flank_young.md"
+    path.write_text("\n".join(lines) + "\n")
+    print(path.read_text())
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="one case (10 deg at 0.05 H)")
+    ap.add_argument(
+        "--young-factor",
+        type=float,
+        default=None,
+        help="rerun 10 deg at 0.05 and 0.15 H with Young's modulus times this (default: off)",
+    )
     args = ap.parse_args()
+    if args.young_factor is not None:
+        young_study(args.young_factor)
+        return
     cases = CASES[2:3] if args.quick else CASES
     rows = []
     for deg, ph in cases:
@@ -155,5 +211,6 @@ def main():
 
 
 if __name__ == "__main__":
-    with run_record(__file__):
+    young = "--young-factor" in " ".join(sys.argv)
+    with run_record(__file__, "flattening_flank_young" if young else None):
         main()
