@@ -20,7 +20,10 @@ Writes ``benchmarks/results/flattening_flank.csv`` and ``.md``. Run: python
 benchmarks/flattening_flank.py [--quick] (six cases, about 6 min on the shared 2-core machine).
 ``--young-factor F`` instead reruns the 10 deg wedge at 0.05 and 0.15 H with Young's modulus
 times ``F`` beside the truth's own and writes ``flattening_flank_young.md``: whether the flank's
-flattening and the valley's slowing are elastic (about 5 min at ``F = 10``).
+flattening and the valley's slowing are elastic (about 5 min at ``F = 10``). ``--field`` reruns
+the 10 deg wedge at 0.05 and 0.15 H to a stretch of 0.06 keeping every node and writes
+``flattening_field.md``: the velocity field beyond the homogeneous stretch, which shows the
+mechanism at each pressure (about 2 min).
 """
 
 import argparse
@@ -185,6 +188,108 @@ def young_study(factor):
     print(path.read_text())
 
 
+FIELD_STRAINS = (0.006, 0.03, 0.055)
+
+
+def field_rows(deg, p_over_h, e_max=0.06, nx=64, nz=32):
+    """The velocity beyond the homogeneous stretch at :data:`FIELD_STRAINS` (a dict each).
+
+    Between two increments about 0.004 apart: the vertical velocity per unit stretch in
+    half-spacings, less the homogeneous flow's ``-(z - z_bottom)``, relative to the peak's top
+    node, on every 4th column and the rows to a depth of ``1.3 l``; on the free top surface the
+    jump at the contact edge and the line fitted to the rest of the flank (its slope, ``d w /
+    d x``, turns the flank: ``-(d w / d x) / s`` adds to the convected ``d ln s / d eps = -2``);
+    the jump is taken from the last node in contact to the third free one (the edge advances by
+    one or two nodes over the interval).
+    """
+    mat = perfectly_plastic()
+    H = prandtl_hardness(mat.sigma_y0)
+    x, z = wedge_profile(deg, SPACING)
+    opt = AsperityOptions(max_strain_step=0.002, record_nodes=True)
+    res = asperity_contact_fraction(
+        x, z, p_over_h * H, [0.0, e_max], mat, AsperityMesh(nx, nz, DEPTH), opt
+    )
+    h = res.history
+    e = np.array(h.strain)
+    out = []
+    for ek in FIELD_STRAINS:
+        i = int(np.argmin(abs(e - ek)))
+        j = min(i + 1 + int(np.searchsorted(e[i + 1 :], e[i] + 0.0035)), len(e) - 1)
+        x0, x1 = h.nodes[i], h.nodes[j]
+        length = float(x0[:, 0].max())
+        v = (x1[:, 1] - x0[:, 1]) / (e[j] - e[i]) / length
+        w = (v + (x0[:, 1] - x0[:, 1].min()) / length).reshape(nx + 1, nz + 1)
+        grid = x0.reshape(nx + 1, nz + 1, 2) / length
+        w = w - w[0, -1]
+        top_x, top_z = grid[:, -1, 0], grid[:, -1, 1]
+        free = top_z * length <= h.tool[i] * (1 - 1e-12) - 1e-15
+        first = int(np.argmax(free))
+        flank = np.arange(first + 3, nx + 1)  # free through the interval (the edge advances)
+        ramp = float(np.polyfit(top_x[flank], w[flank, -1], 1)[0]) if flank.size > 2 else math.nan
+        s_now = -float(np.polyfit(top_x[flank], top_z[flank], 1)[0])
+        depth = grid[0, -1, 1] - grid[0, :, 1]
+        rows = [r for r in range(nz, -1, -1) if depth[r] <= 1.3]
+        out.append(
+            {
+                "slope_deg": deg,
+                "p_over_H": p_over_h,
+                "strain": float(e[i]),
+                "alpha": float(h.alpha[i]),
+                "edge_x": float(top_x[first]),
+                "edge_jump": float(w[first + 3, -1] - w[first - 1, -1]),
+                "flank_ramp": ramp,
+                "flank_turn": -ramp / s_now,
+                "valley_rise": float(w[-1, -1]),
+                "columns": top_x[::4],
+                "depths": depth[rows],
+                "w": w[::4][:, rows].T,
+            }
+        )
+    return out
+
+
+def field_study():
+    """``--field``: the velocity field at 0.05 and 0.15 H beside each other."""
+    lines = [
+        "# The truth's velocity field under stretch (10 deg wedge)",
+        "",
+        "`benchmarks/flattening_flank.py --field`: the truth's strip (64 x 32, perfectly plastic), "
+        "steps of at most 0.002, every node kept. Vertical velocity per unit stretch in "
+        "half-spacings beyond the homogeneous flow, relative to the peak's top node, over about "
+        "0.004 of stretch. On the free surface: the jump at the contact edge (the slip-line "
+        "lattice, Eq. F2a: all of the rise, the flank block rigid) and the fitted rise along the "
+        "rest of the flank, `d w / d x` (0 for a rigid flank; it turns the flank by "
+        "`-(d w / d x) / s` per unit stretch beyond the convected -2).",
+        "",
+        "| p/H | strain | alpha | edge x / l | jump at the edge | flank's rise d w / d x | "
+        "its turn -(dw/dx)/s | valley's rise |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    maps = []
+    for ph in (0.05, 0.15):
+        for r in field_rows(10.0, ph):
+            lines.append(
+                f"| {ph:g} | {r['strain']:.3f} | {r['alpha']:.3f} | {r['edge_x']:.2f} | "
+                f"{r['edge_jump']:.2f} | {r['flank_ramp']:.2f} | {r['flank_turn']:.1f} | "
+                f"{r['valley_rise']:.2f} |"
+            )
+            maps += [
+                "",
+                f"**{ph:g} H, strain {r['strain']:.3f}, alpha {r['alpha']:.3f}** (rows: depth / l "
+                "below the peak's top; columns: x / l)",
+                "",
+                "| depth | " + " | ".join(f"{c:.2f}" for c in r["columns"]) + " |",
+                "|---" * (len(r["columns"]) + 1) + "|",
+            ]
+            maps += [
+                f"| {d:.2f} | " + " | ".join(f"{v:+.2f}" for v in row) + " |"
+                for d, row in zip(r["depths"], r["w"], strict=True)
+            ]
+    path = RESULTS / "flattening_field.md"
+    path.write_text("\n".join(lines + maps) + "\n")
+    print("\n".join(lines))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="one case (10 deg at 0.05 H)")
@@ -194,7 +299,15 @@ def main():
         default=None,
         help="rerun 10 deg at 0.05 and 0.15 H with Young's modulus times this (default: off)",
     )
+    ap.add_argument(
+        "--field",
+        action="store_true",
+        help="write the velocity field at 0.05 and 0.15 H (flattening_field.md) instead",
+    )
     args = ap.parse_args()
+    if args.field:
+        field_study()
+        return
     if args.young_factor is not None:
         young_study(args.young_factor)
         return
@@ -211,6 +324,7 @@ def main():
 
 
 if __name__ == "__main__":
-    young = "--young-factor" in " ".join(sys.argv)
-    with run_record(__file__, "flattening_flank_young" if young else None):
+    mode = "_young" if "--young-factor" in " ".join(sys.argv) else ""
+    mode = "_field" if "--field" in sys.argv else mode
+    with run_record(__file__, f"flattening_flank{mode}" if mode else None):
         main()

@@ -217,6 +217,27 @@ def test_history_records_the_surface_the_fraction_is_read_from(wedge):
         assert depth[-1] < 0.8 * depth[0]
 
 
+def test_recorded_nodes_hold_the_top_surface_and_the_stretched_side():
+    """``record_nodes`` keeps every node at each increment (a velocity-field study reads them):
+    each column's last node is the recorded top surface, the right column sits at
+    ``x = L0 exp(eps)``, the left on its symmetry plane; off by default."""
+    x, z = wedge_profile(10.0, 100e-6)
+    mat = perfectly_plastic()
+    H = prandtl_hardness(mat.sigma_y0)
+    opt = AsperityOptions(max_strain_step=0.005, record_nodes=True)
+    mesh = AsperityMesh(8, 4, 100e-6)
+    res = asperity_contact_fraction(x, z, 0.2 * H, [0.0, 0.01], mat, mesh, opt)
+    h = res.history
+    assert res.converged and len(h.nodes) == len(h.top) >= 3
+    for nodes, top, e in zip(h.nodes, h.top, h.strain, strict=True):
+        grid = nodes.reshape(9, 5, 2)
+        np.testing.assert_array_equal(grid[:, -1], top)
+        assert np.allclose(grid[-1, :, 0], 50e-6 * math.exp(e), rtol=1e-9)
+        assert np.all(grid[0, :, 0] == 0.0)
+    res = asperity_contact_fraction(x, z, 0.2 * H, [0.0, 0.005], mat, mesh)
+    assert res.history.nodes == []
+
+
 def test_wedge_conserves_volume_and_balances_forces(wedge):
     """After 5 % of bulk strain (local plastic strains far larger) the strip's volume change is
     its elastic dilatation to 1e-7 (measured 3e-9): the plastic flow is isochoric; the bottom

@@ -97,6 +97,9 @@ class AsperityOptions:
     rtol : float
         Newton tolerance (relative residual).
     kernels : {"numba", "numpy"}
+    record_nodes : bool
+        Keep every node's position at each increment in the history (``nodes``; a study of the
+        velocity field reads them), not only the top surface's.
     """
 
     press_increments: int = 8
@@ -104,6 +107,7 @@ class AsperityOptions:
     max_strain_step: float = 0.01
     rtol: float = 1e-6
     kernels: str = "numba"
+    record_nodes: bool = False
 
     def __post_init__(self):
         if int(self.press_increments) != self.press_increments or self.press_increments < 1:
@@ -131,6 +135,9 @@ class AsperityHistory:
     nit: list = field(default_factory=list)  # Newton iterations of the increment
     top: list = field(default_factory=list)  # the top surface's nodes (x, z) (m), (n, 2) each
     tool: list = field(default_factory=list)  # the flat's height (m)
+    #: every node's (x, z) (m), (n, 2) each, with ``AsperityOptions(record_nodes=True)``; the
+    #: mesh's node numbering (:func:`.strip_mesh`: column by column, ``nz + 1`` nodes a column)
+    nodes: list = field(default_factory=list)
 
 
 @dataclass
@@ -305,6 +312,8 @@ def asperity_contact_fraction(
         hist.nit.append(nit)
         hist.top.append(model.x[strip.top].copy())
         hist.tool.append(float(model.w))
+        if opt.record_nodes:
+            hist.nodes.append(model.x.copy())
 
     ctl = _Controller()
     ok, message = _press(model, p, opt, ctl)
