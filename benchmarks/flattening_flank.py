@@ -21,9 +21,9 @@ benchmarks/flattening_flank.py [--quick] (six cases, about 6 min on the shared 2
 ``--young-factor F`` instead reruns the 10 deg wedge at 0.05 and 0.15 H with Young's modulus
 times ``F`` beside the truth's own and writes ``flattening_flank_young.md``: whether the flank's
 flattening and the valley's slowing are elastic (about 5 min at ``F = 10``). ``--field`` reruns
-the 10 deg wedge at 0.05 and 0.15 H to a stretch of 0.06 keeping every node and writes
-``flattening_field.md``: the velocity field beyond the homogeneous stretch, which shows the
-mechanism at each pressure (about 2 min).
+the 10 deg wedge at 0.03-0.15 H and the 3 and 5 deg wedges at 0.05 H to a stretch of 0.06
+keeping every node and writes ``flattening_field.md``: the velocity field beyond the homogeneous
+stretch, which shows the mechanism at each pressure (about 7 min).
 """
 
 import argparse
@@ -248,10 +248,16 @@ def field_rows(deg, p_over_h, e_max=0.06, nx=64, nz=32):
     return out
 
 
+FIELD_CASES = ((10.0, 0.03), (10.0, 0.05), (10.0, 0.075), (10.0, 0.1), (10.0, 0.15))
+FIELD_CASES += ((5.0, 0.05), (3.0, 0.05))
+FIELD_MAPS = ((10.0, 0.05), (10.0, 0.15))
+
+
 def field_study():
-    """``--field``: the velocity field at 0.05 and 0.15 H beside each other."""
+    """``--field``: the edge's share of the rise over pressures and slopes, two maps."""
+    k_over_h = 1.0 / (2.0 + math.pi)  # k / H of prandtl_hardness
     lines = [
-        "# The truth's velocity field under stretch (10 deg wedge)",
+        "# The truth's velocity field under stretch",
         "",
         "`benchmarks/flattening_flank.py --field`: the truth's strip (64 x 32, perfectly plastic), "
         "steps of at most 0.002, every node kept. Vertical velocity per unit stretch in "
@@ -259,24 +265,28 @@ def field_study():
         "0.004 of stretch. On the free surface: the jump at the contact edge (the slip-line "
         "lattice, Eq. F2a: all of the rise, the flank block rigid) and the fitted rise along the "
         "rest of the flank, `d w / d x` (0 for a rigid flank; it turns the flank by "
-        "`-(d w / d x) / s` per unit stretch beyond the convected -2).",
+        "`-(d w / d x) / s` per unit stretch beyond the convected -2); the edge's share is the "
+        "jump over the valley's rise.",
         "",
-        "| p/H | strain | alpha | edge x / l | jump at the edge | flank's rise d w / d x | "
-        "its turn -(dw/dx)/s | valley's rise |",
-        "|---|---|---|---|---|---|---|---|",
+        "| wedge, p/H (p/k) | strain | alpha | edge x / l | jump at the edge | flank's rise "
+        "d w / d x | its turn -(dw/dx)/s | valley's rise | edge's share |",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
     maps = []
-    for ph in (0.05, 0.15):
-        for r in field_rows(10.0, ph):
+    for deg, ph in FIELD_CASES:
+        for r in field_rows(deg, ph):
             lines.append(
-                f"| {ph:g} | {r['strain']:.3f} | {r['alpha']:.3f} | {r['edge_x']:.2f} | "
-                f"{r['edge_jump']:.2f} | {r['flank_ramp']:.2f} | {r['flank_turn']:.1f} | "
-                f"{r['valley_rise']:.2f} |"
+                f"| {deg:g} deg, {ph:g} ({ph / k_over_h:.2f}) | {r['strain']:.3f} | "
+                f"{r['alpha']:.3f} | {r['edge_x']:.2f} | {r['edge_jump']:.2f} | "
+                f"{r['flank_ramp']:.2f} | {r['flank_turn']:.1f} | {r['valley_rise']:.2f} | "
+                f"{r['edge_jump'] / r['valley_rise']:.2f} |"
             )
+            if (deg, ph) not in FIELD_MAPS:
+                continue
             maps += [
                 "",
-                f"**{ph:g} H, strain {r['strain']:.3f}, alpha {r['alpha']:.3f}** (rows: depth / l "
-                "below the peak's top; columns: x / l)",
+                f"**{deg:g} deg, {ph:g} H, strain {r['strain']:.3f}, alpha {r['alpha']:.3f}** "
+                "(rows: depth / l below the peak's top; columns: x / l)",
                 "",
                 "| depth | " + " | ".join(f"{c:.2f}" for c in r["columns"]) + " |",
                 "|---" * (len(r["columns"]) + 1) + "|",
@@ -285,6 +295,7 @@ def field_study():
                 f"| {d:.2f} | " + " | ".join(f"{v:+.2f}" for v in row) + " |"
                 for d, row in zip(r["depths"], r["w"], strict=True)
             ]
+        print(f"wedge {deg:g} deg, p/H {ph:g}: done", flush=True)
     path = RESULTS / "flattening_field.md"
     path.write_text("\n".join(lines + maps) + "\n")
     print("\n".join(lines))
@@ -302,7 +313,7 @@ def main():
     ap.add_argument(
         "--field",
         action="store_true",
-        help="write the velocity field at 0.05 and 0.15 H (flattening_field.md) instead",
+        help="write the velocity field over pressures (flattening_field.md) instead",
     )
     args = ap.parse_args()
     if args.field:

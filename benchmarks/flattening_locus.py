@@ -24,7 +24,11 @@ half-spacing and unit strain; the loci differ in ``c``:
 - ``L|E`` (a candidate): the alternative that saves more power against uniform flow for the
   stretch, by the upper-bound functional (dissipation less the pressure's work): the lattice
   saves ``p c_L`` (the pressure's work on its sinking), the layer ``s0 (1 - sqrt(1 - r^2))``
-  (its in-plane stress below the bulk's), per ``2 l^2 eps_dot``; ``beta`` times that one's ``c``.
+  (its in-plane stress below the bulk's), per ``2 l^2 eps_dot``; ``beta`` times that one's ``c``;
+- ``sL+E`` (a candidate read from the truth's velocity field, ``flattening_flank.py --field``):
+  the line at the plateau's edge carries only a share of the lattice's rise at low pressure, the
+  rest turning the flank (which grows no contact): ``beta (min(1, 2 p / k) c_L + c_E)``, the
+  share in F2c's form with ``k`` for the hardening ``h_k`` (an observed share, not derived).
 
 ``p_f`` is the first-loading pressure of the current fraction (``alpha1(p_f) = A``), ``s0 = 2 k``.
 Each curve is integrated as ``eps(A) = tan(theta) int dA / c`` on a grid in ``A`` (no closed form
@@ -54,7 +58,7 @@ import frictionlaw as fl
 from frictionlaw.flattening import flattening_pressure
 from halfspace_calib.pipeline.sweep.flattening import fit_beta
 
-LOCI = ("E", "T", "C", "C+E", "L", "L+E", "L+AE", "max(L,E)", "L|E")
+LOCI = ("E", "T", "C", "C+E", "L", "L+E", "L+AE", "max(L,E)", "L|E", "sL+E")
 #: points of the ``A`` grid from ``alpha1(p)`` to full contact (cosine-clustered at both ends)
 _GRID = 4001
 #: the bounds of a fitted ``beta`` (the block's own range, docs/flattening.md)
@@ -84,6 +88,11 @@ def rate_lattice(A, slope):
     return 1.0 + slope * (1.0 - A)
 
 
+def edge_share(p, s0):
+    """``min(1, 2 p / k)``, ``k = s0 / 2``: the share of the rise at the plateau's edge (``sL+E``)."""
+    return min(1.0, 4.0 * p / s0)
+
+
 def rate(locus, A, p, p_f, s0, beta, slope):
     """The sinking rate ``c = v_b / (l eps_dot)`` of ``locus`` (module text) on the ``A`` grid."""
     if locus == "E":
@@ -102,6 +111,8 @@ def rate(locus, A, p, p_f, s0, beta, slope):
         return beta * (rate_lattice(A, slope) + A * rate_ellipse(p, p_f, s0))
     if locus == "max(L,E)":
         return beta * np.maximum(rate_lattice(A, slope), rate_ellipse(p, p_f, s0))
+    if locus == "sL+E":
+        return beta * (edge_share(p, s0) * rate_lattice(A, slope) + rate_ellipse(p, p_f, s0))
     if locus == "L|E":
         c_l, c_e = rate_lattice(A, slope), rate_ellipse(p, p_f, s0)
         r = np.minimum(p / p_f, 1.0)
