@@ -360,7 +360,7 @@ def ring(interaction, *, nr=12, nz=None, od=18.0, idia=9.0, h=6.0, reduction=0.3
         "NDIE, 1, 1, 0.",
         f"*STEP, NLGEOM, INC={10 * n_inc}",
         "*STATIC",
-        f"{1.0 / n_inc:.6g}, 1.0, 1e-5, {1.0 / n_inc:.6g}",
+        f"{1.0 / n_inc:.10g}, 1.0, 1e-5, {1.0 / n_inc:.10g}",
         "*BOUNDARY",
         f"NDIE, 2, 2, {-reduction * hh:.10g}",
         "*NODE PRINT, NSET=NDIE, TOTALS=ONLY",
