@@ -8,7 +8,9 @@
 - Debian's stock ccx refuses the documented deck (it cannot read the unit system's name),
   where the Abaqus form of the lines runs to the end with a Coulomb coefficient of 2;
 - face-to-face history through the re-layout of the slave integration points at several GPa;
-- fixed increments: ccx cannot cut back, the request is ignored with one warning.
+- fixed increments: ccx cannot cut back, the request is ignored with one warning;
+- an axisymmetric CAX4 billet upset by 30 % face-to-face: the routine's cut-backs keep ccx's
+  contact stiffnesses, and the run finishes with the law at every slipping point.
 
 The build and its fixtures: tests/test_calculix.py.
 """
@@ -20,7 +22,7 @@ import subprocess
 import numpy as np
 import pytest
 import test_calculix as base
-from ccx_decks import plastic_block, read_blocks, read_dat, two_blocks
+from ccx_decks import billet, plastic_block, read_blocks, read_dat, two_blocks
 from test_calculix import EXAMPLE, _doc_lines, _run
 from test_calculix_contact import _sta, _wrapped
 
@@ -193,3 +195,32 @@ def test_fixed_increments_ignore_a_cut_back_request(export_dir, ccx_work, tmp_pa
 
 #: two steps of four fixed increments
 STEPS_DIRECT = [(400.0, 0.0, {"static": "0.25, 1."}), (400.0, 0.1, {"static": "0.25, 1."})]
+
+
+def test_axisymmetric_billet_upset_face_to_face(ccx, tmp_path):
+    """A user's deck (tests/ccx_decks.billet: CAX4 billet, r = 10 mm, upset by 30 % in 30
+    increments, face-to-face, top and free side as slave) stopped at 29 % with "too many
+    cutbacks": the first iterate of increment 30 overshot to 1.9e5-2.5e5 MPa at points within
+    0.1 mm of the axis, the routine asked for PNEWDT = 0.25, and ccx's face-to-face cut-back
+    divided the contact stiffnesses by 100 while the routine's stick stiffness stayed; five
+    attempts of up to 60 iterations failed (ccx's own Coulomb, 0.1-0.3, finished). The patch now
+    keeps the stiffnesses through a cut-back the routine asked for (and takes ccx's state of a
+    re-laid point from the nearest old point where ccx's interpolation gives NaN, the next stop,
+    at 99.4 %). The run finishes, each of the routine's cut-backs says the reduction is undone,
+    and every slipping point's shear is ``shear_limit(p, p_hist)``."""
+    proc, dat = _run(ccx, billet(_doc_lines()), tmp_path)
+    assert proc.returncode == 0 and "Job finished" in proc.stdout, proc.stdout[-2000:]
+    assert "*ERROR" not in proc.stdout
+    # the overshoot still asks for cut-backs, and none of them softens the contact
+    requests = proc.stdout.split(CUT)[1:]
+    assert len(requests) >= 1
+    for after in requests:
+        attempt = after.split(" attempt ")[0]
+        assert "keeps the contact\n stiffnesses: the reduction above is undone" in attempt
+    blocks = read_blocks(dat)
+    assert blocks[-1][0] == pytest.approx(1.0)
+    pts = _slipping_points(dat, F2F)
+    p, tau, p_hist = pts.T
+    law = shear_limit(p * 1e6, p_hist * 1e6, FrictionParams.from_json(EXAMPLE)) / 1e6
+    assert (np.abs(tau - law) / law).max() < 2e-6
+    assert len(pts) > 10000 and (p < 0.9 * p_hist).sum() > 100
