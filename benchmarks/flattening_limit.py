@@ -1,0 +1,231 @@
+"""A rigid-plastic limit analysis of the truth's states (issue 43, a study of the mechanism).
+
+The FE asperity truth (``asperity_flattening.py``) flattens its wedges by the slip-line lattice
+of Eq. F2a at 0.1-0.3 H (a line from the plateau's edge, the flank block rigid) and by a turning
+flank below (``flattening_flank.py --field``), with or without ten times its Young's modulus: the
+choice is the rigid-plastic problem's. This script asks the rigid-perfectly plastic problem
+directly, with nothing of the truth but its geometry: the instantaneous velocity field of the
+half cell (peak to valley, half-spacing ``l = 1``, depth ``4 l``, symmetry planes at both ends,
+the right one moving at the stretch rate 1, the bottom held vertically) under a flat frictionless
+tool loaded by ``p`` on the plateau ``0 <= x <= A``, the flank straight at slope ``s`` down to the
+valley. By the kinematic theorem the field minimises the dissipation less the pressure's work; it
+is found as a linear programme (an upper-bound limit analysis: 6-node triangles with straight
+sides, incompressibility at the vertices, which makes it exact in each element, von Mises' plane-
+strain dissipation ``k sqrt((d_xx - d_zz)^2 + (2 d_xz)^2)`` linearised by a polygon of
+``sides`` directions at each vertex and integrated by the vertices' mean, an upper bound of a
+convex integrand; SciPy's HiGHS; ``k = 1``, ``H = (2 + pi) k``).
+
+Read off: the dissipation over the uniform stretch's ``2 k`` times the cell's area (below 1: the
+asperity above the valleys is spared part of the stretch), the plateau's sinking beyond the
+homogeneous flow, and the contact's growth ``dA / d eps = (w - W) / s + (u - x)`` at the first
+flank nodes beyond the edge (the field is continuous: the lattice's line is smeared over an
+element, so the rate is read one and two elements out), as ``c = tan(theta) dA / d eps`` beside the
+truth's ``c_truth`` at the same state (``flattening_flank.csv``: its ``alpha`` and flank slope).
+A check: with ``p = 0`` on a flat strip the uniform stretch is the minimum, ratio 1.
+
+Run: python benchmarks/flattening_limit.py [--mesh NX NZ] [--sides N] [--cases 10:0.05,...]
+[--strains 0.02,...] [--out STEM] (about 5 min at the default mesh; a 16 x 24 state about 2.5 min)
+Writes benchmarks/results/flattening_limit.csv and .md (or STEM's).
+"""
+
+import argparse
+import csv
+import math
+import time
+
+import numpy as np
+import scipy.sparse as sp
+from _provenance import RESULTS, run_record, write_rows
+from scipy.optimize import linprog
+
+DEPTH = 4.0  # the cell's depth (l); the truth's strips of 4-16 l agree within 0.016
+STRAINS = (0.01, 0.02, 0.03, 0.05)
+_EDGES = ((0, 1), (1, 2), (2, 0))
+
+
+def cell(A, s, nx, nz):
+    """Vertices (graded to the top), 6-node triangles and the top's x of the half cell."""
+    na = max(1, round(nx * A)) if A > 0 else 0
+    xs = np.r_[np.linspace(0.0, A, na + 1)[:-1], np.linspace(A, 1.0, nx - na + 1)]
+    eta = 1.0 - (1.0 - np.linspace(0.0, 1.0, nz + 1)) ** 2
+    top = np.where(xs <= A, 0.0, -s * (xs - A))
+    pts = np.empty((xs.size, nz + 1, 2))
+    pts[..., 0] = xs[:, None]
+    pts[..., 1] = -DEPTH + eta[None, :] * (DEPTH + top[:, None])
+    vid = np.arange(pts.shape[0] * pts.shape[1]).reshape(pts.shape[:2])
+    tris = []
+    for i in range(xs.size - 1):
+        for j in range(nz):
+            q = vid[i, j], vid[i + 1, j], vid[i + 1, j + 1], vid[i, j + 1]
+            alt = (i + j) % 2
+            tris += [(q[0], q[1], q[3]), (q[1], q[2], q[3])] if alt else [q[:3], (q[0], q[2], q[3])]
+    pts = pts.reshape(-1, 2)
+    mids, six = {}, []
+    for t in tris:
+        m = []
+        for i, j in _EDGES:
+            key = (min(t[i], t[j]), max(t[i], t[j]))
+            mids.setdefault(key, len(pts) + len(mids))
+            m.append(mids[key])
+        six.append([*t, *m])
+    mid_xy = np.array([(pts[i] + pts[j]) / 2 for i, j in mids])
+    return np.vstack([pts, mid_xy]), np.array(six), xs, top
+
+
+def _gradients(x):
+    """Each node's basis gradient at each vertex of a straight 6-node triangle, (3, 6, 2)."""
+    J = np.array([x[1] - x[0], x[2] - x[0]]).T
+    inv = np.linalg.inv(J)
+    b = np.array([-inv[0] - inv[1], inv[0], inv[1]])
+    g = np.zeros((3, 6, 2))
+    for v in range(3):
+        lam = np.eye(3)[v]
+        g[v, :3] = (4 * lam - 1)[:, None] * b
+        for m, (i, j) in enumerate(_EDGES):
+            g[v, 3 + m] = 4 * (lam[j] * b[i] + lam[i] * b[j])
+    return g, abs(np.linalg.det(J)) / 2
+
+
+def limit_field(p, A, s, nx=12, nz=16, sides=12):
+    """The minimiser of dissipation less the pressure's work; a dict of what it shows."""
+    P, six, xs, top = cell(A, s, nx, nz)
+    n, ne = len(P), len(six)
+    nv = 2 * n + 1 + 3 * ne  # u, w, the plateau's W, a bound t per vertex
+    phi = np.linspace(0.0, 2 * math.pi, sides, endpoint=False)
+    eq_r, eq_c, eq_v, in_r, in_c, in_v = [], [], [], [], [], []
+    area = np.empty(ne)
+    for e, t in enumerate(six):
+        g, area[e] = _gradients(P[t[:3]])
+        for v in range(3):
+            row = 3 * e + v  # incompressibility: du/dx + dw/dz = 0 (linear: exact in the element)
+            eq_r += [row] * 12
+            eq_c += list(t) + [n + i for i in t]
+            eq_v += list(g[v, :, 0]) + list(g[v, :, 1])
+            for j, (c, sn) in enumerate(zip(np.cos(phi), np.sin(phi), strict=True)):
+                r = (3 * e + v) * sides + j  # c (du/dx - dw/dz) + s (du/dz + dw/dx) <= t
+                in_r += [r] * 13
+                in_c += list(t) + [n + i for i in t] + [2 * n + 1 + 3 * e + v]
+                in_v += list(c * g[v, :, 0] + sn * g[v, :, 1])
+                in_v += list(-c * g[v, :, 1] + sn * g[v, :, 0]) + [-1.0]
+    surface = np.abs(P[:, 1] - np.interp(P[:, 0], xs, top)) < 1e-9
+    plate = np.flatnonzero(surface & (P[:, 0] <= A + 1e-9))
+    row0 = 3 * ne
+    for k, i in enumerate(plate):  # the tool is flat: the plateau sinks as one
+        eq_r += [row0 + k] * 2
+        eq_c += [n + i, 2 * n]
+        eq_v += [1.0, -1.0]
+    a_eq = sp.csr_matrix((eq_v, (eq_r, eq_c)), shape=(row0 + len(plate), nv))
+    a_in = sp.csr_matrix((in_v, (in_r, in_c)), shape=(3 * ne * sides, nv))
+    cost = np.zeros(nv)
+    cost[2 * n + 1 :] = np.repeat(area / 3, 3)
+    cost[2 * n] = p  # minus the pressure's work p l (-W), l = 1
+    bounds = [(None, None)] * (2 * n + 1) + [(0, None)] * (3 * ne)
+    for i, (x, z) in enumerate(P):
+        if x < 1e-12:
+            bounds[i] = (0, 0)
+        elif x > 1 - 1e-12:
+            bounds[i] = (1, 1)  # the stretch rate
+        if z < -DEPTH + 1e-12:
+            bounds[n + i] = (0, 0)
+    t0 = time.perf_counter()
+    res = linprog(cost, a_in, np.zeros(a_in.shape[0]), a_eq, np.zeros(a_eq.shape[0]), bounds)
+    if res.status != 0:
+        raise RuntimeError(f"the limit analysis did not solve: {res.message}")
+    u, w, W = res.x[:n], res.x[n : 2 * n], res.x[2 * n]
+    idx = np.flatnonzero(surface)
+    idx = idx[np.argsort(P[idx, 0])]
+    he = (1 - A) / (len(xs) - 1 - max(1, round(nx * A)))
+    rate = []
+    for m in (1, 2):
+        xe = A + m * he
+        dw = np.interp(xe, P[idx, 0], w[idx]) - W
+        du = np.interp(xe, P[idx, 0], u[idx]) - xe
+        rate.append(dw / s + du if s > 0 else math.nan)
+    dissipation = float(res.fun - p * W)
+    return {
+        "dissipation_ratio": dissipation / (2 * (area.sum())),
+        "extra_sinking": -(W + DEPTH),
+        "dA_de_1": rate[0],
+        "dA_de_2": rate[1],
+        "seconds": time.perf_counter() - t0,
+    }
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--mesh", nargs=2, type=int, default=(12, 16), help="nx nz (default 12 16)")
+    ap.add_argument("--sides", type=int, default=12, help="the yield polygon's sides (default 12)")
+    ap.add_argument(
+        "--cases", default=None, help="only these 'deg:p/H' cases, comma-separated (default: all)"
+    )
+    ap.add_argument("--strains", default=None, help="only these strains, comma-separated")
+    ap.add_argument("--out", default="flattening_limit", help="results' stem (default %(default)s)")
+    args = ap.parse_args()
+    only = {tuple(map(float, c.split(":"))) for c in args.cases.split(",")} if args.cases else None
+    strains = tuple(map(float, args.strains.split(","))) if args.strains else STRAINS
+    nx, nz = args.mesh
+    k = 1.0
+    H = (2 + math.pi) * k
+    check = limit_field(0.0, 0.0, 0.0, nx, nz, args.sides)
+    rows = []
+    with open(RESULTS / "flattening_flank.csv", encoding="utf-8") as fh:
+        truth = [r for r in csv.DictReader(fh) if float(r["strain"]) in strains]
+    if only is not None:
+        truth = [r for r in truth if (float(r["slope_deg"]), float(r["p_over_H"])) in only]
+    for r in truth:
+        deg, ph, A = float(r["slope_deg"]), float(r["p_over_H"]), float(r["alpha"])
+        t0 = math.tan(math.radians(deg))
+        s = float(r["slope_ratio"]) * t0
+        if A > 0.95 or not math.isfinite(s):
+            continue
+        f = limit_field(ph * H, A, s, nx, nz, args.sides)
+        rows.append(
+            {
+                "slope_deg": deg,
+                "p_over_H": ph,
+                "strain": float(r["strain"]),
+                "alpha": A,
+                "slope_ratio": float(r["slope_ratio"]),
+                "dissipation_ratio": round(f["dissipation_ratio"], 5),
+                "extra_sinking": round(f["extra_sinking"], 3),
+                "c_limit_1": round(t0 * f["dA_de_1"], 3),
+                "c_limit_2": round(t0 * f["dA_de_2"], 3),
+                "c_truth": float(r["c_truth"]),
+                "c_lattice": float(r["c_lattice"]),
+                "seconds": round(f["seconds"], 1),
+            }
+        )
+        print(rows[-1], flush=True)
+    write_rows(RESULTS / f"{args.out}.csv", rows)
+    lines = [
+        "# A rigid-plastic limit analysis of the truth's states",
+        "",
+        f"`benchmarks/flattening_limit.py`: the half cell of depth {DEPTH:g} l on {nx} x {nz} "
+        f"6-node triangles, the yield polygon of {args.sides} sides; at each of the truth's states "
+        "(`flattening_flank.csv`: its alpha and flank slope at the strain) the rigid-perfectly "
+        "plastic field that minimises the dissipation less the pressure's work. `c = tan(theta) "
+        "dA / d eps` read one / two elements beyond the contact edge, beside the truth's and the "
+        "lattice's (Eq. F2a). Check: a flat strip stretched without pressure dissipates "
+        f"{check['dissipation_ratio']:.6f} of the uniform stretch's 2 k per area (exact: 1).",
+        "",
+        "| wedge, p/H | strain | alpha | flank slope / initial | dissipation / uniform | "
+        "plateau's extra sinking | c: limit analysis (1 / 2 el.) | c: truth | c: lattice |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    for r in rows:
+        lines.append(
+            f"| {r['slope_deg']:g} deg, {r['p_over_H']:g} | {r['strain']:.2f} | {r['alpha']:.3f} | "
+            f"{r['slope_ratio']:.3f} | {r['dissipation_ratio']:.4f} | {r['extra_sinking']:.2f} | "
+            f"{r['c_limit_1']:.2f} / {r['c_limit_2']:.2f} | {r['c_truth']:.2f} | "
+            f"{r['c_lattice']:.2f} |"
+        )
+    (RESULTS / f"{args.out}.md").write_text("\n".join(lines) + "\n", encoding="utf-8")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    import sys
+
+    stem = sys.argv[sys.argv.index("--out") + 1] if "--out" in sys.argv else None
+    with run_record(__file__, stem):
+        main()
