@@ -24,7 +24,7 @@ truth's ``c_truth`` at the same state (``flattening_flank.csv``: its ``alpha`` a
 A check: with ``p = 0`` on a flat strip the uniform stretch is the minimum, ratio 1.
 
 Run: python benchmarks/flattening_limit.py [--mesh NX NZ] [--sides N] [--cases 10:0.05,...]
-[--strains 0.02,...] [--out STEM] (about 5 min at the default mesh; a 16 x 24 state about 2.5 min)
+[--strains 0.02,...] [--out STEM] [--integrate] (about 5 min at the default mesh; a 16 x 24 state about 2.5 min)
 Writes benchmarks/results/flattening_limit.csv and .md (or STEM's).
 """
 
@@ -151,6 +151,73 @@ def limit_field(p, A, s, nx=12, nz=16, sides=12):
     }
 
 
+INTEGRATE = ((10.0, 0.2), (10.0, 0.3))
+REPORT = (0.005, 0.01, 0.02, 0.05)
+
+
+def integrate(nx, nz, sides, step=0.005):
+    """``--integrate``: alpha against strain from the limit analysis's rate, nothing fitted.
+
+    From the truth's pressing-alone fraction (as the law starts from ``alpha1``), the flank kept
+    at its initial slope (the truth's is rigid at these pressures, ``flattening_flank.md``), the
+    explicit midpoint rule in steps of ``step`` with the rate the mean of the one- and
+    two-element readings; beside the truth and the runtime's law (``flattening_truth.csv``).
+    """
+    H = 2 + math.pi
+    with open(RESULTS / "flattening_truth.csv", encoding="utf-8") as fh:
+        table = {
+            (float(r["slope_deg"]), float(r["p_over_H"]), float(r["strain"])): r
+            for r in csv.DictReader(fh)
+            if r["profile"].startswith("wedge")
+        }
+    rows = []
+    for deg, ph in INTEGRATE:
+        s = math.tan(math.radians(deg))
+
+        def rate(A, deg=deg, ph=ph, s=s):
+            if A >= 0.999:
+                return 0.0
+            f = limit_field(ph * H, A, s, nx, nz, sides)
+            return 0.5 * (f["dA_de_1"] + f["dA_de_2"])
+
+        A, e = float(table[(deg, ph, 0.0)]["alpha_truth"]), 0.0
+        for target in REPORT:
+            while e < target - 1e-12:
+                h = min(step, target - e)
+                mid = min(A + 0.5 * h * rate(A), 1.0)
+                A, e = min(A + h * rate(mid), 1.0), e + h
+            r = table[(deg, ph, target)]
+            rows.append(
+                {
+                    "slope_deg": deg,
+                    "p_over_H": ph,
+                    "strain": target,
+                    "alpha_limit": round(A, 4),
+                    "alpha_truth": float(r["alpha_truth"]),
+                    "alpha_law": round(float(r["alpha_law"]), 4),
+                }
+            )
+            print(rows[-1], flush=True)
+    write_rows(RESULTS / "flattening_limit_integrated.csv", rows)
+    lines = [
+        "# alpha from the limit analysis's rate, nothing fitted",
+        "",
+        f"`benchmarks/flattening_limit.py --integrate`: {nx} x {nz} triangles, {sides} sides; from "
+        "the truth's pressing-alone fraction, the flank at its initial slope, midpoint steps of "
+        f"{0.005:g}; the truth and the runtime's law (L+E, `flattening_truth.csv`) beside it.",
+        "",
+        "| wedge, p/H | strain | alpha: limit analysis | truth | law |",
+        "|---|---|---|---|---|",
+    ]
+    lines += [
+        f"| {r['slope_deg']:g} deg, {r['p_over_H']:g} | {r['strain']:g} | {r['alpha_limit']:.3f} | "
+        f"{r['alpha_truth']:.3f} | {r['alpha_law']:.3f} |"
+        for r in rows
+    ]
+    (RESULTS / "flattening_limit_integrated.md").write_text("\n".join(lines) + "\n", "utf-8")
+    print("\n".join(lines))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--mesh", nargs=2, type=int, default=(12, 16), help="nx nz (default 12 16)")
@@ -160,7 +227,13 @@ def main():
     )
     ap.add_argument("--strains", default=None, help="only these strains, comma-separated")
     ap.add_argument("--out", default="flattening_limit", help="results' stem (default %(default)s)")
+    ap.add_argument(
+        "--integrate", action="store_true", help="alpha against strain on 10 deg at 0.2 and 0.3 H"
+    )
     args = ap.parse_args()
+    if args.integrate:
+        integrate(*args.mesh, args.sides)
+        return
     only = {tuple(map(float, c.split(":"))) for c in args.cases.split(",")} if args.cases else None
     strains = tuple(map(float, args.strains.split(","))) if args.strains else STRAINS
     nx, nz = args.mesh
@@ -227,5 +300,6 @@ if __name__ == "__main__":
     import sys
 
     stem = sys.argv[sys.argv.index("--out") + 1] if "--out" in sys.argv else None
+    stem = "flattening_limit_integrated" if "--integrate" in sys.argv else stem
     with run_record(__file__, stem):
         main()
