@@ -28,7 +28,6 @@ stretch, which shows the mechanism at each pressure (about 7 min).
 
 import argparse
 import math
-import sys
 
 import numpy as np
 from _provenance import RESULTS, run_record, write_rows
@@ -301,7 +300,8 @@ def field_study():
     print("\n".join(lines))
 
 
-def main():
+def parse_args():
+    """The command line (parsed before the run record, which is named by the mode)."""
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="one case (10 deg at 0.05 H)")
     ap.add_argument(
@@ -315,7 +315,17 @@ def main():
         action="store_true",
         help="write the velocity field over pressures (flattening_field.md) instead",
     )
-    args = ap.parse_args()
+    return ap.parse_args()
+
+
+def record_stem(args):
+    """The run record's stem: a mode's own, so the default run's record is kept."""
+    if args.field:
+        return "flattening_flank_field"
+    return "flattening_flank_young" if args.young_factor is not None else None
+
+
+def main(args):
     if args.field:
         field_study()
         return
@@ -335,7 +345,6 @@ def main():
 
 
 if __name__ == "__main__":
-    mode = "_young" if "--young-factor" in " ".join(sys.argv) else ""
-    mode = "_field" if "--field" in sys.argv else mode
-    with run_record(__file__, f"flattening_flank{mode}" if mode else None):
-        main()
+    cli = parse_args()
+    with run_record(__file__, record_stem(cli)):
+        main(cli)

@@ -39,6 +39,7 @@ from _provenance import RESULTS, run_record, write_rows
 from scipy.optimize import linprog
 
 DEPTH = 4.0  # the cell's depth (l); the truth's strips of 4-16 l agree within 0.016
+H = 2.0 + math.pi  # the hardness in units of k (k = 1): prandtl_hardness
 STRAINS = (0.01, 0.02, 0.03, 0.05)
 _EDGES = ((0, 1), (1, 2), (2, 0))
 
@@ -163,7 +164,6 @@ def integrate(nx, nz, sides, step=0.005):
     explicit midpoint rule in steps of ``step`` with the rate the mean of the one- and
     two-element readings; beside the truth and the runtime's law (``flattening_truth.csv``).
     """
-    H = 2 + math.pi
     with open(RESULTS / "flattening_truth.csv", encoding="utf-8") as fh:
         table = {
             (float(r["slope_deg"]), float(r["p_over_H"]), float(r["strain"])): r
@@ -218,7 +218,8 @@ def integrate(nx, nz, sides, step=0.005):
     print("\n".join(lines))
 
 
-def main():
+def parse_args():
+    """The command line (parsed before the run record, which is named by the mode)."""
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--mesh", nargs=2, type=int, default=(12, 16), help="nx nz (default 12 16)")
     ap.add_argument("--sides", type=int, default=12, help="the yield polygon's sides (default 12)")
@@ -230,15 +231,16 @@ def main():
     ap.add_argument(
         "--integrate", action="store_true", help="alpha against strain on 10 deg at 0.2 and 0.3 H"
     )
-    args = ap.parse_args()
+    return ap.parse_args()
+
+
+def main(args):
     if args.integrate:
         integrate(*args.mesh, args.sides)
         return
     only = {tuple(map(float, c.split(":"))) for c in args.cases.split(",")} if args.cases else None
     strains = tuple(map(float, args.strains.split(","))) if args.strains else STRAINS
     nx, nz = args.mesh
-    k = 1.0
-    H = (2 + math.pi) * k
     check = limit_field(0.0, 0.0, 0.0, nx, nz, args.sides)
     rows = []
     with open(RESULTS / "flattening_flank.csv", encoding="utf-8") as fh:
@@ -297,9 +299,7 @@ def main():
 
 
 if __name__ == "__main__":
-    import sys
-
-    stem = sys.argv[sys.argv.index("--out") + 1] if "--out" in sys.argv else None
-    stem = "flattening_limit_integrated" if "--integrate" in sys.argv else stem
+    cli = parse_args()
+    stem = "flattening_limit_integrated" if cli.integrate else cli.out
     with run_record(__file__, stem):
-        main()
+        main(cli)

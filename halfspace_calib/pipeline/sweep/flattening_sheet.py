@@ -6,8 +6,8 @@ no comma). Its three columns are found by name, in English or German, with the u
 gives (``alpha [%]``, ``p [MPa]``, ``p_kPa``, ``strain [-]``, :data:`NAMES`, :data:`UNITS`); a
 unit the reader does not know is refused naming the column and the units it takes, never
 guessed; a second header row of units (``-; %; MPa``, ``[%]``, as lab software writes it) is
-read as the header's units. The strain is the host's equivalent plastic strain, a true (logarithmic) strain: a
-column headed as an engineering strain is refused with the conversion.
+read as the header's units. The strain is the host's equivalent plastic strain, a true
+(logarithmic) strain: a column headed as an engineering strain is refused with the conversion.
 """
 
 from __future__ import annotations
@@ -239,16 +239,17 @@ def _with_units(path: Path, line: int, head: list[str], units: list[str]) -> lis
     out = list(head)
     for j, cell in enumerate(head):
         quantity, unit = _header_cell(cell)
+        unit = unit.strip()
         given = units[j].strip() if j < len(units) else ""
         given = given[1:-1].strip() if given[:1] + given[-1:] in ("[]", "()") else given
         if quantity is None or not given:
             continue
-        if unit.strip() and unit.strip().lower() == given.lower():
+        if unit and unit.lower() == given.lower():
             continue  # p_MPa over MPa
-        if unit.strip():
+        if unit:
             raise ValueError(
                 f"{path}: line {line} (the units row): the column {cell.strip()!r} says "
-                f"{unit.strip()!r} and the units row {given!r}: keep one"
+                f"{unit!r} and the units row {given!r}: keep one"
             )
         if UNITS[quantity].get(given.lower()) is None:
             raise ValueError(
