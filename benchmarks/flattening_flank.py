@@ -63,19 +63,22 @@ def flank_state(top, tool, length):
     return float(s), float(tool - z[-1])
 
 
-def run(deg, p_over_h, nx=64, nz=32, e_max=0.12, young=1.0):
-    """One case: the history at every increment, ``(strain, alpha, s, d_v, l)`` arrays.
+def truth_run(deg, p_over_h, e_max, nx=64, nz=32, young=1.0, record_nodes=False):
+    """The truth's case stretched in steps of at most 0.002 (its ``AsperityResult``).
 
     ``young`` multiplies the truth's Young's modulus (the yield stress, and so ``H``, unchanged).
     """
-    base = perfectly_plastic()
-    mat = perfectly_plastic(E=base.E * young)
+    mat = perfectly_plastic(E=perfectly_plastic().E * young)
     H = prandtl_hardness(mat.sigma_y0)
     x, z = wedge_profile(deg, SPACING)
-    opt = AsperityOptions(max_strain_step=0.002)
-    res = asperity_contact_fraction(
-        x, z, p_over_h * H, [0.0, e_max], mat, AsperityMesh(nx, nz, DEPTH), opt
-    )
+    opt = AsperityOptions(max_strain_step=0.002, record_nodes=record_nodes)
+    mesh = AsperityMesh(nx, nz, DEPTH)
+    return asperity_contact_fraction(x, z, p_over_h * H, [0.0, e_max], mat, mesh, opt)
+
+
+def run(deg, p_over_h, nx=64, nz=32, e_max=0.12, young=1.0):
+    """One case: the history at every increment, ``(strain, alpha, s, d_v, l)`` arrays."""
+    res = truth_run(deg, p_over_h, e_max, nx, nz, young)
     h = res.history
     e = np.array(h.strain)
     L = SPACING / 2 * np.exp(e)
@@ -201,14 +204,7 @@ def field_rows(deg, p_over_h, e_max=0.06, nx=64, nz=32):
     the jump is taken from the last node in contact to the third free one (the edge advances by
     one or two nodes over the interval).
     """
-    mat = perfectly_plastic()
-    H = prandtl_hardness(mat.sigma_y0)
-    x, z = wedge_profile(deg, SPACING)
-    opt = AsperityOptions(max_strain_step=0.002, record_nodes=True)
-    res = asperity_contact_fraction(
-        x, z, p_over_h * H, [0.0, e_max], mat, AsperityMesh(nx, nz, DEPTH), opt
-    )
-    h = res.history
+    h = truth_run(deg, p_over_h, e_max, nx, nz, record_nodes=True).history
     e = np.array(h.strain)
     out = []
     for ek in FIELD_STRAINS:
