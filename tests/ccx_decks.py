@@ -286,6 +286,21 @@ def _swift_table(K=530.0, eps0=0.006, n=0.24, eps_max=3.0, points=60):
     return [f"{K * (eps0 + e) ** n:.8g}, {e:.8g}" for e in ep]
 
 
+def _flat_die(nd, r_max, z0, thickness):
+    """An axisymmetric flat die of two CAX4 layers (nodes and elements from 100001), ``nd``
+    elements from r = 0 to ``r_max`` at ``z0 <= z <= z0 + thickness``: ``(node lines, element
+    lines, its underside's elements, its top nodes)``."""
+    rd, zd = np.linspace(0.0, r_max, nd + 1), np.linspace(z0, z0 + thickness, 3)
+    ids = np.arange((nd + 1) * 3).reshape(3, nd + 1) + 100001
+    nodes = [f"{ids[k, i]}, {rd[i]:.10g}, {zd[k]:.10g}" for k in range(3) for i in range(nd + 1)]
+    elements = [
+        f"{100001 + i + nd * k}, {ids[k, i]}, {ids[k, i + 1]}, {ids[k + 1, i + 1]}, {ids[k + 1, i]}"
+        for k in range(2)
+        for i in range(nd)
+    ]
+    return nodes, elements, list(range(100001, 100001 + nd)), list(ids[-1])
+
+
 def ring(interaction, *, nr=12, nz=None, od=18.0, idia=9.0, h=6.0, reduction=0.3, n_inc=30):
     """Axisymmetric ring compression (CAX4, half height, mm): the deck of ``fe-demo ring``.
 
@@ -305,9 +320,8 @@ def ring(interaction, *, nr=12, nz=None, od=18.0, idia=9.0, h=6.0, reduction=0.3
     ]
     # die: r from 0 to 1.5 od, 2 layers, elements about the ring's size
     nd = int(np.ceil(1.5 * ro / ((ro - ri) / nr)))
-    rd, zd = np.linspace(0.0, 1.5 * ro, nd + 1), np.linspace(hh, hh + 1.0, 3)
-    dids = np.arange((nd + 1) * 3).reshape(3, nd + 1) + 100001
-    out += [f"{dids[k, i]}, {rd[i]:.10g}, {zd[k]:.10g}" for k in range(3) for i in range(nd + 1)]
+    die_nodes, die_elements, bottom, die_top = _flat_die(nd, 1.5 * ro, hh, 1.0)
+    out += die_nodes
     out.append("*ELEMENT, TYPE=CAX4R, ELSET=ERING")
     e = 1
     faces = []  # the top face and the free sides, which fold onto the die as the ring barrels
@@ -321,22 +335,12 @@ def ring(interaction, *, nr=12, nz=None, od=18.0, idia=9.0, h=6.0, reduction=0.3
             if i == nr - 1:
                 faces.append(f"{e}, S2")
             e += 1
-    out.append("*ELEMENT, TYPE=CAX4, ELSET=EDIE")
-    e = 100001
-    bottom = []
-    for k in range(2):
-        for i in range(nd):
-            out.append(
-                f"{e}, {dids[k, i]}, {dids[k, i + 1]}, {dids[k + 1, i + 1]}, {dids[k + 1, i]}"
-            )
-            if k == 0:
-                bottom.append(e)
-            e += 1
+    out += ["*ELEMENT, TYPE=CAX4, ELSET=EDIE", *die_elements]
     # CAX4 faces: S1 = nodes 1-2 (bottom), S2 = 2-3 (outer), S3 = 3-4 (top), S4 = 4-1 (inner)
     out += ["*SURFACE, NAME=SRING", *faces]
     out += ["*SURFACE, NAME=SDIE", *[f"{el}, S1" for el in bottom]]
     out += ["*NSET, NSET=NSYM", *[f"{v}," for v in ids[0]]]
-    out += ["*NSET, NSET=NDIE", *[f"{v}," for v in dids[-1]]]
+    out += ["*NSET, NSET=NDIE", *[f"{v}," for v in die_top]]
     out += ["*NSET, NSET=NINNER", "1,"]
     out += [
         "*MATERIAL, NAME=DC04",
@@ -460,10 +464,8 @@ def billet(interaction, *, element="CAX4", contact="SURFACE TO SURFACE", nr=8, n
         for i in range(nx)
         if not (step == 2 and i % 2 and k % 2)
     ]
-    nd = 2 * nr
-    rd = np.linspace(0.0, 1.5 * r, nd + 1)
-    die = [[100001 + i + (nd + 1) * k for i in range(nd + 1)] for k in range(3)]
-    out += [f"{die[k][i]}, {rd[i]:.10g}, {hh + k:.10g}" for k in range(3) for i in range(nd + 1)]
+    die_nodes, die_elements, underside, die_top = _flat_die(2 * nr, 1.5 * r, hh, 2.0)
+    out += die_nodes
     out.append(f"*ELEMENT, TYPE={element}, ELSET=EBILLET")
     slave = []
     e = 1
@@ -476,15 +478,11 @@ def billet(interaction, *, element="CAX4", contact="SURFACE TO SURFACE", nr=8, n
             out.append(f"{e}, " + ", ".join(map(str, c)))
             slave += [f"{e}, S3"] * (k == nz - 1) + [f"{e}, S2"] * (i == nr - 1)
             e += 1
-    out.append("*ELEMENT, TYPE=CAX4, ELSET=EDIE")
-    for k in range(2):
-        for i in range(nd):
-            c = (die[k][i], die[k][i + 1], die[k + 1][i + 1], die[k + 1][i])
-            out.append(f"{100001 + i + nd * k}, " + ", ".join(map(str, c)))
+    out += ["*ELEMENT, TYPE=CAX4, ELSET=EDIE", *die_elements]
     out += ["*SURFACE, NAME=SSLAVE", *slave]
-    out += ["*SURFACE, NAME=SMASTER", *[f"{100001 + i}, S1" for i in range(nd)]]
+    out += ["*SURFACE, NAME=SMASTER", *[f"{el}, S1" for el in underside]]
     out += ["*NSET, NSET=NSYM", *[f"{nid(i, 0)}," for i in range(nx)]]
-    out += ["*NSET, NSET=NDIE", *[f"{v}," for v in die[2]]]
+    out += ["*NSET, NSET=NDIE", *[f"{v}," for v in die_top]]
     out += [
         "*MATERIAL, NAME=BILLET",
         "*ELASTIC",
