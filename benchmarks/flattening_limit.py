@@ -94,7 +94,7 @@ def _gradients(x):
     return g, abs(np.linalg.det(J)) / 2
 
 
-def limit_field(p, A, s, nx=12, nz=16, sides=12, n_flank=None):
+def limit_field(p, A, s, nx=12, nz=16, sides=12, n_flank=None, unilateral=False):
     """The minimiser of dissipation less the pressure's work; a dict of what it shows.
 
     Besides the readings, ``surface`` holds the free top's nodes (x, u, w) in x's order and ``W``
@@ -122,13 +122,19 @@ def limit_field(p, A, s, nx=12, nz=16, sides=12, n_flank=None):
                 in_v += list(-c * g[v, :, 1] + sn * g[v, :, 0]) + [-1.0]
     surface = np.abs(P[:, 1] - np.interp(P[:, 0], xs, top)) < 1e-9
     plate = np.flatnonzero(surface & (P[:, 0] <= A + 1e-9))
-    row0 = 3 * ne
-    for k, i in enumerate(plate):  # the tool is flat: the plateau sinks as one
-        eq_r += [row0 + k] * 2
-        eq_c += [n + i, 2 * n]
-        eq_v += [1.0, -1.0]
-    a_eq = sp.csr_matrix((eq_v, (eq_r, eq_c)), shape=(row0 + len(plate), nv))
-    a_in = sp.csr_matrix((in_v, (in_r, in_c)), shape=(3 * ne * sides, nv))
+    row0, rin = 3 * ne, 3 * ne * sides
+    for k, i in enumerate(plate):  # the tool is flat: the plateau sinks as one (or leaves it)
+        if unilateral:  # w_i <= W: the plateau may sink away from the tool, not into it
+            in_r += [rin + k] * 2
+            in_c += [n + i, 2 * n]
+            in_v += [1.0, -1.0]
+        else:
+            eq_r += [row0 + k] * 2
+            eq_c += [n + i, 2 * n]
+            eq_v += [1.0, -1.0]
+    n_eq = row0 + (0 if unilateral else len(plate))
+    a_eq = sp.csr_matrix((eq_v, (eq_r, eq_c)), shape=(n_eq, nv))
+    a_in = sp.csr_matrix((in_v, (in_r, in_c)), shape=(rin + (len(plate) if unilateral else 0), nv))
     cost = np.zeros(nv)
     cost[2 * n + 1 :] = np.repeat(area / 3, 3)
     cost[2 * n] = p  # minus the pressure's work p l (-W), l = 1
