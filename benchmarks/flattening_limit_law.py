@@ -1,0 +1,347 @@
+"""The limit analysis as a law: two states per node, rates from a table (issue 43, a study).
+
+``flattening_limit.py`` showed that the rigid-perfectly plastic optimum of the half cell, given a
+state's geometry and nothing of the truth, gives the truth's sinking rate at 0.15-0.3 H, and that
+at low pressure it turns the flank, which no rate of ``A`` alone can carry. This script makes that
+optimum a law and holds it to the truth's 30 curves (24 wedges, the measured row as a wedge of its
+RMS slope), nothing fitted:
+
+- **the state** of a node is the contact fraction ``A`` and the flank's current slope ``s`` (both
+  invariant under the homogeneous stretch, which only scales the period: the cell is the half
+  period with ``l = 1`` at every state);
+- **the rates** ``dA / d eps`` and ``ds / d eps`` come from the optimum's field on the free
+  flank: ``u`` and ``w`` fitted by straight lines over the flank beyond its first two elements
+  (the continuous field smears the lattice's line from the plateau's edge over them), the lines
+  extrapolated to the edge for the contact's growth, ``dA / d eps = (w_f(A) - W) / s + u_f(A) -
+  A``, and their slopes for the flank's turn, ``ds / d eps = -(dw_f / dx + s du_f / dx)`` (the
+  homogeneous stretch alone gives ``-2 s``, its convection);
+- **the table**: the rates on a grid of ``A`` and ``ln s`` at each of the truth's pressures,
+  computed once (they depend on ``p / k``, ``A`` and ``s`` alone: a property of the wedge cell,
+  not of a surface); the curves integrate them by the explicit midpoint rule in strain, bilinear in
+  (``A``, ``ln s``), from the truth's pressing-alone fraction and the wedge's initial slope (as the
+  runtime starts from ``alpha1``).
+
+``--converge`` shows what the table's mesh does at a few states (the readings against the mesh);
+the default run computes the table (cached in ``results/flattening_limit_table.csv``; ``--fresh``
+recomputes it) on two worker processes and writes ``flattening_limit_law.md`` / ``.csv``.
+
+Run: python benchmarks/flattening_limit_law.py [--mesh NX NZ SIDES] [--converge] [--fresh]
+"""
+
+import argparse
+import csv
+import math
+import multiprocessing
+import os
+
+import numpy as np
+from _provenance import RESULTS, run_record, write_rows
+from flattening_limit import H, limit_field
+
+PRESSURES = (0.05, 0.1, 0.2, 0.3, 0.45, 0.6)  # the truth's p / H
+A_GRID = (0.1, 0.15, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.96)
+S_GRID = (0.02, 0.035, 0.055, 0.08, 0.115, 0.16, 0.2)
+WEDGES = (3.0, 5.0, 7.0, 10.0)
+TABLE = RESULTS / "flattening_limit_table.csv"
+_SKIP = 2  # flank elements left out of the fit next to the edge (the smeared line)
+
+
+def a_grid(ph):
+    """The table's ``A`` at ``p / H``: from just above ``p / H`` (the plateau at the hardness
+    ``H``, where pressing alone collapses the asperity and the rates grow without bound: the
+    truth's pressing-alone fractions are 1.02-1.29 ``p / H``), denser there, then ``A_GRID``."""
+    a0 = 1.01 * ph
+    near = [a0 * f for f in (1.0, 1.03, 1.1, 1.25)]
+    return tuple(near + [A for A in A_GRID if A > 1.35 * a0])
+
+
+def n_flank(A, nx):
+    """The flank's columns: its share of ``nx``, at least half and at least 2 + 3 for the fit."""
+    return min(nx - 1, max(round(nx * (1.0 - A)), nx // 2, _SKIP + 3))
+
+
+def rates(p_over_H, A, s, nx, nz, sides):
+    """``dA / d eps`` and ``ds / d eps`` of the state from the optimum's flank; the edge readings."""
+    f = limit_field(p_over_H * H, A, s, nx, nz, sides, n_flank(A, nx))
+    x, u, w = f["surface"].T
+    he = f["flank_element"]
+    flank = x > A + _SKIP * he - 1e-9
+    cu = np.polyfit(x[flank] - A, u[flank], 1)
+    cw = np.polyfit(x[flank] - A, w[flank], 1)
+    return {
+        "dA_de": (cw[1] - f["W"]) / s + cu[1] - A,
+        "ds_de": -(cw[0] + s * cu[0]),
+        "dA_de_1": f["dA_de_1"],
+        "dA_de_2": f["dA_de_2"],
+        "dissipation_ratio": f["dissipation_ratio"],
+        "seconds": f["seconds"],
+    }
+
+
+def _row(job):
+    ph, A, s, mesh = job
+    try:
+        r = rates(ph, A, s, *mesh)
+    except RuntimeError as exc:  # HiGHS's failure at a state: recorded, filled from its neighbours
+        r = dict.fromkeys(("dA_de", "ds_de", "dA_de_1", "dA_de_2", "dissipation_ratio"), math.nan)
+        r["seconds"] = math.nan
+        print(f"p/H {ph:g}, A {A:.4g}, s {s:g}: {exc}", flush=True)
+    return {
+        "p_over_H": ph,
+        "A": round(A, 6),
+        "s": s,
+        **{k: round(float(v), 6) for k, v in r.items()},
+    }
+
+
+def mesh_of(ph, mesh, low_mesh):
+    """The table's mesh at ``p / H``: ``low_mesh`` below 0.15 H (``--converge``: 12 x 16 is not
+    converged there), ``mesh`` above (it is, to 0.03 in ``c``)."""
+    return tuple(low_mesh if ph < 0.15 else mesh)
+
+
+def table(mesh, low_mesh, fresh):
+    """The rates on the grid, from the cache if it was computed on these meshes."""
+    tag = {ph: "x".join(map(str, mesh_of(ph, mesh, low_mesh))) for ph in PRESSURES}
+    if TABLE.exists() and not fresh:
+        with open(TABLE, encoding="utf-8") as fh:
+            rows = list(csv.DictReader(fh))
+        if rows and all(r["mesh"] == tag[float(r["p_over_H"])] for r in rows):
+            return [{k: (v if k == "mesh" else float(v)) for k, v in r.items()} for r in rows]
+    jobs = [
+        (ph, A, s, mesh_of(ph, mesh, low_mesh))
+        for ph in PRESSURES
+        for A in a_grid(ph)
+        for s in S_GRID
+    ]
+    partial = TABLE.with_suffix(".partial.csv")  # rows so far: a stopped run resumes from them
+    done = []
+    if partial.exists() and not fresh:
+        with open(partial, encoding="utf-8") as fh:
+            done = [
+                {k: (v if k == "mesh" else float(v)) for k, v in r.items()}
+                for r in csv.DictReader(fh)
+            ]
+    keys = {(r["mesh"], r["p_over_H"], r["A"], r["s"]) for r in done}
+    todo = [j for j in jobs if (tag[j[0]], j[0], round(j[1], 6), j[2]) not in keys]
+    os.environ["OMP_NUM_THREADS"] = "1"
+    rows = list(done)
+    with multiprocessing.get_context("spawn").Pool(2) as pool:
+        for k, r in enumerate(pool.imap(_row, todo, chunksize=1)):
+            rows.append({"mesh": tag[r["p_over_H"]], **r})
+            write_rows(partial, rows)
+            if k % 20 == 0:
+                print(f"{k + 1} / {len(todo)}: {rows[-1]}", flush=True)
+    write_rows(TABLE, rows)
+    partial.unlink()
+    return rows
+
+
+def _fill(t, a):
+    """A state where HiGHS failed (NaN) takes its neighbours' values along ``A`` at its ``s``."""
+    t = t.copy()
+    for j in range(t.shape[1]):
+        ok = np.isfinite(t[:, j])
+        if not ok.all():
+            t[~ok, j] = np.interp(a[~ok], a[ok], t[ok, j])
+    return t
+
+
+class Rates:
+    """Bilinear interpolation of the table at one pressure, in ``A`` and ``ln s`` (clamped)."""
+
+    def __init__(self, rows, ph):
+        mine = [r for r in rows if r["p_over_H"] == ph]
+        self.a = np.array(sorted({r["A"] for r in mine}))
+        self.ls = np.log(S_GRID)
+        grid = {(r["A"], r["s"]): r for r in mine}
+        self.dA = _fill(np.array([[grid[(A, s)]["dA_de"] for s in S_GRID] for A in self.a]), self.a)
+        self.ds = _fill(np.array([[grid[(A, s)]["ds_de"] for s in S_GRID] for A in self.a]), self.a)
+
+    def __call__(self, A, s):
+        i = int(np.clip(np.searchsorted(self.a, A) - 1, 0, len(self.a) - 2))
+        j = int(np.clip(np.searchsorted(self.ls, math.log(s)) - 1, 0, len(self.ls) - 2))
+        ta = float(np.clip((A - self.a[i]) / (self.a[i + 1] - self.a[i]), 0.0, 1.0))
+        ts = float(np.clip((math.log(s) - self.ls[j]) / (self.ls[j + 1] - self.ls[j]), 0.0, 1.0))
+
+        def lerp(t):
+            return (1 - ta) * ((1 - ts) * t[i, j] + ts * t[i, j + 1]) + ta * (
+                (1 - ts) * t[i + 1, j] + ts * t[i + 1, j + 1]
+            )
+
+        return lerp(self.dA), lerp(self.ds)
+
+
+def curve(rate, A0, s0, strains, step=0.0025):
+    """``A`` at ``strains`` by the explicit midpoint rule from (``A0``, ``s0``); full contact ends it."""
+    A, s, e, out = A0, s0, 0.0, []
+    for target in strains:
+        while e < target - 1e-12 and A < 1.0:
+            h = min(step, target - e)
+            dA, ds = rate(A, s)
+            Am, sm = min(A + 0.5 * h * dA, 1.0), max(s + 0.5 * h * ds, 1e-3)
+            dA, ds = rate(Am, sm)
+            A, s, e = min(A + h * dA, 1.0), max(s + h * ds, 1e-3), e + h
+        out.append(A)
+    return out
+
+
+CONVERGE = (  # (wedge deg, p/H, A, s / tan(theta)): states of flattening_flank.csv
+    (10.0, 0.05, 0.1687, 0.9023),
+    (10.0, 0.05, 0.3038, 0.7686),
+    (3.0, 0.05, 0.4874, 0.8238),
+    (10.0, 0.15, 0.3981, 0.9915),
+    (10.0, 0.3, 0.5396, 1.0493),
+)
+MESHES = ((12, 16, 12), (16, 24, 16), (24, 32, 16))
+
+
+def converge(meshes):
+    """``--converge``: the readings at a few of the truth's states against the mesh."""
+    rows = []
+    for deg, ph, A, ratio in CONVERGE:
+        t0 = math.tan(math.radians(deg))
+        for mesh in meshes:
+            r = rates(ph, A, ratio * t0, *mesh)
+            rows.append(
+                {
+                    "slope_deg": deg,
+                    "p_over_H": ph,
+                    "alpha": A,
+                    "slope_ratio": ratio,
+                    "mesh": "x".join(map(str, mesh)),
+                    "c_fit": round(t0 * r["dA_de"], 3),
+                    "dln_s_de": round(r["ds_de"] / (ratio * t0), 2),
+                    "c_edge_1": round(t0 * r["dA_de_1"], 3),
+                    "c_edge_2": round(t0 * r["dA_de_2"], 3),
+                    "dissipation_ratio": round(r["dissipation_ratio"], 4),
+                    "seconds": round(r["seconds"], 1),
+                }
+            )
+            print(rows[-1], flush=True)
+    return rows
+
+
+def compare(rows):
+    """The table's curves beside the truth's 30 and the runtime's law (``flattening_truth.csv``).
+
+    The measured row enters as a wedge of its RMS slope, as the runtime's law takes it."""
+    with open(RESULTS / "flattening_truth.csv", encoding="utf-8") as fh:
+        truth = list(csv.DictReader(fh))
+    profiles = sorted({(r["profile"], float(r["slope_deg"])) for r in truth}, key=lambda k: k[1])
+    out = []
+    for ph in PRESSURES:
+        rate = Rates(rows, ph)
+        for name, deg in profiles:
+            pts = sorted(
+                (float(r["strain"]), float(r["alpha_truth"]), float(r["alpha_law"]))
+                for r in truth
+                if r["profile"] == name and float(r["p_over_H"]) == ph
+            )
+            strains = [e for e, _, _ in pts]
+            alpha = curve(rate, pts[0][1], math.tan(math.radians(deg)), strains)
+            out += [
+                {
+                    "profile": name,
+                    "slope_deg": deg,
+                    "p_over_H": ph,
+                    "strain": e,
+                    "alpha_truth": at,
+                    "alpha_limit": round(a, 4),
+                    "alpha_law": round(al, 4),
+                }
+                for (e, at, al), a in zip(pts, alpha, strict=True)
+            ]
+    return out
+
+
+def summary(out):
+    """Largest misses per pressure band and overall, for the table and the runtime's law."""
+    lines = ["| p/H | largest miss: limit-analysis law | runtime's law (L+E) |", "|---|---|---|"]
+    for ph in (*PRESSURES, None):
+        sel = [r for r in out if ph is None or r["p_over_H"] == ph]
+        m1 = max(abs(r["alpha_limit"] - r["alpha_truth"]) for r in sel)
+        m2 = max(abs(r["alpha_law"] - r["alpha_truth"]) for r in sel)
+        lines.append(f"| {'all' if ph is None else f'{ph:g}'} | {m1:.3f} | {m2:.3f} |")
+    rms1 = math.sqrt(np.mean([(r["alpha_limit"] - r["alpha_truth"]) ** 2 for r in out]))
+    rms2 = math.sqrt(np.mean([(r["alpha_law"] - r["alpha_truth"]) ** 2 for r in out]))
+    keys = sorted({(r["profile"], r["p_over_H"]) for r in out})
+    worst = {
+        k: [
+            max(abs(r[c] - r["alpha_truth"]) for r in out if (r["profile"], r["p_over_H"]) == k)
+            for c in ("alpha_limit", "alpha_law")
+        ]
+        for k in keys
+    }
+    within = [sum(w[i] <= 0.05 for w in worst.values()) for i in (0, 1)]
+    lines.append("")
+    lines.append(
+        f"RMS {rms1:.3f} (the runtime's law {rms2:.3f}); curves within 0.05: {within[0]} of "
+        f"{len(keys)} ({within[1]})."
+    )
+    lines += [
+        "",
+        "| profile | p/H | largest miss: limit-analysis law | runtime's law |",
+        "|---|---|---|---|",
+    ]
+    lines += [f"| {k[0]} | {k[1]:g} | {w[0]:.3f} | {w[1]:.3f} |" for k, w in worst.items()]
+    return lines
+
+
+def parse_args():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument(
+        "--mesh", nargs=3, type=int, default=(12, 16, 12), help="nx nz sides (default 12 16 12)"
+    )
+    ap.add_argument(
+        "--low-mesh",
+        nargs=3,
+        type=int,
+        default=(16, 24, 16),
+        help="nx nz sides below 0.15 H (default 16 24 16)",
+    )
+    ap.add_argument("--converge", action="store_true", help="the readings against the mesh")
+    ap.add_argument("--fresh", action="store_true", help="recompute the cached table")
+    return ap.parse_args()
+
+
+def main(args):
+    if args.converge:
+        rows = converge(MESHES)
+        write_rows(RESULTS / "flattening_limit_converge.csv", rows)
+        lines = [
+            "# The limit analysis's flank reading against the mesh",
+            "",
+            "`benchmarks/flattening_limit_law.py --converge`: at states of the truth "
+            "(`flattening_flank.csv`), `c = tan(theta) dA / d eps` from the flank's fitted field "
+            "(the law's reading) and one / two elements beyond the edge (`flattening_limit.py`'s), "
+            "and the flank's turn `d ln s / d eps`; mesh nx x nz x the yield polygon's sides.",
+            "",
+            "| wedge, p/H | alpha | slope / initial | mesh | c: flank fit | c: edge 1 / 2 "
+            "| d ln s / d eps | dissipation / uniform | s |",
+            "|---|---|---|---|---|---|---|---|---|",
+        ]
+        lines += [
+            f"| {r['slope_deg']:g} deg, {r['p_over_H']:g} | {r['alpha']:.3f} | "
+            f"{r['slope_ratio']:.3f} | {r['mesh']} | {r['c_fit']:.3f} | {r['c_edge_1']:.3f} / "
+            f"{r['c_edge_2']:.3f} | {r['dln_s_de']:.2f} | {r['dissipation_ratio']:.4f} | "
+            f"{r['seconds']:.0f} |"
+            for r in rows
+        ]
+        (RESULTS / "flattening_limit_converge.md").write_text("\n".join(lines) + "\n", "utf-8")
+        print("\n".join(lines))
+        return
+    rows = table(args.mesh, args.low_mesh, args.fresh)
+    out = compare(rows)
+    write_rows(RESULTS / "flattening_limit_law.csv", out)
+    lines = summary(out)
+    (RESULTS / "flattening_limit_law.md").write_text("\n".join(lines) + "\n", "utf-8")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    cli = parse_args()
+    with run_record(
+        __file__, "flattening_limit_converge" if cli.converge else "flattening_limit_law"
+    ):
+        main(cli)
