@@ -94,12 +94,13 @@ def _gradients(x):
     return g, abs(np.linalg.det(J)) / 2
 
 
-def limit_field(p, A, s, nx=12, nz=16, sides=12, n_flank=None, unilateral=False):
+def limit_field(p, A, s, nx=12, nz=16, sides=12, n_flank=None, unilateral=False, time_limit=None):
     """The minimiser of dissipation less the pressure's work; a dict of what it shows.
 
     Besides the readings, ``surface`` holds the free top's nodes (x, u, w) in x's order and ``W``
     the plateau's vertical velocity. HiGHS's interior-point method with its crossover (the same
-    optimum as the dual simplex to its tolerance, 5.7 times faster at 12 x 16).
+    optimum as the dual simplex to its tolerance, 5.7 times faster at 12 x 16). ``time_limit``
+    (s) makes a state that HiGHS cannot finish an error instead of a stall.
     """
     P, six, xs, top = cell(A, s, nx, nz, n_flank)
     n, ne = len(P), len(six)
@@ -155,6 +156,7 @@ def limit_field(p, A, s, nx=12, nz=16, sides=12, n_flank=None, unilateral=False)
         np.zeros(a_eq.shape[0]),
         bounds,
         method="highs-ipm",
+        options={} if time_limit is None else {"time_limit": time_limit},
     )
     if res.status != 0:
         raise RuntimeError(f"the limit analysis did not solve: {res.message}")

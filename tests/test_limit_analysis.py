@@ -54,7 +54,7 @@ def test_flank_reading_of_a_homogeneous_field(monkeypatch):
     z = -s * (x - A)
     surface = np.column_stack([x, x, -(z + 4.0)])  # u = x, w = -(z + depth): the stretch alone
 
-    def homogeneous(*args):
+    def homogeneous(*args, **kwargs):
         return {
             "surface": surface,
             "W": -4.0,
