@@ -96,7 +96,7 @@ def _row(job):
 
 def mesh_of(ph, mesh, low_mesh):
     """The table's mesh at ``p / H``: ``low_mesh`` below 0.15 H (``--converge``: 12 x 16 is not
-    converged there), ``mesh`` above (it is, to 0.03 in ``c``)."""
+    converged there), ``mesh`` above (it is, to 0.035 in ``c``)."""
     return tuple(low_mesh if ph < 0.15 else mesh)
 
 
