@@ -173,7 +173,8 @@ class Rates:
 
 
 def curve(rate, A0, s0, strains, step=0.0025):
-    """``A`` at ``strains`` by the explicit midpoint rule from (``A0``, ``s0``); full contact ends it."""
+    """(``A``, ``s``) at ``strains`` by the explicit midpoint rule from (``A0``, ``s0``); full
+    contact ends it. Below the table's smallest slope (0.02) the rates are its (clamped)."""
     A, s, e, out = A0, s0, 0.0, []
     for target in strains:
         while e < target - 1e-12 and A < 1.0:
@@ -182,7 +183,7 @@ def curve(rate, A0, s0, strains, step=0.0025):
             Am, sm = min(A + 0.5 * h * dA, 1.0), max(s + 0.5 * h * ds, 1e-3)
             dA, ds = rate(Am, sm)
             A, s, e = min(A + h * dA, 1.0), max(s + h * ds, 1e-3), e + h
-        out.append(A)
+        out.append((A, s))
     return out
 
 
@@ -248,9 +249,10 @@ def compare(rows):
                     "strain": e,
                     "alpha_truth": at,
                     "alpha_limit": round(a, 4),
+                    "slope_ratio_limit": round(sl / math.tan(math.radians(deg)), 4),
                     "alpha_law": round(al, 4),
                 }
-                for (e, at, al), a in zip(pts, alpha, strict=True)
+                for (e, at, al), (a, sl) in zip(pts, alpha, strict=True)
             ]
     return out
 
