@@ -155,8 +155,10 @@ class Rates:
         self.a = np.array(sorted({r["A"] for r in mine}))
         self.ls = np.log(S_GRID)
         grid = {(r["A"], r["s"]): r for r in mine}
-        self.dA = _fill(np.array([[grid[(A, s)]["dA_de"] for s in S_GRID] for A in self.a]), self.a)
-        self.ds = _fill(np.array([[grid[(A, s)]["ds_de"] for s in S_GRID] for A in self.a]), self.a)
+        self.dA, self.ds = (
+            _fill(np.array([[grid[(A, s)][key] for s in S_GRID] for A in self.a]), self.a)
+            for key in ("dA_de", "ds_de")
+        )
 
     def __call__(self, A, s):
         i = int(np.clip(np.searchsorted(self.a, A) - 1, 0, len(self.a) - 2))

@@ -3,7 +3,8 @@ to the rigid-plastic problem's exact answers: a flat strip stretched without pre
 exactly the uniform stretch's ``2 k`` per area, and a flat punch on the strip collapses at
 Prandtl's plane-strain pressure ``(2 + pi) k`` (bounded below it, unbounded above it, within the
 discretisation's few per cent). ``flattening_limit_law.py``'s flank reading gives the homogeneous
-stretch's convection of the slope, ``-2 s``, on a field that is homogeneous."""
+stretch's convection of the slope, ``-2 s``, on a field that is homogeneous; the unilateral plateau
+is a relaxation of the tied one."""
 
 import importlib.util
 import math
