@@ -124,15 +124,13 @@ def limit_field(p, A, s, nx=12, nz=16, sides=12, n_flank=None, unilateral=False,
     surface = np.abs(P[:, 1] - np.interp(P[:, 0], xs, top)) < 1e-9
     plate = np.flatnonzero(surface & (P[:, 0] <= A + 1e-9))
     row0, rin = 3 * ne, 3 * ne * sides
-    for k, i in enumerate(plate):  # the tool is flat: the plateau sinks as one (or leaves it)
-        if unilateral:  # w_i <= W: the plateau may sink away from the tool, not into it
-            in_r += [rin + k] * 2
-            in_c += [n + i, 2 * n]
-            in_v += [1.0, -1.0]
-        else:
-            eq_r += [row0 + k] * 2
-            eq_c += [n + i, 2 * n]
-            eq_v += [1.0, -1.0]
+    # the tool is flat: the plateau sinks as one (w_i = W), or, unilateral, may sink away from
+    # the tool but not into it (w_i <= W)
+    rows, cols, vals, base = (in_r, in_c, in_v, rin) if unilateral else (eq_r, eq_c, eq_v, row0)
+    for k, i in enumerate(plate):
+        rows += [base + k] * 2
+        cols += [n + i, 2 * n]
+        vals += [1.0, -1.0]
     n_eq = row0 + (0 if unilateral else len(plate))
     a_eq = sp.csr_matrix((eq_v, (eq_r, eq_c)), shape=(n_eq, nv))
     a_in = sp.csr_matrix((in_v, (in_r, in_c)), shape=(rin + (len(plate) if unilateral else 0), nv))
@@ -183,6 +181,21 @@ def limit_field(p, A, s, nx=12, nz=16, sides=12, n_flank=None, unilateral=False,
     }
 
 
+def curve(rate, A0, s0, strains, step):
+    """(``A``, ``s``) at ``strains`` by the explicit midpoint rule from (``A0``, ``s0``), ``rate``
+    giving (``dA / d eps``, ``ds / d eps``); full contact ends it, ``s`` stays above 1e-3."""
+    A, s, e, out = A0, s0, 0.0, []
+    for target in strains:
+        while e < target - 1e-12 and A < 1.0:
+            h = min(step, target - e)
+            dA, ds = rate(A, s)
+            Am, sm = min(A + 0.5 * h * dA, 1.0), max(s + 0.5 * h * ds, 1e-3)
+            dA, ds = rate(Am, sm)
+            A, s, e = min(A + h * dA, 1.0), max(s + h * ds, 1e-3), e + h
+        out.append((A, s))
+    return out
+
+
 INTEGRATE = ((10.0, 0.2), (10.0, 0.3))
 REPORT = (0.005, 0.01, 0.02, 0.05)
 
@@ -211,12 +224,9 @@ def integrate(nx, nz, sides, step=0.005):
             f = limit_field(ph * H, A, s, nx, nz, sides)
             return 0.5 * (f["dA_de_1"] + f["dA_de_2"])
 
-        A, e = float(table[(deg, ph, 0.0)]["alpha_truth"]), 0.0
-        for target in REPORT:
-            while e < target - 1e-12:
-                h = min(step, target - e)
-                mid = min(A + 0.5 * h * rate(A), 1.0)
-                A, e = min(A + h * rate(mid), 1.0), e + h
+        A0 = float(table[(deg, ph, 0.0)]["alpha_truth"])
+        alphas = curve(lambda A, s: (rate(A), 0.0), A0, s, REPORT, step)
+        for target, (A, _) in zip(REPORT, alphas, strict=True):
             r = table[(deg, ph, target)]
             rows.append(
                 {

@@ -36,13 +36,14 @@ import os
 
 import numpy as np
 from _provenance import RESULTS, run_record, write_rows
-from flattening_limit import H, limit_field
+from flattening_limit import H, curve, limit_field
 
 PRESSURES = (0.05, 0.1, 0.2, 0.3, 0.45, 0.6)  # the truth's p / H
 A_GRID = (0.1, 0.15, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.96)
 S_GRID = (0.02, 0.035, 0.055, 0.08, 0.115, 0.16, 0.2)
 TABLE = RESULTS / "flattening_limit_table.csv"
 _SKIP = 2  # flank elements left out of the fit next to the edge (the smeared line)
+STEP = 0.0025  # the curves' strain step
 TIME_LIMIT = 120.0  # s a state may take (the published table's slowest: 28 s); then it is filled
 
 
@@ -100,14 +101,21 @@ def mesh_of(ph, mesh, low_mesh):
     return tuple(low_mesh if ph < 0.15 else mesh)
 
 
+def _read(path):
+    """Table rows from a CSV: the mesh as written, every other column a float."""
+    with open(path, encoding="utf-8") as fh:
+        return [
+            {k: (v if k == "mesh" else float(v)) for k, v in r.items()} for r in csv.DictReader(fh)
+        ]
+
+
 def table(mesh, low_mesh, fresh):
     """The rates on the grid, from the cache if it was computed on these meshes."""
     tag = {ph: "x".join(map(str, mesh_of(ph, mesh, low_mesh))) for ph in PRESSURES}
     if TABLE.exists() and not fresh:
-        with open(TABLE, encoding="utf-8") as fh:
-            rows = list(csv.DictReader(fh))
-        if rows and all(r["mesh"] == tag[float(r["p_over_H"])] for r in rows):
-            return [{k: (v if k == "mesh" else float(v)) for k, v in r.items()} for r in rows]
+        rows = _read(TABLE)
+        if rows and all(r["mesh"] == tag[r["p_over_H"]] for r in rows):
+            return rows
     jobs = [
         (ph, A, s, mesh_of(ph, mesh, low_mesh))
         for ph in PRESSURES
@@ -115,13 +123,7 @@ def table(mesh, low_mesh, fresh):
         for s in S_GRID
     ]
     partial = TABLE.with_suffix(".partial.csv")  # rows so far: a stopped run resumes from them
-    done = []
-    if partial.exists() and not fresh:
-        with open(partial, encoding="utf-8") as fh:
-            done = [
-                {k: (v if k == "mesh" else float(v)) for k, v in r.items()}
-                for r in csv.DictReader(fh)
-            ]
+    done = _read(partial) if partial.exists() and not fresh else []
     keys = {(r["mesh"], r["p_over_H"], r["A"], r["s"]) for r in done}
     todo = [j for j in jobs if (tag[j[0]], j[0], round(j[1], 6), j[2]) not in keys]
     os.environ["OMP_NUM_THREADS"] = "1"
@@ -172,21 +174,6 @@ class Rates:
             )
 
         return lerp(self.dA), lerp(self.ds)
-
-
-def curve(rate, A0, s0, strains, step=0.0025):
-    """(``A``, ``s``) at ``strains`` by the explicit midpoint rule from (``A0``, ``s0``); full
-    contact ends it. Below the table's smallest slope (0.02) the rates are its (clamped)."""
-    A, s, e, out = A0, s0, 0.0, []
-    for target in strains:
-        while e < target - 1e-12 and A < 1.0:
-            h = min(step, target - e)
-            dA, ds = rate(A, s)
-            Am, sm = min(A + 0.5 * h * dA, 1.0), max(s + 0.5 * h * ds, 1e-3)
-            dA, ds = rate(Am, sm)
-            A, s, e = min(A + h * dA, 1.0), max(s + h * ds, 1e-3), e + h
-        out.append((A, s))
-    return out
 
 
 CONVERGE = (  # (wedge deg, p/H, A, s / tan(theta)): states of flattening_flank.csv
@@ -242,7 +229,7 @@ def compare(rows):
                 if r["profile"] == name and float(r["p_over_H"]) == ph
             )
             strains = [e for e, _, _ in pts]
-            alpha = curve(rate, pts[0][1], math.tan(math.radians(deg)), strains)
+            alpha = curve(rate, pts[0][1], math.tan(math.radians(deg)), strains, STEP)
             out += [
                 {
                     "profile": name,
