@@ -35,8 +35,9 @@ import multiprocessing
 import os
 
 import numpy as np
+import scipy.sparse as sp
 from _provenance import RESULTS, run_record, write_rows
-from flattening_limit import H, curve, limit_field
+from flattening_limit import H, curve, limit_field, program, solve
 
 PRESSURES = (0.05, 0.1, 0.2, 0.3, 0.45, 0.6)  # the truth's p / H
 A_GRID = (0.1, 0.15, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.96)
@@ -61,21 +62,51 @@ def n_flank(A, nx):
     return min(nx - 1, max(round(nx * (1.0 - A)), nx // 2, _SKIP + 3))
 
 
+def _flank_weights(x, A, he):
+    """Weights of the free top's nodes (at ``x``) that give the flank line's value at the edge
+    and its slope: least squares over the flank beyond its first ``_SKIP`` elements."""
+    flank = x > A + _SKIP * he - 1e-9
+    xi = x - A
+    xb = xi[flank].mean()
+    slope = np.where(flank, xi - xb, 0.0) / ((xi[flank] - xb) ** 2).sum()
+    return np.where(flank, 1.0 / flank.sum(), 0.0) - xb * slope, slope
+
+
 def rates(p_over_H, A, s, nx, nz, sides):
     """``dA / d eps`` and ``ds / d eps`` of the state from the optimum's flank; the edge readings."""
     f = limit_field(p_over_H * H, A, s, nx, nz, sides, n_flank(A, nx), time_limit=TIME_LIMIT)
     x, u, w = f["surface"].T
-    he = f["flank_element"]
-    flank = x > A + _SKIP * he - 1e-9
-    cu = np.polyfit(x[flank] - A, u[flank], 1)
-    cw = np.polyfit(x[flank] - A, w[flank], 1)
+    edge, slope = _flank_weights(x, A, f["flank_element"])
     return {
-        "dA_de": (cw[1] - f["W"]) / s + cu[1] - A,
-        "ds_de": -(cw[0] + s * cu[0]),
+        "dA_de": (edge @ w - f["W"]) / s + edge @ u - A,
+        "ds_de": -(slope @ w + s * (slope @ u)),
         "dA_de_1": f["dA_de_1"],
         "dA_de_2": f["dA_de_2"],
         "dissipation_ratio": f["dissipation_ratio"],
         "seconds": f["seconds"],
+    }
+
+
+def band(p_over_H, A, s, nx, nz, sides, delta):
+    """The range of both rates over the fields that dissipate at most ``delta`` times the uniform
+    stretch's ``2 k`` per area more than the optimum (less the pressure's work): how sharply the
+    rigid-plastic problem decides them. Four more programmes, the optimum's cost a new row."""
+    lp = program(p_over_H * H, A, s, nx, nz, sides, n_flank(A, nx))
+    opt = solve(lp, lp["cost"], TIME_LIMIT)
+    n, idx = lp["n"], lp["idx"]
+    edge, slope = _flank_weights(lp["P"][idx, 0], A, (1 - A) / n_flank(A, nx))
+    f_A, f_s = np.zeros(len(lp["cost"])), np.zeros(len(lp["cost"]))
+    f_A[n + idx], f_A[idx], f_A[2 * n] = edge / s, edge, -1.0 / s  # dA/d eps + A
+    f_s[n + idx], f_s[idx] = -slope, -s * slope
+    cap = sp.csr_matrix(lp["cost"][None, :]), [opt.fun + delta * 2 * lp["area"].sum()]
+    lo_hi = [solve(lp, sign * f, TIME_LIMIT, *cap).x @ f for f in (f_A, f_s) for sign in (1, -1)]
+    return {
+        "dA_de": f_A @ opt.x - A,
+        "dA_de_lo": lo_hi[0] - A,
+        "dA_de_hi": lo_hi[1] - A,
+        "ds_de": f_s @ opt.x,
+        "ds_de_lo": lo_hi[2],
+        "ds_de_hi": lo_hi[3],
     }
 
 
@@ -212,6 +243,49 @@ def converge(meshes):
     return rows
 
 
+SIDES = (12, 24, 48, 96)
+BAND_SIDES = 48  # the table's polygon below 0.15 H
+BAND = 1e-4  # the band's dissipation above the optimum, of the uniform stretch's
+
+
+def polygon(nx, nz):
+    """``--polygon``: the readings at the converge states against the yield polygon's sides, and
+    the band of both rates within ``BAND`` of the optimum on the table's polygon (48 sides).
+
+    The polygon is inscribed in von Mises' circle: it takes up to ``1 - cos(pi / sides)`` off
+    the dissipation of a strain rate between its directions (3.4 % at 12 sides, 0.2 % at 48)."""
+    rows = []
+    for deg, ph, A, ratio in CONVERGE:
+        t0 = math.tan(math.radians(deg))
+        s = ratio * t0
+        for sides in SIDES:
+            r = rates(ph, A, s, nx, nz, sides)
+            spread = dict.fromkeys(("c_lo", "c_hi", "dln_s_lo", "dln_s_hi"), math.nan)
+            if sides == BAND_SIDES:
+                b = band(ph, A, s, nx, nz, sides, BAND)
+                spread = {
+                    "c_lo": round(t0 * b["dA_de_lo"], 3),
+                    "c_hi": round(t0 * b["dA_de_hi"], 3),
+                    "dln_s_lo": round(b["ds_de_lo"] / s, 2),
+                    "dln_s_hi": round(b["ds_de_hi"] / s, 2),
+                }
+            rows.append(
+                {
+                    "slope_deg": deg,
+                    "p_over_H": ph,
+                    "alpha": A,
+                    "slope_ratio": ratio,
+                    "sides": sides,
+                    "c_fit": round(t0 * r["dA_de"], 3),
+                    "dln_s_de": round(r["ds_de"] / s, 2),
+                    "dissipation_ratio": round(r["dissipation_ratio"], 5),
+                    **spread,
+                }
+            )
+            print(rows[-1], flush=True)
+    return rows
+
+
 def compare(rows):
     """The table's curves beside the truth's 30 and the runtime's law (``flattening_truth.csv``).
 
@@ -292,6 +366,11 @@ def parse_args():
         help="nx nz sides below 0.15 H (default 16 24 16)",
     )
     ap.add_argument("--converge", action="store_true", help="the readings against the mesh")
+    ap.add_argument(
+        "--polygon",
+        action="store_true",
+        help="the readings against the yield polygon's sides, and their band, on 16 x 24",
+    )
     ap.add_argument("--fresh", action="store_true", help="recompute the cached table")
     return ap.parse_args()
 
@@ -322,6 +401,37 @@ def main(args):
         (RESULTS / "flattening_limit_converge.md").write_text("\n".join(lines) + "\n", "utf-8")
         print("\n".join(lines))
         return
+    if args.polygon:
+        rows = polygon(16, 24)
+        write_rows(RESULTS / "flattening_limit_polygon.csv", rows)
+        lines = [
+            "# The limit analysis's flank reading against the yield polygon",
+            "",
+            "`benchmarks/flattening_limit_law.py --polygon`: at the converge states, on 16 x 24 "
+            "triangles, `c = tan(theta) dA / d eps` and `d ln s / d eps` from the flank's fitted "
+            "field against the sides of the polygon that linearises von Mises' dissipation "
+            "(inscribed: it takes up to `1 - cos(pi / sides)` off a strain rate between its "
+            f"directions); at {BAND_SIDES} sides the range of both over every field that "
+            f"dissipates at most {BAND:g} of the uniform stretch's more than the optimum.",
+            "",
+            "| wedge, p/H | alpha | slope / initial | sides | c | d ln s / d eps "
+            "| dissipation / uniform | c: band | d ln s / d eps: band |",
+            "|---|---|---|---|---|---|---|---|---|",
+        ]
+        lines += [
+            f"| {r['slope_deg']:g} deg, {r['p_over_H']:g} | {r['alpha']:.3f} | "
+            f"{r['slope_ratio']:.3f} | {r['sides']} | {r['c_fit']:.3f} | {r['dln_s_de']:.2f} | "
+            f"{r['dissipation_ratio']:.5f} | "
+            + (
+                f"{r['c_lo']:.3f} to {r['c_hi']:.3f} | {r['dln_s_lo']:.2f} to {r['dln_s_hi']:.2f} |"
+                if math.isfinite(r["c_lo"])
+                else " | |"
+            )
+            for r in rows
+        ]
+        (RESULTS / "flattening_limit_polygon.md").write_text("\n".join(lines) + "\n", "utf-8")
+        print("\n".join(lines))
+        return
     rows = table(args.mesh, args.low_mesh, args.fresh)
     out = compare(rows)
     write_rows(RESULTS / "flattening_limit_law.csv", out)
@@ -346,6 +456,11 @@ def main(args):
 if __name__ == "__main__":
     cli = parse_args()
     with run_record(
-        __file__, "flattening_limit_converge" if cli.converge else "flattening_limit_law"
+        __file__,
+        "flattening_limit_converge"
+        if cli.converge
+        else "flattening_limit_polygon"
+        if cli.polygon
+        else "flattening_limit_law",
     ):
         main(cli)

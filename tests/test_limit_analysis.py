@@ -91,3 +91,35 @@ def test_unilateral_plateau_is_a_relaxation_that_keeps_the_tied_optimum(limit):
     assert free["W"] == pytest.approx(tied["W"], abs=1e-2)
     x, _, w = free["surface"].T
     assert np.ptp(w[x <= A + 1e-9]) < 1e-2  # the plateau hardly leaves the tool
+
+
+@pytest.mark.parametrize("sides", [12, 48])
+def test_yield_polygon_is_inscribed(limit, sides):
+    """The polygon takes exactly ``1 - cos(pi / sides)`` off the dissipation of a homogeneous
+    strain rate midway between two of its directions, and nothing off one along a direction: the
+    error that decides the low-pressure rates (docs/flattening.md, "The yield polygon")."""
+    lp = limit.program(0.0, 0.0, 0.0, 6, 6, sides)
+    P, n = lp["P"], lp["n"]
+    for phi, factor in ((math.pi / sides, math.cos(math.pi / sides)), (0.0, 1.0)):
+        a, b = math.cos(phi), math.sin(phi)  # d_xx - d_zz = a, 2 d_xz = b: norm 1
+        u, w = 0.5 * a * P[:, 0] + b * P[:, 1], -0.5 * a * P[:, 1]
+        bounds = list(lp["bounds"])
+        bounds[:n] = [(v, v) for v in u]
+        bounds[n : 2 * n] = [(v, v) for v in w]
+        res = limit.solve({**lp, "bounds": bounds}, lp["cost"])
+        assert res.fun == pytest.approx(factor * lp["area"].sum(), rel=1e-7)
+
+
+def test_band_holds_the_optimum_and_widens():
+    """The range of both rates over near-optimal fields contains the optimum's and widens with
+    the dissipation allowed above it."""
+    law = _load("flattening_limit_law")
+    state = (0.15, 0.4, 0.17, 8, 12, 12)
+    r = law.rates(*state)
+    narrow, wide = (law.band(*state, delta) for delta in (1e-5, 1e-3))
+    for key in ("dA_de", "ds_de"):
+        assert narrow[key] == pytest.approx(r[key], rel=1e-5, abs=1e-6)
+        assert wide[f"{key}_lo"] <= narrow[f"{key}_lo"] + 1e-6
+        assert narrow[f"{key}_lo"] <= r[key] + 1e-6 <= narrow[f"{key}_hi"] + 2e-6
+        assert narrow[f"{key}_hi"] <= wide[f"{key}_hi"] + 1e-6
+    assert wide["dA_de_hi"] - wide["dA_de_lo"] > narrow["dA_de_hi"] - narrow["dA_de_lo"]
