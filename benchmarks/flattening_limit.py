@@ -99,8 +99,8 @@ def _gradients(x):
 
 def program(p, A, s, nx=12, nz=16, sides=12, n_flank=None, unilateral=False):
     """The linear programme of the state: a dict of ``cost``, ``a_in``, ``a_eq``, ``bounds`` (both
-    right-hand sides are zero), the mesh (``P``, ``xs``, ``top``, ``area``) and the free top's node
-    indices ``idx`` in x's order. The unknowns: u, w at the ``n`` nodes, the plateau's W, a bound
+    right-hand sides are zero), the mesh (``P``, ``xs``, ``n`` nodes, the triangles' ``area``) and
+    the free top's node indices ``idx`` in x's order. The unknowns: u, w at the ``n`` nodes, the plateau's W, a bound
     per vertex."""
     P, six, xs, top = cell(A, s, nx, nz, n_flank)
     n, ne = len(P), len(six)
@@ -210,7 +210,6 @@ def limit_field(p, A, s, nx=12, nz=16, sides=12, n_flank=None, unilateral=False,
         "surface": np.column_stack([P[idx, 0], u[idx], w[idx]]),
         "W": float(W),
         "flank_element": float(he),
-        "objective": float(res.fun),
     }
 
 
