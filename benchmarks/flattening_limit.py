@@ -183,8 +183,8 @@ def solve(lp, cost, time_limit=None, a_in=None, b_in=None):
 def limit_field(p, A, s, nx=12, nz=16, sides=12, n_flank=None, unilateral=False, time_limit=None):
     """The minimiser of dissipation less the pressure's work; a dict of what it shows.
 
-    Besides the readings, ``surface`` holds the free top's nodes (x, u, w) in x's order and ``W``
-    the plateau's vertical velocity. HiGHS's interior-point method with its crossover (the same
+    Besides the readings, ``surface`` holds the free top's nodes (x, u, w) in x's order, ``W``
+    the plateau's vertical velocity, ``program`` the programme and ``x`` its solution. HiGHS's interior-point method with its crossover (the same
     optimum as the dual simplex to its tolerance, 5.7 times faster at 12 x 16). ``time_limit``
     (s) makes a state that HiGHS cannot finish an error instead of a stall.
     """
@@ -210,6 +210,8 @@ def limit_field(p, A, s, nx=12, nz=16, sides=12, n_flank=None, unilateral=False,
         "surface": np.column_stack([P[idx, 0], u[idx], w[idx]]),
         "W": float(W),
         "flank_element": float(he),
+        "program": lp,
+        "x": res.x,
     }
 
 

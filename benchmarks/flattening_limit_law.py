@@ -37,7 +37,7 @@ import os
 import numpy as np
 import scipy.sparse as sp
 from _provenance import RESULTS, run_record, write_rows
-from flattening_limit import H, curve, limit_field, program, solve
+from flattening_limit import H, curve, limit_field, solve
 
 PRESSURES = (0.05, 0.1, 0.2, 0.3, 0.45, 0.6)  # the truth's p / H
 A_GRID = (0.1, 0.15, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.96)
@@ -88,25 +88,27 @@ def rates(p_over_H, A, s, nx, nz, sides):
 
 
 def band(p_over_H, A, s, nx, nz, sides, delta):
-    """The range of both rates over the fields that dissipate at most ``delta`` times the uniform
+    """Both rates at the optimum (as linear functionals of its solution, the weights of
+    ``rates``) and their range over the fields that dissipate at most ``delta`` times the uniform
     stretch's ``2 k`` per area more than the optimum (less the pressure's work): how sharply the
     rigid-plastic problem decides them. Four more programmes, the optimum's cost a new row."""
-    lp = program(p_over_H * H, A, s, nx, nz, sides, n_flank(A, nx))
-    opt = solve(lp, lp["cost"], TIME_LIMIT)
+    f = limit_field(p_over_H * H, A, s, nx, nz, sides, n_flank(A, nx), time_limit=TIME_LIMIT)
+    lp, x = f["program"], f["x"]
     n, idx = lp["n"], lp["idx"]
-    edge, slope = _flank_weights(lp["P"][idx, 0], A, (1 - A) / n_flank(A, nx))
-    f_A, f_s = np.zeros(len(lp["cost"])), np.zeros(len(lp["cost"]))
+    edge, slope = _flank_weights(f["surface"][:, 0], A, f["flank_element"])
+    f_A, f_s = np.zeros(len(x)), np.zeros(len(x))
     f_A[n + idx], f_A[idx], f_A[2 * n] = edge / s, edge, -1.0 / s  # dA/d eps + A
     f_s[n + idx], f_s[idx] = -slope, -s * slope
-    cap = sp.csr_matrix(lp["cost"][None, :]), [opt.fun + delta * 2 * lp["area"].sum()]
-    lo_hi = [solve(lp, sign * f, TIME_LIMIT, *cap).x @ f for f in (f_A, f_s) for sign in (1, -1)]
+    cap = sp.csr_matrix(lp["cost"][None, :]), [lp["cost"] @ x + delta * 2 * lp["area"].sum()]
+    lo_hi = [solve(lp, sign * g, TIME_LIMIT, *cap).x @ g for g in (f_A, f_s) for sign in (1, -1)]
     return {
-        "dA_de": f_A @ opt.x - A,
+        "dA_de": f_A @ x - A,
         "dA_de_lo": lo_hi[0] - A,
         "dA_de_hi": lo_hi[1] - A,
-        "ds_de": f_s @ opt.x,
+        "ds_de": f_s @ x,
         "ds_de_lo": lo_hi[2],
         "ds_de_hi": lo_hi[3],
+        "dissipation_ratio": f["dissipation_ratio"],
     }
 
 
@@ -260,16 +262,17 @@ def polygon(nx, nz):
         t0 = math.tan(math.radians(deg))
         s = ratio * t0
         for sides in SIDES:
-            r = rates(ph, A, s, nx, nz, sides)
             spread = dict.fromkeys(("c_lo", "c_hi", "dln_s_lo", "dln_s_hi"), math.nan)
-            if sides == BAND_SIDES:
-                b = band(ph, A, s, nx, nz, sides, BAND)
+            if sides == BAND_SIDES:  # the band's optimum gives the readings too: one solve
+                r = band(ph, A, s, nx, nz, sides, BAND)
                 spread = {
-                    "c_lo": round(t0 * b["dA_de_lo"], 3),
-                    "c_hi": round(t0 * b["dA_de_hi"], 3),
-                    "dln_s_lo": round(b["ds_de_lo"] / s, 2),
-                    "dln_s_hi": round(b["ds_de_hi"] / s, 2),
+                    "c_lo": round(t0 * r["dA_de_lo"], 3),
+                    "c_hi": round(t0 * r["dA_de_hi"], 3),
+                    "dln_s_lo": round(r["ds_de_lo"] / s, 2),
+                    "dln_s_hi": round(r["ds_de_hi"] / s, 2),
                 }
+            else:
+                r = rates(ph, A, s, nx, nz, sides)
             rows.append(
                 {
                     "slope_deg": deg,
