@@ -215,18 +215,31 @@ def limit_field(p, A, s, nx=12, nz=16, sides=12, n_flank=None, unilateral=False,
     }
 
 
-def curve(rate, A0, s0, strains, step):
+def curve(rate, A0, s0, strains, step, slope_of=None):
     """(``A``, ``s``) at ``strains`` by the explicit midpoint rule from (``A0``, ``s0``), ``rate``
-    giving (``dA / d eps``, ``ds / d eps``); full contact ends it, ``s`` stays above 1e-3."""
-    A, s, e, out = A0, s0, 0.0, []
+    giving (``dA / d eps``, ``ds / d eps``); full contact ends it, ``s`` stays above 1e-3.
+
+    ``slope_of(A)``, when given, is a profile's own edge slope at contact fraction ``A``
+    (:func:`flattening_limit_law.edge_slope`; ``s0`` is then ignored): the state is then ``A``
+    and the flank's turn ``r = s / slope_of(A)``, which the rate's ``d ln s / d eps`` turns, and
+    ``s = r slope_of(A)`` follows the profile as the contact grows. A constant ``slope_of`` is the
+    wedge's curve."""
+    shape = (lambda A: s0) if slope_of is None else slope_of
+
+    def step_rates(A, r):
+        s = max(r * shape(A), 1e-3)
+        dA, ds = rate(A, s)
+        return dA, r * ds / s
+
+    A, r, e, out = A0, 1.0, 0.0, []
     for target in strains:
         while e < target - 1e-12 and A < 1.0:
             h = min(step, target - e)
-            dA, ds = rate(A, s)
-            Am, sm = min(A + 0.5 * h * dA, 1.0), max(s + 0.5 * h * ds, 1e-3)
-            dA, ds = rate(Am, sm)
-            A, s, e = min(A + h * dA, 1.0), max(s + h * ds, 1e-3), e + h
-        out.append((A, s))
+            dA, dr = step_rates(A, r)
+            Am, rm = min(A + 0.5 * h * dA, 1.0), r + 0.5 * h * dr
+            dA, dr = step_rates(Am, rm)
+            A, r, e = min(A + h * dA, 1.0), r + h * dr, e + h
+        out.append((A, max(r * shape(A), 1e-3)))
     return out
 
 
