@@ -70,8 +70,9 @@ MEASURED_DEPTH = 4  # strip thickness / profile length
 DEPTHS = (1, 2, 4, 8, 16)
 
 
-def measured_profile(path=MEASURED):
-    """The middle row of the scan, levelled and S-filtered as the calibration does.
+def measured_profile(path=MEASURED, row=None):
+    """A row of the scan (the middle one by default), levelled and S-filtered as the calibration
+    does.
 
     Returns ``(x, z, lambda_s, notes)`` (m).
     """
@@ -81,9 +82,9 @@ def measured_profile(path=MEASURED):
     levelled, s1 = chain.level_scan(scan)
     filtered, s2 = chain.filter_scan(levelled, lam, None)
     h = filtered.heights
-    row = h[h.shape[0] // 2]
-    x = np.arange(row.size) * filtered.dy
-    return x, row - row.mean(), lam, (*s1, *s2)
+    line = h[h.shape[0] // 2 if row is None else row]
+    x = np.arange(line.size) * filtered.dy
+    return x, line - line.mean(), lam, (*s1, *s2)
 
 
 def profiles(quick=False):
@@ -304,6 +305,71 @@ def refine(args, mat):
     (RESULTS / "asperity_refined.md").write_text("\n".join(lines) + "\n")
 
 
+ROWS = (64, 128, 192)  # the measured scan's rows: the middle one (the table's) and two more
+ROW_MESHES = ((128, 48), (256, 64))  # nx 256: a top node on each of the row's 256 samples
+ROW_STRAINS = (0.0, 0.005, 0.01, 0.02, 0.05, 0.1)
+
+
+def row_name(i, lam):
+    return f"matrix-3 row {i} (lambda_s {lam * 1e6:.3g} um)"
+
+
+def rows_study(args, mat):
+    """``--rows``: measured rows on meshes that resolve their samples (the table's 64 columns
+    take every fourth): the middle row on ``ROW_MESHES``, the others on the finest. Jobs done are
+    kept in a partial file, from which a stopped run resumes."""
+    jobs = []
+    for i in ROWS:
+        x, z, lam, _ = measured_profile(row=i)
+        rms = float(np.degrees(np.arctan(np.sqrt(np.mean((np.diff(z) / np.diff(x)) ** 2)))))
+        prof = (x, z, rms, MEASURED_DEPTH * float(x[-1]))
+        for nx, nz in ROW_MESHES if i == 128 else ROW_MESHES[-1:]:
+            jobs += [(row_name(i, lam), prof, ph, ROW_STRAINS, nx, nz, mat) for ph in P_OVER_H]
+    out, partial = RESULTS / "asperity_rows.csv", RESULTS / "asperity_rows.partial.csv"
+    rows = []
+    if partial.exists():
+        import csv
+
+        with partial.open() as f:
+            rows = list(csv.DictReader(f))
+    done = {(r["profile"], float(r["p_over_H"]), int(r["nx"])) for r in rows}
+    todo = sorted((j for j in jobs if (j[0], j[2], j[4]) not in done), key=lambda j: j[2])
+    for k in range(0, len(todo), max(1, args.workers)):
+        for part in run_cases(todo[k : k + max(1, args.workers)], args.workers):
+            rows += part
+        write_rows(partial, rows)
+    order = {(j[0], j[2], j[4]): n for n, j in enumerate(jobs)}
+    rows.sort(
+        key=lambda r: (
+            order[(r["profile"], float(r["p_over_H"]), int(r["nx"]))],
+            float(r["strain"]),
+        )
+    )
+    write_rows(out, rows)
+    partial.unlink(missing_ok=True)
+    lines = [
+        "# Measured rows on meshes that resolve them (asperity truth)",
+        "",
+        "`benchmarks/asperity_flattening.py --rows`: rows of `tests/data/matrix-3.txt` (256 "
+        "samples over 10 um, levelled and S-filtered as the table's), the middle one on "
+        + " and ".join(f"{nx} x {nz}" for nx, nz in ROW_MESHES)
+        + " elements, the others on the finest; the table's 64 x 32 takes every fourth sample.",
+        "",
+        "| row | RMS slope (deg) | p/H | mesh | "
+        + " | ".join(f"{e:g}" for e in ROW_STRAINS)
+        + " |",
+        "|---|---|---|---|" + "---|" * len(ROW_STRAINS),
+    ]
+    for key in sorted(order, key=order.get):
+        sel = [r for r in rows if (r["profile"], float(r["p_over_H"]), int(r["nx"])) == key]
+        by = {float(r["strain"]): float(r["alpha"]) for r in sel}
+        lines.append(
+            f"| {key[0]} | {float(sel[0]['slope_deg']):.2f} | {key[1]:g} | {key[2]} x "
+            f"{sel[0]['nz']} | " + " | ".join(f"{by[e]:.3f}" for e in ROW_STRAINS) + " |"
+        )
+    (RESULTS / "asperity_rows.md").write_text("\n".join(lines) + "\n")
+
+
 def depth_study(args, mat):
     x, z = wedge_profile(5.0, SPACING)
     strains = (0.0, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2)
@@ -347,7 +413,7 @@ def punch(args, mat):
     write_rows(RESULTS / "asperity_punch.csv", rows)
 
 
-def main():
+def parse_args():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--nx", type=int, default=64, help="elements along the profile (table)")
     ap.add_argument("--nz", type=int, default=32, help="elements through the thickness (table)")
@@ -359,14 +425,20 @@ def main():
     ap.add_argument(
         "--refine", action="store_true", help="p/H 0.05 and 0.45 on the fine mesh (128 x 48)"
     )
-    ap.add_argument("--workers", type=int, default=2, help="processes for --refine (2)")
+    ap.add_argument(
+        "--rows", action="store_true", help="measured rows on meshes that resolve their samples"
+    )
+    ap.add_argument("--workers", type=int, default=2, help="processes for --refine, --rows (2)")
     ap.add_argument("--ccx", action="store_true", help="the CalculiX cross-check")
     ap.add_argument(
         "--ccx-work",
         default=os.environ.get("SBMF_CCX_WORK"),
         help="CalculiX build folder holding ccx_reference (default: $SBMF_CCX_WORK)",
     )
-    args = ap.parse_args()
+    return ap.parse_args()
+
+
+def main(args):
     mat = perfectly_plastic()
     RESULTS.mkdir(exist_ok=True)
     if not args.no_table:
@@ -379,6 +451,8 @@ def main():
         convergence(args, mat)
     if args.refine:
         refine(args, mat)
+    if args.rows:
+        rows_study(args, mat)
     if args.ccx:
         if not args.ccx_work:
             raise SystemExit("--ccx needs --ccx-work or SBMF_CCX_WORK")
@@ -386,5 +460,6 @@ def main():
 
 
 if __name__ == "__main__":
-    with run_record(__file__):
-        main()
+    cli = parse_args()
+    with run_record(__file__, "asperity_rows" if cli.rows and cli.no_table else None):
+        main(cli)

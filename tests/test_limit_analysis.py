@@ -123,3 +123,41 @@ def test_band_holds_the_optimum_and_widens():
         assert narrow[f"{key}_lo"] <= r[key] + 1e-6 <= narrow[f"{key}_hi"] + 2e-6
         assert narrow[f"{key}_hi"] <= wide[f"{key}_hi"] + 1e-6
     assert wide["dA_de_hi"] - wide["dA_de_lo"] > narrow["dA_de_hi"] - narrow["dA_de_lo"]
+
+
+def test_edge_slope_is_the_harmonic_mean_at_the_bearing_level():
+    law = _load("flattening_limit_law")
+    # one flank of a wedge: its own slope at every contact fraction
+    x, z = np.array([0.0, 1.0]), np.array([0.1, 0.0])
+    for A in (0.05, 0.5, 0.95):
+        assert law.edge_slope(x, z, A) == pytest.approx(0.1, rel=1e-9)
+    # a plateau-free bump with flanks 0.2 (rising) and 0.05 (falling), and a lower one with 0.1
+    x = np.array([0.0, 0.5, 2.5, 3.0, 4.0, 5.0])
+    z = np.array([0.0, 0.1, 0.0, 0.0, 0.05, 0.0])
+    h = law.bearing_level(x, z, 0.2)
+    above = np.interp(np.linspace(0, 5, 500001), x, z) > h
+    assert above.mean() == pytest.approx(0.2, abs=1e-5)
+    assert h > 0.05  # only the high bump: its two edges, 0.2 and 0.05
+    assert law.edge_slope(x, z, 0.2) == pytest.approx(2 / (1 / 0.2 + 1 / 0.05), rel=1e-9)
+    h = law.bearing_level(x, z, 0.5)
+    assert h < 0.05  # both bumps: four edges
+    want = 4 / (1 / 0.2 + 1 / 0.05 + 2 / 0.05)
+    assert law.edge_slope(x, z, 0.5) == pytest.approx(want, rel=1e-9)
+
+
+def test_curve_follows_the_profile_and_turns_the_flank(limit):
+    # dA / d eps = 1 and d ln s / d eps = -1: A = A0 + eps, s = exp(-eps) slope_of(A)
+    def rate(A, s):
+        return 1.0, -s
+
+    def shape(A):
+        return 0.05 + 0.1 * A
+
+    out = limit.curve(rate, 0.1, None, [0.05, 0.2], 0.0005, slope_of=shape)
+    for (A, s), e in zip(out, (0.05, 0.2), strict=True):
+        assert A == pytest.approx(0.1 + e, abs=1e-12)
+        assert s == pytest.approx(math.exp(-e) * shape(0.1 + e), rel=1e-7)
+    # a constant shape is the wedge's curve
+    wedge = limit.curve(rate, 0.1, 0.07, [0.05, 0.2], 0.0005)
+    same = limit.curve(rate, 0.1, None, [0.05, 0.2], 0.0005, slope_of=lambda A: 0.07)
+    assert wedge == same
