@@ -308,6 +308,7 @@ def refine(args, mat):
 ROWS = (64, 128, 192)  # the measured scan's rows: the middle one (the table's) and two more
 ROW_MESHES = ((128, 48), (256, 64))  # nx 256: a top node on each of the row's 256 samples
 ROW_STRAINS = (0.0, 0.005, 0.01, 0.02, 0.05, 0.1)
+ROW_P_OVER_H = (0.05, 0.1, 0.2, 0.3)  # the other rows: where the middle one is missed most
 
 
 def row_name(i, lam):
@@ -316,15 +317,18 @@ def row_name(i, lam):
 
 def rows_study(args, mat):
     """``--rows``: measured rows on meshes that resolve their samples (the table's 64 columns
-    take every fourth): the middle row on ``ROW_MESHES``, the others on the finest. Jobs done are
-    kept in a partial file, from which a stopped run resumes."""
+    take every fourth): the middle row on ``ROW_MESHES`` at every pressure, the others on the
+    finest at ``ROW_P_OVER_H``. Jobs done are kept in a partial file, from which a stopped run
+    resumes."""
     jobs = []
     for i in ROWS:
         x, z, lam, _ = measured_profile(row=i)
         rms = float(np.degrees(np.arctan(np.sqrt(np.mean((np.diff(z) / np.diff(x)) ** 2)))))
         prof = (x, z, rms, MEASURED_DEPTH * float(x[-1]))
-        for nx, nz in ROW_MESHES if i == 128 else ROW_MESHES[-1:]:
-            jobs += [(row_name(i, lam), prof, ph, ROW_STRAINS, nx, nz, mat) for ph in P_OVER_H]
+        mid = i == ROWS[1]  # the table's
+        for nx, nz in ROW_MESHES if mid else ROW_MESHES[-1:]:
+            for ph in P_OVER_H if mid else ROW_P_OVER_H:
+                jobs.append((row_name(i, lam), prof, ph, ROW_STRAINS, nx, nz, mat))
     out, partial = RESULTS / "asperity_rows.csv", RESULTS / "asperity_rows.partial.csv"
     rows = []
     if partial.exists():
@@ -353,7 +357,9 @@ def rows_study(args, mat):
         "`benchmarks/asperity_flattening.py --rows`: rows of `tests/data/matrix-3.txt` (256 "
         "samples over 10 um, levelled and S-filtered as the table's), the middle one on "
         + " and ".join(f"{nx} x {nz}" for nx, nz in ROW_MESHES)
-        + " elements, the others on the finest; the table's 64 x 32 takes every fourth sample.",
+        + " elements, the others on the finest at p/H "
+        + ", ".join(f"{v:g}" for v in ROW_P_OVER_H)
+        + "; the table's 64 x 32 takes every fourth sample.",
         "",
         "| row | RMS slope (deg) | p/H | mesh | "
         + " | ".join(f"{e:g}" for e in ROW_STRAINS)
