@@ -220,7 +220,7 @@ def curve(rate, A0, s0, strains, step, slope_of=None):
     giving (``dA / d eps``, ``ds / d eps``); full contact ends it, ``s`` stays above 1e-3.
 
     ``slope_of(A)``, when given, is a profile's own edge slope at contact fraction ``A``
-    (:func:`flattening_limit_law.edge_slope`; ``s0`` is then ignored): the state is then ``A``
+    (:func:`flattening_limit_rows.edge_slope`; ``s0`` is then ignored): the state is then ``A``
     and the flank's turn ``r = s / slope_of(A)``, which the rate's ``d ln s / d eps`` turns, and
     ``s = r slope_of(A)`` follows the profile as the contact grows. A constant ``slope_of`` is the
     wedge's curve."""

@@ -183,49 +183,6 @@ def _fill(t, a):
     return t
 
 
-def bearing_level(x, z, A):
-    """The level ``h`` above which the piecewise-linear profile (``x``, ``z``) holds the share
-    ``A`` of its length (the flat's plateau when the contact fraction is ``A``; bisection)."""
-    z1, z2, dx = z[:-1], z[1:], np.diff(x)
-    lo_z, hi_z = np.minimum(z1, z2), np.maximum(z1, z2)
-
-    def share(h):
-        part = np.clip((hi_z - h) / np.maximum(hi_z - lo_z, 1e-300), 0.0, 1.0)
-        return float((dx * part).sum() / (x[-1] - x[0]))
-
-    lo, hi = float(z.min()), float(z.max())
-    for _ in range(80):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if share(mid) > A else (lo, mid)
-    return 0.5 * (lo + hi)
-
-
-def edge_slope(x, z, A):
-    """The edge slope of the wedge that stands for the profile (``x``, ``z``) at contact fraction
-    ``A``: the harmonic mean of ``|dz / dx|`` where the level :func:`bearing_level` crosses the
-    profile. A wedge lattice's contact grows by ``dA / dh = 1 / (l s)`` per level ``dh`` (half
-    cell ``l``, flank slope ``s``); the profile's by ``(1 / L) sum 1 / |z'_i|`` over its ``n``
-    edges; with ``l = L / n`` the two agree at this ``s``. A wedge gives its own slope at every
-    ``A``; ``nan`` where the level crosses nothing."""
-    h = bearing_level(x, z, A)
-    d = z - h
-    cross = d[:-1] * d[1:] < 0
-    if not cross.any():
-        return math.nan
-    slopes = np.abs(np.diff(z) / np.diff(x))[cross]
-    return float(cross.sum() / (1.0 / slopes).sum())
-
-
-def edge_slopes(x, z, n=400):
-    """:func:`edge_slope` tabulated on ``n + 1`` contact fractions, as a function of ``A``
-    (linear between them; the RMS slope where no level crosses)."""
-    a = np.linspace(0.0, 1.0, n + 1)
-    rms = float(np.sqrt(np.mean((np.diff(z) / np.diff(x)) ** 2)))
-    s = np.array([edge_slope(x, z, A) for A in a])
-    s = np.where(np.isfinite(s), s, rms)
-    return lambda A: float(np.interp(A, a, s))
-
-
 class Rates:
     """Bilinear interpolation of the table at one pressure, in ``A`` and ``ln s`` (clamped)."""
 

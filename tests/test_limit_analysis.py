@@ -49,7 +49,7 @@ def test_flat_punch_collapses_at_prandtls_pressure(limit, factor, bounded):
 
 
 def test_flank_reading_of_a_homogeneous_field(monkeypatch):
-    law = _load("flattening_limit_law")
+    law = _load("flattening_limit_rows")
     s, A = 0.1, 0.4
     x = np.linspace(A, 1.0, 13)
     z = -s * (x - A)
@@ -113,7 +113,7 @@ def test_yield_polygon_is_inscribed(limit, sides):
 def test_band_holds_the_optimum_and_widens():
     """The range of both rates over near-optimal fields contains the optimum's and widens with
     the dissipation allowed above it."""
-    law = _load("flattening_limit_law")
+    law = _load("flattening_limit_rows")
     state = (0.15, 0.4, 0.17, 8, 12, 12)
     r = law.rates(*state)
     narrow, wide = (law.band(*state, delta) for delta in (1e-5, 1e-3))
@@ -126,7 +126,7 @@ def test_band_holds_the_optimum_and_widens():
 
 
 def test_edge_slope_is_the_harmonic_mean_at_the_bearing_level():
-    law = _load("flattening_limit_law")
+    law = _load("flattening_limit_rows")
     # one flank of a wedge: its own slope at every contact fraction
     x, z = np.array([0.0, 1.0]), np.array([0.1, 0.0])
     for A in (0.05, 0.5, 0.95):

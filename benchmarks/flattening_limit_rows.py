@@ -1,0 +1,169 @@
+"""The limit analysis as a law on measured rows: a profile's own edge slope (issue 43, a study).
+
+``flattening_limit_law.py`` holds the table's law to the truth's wedges and takes the measured row
+as a wedge of its RMS slope. A row is not a wedge: its contact grows over many flanks of many
+slopes. This script gives the law the row's own geometry, nothing fitted:
+
+- **the edge slope** at contact fraction ``A`` is the harmonic mean of ``|dz / dx|`` where the
+  level that leaves the share ``A`` of the row above it (its bearing level) crosses the row. A
+  wedge lattice's contact grows by ``dA / dh = 1 / (l s)`` per level ``dh`` (half cell ``l``, flank
+  slope ``s``), the row's by ``(1 / L) sum 1 / |z'_i|`` over its ``n`` edges; with ``l = L / n``
+  the two agree at this ``s``. A wedge gives its own slope at every ``A`` (tested);
+- **the curve** carries ``A`` and the flank's turn ``r = s / s_edge(A)``: the table's
+  ``d ln s / d eps`` turns it, and ``s = r s_edge(A)`` follows the row as the contact grows
+  (``flattening_limit.curve`` with ``slope_of``);
+- **the truth**: the rows of ``asperity_flattening.py --rows`` (the scan's rows on meshes that
+  resolve their samples; the table's 64 x 32 takes every fourth), each on its finest mesh.
+
+Writes ``results/flattening_limit_rows.md`` / ``.csv``: the row as a wedge of its RMS slope, by
+its edge slope, and the runtime's law (L+E, built as ``flattening_truth.py`` builds it).
+
+Run: python benchmarks/flattening_limit_rows.py (after asperity_flattening.py --no-table --rows)
+"""
+
+import csv
+import math
+
+import numpy as np
+from _provenance import RESULTS, run_record, write_rows
+from asperity_flattening import ROWS, measured_profile, row_name
+from flattening_limit import curve
+from flattening_limit_law import STEP, TABLE, Rates, _read
+from flattening_truth import law_of, law_strain
+
+import frictionlaw as fl
+
+ROWS_TRUTH = RESULTS / "asperity_rows.csv"
+
+
+def bearing_level(x, z, A):
+    """The level ``h`` above which the piecewise-linear profile (``x``, ``z``) holds the share
+    ``A`` of its length (the flat's plateau when the contact fraction is ``A``; bisection)."""
+    z1, z2, dx = z[:-1], z[1:], np.diff(x)
+    lo_z, hi_z = np.minimum(z1, z2), np.maximum(z1, z2)
+
+    def share(h):
+        part = np.clip((hi_z - h) / np.maximum(hi_z - lo_z, 1e-300), 0.0, 1.0)
+        return float((dx * part).sum() / (x[-1] - x[0]))
+
+    lo, hi = float(z.min()), float(z.max())
+    for _ in range(80):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if share(mid) > A else (lo, mid)
+    return 0.5 * (lo + hi)
+
+
+def edge_slope(x, z, A):
+    """The edge slope of the wedge that stands for the profile (``x``, ``z``) at contact fraction
+    ``A``: the harmonic mean of ``|dz / dx|`` where the level :func:`bearing_level` crosses the
+    profile. A wedge lattice's contact grows by ``dA / dh = 1 / (l s)`` per level ``dh`` (half
+    cell ``l``, flank slope ``s``); the profile's by ``(1 / L) sum 1 / |z'_i|`` over its ``n``
+    edges; with ``l = L / n`` the two agree at this ``s``. A wedge gives its own slope at every
+    ``A``; ``nan`` where the level crosses nothing."""
+    h = bearing_level(x, z, A)
+    d = z - h
+    cross = d[:-1] * d[1:] < 0
+    if not cross.any():
+        return math.nan
+    slopes = np.abs(np.diff(z) / np.diff(x))[cross]
+    return float(cross.sum() / (1.0 / slopes).sum())
+
+
+def edge_slopes(x, z, n=400):
+    """:func:`edge_slope` tabulated on ``n + 1`` contact fractions, as a function of ``A``
+    (linear between them; the RMS slope where no level crosses)."""
+    a = np.linspace(0.0, 1.0, n + 1)
+    rms = float(np.sqrt(np.mean((np.diff(z) / np.diff(x)) ** 2)))
+    s = np.array([edge_slope(x, z, A) for A in a])
+    s = np.where(np.isfinite(s), s, rms)
+    return lambda A: float(np.interp(A, a, s))
+
+
+def compare_rows(rows):
+    """The table's curves (``rows``) against each resolved row at each of its pressures: the row
+    as a wedge of its RMS slope, by its edge slope, and the runtime's law."""
+    with open(ROWS_TRUTH, encoding="utf-8") as fh:
+        truth = list(csv.DictReader(fh))
+    out = []
+    for i in ROWS:
+        x, z, lam, _ = measured_profile(row=i)
+        name = row_name(i, lam)
+        mine = [r for r in truth if r["profile"] == name]
+        nx = max(int(r["nx"]) for r in mine)
+        mine = [r for r in mine if int(r["nx"]) == nx]
+        deg = float(mine[0]["slope_deg"])
+        H_row = float(mine[0]["p_Pa"]) / float(mine[0]["p_over_H"])
+        cols = {}
+        for r in mine:
+            cols.setdefault(float(r["p_over_H"]), {})[float(r["strain"])] = float(r["alpha"])
+        law = law_of(cols, deg, H_row)
+        shape = edge_slopes(x, z)
+        for ph in sorted(cols):
+            strains = sorted(cols[ph])
+            a0 = cols[ph][0.0]
+            rate = Rates(rows, ph)
+            wedge = curve(rate, a0, math.tan(math.radians(deg)), strains, STEP)
+            edges = curve(rate, a0, None, strains, STEP, slope_of=shape)
+            runtime = fl.flattening_curve(ph * H_row, law_strain(strains), law)
+            out += [
+                {
+                    "profile": name,
+                    "mesh": f"{nx}x{mine[0]['nz']}",
+                    "slope_deg": deg,
+                    "p_over_H": ph,
+                    "strain": e,
+                    "alpha_truth": cols[ph][e],
+                    "alpha_rms": round(w[0], 4),
+                    "alpha_edges": round(g[0], 4),
+                    "alpha_law": round(float(a), 4),
+                }
+                for e, w, g, a in zip(strains, wedge, edges, runtime, strict=True)
+            ]
+    return out
+
+
+def summary(out):
+    """Largest misses per row and pressure, and overall, for the two maps and the runtime's law."""
+    cols = ("alpha_rms", "alpha_edges", "alpha_law")
+    keys = sorted({(r["profile"], r["p_over_H"]) for r in out})
+    lines = [
+        "| row | p/H | mesh | largest miss: wedge of the RMS slope | edge slope | runtime's law |",
+        "|---|---|---|---|---|---|",
+    ]
+    for k in (*keys, None):
+        sel = [r for r in out if k is None or (r["profile"], r["p_over_H"]) == k]
+        m = [max(abs(r[c] - r["alpha_truth"]) for r in sel) for c in cols]
+        head = "| all | | |" if k is None else f"| {k[0]} | {k[1]:g} | {sel[0]['mesh']} |"
+        lines.append(head + " " + " | ".join(f"{v:.3f}" for v in m) + " |")
+    rms = [math.sqrt(np.mean([(r[c] - r["alpha_truth"]) ** 2 for r in out])) for c in cols]
+    lines += [
+        "",
+        "RMS: "
+        + " / ".join(f"{v:.3f}" for v in rms)
+        + " (RMS slope / edge slope / runtime's law).",
+    ]
+    return lines
+
+
+def main():
+    out = compare_rows(_read(TABLE))
+    write_rows(RESULTS / "flattening_limit_rows.csv", out)
+    lines = [
+        "# The limit analysis as a law, against resolved measured rows",
+        "",
+        "`benchmarks/flattening_limit_rows.py`: the table's curves (as `flattening_limit_law.md`, "
+        "its cached table) against the rows of `asperity_rows.csv`, each on its finest mesh, "
+        "from the row's pressing-alone fraction; the row as a wedge of its RMS slope, and by its "
+        "edge slope (the harmonic mean of the slopes where the level that leaves the share `A` "
+        "above it crosses the row), the flank's turn from the table in both; the runtime's law "
+        "(L+E) from the row's pressing-alone fractions and RMS slope. Nothing fitted.",
+        "",
+        *summary(out),
+    ]
+    (RESULTS / "flattening_limit_rows.md").write_text("\n".join(lines) + "\n", "utf-8")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    with run_record(__file__):
+        main()
