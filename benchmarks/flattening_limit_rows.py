@@ -89,6 +89,8 @@ def compare_rows(rows):
         x, z, lam, _ = measured_profile(row=i)
         name = row_name(i, lam)
         mine = [r for r in truth if r["profile"] == name]
+        if not mine:
+            raise SystemExit(f"{name} is not in {ROWS_TRUTH}: run asperity_flattening.py --rows")
         nx = max(int(r["nx"]) for r in mine)
         mine = [r for r in mine if int(r["nx"]) == nx]
         deg = float(mine[0]["slope_deg"])
