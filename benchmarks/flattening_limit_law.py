@@ -144,12 +144,9 @@ def _read(path):
 
 
 def table(mesh, low_mesh, fresh):
-    """The rates on the grid, from the cache if it was computed on these meshes."""
+    """The rates on the grid: the cached states computed on these meshes are kept, the grid's
+    other states computed (all of them with ``fresh``)."""
     tag = {ph: "x".join(map(str, mesh_of(ph, mesh, low_mesh))) for ph in PRESSURES}
-    if TABLE.exists() and not fresh:
-        rows = _read(TABLE)
-        if rows and all(r["mesh"] == tag[r["p_over_H"]] for r in rows):
-            return rows
     jobs = [
         (ph, A, s, mesh_of(ph, mesh, low_mesh))
         for ph in PRESSURES
@@ -157,9 +154,17 @@ def table(mesh, low_mesh, fresh):
         for s in S_GRID
     ]
     partial = TABLE.with_suffix(".partial.csv")  # rows so far: a stopped run resumes from them
-    done = _read(partial) if partial.exists() and not fresh else []
+    done = []
+    for path in (TABLE, partial):
+        if path.exists() and not fresh:
+            done += [r for r in _read(path) if r["mesh"] == tag.get(r["p_over_H"])]
+    grid = {(tag[j[0]], j[0], round(j[1], 6), j[2]) for j in jobs}
+    done = list({(r["mesh"], r["p_over_H"], r["A"], r["s"]): r for r in done}.values())
+    done = [r for r in done if (r["mesh"], r["p_over_H"], r["A"], r["s"]) in grid]
     keys = {(r["mesh"], r["p_over_H"], r["A"], r["s"]) for r in done}
     todo = [j for j in jobs if (tag[j[0]], j[0], round(j[1], 6), j[2]) not in keys]
+    if not todo:
+        return sorted(done, key=lambda r: (r["p_over_H"], r["A"], r["s"]))
     os.environ["OMP_NUM_THREADS"] = "1"
     rows = list(done)
     with multiprocessing.get_context("spawn").Pool(2) as pool:
@@ -168,6 +173,7 @@ def table(mesh, low_mesh, fresh):
             write_rows(partial, rows)
             if k % 20 == 0:
                 print(f"{k + 1} / {len(todo)}: {rows[-1]}", flush=True)
+    rows.sort(key=lambda r: (r["p_over_H"], r["A"], r["s"]))
     write_rows(TABLE, rows)
     partial.unlink()
     return rows
