@@ -41,7 +41,7 @@ from flattening_limit import H, curve, limit_field, solve
 
 PRESSURES = (0.05, 0.1, 0.2, 0.3, 0.45, 0.6)  # the truth's p / H
 A_GRID = (0.1, 0.15, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.96)
-S_GRID = (0.02, 0.035, 0.055, 0.08, 0.115, 0.16, 0.2)
+S_GRID = (0.01, 0.02, 0.035, 0.055, 0.08, 0.115, 0.16, 0.2)
 TABLE = RESULTS / "flattening_limit_table.csv"
 _SKIP = 2  # flank elements left out of the fit next to the edge (the smeared line)
 STEP = 0.0005  # the curves' strain step (0.0005 and 0.0001 agree to 8e-4 in alpha; 0.0025: 0.017)
