@@ -27,10 +27,13 @@ Parts (each writes its files under ``benchmarks/results/``):
 - ``--punch``: ``asperity_punch.csv``: the flat punch's limit pressure against H on three meshes;
 - ``--refine``: ``asperity_refined.csv``, ``.md``: every profile at the lowest and a high
   pressure (p/H 0.05 and 0.45, strains to 0.3) on the convergence study's fine mesh (128 x 48),
-  beside the table's 64 x 32, with the first-order extrapolation; ``--workers`` processes (2).
+  beside the table's 64 x 32, with the first-order extrapolation; ``--workers`` processes (2);
+- ``--rows``: ``asperity_rows.csv``, ``.md``: rows of the scan on meshes that resolve their
+  samples (the table's 64 columns take every fourth): the middle row on 128 x 48 and 256 x 64 at
+  every pressure, rows 64 and 192 on 256 x 64 at 0.05 and 0.1 H (169 min of one core).
 
 Run: python benchmarks/asperity_flattening.py [--quick] [--convergence] [--ccx] [--punch]
-[--depth] [--refine] [--no-table]. On the shared 2-core machine the table took 38 min, the convergence study
+[--depth] [--refine] [--rows] [--no-table]. On the shared 2-core machine the table took 38 min, the convergence study
 32 min (the 128 x 48 runs), the thickness study 4 min, the flat punch 1 min, the CalculiX case
 29 min (``asperity_flattening.run.json``: 105 min in all); ``--refine`` 29 min with two
 workers (``asperity_refined.run.json``).
