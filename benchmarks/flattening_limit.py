@@ -221,25 +221,25 @@ def curve(rate, A0, s0, strains, step, slope_of=None):
 
     ``slope_of(A)``, when given, is a profile's own edge slope at contact fraction ``A``
     (:func:`flattening_limit_rows.edge_slope`; ``s0`` is then ignored): the state is then ``A``
-    and the flank's turn ``r = s / slope_of(A)``, which the rate's ``d ln s / d eps`` turns, and
-    ``s = r slope_of(A)`` follows the profile as the contact grows. A constant ``slope_of`` is the
-    wedge's curve."""
+    and the flank's turn ``r = s / slope_of(A)``, which the rate's ``d ln s / d eps`` turns
+    (integrated in ``ln r``: the turn stays positive), and ``s = r slope_of(A)`` follows the
+    profile as the contact grows. A constant ``slope_of`` is the wedge's curve."""
     shape = (lambda A: s0) if slope_of is None else slope_of
 
-    def step_rates(A, r):
-        s = max(r * shape(A), 1e-3)
+    def step_rates(A, q):  # q = ln r
+        s = max(math.exp(q) * shape(A), 1e-3)
         dA, ds = rate(A, s)
-        return dA, r * ds / s
+        return dA, ds / s
 
-    A, r, e, out = A0, 1.0, 0.0, []
+    A, q, e, out = A0, 0.0, 0.0, []
     for target in strains:
         while e < target - 1e-12 and A < 1.0:
             h = min(step, target - e)
-            dA, dr = step_rates(A, r)
-            Am, rm = min(A + 0.5 * h * dA, 1.0), r + 0.5 * h * dr
-            dA, dr = step_rates(Am, rm)
-            A, r, e = min(A + h * dA, 1.0), r + h * dr, e + h
-        out.append((A, max(r * shape(A), 1e-3)))
+            dA, dq = step_rates(A, q)
+            Am, qm = min(A + 0.5 * h * dA, 1.0), q + 0.5 * h * dq
+            dA, dq = step_rates(Am, qm)
+            A, q, e = min(A + h * dA, 1.0), q + h * dq, e + h
+        out.append((A, max(math.exp(q) * shape(A), 1e-3)))
     return out
 
 
