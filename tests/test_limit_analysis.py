@@ -4,7 +4,8 @@ exactly the uniform stretch's ``2 k`` per area, and a flat punch on the strip co
 Prandtl's plane-strain pressure ``(2 + pi) k`` (bounded below it, unbounded above it, within the
 discretisation's few per cent). ``flattening_limit_law.py``'s flank reading gives the homogeneous
 stretch's convection of the slope, ``-2 s``, on a field that is homogeneous; the unilateral plateau
-is a relaxation of the tied one."""
+is a relaxation of the tied one. ``flattening_limit_rows.py``'s edge slope of a profile is the
+harmonic mean at its bearing level, and the curve that carries it is exact for constant rates."""
 
 import importlib.util
 import math
