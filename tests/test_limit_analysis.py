@@ -50,7 +50,7 @@ def test_flat_punch_collapses_at_prandtls_pressure(limit, factor, bounded):
 
 
 def test_flank_reading_of_a_homogeneous_field(monkeypatch):
-    law = _load("flattening_limit_rows")
+    law = _load("flattening_limit_law")
     s, A = 0.1, 0.4
     x = np.linspace(A, 1.0, 13)
     z = -s * (x - A)
@@ -114,7 +114,7 @@ def test_yield_polygon_is_inscribed(limit, sides):
 def test_band_holds_the_optimum_and_widens():
     """The range of both rates over near-optimal fields contains the optimum's and widens with
     the dissipation allowed above it."""
-    law = _load("flattening_limit_rows")
+    law = _load("flattening_limit_law")
     state = (0.15, 0.4, 0.17, 8, 12, 12)
     r = law.rates(*state)
     narrow, wide = (law.band(*state, delta) for delta in (1e-5, 1e-3))
