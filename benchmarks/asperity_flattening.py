@@ -40,6 +40,7 @@ workers (``asperity_refined.run.json``).
 """
 
 import argparse
+import math
 import os
 import time
 from pathlib import Path
@@ -90,6 +91,11 @@ def measured_profile(path=MEASURED, row=None):
     return x, line - line.mean(), lam, (*s1, *s2)
 
 
+def profile_rms_slope(x, z):
+    """The RMS of the profile's slope ``dz / dx`` over its segments (a tangent)."""
+    return float(np.sqrt(np.mean((np.diff(z) / np.diff(x)) ** 2)))
+
+
 def profiles(quick=False):
     """``{name: (x, z, slope_deg or rms slope, depth)}`` of the table's profiles."""
     out = {}
@@ -97,7 +103,7 @@ def profiles(quick=False):
         x, z = wedge_profile(s, SPACING)
         out[f"wedge {s:g} deg"] = (x, z, s, WEDGE_DEPTH * SPACING / 2)
     x, z, lam, _ = measured_profile()
-    rms = float(np.degrees(np.arctan(np.sqrt(np.mean((np.diff(z) / np.diff(x)) ** 2)))))
+    rms = math.degrees(math.atan(profile_rms_slope(x, z)))
     out[f"matrix-3 row (lambda_s {lam * 1e6:.3g} um)"] = (x, z, rms, MEASURED_DEPTH * float(x[-1]))
     return out
 
@@ -326,7 +332,7 @@ def rows_study(args, mat):
     jobs = []
     for i in ROWS:
         x, z, lam, _ = measured_profile(row=i)
-        rms = float(np.degrees(np.arctan(np.sqrt(np.mean((np.diff(z) / np.diff(x)) ** 2)))))
+        rms = math.degrees(math.atan(profile_rms_slope(x, z)))
         prof = (x, z, rms, MEASURED_DEPTH * float(x[-1]))
         mid = i == ROWS[1]  # the table's
         for nx, nz in ROW_MESHES if mid else ROW_MESHES[-1:]:
@@ -369,7 +375,7 @@ def rows_study(args, mat):
         + " |",
         "|---|---|---|---|" + "---|" * len(ROW_STRAINS),
     ]
-    for key in sorted(order, key=order.get):
+    for key in order:
         sel = [r for r in rows if (r["profile"], float(r["p_over_H"]), int(r["nx"])) == key]
         by = {float(r["strain"]): float(r["alpha"]) for r in sel}
         lines.append(

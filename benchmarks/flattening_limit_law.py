@@ -147,26 +147,25 @@ def table(mesh, low_mesh, fresh):
     """The rates on the grid: the cached states computed on these meshes are kept, the grid's
     other states computed (all of them with ``fresh``)."""
     tag = {ph: "x".join(map(str, mesh_of(ph, mesh, low_mesh))) for ph in PRESSURES}
-    jobs = [
-        (ph, A, s, mesh_of(ph, mesh, low_mesh))
+    grid = {  # a state's key as the CSV holds it: its job
+        (tag[ph], ph, round(A, 6), s): (ph, A, s, mesh_of(ph, mesh, low_mesh))
         for ph in PRESSURES
         for A in a_grid(ph)
         for s in S_GRID
-    ]
+    }
     partial = TABLE.with_suffix(".partial.csv")  # rows so far: a stopped run resumes from them
-    done = []
+    done = {}
     for path in (TABLE, partial):
         if path.exists() and not fresh:
-            done += [r for r in _read(path) if r["mesh"] == tag.get(r["p_over_H"])]
-    grid = {(tag[j[0]], j[0], round(j[1], 6), j[2]) for j in jobs}
-    done = list({(r["mesh"], r["p_over_H"], r["A"], r["s"]): r for r in done}.values())
-    done = [r for r in done if (r["mesh"], r["p_over_H"], r["A"], r["s"]) in grid]
-    keys = {(r["mesh"], r["p_over_H"], r["A"], r["s"]) for r in done}
-    todo = [j for j in jobs if (tag[j[0]], j[0], round(j[1], 6), j[2]) not in keys]
+            for r in _read(path):
+                key = (r["mesh"], r["p_over_H"], r["A"], r["s"])
+                if key in grid:  # computed on the asked mesh, on the grid
+                    done[key] = r
+    todo = [job for key, job in grid.items() if key not in done]
     if not todo:
-        return sorted(done, key=lambda r: (r["p_over_H"], r["A"], r["s"]))
+        return sorted(done.values(), key=lambda r: (r["p_over_H"], r["A"], r["s"]))
     os.environ["OMP_NUM_THREADS"] = "1"
-    rows = list(done)
+    rows = list(done.values())
     with multiprocessing.get_context("spawn").Pool(2) as pool:
         for k, r in enumerate(pool.imap(_row, todo, chunksize=1)):
             rows.append({"mesh": tag[r["p_over_H"]], **r})

@@ -26,7 +26,7 @@ import math
 
 import numpy as np
 from _provenance import RESULTS, run_record, write_rows
-from asperity_flattening import ROWS, measured_profile, row_name
+from asperity_flattening import ROWS, measured_profile, profile_rms_slope, row_name
 from flattening_limit import curve
 from flattening_limit_law import STEP, TABLE, Rates, _read
 from flattening_truth import law_of, law_strain
@@ -73,7 +73,7 @@ def edge_slopes(x, z, n=400):
     """:func:`edge_slope` tabulated on ``n + 1`` contact fractions, as a function of ``A``
     (linear between them; the RMS slope where no level crosses)."""
     a = np.linspace(0.0, 1.0, n + 1)
-    rms = float(np.sqrt(np.mean((np.diff(z) / np.diff(x)) ** 2)))
+    rms = profile_rms_slope(x, z)
     s = np.array([edge_slope(x, z, A) for A in a])
     s = np.where(np.isfinite(s), s, rms)
     return lambda A: float(np.interp(A, a, s))
@@ -84,7 +84,7 @@ def compare_rows(rows):
     as a wedge of its RMS slope, by its edge slope, and the runtime's law."""
     with open(ROWS_TRUTH, encoding="utf-8") as fh:
         truth = list(csv.DictReader(fh))
-    out = []
+    out, rates = [], {}
     for i in ROWS:
         x, z, lam, _ = measured_profile(row=i)
         name = row_name(i, lam)
@@ -103,7 +103,7 @@ def compare_rows(rows):
         for ph in sorted(cols):
             strains = sorted(cols[ph])
             a0 = cols[ph][0.0]
-            rate = Rates(rows, ph)
+            rate = rates.setdefault(ph, Rates(rows, ph))
             wedge = curve(rate, a0, math.tan(math.radians(deg)), strains, STEP)
             edges = curve(rate, a0, None, strains, STEP, slope_of=shape)
             runtime = fl.flattening_curve(ph * H_row, law_strain(strains), law)
