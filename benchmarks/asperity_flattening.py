@@ -318,55 +318,76 @@ ROWS = (64, 128, 192)  # the measured scan's rows: the middle one (the table's) 
 ROW_MESHES = ((128, 48), (256, 64))  # nx 256: a top node on each of the row's 256 samples
 ROW_STRAINS = (0.0, 0.005, 0.01, 0.02, 0.05, 0.1)
 ROW_P_OVER_H = (0.05, 0.1)  # the other rows: the lowest pressures
+# Four more rows, evenly spread between the others and fixed before any of them was run: the
+# held-out test of a row's map to the wedge table (``--held-out``), at ``ROW_P_OVER_H``.
+HELD_OUT_ROWS = (32, 96, 160, 224)
 
 
 def row_name(i, lam):
     return f"matrix-3 row {i} (lambda_s {lam * 1e6:.3g} um)"
 
 
-def rows_study(args, mat):
+def _read_rows(path):
+    import csv
+
+    if not path.exists():
+        return []
+    with path.open() as f:
+        return list(csv.DictReader(f))
+
+
+def rows_study(args, mat, held_out=False):
     """``--rows``: measured rows on meshes that resolve their samples (the table's 64 columns
     take every fourth): the middle row on ``ROW_MESHES`` at every pressure, the others on the
-    finest at ``ROW_P_OVER_H``. Jobs done are kept in a partial file, from which a stopped run
-    resumes."""
+    finest at ``ROW_P_OVER_H``; ``held_out``: ``HELD_OUT_ROWS`` on the finest at
+    ``ROW_P_OVER_H`` (``asperity_rows_heldout``). Jobs done are kept in a partial file, and a
+    rerun computes only the jobs that neither it nor the finished file holds."""
     jobs = []
-    for i in ROWS:
+    for i in HELD_OUT_ROWS if held_out else ROWS:
         x, z, lam, _ = measured_profile(row=i)
         rms = math.degrees(math.atan(profile_rms_slope(x, z)))
         prof = (x, z, rms, MEASURED_DEPTH * float(x[-1]))
-        mid = i == ROWS[1]  # the table's
+        mid = not held_out and i == ROWS[1]  # the table's
         for nx, nz in ROW_MESHES if mid else ROW_MESHES[-1:]:
             for ph in P_OVER_H if mid else ROW_P_OVER_H:
                 jobs.append((row_name(i, lam), prof, ph, ROW_STRAINS, nx, nz, mat))
-    out, partial = RESULTS / "asperity_rows.csv", RESULTS / "asperity_rows.partial.csv"
-    rows = []
-    if partial.exists():
-        import csv
+    stem = "asperity_rows_heldout" if held_out else "asperity_rows"
+    out, partial = RESULTS / f"{stem}.csv", RESULTS / f"{stem}.partial.csv"
+    order = {(j[0], j[2], j[4]): n for n, j in enumerate(jobs)}
 
-        with partial.open() as f:
-            rows = list(csv.DictReader(f))
-    done = {(r["profile"], float(r["p_over_H"]), int(r["nx"])) for r in rows}
+    def key(r):
+        return (r["profile"], float(r["p_over_H"]), int(r["nx"]))
+
+    rows = {}
+    for r in _read_rows(out) + _read_rows(partial):  # a job's rows: from one file or the other
+        if key(r) in order:
+            rows[(key(r), r["strain"])] = r
+    rows = list(rows.values())
+    done = {key(r) for r in rows}
     todo = sorted((j for j in jobs if (j[0], j[2], j[4]) not in done), key=lambda j: j[2])
     for k in range(0, len(todo), max(1, args.workers)):
         for part in run_cases(todo[k : k + max(1, args.workers)], args.workers):
             rows += part
         write_rows(partial, rows)
-    order = {(j[0], j[2], j[4]): n for n, j in enumerate(jobs)}
-    rows.sort(
-        key=lambda r: (
-            order[(r["profile"], float(r["p_over_H"]), int(r["nx"]))],
-            float(r["strain"]),
-        )
-    )
+    rows.sort(key=lambda r: (order[key(r)], float(r["strain"])))
     write_rows(out, rows)
     partial.unlink(missing_ok=True)
-    lines = [
-        "# Measured rows on meshes that resolve them (asperity truth)",
-        "",
-        "`benchmarks/asperity_flattening.py --rows`: rows of `tests/data/matrix-3.txt` (256 "
-        "samples over 10 um, levelled and S-filtered as the table's), the middle one on "
+    what = (
+        f"rows {', '.join(str(i) for i in HELD_OUT_ROWS)} (held out) on "
+        f"{ROW_MESHES[-1][0]} x {ROW_MESHES[-1][1]} elements at p/H "
+        if held_out
+        else "the middle one on "
         + " and ".join(f"{nx} x {nz}" for nx, nz in ROW_MESHES)
         + " elements, the others on the finest at p/H "
+    )
+    lines = [
+        "# Measured rows on meshes that resolve them (asperity truth"
+        + (", held-out rows)" if held_out else ")"),
+        "",
+        f"`benchmarks/asperity_flattening.py --{'held-out' if held_out else 'rows'}`: rows of "
+        "`tests/data/matrix-3.txt` (256 samples over 10 um, levelled and S-filtered as the "
+        "table's), "
+        + what
         + ", ".join(f"{v:g}" for v in ROW_P_OVER_H)
         + "; the table's 64 x 32 takes every fourth sample.",
         "",
@@ -375,14 +396,14 @@ def rows_study(args, mat):
         + " |",
         "|---|---|---|---|" + "---|" * len(ROW_STRAINS),
     ]
-    for key in order:
-        sel = [r for r in rows if (r["profile"], float(r["p_over_H"]), int(r["nx"])) == key]
+    for k in order:
+        sel = [r for r in rows if key(r) == k]
         by = {float(r["strain"]): float(r["alpha"]) for r in sel}
         lines.append(
-            f"| {key[0]} | {float(sel[0]['slope_deg']):.2f} | {key[1]:g} | {key[2]} x "
+            f"| {k[0]} | {float(sel[0]['slope_deg']):.2f} | {k[1]:g} | {k[2]} x "
             f"{sel[0]['nz']} | " + " | ".join(f"{by[e]:.3f}" for e in ROW_STRAINS) + " |"
         )
-    (RESULTS / "asperity_rows.md").write_text("\n".join(lines) + "\n")
+    (RESULTS / f"{stem}.md").write_text("\n".join(lines) + "\n")
 
 
 def depth_study(args, mat):
@@ -443,7 +464,14 @@ def parse_args():
     ap.add_argument(
         "--rows", action="store_true", help="measured rows on meshes that resolve their samples"
     )
-    ap.add_argument("--workers", type=int, default=2, help="processes for --refine, --rows (2)")
+    ap.add_argument(
+        "--held-out",
+        action="store_true",
+        help="rows 32, 96, 160 and 224 on 256 x 64 at 0.05 and 0.1 H (the rows' held-out test)",
+    )
+    ap.add_argument(
+        "--workers", type=int, default=2, help="processes for --refine, --rows, --held-out (2)"
+    )
     ap.add_argument("--ccx", action="store_true", help="the CalculiX cross-check")
     ap.add_argument(
         "--ccx-work",
@@ -468,6 +496,8 @@ def main(args):
         refine(args, mat)
     if args.rows:
         rows_study(args, mat)
+    if args.held_out:
+        rows_study(args, mat, held_out=True)
     if args.ccx:
         if not args.ccx_work:
             raise SystemExit("--ccx needs --ccx-work or SBMF_CCX_WORK")
@@ -476,5 +506,6 @@ def main(args):
 
 if __name__ == "__main__":
     cli = parse_args()
-    with run_record(__file__, "asperity_rows" if cli.rows and cli.no_table else None):
+    stem = "asperity_rows_heldout" if cli.held_out else "asperity_rows" if cli.rows else None
+    with run_record(__file__, stem if cli.no_table else None):
         main(cli)
