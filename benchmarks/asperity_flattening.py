@@ -319,8 +319,9 @@ ROW_MESHES = ((128, 48), (256, 64))  # nx 256: a top node on each of the row's 2
 ROW_STRAINS = (0.0, 0.005, 0.01, 0.02, 0.05, 0.1)
 ROW_P_OVER_H = (0.05, 0.1)  # the other rows: the lowest pressures
 # Four more rows, evenly spread between the others and fixed before any of them was run: the
-# held-out test of a row's map to the wedge table (``--held-out``), at ``ROW_P_OVER_H``.
+# held-out test of a row's map to the wedge table (``--held-out``), at ``HELD_OUT_P_OVER_H``.
 HELD_OUT_ROWS = (32, 96, 160, 224)
+HELD_OUT_P_OVER_H = (0.05, 0.1, 0.2)
 
 
 def row_name(i, lam):
@@ -349,7 +350,7 @@ def rows_study(args, mat, held_out=False):
         prof = (x, z, rms, MEASURED_DEPTH * float(x[-1]))
         mid = not held_out and i == ROWS[1]  # the table's
         for nx, nz in ROW_MESHES if mid else ROW_MESHES[-1:]:
-            for ph in P_OVER_H if mid else ROW_P_OVER_H:
+            for ph in P_OVER_H if mid else HELD_OUT_P_OVER_H if held_out else ROW_P_OVER_H:
                 jobs.append((row_name(i, lam), prof, ph, ROW_STRAINS, nx, nz, mat))
     stem = "asperity_rows_heldout" if held_out else "asperity_rows"
     out, partial = RESULTS / f"{stem}.csv", RESULTS / f"{stem}.partial.csv"
@@ -388,7 +389,7 @@ def rows_study(args, mat, held_out=False):
         "`tests/data/matrix-3.txt` (256 samples over 10 um, levelled and S-filtered as the "
         "table's), "
         + what
-        + ", ".join(f"{v:g}" for v in ROW_P_OVER_H)
+        + ", ".join(f"{v:g}" for v in (HELD_OUT_P_OVER_H if held_out else ROW_P_OVER_H))
         + "; the table's 64 x 32 takes every fourth sample.",
         "",
         "| row | RMS slope (deg) | p/H | mesh | "
@@ -467,7 +468,7 @@ def parse_args():
     ap.add_argument(
         "--held-out",
         action="store_true",
-        help="rows 32, 96, 160 and 224 on 256 x 64 at 0.05 and 0.1 H (the rows' held-out test)",
+        help="rows 32, 96, 160 and 224 on 256 x 64 at 0.05, 0.1 and 0.2 H (the rows' held-out test)",
     )
     ap.add_argument(
         "--workers", type=int, default=2, help="processes for --refine, --rows, --held-out (2)"
