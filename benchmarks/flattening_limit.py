@@ -215,9 +215,11 @@ def limit_field(p, A, s, nx=12, nz=16, sides=12, n_flank=None, unilateral=False,
     }
 
 
-def curve(rate, A0, s0, strains, step, slope_of=None):
+def curve(rate, A0, s0, strains, step, slope_of=None, dA_max=None):
     """(``A``, ``s``) at ``strains`` by the explicit midpoint rule from (``A0``, ``s0``), ``rate``
     giving (``dA / d eps``, ``ds / d eps``); full contact ends it, ``s`` stays above 1e-3.
+    Steps of ``step`` in strain, and where ``dA_max`` is given, short enough that ``A`` moves by
+    at most about ``dA_max`` in one (a profile's edge slope varies on the scale of its samples).
 
     ``slope_of(A)``, when given, is a profile's own edge slope at contact fraction ``A``
     (:func:`flattening_limit_rows.edge_slope`; ``s0`` is then ignored): the state is then ``A``
@@ -234,8 +236,10 @@ def curve(rate, A0, s0, strains, step, slope_of=None):
     A, q, e, out = A0, 0.0, 0.0, []
     for target in strains:
         while e < target - 1e-12 and A < 1.0:
-            h = min(step, target - e)
             dA, dq = step_rates(A, q)
+            h = min(step, target - e)
+            if dA_max is not None and dA > 0:
+                h = min(h, dA_max / dA)
             Am, qm = min(A + 0.5 * h * dA, 1.0), q + 0.5 * h * dq
             dA, dq = step_rates(Am, qm)
             A, q, e = min(A + h * dA, 1.0), q + h * dq, e + h

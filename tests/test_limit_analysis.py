@@ -5,7 +5,8 @@ Prandtl's plane-strain pressure ``(2 + pi) k`` (bounded below it, unbounded abov
 discretisation's few per cent). ``flattening_limit_law.py``'s flank reading gives the homogeneous
 stretch's convection of the slope, ``-2 s``, on a field that is homogeneous; the unilateral plateau
 is a relaxation of the tied one. ``flattening_limit_rows.py``'s edge slope of a profile is the
-harmonic mean at its bearing level, and the curve that carries it is exact for constant rates."""
+harmonic mean at its bearing level, and the curve that carries it is exact for constant rates and
+resolves a profile whose edge slope varies faster than the strain step."""
 
 import importlib.util
 import math
@@ -162,3 +163,26 @@ def test_curve_follows_the_profile_and_turns_the_flank(limit):
     wedge = limit.curve(rate, 0.1, 0.07, [0.05, 0.2], 0.0005)
     same = limit.curve(rate, 0.1, None, [0.05, 0.2], 0.0005, slope_of=lambda A: 0.07)
     assert wedge == same
+
+
+def test_curve_resolves_a_profile_that_varies_faster_than_its_step(limit):
+    """A profile's edge slope varies on the scale of its samples; ``dA_max`` keeps a step within
+    it. Growth ``c / s`` over an edge slope alternating between 0.01 and 0.04 every 0.005 of
+    ``A`` crosses a band in ``s 0.005 / c`` of strain: exact, the mean slope's curve."""
+    c, width = 2.0, 0.005
+
+    def shape(A):
+        return 0.01 if math.floor(A / width) % 2 == 0 else 0.04
+
+    def rate(A, s):
+        return c / s, 0.0
+
+    strains = [0.002, 0.005]
+    # a pair of bands takes 0.005 (0.01 + 0.04) / c of strain: A = c e / 0.025 at whole pairs
+    exact = [c * e / 0.025 for e in strains]
+    fine = limit.curve(rate, 0.0, None, strains, 0.0005, slope_of=shape, dA_max=2e-5)
+    coarse = limit.curve(rate, 0.0, None, strains, 0.0005, slope_of=shape)
+    for (A, _), a in zip(fine, exact, strict=True):
+        assert A == pytest.approx(a, abs=2e-4)
+    # the strain step alone (A moves by up to 0.1 a step, twenty bands) does not resolve it
+    assert max(abs(A - a) for (A, _), a in zip(coarse, exact, strict=True)) > 0.01
