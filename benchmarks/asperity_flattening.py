@@ -341,7 +341,7 @@ def rows_study(args, mat, held_out=False):
     """``--rows``: measured rows on meshes that resolve their samples (the table's 64 columns
     take every fourth): the middle row on ``ROW_MESHES`` at every pressure, the others on the
     finest at ``ROW_P_OVER_H``; ``held_out``: ``HELD_OUT_ROWS`` on the finest at
-    ``ROW_P_OVER_H`` (``asperity_rows_heldout``). Jobs done are kept in a partial file, and a
+    ``HELD_OUT_P_OVER_H`` (``asperity_rows_heldout``). Jobs done are kept in a partial file, and a
     rerun computes only the jobs that neither it nor the finished file holds."""
     jobs = []
     for i in HELD_OUT_ROWS if held_out else ROWS:
