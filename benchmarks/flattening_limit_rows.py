@@ -214,15 +214,13 @@ def main(s_min=None):
         import flattening_limit_law
 
         flattening_limit_law.S_GRID = tuple(v for v in flattening_limit_law.S_GRID if v >= s_min)
-        out = compare_rows(_read(TABLE))
-        if HELD_OUT_TRUTH.exists():
-            out += compare_rows(_read(TABLE), held_out=True)
-        print(f"# the table's flank slopes from {s_min:g}", *summary(out), sep="\n")
-        return
     table_rows = _read(TABLE)
     out = compare_rows(table_rows)
     if HELD_OUT_TRUTH.exists():
         out += compare_rows(table_rows, held_out=True)
+    if s_min is not None:
+        print(f"# the table's flank slopes from {s_min:g}", *summary(out), sep="\n")
+        return
     write_rows(RESULTS / "flattening_limit_rows.csv", out)
     lines = [
         "# The limit analysis as a law, against resolved measured rows",
