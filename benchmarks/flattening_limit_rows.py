@@ -11,9 +11,11 @@ slopes. This script gives the law the row's own geometry, nothing fitted:
   the two agree at this ``s``. A wedge gives its own slope at every ``A`` (tested);
 - **the curve** carries ``A`` and the flank's turn ``r = s / s_edge(A)``: the table's
   ``d ln s / d eps`` turns it, and ``s = r s_edge(A)`` follows the row as the contact grows
-  (``flattening_limit.curve`` with ``slope_of``);
+  (``flattening_limit.curve`` with ``slope_of``, its steps short enough to resolve the row:
+  ``DA_MAX``);
 - **the truth**: the rows of ``asperity_flattening.py --rows`` (the scan's rows on meshes that
-  resolve their samples; the table's 64 x 32 takes every fourth), each on its finest mesh.
+  resolve their samples; the table's 64 x 32 takes every fourth), each on its finest mesh, and,
+  held out, the four rows of ``--held-out``.
 
 Writes ``results/flattening_limit_rows.md`` / ``.csv``: the row as a wedge of its RMS slope, by
 its edge slope, and the runtime's law (L+E, built as ``flattening_truth.py`` builds it).
