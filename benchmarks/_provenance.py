@@ -72,6 +72,17 @@ def write_rows(path, rows, fieldnames=None):
         w.writerows(rows)
 
 
+def read_rows(path):
+    """The rows of the CSV at ``path`` as dicts of strings (what :func:`write_rows` wrote); none
+    if there is no file."""
+    import csv
+
+    if not Path(path).exists():
+        return []
+    with open(path, newline="", encoding="utf-8") as fh:
+        return list(csv.DictReader(fh))
+
+
 def _cpu_model():
     try:
         for line in Path("/proc/cpuinfo").read_text().splitlines():

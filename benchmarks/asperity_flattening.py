@@ -50,7 +50,7 @@ from pathlib import Path
 
 import numpy as np
 from _asperity_ccx import ccx_case
-from _provenance import RESULTS, ROOT, run_record, write_rows
+from _provenance import RESULTS, ROOT, read_rows, run_record, write_rows
 
 from fe_demo.asperity import (
     AsperityMesh,
@@ -266,13 +266,21 @@ def _run_job(job):
     return run_case(*job)
 
 
-def run_cases(jobs, workers):
+def each_case(jobs, workers):
     """:func:`run_case` of each ``(name, profile, p/H, strains, nx, nz, material)`` in ``jobs``,
-    ``workers`` processes; the rows of each job, in the jobs' order."""
-    from concurrent.futures import ProcessPoolExecutor
+    ``workers`` processes: ``(index in jobs, its rows)`` as each job ends (a core never waits
+    for another's job)."""
+    from concurrent.futures import ProcessPoolExecutor, as_completed
 
     with ProcessPoolExecutor(max_workers=max(1, workers)) as pool:
-        return list(pool.map(_run_job, jobs))
+        futures = {pool.submit(_run_job, job): k for k, job in enumerate(jobs)}
+        for done in as_completed(futures):
+            yield futures[done], done.result()
+
+
+def run_cases(jobs, workers):
+    """:func:`each_case`'s rows of each job, in the jobs' order."""
+    return [rows for _, rows in sorted(each_case(jobs, workers), key=lambda kr: kr[0])]
 
 
 def refine(args, mat):
@@ -284,14 +292,10 @@ def refine(args, mat):
     rows = [r for part in run_cases(jobs, args.workers) for r in part]
     write_rows(RESULTS / "asperity_refined.csv", rows)
     base = RESULTS / "asperity_flattening.csv"
-    coarse = {}
-    if base.exists():
-        import csv
-
-        with base.open() as f:
-            for r in csv.DictReader(f):
-                key = (r["profile"], float(r["p_over_H"]), float(r["strain"]))
-                coarse[key] = float(r["alpha"])
+    coarse = {
+        (r["profile"], float(r["p_over_H"]), float(r["strain"])): float(r["alpha"])
+        for r in read_rows(base)
+    }
     nxc = args.nx
     lines = [
         "# The asperity truth refined: the lowest and a high pressure on the fine mesh",
@@ -331,15 +335,6 @@ def row_name(i, lam):
     return f"matrix-3 row {i} (lambda_s {lam * 1e6:.3g} um)"
 
 
-def _read_rows(path):
-    import csv
-
-    if not path.exists():
-        return []
-    with path.open() as f:
-        return list(csv.DictReader(f))
-
-
 def rows_study(args, mat, held_out=False):
     """``--rows``: measured rows on meshes that resolve their samples (the table's 64 columns
     take every fourth): the middle row on ``ROW_MESHES`` at every pressure, the others on the
@@ -363,18 +358,15 @@ def rows_study(args, mat, held_out=False):
         return (r["profile"], float(r["p_over_H"]), int(r["nx"]))
 
     rows = {}
-    for r in _read_rows(out) + _read_rows(partial):  # a job's rows: from one file or the other
+    for r in read_rows(out) + read_rows(partial):  # a job's rows: from one file or the other
         if key(r) in order:
             rows[(key(r), r["strain"])] = r
     rows = list(rows.values())
     done = {key(r) for r in rows}
     todo = sorted((j for j in jobs if (j[0], j[2], j[4]) not in done), key=lambda j: j[2])
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-
-    with ProcessPoolExecutor(max_workers=max(1, args.workers)) as pool:
-        for done_job in as_completed([pool.submit(_run_job, j) for j in todo]):
-            rows += done_job.result()  # kept as each job ends: a core never waits for another
-            write_rows(partial, rows)
+    for _, part in each_case(todo, args.workers):
+        rows += part  # kept as each job ends
+        write_rows(partial, rows)
     rows.sort(key=lambda r: (order[key(r)], float(r["strain"])))
     write_rows(out, rows)
     partial.unlink(missing_ok=True)

@@ -189,15 +189,16 @@ def _fill(t, a):
 
 
 class Rates:
-    """Bilinear interpolation of the table at one pressure, in ``A`` and ``ln s`` (clamped)."""
+    """Bilinear interpolation of the table at one pressure, in ``A`` and ``ln s`` (clamped), on
+    the flank slopes ``s_grid`` (the table's, or fewer: below its smallest the rates are held)."""
 
-    def __init__(self, rows, ph):
+    def __init__(self, rows, ph, s_grid=S_GRID):
         mine = [r for r in rows if r["p_over_H"] == ph]
         self.a = np.array(sorted({r["A"] for r in mine}))
-        self.ls = np.log(S_GRID)
+        self.ls = np.log(s_grid)
         grid = {(r["A"], r["s"]): r for r in mine}
         self.dA, self.ds = (
-            _fill(np.array([[grid[(A, s)][key] for s in S_GRID] for A in self.a]), self.a)
+            _fill(np.array([[grid[(A, s)][key] for s in s_grid] for A in self.a]), self.a)
             for key in ("dA_de", "ds_de")
         )
 

@@ -24,11 +24,10 @@ Run: python benchmarks/flattening_limit_rows.py [--s-min 0.02] (after asperity_f
 --no-table --rows, and --held-out for the held-out rows)
 """
 
-import csv
 import math
 
 import numpy as np
-from _provenance import RESULTS, run_record, write_rows
+from _provenance import RESULTS, read_rows, run_record, write_rows
 from asperity_flattening import (
     HELD_OUT_ROWS,
     ROWS,
@@ -37,7 +36,7 @@ from asperity_flattening import (
     row_name,
 )
 from flattening_limit import curve
-from flattening_limit_law import STEP, TABLE, Rates, _read
+from flattening_limit_law import S_GRID, STEP, TABLE, Rates, _read
 from flattening_truth import law_of, law_strain
 
 import frictionlaw as fl
@@ -95,31 +94,31 @@ def edge_slopes(x, z, n=1600):
 
 
 def _truth(path, rows, mode):
-    """``{row index: (name, its rows of the truth file on its finest mesh)}``."""
-    with open(path, encoding="utf-8") as fh:
-        truth = list(csv.DictReader(fh))
+    """``{row index: (name, profile x, z, its rows of the truth file on its finest mesh)}``."""
+    truth = read_rows(path)
     out = {}
     for i in rows:
-        name = row_name(i, measured_profile(row=i)[2])
+        x, z, lam, _ = measured_profile(row=i)
+        name = row_name(i, lam)
         mine = [r for r in truth if r["profile"] == name]
         if not mine:
             raise SystemExit(f"{name} is not in {path}: run asperity_flattening.py {mode}")
         nx = max(int(r["nx"]) for r in mine)
-        out[i] = (name, [r for r in mine if int(r["nx"]) == nx])
+        out[i] = (name, x, z, [r for r in mine if int(r["nx"]) == nx])
     return out
 
 
-def compare_rows(rows, held_out=False):
-    """The table's curves (``rows``) against each resolved row at each of its pressures: the row
-    as a wedge of its RMS slope, by its edge slope, and the runtime's law. ``held_out``: the rows
-    of ``asperity_flattening.py --held-out`` (``HELD_OUT_ROWS``) instead of ``ROWS``."""
+def compare_rows(rows, held_out=False, s_grid=S_GRID):
+    """The table's curves (``rows``, on the flank slopes ``s_grid``) against each resolved row at
+    each of its pressures: the row as a wedge of its RMS slope, by its edge slope, and the
+    runtime's law. ``held_out``: the rows of ``asperity_flattening.py --held-out``
+    (``HELD_OUT_ROWS``) instead of ``ROWS``."""
     if held_out:
         truth = _truth(HELD_OUT_TRUTH, HELD_OUT_ROWS, "--held-out")
     else:
         truth = _truth(ROWS_TRUTH, ROWS, "--rows")
     out, rates = [], {}
-    for i, (name, mine) in truth.items():
-        x, z, _, _ = measured_profile(row=i)
+    for name, x, z, mine in truth.values():
         deg = float(mine[0]["slope_deg"])
         H_row = float(mine[0]["p_Pa"]) / float(mine[0]["p_over_H"])
         cols = {}
@@ -130,7 +129,7 @@ def compare_rows(rows, held_out=False):
         for ph in sorted(cols):
             strains = sorted(cols[ph])
             a0 = cols[ph][0.0]
-            rate = rates.setdefault(ph, Rates(rows, ph))
+            rate = rates.setdefault(ph, Rates(rows, ph, s_grid))
             wedge = curve(rate, a0, math.tan(math.radians(deg)), strains, STEP)
             edges = curve(rate, a0, None, strains, STEP, slope_of=shape, dA_max=DA_MAX)
             runtime = fl.flattening_curve(ph * H_row, law_strain(strains), law)
@@ -212,14 +211,11 @@ def main(s_min=None):
     """The comparison, written to ``results/``; with ``s_min`` the table's flank slopes below it
     are left out (its rates held at ``s_min``'s below it, as the table that ended at 0.02 did)
     and the summary is printed only."""
-    if s_min is not None:
-        import flattening_limit_law
-
-        flattening_limit_law.S_GRID = tuple(v for v in flattening_limit_law.S_GRID if v >= s_min)
+    s_grid = S_GRID if s_min is None else tuple(v for v in S_GRID if v >= s_min)
     table_rows = _read(TABLE)
-    out = compare_rows(table_rows)
+    out = compare_rows(table_rows, s_grid=s_grid)
     if HELD_OUT_TRUTH.exists():
-        out += compare_rows(table_rows, held_out=True)
+        out += compare_rows(table_rows, held_out=True, s_grid=s_grid)
     if s_min is not None:
         print(f"# the table's flank slopes from {s_min:g}", *summary(out), sep="\n")
         return
