@@ -47,11 +47,13 @@ STRAINS = (0.01, 0.02, 0.03, 0.05)
 _EDGES = ((0, 1), (1, 2), (2, 0))
 
 
-def cell(A, s, nx, nz, n_flank=None):
+def cell(A, s, nx, nz, n_flank=None, top_of=None):
     """Vertices (graded to the top), 6-node triangles and the top's x of the half cell.
 
     The plateau takes ``round(nx A)`` of the ``nx`` columns, or ``nx - n_flank`` if ``n_flank``
-    (the flank's columns) is given.
+    (the flank's columns) is given. ``top_of(x)``, when given, is the free flank's height below
+    the tool (``<= 0``) at ``A < x <= 1`` instead of the straight ``-s (x - A)`` (a deformed
+    flank: ``flattening_limit_geometry.py``).
     """
     if n_flank is not None:
         na = nx - n_flank
@@ -59,7 +61,8 @@ def cell(A, s, nx, nz, n_flank=None):
         na = max(1, round(nx * A)) if A > 0 else 0
     xs = np.r_[np.linspace(0.0, A, na + 1)[:-1], np.linspace(A, 1.0, nx - na + 1)]
     eta = 1.0 - (1.0 - np.linspace(0.0, 1.0, nz + 1)) ** 2
-    top = np.where(xs <= A, 0.0, -s * (xs - A))
+    flank = -s * (xs - A) if top_of is None else np.minimum(top_of(xs), 0.0)
+    top = np.where(xs <= A, 0.0, flank)
     pts = np.empty((xs.size, nz + 1, 2))
     pts[..., 0] = xs[:, None]
     pts[..., 1] = -DEPTH + eta[None, :] * (DEPTH + top[:, None])
@@ -97,12 +100,12 @@ def _gradients(x):
     return g, abs(np.linalg.det(J)) / 2
 
 
-def program(p, A, s, nx=12, nz=16, sides=12, n_flank=None, unilateral=False):
+def program(p, A, s, nx=12, nz=16, sides=12, n_flank=None, unilateral=False, top_of=None):
     """The linear programme of the state: a dict of ``cost``, ``a_in``, ``a_eq``, ``bounds`` (both
     right-hand sides are zero), the mesh (``P``, ``xs``, ``n`` nodes, the triangles' ``area``) and
     the free top's node indices ``idx`` in x's order. The unknowns: u, w at the ``n`` nodes, the plateau's W, a bound
-    per vertex."""
-    P, six, xs, top = cell(A, s, nx, nz, n_flank)
+    per vertex. ``top_of``: a deformed flank (:func:`cell`)."""
+    P, six, xs, top = cell(A, s, nx, nz, n_flank, top_of)
     n, ne = len(P), len(six)
     nv = 2 * n + 1 + 3 * ne  # u, w, the plateau's W, a bound t per vertex
     phi = np.linspace(0.0, 2 * math.pi, sides, endpoint=False)
@@ -180,15 +183,18 @@ def solve(lp, cost, time_limit=None, a_in=None, b_in=None):
     return res
 
 
-def limit_field(p, A, s, nx=12, nz=16, sides=12, n_flank=None, unilateral=False, time_limit=None):
+def limit_field(
+    p, A, s, nx=12, nz=16, sides=12, n_flank=None, unilateral=False, time_limit=None, top_of=None
+):
     """The minimiser of dissipation less the pressure's work; a dict of what it shows.
 
     Besides the readings, ``surface`` holds the free top's nodes (x, u, w) in x's order, ``W``
     the plateau's vertical velocity, ``program`` the programme and ``x`` its solution. HiGHS's interior-point method with its crossover (the same
     optimum as the dual simplex to its tolerance, 5.7 times faster at 12 x 16). ``time_limit``
-    (s) makes a state that HiGHS cannot finish an error instead of a stall.
+    (s) makes a state that HiGHS cannot finish an error instead of a stall. ``top_of``: a
+    deformed flank (:func:`cell`); ``s`` is then the slope the edge readings divide by.
     """
-    lp = program(p, A, s, nx, nz, sides, n_flank, unilateral)
+    lp = program(p, A, s, nx, nz, sides, n_flank, unilateral, top_of)
     P, xs, n, area, idx = lp["P"], lp["xs"], lp["n"], lp["area"], lp["idx"]
     t0 = time.perf_counter()
     res = solve(lp, lp["cost"], time_limit)

@@ -186,3 +186,25 @@ def test_curve_resolves_a_profile_that_varies_faster_than_its_step(limit):
         assert A == pytest.approx(a, abs=2e-4)
     # the strain step alone (A moves by up to 0.1 a step, twenty bands) does not resolve it
     assert max(abs(A - a) for (A, _), a in zip(coarse, exact, strict=True)) > 0.01
+
+
+def test_a_deformed_flank_that_is_straight_is_the_straight_cell(limit):
+    """``top_of`` drawing the straight flank gives the straight cell's mesh and optimum; a
+    flank bent below the line changes the optimum (the flank is read, not ignored)."""
+    A, s = 0.3, 0.12
+    P0, six0, xs0, top0 = limit.cell(A, s, 8, 8, 5)
+    P1, six1, xs1, top1 = limit.cell(A, s, 8, 8, 5, top_of=lambda x: -s * (x - A))
+    np.testing.assert_array_equal(six0, six1)
+    np.testing.assert_allclose(P1, P0, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(top1, top0, rtol=0, atol=1e-15)
+    p = 0.2 * limit.H
+    f0 = limit.limit_field(p, A, s, 8, 8, 12, 5)
+    f1 = limit.limit_field(p, A, s, 8, 8, 12, 5, top_of=lambda x: -s * (x - A))
+    assert f1["W"] == pytest.approx(f0["W"], abs=1e-9)
+    assert f1["dissipation_ratio"] == pytest.approx(f0["dissipation_ratio"], abs=1e-9)
+    bent = limit.limit_field(
+        p, A, s, 8, 8, 12, 5, top_of=lambda x: -s * np.maximum(x - A, 0.0) ** 0.5
+    )
+    _, _, _, top2 = limit.cell(A, s, 8, 8, 5, top_of=lambda x: -s * np.maximum(x - A, 0.0) ** 0.5)
+    assert np.all(top2[xs0 > A] < top0[xs0 > A])
+    assert abs(bent["dissipation_ratio"] - f0["dissipation_ratio"]) > 1e-4
