@@ -208,3 +208,23 @@ def test_a_deformed_flank_that_is_straight_is_the_straight_cell(limit):
     _, _, _, top2 = limit.cell(A, s, 8, 8, 5, top_of=lambda x: -s * np.maximum(x - A, 0.0) ** 0.5)
     assert np.all(top2[xs0 > A] < top0[xs0 > A])
     assert abs(bent["dissipation_ratio"] - f0["dissipation_ratio"]) > 1e-4
+
+
+def test_table_between_pressures_meets_its_ends():
+    """``flattening_limit_pressure.Between`` at a neighbour's pressure is that neighbour's table
+    (every scheme, at states inside and outside its grid), and halfway in ``ln p`` with the same
+    ``A`` is the mean of the two."""
+    lim = _load("flattening_limit_pressure")
+    rows = lim._read(lim.TABLE)
+    lo, hi = 0.1, 0.2
+    r_lo, r_hi = lim.Rates(rows, lo), lim.Rates(rows, hi)
+    for scheme in lim.SCHEMES:
+        for A, s in ((0.3, 0.05), (0.5, 0.012), (0.95, 0.19)):
+            np.testing.assert_allclose(lim.Between(rows, lo, hi, lo, scheme)(A, s), r_lo(A, s))
+            np.testing.assert_allclose(lim.Between(rows, lo, hi, hi, scheme)(A, s), r_hi(A, s))
+    mid = math.sqrt(lo * hi)
+    b = lim.Between(rows, lo, hi, mid, "same A, linear in ln p")
+    for A, s in ((0.3, 0.05), (0.6, 0.1)):
+        np.testing.assert_allclose(b(A, s), 0.5 * (np.array(r_lo(A, s)) + r_hi(A, s)))
+    with pytest.raises(ValueError, match="scheme"):
+        lim.Between(rows, lo, hi, mid, "same p")
