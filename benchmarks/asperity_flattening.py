@@ -32,11 +32,14 @@ Parts (each writes its files under ``benchmarks/results/``):
   samples (the table's 64 columns take every fourth): the middle row on 128 x 48 and 256 x 64 at
   every pressure, rows 64 and 192 on 256 x 64 at 0.05 and 0.1 H (169 min of one core).
 - ``--held-out``: ``asperity_rows_heldout.csv``, ``.md``: rows 32, 96, 160 and 224 on 256 x 64
-  at 0.05, 0.1 and 0.2 H, fixed before any was run: the held-out test of a row's map to the
+  at 0.05, 0.1, 0.2 and 0.3 H, fixed before any was run: the held-out test of a row's map to the
   wedge table (``flattening_limit_rows.py``).
+- ``--stiff``: ``asperity_stiff.csv``, ``.md``: every profile at 0.05 and 0.1 H on the table's
+  mesh with Young's modulus times 10 and 100 (yield and H unchanged): whether elasticity parts
+  the truth from the rigid-plastic limit analysis (37 min of one core, sharing it).
 
 Run: python benchmarks/asperity_flattening.py [--quick] [--convergence] [--ccx] [--punch]
-[--depth] [--refine] [--rows] [--held-out] [--no-table]. On the shared 2-core machine the table took 38 min, the convergence study
+[--depth] [--refine] [--rows] [--held-out] [--stiff] [--no-table]. On the shared 2-core machine the table took 38 min, the convergence study
 32 min (the 128 x 48 runs), the thickness study 4 min, the flat punch 1 min, the CalculiX case
 29 min (``asperity_flattening.run.json``: 105 min in all); ``--refine`` 29 min with two
 workers (``asperity_refined.run.json``).
@@ -328,7 +331,7 @@ ROW_P_OVER_H = (0.05, 0.1)  # the other rows: the lowest pressures
 # Four more rows, evenly spread between the others and fixed before any of them was run: the
 # held-out test of a row's map to the wedge table (``--held-out``), at ``HELD_OUT_P_OVER_H``.
 HELD_OUT_ROWS = (32, 96, 160, 224)
-HELD_OUT_P_OVER_H = (0.05, 0.1, 0.2)
+HELD_OUT_P_OVER_H = (0.05, 0.1, 0.2, 0.3)
 
 
 def row_name(i, lam):
@@ -404,6 +407,62 @@ def rows_study(args, mat, held_out=False):
     (RESULTS / f"{stem}.md").write_text("\n".join(lines) + "\n")
 
 
+# ``--stiff``: the wedges at the lowest pressures with Young's modulus scaled (the law's limit
+# analysis is rigid-plastic, the truth elastic-plastic)
+STIFF_FACTORS = (10.0, 100.0)
+STIFF_P_OVER_H = (0.05, 0.1)
+
+
+def stiff_study(args, mat):
+    """``--stiff``: every wedge and the middle row (the table's mesh) at ``STIFF_P_OVER_H`` with
+    ``E`` times each of ``STIFF_FACTORS`` (Poisson's ratio, yield and ``H`` unchanged), strains
+    ``ROW_STRAINS``, beside the table's ``E`` (``asperity_flattening.csv``):
+    ``asperity_stiff.csv``, ``.md``."""
+    jobs = []
+    for name, prof in profiles().items():
+        for f in STIFF_FACTORS:
+            m = perfectly_plastic(E=mat.E * f, nu=mat.nu)
+            for ph in STIFF_P_OVER_H:
+                jobs.append((f"{name}, E x {f:g}", prof, ph, ROW_STRAINS, args.nx, args.nz, m))
+    rows = [r for part in run_cases(jobs, args.workers) for r in part]
+    write_rows(RESULTS / "asperity_stiff.csv", rows)
+    base = {
+        (r["profile"], float(r["p_over_H"]), float(r["strain"])): float(r["alpha"])
+        for r in read_rows(RESULTS / "asperity_flattening.csv")
+    }
+    lines = [
+        "# The truth with a stiffer elasticity: wedges and the middle row at low pressure",
+        "",
+        f"`benchmarks/asperity_flattening.py --stiff`: {args.nx} x {args.nz} elements, Young's "
+        f"modulus {mat.E / 1e9:g} GPa times 1 (the table, `asperity_flattening.csv`) and "
+        + ", ".join(f"{f:g}" for f in STIFF_FACTORS)
+        + "; yield, Poisson's ratio and H unchanged. alpha after each strain.",
+        "",
+        "| profile | p/H | E factor | " + " | ".join(f"{e:g}" for e in ROW_STRAINS) + " |",
+        "|---|---|---|" + "---|" * len(ROW_STRAINS),
+    ]
+    for name in profiles():
+        for ph in STIFF_P_OVER_H:
+            b = [base.get((name, ph, e)) for e in ROW_STRAINS]
+            lines.append(
+                f"| {name} | {ph:g} | 1 | "
+                + " | ".join("-" if v is None else f"{v:.3f}" for v in b)
+                + " |"
+            )
+            for f in STIFF_FACTORS:
+                by = {
+                    float(r["strain"]): float(r["alpha"])
+                    for r in rows
+                    if r["profile"] == f"{name}, E x {f:g}" and float(r["p_over_H"]) == ph
+                }
+                lines.append(
+                    f"| {name} | {ph:g} | {f:g} | "
+                    + " | ".join(f"{by[e]:.3f}" if e in by else "-" for e in ROW_STRAINS)
+                    + " |"
+                )
+    (RESULTS / "asperity_stiff.md").write_text("\n".join(lines) + "\n")
+
+
 def depth_study(args, mat):
     x, z = wedge_profile(5.0, SPACING)
     strains = (0.0, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2)
@@ -465,7 +524,12 @@ def parse_args():
     ap.add_argument(
         "--held-out",
         action="store_true",
-        help="rows 32, 96, 160 and 224 on 256 x 64 at 0.05, 0.1 and 0.2 H (the rows' held-out test)",
+        help="rows 32, 96, 160 and 224 on 256 x 64 at 0.05-0.3 H (the rows' held-out test)",
+    )
+    ap.add_argument(
+        "--stiff",
+        action="store_true",
+        help="the wedges and the middle row at 0.05 and 0.1 H with E x 10 and x 100",
     )
     ap.add_argument(
         "--workers", type=int, default=2, help="processes for --refine, --rows, --held-out (2)"
@@ -496,6 +560,8 @@ def main(args):
         rows_study(args, mat)
     if args.held_out:
         rows_study(args, mat, held_out=True)
+    if args.stiff:
+        stiff_study(args, mat)
     if args.ccx:
         if not args.ccx_work:
             raise SystemExit("--ccx needs --ccx-work or SBMF_CCX_WORK")
@@ -504,6 +570,14 @@ def main(args):
 
 if __name__ == "__main__":
     cli = parse_args()
-    stem = "asperity_rows_heldout" if cli.held_out else "asperity_rows" if cli.rows else None
+    stem = (
+        "asperity_rows_heldout"
+        if cli.held_out
+        else "asperity_rows"
+        if cli.rows
+        else "asperity_stiff"
+        if cli.stiff
+        else None
+    )
     with run_record(__file__, stem if cli.no_table else None):
         main(cli)

@@ -18,7 +18,7 @@ the contact's growth ``dA / d eps`` by the table's flank fit and by the first fl
 beyond the edge with the cell's own slope there, and the flank's turn ``d ln s / d eps`` by the
 table's fit. Nothing is fitted. Writes ``results/flattening_limit_geometry.md`` / ``.csv``.
 
-Run: python benchmarks/flattening_limit_geometry.py (about 15 min on the shared 2-core machine)
+Run: python benchmarks/flattening_limit_geometry.py (14 min on the shared 2-core machine)
 """
 
 import math
