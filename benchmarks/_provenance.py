@@ -72,6 +72,14 @@ def write_rows(path, rows, fieldnames=None):
         w.writerows(rows)
 
 
+def write_report(stem, rows, lines):
+    """``results/<stem>.csv`` from ``rows`` and ``results/<stem>.md`` from ``lines``, printed."""
+    write_rows(RESULTS / f"{stem}.csv", rows)
+    text = "\n".join(lines)
+    (RESULTS / f"{stem}.md").write_text(text + "\n", encoding="utf-8")
+    print(text)
+
+
 def read_rows(path):
     """The rows of the CSV at ``path`` as dicts of strings (what :func:`write_rows` wrote); none
     if there is no file."""

@@ -14,11 +14,10 @@ would need a model of the pressing's flank). Writes ``results/flattening_limit_p
 Run: python benchmarks/flattening_limit_pressed.py (about 10 min on the shared 2-core machine)
 """
 
-import csv
 import math
 
 import numpy as np
-from _provenance import RESULTS, run_record, write_rows
+from _provenance import RESULTS, read_rows, run_record, write_report
 from flattening_flank import run
 from flattening_limit import curve
 from flattening_limit_law import PRESSURES, STEP, TABLE, Rates, _read
@@ -33,8 +32,7 @@ def pressed_slope(deg, ph):
 
 
 def compare(rows):
-    with open(RESULTS / "flattening_truth.csv", encoding="utf-8") as fh:
-        truth = list(csv.DictReader(fh))
+    truth = read_rows(RESULTS / "flattening_truth.csv")
     out = []
     for ph in PRESSURES:
         rate = Rates(rows, ph)
@@ -109,7 +107,6 @@ def summary(out):
 
 def main():
     out = compare(_read(TABLE))
-    write_rows(RESULTS / "flattening_limit_pressed.csv", out)
     lines = [
         "# The two-state law started from the truth's pressed flank",
         "",
@@ -121,8 +118,7 @@ def main():
         "",
         *summary(out),
     ]
-    (RESULTS / "flattening_limit_pressed.md").write_text("\n".join(lines) + "\n", "utf-8")
-    print("\n".join(lines))
+    write_report("flattening_limit_pressed", out, lines)
 
 
 if __name__ == "__main__":

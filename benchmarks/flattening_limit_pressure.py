@@ -19,11 +19,10 @@ Each weights the neighbours linearly in ``p / H`` or in ``ln p``. Writes ``resul
 Run: python benchmarks/flattening_limit_pressure.py (after flattening_limit_law.py)
 """
 
-import csv
 import math
 
 import numpy as np
-from _provenance import RESULTS, run_record, write_rows
+from _provenance import RESULTS, read_rows, run_record, write_report
 from flattening_limit import curve
 from flattening_limit_law import PRESSURES, STEP, TABLE, Rates, _read
 
@@ -65,13 +64,11 @@ class Between:
 
 
 def compare(rows):
-    with open(RESULTS / "flattening_truth.csv", encoding="utf-8") as fh:
-        truth = list(csv.DictReader(fh))
-    with open(RESULTS / "flattening_limit_law.csv", encoding="utf-8") as fh:
-        own = {
-            (r["profile"], float(r["p_over_H"]), float(r["strain"])): float(r["alpha_limit"])
-            for r in csv.DictReader(fh)
-        }
+    truth = read_rows(RESULTS / "flattening_truth.csv")
+    own = {
+        (r["profile"], float(r["p_over_H"]), float(r["strain"])): float(r["alpha_limit"])
+        for r in read_rows(RESULTS / "flattening_limit_law.csv")
+    }
     profiles = sorted({(r["profile"], float(r["slope_deg"])) for r in truth}, key=lambda k: k[1])
     out = []
     for k in range(1, len(PRESSURES) - 1):
@@ -130,7 +127,6 @@ def summary(out):
 def main():
     rows = _read(TABLE)
     out = compare(rows)
-    write_rows(RESULTS / "flattening_limit_pressure.csv", out)
     lines = [
         "# The limit-analysis table between its pressures (each inner pressure held out)",
         "",
@@ -141,8 +137,7 @@ def main():
         "",
         *summary(out),
     ]
-    (RESULTS / "flattening_limit_pressure.md").write_text("\n".join(lines) + "\n", "utf-8")
-    print("\n".join(lines))
+    write_report("flattening_limit_pressure", out, lines)
 
 
 if __name__ == "__main__":
