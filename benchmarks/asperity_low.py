@@ -13,7 +13,7 @@ Run: python benchmarks/asperity_low.py [--workers 2] (77 min with one worker on 
 
 import argparse
 
-from _provenance import RESULTS, run_record, write_rows
+from _provenance import run_record, write_report
 from asperity_flattening import REFINE_STRAINS, perfectly_plastic, profiles, run_cases
 
 LOW_P_OVER_H = (0.02,)
@@ -39,7 +39,6 @@ def main():
     mat = perfectly_plastic()
     todo = jobs(mat)
     rows = [r for part in run_cases(todo, args.workers) for r in part]
-    write_rows(RESULTS / "asperity_low.csv", rows)
     lines = [
         "# The asperity truth below its table (0.02 H)",
         "",
@@ -64,8 +63,7 @@ def main():
             + " | ".join(f"{by[e]:.3f}" if e in by else "-" for e in REFINE_STRAINS)
             + " |"
         )
-    (RESULTS / "asperity_low.md").write_text("\n".join(lines) + "\n")
-    print("\n".join(lines))
+    write_report("asperity_low", rows, lines)
 
 
 if __name__ == "__main__":

@@ -24,7 +24,7 @@ Run: python benchmarks/flattening_limit_geometry.py (14 min on the shared 2-core
 import math
 
 import numpy as np
-from _provenance import RESULTS, run_record, write_rows
+from _provenance import run_record, write_report
 from flattening_flank import WINDOW, run
 from flattening_limit import H, limit_field
 from flattening_limit_law import _flank_weights, mesh_of, n_flank
@@ -99,7 +99,6 @@ def case_rows(deg, ph, strains):
 
 def main():
     rows = [r for deg, ph, strains in CASES for r in case_rows(deg, ph, strains)]
-    write_rows(RESULTS / "flattening_limit_geometry.csv", rows)
     lines = [
         "# The limit analysis on the truth's own deformed flank",
         "",
@@ -124,8 +123,7 @@ def main():
             f"{r['dln_s_straight']:.2f} | {r['dln_s_deformed']:.2f} | "
             f"{r['s_edge_over_s_deformed']:.2f} |"
         )
-    (RESULTS / "flattening_limit_geometry.md").write_text("\n".join(lines) + "\n", "utf-8")
-    print("\n".join(lines))
+    write_report("flattening_limit_geometry", rows, lines)
 
 
 if __name__ == "__main__":
