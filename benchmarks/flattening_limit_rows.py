@@ -46,7 +46,7 @@ HELD_OUT_TRUTH = RESULTS / "asperity_rows_heldout.csv"  # asperity_flattening.py
 # A row's edge slope varies on the scale of its samples: the curve's step keeps A within 0.001
 # a step (beside STEP in strain), and the edge slope is tabulated on 1600 contact fractions. The
 # steps of STEP alone were off by up to 0.10 (row 192 at 0.05 H: 0.456 against 0.355 after a
-# strain of 0.005); 0.00025 a step and 6400 fractions move the 26 curves by at most 0.004.
+# strain of 0.005); 0.00025 a step and 6400 fractions move the 30 curves by at most 0.004.
 DA_MAX = 0.001
 
 
