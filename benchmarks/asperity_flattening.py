@@ -53,7 +53,7 @@ from pathlib import Path
 
 import numpy as np
 from _asperity_ccx import ccx_case
-from _provenance import RESULTS, ROOT, read_rows, run_record, write_rows
+from _provenance import RESULTS, ROOT, read_rows, run_record, write_report, write_rows
 
 from fe_demo.asperity import (
     AsperityMesh,
@@ -425,7 +425,6 @@ def stiff_study(args, mat):
             for ph in STIFF_P_OVER_H:
                 jobs.append((f"{name}, E x {f:g}", prof, ph, ROW_STRAINS, args.nx, args.nz, m))
     rows = [r for part in run_cases(jobs, args.workers) for r in part]
-    write_rows(RESULTS / "asperity_stiff.csv", rows)
     base = {
         (r["profile"], float(r["p_over_H"]), float(r["strain"])): float(r["alpha"])
         for r in read_rows(RESULTS / "asperity_flattening.csv")
@@ -460,7 +459,7 @@ def stiff_study(args, mat):
                     + " | ".join(f"{by[e]:.3f}" if e in by else "-" for e in ROW_STRAINS)
                     + " |"
                 )
-    (RESULTS / "asperity_stiff.md").write_text("\n".join(lines) + "\n")
+    write_report("asperity_stiff", rows, lines)
 
 
 def depth_study(args, mat):

@@ -27,7 +27,7 @@ import numpy as np
 from _provenance import run_record, write_report
 from flattening_flank import WINDOW, run
 from flattening_limit import H, limit_field
-from flattening_limit_law import _flank_weights, mesh_of, n_flank
+from flattening_limit_law import LOW_MESH, MESH, flank_rates, mesh_of, n_flank
 
 #: (wedge deg, p/H, strains): where the two-state law runs ahead of the truth at low pressure
 #: and where the optimum sinks faster than the truth near collapse
@@ -36,7 +36,6 @@ CASES = (
     (10.0, 0.05, (0.03, 0.06, 0.09)),
     (10.0, 0.45, (0.005, 0.01)),
 )
-MESH, LOW_MESH = (12, 16, 48), (16, 24, 48)  # the table's: above and below 0.15 H
 
 
 def readings(ph, A, s, top_of=None):
@@ -45,13 +44,13 @@ def readings(ph, A, s, top_of=None):
     f = limit_field(ph * H, A, s, nx, nz, sides, n_flank(A, nx), time_limit=600, top_of=top_of)
     x, u, w = f["surface"].T
     he = f["flank_element"]
-    edge, slope = _flank_weights(x, A, he)
+    dA, ds = flank_rates(f, A, s)
     s_edge = s if top_of is None else -float(min(top_of(np.array([A + he]))[0], 0.0)) / he
     xe = A + he
     return {
-        "dA_fit": (edge @ w - f["W"]) / s + edge @ u - A,
+        "dA_fit": dA,
         "dA_edge": (np.interp(xe, x, w) - f["W"]) / s_edge + np.interp(xe, x, u) - xe,
-        "dln_s": -(slope @ w + s * (slope @ u)) / s,
+        "dln_s": ds / s,
         "s_edge_over_s": s_edge / s,
     }
 

@@ -48,11 +48,21 @@ STEP = 0.0005  # the curves' strain step (0.0005 and 0.0001 agree to 8e-4 in alp
 TIME_LIMIT = 120.0  # s a state may take (the published table's slowest: 28 s); then it is filled
 
 
+#: the table's meshes (nx, nz, yield polygon's sides): above and below 0.15 H (:func:`mesh_of`)
+MESH, LOW_MESH = (12, 16, 48), (16, 24, 48)
+
+
+def collapse_fraction(ph):
+    """The table's smallest ``A`` at ``p / H``: ``1.01 p / H``, just above the plateau at the
+    hardness ``H`` (:func:`a_grid`)."""
+    return 1.01 * ph
+
+
 def a_grid(ph):
     """The table's ``A`` at ``p / H``: from just above ``p / H`` (the plateau at the hardness
     ``H``, where pressing alone collapses the asperity and the rates grow without bound: the
     truth's pressing-alone fractions are 1.02-1.29 ``p / H``), denser there, then ``A_GRID``."""
-    a0 = 1.01 * ph
+    a0 = collapse_fraction(ph)
     near = [a0 * f for f in (1.0, 1.03, 1.1, 1.25)]
     return tuple(near + [A for A in A_GRID if A > 1.35 * a0])
 
@@ -72,14 +82,21 @@ def _flank_weights(x, A, he):
     return np.where(flank, 1.0 / flank.sum(), 0.0) - xb * slope, slope
 
 
+def flank_rates(f, A, s):
+    """``(dA / d eps, ds / d eps)`` of a solved field ``f`` (:func:`flattening_limit.limit_field`)
+    at state (``A``, ``s``), from the lines fitted to its flank (module text)."""
+    x, u, w = f["surface"].T
+    edge, slope = _flank_weights(x, A, f["flank_element"])
+    return (edge @ w - f["W"]) / s + edge @ u - A, -(slope @ w + s * (slope @ u))
+
+
 def rates(p_over_H, A, s, nx, nz, sides):
     """``dA / d eps`` and ``ds / d eps`` of the state from the optimum's flank; the edge readings."""
     f = limit_field(p_over_H * H, A, s, nx, nz, sides, n_flank(A, nx), time_limit=TIME_LIMIT)
-    x, u, w = f["surface"].T
-    edge, slope = _flank_weights(x, A, f["flank_element"])
+    dA, ds = flank_rates(f, A, s)
     return {
-        "dA_de": (edge @ w - f["W"]) / s + edge @ u - A,
-        "ds_de": -(slope @ w + s * (slope @ u)),
+        "dA_de": dA,
+        "ds_de": ds,
         "dA_de_1": f["dA_de_1"],
         "dA_de_2": f["dA_de_2"],
         "dissipation_ratio": f["dissipation_ratio"],
@@ -366,13 +383,13 @@ def summary(out):
 def parse_args():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument(
-        "--mesh", nargs=3, type=int, default=(12, 16, 48), help="nx nz sides (default 12 16 48)"
+        "--mesh", nargs=3, type=int, default=MESH, help="nx nz sides (default 12 16 48)"
     )
     ap.add_argument(
         "--low-mesh",
         nargs=3,
         type=int,
-        default=(16, 24, 48),
+        default=LOW_MESH,
         help="nx nz sides below 0.15 H (default 16 24 48)",
     )
     ap.add_argument("--converge", action="store_true", help="the readings against the mesh")

@@ -24,16 +24,11 @@ import math
 import numpy as np
 from _provenance import RESULTS, read_rows, run_record, write_report
 from flattening_limit import curve
-from flattening_limit_law import PRESSURES, STEP, TABLE, Rates, _read
+from flattening_limit_law import PRESSURES, STEP, TABLE, Rates, _read, collapse_fraction
 
 PAIRINGS = ("same A", "same excess")
 WEIGHTS = ("p", "ln p")
 SCHEMES = tuple(f"{a}, linear in {w}" for a in PAIRINGS for w in WEIGHTS)
-
-
-def collapse_fraction(ph):
-    """The table's smallest ``A`` at ``p / H`` (``flattening_limit_law.a_grid``)."""
-    return 1.01 * ph
 
 
 class Between:
@@ -45,21 +40,18 @@ class Between:
         self.lo, self.hi = Rates(rows, lo), Rates(rows, hi)
         lin = scheme.endswith("linear in p")
         self.t = (ph - lo) / (hi - lo) if lin else math.log(ph / lo) / math.log(hi / lo)
-        self.a0 = {lo: collapse_fraction(lo), hi: collapse_fraction(hi), ph: collapse_fraction(ph)}
         self.ph, self.p_lo, self.p_hi, self.scheme = ph, lo, hi, scheme
 
-    def _at(self, p):
-        def a(A):
-            if self.scheme.startswith("same A"):
-                return A
-            x = (A - self.a0[self.ph]) / (1.0 - self.a0[self.ph])
-            return self.a0[p] + x * (1.0 - self.a0[p])
-
-        return a
+    def _paired(self, p, A):
+        """The state of the table at ``p`` that the scheme pairs with ``A`` at ``self.ph``."""
+        if self.scheme.startswith("same A"):
+            return A
+        a0, a = collapse_fraction(self.ph), collapse_fraction(p)
+        return a + (A - a0) / (1.0 - a0) * (1.0 - a)
 
     def __call__(self, A, s):
-        r1 = self.lo(self._at(self.p_lo)(A), s)
-        r2 = self.hi(self._at(self.p_hi)(A), s)
+        r1 = self.lo(self._paired(self.p_lo, A), s)
+        r2 = self.hi(self._paired(self.p_hi, A), s)
         return tuple((1 - self.t) * u + self.t * v for u, v in zip(r1, r2, strict=True))
 
 
