@@ -8,17 +8,31 @@ every profile of the table on 128 x 48 elements (the table's 64 x 32 puts the co
 wedges on 256 x 64 as well, to show what the mesh does. Writes ``results/asperity_low.csv`` /
 ``.md``; ``flattening_truth.py`` puts the law beside it.
 
-Run: python benchmarks/asperity_low.py [--workers 2] (77 min with one worker on the shared machine)
+``--stiff``: the 10 deg wedge with Young's modulus times 10 and 100 and the 3 deg wedge times 10
+(yield, Poisson's ratio and H unchanged) at 0.02 H on 128 x 48, to strains of 0.1: is it
+elasticity that slows the truth below the table? (``asperity_flattening.py --stiff`` found it is
+not at 0.05 and 0.1 H.) Writes ``results/asperity_low_stiff.csv`` / ``.md`` beside the table's
+``E`` from ``asperity_low.csv``.
+
+Run: python benchmarks/asperity_low.py [--workers 2] [--stiff] (77 min with one worker on the
+shared machine)
 """
 
 import argparse
 
-from _provenance import run_record, write_report
-from asperity_flattening import REFINE_STRAINS, perfectly_plastic, profiles, run_cases
+from _provenance import RESULTS, read_rows, run_record, write_report
+from asperity_flattening import (
+    REFINE_STRAINS,
+    ROW_STRAINS,
+    perfectly_plastic,
+    profiles,
+    run_cases,
+)
 
 LOW_P_OVER_H = (0.02,)
 LOW_MESHES = ((128, 48), (256, 64))
 FINEST_PROFILES = ("wedge 3 deg", "wedge 10 deg")  # also on the finest mesh
+STIFF_CASES = (("wedge 10 deg", 10.0), ("wedge 10 deg", 100.0), ("wedge 3 deg", 10.0))
 
 
 def jobs(mat):
@@ -32,11 +46,74 @@ def jobs(mat):
     return out
 
 
+def stiff(mat, workers):
+    """``--stiff``: ``STIFF_CASES`` at ``LOW_P_OVER_H`` on the first mesh beside the table's E."""
+    nx, nz = LOW_MESHES[0]
+    prof = profiles()
+    todo = [
+        (
+            f"{name}, E x {f:g}",
+            prof[name],
+            ph,
+            ROW_STRAINS,
+            nx,
+            nz,
+            perfectly_plastic(E=mat.E * f, nu=mat.nu),
+        )
+        for name, f in STIFF_CASES
+        for ph in LOW_P_OVER_H
+    ]
+    rows = [r for part in run_cases(todo, workers) for r in part]
+    base = {
+        (r["profile"], float(r["p_over_H"]), float(r["strain"])): float(r["alpha"])
+        for r in read_rows(RESULTS / "asperity_low.csv")
+        if (int(r["nx"]), int(r["nz"])) == (nx, nz)
+    }
+    lines = [
+        "# The truth below its table with a stiffer elasticity (0.02 H)",
+        "",
+        f"`benchmarks/asperity_low.py --stiff`: {nx} x {nz} elements, Young's modulus "
+        f"{mat.E / 1e9:g} GPa times 1 (`asperity_low.csv`) and the factor shown; yield, Poisson's "
+        "ratio and H unchanged. alpha after each strain.",
+        "",
+        "| profile | p/H | E factor | " + " | ".join(f"{e:g}" for e in ROW_STRAINS) + " |",
+        "|---|---|---|" + "---|" * len(ROW_STRAINS),
+    ]
+    for name in dict.fromkeys(n for n, _ in STIFF_CASES):
+        for ph in LOW_P_OVER_H:
+            b = [base.get((name, ph, e)) for e in ROW_STRAINS]
+            lines.append(
+                f"| {name} | {ph:g} | 1 | "
+                + " | ".join("-" if v is None else f"{v:.3f}" for v in b)
+                + " |"
+            )
+            for n2, f in STIFF_CASES:
+                if n2 != name:
+                    continue
+                by = {
+                    float(r["strain"]): float(r["alpha"])
+                    for r in rows
+                    if r["profile"] == f"{name}, E x {f:g}" and float(r["p_over_H"]) == ph
+                }
+                lines.append(
+                    f"| {name} | {ph:g} | {f:g} | "
+                    + " | ".join(f"{by[e]:.3f}" if e in by else "-" for e in ROW_STRAINS)
+                    + " |"
+                )
+    write_report("asperity_low_stiff", rows, lines)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--workers", type=int, default=2, help="processes (2)")
+    ap.add_argument(
+        "--stiff", action="store_true", help="the 10 and 3 deg wedges with E x 10 (and x 100)"
+    )
     args = ap.parse_args()
     mat = perfectly_plastic()
+    if args.stiff:
+        stiff(mat, args.workers)
+        return
     todo = jobs(mat)
     rows = [r for part in run_cases(todo, args.workers) for r in part]
     lines = [
@@ -67,5 +144,7 @@ def main():
 
 
 if __name__ == "__main__":
-    with run_record(__file__):
+    import sys
+
+    with run_record(__file__, "asperity_low_stiff" if "--stiff" in sys.argv else None):
         main()

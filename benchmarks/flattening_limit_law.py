@@ -58,13 +58,13 @@ def collapse_fraction(ph):
     return 1.01 * ph
 
 
-def a_grid(ph):
+def a_grid(ph, grid=A_GRID):
     """The table's ``A`` at ``p / H``: from just above ``p / H`` (the plateau at the hardness
     ``H``, where pressing alone collapses the asperity and the rates grow without bound: the
-    truth's pressing-alone fractions are 1.02-1.29 ``p / H``), denser there, then ``A_GRID``."""
+    truth's pressing-alone fractions are 1.02-1.29 ``p / H``), denser there, then ``grid``."""
     a0 = collapse_fraction(ph)
     near = [a0 * f for f in (1.0, 1.03, 1.1, 1.25)]
-    return tuple(near + [A for A in A_GRID if A > 1.35 * a0])
+    return tuple(near + [A for A in grid if A > 1.35 * a0])
 
 
 def n_flank(A, nx):
@@ -160,21 +160,21 @@ def _read(path):
         ]
 
 
-def table(mesh, low_mesh, fresh):
-    """The rates on the grid: the cached states computed on these meshes are kept, the grid's
-    other states computed (all of them with ``fresh``)."""
-    tag = {ph: "x".join(map(str, mesh_of(ph, mesh, low_mesh))) for ph in PRESSURES}
+def table(mesh, low_mesh, fresh, pressures=PRESSURES, path=TABLE, grid_a=A_GRID, workers=2):
+    """The rates on the grid at ``pressures`` (cached in ``path``): the cached states computed on
+    these meshes are kept, the grid's other states computed (all of them with ``fresh``)."""
+    tag = {ph: "x".join(map(str, mesh_of(ph, mesh, low_mesh))) for ph in pressures}
     grid = {  # a state's key as the CSV holds it: its job
         (tag[ph], ph, round(A, 6), s): (ph, A, s, mesh_of(ph, mesh, low_mesh))
-        for ph in PRESSURES
-        for A in a_grid(ph)
+        for ph in pressures
+        for A in a_grid(ph, grid_a)
         for s in S_GRID
     }
-    partial = TABLE.with_suffix(".partial.csv")  # rows so far: a stopped run resumes from them
+    partial = path.with_suffix(".partial.csv")  # rows so far: a stopped run resumes from them
     done = {}
-    for path in (TABLE, partial):
-        if path.exists() and not fresh:
-            for r in _read(path):
+    for src in (path, partial):
+        if src.exists() and not fresh:
+            for r in _read(src):
                 key = (r["mesh"], r["p_over_H"], r["A"], r["s"])
                 if key in grid:  # computed on the asked mesh, on the grid
                     done[key] = r
@@ -183,14 +183,14 @@ def table(mesh, low_mesh, fresh):
         return sorted(done.values(), key=lambda r: (r["p_over_H"], r["A"], r["s"]))
     os.environ["OMP_NUM_THREADS"] = "1"
     rows = list(done.values())
-    with multiprocessing.get_context("spawn").Pool(2) as pool:
+    with multiprocessing.get_context("spawn").Pool(workers) as pool:
         for k, r in enumerate(pool.imap(_row, todo, chunksize=1)):
             rows.append({"mesh": tag[r["p_over_H"]], **r})
             write_rows(partial, rows)
             if k % 20 == 0:
                 print(f"{k + 1} / {len(todo)}: {rows[-1]}", flush=True)
     rows.sort(key=lambda r: (r["p_over_H"], r["A"], r["s"]))
-    write_rows(TABLE, rows)
+    write_rows(path, rows)
     partial.unlink()
     return rows
 
