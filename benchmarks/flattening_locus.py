@@ -4,7 +4,7 @@ The flattening law's first rate (docs/flattening.md, Eqs. F1-F3) came from a sur
 yields on an ellipse in (asperity pressure, in-plane stress) alone. Against part B's FE asperity
 truth it flattens too slowly, most at low pressure, and no constant ``beta`` closes the miss
 (``flattening_truth_fit.py``). This script puts alternative rates beside it, each derived in
-docs/flattening.md ("Other rates against the truth") and each keeping the calibrated first loading
+docs/flattening_studies.md ("Other rates against the truth") and each keeping the calibrated first loading
 ``alpha1`` as its zero-strain limit exactly. F1's kinematics are common to all:
 ``dA/d eps = c / tan(theta)``, ``c = v_b / (l eps_dot)`` the plateaus' sinking rate per
 half-spacing and unit strain; the loci differ in ``c``:

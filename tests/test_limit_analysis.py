@@ -78,7 +78,7 @@ def test_flank_reading_of_a_homogeneous_field(monkeypatch):
 def test_unilateral_plateau_is_a_relaxation_that_keeps_the_tied_optimum(limit):
     """Letting plateau nodes sink away from the tool (``w_i <= W``) relaxes the tied plateau: its
     optimum is no worse, and at a low-pressure state of a steep wedge it is the same field
-    (docs/flattening.md: the tied plateau of the studies is not what sets their rates)."""
+    (docs/flattening_studies.md: the tied plateau of the studies is not what sets their rates)."""
     p, A, s = 0.05 * limit.H, 0.2, 0.16
     tied = limit.limit_field(p, A, s, 12, 16, 12, 6)
     free = limit.limit_field(p, A, s, 12, 16, 12, 6, unilateral=True)
@@ -99,7 +99,7 @@ def test_unilateral_plateau_is_a_relaxation_that_keeps_the_tied_optimum(limit):
 def test_yield_polygon_is_inscribed(limit, sides):
     """The polygon takes exactly ``1 - cos(pi / sides)`` off the dissipation of a homogeneous
     strain rate midway between two of its directions, and nothing off one along a direction: the
-    error that decides the low-pressure rates (docs/flattening.md, "The yield polygon")."""
+    error that decides the low-pressure rates (docs/flattening_studies.md, "The yield polygon")."""
     lp = limit.program(0.0, 0.0, 0.0, 6, 6, sides)
     P, n = lp["P"], lp["n"]
     for phi, factor in ((math.pi / sides, math.cos(math.pi / sides)), (0.0, 1.0)):
