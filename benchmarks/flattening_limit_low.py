@@ -40,7 +40,7 @@ LOW_PRESSURES = (0.02,)  # below the table: the truth of asperity_low.py
 LOW_A_GRID = (0.035, 0.05, 0.07)  # between the collapse and A_GRID's 0.1
 LOW_TABLE = RESULTS / "flattening_limit_table_low.csv"
 LOW_TRUTH = RESULTS / "asperity_low.csv"
-REPORT = (0.005, 0.01, 0.02, 0.05, 0.1)
+REPORT = (0.005, 0.01, 0.02, 0.05, 0.1, 0.2)
 
 
 def compare(rows):
