@@ -1,8 +1,9 @@
 """The limit-analysis table between its pressures: each inner pressure held out (issue 43, a study).
 
 ``flattening_limit_law.py`` evaluates its table only at the truth's six pressures. A runtime must
-read it at any ``p / H``. This script holds each inner pressure of the table out (0.1, 0.2, 0.3 and
-0.45 H), builds its rates from the two neighbouring pressures alone, and holds the curves to the
+read it at any ``p / H``. This script holds each inner pressure of the table out (0.05, 0.1, 0.2,
+0.3 and 0.45 H; 0.05 H from the low table's 0.02 H, ``flattening_limit_low.py``, and 0.1 H),
+builds its rates from the two neighbouring pressures alone, and holds the curves to the
 truth at the held-out pressure (``flattening_truth.csv``) and to the curves of the pressure's own
 table (``flattening_limit_law.csv``), nothing fitted. Two ways to pair the neighbours' states:
 
@@ -16,7 +17,8 @@ table (``flattening_limit_law.csv``), nothing fitted. Two ways to pair the neigh
 Each weights the neighbours linearly in ``p / H`` or in ``ln p``. Writes ``results/flattening_limit_pressure.md`` /
 ``.csv``.
 
-Run: python benchmarks/flattening_limit_pressure.py (after flattening_limit_law.py)
+Run: python benchmarks/flattening_limit_pressure.py (after flattening_limit_law.py and
+flattening_limit_low.py)
 """
 
 import math
@@ -25,6 +27,11 @@ import numpy as np
 from _provenance import RESULTS, read_rows, run_record, write_report
 from flattening_limit import curve
 from flattening_limit_law import PRESSURES, STEP, TABLE, Rates, _read, collapse_fraction
+from flattening_limit_low import LOW_PRESSURES, LOW_TABLE
+
+#: the table's pressures with the low table's below them (``flattening_limit_low.py``): 0.05 H
+#: is then held out too, from 0.02 and 0.1 H
+ALL_PRESSURES = LOW_PRESSURES + PRESSURES
 
 PAIRINGS = ("same A", "same excess")
 WEIGHTS = ("p", "ln p")
@@ -63,8 +70,8 @@ def compare(rows):
     }
     profiles = sorted({(r["profile"], float(r["slope_deg"])) for r in truth}, key=lambda k: k[1])
     out = []
-    for k in range(1, len(PRESSURES) - 1):
-        lo, ph, hi = PRESSURES[k - 1 : k + 2]
+    for k in range(1, len(ALL_PRESSURES) - 1):
+        lo, ph, hi = ALL_PRESSURES[k - 1 : k + 2]
         for scheme in SCHEMES:
             rate = Between(rows, lo, hi, ph, scheme)
             for name, deg in profiles:
@@ -98,7 +105,7 @@ def summary(out):
         "largest change from the own table |",
         "|---|---|---|---|---|",
     ]
-    for ph in PRESSURES[1:-1]:
+    for ph in ALL_PRESSURES[1:-1]:
         for scheme in SCHEMES:
             sel = [r for r in out if r["p_over_H"] == ph and r["scheme"] == scheme]
             m_own = max(abs(r["alpha_own_table"] - r["alpha_truth"]) for r in sel)
@@ -112,18 +119,21 @@ def summary(out):
         rms = math.sqrt(np.mean([(r["alpha_between"] - r["alpha_truth"]) ** 2 for r in sel]))
         rms_own = math.sqrt(np.mean([(r["alpha_own_table"] - r["alpha_truth"]) ** 2 for r in sel]))
         d = max(abs(r["alpha_between"] - r["alpha_own_table"]) for r in sel)
-        lines.append(f"| all four | {scheme} | RMS {rms_own:.3f} | RMS {rms:.3f} | {d:.3f} |")
+        lines.append(
+            f"| all {len(ALL_PRESSURES) - 2} | {scheme} | RMS {rms_own:.3f} | RMS {rms:.3f} | {d:.3f} |"
+        )
     return lines
 
 
 def main():
-    rows = _read(TABLE)
+    rows = _read(LOW_TABLE) + _read(TABLE)
     out = compare(rows)
     lines = [
         "# The limit-analysis table between its pressures (each inner pressure held out)",
         "",
         "`benchmarks/flattening_limit_pressure.py`: the rates at each inner pressure of the table "
-        "built from its two neighbours alone, the truth's 20 curves there "
+        "built from its two neighbours alone (0.05 H from the low table's 0.02 H and 0.1 H), the "
+        "truth's curves there "
         "(`flattening_truth.csv`) integrated as `flattening_limit_law.py` integrates them, beside "
         "the curves of the pressure's own table; nothing fitted.",
         "",
