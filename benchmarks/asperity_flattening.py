@@ -437,18 +437,29 @@ def stiff_study(args, mat):
         + ", ".join(f"{f:g}" for f in STIFF_FACTORS)
         + "; yield, Poisson's ratio and H unchanged. alpha after each strain.",
         "",
+        *stiff_table({name: STIFF_FACTORS for name in profiles()}, STIFF_P_OVER_H, rows, base),
+    ]
+    write_report("asperity_stiff", rows, lines)
+
+
+def stiff_table(cases, pressures, rows, base):
+    """The Markdown table of a stiffness study: each profile of ``cases`` (``{name: factors}``)
+    at ``pressures``, alpha at ``ROW_STRAINS`` with the table's ``E`` (``base``: ``{(profile,
+    p/H, strain): alpha}``) and then with each factor (``rows``, profiles named ``"<name>, E x
+    <factor>"``)."""
+    lines = [
         "| profile | p/H | E factor | " + " | ".join(f"{e:g}" for e in ROW_STRAINS) + " |",
         "|---|---|---|" + "---|" * len(ROW_STRAINS),
     ]
-    for name in profiles():
-        for ph in STIFF_P_OVER_H:
+    for name, factors in cases.items():
+        for ph in pressures:
             b = [base.get((name, ph, e)) for e in ROW_STRAINS]
             lines.append(
                 f"| {name} | {ph:g} | 1 | "
                 + " | ".join("-" if v is None else f"{v:.3f}" for v in b)
                 + " |"
             )
-            for f in STIFF_FACTORS:
+            for f in factors:
                 by = {
                     float(r["strain"]): float(r["alpha"])
                     for r in rows
@@ -459,7 +470,7 @@ def stiff_study(args, mat):
                     + " | ".join(f"{by[e]:.3f}" if e in by else "-" for e in ROW_STRAINS)
                     + " |"
                 )
-    write_report("asperity_stiff", rows, lines)
+    return lines
 
 
 def depth_study(args, mat):

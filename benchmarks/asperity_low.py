@@ -27,6 +27,7 @@ from asperity_flattening import (
     perfectly_plastic,
     profiles,
     run_cases,
+    stiff_table,
 )
 
 LOW_P_OVER_H = (0.02,)
@@ -64,6 +65,9 @@ def stiff(mat, workers):
         for ph in LOW_P_OVER_H
     ]
     rows = [r for part in run_cases(todo, workers) for r in part]
+    cases = {}
+    for name, f in STIFF_CASES:
+        cases.setdefault(name, []).append(f)
     base = {
         (r["profile"], float(r["p_over_H"]), float(r["strain"])): float(r["alpha"])
         for r in read_rows(RESULTS / "asperity_low.csv")
@@ -76,30 +80,8 @@ def stiff(mat, workers):
         f"{mat.E / 1e9:g} GPa times 1 (`asperity_low.csv`) and the factor shown; yield, Poisson's "
         "ratio and H unchanged. alpha after each strain.",
         "",
-        "| profile | p/H | E factor | " + " | ".join(f"{e:g}" for e in ROW_STRAINS) + " |",
-        "|---|---|---|" + "---|" * len(ROW_STRAINS),
+        *stiff_table(cases, LOW_P_OVER_H, rows, base),
     ]
-    for name in dict.fromkeys(n for n, _ in STIFF_CASES):
-        for ph in LOW_P_OVER_H:
-            b = [base.get((name, ph, e)) for e in ROW_STRAINS]
-            lines.append(
-                f"| {name} | {ph:g} | 1 | "
-                + " | ".join("-" if v is None else f"{v:.3f}" for v in b)
-                + " |"
-            )
-            for n2, f in STIFF_CASES:
-                if n2 != name:
-                    continue
-                by = {
-                    float(r["strain"]): float(r["alpha"])
-                    for r in rows
-                    if r["profile"] == f"{name}, E x {f:g}" and float(r["p_over_H"]) == ph
-                }
-                lines.append(
-                    f"| {name} | {ph:g} | {f:g} | "
-                    + " | ".join(f"{by[e]:.3f}" if e in by else "-" for e in ROW_STRAINS)
-                    + " |"
-                )
     write_report("asperity_low_stiff", rows, lines)
 
 
