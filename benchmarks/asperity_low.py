@@ -36,6 +36,7 @@ LOW_MESHES = ((128, 48), (256, 64))
 # also on the finest mesh: the shallowest and steepest wedges, and the measured row (which
 # 128 x 48 does not resolve: asperity_flattening.py --rows)
 FINEST_PROFILES = ("wedge 3 deg", "wedge 10 deg", "matrix-3 row (lambda_s 0.8 um)")
+STIFF_CASES = (("wedge 10 deg", 10.0), ("wedge 10 deg", 100.0), ("wedge 3 deg", 10.0))
 _INTS = ("nx", "nz", "increments", "newton")
 
 
@@ -51,9 +52,6 @@ def _typed(r):
         else float(v)
         for k, v in r.items()
     }
-
-
-STIFF_CASES = (("wedge 10 deg", 10.0), ("wedge 10 deg", 100.0), ("wedge 3 deg", 10.0))
 
 
 def jobs(mat):
