@@ -10,8 +10,10 @@ wedges by their slope, the measured row as a wedge of its RMS slope and by its o
 (``flattening_limit_rows.py``). Nothing is fitted. The runtime's law beside them (its ``alpha1``
 the truth's pressing-alone fractions, as ``flattening_truth.py``'s section "Below the table").
 
-The table is cached in ``results/flattening_limit_table_low.csv`` (a stopped run resumes from its
-partial file); the comparison is ``results/flattening_limit_low.md`` / ``.csv``.
+The table also holds 0.035 H (``BETWEEN_PRESSURES``, no truth there), for
+``flattening_limit_pressure.py`` to read 0.05 H from closer neighbours. It is cached in
+``results/flattening_limit_table_low.csv`` (a stopped run resumes from its partial file); the
+comparison is ``results/flattening_limit_low.md`` / ``.csv``.
 
 Run: python benchmarks/flattening_limit_low.py [--workers N]
 """
@@ -37,6 +39,9 @@ from flattening_truth import law_of, law_strain, read_truth
 import frictionlaw as fl
 
 LOW_PRESSURES = (0.02,)  # below the table: the truth of asperity_low.py
+#: the low table's pressures without a truth: between 0.02 and 0.05 H, so that the table read
+#: between pressures (flattening_limit_pressure.py) can hold 0.05 H out from closer neighbours
+BETWEEN_PRESSURES = (0.035,)
 LOW_A_GRID = (0.035, 0.05, 0.07)  # between the collapse and A_GRID's 0.1
 LOW_TABLE = RESULTS / "flattening_limit_table_low.csv"
 LOW_TRUTH = RESULTS / "asperity_low.csv"
@@ -100,13 +105,18 @@ def _signed(rows, col):
 
 
 def report(rows, out):
+    counts = ", ".join(
+        f"{sum(r['p_over_H'] == ph for r in rows)} at {ph:g} H"
+        for ph in LOW_PRESSURES + BETWEEN_PRESSURES
+    )
     failed = sum(not math.isfinite(r["dA_de"]) for r in rows)
     lines = [
         "# The two-state law below its table: 0.02 H",
         "",
-        "`benchmarks/flattening_limit_low.py`: the rigid-plastic optimum's rates at "
-        f"{len(rows)} states at 0.02 H ({failed} where HiGHS gave no answer, filled along A; "
-        f"mesh {'x'.join(map(str, LOW_MESH))}), integrated from each truth's pressing-alone "
+        f"`benchmarks/flattening_limit_low.py`: the rigid-plastic optimum's rates at {counts} "
+        f"(the latter for `flattening_limit_pressure.py`; {failed} where HiGHS gave no answer, "
+        f"filled along A; mesh {'x'.join(map(str, LOW_MESH))}), the 0.02 H states integrated from "
+        "each truth's pressing-alone "
         "fraction (`asperity_low.csv`), nothing fitted: the wedge (the row as a wedge of its RMS "
         "slope), the row by its own edge slope, and the runtime's law.",
         "",
@@ -158,7 +168,7 @@ def main():
         MESH,
         LOW_MESH,
         False,
-        pressures=LOW_PRESSURES,
+        pressures=LOW_PRESSURES + BETWEEN_PRESSURES,
         path=LOW_TABLE,
         grid_a=tuple(sorted(A_GRID + LOW_A_GRID)),
         workers=args.workers,

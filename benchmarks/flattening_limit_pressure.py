@@ -2,8 +2,9 @@
 
 ``flattening_limit_law.py`` evaluates its table only at the truth's six pressures. A runtime must
 read it at any ``p / H``. This script holds each inner pressure of the table out (0.05, 0.1, 0.2,
-0.3 and 0.45 H; 0.05 H from the low table's 0.02 H, ``flattening_limit_low.py``, and 0.1 H),
-builds its rates from the two neighbouring pressures alone, and holds the curves to the
+0.3 and 0.45 H; 0.05 H from the low table's 0.02 H, ``flattening_limit_low.py``, and 0.1 H, and
+again from the low table's 0.035 H and 0.1 H), builds its rates from the two neighbouring
+pressures alone, and holds the curves to the
 truth at the held-out pressure (``flattening_truth.csv``) and to the curves of the pressure's own
 table (``flattening_limit_law.csv``), nothing fitted. Two ways to pair the neighbours' states:
 
@@ -27,11 +28,15 @@ import numpy as np
 from _provenance import RESULTS, read_rows, run_record, write_report
 from flattening_limit import curve
 from flattening_limit_law import PRESSURES, STEP, TABLE, Rates, _read, collapse_fraction
-from flattening_limit_low import LOW_PRESSURES, LOW_TABLE
+from flattening_limit_low import BETWEEN_PRESSURES, LOW_PRESSURES, LOW_TABLE
 
-#: the table's pressures with the low table's below them (``flattening_limit_low.py``): 0.05 H
-#: is then held out too, from 0.02 and 0.1 H
+#: the pressures with a truth: the table's and the low table's below them
+#: (``flattening_limit_low.py``), so that 0.05 H is held out too, from 0.02 and 0.1 H
 ALL_PRESSURES = LOW_PRESSURES + PRESSURES
+#: ``(lo, held out, hi)``: each inner pressure with a truth from its neighbours, then 0.05 H
+#: from the low table's 0.035 H (no truth there) and 0.1 H: closer neighbours below 0.1 H
+HELD_OUT = tuple(tuple(ALL_PRESSURES[k - 1 : k + 2]) for k in range(1, len(ALL_PRESSURES) - 1))
+HELD_OUT += tuple((b, *[ph for ph in ALL_PRESSURES if ph > b][:2]) for b in BETWEEN_PRESSURES)
 
 PAIRINGS = ("same A", "same excess")
 WEIGHTS = ("p", "ln p")
@@ -70,8 +75,7 @@ def compare(rows):
     }
     profiles = sorted({(r["profile"], float(r["slope_deg"])) for r in truth}, key=lambda k: k[1])
     out = []
-    for k in range(1, len(ALL_PRESSURES) - 1):
-        lo, ph, hi = ALL_PRESSURES[k - 1 : k + 2]
+    for lo, ph, hi in HELD_OUT:
         for scheme in SCHEMES:
             rate = Between(rows, lo, hi, ph, scheme)
             for name, deg in profiles:
@@ -105,17 +109,22 @@ def summary(out):
         "largest change from the own table |",
         "|---|---|---|---|---|",
     ]
-    for ph in ALL_PRESSURES[1:-1]:
+    for lo, ph, hi in HELD_OUT:
         for scheme in SCHEMES:
-            sel = [r for r in out if r["p_over_H"] == ph and r["scheme"] == scheme]
+            sel = [
+                r
+                for r in out
+                if (r["p_over_H"], r["from"], r["scheme"]) == (ph, f"{lo:g} and {hi:g}", scheme)
+            ]
             m_own = max(abs(r["alpha_own_table"] - r["alpha_truth"]) for r in sel)
             m_bet = max(abs(r["alpha_between"] - r["alpha_truth"]) for r in sel)
             d = max(abs(r["alpha_between"] - r["alpha_own_table"]) for r in sel)
             lines.append(
                 f"| {ph:g} ({sel[0]['from']}) | {scheme} | {m_own:.3f} | {m_bet:.3f} | {d:.3f} |"
             )
-    for scheme in SCHEMES:
-        sel = [r for r in out if r["scheme"] == scheme]
+    inner = {f"{lo:g} and {hi:g}" for lo, _, hi in HELD_OUT[: len(ALL_PRESSURES) - 2]}
+    for scheme in SCHEMES:  # over the pressures held out from their neighbours with a truth
+        sel = [r for r in out if r["scheme"] == scheme and r["from"] in inner]
         rms = math.sqrt(np.mean([(r["alpha_between"] - r["alpha_truth"]) ** 2 for r in sel]))
         rms_own = math.sqrt(np.mean([(r["alpha_own_table"] - r["alpha_truth"]) ** 2 for r in sel]))
         d = max(abs(r["alpha_between"] - r["alpha_own_table"]) for r in sel)
@@ -132,7 +141,8 @@ def main():
         "# The limit-analysis table between its pressures (each inner pressure held out)",
         "",
         "`benchmarks/flattening_limit_pressure.py`: the rates at each inner pressure of the table "
-        "built from its two neighbours alone (0.05 H from the low table's 0.02 H and 0.1 H), the "
+        "built from its two neighbours alone (0.05 H from the low table's 0.02 H and 0.1 H, and "
+        "from its 0.035 H and 0.1 H), the "
         "truth's curves there "
         "(`flattening_truth.csv`) integrated as `flattening_limit_law.py` integrates them, beside "
         "the curves of the pressure's own table; nothing fitted.",
