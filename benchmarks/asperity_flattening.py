@@ -286,6 +286,55 @@ def run_cases(jobs, workers):
     return [rows for _, rows in sorted(each_case(jobs, workers), key=lambda kr: kr[0])]
 
 
+_INTS = ("nx", "nz", "increments", "newton")
+
+
+def typed_row(r):
+    """A row of a :func:`run_case` CSV as :func:`run_case` returns it (numbers, not strings)."""
+    return {
+        k: v
+        if k == "profile"
+        else (v == "True")
+        if k == "converged"
+        else int(v)
+        if k in _INTS
+        else float(v)
+        for k, v in r.items()
+    }
+
+
+def _job_key(job):
+    """A job's ``(profile, p/H, nx)``, as :func:`_row_key` reads it from its rows."""
+    return (job[0], job[2], job[4])
+
+
+def _row_key(r):
+    return (r["profile"], r["p_over_H"], r["nx"])
+
+
+def cached_cases(jobs, stem, workers):
+    """The rows of ``jobs`` (as :func:`each_case` takes them) in ``results/<stem>.csv``, in the
+    jobs' order: the jobs that file or its partial file already holds are kept, the others run
+    (the slow high pressures last), each kept in the partial file as it ends, so that a stopped
+    run resumes; then the file is written whole and the partial file removed. Rows typed."""
+    out, partial = RESULTS / f"{stem}.csv", RESULTS / f"{stem}.partial.csv"
+    order = {_job_key(j): n for n, j in enumerate(jobs)}
+    rows = {}
+    for r in map(typed_row, read_rows(out) + read_rows(partial)):  # from one file or the other
+        if _row_key(r) in order:
+            rows[(_row_key(r), r["strain"])] = r
+    rows = list(rows.values())
+    done = {_row_key(r) for r in rows}
+    todo = sorted((j for j in jobs if _job_key(j) not in done), key=lambda j: j[2])
+    for _, part in each_case(todo, workers):
+        rows += part
+        write_rows(partial, rows)
+    rows.sort(key=lambda r: (order[_row_key(r)], r["strain"]))
+    write_rows(out, rows)
+    partial.unlink(missing_ok=True)
+    return rows
+
+
 def refine(args, mat):
     """The table's extreme pressures on the fine mesh, beside the table's own mesh."""
     profs = profiles()
@@ -354,25 +403,8 @@ def rows_study(args, mat, held_out=False):
             for ph in P_OVER_H if mid else HELD_OUT_P_OVER_H if held_out else ROW_P_OVER_H:
                 jobs.append((row_name(i, lam), prof, ph, ROW_STRAINS, nx, nz, mat))
     stem = "asperity_rows_heldout" if held_out else "asperity_rows"
-    out, partial = RESULTS / f"{stem}.csv", RESULTS / f"{stem}.partial.csv"
-    order = {(j[0], j[2], j[4]): n for n, j in enumerate(jobs)}
-
-    def key(r):
-        return (r["profile"], float(r["p_over_H"]), int(r["nx"]))
-
-    rows = {}
-    for r in read_rows(out) + read_rows(partial):  # a job's rows: from one file or the other
-        if key(r) in order:
-            rows[(key(r), r["strain"])] = r
-    rows = list(rows.values())
-    done = {key(r) for r in rows}
-    todo = sorted((j for j in jobs if (j[0], j[2], j[4]) not in done), key=lambda j: j[2])
-    for _, part in each_case(todo, args.workers):
-        rows += part  # kept as each job ends
-        write_rows(partial, rows)
-    rows.sort(key=lambda r: (order[key(r)], float(r["strain"])))
-    write_rows(out, rows)
-    partial.unlink(missing_ok=True)
+    rows = cached_cases(jobs, stem, args.workers)
+    order = dict.fromkeys(_job_key(j) for j in jobs)
     what = (
         f"rows {', '.join(str(i) for i in HELD_OUT_ROWS)} (held out) on "
         f"{ROW_MESHES[-1][0]} x {ROW_MESHES[-1][1]} elements at p/H "
@@ -398,7 +430,7 @@ def rows_study(args, mat, held_out=False):
         "|---|---|---|---|" + "---|" * len(ROW_STRAINS),
     ]
     for k in order:
-        sel = [r for r in rows if key(r) == k]
+        sel = [r for r in rows if _row_key(r) == k]
         by = {float(r["strain"]): float(r["alpha"]) for r in sel}
         lines.append(
             f"| {k[0]} | {float(sel[0]['slope_deg']):.2f} | {k[1]:g} | {k[2]} x "

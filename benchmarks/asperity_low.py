@@ -6,7 +6,7 @@ stretch: ``fe_demo.asperity.asperity_contact_fraction``, nothing fitted) at ``LO
 every profile of the table on 128 x 48 elements (the table's 64 x 32 puts the contact of
 0.02 H, about 0.025 of the flank, on one or two elements), and the shallowest and steepest
 wedges and the measured row on 256 x 64 as well, to show what the mesh does (a rerun computes
-only the jobs ``asperity_low.csv`` does not hold). Writes ``results/asperity_low.csv`` /
+only the jobs ``asperity_low.csv`` or its partial file does not hold). Writes ``results/asperity_low.csv`` /
 ``.md``; ``flattening_truth.py`` puts the law beside it.
 
 ``--stiff``: the 10 deg wedge with Young's modulus times 10 and 100 and the 3 deg wedge times 10
@@ -25,6 +25,7 @@ from _provenance import RESULTS, read_rows, run_record, write_report
 from asperity_flattening import (
     REFINE_STRAINS,
     ROW_STRAINS,
+    cached_cases,
     perfectly_plastic,
     profiles,
     run_cases,
@@ -37,21 +38,6 @@ LOW_MESHES = ((128, 48), (256, 64))
 # 128 x 48 does not resolve: asperity_flattening.py --rows)
 FINEST_PROFILES = ("wedge 3 deg", "wedge 10 deg", "matrix-3 row (lambda_s 0.8 um)")
 STIFF_CASES = (("wedge 10 deg", 10.0), ("wedge 10 deg", 100.0), ("wedge 3 deg", 10.0))
-_INTS = ("nx", "nz", "increments", "newton")
-
-
-def _typed(r):
-    """A row of ``asperity_low.csv`` as ``run_cases`` returns it (numbers, not strings)."""
-    return {
-        k: v
-        if k == "profile"
-        else (v == "True")
-        if k == "converged"
-        else int(v)
-        if k in _INTS
-        else float(v)
-        for k, v in r.items()
-    }
 
 
 def jobs(mat):
@@ -114,20 +100,7 @@ def main():
     if args.stiff:
         stiff(mat, args.workers)
         return
-    todo = jobs(mat)
-    order = {(j[0], j[2], j[4]): n for n, j in enumerate(todo)}
-
-    def key(r):
-        return (r["profile"], r["p_over_H"], r["nx"])
-
-    kept = [r for r in map(_typed, read_rows(RESULTS / "asperity_low.csv")) if key(r) in order]
-    done = {key(r) for r in kept}  # a rerun computes only the jobs the file does not hold
-    rows = kept + [
-        r
-        for part in run_cases([j for j in todo if (j[0], j[2], j[4]) not in done], args.workers)
-        for r in part
-    ]
-    rows.sort(key=lambda r: (order[key(r)], r["strain"]))
+    rows = cached_cases(jobs(mat), "asperity_low", args.workers)
     lines = [
         "# The asperity truth below its table (0.02 H)",
         "",

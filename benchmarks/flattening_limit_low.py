@@ -22,7 +22,7 @@ import argparse
 import math
 
 import numpy as np
-from _provenance import RESULTS, read_rows, run_record, write_report
+from _provenance import RESULTS, run_record, write_report
 from asperity_flattening import measured_profile
 from flattening_limit import curve
 from flattening_limit_law import (
@@ -34,7 +34,7 @@ from flattening_limit_law import (
     table,
 )
 from flattening_limit_rows import DA_MAX, edge_slopes
-from flattening_truth import law_of, law_strain, read_truth
+from flattening_truth import law_strain, low_curves, low_law, read_truth
 
 import frictionlaw as fl
 
@@ -51,33 +51,24 @@ REPORT = (0.005, 0.01, 0.02, 0.05, 0.1, 0.2)
 def compare(rows):
     """Each of the low truth's curves (profile, mesh) beside the two-state law's and the
     runtime's, at the truth's strains."""
-    truth = read_rows(LOW_TRUTH)
     table_truth, H = read_truth(RESULTS / "asperity_flattening.csv")
-    keys = list(
-        dict.fromkeys(
-            (r["profile"], float(r["slope_deg"]), float(r["p_over_H"]), r["nx"], r["nz"])
-            for r in truth
-        )
-    )
+    shape, rates = None, {}  # the measured row's edge slope and each pressure's rates, once
     out = []
-    for name, deg, ph, nx, nz in keys:
-        col = {
-            float(r["strain"]): float(r["alpha"])
-            for r in truth
-            if (r["profile"], float(r["p_over_H"]), r["nx"]) == (name, ph, nx)
-        }
+    for name, deg, ph, nx, nz, col in low_curves(LOW_TRUTH):
         strains = sorted(col)
-        rate = Rates(rows, ph)
+        if ph not in rates:
+            rates[ph] = Rates(rows, ph)
+        rate = rates[ph]
         a0 = col[0.0]
         wedge = curve(rate, a0, math.tan(math.radians(deg)), strains, STEP)
         if name.startswith("matrix-3"):
-            x, z, _, _ = measured_profile()
-            edges = curve(rate, a0, None, strains, STEP, slope_of=edge_slopes(x, z), dA_max=DA_MAX)
+            if shape is None:
+                shape = edge_slopes(*measured_profile()[:2])
+            edges = curve(rate, a0, None, strains, STEP, slope_of=shape, dA_max=DA_MAX)
         else:
             edges = [(math.nan, math.nan)] * len(strains)
-        law_table = dict(table_truth[(name, deg)])
-        law_table[ph] = col
-        runtime = fl.flattening_curve(ph * H, law_strain(strains), law_of(law_table, deg, H))
+        law = low_law(table_truth, H, name, deg, ph, col)
+        runtime = fl.flattening_curve(ph * H, law_strain(strains), law)
         out += [
             {
                 "profile": name,

@@ -33,10 +33,13 @@ from flattening_limit_low import BETWEEN_PRESSURES, LOW_PRESSURES, LOW_TABLE
 #: the pressures with a truth: the table's and the low table's below them
 #: (``flattening_limit_low.py``), so that 0.05 H is held out too, from 0.02 and 0.1 H
 ALL_PRESSURES = LOW_PRESSURES + PRESSURES
-#: ``(lo, held out, hi)``: each inner pressure with a truth from its neighbours, then 0.05 H
-#: from the low table's 0.035 H (no truth there) and 0.1 H: closer neighbours below 0.1 H
-HELD_OUT = tuple(tuple(ALL_PRESSURES[k - 1 : k + 2]) for k in range(1, len(ALL_PRESSURES) - 1))
-HELD_OUT += tuple((b, *[ph for ph in ALL_PRESSURES if ph > b][:2]) for b in BETWEEN_PRESSURES)
+#: ``(lo, held out, hi)``: each inner pressure with a truth from its neighbours with a truth
+NEIGHBOURS = tuple(tuple(ALL_PRESSURES[k - 1 : k + 2]) for k in range(1, len(ALL_PRESSURES) - 1))
+#: and then 0.05 H from the low table's 0.035 H (no truth there) and 0.1 H: closer neighbours
+#: below 0.1 H
+HELD_OUT = NEIGHBOURS + tuple(
+    (b, *[ph for ph in ALL_PRESSURES if ph > b][:2]) for b in BETWEEN_PRESSURES
+)
 
 PAIRINGS = ("same A", "same excess")
 WEIGHTS = ("p", "ln p")
@@ -122,7 +125,7 @@ def summary(out):
             lines.append(
                 f"| {ph:g} ({sel[0]['from']}) | {scheme} | {m_own:.3f} | {m_bet:.3f} | {d:.3f} |"
             )
-    inner = {f"{lo:g} and {hi:g}" for lo, _, hi in HELD_OUT[: len(ALL_PRESSURES) - 2]}
+    inner = {f"{lo:g} and {hi:g}" for lo, _, hi in NEIGHBOURS}
     for scheme in SCHEMES:  # over the pressures held out from their neighbours with a truth
         sel = [r for r in out if r["scheme"] == scheme and r["from"] in inner]
         rms = math.sqrt(np.mean([(r["alpha_between"] - r["alpha_truth"]) ** 2 for r in sel]))

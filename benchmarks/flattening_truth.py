@@ -208,10 +208,38 @@ def _against_refined(truth, H, path):
 LOW_REPORT = (0.005, 0.01, 0.02, 0.05, 0.1)
 
 
+def low_curves(path):
+    """The curves of ``asperity_low.py``'s CSV at ``path``: ``(profile, slope_deg, p/H, nx, nz,
+    {strain: alpha})``, in the file's order."""
+    low = list(csv.DictReader(Path(path).open(encoding="utf-8")))
+    keys = dict.fromkeys(
+        (r["profile"], float(r["slope_deg"]), float(r["p_over_H"]), r["nx"], r["nz"]) for r in low
+    )
+    return [
+        (
+            *k,
+            {
+                float(r["strain"]): float(r["alpha"])
+                for r in low
+                if (r["profile"], float(r["p_over_H"]), r["nx"]) == (k[0], k[2], k[3])
+            },
+        )
+        for k in keys
+    ]
+
+
+def low_law(truth, H, name, deg, ph, col):
+    """The law for a curve below the table: ``alpha1`` the table's pressing-alone fractions
+    (``truth``, :func:`read_truth`) and the curve's own ``col[0]`` at ``ph``; nothing from its
+    strain columns."""
+    table = dict(truth[(name, deg)])
+    table[ph] = col
+    return law_of(table, deg, H)
+
+
 def _against_low(truth, H, path):
     """The law's miss below the table (``asperity_low.py``: 0.02 H on finer meshes): ``alpha1``
     the table's pressing fractions and the low run's own (each mesh its own), nothing fitted."""
-    low = [r for r in csv.DictReader(path.open(encoding="utf-8"))]
     lines = [
         "",
         f"## Below the table ({path.name})",
@@ -224,23 +252,12 @@ def _against_low(truth, H, path):
         + " | largest miss | at strain |",
         "|---|---|---|" + "---|" * len(LOW_REPORT) + "---|---|",
     ]
-    keys = list(
-        dict.fromkeys(
-            (r["profile"], float(r["slope_deg"]), float(r["p_over_H"]), r["nx"], r["nz"])
-            for r in low
-        )
-    )
-    for name, deg, ph, nx, nz in keys:
-        col = {
-            float(r["strain"]): float(r["alpha"])
-            for r in low
-            if (r["profile"], float(r["p_over_H"]), r["nx"]) == (name, ph, nx)
-        }
-        table = dict(truth[(name, deg)])
-        table[ph] = col
+    for name, deg, ph, nx, nz, col in low_curves(path):
         strains = sorted(col)
         a_t = np.array([col[e] for e in strains])
-        a_l = fl.flattening_curve(ph * H, law_strain(strains), law_of(table, deg, H))
+        a_l = fl.flattening_curve(
+            ph * H, law_strain(strains), low_law(truth, H, name, deg, ph, col)
+        )
         k = int(np.argmax(np.abs(a_l - a_t)))
         by = dict(zip(strains, zip(a_t, a_l, strict=True), strict=True))
         lines.append(
