@@ -13,6 +13,9 @@ import numpy as np
 __all__ = [
     "Flattening",
     "FLATTENING_MODEL",
+    "FLATTENING_MODELS",
+    "LIMIT_MODEL",
+    "LIMIT_SLOPE_RANGE",
     "FLATTENING_VERSION",
     "SLOPE_RANGE",
     "BETA_RANGE",
@@ -21,6 +24,13 @@ __all__ = [
 
 #: the model a ``flattening`` block names (the surface-layer yield model of docs/flattening.md)
 FLATTENING_MODEL = "layer-yield"
+#: the models a block may name: the one-state model of Eqs. F1-F6 (the default) and the
+#: two-state law whose rates are the tabulated rigid-plastic optimum (``frictionlaw.
+#: flattening_limit``), with the same inputs
+LIMIT_MODEL = "limit-analysis"
+FLATTENING_MODELS = (FLATTENING_MODEL, LIMIT_MODEL)
+#: the flank slopes the two-state law's table covers (its ``slope`` must lie in them)
+LIMIT_SLOPE_RANGE = (0.01, 0.2)
 #: version of the ``flattening`` object inside a parameter file: 2 added the slip-line lattice's
 #: rate to the layer's (docs/flattening.md, Eq. F2); 3 reads the host's strain as the equivalent
 #: plastic strain, stretching the asperities by :data:`STRETCH_PER_EQUIVALENT_STRAIN` of it.
@@ -76,16 +86,28 @@ class Flattening:
         ``(lower, upper)`` of ``beta`` at ``band_level`` when it was fitted, else ``None``.
     band_level : float, optional
         Two-sided level of ``beta_band`` in ``(0, 1)``; given with the band, else ``None``.
+    model : str, optional
+        ``"layer-yield"`` (default): the one-state model of Eqs. F1-F6; ``"limit-analysis"``:
+        the two-state law (contact fraction and flank slope per node) whose rates are the
+        tabulated rigid-plastic optimum of the wedge cell, ``slope`` then in ``[0.01, 0.2]``,
+        the table's (docs/flattening.md).
     """
 
     slope: float
     beta: float = 1.0
     beta_band: tuple[float, float] | None = None
     band_level: float | None = None
+    model: str = FLATTENING_MODEL
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
-        set_(self, "slope", _number("flattening.slope", self.slope, *SLOPE_RANGE))
+        if self.model not in FLATTENING_MODELS:
+            raise ValueError(
+                f"flattening.model must be one of {list(FLATTENING_MODELS)}, got {self.model!r}"
+            )
+        lo_hi = LIMIT_SLOPE_RANGE if self.model == LIMIT_MODEL else SLOPE_RANGE
+        where = "flattening.slope" + ("" if self.model == FLATTENING_MODEL else f" ({self.model})")
+        set_(self, "slope", _number(where, self.slope, *lo_hi))
         set_(self, "beta", _number("flattening.beta", self.beta, *BETA_RANGE))
         if (self.beta_band is None) != (self.band_level is None):
             raise ValueError("flattening.beta_band and flattening.band_level come together")
@@ -114,7 +136,7 @@ class Flattening:
     def to_dict(self) -> dict[str, Any]:
         """The ``flattening`` JSON object (with its own model name, version and units)."""
         return {
-            "model": FLATTENING_MODEL,
+            "model": self.model,
             "version": FLATTENING_VERSION,
             "units": {"slope": "1", "beta": "1"},
             "slope": self.slope,
@@ -129,9 +151,9 @@ class Flattening:
         where = f"{source}: flattening"
         if not isinstance(doc, dict):
             raise ValueError(f"{where} must be a JSON object")
-        if doc.get("model") != FLATTENING_MODEL:
+        if doc.get("model") not in FLATTENING_MODELS:
             raise ValueError(
-                f"{where}.model must be {FLATTENING_MODEL!r}, got {doc.get('model')!r}"
+                f"{where}.model must be one of {list(FLATTENING_MODELS)}, got {doc.get('model')!r}"
             )
         version = doc.get("version")
         if version == 1:
@@ -174,6 +196,7 @@ class Flattening:
                 beta=doc.get("beta", 1.0),
                 beta_band=None if band is None else tuple(band),
                 band_level=doc.get("band_level"),
+                model=doc["model"],
             )
         except TypeError:
             raise ValueError(f"{where}.beta_band must be [lower, upper], got {band!r}") from None

@@ -43,6 +43,7 @@ from ._flattening_block import (
     BETA_RANGE,
     FLATTENING_MODEL,
     FLATTENING_VERSION,
+    LIMIT_MODEL,
     SLOPE_RANGE,
     STRETCH_PER_EQUIVALENT_STRAIN,
     Flattening,
@@ -55,6 +56,7 @@ from ._flattening_rates import (
     layer_sink_rate,
 )
 from ._flattening_runs import running_max, strain_runs
+from .flattening_limit import limit_curve
 from .law import (
     alpha_first,
     alpha_reload,
@@ -248,7 +250,7 @@ def _hardening(hardening: ArrayLike | None, shape: tuple) -> NDArray[np.float64]
         raise ValueError(f"hardening has shape {h.shape}, the nodes {shape}") from None
 
 
-def _flattening_of(params: "FrictionParams") -> Flattening:
+def _flattening_of(params: "FrictionParams", one_state: bool = True) -> Flattening:
     flat = getattr(params, "flattening", None)
     if flat is None:
         raise ValueError(
@@ -256,6 +258,8 @@ def _flattening_of(params: "FrictionParams") -> Flattening:
             "give FrictionParams(..., flattening=Flattening(slope=...)), or calibrate with the "
             "flattening block (docs/flattening.md)"
         )
+    if one_state and flat.model == LIMIT_MODEL:
+        raise ValueError(f"model {LIMIT_MODEL!r} has two states: frictionlaw.flattening_limit")
     return flat
 
 
@@ -542,6 +546,8 @@ def flattening_curve(
     if not (np.all(np.isfinite(eps)) and np.all(eps >= 0)):
         raise ValueError("strains must be finite and >= 0")
     pf, ef = p.ravel(), eps.ravel()
+    if _flattening_of(params, one_state=False).model == LIMIT_MODEL:  # the two-state law
+        return limit_curve(pf, ef, params, sigma_y, hardening, flow_curve, steps).reshape(p.shape)
     if flow_curve is None:
         p_f = flattening_update(pf, pf, pf, ef, params, sigma_y=sigma_y, hardening=hardening)
     else:
