@@ -58,6 +58,7 @@ __all__ = [
     "flattening_solve",
     "flattening_scalar",
     "flat_shear_scalar",
+    "flat_shear_of",
     "traction_array_flat",
     "traction_array_flat_parallel",
     "traction_array_zoned_flat",
@@ -349,6 +350,34 @@ def flattening_scalar(fdata, p, p_hist, alpha_f, d_eps, sigy, hard):
 
 
 @nb.jit(
+    types.UniTuple(float64, 2)(int64, _RO, _RO, float64, float64, float64, float64, float64),
+    **_opts,
+)
+def flat_shear_of(code, coeffs, fdata, p, p_hist, a, pf, dadp):
+    """``(tau, dtau/dp)`` of Eq. F5 at the trial fraction ``a`` (``dadp`` its ``d a / d p``).
+
+    For ``p >= p_hist`` the larger of ``tau_max alpha1(p)`` and ``tau_max a`` (``dtau/dp`` the
+    update's there); below it the law itself where ``a <= alpha1(p_hist)``, else its reload
+    branch of the level ``p_f`` (``alpha1(p_f) = a``; ``pf`` when the update found it above
+    ``p_hist``) at ``p p_f / p_hist`` (``dtau/dp`` at that fixed level).
+    """
+    tm = coeffs[0]
+    if p >= p_hist:
+        t1, d1 = first_scalar(coeffs, p)
+        ta = tm * a
+        if ta > t1:
+            return ta, tm * dadp
+        return t1, d1
+    c1 = fdata[FLAT_HEAD:]
+    if not a > first_scalar(c1, p_hist)[0]:
+        return shear_scalar(code, coeffs, p, p_hist)
+    if not pf > p_hist:
+        pf = alpha1_inverse(c1, a, p_hist, fdata[4])
+    t, d = shear_scalar(CODE_SBMF_RELOAD, coeffs, (p / p_hist) * pf, pf)
+    return t, d * (pf / p_hist)
+
+
+@nb.jit(
     types.UniTuple(float64, 3)(
         int64, _RO, _RO, float64, float64, float64, float64, float64, float64
     ),
@@ -359,30 +388,14 @@ def flat_shear_scalar(code, coeffs, fdata, p, p_hist, alpha_f, d_eps, sigy, hard
 
     Without flattening data, or with ``alpha_f = 0`` and ``d_eps = 0``: :func:`shear_scalar`
     itself (bit for bit) and ``alpha_f`` unchanged. Otherwise the trial fraction ``a`` of
-    :func:`flattening_scalar`, then Eq. F5 with ``p_hist``: for ``p >= p_hist`` the larger of
-    ``tau_max alpha1(p)`` and ``tau_max a`` (``dtau/dp`` the update's there); below it the law
-    itself where ``a <= alpha1(p_hist)``, else its reload branch of the level ``p_f`` at
-    ``p p_f / p_hist`` (``dtau/dp`` at that fixed level).
+    :func:`flattening_scalar`, then Eq. F5 (:func:`flat_shear_of`).
     """
     if fdata.shape[0] == 0 or not p > 0.0 or (d_eps == 0.0 and alpha_f == 0.0):
         t, d = shear_scalar(code, coeffs, p, p_hist)
         return t, d, alpha_f
     a, pf, dadp = flattening_scalar(fdata, p, p_hist, alpha_f, d_eps, sigy, hard)
-    tm = coeffs[0]
-    if p >= p_hist:
-        t1, d1 = first_scalar(coeffs, p)
-        ta = tm * a
-        if ta > t1:
-            return ta, tm * dadp, a
-        return t1, d1, a
-    c1 = fdata[FLAT_HEAD:]
-    if not a > first_scalar(c1, p_hist)[0]:
-        t, d = shear_scalar(code, coeffs, p, p_hist)
-        return t, d, a
-    if not pf > p_hist:
-        pf = alpha1_inverse(c1, a, p_hist, fdata[4])
-    t, d = shear_scalar(CODE_SBMF_RELOAD, coeffs, (p / p_hist) * pf, pf)
-    return t, d * (pf / p_hist), a
+    t, d = flat_shear_of(code, coeffs, fdata, p, p_hist, a, pf, dadp)
+    return t, d, a
 
 
 _traction_flat_sig = types.void(

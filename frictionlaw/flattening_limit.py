@@ -63,7 +63,7 @@ def prandtl_ratio(
     ``k`` is the file's, scaled by ``sigma_y / params.sigma_y`` when the host passes its flow
     stress (Pa, in ``[1e3, 1e13]``, one value or per node).
     """
-    k = float(params.k)  # type: ignore[arg-type]
+    k: float | NDArray[np.float64] = float(params.k)  # type: ignore[arg-type]
     p = as_float_array("p", p)
     if sigma_y is not None:
         sy = as_float_array("sigma_y", sigma_y)
@@ -169,7 +169,7 @@ def limit_curve(
         raise ValueError("give flow_curve or sigma_y, not both (the curve gives the flow stress)")
     steps = 64 if steps is None else int(steps)
     flat = _limit_block(params)
-    a0 = alpha_first(p, params)
+    a0 = np.asarray(alpha_first(p, params), dtype=float)
     s0 = np.full(p.shape, flat.slope)
     go = p > P_MIN_RATIO * params.H
     a, s = a0.copy(), s0

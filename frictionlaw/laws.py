@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _codes as K
+from ._flattening_block import LIMIT_MODEL
 from .flattening import flattening_data
 from .law import FloatOrArray, evaluate, sbmf_coeffs
 from .params import FrictionParams, check_range
@@ -35,6 +36,12 @@ class _Law:
     def uses_flattening(self) -> bool:
         """True for a law with a flattening block (it reads the bulk strain increment)."""
         return self.flattening_data.size > 0
+
+    @property
+    def uses_two_state(self) -> bool:
+        """True for a flattening block of the two-state model (``limit-analysis``)."""
+        flat = getattr(getattr(self, "params", None), "flattening", None)
+        return flat is not None and flat.model == LIMIT_MODEL
 
     @property
     def coeffs(self) -> NDArray[np.float64]:

@@ -138,6 +138,11 @@ def traction_update(
         raise ValueError("sigma_y applies with d_eps only (the flattening's flow stress)")
     if hardening is not None and d_eps is None:
         raise ValueError("hardening applies with d_eps only (the flattening's lattice, Eq. F2c)")
+    if hardening is not None and getattr(law, "uses_two_state", False):
+        raise ValueError(
+            "hardening does not apply to the two-state flattening (model 'limit-analysis'): its "
+            "table is perfectly plastic"
+        )
     squeeze = np.ndim(slip_increment) == 1
     du = _as_2d("slip_increment", slip_increment, n)
     t_old = _as_2d("traction_old", traction_old, n)
@@ -182,18 +187,23 @@ def traction_update(
         d_eps = 0.0
     if d_eps is not None:
         de, sy, hd, (a_c, a_t) = _flattening_inputs(law, d_eps, sigma_y, hardening, state, n)
-        fk = flattening_kernels()
-        if zoned is not None:
-            zdata = law.kernel_data()  # type: ignore[union-attr]
-            fdata = law.flattening_kernel_data()  # type: ignore[union-attr]
-            fkern = (
-                fk.traction_array_zoned_flat_parallel if parallel else fk.traction_array_zoned_flat
-            )
-            fhead: tuple = (*zdata, *fdata, zoned)
+        if getattr(law, "uses_two_state", False):  # model limit-analysis: a second state
+            _limit_update(law, p, p_hist, a_c, a_t, de, sy, state, tail, parallel)
         else:
-            fkern = fk.traction_array_flat_parallel if parallel else fk.traction_array_flat
-            fhead = (int(law.code), law.coeffs, law.flattening_data)  # type: ignore[union-attr]
-        fkern(*fhead, np.ascontiguousarray(p), p_hist, a_c, de, sy, hd, *tail, a_t)
+            fk = flattening_kernels()
+            if zoned is not None:
+                zdata = law.kernel_data()  # type: ignore[union-attr]
+                fdata = law.flattening_kernel_data()  # type: ignore[union-attr]
+                fkern = (
+                    fk.traction_array_zoned_flat_parallel
+                    if parallel
+                    else fk.traction_array_zoned_flat
+                )
+                fhead: tuple = (*zdata, *fdata, zoned)
+            else:
+                fkern = fk.traction_array_flat_parallel if parallel else fk.traction_array_flat
+                fhead = (int(law.code), law.coeffs, law.flattening_data)  # type: ignore[union-attr]
+            fkern(*fhead, np.ascontiguousarray(p), p_hist, a_c, de, sy, hd, *tail, a_t)
     elif zoned is not None:
         zk = zoned_kernels()
         zkern = zk.traction_array_zoned_parallel if parallel else zk.traction_array_zoned
@@ -220,6 +230,54 @@ def flattening_kernels() -> ModuleType:
     from . import _kernels_flattening
 
     return _kernels_flattening
+
+
+def _limit_update(
+    law: "Law",
+    p: NDArray[np.float64],
+    p_hist: NDArray[np.float64],
+    a_c: NDArray[np.float64],
+    a_t: NDArray[np.float64],
+    de: NDArray[np.float64],
+    sy: NDArray[np.float64],
+    state: "HistoryState | None",
+    tail: tuple,
+    parallel: bool,
+) -> None:
+    """The return map with the two-state flattening (model limit-analysis).
+
+    Its kernels read the shipped rate table and write the trial ``slope_f`` beside ``alpha_f``.
+    """
+    from ._limit_table import rate_table
+
+    n = p.size
+    s_c, s_t = state.slope_arrays() if state is not None else (np.zeros(n), np.empty(n))
+    t = rate_table()
+    lk = limit_kernels()
+    kern = lk.traction_array_limit_parallel if parallel else lk.traction_array_limit
+    head = (int(law.code), law.coeffs, law.flattening_data, t.pressures, t.offsets, t.a)  # type: ignore[union-attr]
+    kern(
+        *head,
+        t.ln_s,
+        t.dA,
+        t.ds,
+        np.ascontiguousarray(p),
+        p_hist,
+        a_c,
+        s_c,
+        de,
+        sy,
+        *tail,
+        a_t,
+        s_t,
+    )
+
+
+def limit_kernels() -> ModuleType:
+    """The two-state flattening's kernels (model limit-analysis), imported on first use."""
+    from . import _kernels_limit
+
+    return _kernels_limit
 
 
 def _flattening_inputs(

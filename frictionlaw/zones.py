@@ -108,6 +108,12 @@ class ZonedLaw:
                     f"the law of zone {n!r} must be a Coulomb, Tresca, CoulombCap or SBMFLaw, "
                     f"got {type(law).__name__}"
                 )
+            if law.uses_two_state:
+                raise ValueError(
+                    f"the law of zone {n!r} has the two-state flattening (model "
+                    "'limit-analysis'), which runs in one-law updates only: give its zone the "
+                    "one-state model ('layer-yield')"
+                )
         coeffs = [np.ascontiguousarray(law.coeffs, dtype=np.float64) for law in laws]
         offsets = np.concatenate([[0], np.cumsum([c.size for c in coeffs])]).astype(np.int64)
         fdata = [np.ascontiguousarray(law.flattening_data, dtype=np.float64) for law in laws]

@@ -47,13 +47,47 @@ def test_restart_file_round_trip_and_errors(tmp_path):
     with pytest.raises(ValueError, match="not a friction restart file"):
         HistoryState.load(tmp_path / "bad.npz")
     np.savez(
+        tmp_path / "v4.npz",
+        format=np.array("sbmf-friction-restart"),
+        version=np.array(4),
+        p_hist=np.zeros(2),
+    )
+    with pytest.raises(ValueError, match="unsupported restart version 4"):
+        HistoryState.load(tmp_path / "v4.npz")
+    # a version 3 file carries slope_f (the two-state flattening); without it, refused naming it
+    np.savez(
         tmp_path / "v3.npz",
         format=np.array("sbmf-friction-restart"),
         version=np.array(3),
         p_hist=np.zeros(2),
+        alpha_f=np.zeros(2),
     )
-    with pytest.raises(ValueError, match="unsupported restart version 3"):
+    with pytest.raises(ValueError, match="without slope_f"):
         HistoryState.load(tmp_path / "v3.npz")
+    # a version 2 file (before the two-state flattening) reads with slope_f = 0
+    np.savez(
+        tmp_path / "v2ok.npz",
+        format=np.array("sbmf-friction-restart"),
+        version=np.array(2),
+        p_hist=np.ones(2),
+        alpha_f=np.full(2, 0.3),
+    )
+    old = HistoryState.load(tmp_path / "v2ok.npz")
+    assert np.array_equal(old.alpha_f, [0.3, 0.3]) and np.array_equal(old.slope_f, [0.0, 0.0])
+    # the two states go through the restart, commit, rollback and remap with p_hist
+    f = HistoryState(p_hist=[1.0, 2.0], alpha_f=[0.2, 0.4], slope_f=[0.05, 0.0])
+    g = HistoryState.load(f.save(tmp_path / "two.npz"))
+    assert np.array_equal(g.slope_f, [0.05, 0.0]) and np.array_equal(g.alpha_f, [0.2, 0.4])
+    s_c, s_t = g.slope_arrays()
+    s_t[:] = [0.01, 0.02]
+    g.rollback()
+    assert np.array_equal(g.slope_f_trial, [0.05, 0.0])
+    s_t[:] = [0.01, 0.02]
+    g.commit()
+    g.remap(np.array([1, -1, 0]))
+    assert np.array_equal(g.slope_f, [0.02, 0.0, 0.01]) and np.array_equal(g.p_hist, [2, 0, 1])
+    with pytest.raises(ValueError, match="slope_f must be finite and >= 0"):
+        HistoryState(p_hist=[1.0], slope_f=[-0.1])
     # a version 2 file carries alpha_f; without it, it is refused naming it
     np.savez(
         tmp_path / "v2.npz",
