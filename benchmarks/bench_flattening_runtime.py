@@ -10,7 +10,10 @@ turn in one run, best of ``--repeat`` rounds, serial and parallel kernels. Cases
 - ``strain, virgin``: ``d_eps = 0.002`` (an FE increment's strain) on a virgin surface;
 - ``strain, flattened``: ``d_eps = 0.002`` on flattened surfaces (the steady state of a run);
 - ``strain, virgin, hardening``: as ``strain, virgin`` with a hardening modulus of 2 GPa (the
-  lattice's rate limited, Eq. F2c, at the lower pressures of the set).
+  lattice's rate limited, Eq. F2c, at the lower pressures of the set);
+- ``two-state, ...``: the same law and cases with the block's two-state model
+  (``limit-analysis``: the tabulated rates integrated in steps of 0.0005 of stretch, the
+  tangent a second integration), its flattened state after 0.005 of strain.
 
 Ratios are the case's time over the baseline's in the same round, the median over rounds.
 Run: python benchmarks/bench_flattening_runtime.py [--nodes 100000] [--repeat 7]
@@ -38,6 +41,8 @@ P = fl.FrictionParams(
     n2=0.575,
     flattening=fl.Flattening(slope=0.05),
 )
+#: the same law with the two-state model
+P2 = P.replace(flattening=fl.Flattening(slope=0.05, model="limit-analysis"))
 
 
 #: the hardening modulus of the hardening case (Pa): 6 p / h below the lattice's rate up to 0.4 H
@@ -47,12 +52,15 @@ HARDENING = 2e9
 def cases(n, rng):
     p = rng.uniform(0.05, 0.6, n) * H
     ph = np.where(rng.random(n) < 0.5, p * rng.uniform(1.0, 1.5, n), 0.0)
-    law = fl.SBMFLaw(P)
+    law, law2 = fl.SBMFLaw(P), fl.SBMFLaw(P2)
     # flattened surfaces: the state after 0.005 of strain at the node's pressure (partly
     # flattened: with the lattice's rate 0.05 reaches full contact, where the update returns at once)
     s = fl.HistoryState(p_hist=ph)
     fl.traction_update(law, p, np.ones(n), np.zeros(n), 1e20, s, d_eps=0.005)
     a_flat = s.alpha_f_trial.copy()
+    s2 = fl.HistoryState(p_hist=ph)
+    fl.traction_update(law2, p, np.ones(n), np.zeros(n), 1e20, s2, d_eps=0.005)
+    a2, s_2 = s2.alpha_f_trial.copy(), s2.slope_f_trial.copy()
     print(
         f"flattened state: alpha_f {a_flat.min():.3f}-{a_flat.max():.3f}, "
         f"{np.mean(a_flat >= 1.0):.1%} of the nodes in full contact"
@@ -63,12 +71,15 @@ def cases(n, rng):
         p,
         ph,
         {
-            "without": (None, zero),
-            "zero strain": (zero, zero),
-            "flattened, no strain": (zero, a_flat),
-            "strain, virgin": (inc, zero),
-            "strain, flattened": (inc, a_flat),
-            "strain, virgin, hardening": (inc, zero),
+            "without": (None, zero, zero, law),
+            "zero strain": (zero, zero, zero, law),
+            "flattened, no strain": (zero, a_flat, zero, law),
+            "strain, virgin": (inc, zero, zero, law),
+            "strain, flattened": (inc, a_flat, zero, law),
+            "strain, virgin, hardening": (inc, zero, zero, law),
+            "two-state, flattened, no strain": (zero, a2, s_2, law2),
+            "two-state, strain, virgin": (inc, zero, zero, law2),
+            "two-state, strain, flattened": (inc, a2, s_2, law2),
         },
     )
 
@@ -92,10 +103,13 @@ def main(argv=None):
     rows = []
     print(f"threads: numba {numba.get_num_threads()}; {n} nodes, best of {args.repeat}")
     for parallel in (False, True):
-        states = {k: fl.HistoryState(p_hist=ph, alpha_f=a) for k, (_, a) in runs.items()}
+        states = {
+            k: fl.HistoryState(p_hist=ph, alpha_f=a, slope_f=sl)
+            for k, (_, a, sl, _) in runs.items()
+        }
 
         def call(key, parallel=parallel, states=states):
-            d_eps = runs[key][0]
+            d_eps, _, _, law = runs[key]
             kw = {"hardening": HARDENING} if key.endswith("hardening") else {}
             t0 = time.perf_counter()
             fl.traction_update(
@@ -121,7 +135,7 @@ def main(argv=None):
             }
             rows.append(row)
             print(
-                f"{row['kernels']:8} {key:22} {row['ns_per_node']:9.1f} ns/node "
+                f"{row['kernels']:8} {key:31} {row['ns_per_node']:9.1f} ns/node "
                 f"{row['ratio_to_without']:7.2f}x"
             )
     path = Path(args.out)

@@ -42,6 +42,7 @@ from . import _codes as K
 from ._flattening_block import (
     BETA_RANGE,
     FLATTENING_MODEL,
+    FLATTENING_MODELS,
     FLATTENING_VERSION,
     LIMIT_MODEL,
     SLOPE_RANGE,
@@ -73,6 +74,8 @@ if TYPE_CHECKING:
 __all__ = [
     "Flattening",
     "FLATTENING_MODEL",
+    "FLATTENING_MODELS",
+    "LIMIT_MODEL",
     "FLATTENING_VERSION",
     "SLOPE_RANGE",
     "STRETCH_PER_EQUIVALENT_STRAIN",

@@ -29,7 +29,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._flattening_block import LIMIT_MODEL, STRETCH_PER_EQUIVALENT_STRAIN, Flattening
+from ._flattening_block import (
+    LIMIT_MODEL,
+    LIMIT_SLOPE_RANGE,
+    STRETCH_PER_EQUIVALENT_STRAIN,
+    Flattening,
+)
 from ._flattening_runs import running_max, strain_runs
 from ._limit_table import PRANDTL_FACTOR, integrate, rate_table, table_rates
 from .law import alpha_first, as_float_array, broadcast_named
@@ -38,7 +43,14 @@ if TYPE_CHECKING:
     from .flow_curve import FlowCurve
     from .params import FrictionParams
 
-__all__ = ["LIMIT_MODEL", "limit_rates", "limit_update", "limit_curve", "prandtl_ratio"]
+__all__ = [
+    "LIMIT_MODEL",
+    "LIMIT_SLOPE_RANGE",
+    "limit_rates",
+    "limit_update",
+    "limit_curve",
+    "prandtl_ratio",
+]
 
 #: below this ``p / H`` a node does not flatten (as the default model's floor)
 P_MIN_RATIO = 1e-12

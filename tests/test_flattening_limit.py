@@ -223,3 +223,67 @@ def test_bad_input_is_refused_naming_it(kw, msg):
     args = dict(alpha_f=0.0, slope_f=0.0, p_hist=1e8, p=1e8, d_eps=1e-3) | kw
     with pytest.raises(ValueError, match=msg):
         limit_update(**args, params=law())
+
+
+# ----------------------------------------------------------------------------- the calibration
+QUICK = ["--grid", "16", "--pressures", "1e8,2e8,3e8,5e8", "--reload-fractions", "0.3,0.6"]
+
+
+def test_the_command_writes_a_two_state_block(tmp_path, capsys):
+    """--flattening-model limit-analysis (which implies --flattening): the same inputs, the
+    model named in the block and the record, the record's table the block's own curves."""
+    from halfspace_calib.cli import main
+
+    out = tmp_path / "o"
+    argv = [
+        "--grid",
+        "32",
+        *QUICK[2:],
+        "--flattening-model",
+        MODEL,
+        "--no-progress",
+        "--out",
+        str(out),
+    ]
+    assert main(argv) == 0
+    doc = json.loads((out / "params.json").read_text())
+    rec = doc["provenance"]["flattening"]
+    assert doc["flattening"]["model"] == MODEL and rec["model"].startswith(MODEL)
+    assert doc["flattening"]["slope"] == rec["slope"] and "the table" in rec["beta_source"]
+    P = FrictionParams.from_json(out / "params.json")
+    t = rec["table"]
+    for key, alphas in t["alpha_at_p_over_H"].items():
+        got = flattening_curve(float(key[:-1]) * P.H, t["strains"], P).tolist()
+        assert alphas == pytest.approx(got, abs=0)
+    full = rec["full_contact"]["strain"]
+    assert flattening_curve(0.3 * P.H, [full - 1e-3, full], P).tolist() == [
+        pytest.approx(flattening_curve(0.3 * P.H, full - 1e-3, P)),
+        1.0,
+    ]
+    assert flattening_curve(0.3 * P.H, full - 1e-3, P) < 1.0
+    assert f"model {MODEL}" in capsys.readouterr().out
+
+
+def test_a_slope_outside_the_table_fails_the_run_naming_the_other_model(tmp_path, capsys):
+    from realfiles import real_file
+
+    from halfspace_calib.cli import main
+
+    out = tmp_path / "o"
+    argv = [*QUICK[:2], "--workpiece", str(real_file("metropro-1.dat")), "--no-resolution-check"]
+    assert main([*argv, "--flattening-model", MODEL, "--no-progress", "--out", str(out)]) == 1
+    err = capsys.readouterr().err
+    assert "outside the two-state law's table [0.01, 0.2]" in err and "layer-yield" in err
+    assert not out.exists()
+
+
+def test_beta_of_the_two_state_law_is_recovered_with_a_band():
+    from halfspace_calib.pipeline.sweep.flattening import FlatteningData, fit_beta
+
+    P = law(0.08)
+    p = np.repeat(np.array([0.05, 0.2]) * H, 4)
+    eps = np.tile([0.01, 0.02, 0.04, 0.08], 2)
+    truth = flattening_curve(p, eps, law(0.08, beta=1.7))
+    noisy = np.clip(truth + np.random.default_rng(3).normal(0, 0.01, truth.size), 0, 1)
+    fit = fit_beta(P, FlatteningData("lab.csv", eps, noisy, p))
+    assert fit["band"][0] < 1.7 < fit["band"][1] and fit["beta"] == pytest.approx(1.7, rel=0.1)

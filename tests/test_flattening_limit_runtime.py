@@ -172,3 +172,22 @@ def test_extremes_are_finite_and_at_most_one():
     tau, dtdp, st = update(P, p, 0.0, 0.0, 0.0, 1e3)
     assert np.all(np.isfinite(tau)) and np.all(np.isfinite(dtdp))
     assert np.all(st.alpha_f_trial <= 1.0) and np.all(st.slope_f_trial >= 0)
+
+
+def test_the_export_refuses_the_two_state_block_where_a_routine_would_run_it(tmp_path, capsys):
+    """The Fortran routines carry the one-state model only: a routine whose host passes the bulk
+    strain would run its rate on the two-state block's inputs, so it is refused (exit 2); hosts
+    without strain and tables run the law without flattening, with the user's word, as for the
+    one-state block."""
+    from frictionlaw import export as exp
+    from frictionlaw.export.cli import main
+
+    path = law().to_json(tmp_path / "two.json")
+    for target in ("lsdyna-usrfrc", "lsdyna", "ansys-userfric", "calculix"):
+        with pytest.raises(ValueError, match="two-state model .'limit-analysis'."):
+            exp.render(target, path)
+        out = tmp_path / target
+        assert main([target, "--params", str(path), "--out", str(out)]) == 2
+        assert "layer-yield" in capsys.readouterr().err and not out.exists()
+    assert exp.render("abaqus-fric", path, without_flattening=True)[0]
+    assert exp.render("abaqus-table", path, without_flattening=True)[0]

@@ -137,16 +137,17 @@ class DieContact:
 
         Not where a law's ``beta`` was fitted to a sheet taken as perfectly plastic
         (:func:`frictionlaw.flattening.beta_absorbs_hardening`): that ``beta`` absorbs the
-        sheet's hardening already, and the modulus would count it twice.
+        sheet's hardening already, and the modulus would count it twice; nor for the two-state
+        model (``limit-analysis``), whose table is perfectly plastic (the law refuses it).
         """
-        from frictionlaw.flattening import beta_absorbs_hardening
+        from frictionlaw.flattening import LIMIT_MODEL, beta_absorbs_hardening
 
         laws = getattr(self.law, "laws", None) or [self.law]
         params = [getattr(w, "params", None) for w in laws]
         return not any(
             p is not None
             and getattr(p, "flattening", None) is not None
-            and beta_absorbs_hardening(p)
+            and (beta_absorbs_hardening(p) or p.flattening.model == LIMIT_MODEL)
             for p in params
         )
 

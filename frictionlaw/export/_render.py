@@ -12,6 +12,7 @@ from pathlib import Path
 from sbmf_cli import OutputFolder, ParameterError
 
 from .. import __version__
+from .._flattening_block import LIMIT_MODEL
 from ..params import FrictionParams
 from . import _targets
 from ._flat import flow_spec
@@ -134,6 +135,14 @@ def _check_flattening(record, laws, zones, without_flattening=False):
             )
         return
     path = flat[0].path
+    two = [law for law in flat if law.params.flattening.model == LIMIT_MODEL]
+    if two and isinstance(record.form, _targets.Routine) and record.form.bulk_strain:
+        raise ParameterError(
+            f"{two[0].path}: the file's flattening block is the two-state model "
+            f"({LIMIT_MODEL!r}), which the exported routines do not carry yet ({record.name} "
+            "would run the one-state model's rate on it): export a file whose block is the "
+            "one-state 'layer-yield' (docs/flattening.md)",
+        )
     if not isinstance(record.form, _targets.Routine):
         if without_flattening:
             return  # the table of the law without it; its header says so

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+from frictionlaw._flattening_block import FLATTENING_MODELS
+from frictionlaw.flattening import FLATTENING_MODEL
 from frictionlaw.flow_curve import read_flow_curve
 from sbmf_cli import existing_file, file_path
 
@@ -28,6 +30,17 @@ def add_flattening_options(ap):
         "beta = 1; nothing is fitted to friction (default: off)",
     )
     g.add_argument(
+        "--flattening-model",
+        choices=FLATTENING_MODELS,
+        default=None,
+        help="the block's model: layer-yield, one state per node (Eqs. F1-F6), or "
+        "limit-analysis, two states per node (contact fraction and flank slope) at the "
+        "tabulated rigid-plastic optimum's rates, which follows the FE asperity truth closer "
+        "at low pressure (docs/flattening.md; its RMS slope must lie in [0.01, 0.2]; the "
+        "exported routines carry layer-yield only); implies --flattening (default: "
+        "layer-yield)",
+    )
+    g.add_argument(
         "--flattening-data",
         metavar="CSV",
         type=file_path,
@@ -49,18 +62,19 @@ def add_flattening_options(ap):
 
 
 def flattening_input(args, spec, scene):
-    """``(on, data)``: whether the block is made and the measured data.
+    """``(on, data, model)``: whether the block is made, the measured data and the model.
 
     The data are read and checked now, before any sweep, their pressures against the scene's ``H``.
     """
-    on = bool(args.flattening) or args.flattening_data is not None
+    model = args.flattening_model or FLATTENING_MODEL
+    on = bool(args.flattening) or args.flattening_data is not None or args.flattening_model
     if args.flow_curve is not None and args.flattening_data is None:
         raise ValueError(
             "--flow-curve is the measured sheet's, for the fit of --flattening-data: give the "
             "measurement too (the block itself carries no flow curve: the host passes its own)"
         )
     if not on:
-        return False, None
+        return False, None, model
     if spec.multi:
         raise ValueError(
             "--flattening derives the block from one workpiece/tool pair; with several samples "
@@ -78,7 +92,7 @@ def flattening_input(args, spec, scene):
                     f"{top:g}: extend the flow curve (it is not extrapolated)"
                 )
             data = replace(data, flow_curve=fc)
-    return True, data
+    return True, data, model
 
 
 def _read_data(path):
@@ -86,11 +100,11 @@ def _read_data(path):
     return read_flattening_data(existing_file("--flattening-data", path, "a CSV file"))
 
 
-def with_flattening(cal, on, data):
+def with_flattening(cal, on, data, model=FLATTENING_MODEL):
     """The calibration with the flattening block in its parameters and its record (or as is)."""
     if not on:
         return cal
-    block, record = derive_flattening(cal, data)
+    block, record = derive_flattening(cal, data, model)
     fit = record.get("fit")
     if fit:
         cal.notes = (*cal.notes, *fit.get("notes", ()))
@@ -123,6 +137,7 @@ def flattening_lines(cal):
     lines = [
         f"  flattening (docs/flattening.md): slope tan(theta) = {f.slope:.4g} ({r['slope_source']}; "
         f"x {r['slope_x']:.4g}, y {r['slope_y']:.4g}; at half the grid {r['slope_half_grid'] or 0:.4g})",
+        f"    model {r['model']}",
         f"    zero-strain asperity hardness p / alpha from the computed first loading "
         f"{min(zs['p_over_alpha_Pa']) / 1e6:.4g}-{max(zs['p_over_alpha_Pa']) / 1e6:.4g} MPa "
         f"(the law's H / C1 = {zs['law_small_p_Pa'] / 1e6:.4g} MPa): read through alpha1",

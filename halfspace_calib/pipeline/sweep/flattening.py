@@ -23,8 +23,9 @@ import math
 import numpy as np
 
 from frictionlaw import Flattening, alpha_first, flattening_curve
-from frictionlaw.flattening import BETA_RANGE, SLOPE_RANGE, equivalent_strain
+from frictionlaw.flattening import BETA_RANGE, LIMIT_MODEL, SLOPE_RANGE, equivalent_strain
 from frictionlaw.flattening_curves import FlatteningCurves, FlatteningPaths
+from frictionlaw.flattening_limit import LIMIT_SLOPE_RANGE
 
 from ...contact.normal import solve_normal_pair
 from .flattening_sheet import FlatteningData, read_flattening_data
@@ -181,9 +182,24 @@ def fit_beta(params, data: FlatteningData, level: float = BAND_LEVEL) -> dict:
     Raises ``ValueError`` when the points do not constrain ``beta`` (all at zero strain or at
     full contact) or the best ``beta`` lies on the range's bound.
     """
-    slope, fc = params.flattening.slope, data.flow_curve
-    base = params.replace(flattening=Flattening(slope=slope))  # beta = 1
-    if fc is None:
+    slope, fc, model = params.flattening.slope, data.flow_curve, params.flattening.model
+    base = params.replace(flattening=Flattening(slope=slope, model=model))  # beta = 1
+    if model == LIMIT_MODEL:  # the two-state law: its curves integrated at each trial beta
+
+        def models(ln_beta):
+            return np.stack(
+                [
+                    flattening_curve(
+                        data.p,
+                        data.strain,
+                        params.replace(flattening=Flattening(slope, math.exp(b), model=model)),
+                        flow_curve=fc,
+                    )
+                    for b in np.atleast_1d(ln_beta)
+                ]
+            )
+
+    elif fc is None:
         curves = FlatteningCurves(data.p, base)
 
         def models(ln_beta):
@@ -331,7 +347,29 @@ def _data_summary(data: FlatteningData, levels, r) -> dict:
     }
 
 
-def derive_flattening(cal, data: FlatteningData | None = None) -> tuple[Flattening, dict]:
+_MODEL_TEXT = {
+    "layer-yield": "layer-yield with the slip-line lattice (docs/flattening.md, Eqs. F1-F6)",
+    LIMIT_MODEL: "limit-analysis: two states per node, the rigid-plastic optimum's rates "
+    "(docs/flattening.md, the two-state law)",
+}
+
+
+def _full_contact_strain(params, p: float) -> float | None:
+    """The equivalent strain at which a virgin surface reaches full contact at ``p``.
+
+    Eq. F4's finite strain for the one-state model; for the two-state law the first of
+    0.001-steps up to 5 where its curve is 1 (None if it does not get there).
+    """
+    if params.flattening.model != LIMIT_MODEL:
+        return float(equivalent_strain(p, 2**40 * p, params))
+    eps = np.arange(0.0, 5.0 + 5e-4, 1e-3)
+    full = np.flatnonzero(flattening_curve(p, eps, params) >= 1.0)
+    return float(eps[full[0]]) if full.size else None
+
+
+def derive_flattening(
+    cal, data: FlatteningData | None = None, model: str = "layer-yield"
+) -> tuple[Flattening, dict]:
     """The flattening block of a calibration and the record of what it was derived from.
 
     Returns ``(block, record)``; the record goes into ``summary.json``, ``report.html`` and the
@@ -346,7 +384,13 @@ def derive_flattening(cal, data: FlatteningData | None = None) -> tuple[Flatteni
             f"the workpiece's RMS profile slope {slope:.3g} is outside [{SLOPE_RANGE[0]:g}, "
             f"{SLOPE_RANGE[1]:g}]: check the scan's lateral size and height unit"
         )
-    block = Flattening(slope=slope)
+    if model == LIMIT_MODEL and not LIMIT_SLOPE_RANGE[0] <= slope <= LIMIT_SLOPE_RANGE[1]:
+        raise ValueError(
+            f"the workpiece's RMS profile slope {slope:.3g} is outside the two-state law's table "
+            f"[{LIMIT_SLOPE_RANGE[0]:g}, {LIMIT_SLOPE_RANGE[1]:g}]: calibrate the one-state "
+            "model (layer-yield) for this surface"
+        )
+    block = Flattening(slope=slope, model=model)
     p, a = cal.sweeps.loading
     p_patch = _alpha_pressure(P, PATCH_ALPHA, float(p.min()) * 1e-3, 0.99 * scene.H)
     res = solve_normal_pair(
@@ -362,7 +406,7 @@ def derive_flattening(cal, data: FlatteningData | None = None) -> tuple[Flatteni
     )
     l_patch, n_patch = patch_half_spacing(res.pressure, wp.dx, wp.dy, scene.periodic)
     record = {
-        "model": "layer-yield with the slip-line lattice (docs/flattening.md, Eqs. F1-F6)",
+        "model": _MODEL_TEXT[model],
         "slope": slope,
         "slope_x": sx,
         "slope_y": sy,
@@ -387,7 +431,9 @@ def derive_flattening(cal, data: FlatteningData | None = None) -> tuple[Flatteni
             "note": "information for the FE asperity model; the model does not use it (l cancels)",
         },
         "beta": 1.0,
-        "beta_source": "default: the rates of Eq. F2 unscaled",
+        "beta_source": "default: the rates of "
+        + ("the table" if model == LIMIT_MODEL else "Eq. F2")
+        + " unscaled",
         "fit": None,
         "problem": None
         if res.converged
@@ -401,7 +447,11 @@ def derive_flattening(cal, data: FlatteningData | None = None) -> tuple[Flatteni
             record["problem"] = "; ".join(filter(None, (record["problem"], why)))
         else:
             block = Flattening(
-                slope=slope, beta=fit["beta"], beta_band=tuple(fit["band"]), band_level=fit["level"]
+                slope=slope,
+                beta=fit["beta"],
+                beta_band=tuple(fit["band"]),
+                band_level=fit["level"],
+                model=model,
             )
             record["beta"] = fit["beta"]
             record["beta_source"] = f"fitted to {fit['points']} measured points of {data.path}"
@@ -411,6 +461,5 @@ def derive_flattening(cal, data: FlatteningData | None = None) -> tuple[Flatteni
     for f in TABLE_P:
         table[f"{f:g}H"] = flattening_curve(f * scene.H, np.array((0.0, *TABLE_EPS)), Pf).tolist()
     record["table"] = {"strains": [0.0, *TABLE_EPS], "alpha_at_p_over_H": table}
-    full = float(equivalent_strain(0.3 * scene.H, 2**40 * scene.H, Pf))
-    record["full_contact"] = {"p_over_H": 0.3, "strain": full}
+    record["full_contact"] = {"p_over_H": 0.3, "strain": _full_contact_strain(Pf, 0.3 * scene.H)}
     return block, record
