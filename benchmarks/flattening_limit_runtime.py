@@ -1,0 +1,158 @@
+"""The runtime's two-state flattening (model limit-analysis) against the FE asperity truth (issue 43).
+
+``flattening_limit_law.py`` and ``flattening_limit_low.py`` integrated the two-state law as a
+study, from each truth curve's pressing-alone fraction. The runtime now carries it
+(``frictionlaw.flattening_limit``: the shipped table, read between pressures in ``ln p``,
+integrated node by node). This script puts the runtime's curves (``frictionlaw.flattening_curve``
+with the block's model ``limit-analysis``) beside the truth, beside the study's curves (they
+must agree: the same table and rule) and beside the one-state model (``layer-yield``), each law
+built from the truth's inputs only as ``flattening_truth.py`` builds it (its ``alpha1`` the
+truth's pressing-alone fractions, the profile's slope, ``beta = 1``); nothing fitted.
+
+Curves: the 30 of ``asperity_flattening.csv`` (0.05-0.6 H, 64 x 32 elements) and the low
+truth's at 0.02 H (``asperity_low.csv``), each profile on its finest mesh. Writes
+``results/flattening_limit_runtime.md`` and ``.csv``; seconds.
+
+Run: python benchmarks/flattening_limit_runtime.py
+"""
+
+import math
+
+import numpy as np
+from _provenance import RESULTS, read_rows, run_record, write_report
+from flattening_truth import BAR, law_of, law_strain, low_curves, low_law, read_truth
+
+import frictionlaw as fl
+
+TWO = "limit-analysis"
+
+
+def _two_state(P):
+    """The same law with the two-state block (the same slope and beta)."""
+    return P.replace(flattening=fl.Flattening(P.flattening.slope, model=TWO))
+
+
+def _study():
+    """The study's two-state curves: ``{(profile, p/H, strain): alpha}`` (RMS-slope rows)."""
+    out = {}
+    for r in read_rows(RESULTS / "flattening_limit_law.csv"):
+        out[(r["profile"], float(r["p_over_H"]), float(r["strain"]))] = float(r["alpha_limit"])
+    for r in read_rows(RESULTS / "flattening_limit_low.csv"):
+        key = (r["profile"], float(r["p_over_H"]), float(r["strain"]))
+        out.setdefault(key + (r["mesh"],), float(r["alpha_limit"]))
+    return out
+
+
+def curves():
+    """Every truth curve: ``(profile, deg, p/H, mesh, {strain: alpha}, law)``."""
+    truth, H = read_truth(RESULTS / "asperity_flattening.csv")
+    out = [
+        (name, deg, ph, "64x32", col, law_of(table, deg, H))
+        for (name, deg), table in truth.items()
+        for ph, col in sorted(table.items())
+    ]
+    finest = {}
+    for name, deg, ph, nx, nz, col in low_curves(RESULTS / "asperity_low.csv"):
+        if int(nx) >= int(finest.get(name, ("0",))[0]):
+            finest[name] = (nx, nz, deg, ph, col)
+    for name, (nx, nz, deg, ph, col) in finest.items():
+        out.append((name, deg, ph, f"{nx}x{nz}", col, low_law(truth, H, name, deg, ph, col)))
+    return out, H
+
+
+def compare():
+    cs, H = curves()
+    study = _study()
+    rows = []
+    for name, deg, ph, mesh, col, P in cs:
+        strains = sorted(col)
+        eps = law_strain(strains)
+        two = fl.flattening_curve(ph * H, eps, _two_state(P))
+        one = fl.flattening_curve(ph * H, eps, P)
+        for e, a2, a1 in zip(strains, two, one, strict=True):
+            s = study.get((name, ph, e), study.get((name, ph, e, mesh), math.nan))
+            rows.append(
+                {
+                    "profile": name,
+                    "slope_deg": deg,
+                    "p_over_H": ph,
+                    "mesh": mesh,
+                    "strain": e,
+                    "alpha_truth": col[e],
+                    "alpha_two_state": round(float(a2), 5),
+                    "alpha_study": s,
+                    "alpha_one_state": round(float(a1), 5),
+                }
+            )
+    return rows
+
+
+def _band(rows, low):
+    sel = [r for r in rows if (r["p_over_H"] < 0.05) == low]
+    keys = sorted({(r["profile"], r["p_over_H"]) for r in sel})
+    out = {}
+    for col in ("alpha_two_state", "alpha_one_state"):
+        d = np.array([r[col] - r["alpha_truth"] for r in sel])
+        per = [
+            max(abs(r[col] - r["alpha_truth"]) for r in sel if (r["profile"], r["p_over_H"]) == k)
+            for k in keys
+        ]
+        out[col] = (
+            float(np.abs(d).max()),
+            float(np.sqrt(np.mean(d**2))),
+            sum(m <= BAR for m in per),
+            len(keys),
+        )
+    known = [r for r in sel if math.isfinite(r["alpha_study"])]
+    out["study"] = max(abs(r["alpha_two_state"] - r["alpha_study"]) for r in known)
+    out["study_points"] = len(known)
+    return out
+
+
+def report(rows):
+    lines = [
+        "# The runtime's two-state flattening against the FE asperity truth",
+        "",
+        "`benchmarks/flattening_limit_runtime.py`: `frictionlaw.flattening_curve` with the block's "
+        "model `limit-analysis` (the shipped table, `frictionlaw/data/limit_rates.csv`) and with "
+        "the one-state `layer-yield`, each law built from the truth's inputs only (its `alpha1` "
+        "the truth's pressing-alone fractions, the profile's slope, the measured row's RMS "
+        "slope, `beta = 1`); nothing fitted. The study's curves (`flattening_limit_law.py`, "
+        "`flattening_limit_low.py`: the same table and rule, 4 decimals) beside them.",
+        "",
+        "| band | largest miss: two-state / one-state | RMS: two-state / one-state | curves "
+        "within 0.05: two-state / one-state | runtime against the study (points) |",
+        "|---|---|---|---|---|",
+    ]
+    for low, label in ((False, "0.05-0.6 H (64 x 32)"), (True, "0.02 H (finest mesh)")):
+        b = _band(rows, low)
+        t, o = b["alpha_two_state"], b["alpha_one_state"]
+        lines.append(
+            f"| {label} | {t[0]:.3f} / {o[0]:.3f} | {t[1]:.3f} / {o[1]:.3f} | {t[2]} / {o[2]} of "
+            f"{t[3]} | {b['study']:.1e} ({b['study_points']}) |"
+        )
+    lines += [
+        "",
+        "| profile | p/H | mesh | largest miss: two-state | one-state |",
+        "|---|---|---|---|---|",
+    ]
+    for key in dict.fromkeys((r["profile"], r["p_over_H"], r["mesh"]) for r in rows):
+        sel = [r for r in rows if (r["profile"], r["p_over_H"], r["mesh"]) == key]
+        m2 = max(sel, key=lambda r: abs(r["alpha_two_state"] - r["alpha_truth"]))
+        m1 = max(sel, key=lambda r: abs(r["alpha_one_state"] - r["alpha_truth"]))
+        lines.append(
+            f"| {key[0]} | {key[1]:g} | {key[2]} | "
+            f"{m2['alpha_two_state'] - m2['alpha_truth']:+.3f} ({m2['strain']:g}) | "
+            f"{m1['alpha_one_state'] - m1['alpha_truth']:+.3f} ({m1['strain']:g}) |"
+        )
+    return lines
+
+
+def main():
+    rows = compare()
+    write_report("flattening_limit_runtime", rows, report(rows))
+
+
+if __name__ == "__main__":
+    with run_record(__file__, "flattening_limit_runtime"):
+        main()
