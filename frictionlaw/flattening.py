@@ -262,7 +262,10 @@ def _flattening_of(params: "FrictionParams", one_state: bool = True) -> Flatteni
             "flattening block (docs/flattening.md)"
         )
     if one_state and flat.model == LIMIT_MODEL:
-        raise ValueError(f"model {LIMIT_MODEL!r} has two states: frictionlaw.flattening_limit")
+        raise ValueError(
+            f"the block's model {LIMIT_MODEL!r} has two states per node; this is the "
+            "one-state model's: use flattening_curve or frictionlaw.flattening_limit"
+        )
     return flat
 
 

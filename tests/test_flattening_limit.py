@@ -56,7 +56,7 @@ def test_an_unknown_model_is_refused():
 
 
 def test_the_one_state_equations_refuse_the_two_state_block():
-    with pytest.raises(ValueError, match="two states"):
+    with pytest.raises(ValueError, match="two states per node"):
         flattening_update(0.0, 1e8, 1e8, 0.01, law())
     with pytest.raises(ValueError, match="model 'layer-yield'"):
         limit_update(0.0, 0.0, 1e8, 1e8, 0.01, FrictionParams(**BASE, flattening=Flattening(0.1)))
