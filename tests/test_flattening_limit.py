@@ -287,3 +287,19 @@ def test_beta_of_the_two_state_law_is_recovered_with_a_band():
     noisy = np.clip(truth + np.random.default_rng(3).normal(0, 0.01, truth.size), 0, 1)
     fit = fit_beta(P, FlatteningData("lab.csv", eps, noisy, p))
     assert fit["band"][0] < 1.7 < fit["band"][1] and fit["beta"] == pytest.approx(1.7, rel=0.1)
+
+
+def test_any_split_of_the_strain_into_increments_gives_the_same_fraction():
+    """A host's increments are not multiples of the step: the last step of each is shorter. Any
+    split of a strain into increments integrates to the one-step curve within the rule's error."""
+    P = law(0.176)
+    rng = np.random.default_rng(0)
+    for ph in (0.02, 0.05, 0.3):
+        p = float(ph * (2 + math.pi) * P.k)
+        ref = float(flattening_curve(p, 0.1, P))
+        for _ in range(5):
+            w = rng.random(rng.integers(3, 40))
+            a, s = 0.0, 0.0
+            for d in 0.1 * w / w.sum():
+                a, s = limit_update(a, s, p, p, d, P)
+            assert float(a) == pytest.approx(ref, abs=1e-4)
