@@ -89,3 +89,32 @@ for step in range(5):
         f"increment {step}: alpha_f = {np.round(state.alpha_f, 3)}, "
         f"tau = {np.round(res.traction / 1e6, 2)} MPa"
     )
+
+# %%
+# The two-state model
+# -------------------
+# The block's opt-in model ``limit-analysis`` carries the asperities' flank slope as a second
+# state per node (``HistoryState.slope_f``) and grows both at the tabulated rates of a
+# rigid-plastic limit analysis: at low pressure it turns a steep flank before it grows the
+# contact, where the default grows it at once (docs/flattening.md, "The two-state model"; it
+# takes no hardening modulus: its table is perfectly plastic).
+
+steep = np.tan(np.radians(10.0))
+one = params.replace(flattening=Flattening(slope=steep))
+two = params.replace(flattening=Flattening(slope=steep, model="limit-analysis"))
+eps = np.linspace(0.0, 0.2, 201)
+fig, ax = plt.subplots(figsize=(6, 4))
+for x, color in ((0.02, "C0"), (0.05, "C1"), (0.2, "C2")):
+    ax.plot(
+        eps, flattening_curve(x * H, eps, one), color=color, ls="--", label=f"{x:g} H, one state"
+    )
+    ax.plot(eps, flattening_curve(x * H, eps, two), color=color, label=f"{x:g} H, two states")
+ax.set_xlabel("equivalent bulk plastic strain")
+ax.set_ylabel("contact fraction alpha (10 deg flanks)")
+ax.legend(fontsize=7)
+fig.tight_layout()
+state = HistoryState(1)
+for step in range(4):
+    traction_update(SBMFLaw(two), [0.02 * H], [1e-3], [0.0], 1e14, state, d_eps=0.025)
+    state.commit()
+    print(f"increment {step}: alpha_f {state.alpha_f[0]:.3f}, flank slope {state.slope_f[0]:.4f}")
