@@ -99,7 +99,8 @@ def _print_flattening(params, con):
     f = params.flattening
     band = "" if f.beta_band is None else f" [{f.beta_band[0]:.4g}, {f.beta_band[1]:.4g}]"
     con.result(
-        f"flattening under bulk strain: tan(theta) = {f.slope:.4g}, beta = {f.beta:.4g}{band}; "
+        f"flattening under bulk strain (model {f.model}): tan(theta) = {f.slope:.4g}, "
+        f"beta = {f.beta:.4g}{band}; "
         "contact fraction at constant p after equivalent plastic strains "
         "(a perfectly plastic bulk at the file's sigma_y):"
     )

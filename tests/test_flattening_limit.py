@@ -303,3 +303,23 @@ def test_any_split_of_the_strain_into_increments_gives_the_same_fraction():
             for d in 0.1 * w / w.sum():
                 a, s = limit_update(a, s, p, p, d, P)
             assert float(a) == pytest.approx(ref, abs=1e-4)
+
+
+def test_the_command_fits_the_two_state_law_and_reports_it(tmp_path, capsys):
+    from pathlib import Path
+
+    from halfspace_calib.cli import main
+
+    data = Path(__file__).parent / "data" / "flattening_example.csv"
+    out = tmp_path / "o"
+    argv = ["--grid", "32", *QUICK[2:], "--flattening-model", MODEL, "--flattening-data"]
+    assert main([*argv, str(data), "--no-progress", "--out", str(out)]) == 0
+    doc = json.loads((out / "params.json").read_text())
+    f, fit = doc["flattening"], doc["provenance"]["flattening"]["fit"]
+    assert f["model"] == MODEL and f["beta_band"][0] < f["beta"] < f["beta_band"][1]
+    P = FrictionParams.from_json(out / "params.json")
+    p, eps = np.asarray(fit["p_Pa"]), np.asarray(fit["strain"])
+    resid = np.asarray(fit["alpha"]) - flattening_curve(p, eps, P)
+    assert fit["rms"] == pytest.approx(float(np.sqrt(np.mean(resid**2))), rel=1e-6)
+    assert f"<p>model: {MODEL}" in (out / "report.html").read_text()
+    assert (out / "flattening.png").stat().st_size > 0

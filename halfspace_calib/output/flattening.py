@@ -71,6 +71,8 @@ def _plot_measurement(ax, P, fit, data):
     at that many of them spread over their range; by the fit's own model (one curve per
     pressure: :mod:`frictionlaw.flattening_curves`).
     """
+    from frictionlaw import flattening_curve
+    from frictionlaw.flattening import LIMIT_MODEL
     from frictionlaw.flattening_curves import FlatteningCurves, FlatteningPaths
     from frictionlaw.flow_curve import flow_curve_from_dict
 
@@ -96,7 +98,11 @@ def _plot_measurement(ax, P, fit, data):
     line = np.linspace(0.0, top, 41)
     pp, ee = np.repeat(levels, line.size), np.tile(line, levels.size)
     fc = fit.get("flow_curve_record")
-    if fc is None:
+    if P.flattening.model == LIMIT_MODEL:  # the two-state law's own curves
+        curves = flattening_curve(
+            pp, ee, P, flow_curve=None if fc is None else flow_curve_from_dict(fc)
+        )
+    elif fc is None:
         curves = FlatteningCurves(pp, P).alpha(ee)
     else:
         curves = FlatteningPaths(pp, ee, P, flow_curve_from_dict(fc)).alpha()
@@ -129,9 +135,12 @@ def flattening_section(s, out):
         ("half_spacing.from_crossings_m.0", "half-spacing from x crossings [m] (not used)"),
         ("half_spacing.from_crossings_m.1", "half-spacing from y crossings [m] (not used)"),
         ("half_spacing.from_patches_m", "half-spacing from contact patches [m] (not used)"),
-        ("full_contact.strain", "strain to full contact at 0.3 H (Eq. F4)"),
+        ("full_contact.strain", "strain to full contact at 0.3 H"),
     ]
-    body = ["<h2>Flattening under bulk strain</h2><table><tr><th>quantity</th><th>value</th>"]
+    body = [
+        f"<h2>Flattening under bulk strain</h2><p>model: {html.escape(str(r.get('model')))}</p>",
+        "<table><tr><th>quantity</th><th>value</th>",
+    ]
     body.append("<th>derived from</th></tr>")
     for key, what in rows:
         v = r
