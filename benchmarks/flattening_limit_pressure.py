@@ -37,8 +37,11 @@ ALL_PRESSURES = LOW_PRESSURES + PRESSURES
 NEIGHBOURS = tuple(tuple(ALL_PRESSURES[k - 1 : k + 2]) for k in range(1, len(ALL_PRESSURES) - 1))
 #: and then 0.05 H from the low table's 0.035 H (no truth there) and 0.1 H: closer neighbours
 #: below 0.1 H
-HELD_OUT = NEIGHBOURS + tuple(
-    (b, *[ph for ph in ALL_PRESSURES if ph > b][:2]) for b in BETWEEN_PRESSURES
+HELD_OUT = (
+    NEIGHBOURS
+    + tuple((b, *[ph for ph in ALL_PRESSURES if ph > b][:2]) for b in BETWEEN_PRESSURES)
+    # 0.05 H from its neighbours in the runtime's shipped table (frictionlaw/data)
+    + ((BETWEEN_PRESSURES[0], 0.05, BETWEEN_PRESSURES[1]),)
 )
 
 PAIRINGS = ("same A", "same excess")
@@ -144,8 +147,9 @@ def main():
         "# The limit-analysis table between its pressures (each inner pressure held out)",
         "",
         "`benchmarks/flattening_limit_pressure.py`: the rates at each inner pressure of the table "
-        "built from its two neighbours alone (0.05 H from the low table's 0.02 H and 0.1 H, and "
-        "from its 0.035 H and 0.1 H), the "
+        "built from its two neighbours alone (0.05 H from the low table's 0.02 H and 0.1 H, "
+        "from its 0.035 H and 0.1 H, and from 0.035 H and 0.07 H, its neighbours in the "
+        "runtime's shipped table; 0.1 H also from 0.07 H and 0.2 H), the "
         "truth's curves there "
         "(`flattening_truth.csv`) integrated as `flattening_limit_law.py` integrates them, beside "
         "the curves of the pressure's own table; nothing fitted.",
