@@ -20,6 +20,7 @@ __all__ = [
     "SLOPE_RANGE",
     "BETA_RANGE",
     "STRETCH_PER_EQUIVALENT_STRAIN",
+    "beta_absorbs_hardening",
 ]
 
 #: the model a ``flattening`` block names (the surface-layer yield model of docs/flattening.md)
@@ -202,3 +203,19 @@ class Flattening:
             raise ValueError(f"{where}.beta_band must be [lower, upper], got {band!r}") from None
         except ValueError as exc:
             raise ValueError(f"{source}: {exc}") from None
+
+
+def beta_absorbs_hardening(params: Any) -> bool:
+    """Whether the block's ``beta`` was fitted to a sheet taken as perfectly plastic.
+
+    True when the calibration's record (``provenance.flattening.fit``) shows a fit to a
+    measurement without the sheet's flow curve (``halfspace-calib --flattening-data`` without
+    ``--flow-curve``): that ``beta`` absorbs the sheet's hardening at the measured pressures, so
+    a host must then run the law without the hardening modulus (Eq. F2c), or the slowing counts
+    twice. False for ``beta = 1`` (nothing fitted), a fit with the flow curve, and a file
+    without the record.
+    """
+    prov = params.provenance if isinstance(params.provenance, dict) else {}
+    rec = prov.get("flattening")
+    fit = rec.get("fit") if isinstance(rec, dict) else None
+    return isinstance(fit, dict) and fit.get("flow_curve") is None

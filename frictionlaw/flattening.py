@@ -49,6 +49,7 @@ from ._flattening_block import (
     STRETCH_PER_EQUIVALENT_STRAIN,
     Flattening,
     _number,
+    beta_absorbs_hardening,
 )
 from ._flattening_rates import (
     contact_growth_rate,
@@ -509,7 +510,8 @@ def flattening_curve(
     Eq. F4 solved for ``p_f`` and read through Eq. F5: ``alpha1(p)`` at zero strain (the
     calibrated law exactly), never falling with strain, at most 1, reaching 1 at the finite
     equivalent strain ``tan(theta) J(p, inf) / (r_s beta s0 p)``. For plots, checks and the fit
-    of ``beta`` to a measured sheet.
+    of ``beta`` to a measured sheet. A block of the two-state model (``limit-analysis``) gives
+    that law's curves (:func:`frictionlaw.flattening_limit.limit_curve`; no ``hardening``).
 
     Parameters
     ----------
@@ -582,19 +584,3 @@ def flattening_curve(
             )
     alpha = flattened_alpha(pf, pf, p_f, params)
     return running_max(alpha, strain_runs(pf, ef)).reshape(p.shape)
-
-
-def beta_absorbs_hardening(params: "FrictionParams") -> bool:
-    """Whether the block's ``beta`` was fitted to a sheet taken as perfectly plastic.
-
-    True when the calibration's record (``provenance.flattening.fit``) shows a fit to a
-    measurement without the sheet's flow curve (``halfspace-calib --flattening-data`` without
-    ``--flow-curve``): that ``beta`` absorbs the sheet's hardening at the measured pressures, so
-    a host must then run the law without the hardening modulus (Eq. F2c), or the slowing counts
-    twice. False for ``beta = 1`` (nothing fitted), a fit with the flow curve, and a file
-    without the record.
-    """
-    prov = params.provenance if isinstance(params.provenance, dict) else {}
-    rec = prov.get("flattening")
-    fit = rec.get("fit") if isinstance(rec, dict) else None
-    return isinstance(fit, dict) and fit.get("flow_curve") is None
