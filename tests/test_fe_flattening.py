@@ -152,3 +152,24 @@ def test_a_beta_fitted_as_perfectly_plastic_gets_no_hardening_modulus(tmp_path, 
     argv = ["upsetting", "--flattening", "--params", str(path), *_small()]
     assert main([*argv, "--out", str(tmp_path / "o"), "--quiet"]) == 0
     assert "fitted to a sheet taken as perfectly plastic" in capsys.readouterr().err
+
+
+def test_a_two_state_block_flattens_at_the_die_without_the_hardening_modulus():
+    """The two-state model (limit-analysis) takes no hardening modulus (its table is perfectly
+    plastic): the die passes the flow stress alone, the nodes carry slope_f, and the run
+    flattens at the die and raises the force as the one-state block does."""
+    two = FLAT.replace(flattening=fl.Flattening(FLAT.flattening.slope, model="limit-analysis"))
+    die = DieContact(np.arange(3), fl.SBMFLaw(two), 1e12, 1e12, flattening=True)
+    assert not die.pass_hardening
+    without = run_upsetting("sbmf", params=two, flattening=False, **KW)
+    with_ = run_upsetting("sbmf", params=two, flattening=True, **KW)
+    assert without.converged and with_.converged
+    h0, h1 = without.history, with_.history
+    assert h1["alpha_die_mean"][-1] > h0["alpha_die_mean"][-1] + 0.05
+    assert np.all(np.diff(h1["alpha_f_max"]) >= 0) and h1["alpha_f_max"][-1] <= 1.0
+    assert h1["force"][-1] > h0["force"][-1]
+    state = with_.model.contact.state
+    touched = state.alpha_f > 0
+    assert touched.any() and np.all(state.slope_f[touched] > 0)
+    # the flanks turned (flatter at most nodes; the table steepens them a little at high p)
+    assert np.any(np.abs(state.slope_f[touched] / two.flattening.slope - 1) > 0.05)
