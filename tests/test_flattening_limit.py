@@ -261,7 +261,9 @@ def test_the_command_writes_a_two_state_block(tmp_path, capsys):
         1.0,
     ]
     assert flattening_curve(0.3 * P.H, full - 1e-3, P) < 1.0
-    assert f"model {MODEL}" in capsys.readouterr().out
+    said = capsys.readouterr()
+    assert f"model {MODEL}" in said.out
+    assert "is perfectly plastic" in said.err and "prefer layer-yield" in said.err
 
 
 def test_a_slope_outside_the_table_fails_the_run_naming_the_other_model(tmp_path, capsys):
