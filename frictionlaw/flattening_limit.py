@@ -8,7 +8,9 @@ analysis and shipped as a table over ``p / H_P`` (``H_P = (2 + pi) k``, the bulk
 hardness; 0.02-0.6), ``A`` and ``s`` (0.01-0.2): at low pressure the optimum turns a steep
 flank before it grows the contact, which no rate of the fraction alone can do. Against the
 project's FE asperity truth, nothing fitted, it misses by at most 0.134 at 0.05-0.6 ``H`` and
-0.139 at 0.02 ``H`` where the default model misses by 0.264 and 0.643 (docs/flattening.md).
+0.138 at 0.02 ``H`` where the default model misses by 0.264 and 0.643, but a hardening sheet
+(DC04) by 0.648 where the default with the hardening modulus misses by 0.344
+(docs/flattening.md, "The two-state model").
 
 * a node starts from ``A0 = max(alpha_f, alpha1(max(p, p_hist)))`` (as Eq. F6 starts from the
   largest of ``p_f``, ``p_hist`` and ``p``) and the block's ``slope`` (a state of 0: never
@@ -20,7 +22,8 @@ project's FE asperity truth, nothing fitted, it misses by at most 0.134 at 0.05-
   so that at zero strain the law is exactly the calibrated one.
 
 The table is perfectly plastic: a hardening modulus is refused (the default model's F2c has no
-counterpart here), and for a hardening sheet the model is an upper bound of the flattening.
+counterpart here: tried on this model's rate it lowers the miss on the hardening truth only to
+0.572), and a hardening flow stress enters only through ``H_P``.
 NumPy, vectorised, float64; the kernels of ``_kernels_limit.py`` follow it node by node.
 """
 
