@@ -41,7 +41,7 @@ import frictionlaw as fl
 LOW_PRESSURES = (0.02,)  # below the table: the truth of asperity_low.py
 #: the low table's pressures without a truth: between 0.02 and 0.05 H, so that the table read
 #: between pressures (flattening_limit_pressure.py) can hold 0.05 H out from closer neighbours
-BETWEEN_PRESSURES = (0.035,)
+BETWEEN_PRESSURES = (0.035, 0.07)
 LOW_A_GRID = (0.035, 0.05, 0.07)  # between the collapse and A_GRID's 0.1
 LOW_TABLE = RESULTS / "flattening_limit_table_low.csv"
 LOW_TRUTH = RESULTS / "asperity_low.csv"
