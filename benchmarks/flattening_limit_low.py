@@ -10,8 +10,9 @@ wedges by their slope, the measured row as a wedge of its RMS slope and by its o
 (``flattening_limit_rows.py``). Nothing is fitted. The runtime's law beside them (its ``alpha1``
 the truth's pressing-alone fractions, as ``flattening_truth.py``'s section "Below the table").
 
-The table also holds 0.035 H (``BETWEEN_PRESSURES``, no truth there), for
-``flattening_limit_pressure.py`` to read 0.05 H from closer neighbours. It is cached in
+The table also holds 0.035 and 0.07 H (``BETWEEN_PRESSURES``, no truth there), for
+``flattening_limit_pressure.py`` to read 0.05 and 0.1 H from closer neighbours, and for the
+runtime's shipped table (``flattening_limit_ship.py``). It is cached in
 ``results/flattening_limit_table_low.csv`` (a stopped run resumes from its partial file); the
 comparison is ``results/flattening_limit_low.md`` / ``.csv``.
 
@@ -39,8 +40,9 @@ from flattening_truth import law_strain, low_curves, low_law, read_truth
 import frictionlaw as fl
 
 LOW_PRESSURES = (0.02,)  # below the table: the truth of asperity_low.py
-#: the low table's pressures without a truth: between 0.02 and 0.05 H, so that the table read
-#: between pressures (flattening_limit_pressure.py) can hold 0.05 H out from closer neighbours
+#: the low table's pressures without a truth: between 0.02 and 0.1 H, so that the table read
+#: between pressures (flattening_limit_pressure.py) can hold 0.05 and 0.1 H out from closer
+#: neighbours, and the runtime's table has pressures about 1.5 times apart below 0.1 H
 BETWEEN_PRESSURES = (0.035, 0.07)
 LOW_A_GRID = (0.035, 0.05, 0.07)  # between the collapse and A_GRID's 0.1
 LOW_TABLE = RESULTS / "flattening_limit_table_low.csv"

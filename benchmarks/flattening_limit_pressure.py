@@ -35,8 +35,8 @@ from flattening_limit_low import BETWEEN_PRESSURES, LOW_PRESSURES, LOW_TABLE
 ALL_PRESSURES = LOW_PRESSURES + PRESSURES
 #: ``(lo, held out, hi)``: each inner pressure with a truth from its neighbours with a truth
 NEIGHBOURS = tuple(tuple(ALL_PRESSURES[k - 1 : k + 2]) for k in range(1, len(ALL_PRESSURES) - 1))
-#: and then 0.05 H from the low table's 0.035 H (no truth there) and 0.1 H: closer neighbours
-#: below 0.1 H
+#: and then from the low table's pressures without a truth (0.035, 0.07 H) and the next two:
+#: closer neighbours below 0.1 H
 HELD_OUT = (
     NEIGHBOURS
     + tuple((b, *[ph for ph in ALL_PRESSURES if ph > b][:2]) for b in BETWEEN_PRESSURES)
