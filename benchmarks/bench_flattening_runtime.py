@@ -13,7 +13,9 @@ turn in one run, best of ``--repeat`` rounds, serial and parallel kernels. Cases
   lattice's rate limited, Eq. F2c, at the lower pressures of the set);
 - ``two-state, ...``: the same law and cases with the block's two-state model
   (``limit-analysis``: the tabulated rates integrated in steps of 0.0005 of stretch, the
-  tangent a second integration), its flattened state after 0.005 of strain.
+  tangent a second integration), its flattened state after 0.005 of strain;
+- ``strain 0.02, virgin`` for both models: an increment ten times larger (the two-state law's
+  steps of 0.0005 of stretch grow in number with it; the one-state solve does not).
 
 Ratios are the case's time over the baseline's in the same round, the median over rounds.
 Run: python benchmarks/bench_flattening_runtime.py [--nodes 100000] [--repeat 7]
@@ -67,6 +69,7 @@ def cases(n, rng):
     )
     zero = np.zeros(n)
     inc = np.full(n, 0.002)
+    big = np.full(n, 0.02)  # ten times the increment: the two-state law's steps grow with it
     return (
         p,
         ph,
@@ -77,9 +80,11 @@ def cases(n, rng):
             "strain, virgin": (inc, zero, zero, law),
             "strain, flattened": (inc, a_flat, zero, law),
             "strain, virgin, hardening": (inc, zero, zero, law),
+            "strain 0.02, virgin": (big, zero, zero, law),
             "two-state, flattened, no strain": (zero, a2, s_2, law2),
             "two-state, strain, virgin": (inc, zero, zero, law2),
             "two-state, strain, flattened": (inc, a2, s_2, law2),
+            "two-state, strain 0.02, virgin": (big, zero, zero, law2),
         },
     )
 
