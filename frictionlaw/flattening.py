@@ -554,6 +554,11 @@ def flattening_curve(
     if not (np.all(np.isfinite(eps)) and np.all(eps >= 0)):
         raise ValueError("strains must be finite and >= 0")
     pf, ef = p.ravel(), eps.ravel()
+    if flow_curve is not None and ef.size and float(ef.max()) > flow_curve.strain_max:
+        raise ValueError(
+            f"strains reach {float(ef.max()):.4g}, beyond the flow curve's last strain "
+            f"{flow_curve.strain_max:g}: extend the table (it is not extrapolated)"
+        )
     if _flattening_of(params, one_state=False).model == LIMIT_MODEL:  # the two-state law
         return limit_curve(pf, ef, params, sigma_y, hardening, flow_curve, steps).reshape(p.shape)
     if flow_curve is None:
@@ -564,11 +569,6 @@ def flattening_curve(
                 "give flow_curve or sigma_y / hardening, not both (the curve gives both)"
             )
         n_steps = FLOW_CURVE_STEPS if steps is None else int(steps)
-        if ef.size and float(ef.max()) > flow_curve.strain_max:
-            raise ValueError(
-                f"strains reach {float(ef.max()):.4g}, beyond the flow curve's last strain "
-                f"{flow_curve.strain_max:g}: extend the table (it is not extrapolated)"
-            )
         p_f = np.array(pf, dtype=float)
         de = ef / n_steps
         for j in range(n_steps):

@@ -178,7 +178,7 @@ def limit_curve(
     if hardening is not None:
         raise ValueError(
             f"hardening does not apply to model {LIMIT_MODEL!r}: its table is perfectly plastic "
-            "(for a hardening sheet it is an upper bound of the flattening)"
+            "(give the sheet's flow_curve for its flow stress; docs/flattening.md)"
         )
     if flow_curve is not None and sigma_y is not None:
         raise ValueError("give flow_curve or sigma_y, not both (the curve gives the flow stress)")

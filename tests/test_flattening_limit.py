@@ -172,6 +172,11 @@ def test_hardening_is_refused_and_a_flow_curve_reads_its_flow_stress():
         flattening_curve(0.1 * H, [0.05, 0.1], P),
         atol=2e-3,
     )
+    from frictionlaw.flow_curve import TabulatedCurve
+
+    short = TabulatedCurve((0.0, 0.05), (P.sigma_y, 1.1 * P.sigma_y))
+    with pytest.raises(ValueError, match="beyond the flow curve's last strain 0.05"):
+        flattening_curve(0.1 * H, 0.1, P, flow_curve=short)
     hard = SwiftCurve(K=530e6, eps0=0.006, n=0.24)
     P2 = law(0.1, sigma_y=float(hard.sigma_y(0.0)))
     # a hardening flow stress lowers p / H_P: slower than at the initial flow stress

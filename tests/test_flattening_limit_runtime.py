@@ -79,7 +79,9 @@ def test_the_rate_kernel_against_the_numpy_reading():
     A = rng.uniform(0, 1, 3000)
     s = 10 ** rng.uniform(-3, 0, 3000)
     dA, ds = table_rates(x, A, s, t)
-    got = np.array([KL.limit_rates_scalar(*tab, xi, ai, si) for xi, ai, si in zip(x, A, s)])
+    got = np.array(
+        [KL.limit_rates_scalar(*tab, xi, ai, si) for xi, ai, si in zip(x, A, s, strict=True)]
+    )
     np.testing.assert_allclose(got[:, 0], dA, rtol=1e-13, atol=1e-12)
     np.testing.assert_allclose(got[:, 1], ds, rtol=1e-13, atol=1e-12)
 
