@@ -271,17 +271,23 @@ def test_the_command_writes_a_two_state_block(tmp_path, capsys):
     assert "is perfectly plastic" in said.err and "prefer layer-yield" in said.err
 
 
-def test_a_slope_outside_the_table_fails_the_run_naming_the_other_model(tmp_path, capsys):
+def test_a_slope_outside_the_table_is_refused_before_any_sweep(tmp_path, capsys, monkeypatch):
     from realfiles import real_file
 
     from halfspace_calib.cli import main
 
     out = tmp_path / "o"
     argv = [*QUICK[:2], "--workpiece", str(real_file("metropro-1.dat")), "--no-resolution-check"]
-    assert main([*argv, "--flattening-model", MODEL, "--no-progress", "--out", str(out)]) == 1
+    import halfspace_calib.cli as cli
+
+    def no_sweep(*a, **k):
+        raise AssertionError("a sweep ran")
+
+    monkeypatch.setattr(cli, "calibrate", no_sweep)
+    assert main([*argv, "--flattening-model", MODEL, "--no-progress", "--out", str(out)]) == 2
     err = capsys.readouterr().err
-    assert "outside the two-state law's table [0.01, 0.2]" in err and "layer-yield" in err
-    assert not out.exists()
+    assert "outside the two-state law's table [0.01, 0.2]" in err
+    assert "--flattening-model layer-yield" in err and not out.exists()
 
 
 def test_beta_of_the_two_state_law_is_recovered_with_a_band():

@@ -41,6 +41,7 @@ from ..pipeline.sweep.scene_surfaces import (
 )
 from ._flattening import (
     add_flattening_options,
+    check_flattening_slope,
     flattening_input,
     flattening_lines,
     with_flattening,
@@ -463,6 +464,7 @@ def main(argv=None):
                 )
             return main_samples(con, args, scene, spec)
         surfaces = load_scene_surfaces(scene)  # every file check before any sweep
+        check_flattening_slope(flat, surfaces)
         data = after_contact(args, scene)
         folder = OutputFolder(
             args.out,

@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 
-from frictionlaw._flattening_block import FLATTENING_MODELS
-from frictionlaw.flattening import FLATTENING_MODEL
+from frictionlaw.flattening import FLATTENING_MODEL, FLATTENING_MODELS, LIMIT_MODEL
+from frictionlaw.flattening_limit import LIMIT_SLOPE_RANGE
 from frictionlaw.flow_curve import read_flow_curve
 from sbmf_cli import existing_file, file_path
 
@@ -13,10 +14,17 @@ from ..pipeline.sweep.flattening import (
     BAND_LEVEL,
     check_data_pressures,
     derive_flattening,
+    profile_slopes,
     read_flattening_data,
 )
 
-__all__ = ["add_flattening_options", "flattening_input", "with_flattening", "flattening_lines"]
+__all__ = [
+    "add_flattening_options",
+    "flattening_input",
+    "check_flattening_slope",
+    "with_flattening",
+    "flattening_lines",
+]
 
 
 def add_flattening_options(ap):
@@ -93,6 +101,26 @@ def flattening_input(args, spec, scene):
                 )
             data = replace(data, flow_curve=fc)
     return True, data, model
+
+
+def check_flattening_slope(flat, surfaces):
+    """Refuse the two-state model before any sweep for a workpiece outside its table.
+
+    The workpiece's RMS profile slope on the solver grid (what the block takes) must lie in the
+    table's slopes; ``flat`` is :func:`flattening_input`'s triple.
+    """
+    on, _, model = flat
+    if not on or model != LIMIT_MODEL:
+        return
+    sx, sy = profile_slopes(surfaces.workpiece)
+    slope = math.sqrt(0.5 * (sx * sx + sy * sy))
+    lo, hi = LIMIT_SLOPE_RANGE
+    if not lo <= slope <= hi:
+        raise ValueError(
+            f"--flattening-model {LIMIT_MODEL}: the workpiece's RMS profile slope on the solver "
+            f"grid is {slope:.3g}, outside the two-state law's table [{lo:g}, {hi:g}]: use "
+            "--flattening-model layer-yield for this surface"
+        )
 
 
 def _read_data(path):
