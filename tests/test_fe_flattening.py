@@ -95,6 +95,9 @@ def test_cli_flattening_runs_with_and_without(tmp_path, capsys):
         info = json.loads((out / sub / "summary.json").read_text())
         rec[sub] = info["flattening"]
         assert "Flattening under bulk strain" in (out / sub / "report.html").read_text()
+        # the block as the file has it, its model named in the report
+        assert info["law_parameters"]["flattening"] == FLAT.to_dict()["flattening"]
+        assert "flattening block (model layer-yield)" in (out / sub / "report.html").read_text()
         head = (out / sub / "history.csv").read_text().splitlines()[0]
         assert "alpha_die_mean_fraction" in head and "eps_p_die_mean" in head
     r = rec["with_flattening"]

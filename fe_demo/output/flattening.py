@@ -96,9 +96,12 @@ def flattening_section(info, image):
             f"<tr><td class='t'>{html.escape(what)}</td>{cell}<td class='t'>{unit}</td></tr>"
         )
     table = "<table><tr><th>quantity</th><th>value</th><th>unit</th></tr>" + "".join(rows)
+    block = (info.get("law_parameters") or {}).get("flattening") or {}
+    model = f" (model {html.escape(str(block['model']))})" if block.get("model") else ""
     return (
         "<h2>Flattening under bulk strain</h2><p>The same run with the die nodes' bulk plastic "
-        "strain passed to the law's flattening block (docs/flattening.md) and without.</p>"
+        f"strain passed to the law's flattening block{model} (docs/flattening.md) and "
+        "without.</p>"
         + table
         + "</table>"
         + figure(image, "contact fraction against the plastic strain at the die, and the force")

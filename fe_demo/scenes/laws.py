@@ -127,5 +127,7 @@ def law_parameters(law, *, mu=0.1, m=0.3, tau_max=None, params=None):
             **doc["options"],
             "reload_form": params.reload_form,
             "law": describe_law(params, source).to_dict(),
+            # the flattening block as the file has it (its model, slope and beta), or None
+            "flattening": doc.get("flattening"),
         }
     return {}
