@@ -37,6 +37,7 @@ __all__ = [
     "rate_table",
     "table_rates",
     "integrate",
+    "integrate_shared",
 ]
 
 #: the Prandtl hardness over the shear flow stress, ``2 + pi``: the table's pressure unit
@@ -52,7 +53,8 @@ class RateTable:
     """The rates at each tabulated pressure (rows ``offsets[i]:offsets[i + 1]`` of pressure ``i``).
 
     ``pressures`` ascending ``p / H_P``; ``a`` each row's contact fraction (ascending within a
-    pressure); ``ln_s`` the slopes' logarithms; ``dA`` and ``ds`` of shape ``(rows, slopes)``.
+    pressure); ``ln_s`` the slopes' logarithms; ``dA`` and ``ds`` of shape ``(rows, slopes)``;
+    ``key`` each row's ``2 k + A`` (``k`` its pressure), ascending since ``A`` lies in [0, 1].
     """
 
     pressures: NDArray[np.float64]
@@ -61,6 +63,7 @@ class RateTable:
     ln_s: NDArray[np.float64]
     dA: NDArray[np.float64]
     ds: NDArray[np.float64]
+    key: NDArray[np.float64]
 
 
 @lru_cache(maxsize=1)
@@ -79,25 +82,30 @@ def rate_table() -> RateTable:
     if np.any(counts % n_s):
         raise RuntimeError("data/limit_rates.csv: a pressure lacks a slope at some A")
     offsets = np.concatenate([[0], np.cumsum(counts // n_s)]).astype(np.int64)
+    a_rows = np.ascontiguousarray(a[::n_s])
+    k = np.repeat(np.arange(pressures.size), np.diff(offsets))
     return RateTable(
         pressures=pressures,
         offsets=offsets,
-        a=np.ascontiguousarray(a[::n_s]),
+        a=a_rows,
         ln_s=np.log(slopes),
         dA=np.ascontiguousarray(dA.reshape(-1, n_s)),
         ds=np.ascontiguousarray(ds.reshape(-1, n_s)),
+        key=2.0 * k + a_rows,
     )
 
 
-def _at_pressure(t: RateTable, i: int, A: NDArray, ls: NDArray) -> tuple[NDArray, NDArray]:
-    """Bilinear in ``A`` and ``ln s`` at tabulated pressure ``i``, clamped to its grid."""
-    lo, hi = int(t.offsets[i]), int(t.offsets[i + 1])
-    a = t.a[lo:hi]
-    ia = np.clip(np.searchsorted(a, A) - 1, 0, a.size - 2)
+def _at_pressure(t: RateTable, i: NDArray, A: NDArray, ls: NDArray) -> tuple[NDArray, NDArray]:
+    """Bilinear in ``A`` and ``ln s`` at tabulated pressures ``i`` (one per point).
+
+    Each point is clamped to its own pressure's grid; the rows of all pressures are searched at
+    once in ``t.key`` (``2 k + A`` of pressure ``k``'s rows, ascending over the whole table).
+    """
+    lo, hi = t.offsets[i], t.offsets[i + 1]
+    r = np.clip(np.searchsorted(t.key, 2.0 * i + A) - 1, lo, hi - 2)
     js = np.clip(np.searchsorted(t.ln_s, ls) - 1, 0, t.ln_s.size - 2)
-    ta = np.clip((A - a[ia]) / (a[ia + 1] - a[ia]), 0.0, 1.0)
+    ta = np.clip((A - t.a[r]) / (t.a[r + 1] - t.a[r]), 0.0, 1.0)
     ts = np.clip((ls - t.ln_s[js]) / (t.ln_s[js + 1] - t.ln_s[js]), 0.0, 1.0)
-    r = lo + ia
     out = []
     for v in (t.dA, t.ds):
         out.append(
@@ -118,14 +126,9 @@ def table_rates(x: NDArray, A: NDArray, s: NDArray, t: RateTable) -> tuple[NDArr
     i = np.clip(np.searchsorted(P, x) - 1, 0, P.size - 2)
     w = np.clip(np.log(x / P[i]) / np.log(P[i + 1] / P[i]), 0.0, 1.0)
     ls = np.log(s)
-    dA, ds = np.zeros(x.shape), np.zeros(x.shape)
-    for k in np.unique(i):
-        m = i == k
-        a0, s0 = _at_pressure(t, int(k), A[m], ls[m])
-        a1, s1 = _at_pressure(t, int(k) + 1, A[m], ls[m])
-        dA[m] = (1 - w[m]) * a0 + w[m] * a1
-        ds[m] = (1 - w[m]) * s0 + w[m] * s1
-    return np.maximum(dA, 0.0), ds
+    a0, s0 = _at_pressure(t, i, A, ls)
+    a1, s1 = _at_pressure(t, i + 1, A, ls)
+    return np.maximum((1 - w) * a0 + w * a1, 0.0), (1 - w) * s0 + w * s1
 
 
 def integrate(
@@ -153,3 +156,56 @@ def integrate(
         left[act] -= h
         act = act[(left[act] > 1e-12) & (A[act] < 1.0)]
     return A, np.maximum(np.exp(q), S_FLOOR)
+
+
+#: the most states :func:`integrate_shared` keeps (steps times distinct starts); beyond, per point
+_DENSE_MAX = 4_000_000
+
+
+def _midpoint(a, qa, xa, h, t):
+    """One midpoint step of length ``h`` from ``(a, ln s)``: the rule of :func:`integrate`."""
+    dA, ds = table_rates(xa, a, np.maximum(np.exp(qa), S_FLOOR), t)
+    am = np.minimum(a + 0.5 * h * dA, 1.0)
+    qm = qa + 0.5 * h * ds / np.maximum(np.exp(qa), S_FLOOR)
+    dA, ds = table_rates(xa, am, np.maximum(np.exp(qm), S_FLOOR), t)
+    return np.minimum(a + h * dA, 1.0), qa + h * ds / np.maximum(np.exp(qm), S_FLOOR)
+
+
+def integrate_shared(
+    A: NDArray, s: NDArray, x: NDArray, stretch: NDArray, t: RateTable
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """:func:`integrate` for many points that share their start ``(A, s, x)`` (a curve's points).
+
+    Each distinct start is integrated once in full steps of :data:`STEP`, its state kept after
+    every step; a point takes the state after its own number of full steps and then its last,
+    shorter step, which are the operations :func:`integrate` does for it alone (equal to
+    rounding); the steps stop once every start is in full contact. Falls back to
+    :func:`integrate` where the kept states would pass :data:`_DENSE_MAX`.
+    """
+    A, s, x, stretch = (np.asarray(v, dtype=float) for v in (A, s, x, stretch))
+    keys, inv = np.unique(np.stack([A, s, x]), axis=1, return_inverse=True)
+    inv = inv.ravel()
+    full = np.floor(stretch / STEP).astype(np.int64)
+    part = stretch - full * STEP
+    # a remainder within rounding of a step is that step (integrate's min(STEP, left))
+    whole = part >= STEP * (1 - 1e-9)
+    full, part = full + whole, np.where(whole, 0.0, part)
+    n = int(full.max(initial=0))
+    g0 = np.minimum(keys[0], 1.0)
+    As, qs = [g0], [np.log(np.maximum(keys[1], S_FLOOR))]
+    for _ in range(n):  # until every start is in full contact (its state then stays)
+        a, q = As[-1].copy(), qs[-1].copy()
+        go = a < 1.0
+        if not go.any():
+            break
+        if len(As) * g0.size > _DENSE_MAX:
+            return integrate(A, s, x, stretch, t)
+        a[go], q[go] = _midpoint(a[go], q[go], keys[2][go], STEP, t)
+        As.append(a)
+        qs.append(q)
+    full = np.minimum(full, len(As) - 1)
+    a, q = np.array(As)[full, inv], np.array(qs)[full, inv]
+    go = (part > 1e-12) & (a < 1.0)
+    if go.any():
+        a[go], q[go] = _midpoint(a[go], q[go], x[go], part[go], t)
+    return a, np.maximum(np.exp(q), S_FLOOR)

@@ -39,7 +39,7 @@ from ._flattening_block import (
     Flattening,
 )
 from ._flattening_runs import running_max, strain_runs
-from ._limit_table import PRANDTL_FACTOR, integrate, rate_table, table_rates
+from ._limit_table import PRANDTL_FACTOR, integrate, integrate_shared, rate_table, table_rates
 from .law import alpha_first, as_float_array, broadcast_named
 
 if TYPE_CHECKING:
@@ -188,8 +188,8 @@ def limit_curve(
     s0 = np.full(p.shape, flat.slope)
     go = p > P_MIN_RATIO * params.H
     a, s = a0.copy(), s0
-    if flow_curve is None:
-        a[go], _ = integrate(
+    if flow_curve is None:  # the points of a pressure share their start: one integration each
+        a[go], _ = integrate_shared(
             a0[go],
             s0[go],
             prandtl_ratio(p[go], params, sigma_y),

@@ -336,3 +336,24 @@ def test_the_command_fits_the_two_state_law_and_reports_it(tmp_path, capsys):
     assert fit["rms"] == pytest.approx(float(np.sqrt(np.mean(resid**2))), rel=1e-6)
     assert f"<p>model: {MODEL}" in (out / "report.html").read_text()
     assert (out / "flattening.png").stat().st_size > 0
+
+
+def test_a_curves_points_share_one_integration_equal_to_each_on_its_own():
+    """integrate_shared (what the curves and the fit use) against integrate point by point: the
+    same steps, equal to rounding, at strains on and off the step grid, zero and to full contact."""
+    from frictionlaw._limit_table import STEP, integrate, integrate_shared, rate_table
+
+    t = rate_table()
+    rng = np.random.default_rng(5)
+    n = 600
+    x = rng.choice([0.02, 0.045, 0.1, 0.33], n)
+    a0 = np.where(x < 0.05, 0.03, np.where(x < 0.2, 0.12, 0.4))
+    s0 = np.where(x == 0.33, 0.17, 0.08)
+    st = rng.uniform(0.0, 0.5, n)
+    st[:40] = np.round(st[:40] / STEP) * STEP
+    st[40:50] = 0.0
+    a1, s1 = integrate(a0, s0, x, st, t)
+    a2, s2 = integrate_shared(a0, s0, x, st, t)
+    np.testing.assert_allclose(a2, a1, rtol=0, atol=1e-13)
+    np.testing.assert_allclose(s2, s1, rtol=1e-12)
+    assert (a1 == 1.0).any() and (a1 < 1.0).any()
