@@ -134,7 +134,8 @@ def limit_scalar(fdata, P, off, a, ls, dA, ds, p, p_hist, alpha_f, slope_f, d_ep
     From the committed ``alpha_f`` and ``slope_f`` (0: the block's slope) and the trial history
     ``p_hist``, at ``p`` with the bulk's equivalent plastic strain increment ``d_eps`` (flow
     stress ``sigy``, ``<= 0``: the file's). ``d_eps = 0``, ``p <= 1e-12 H`` and full contact
-    leave both states as they are (and ``d alpha / d p = 0``).
+    leave both states as they are (and ``d alpha / d p = 0``). The derivative is computed
+    where Eq. F5 reads it, on first loading (``p >= p_hist``) above ``alpha1(p)``; 0 elsewhere.
     """
     H = fdata[FLAT_HEAD + 1]
     if not (d_eps > 0.0 and p > P_MIN_RATIO * H and alpha_f < 1.0):
@@ -144,6 +145,8 @@ def limit_scalar(fdata, P, off, a, ls, dA, ds, p, p_hist, alpha_f, slope_f, d_ep
     if sigy > 0.0:
         k = k * (sigy / fdata[3])
     A, s = _advance(fdata, P, off, a, ls, dA, ds, p, p_hist, alpha_f, s0, d_eps, k)
+    if p < p_hist or not A > first_scalar(fdata[FLAT_HEAD:], p)[0]:
+        return A, s, 0.0  # F5 reads no derivative of the update here (flat_shear_of)
     pd = p * (1.0 + DP)
     Ad, _ = _advance(fdata, P, off, a, ls, dA, ds, pd, p_hist, alpha_f, s0, d_eps, k)
     return A, s, (Ad - A) / (pd - p)
