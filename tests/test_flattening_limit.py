@@ -357,3 +357,14 @@ def test_a_curves_points_share_one_integration_equal_to_each_on_its_own():
     np.testing.assert_allclose(a2, a1, rtol=0, atol=1e-13)
     np.testing.assert_allclose(s2, s1, rtol=1e-12)
     assert (a1 == 1.0).any() and (a1 < 1.0).any()
+
+
+def test_a_two_state_fit_beyond_the_range_of_beta_is_refused_naming_the_bound():
+    """Points that want beta beyond its range: the fit's refusal naming the bound (its grid
+    evaluates the two-state curves at the range's ends)."""
+    from halfspace_calib.pipeline.sweep.flattening import FlatteningData, fit_beta
+
+    p = np.full(4, 0.1 * H)
+    eps = np.array([1e-5, 2e-5, 3e-5, 4e-5])  # full contact at once: beta beyond 1000
+    with pytest.raises(ValueError, match="bound of"):
+        fit_beta(law(0.05), FlatteningData("fast.csv", eps, np.ones(4), p))

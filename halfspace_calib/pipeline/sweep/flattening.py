@@ -192,7 +192,7 @@ def fit_beta(params, data: FlatteningData, level: float = BAND_LEVEL) -> dict:
                     flattening_curve(
                         data.p,
                         data.strain,
-                        params.replace(flattening=Flattening(slope, math.exp(b), model=model)),
+                        params.replace(flattening=Flattening(slope, _in_range(b), model=model)),
                         flow_curve=fc,
                     )
                     for b in np.atleast_1d(ln_beta)
@@ -211,6 +211,15 @@ def fit_beta(params, data: FlatteningData, level: float = BAND_LEVEL) -> dict:
             return paths.alpha(np.exp(np.asarray(ln_beta, dtype=float)))
 
     return _fit(models, data, level)
+
+
+def _in_range(ln_beta: float) -> float:
+    """``exp(ln_beta)`` within :data:`BETA_RANGE`.
+
+    The fit's grid ends on the range's bounds, and its difference steps may pass them by 1e-5 in
+    ``ln beta``; the record of a block refuses a ``beta`` outside.
+    """
+    return min(max(math.exp(ln_beta), BETA_RANGE[0]), BETA_RANGE[1])
 
 
 def _fit(models, data: FlatteningData, level: float) -> dict:
