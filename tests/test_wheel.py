@@ -42,6 +42,7 @@ def test_wheel_and_sdist_carry_data_licence_and_type_marker(dist):
     names = set(zipfile.ZipFile(wheel).namelist())
     for member in (
         "frictionlaw/py.typed",
+        "frictionlaw/data/limit_rates.csv",  # the two-state flattening's rate table
         "fe_demo/data/sbmf_example.json",
         "fe_demo/data/sbmf_example_flattening.json",
         "sbmf_cli/__init__.py",  # the command layer every console script imports
