@@ -76,10 +76,7 @@ def limit_rates_scalar(P, off, a, ls, dA, ds, x, A, s):
     Linear in ``ln x`` between the two tabulated pressures around it (clamped), each at the
     same ``A``; ``dA >= 0``.
     """
-    n = P.shape[0]
-    i = 0
-    while i < n - 2 and x > P[i + 1]:
-        i += 1
+    i = _cell(P, 0, P.shape[0], x)
     w = min(max(math.log(x / P[i]) / math.log(P[i + 1] / P[i]), 0.0), 1.0)
     lns = math.log(s)
     a0, s0 = _at_pressure(P, off, a, ls, dA, ds, i, A, lns)

@@ -131,6 +131,15 @@ def table_rates(x: NDArray, A: NDArray, s: NDArray, t: RateTable) -> tuple[NDArr
     return np.maximum((1 - w) * a0 + w * a1, 0.0), (1 - w) * s0 + w * s1
 
 
+def _midpoint(a, qa, xa, h, t):
+    """One midpoint step of length ``h`` from ``(a, ln s)``: the rule of :func:`integrate`."""
+    dA, ds = table_rates(xa, a, np.maximum(np.exp(qa), S_FLOOR), t)
+    am = np.minimum(a + 0.5 * h * dA, 1.0)
+    qm = qa + 0.5 * h * ds / np.maximum(np.exp(qa), S_FLOOR)
+    dA, ds = table_rates(xa, am, np.maximum(np.exp(qm), S_FLOOR), t)
+    return np.minimum(a + h * dA, 1.0), qa + h * ds / np.maximum(np.exp(qm), S_FLOOR)
+
+
 def integrate(
     A: NDArray, s: NDArray, x: NDArray, stretch: NDArray, t: RateTable
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -145,14 +154,8 @@ def integrate(
     x = np.asarray(x, dtype=float)
     act = np.flatnonzero((left > 0) & (A < 1.0))
     while act.size:
-        a, qa, xa = A[act], q[act], x[act]
         h = np.minimum(STEP, left[act])
-        dA, ds = table_rates(xa, a, np.maximum(np.exp(qa), S_FLOOR), t)
-        am = np.minimum(a + 0.5 * h * dA, 1.0)
-        qm = qa + 0.5 * h * ds / np.maximum(np.exp(qa), S_FLOOR)
-        dA, ds = table_rates(xa, am, np.maximum(np.exp(qm), S_FLOOR), t)
-        A[act] = np.minimum(a + h * dA, 1.0)
-        q[act] = qa + h * ds / np.maximum(np.exp(qm), S_FLOOR)
+        A[act], q[act] = _midpoint(A[act], q[act], x[act], h, t)
         left[act] -= h
         act = act[(left[act] > 1e-12) & (A[act] < 1.0)]
     return A, np.maximum(np.exp(q), S_FLOOR)
@@ -160,15 +163,6 @@ def integrate(
 
 #: the most states :func:`integrate_shared` keeps (steps times distinct starts); beyond, per point
 _DENSE_MAX = 4_000_000
-
-
-def _midpoint(a, qa, xa, h, t):
-    """One midpoint step of length ``h`` from ``(a, ln s)``: the rule of :func:`integrate`."""
-    dA, ds = table_rates(xa, a, np.maximum(np.exp(qa), S_FLOOR), t)
-    am = np.minimum(a + 0.5 * h * dA, 1.0)
-    qm = qa + 0.5 * h * ds / np.maximum(np.exp(qa), S_FLOOR)
-    dA, ds = table_rates(xa, am, np.maximum(np.exp(qm), S_FLOOR), t)
-    return np.minimum(a + h * dA, 1.0), qa + h * ds / np.maximum(np.exp(qm), S_FLOOR)
 
 
 def integrate_shared(
