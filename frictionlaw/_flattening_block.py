@@ -20,6 +20,8 @@ __all__ = [
     "SLOPE_RANGE",
     "BETA_RANGE",
     "STRETCH_PER_EQUIVALENT_STRAIN",
+    "P_MIN_RATIO",
+    "FLOW_CURVE_STEPS",
     "beta_absorbs_hardening",
 ]
 
@@ -41,6 +43,12 @@ FLATTENING_VERSION = 3
 #: ``sqrt(3) / 2``: exact for plane strain across the ridges, and the stretch doing the same
 #: plastic work as the bulk's equivalent strain on any other path (docs/flattening.md, F1)
 STRETCH_PER_EQUIVALENT_STRAIN = math.sqrt(3.0) / 2.0
+#: below this ``p / H`` a node does not flatten, in either model and in the kernels: a numerical
+#: floor (the one-state integrals' ``acosh(p_f / p)`` grows without bound); the lattice's rate
+#: itself does not vanish with ``p`` (docs/flattening.md, F6)
+P_MIN_RATIO = 1e-12
+#: strain steps per point of ``flattening_curve`` with a flow curve (midpoint rule), both models
+FLOW_CURVE_STEPS = 64
 #: validated range of the asperity flank slope ``tan(theta)``
 SLOPE_RANGE = (1e-8, 10.0)
 #: validated range of the rate factor ``beta``

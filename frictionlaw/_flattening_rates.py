@@ -1,7 +1,8 @@
 """The flattening's sinking rates (Eqs. F2a-F2c) and their sum, the growth rate (Eq. F3).
 
 Private: :mod:`frictionlaw.flattening` is their public home (docs/flattening.md). Each checks
-its domain and names the argument.
+its domain and names the argument. The host's flow stress, which scales the flow stress of
+both models' rates, is checked here once (:func:`host_flow_stress`).
 """
 
 import math
@@ -9,15 +10,33 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._flattening_block import STRETCH_PER_EQUIVALENT_STRAIN
+from ._flattening_block import STRETCH_PER_EQUIVALENT_STRAIN, _number
 from .law import as_float_array
 
 __all__ = [
+    "host_flow_stress",
     "layer_sink_rate",
     "lattice_sink_rate",
     "lattice_hardening_limit",
     "contact_growth_rate",
 ]
+
+
+def host_flow_stress(sigma_y: ArrayLike, shape: tuple) -> NDArray[np.float64]:
+    """The host's flow stress broadcast to ``shape``.
+
+    Pa, one value or per node, in ``[1e3, 1e13]``; ``ValueError`` naming ``sigma_y`` otherwise.
+    """
+    if np.ndim(sigma_y) == 0:
+        sy = np.asarray(_number("sigma_y", sigma_y, 1e3, 1e13))
+    else:
+        sy = as_float_array("sigma_y", sigma_y)
+        if not (np.all(np.isfinite(sy)) and np.all((sy >= 1e3) & (sy <= 1e13))):
+            raise ValueError("sigma_y must be in [1000, 1e+13] (Pa) at every node")
+    try:
+        return np.broadcast_to(sy, shape)
+    except ValueError:
+        raise ValueError(f"sigma_y has shape {np.shape(sy)}, the nodes {shape}") from None
 
 
 def layer_sink_rate(r: ArrayLike, s0_over_pf: ArrayLike) -> NDArray[np.float64]:

@@ -43,6 +43,7 @@ import numpy as np
 from numba import float64, int8, int64, types
 
 from ._codes import CODE_SBMF_RELOAD
+from ._flattening_block import P_MIN_RATIO
 from ._flattening_block import STRETCH_PER_EQUIVALENT_STRAIN as STRETCH
 from ._kernels import first_offset, first_scalar, return_map_row, shear_scalar
 from ._kernels_branches import _RO, _RO2, _opts
@@ -67,8 +68,6 @@ __all__ = [
 
 #: slots before the law's ``tau_max = 1`` coefficients in a law's flattening data
 FLAT_HEAD = 5
-#: below this ``p / H`` a node does not flatten (as :data:`frictionlaw.flattening.P_MIN_RATIO`)
-P_MIN_RATIO = 1e-12
 #: Gauss-Legendre nodes and weights of the 2-, 4- and 8-point rules, one after the other
 _GX, _GW = (
     np.ascontiguousarray(np.concatenate(r))

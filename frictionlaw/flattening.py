@@ -44,15 +44,17 @@ from ._flattening_block import (
     FLATTENING_MODEL,
     FLATTENING_MODELS,
     FLATTENING_VERSION,
+    FLOW_CURVE_STEPS,
     LIMIT_MODEL,
+    P_MIN_RATIO,
     SLOPE_RANGE,
     STRETCH_PER_EQUIVALENT_STRAIN,
     Flattening,
-    _number,
     beta_absorbs_hardening,
 )
 from ._flattening_rates import (
     contact_growth_rate,
+    host_flow_stress,
     lattice_hardening_limit,
     lattice_sink_rate,
     layer_sink_rate,
@@ -94,12 +96,6 @@ __all__ = [
     "beta_absorbs_hardening",
 ]
 
-#: below this ``p / H`` a node does not flatten: a numerical floor (the integrals' ``acosh(p_f /
-#: p)`` grows without bound); the lattice's rate itself does not vanish with ``p``
-#: (docs/flattening.md, F6)
-P_MIN_RATIO = 1e-12
-#: strain steps per point of :func:`flattening_curve` with a flow curve (midpoint rule)
-FLOW_CURVE_STEPS = 64
 #: Gauss-Legendre nodes per panel of the ``J`` integral (F4), at least ``_PANELS`` panels and
 #: none wider than ``_WIDTH`` in ``u``: within 1e-9 of adaptive quadrature (the test's tolerance;
 #: 1e-13 typical) over ``p / H`` 1e-3 to 0.9 and ``p_f / p`` up to 4 (tests/test_flattening.py)
@@ -222,16 +218,7 @@ def _s0(params: "FrictionParams", sigma_y: ArrayLike | None, shape: tuple) -> ND
     s0 = 2.0 * float(params.k)  # type: ignore[arg-type]
     if sigma_y is None:
         return np.full(shape, s0)
-    if np.ndim(sigma_y) == 0:
-        sy = np.asarray(_number("sigma_y", sigma_y, 1e3, 1e13))
-    else:
-        sy = as_float_array("sigma_y", sigma_y)
-        if not (np.all(np.isfinite(sy)) and np.all((sy >= 1e3) & (sy <= 1e13))):
-            raise ValueError("sigma_y must be in [1000, 1e+13] (Pa) at every node")
-    try:
-        return np.broadcast_to(s0 * sy / params.sigma_y, shape)
-    except ValueError:
-        raise ValueError(f"sigma_y has shape {np.shape(sy)}, the nodes {shape}") from None
+    return s0 * host_flow_stress(sigma_y, shape) / params.sigma_y
 
 
 def _strain_scale(flat: Flattening, H: float, s0: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -554,6 +541,8 @@ def flattening_curve(
     if not (np.all(np.isfinite(eps)) and np.all(eps >= 0)):
         raise ValueError("strains must be finite and >= 0")
     pf, ef = p.ravel(), eps.ravel()
+    if flow_curve is not None and (sigma_y is not None or hardening is not None):
+        raise ValueError("give flow_curve or sigma_y / hardening, not both (the curve gives both)")
     if flow_curve is not None and ef.size and float(ef.max()) > flow_curve.strain_max:
         raise ValueError(
             f"strains reach {float(ef.max()):.4g}, beyond the flow curve's last strain "
@@ -564,10 +553,6 @@ def flattening_curve(
     if flow_curve is None:
         p_f = flattening_update(pf, pf, pf, ef, params, sigma_y=sigma_y, hardening=hardening)
     else:
-        if sigma_y is not None or hardening is not None:
-            raise ValueError(
-                "give flow_curve or sigma_y / hardening, not both (the curve gives both)"
-            )
         n_steps = FLOW_CURVE_STEPS if steps is None else int(steps)
         p_f = np.array(pf, dtype=float)
         de = ef / n_steps

@@ -33,11 +33,14 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._flattening_block import (
+    FLOW_CURVE_STEPS,
     LIMIT_MODEL,
     LIMIT_SLOPE_RANGE,
+    P_MIN_RATIO,
     STRETCH_PER_EQUIVALENT_STRAIN,
     Flattening,
 )
+from ._flattening_rates import host_flow_stress
 from ._flattening_runs import running_max, strain_runs
 from ._limit_table import PRANDTL_FACTOR, integrate, integrate_shared, rate_table, table_rates
 from .law import alpha_first, as_float_array, broadcast_named
@@ -51,12 +54,8 @@ __all__ = [
     "LIMIT_SLOPE_RANGE",
     "limit_rates",
     "limit_update",
-    "limit_curve",
     "prandtl_ratio",
 ]
-
-#: below this ``p / H`` a node does not flatten (as the default model's floor)
-P_MIN_RATIO = 1e-12
 
 
 def _limit_block(params: "FrictionParams") -> Flattening:
@@ -81,13 +80,7 @@ def prandtl_ratio(
     k: float | NDArray[np.float64] = float(params.k)  # type: ignore[arg-type]
     p = as_float_array("p", p)
     if sigma_y is not None:
-        sy = as_float_array("sigma_y", sigma_y)
-        if not (np.all(np.isfinite(sy)) and np.all((sy >= 1e3) & (sy <= 1e13))):
-            raise ValueError("sigma_y must be in [1000, 1e+13] (Pa) at every node")
-        try:
-            k = k * np.broadcast_to(sy / params.sigma_y, p.shape)
-        except ValueError:
-            raise ValueError(f"sigma_y has shape {sy.shape}, the nodes {p.shape}") from None
+        k = k * (host_flow_stress(sigma_y, p.shape) / params.sigma_y)
     return p / (PRANDTL_FACTOR * k)
 
 
@@ -168,11 +161,11 @@ def limit_curve(
 ) -> NDArray[np.float64]:
     """The two-state law's contact fraction of a virgin surface after ``strains`` at ``p``.
 
-    Flat arrays, checked by :func:`frictionlaw.flattening.flattening_curve`, which calls it for
-    this model: ``alpha1(p)`` at zero strain, never falling, at most 1 (Eq. F5 at
+    Flat arrays, checked by :func:`frictionlaw.flattening.flattening_curve` (which also refuses
+    ``flow_curve`` beside ``sigma_y``), which calls it for this model: ``alpha1(p)`` at zero strain, never falling, at most 1 (Eq. F5 at
     ``p = p_hist``: the larger of ``alpha1(p)`` and the state ``A``). With a ``flow_curve`` the
     table's pressure ``p / H_P`` follows the curve's flow stress over ``steps`` equal strain
-    steps per point (64 by default; each at its middle's). ``hardening`` is refused: the table
+    steps per point (``FLOW_CURVE_STEPS`` by default; each at its middle's). ``hardening`` is refused: the table
     is perfectly plastic.
     """
     if hardening is not None:
@@ -180,9 +173,7 @@ def limit_curve(
             f"hardening does not apply to model {LIMIT_MODEL!r}: its table is perfectly plastic "
             "(give the sheet's flow_curve for its flow stress; docs/flattening.md)"
         )
-    if flow_curve is not None and sigma_y is not None:
-        raise ValueError("give flow_curve or sigma_y, not both (the curve gives the flow stress)")
-    steps = 64 if steps is None else int(steps)
+    steps = FLOW_CURVE_STEPS if steps is None else int(steps)
     flat = _limit_block(params)
     a0 = np.asarray(alpha_first(p, params), dtype=float)
     s0 = np.full(p.shape, flat.slope)
