@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import replace
 
 from frictionlaw.flattening import FLATTENING_MODEL, FLATTENING_MODELS, LIMIT_MODEL
@@ -14,8 +13,8 @@ from ..pipeline.sweep.flattening import (
     BAND_LEVEL,
     check_data_pressures,
     derive_flattening,
-    profile_slopes,
     read_flattening_data,
+    rms_slope,
 )
 
 __all__ = [
@@ -112,8 +111,7 @@ def check_flattening_slope(flat, surfaces):
     on, _, model = flat
     if not on or model != LIMIT_MODEL:
         return
-    sx, sy = profile_slopes(surfaces.workpiece)
-    slope = math.sqrt(0.5 * (sx * sx + sy * sy))
+    slope = rms_slope(surfaces.workpiece)[0]
     lo, hi = LIMIT_SLOPE_RANGE
     if not lo <= slope <= hi:
         raise ValueError(

@@ -35,6 +35,7 @@ __all__ = [
     "FlatteningData",
     "read_flattening_data",
     "profile_slopes",
+    "rms_slope",
     "crossing_half_spacing",
     "patch_half_spacing",
     "fit_beta",
@@ -107,6 +108,15 @@ def profile_slopes(surface) -> tuple[float, float]:
     return float(np.sqrt(np.mean(gx * gx))), float(np.sqrt(np.mean(gy * gy)))
 
 
+def rms_slope(surface) -> tuple[float, float, float]:
+    """``(tan(theta), x, y)``: the slope the flattening block takes, and its two parts.
+
+    The quadratic mean of the x and y profiles' RMS slopes (:func:`profile_slopes`).
+    """
+    sx, sy = profile_slopes(surface)
+    return math.sqrt(0.5 * (sx * sx + sy * sy)), sx, sy
+
+
 def crossing_half_spacing(surface) -> tuple[float | None, float | None]:
     """Half the mean spacing of the upward mean-line crossings of the x and of the y profiles (m).
 
@@ -149,8 +159,7 @@ def _half_grid_slope(surface) -> float | None:
     nx, ny = surface.shape
     if min(nx, ny) < 4:
         return None
-    sx, sy = profile_slopes(block_average(surface, (nx // 2, ny // 2), trim=True))
-    return math.sqrt(0.5 * (sx * sx + sy * sy))
+    return rms_slope(block_average(surface, (nx // 2, ny // 2), trim=True))[0]
 
 
 def _alpha_pressure(params, alpha, p_lo, p_hi):
@@ -386,8 +395,7 @@ def derive_flattening(
     """
     scene, P = cal.scene, cal.params
     wp, tl = cal.sweeps.surfaces["workpiece"], cal.sweeps.surfaces["tool"]
-    sx, sy = profile_slopes(wp)
-    slope = math.sqrt(0.5 * (sx * sx + sy * sy))
+    slope, sx, sy = rms_slope(wp)
     if not SLOPE_RANGE[0] <= slope <= SLOPE_RANGE[1]:
         raise ValueError(
             f"the workpiece's RMS profile slope {slope:.3g} is outside [{SLOPE_RANGE[0]:g}, "
