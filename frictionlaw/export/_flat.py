@@ -10,11 +10,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._flattening_block import LIMIT_MODEL
 from ..flattening import STRETCH_PER_EQUIVALENT_STRAIN, flattening_data
 
 __all__ = [
     "FlatSpec",
     "flat_spec",
+    "LimitSpec",
+    "limit_spec",
+    "flat_states",
     "FlowSpec",
     "flow_spec",
     "FLAT_STATE_NEUTRAL",
@@ -25,6 +29,96 @@ __all__ = [
 FLAT_STATE_NEUTRAL = 5
 #: LS-DYNA's history slots: the fraction, the plastic strain and the cycle of the last call
 FLAT_STATE_LSDYNA = (5, 6, 7)
+#: a DATA statement's continuation lines (Fortran 77's limit is 19)
+_DATA_LINES = 18
+
+
+def fortran_short(v):
+    """``v`` as the shortest double-precision literal that reads back to the same float64.
+
+    Python's ``repr`` is the shortest decimal that rounds to ``v``, and a Fortran compiler
+    rounds a decimal literal correctly, so the literal is ``v`` bit for bit.
+    """
+    text = repr(float(v))
+    mant, _, exp = text.partition("e")
+    return f"{mant}D{int(exp or 0):d}"
+
+
+def data_statements(name, values, index="I", start=1):
+    """Fixed-form ``DATA (name(I), I = a, b) / ... /`` statements holding ``values``.
+
+    Python ints are written as integers, other values by :func:`fortran_short`.
+    As many values a line as fit in column 72, at most :data:`_DATA_LINES` continuation lines
+    a statement (one statement per chunk: Fortran 77 allows 19 continuations).
+    """
+    words = [str(v) if isinstance(v, int) else fortran_short(v) for v in values]
+    lines, cur = [], []
+    for w in words:
+        if cur and len("     &  " + ", ".join([*cur, w]) + " /") > 72:
+            lines.append(cur)
+            cur = []
+        cur.append(w)
+    lines.append(cur)
+    out, first = [], start
+    for k in range(0, len(lines), _DATA_LINES):
+        chunk = lines[k : k + _DATA_LINES]
+        last = first + sum(len(c) for c in chunk) - 1
+        body = ",\n".join("     &  " + ", ".join(c) for c in chunk)
+        out.append(f"      DATA ({name}({index}), {index} = {first}, {last}) /\n{body} /")
+        first = last + 1
+    return tuple(out)
+
+
+@dataclass(frozen=True)
+class LimitSpec:
+    """The two-state model's rate table and rules as ``core/sbmf_limit.f`` carries them.
+
+    Attributes
+    ----------
+    pressures, a, ln_s : tuple of float
+        The table's ``p / H_P``, its rows' contact fractions and its slopes' logarithms
+        (``frictionlaw._limit_table.RateTable``; dimensionless: no unit conversion).
+    data : tuple of str
+        The DATA statements of the row offsets ``OFF``, ``AR``, ``LS`` and the rates ``DA``,
+        ``DS`` (row-major, as the runtime's arrays).
+    step, s_floor, prandtl, dp : float
+        The integration's stretch step, the slope's floor, ``2 + pi`` and the relative
+        pressure step of the update's ``d alpha / d p`` (the kernels').
+    """
+
+    pressures: tuple
+    a: tuple
+    ln_s: tuple
+    data: tuple
+    step: float
+    s_floor: float
+    prandtl: float
+    dp: float
+
+
+def limit_spec():
+    """The :class:`LimitSpec` of the shipped table (it depends on no parameter file)."""
+    from .._kernels_limit import DP  # the kernels' rules (numba loads)
+    from .._limit_table import PRANDTL_FACTOR, S_FLOOR, STEP, rate_table
+
+    t = rate_table()
+    data = (
+        *data_statements("OFF", [int(v) for v in t.offsets]),
+        *data_statements("AR", t.a),
+        *data_statements("LS", t.ln_s),
+        *data_statements("DA", t.dA.ravel()),
+        *data_statements("DS", t.ds.ravel()),
+    )
+    return LimitSpec(
+        tuple(float(v) for v in t.pressures),
+        tuple(float(v) for v in t.a),
+        tuple(float(v) for v in t.ln_s),
+        data,
+        float(STEP),
+        float(S_FLOOR),
+        float(PRANDTL_FACTOR),
+        float(DP),
+    )
 
 
 @dataclass(frozen=True)
@@ -50,6 +144,9 @@ class FlatSpec:
         The 2-, 4- and 8-point Gauss-Legendre nodes and weights, one after the other.
     width, narrow : float, (float, float)
         The widest panel in ``v`` and the widest interval of the 2- and 4-point rules.
+    limit : LimitSpec or None
+        The two-state model's table (``"model": "limit-analysis"``); None for the one-state
+        model.
     """
 
     slope: float
@@ -63,6 +160,7 @@ class FlatSpec:
     gw: tuple
     width: float
     narrow: tuple
+    limit: "LimitSpec | None" = None
 
 
 def flat_spec(params, units):
@@ -96,6 +194,7 @@ def flat_spec(params, units):
         tuple(float(w) for w in K._GW),
         float(K._WIDTH),
         tuple(float(x) for x in K._NARROW),
+        limit_spec() if params.flattening.model == LIMIT_MODEL else None,
     )
 
 
@@ -137,3 +236,20 @@ def flow_spec(curve, units):
         strain=tuple(d["strain"]),
         stress=tuple(v * s for v in d["sigma_y_Pa"]),
     )
+
+
+def flat_states(form, flat):
+    """The state count a routine's flattening needs (its last slot).
+
+    The host-neutral entry (``form.status``): 5 (``STATE(5)`` the fraction; 6 the optional
+    hardening modulus), 7 for the two-state model (``STATE(7)`` the flank slope). The implicit
+    host (the patched CalculiX, ``STATEV``): 5, 6 with the slope. LS-DYNA's ``usrfrc``
+    (history 5-7 the fraction, the element's plastic strain and the cycle of the last call): 7,
+    8 with the slope.
+    """
+    two = flat.limit is not None
+    if form.status:
+        return 7 if two else 5
+    if form.implicit:
+        return 6 if two else 5
+    return 8 if two else 7

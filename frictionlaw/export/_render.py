@@ -15,7 +15,7 @@ from .. import __version__
 from .._flattening_block import LIMIT_MODEL
 from ..params import FrictionParams
 from . import _targets
-from ._flat import flow_spec
+from ._flat import flat_states, flow_spec
 from ._law import UNIT_SYSTEMS, StiffnessSpec, UnitSystem, core_context, header_lines
 from ._tables import TABLE_TOL, FrictionTable
 from ._templates import check_columns, comment_block, render_template, template_path
@@ -136,12 +136,13 @@ def _check_flattening(record, laws, zones, without_flattening=False):
         return
     path = flat[0].path
     two = [law for law in flat if law.params.flattening.model == LIMIT_MODEL]
-    if two and isinstance(record.form, _targets.Routine) and record.form.bulk_strain:
+    if two and zones and isinstance(record.form, _targets.Routine) and record.form.bulk_strain:
         raise ParameterError(
-            f"{two[0].path}: the file's flattening block is the two-state model "
-            f"({LIMIT_MODEL!r}), which the exported routines do not carry yet ({record.name} "
-            "would run the one-state model's rate on it): export a file whose block is the "
-            "one-state 'layer-yield' (docs/flattening.md)",
+            f"{{zones}}: {two[0].path}'s flattening block is the two-state model "
+            f"({LIMIT_MODEL!r}), which a zoned routine does not carry (nor the runtime's "
+            "zoned law): export one routine for that file, or give the zone a one-state "
+            "'layer-yield' block (docs/flattening.md)",
+            "zones",
         )
     if not isinstance(record.form, _targets.Routine):
         if without_flattening:
@@ -329,6 +330,8 @@ def texts(job, *, guards=True):
         "export_laws": job.laws,
         **job.law,
     }
+    if context.get("flat") is not None and isinstance(t.form, _targets.Routine):
+        context["flat_states"] = flat_states(t.form, context["flat"])
     if job.zones is not None:
         context["guard_text"] = zoned_messages(job.zones, *words)
         context["zone_text"] = unknown_message(job.zones)
@@ -339,7 +342,9 @@ def texts(job, *, guards=True):
             context["guard_text"][8] = VERSION_MESSAGE
         if context.get("flat") is not None and isinstance(t.form, _targets.Routine):
             # kind 9: the law runs without its flattening
-            context["guard_text"][9] = ("SBMF friction: " + t.form.no_strain, None)
+            two = context["flat"].limit is not None and t.form.no_strain_two
+            text = t.form.no_strain_two if two else t.form.no_strain
+            context["guard_text"][9] = ("SBMF friction: " + text, None)
         context["guard_kinds"] = max(*context["guard_text"], 7 if job.zones else 6)
     text = comment_block(job.header, t.style.comment, t.style.columns)
     text += render_template(t.template, **context)

@@ -129,6 +129,10 @@ class Routine:
         The warning (the guards' kind 9, once per process) of a routine whose law has a
         flattening block but whose host, or deck, gives it no bulk strain: the law then runs
         without flattening.
+    bulk_strain_two, no_strain_two : str
+        ``bulk_strain`` and ``no_strain`` for the two-state model (``"model":
+        "limit-analysis"``), which keeps one more state (its flank slope) and reads no
+        hardening modulus; empty: the one-state texts.
     total_strain : bool
         The host passes the point's total equivalent plastic strain but neither its flow
         stress nor its hardening modulus (LS-DYNA's ``usrfrc``, the patched CalculiX): a flow
@@ -147,6 +151,8 @@ class Routine:
     bulk_strain: str = ""
     total_strain: bool = False
     no_strain: str = ""
+    bulk_strain_two: str = ""
+    no_strain_two: str = ""
     #: the README's frame (it includes ``stick``, the target's section and ``tested``)
     frame: ClassVar[str] = "readme/routine.md"
     #: ``--k-t`` applies
@@ -324,6 +330,19 @@ _CALCULIX_KEYS = (
 
 # -- the targets -------------------------------------------------------------------------------
 _NOT_RUN = "the parameter file's flattening block (issue 43) is not run: "
+_CCX_STRAIN = (
+    "PREDEF(1, 1) and PREDEF(2, 1) (NPRED = 1), the equivalent plastic "
+    "strain under the contact point (CalculiX's PEEQ averaged over a solid element's "
+    "integration points: face-to-face, the slave point's element; node-to-surface, the "
+    "elements of the slave node's faces, weighted as its area) at the iterate and its "
+    "increment over the increment, which the patched ccx passes; "
+)
+_NEUTRAL_TWO = (
+    "DEPS and SIGY, the arguments of SBMF_FRICTION_V (the caller's bulk plastic strain "
+    "increment and flow stress under the point), STATE(5) the flattened fraction and STATE(7) "
+    "the flank slope (NSTATE >= 7; STATE(6), the one-state model's hardening modulus, is not "
+    "read)"
+)
 _WITHOUT = ": the law runs without flattening under bulk strain (written once per process)"
 _ABAQUS_NO_STRAIN = (
     "{routine} receives no plastic strain of the underlying element (its arguments carry "
@@ -397,9 +416,16 @@ for _record in (
             "that LS-DYNA passes (NEPS >= 1); its increment between consecutive cycles in "
             "contact, UFHIST(5..7, .) holding the flattened fraction, the plastic strain and "
             "the cycle of the last call (NHV >= 7)",
+            bulk_strain_two="UFEPS(1, ILBSV(II)), the plastic strain of the slave node's "
+            "element that LS-DYNA passes (NEPS >= 1); its increment between consecutive cycles "
+            "in contact, UFHIST(5..8, .) holding the flattened fraction, the plastic strain, the "
+            "cycle of the last call and the flank slope (NHV >= 8)",
             no_strain=_NOT_RUN + "the deck gives no element plastic strain (NEPS = 0) or too "
             "few history variables (NHV < 7; 5-7 hold the flattened fraction, the plastic "
             "strain and the cycle of the last call)" + _WITHOUT,
+            no_strain_two=_NOT_RUN + "the deck gives no element plastic strain (NEPS = 0) or "
+            "too few history variables (NHV < 8; 5-8 hold the flattened fraction, the plastic "
+            "strain, the cycle of the last call and the two-state model's flank slope)" + _WITHOUT,
         ),
         harness=USRFRC,
     ),
@@ -420,9 +446,16 @@ for _record in (
             "passes (NE >= 1; LSTC's sample: not for SOFT = 4); its increment between "
             "consecutive cycles in contact, UH(5..7) holding the flattened fraction, the "
             "plastic strain and the cycle of the last call (NH >= 7)",
+            bulk_strain_two="UE(1), the plastic strain of the slave node's element that "
+            "LS-DYNA passes (NE >= 1; LSTC's sample: not for SOFT = 4); its increment between "
+            "consecutive cycles in contact, UH(5..8) holding the flattened fraction, the "
+            "plastic strain, the cycle of the last call and the flank slope (NH >= 8)",
             no_strain=_NOT_RUN + "the deck gives no element plastic strain (NE = 0) or too "
             "few history variables (NH < 7; 5-7 hold the flattened fraction, the plastic "
             "strain and the cycle of the last call)" + _WITHOUT,
+            no_strain_two=_NOT_RUN + "the deck gives no element plastic strain (NE = 0) or "
+            "too few history variables (NH < 8; 5-8 hold the flattened fraction, the plastic "
+            "strain, the cycle of the last call and the two-state model's flank slope)" + _WITHOUT,
         ),
         harness=USRFRC_MPP,
     ),
@@ -444,8 +477,13 @@ for _record in (
             "flattened fraction (NSTATE >= 5), STATE(6) the bulk's hardening modulus, an input "
             "the caller sets (NSTATE >= 6; without it the perfectly plastic rate, an upper limit "
             "for a hardening metal)",
+            bulk_strain_two=_NEUTRAL_TWO,
             no_strain=_NOT_RUN + "NSTATE < 5 leaves no state slot for the flattened fraction "
             "(STATE(5))" + _WITHOUT + " (IERR = 9)",
+            no_strain_two=_NOT_RUN + "NSTATE < 7 leaves no state slots for the two-state "
+            "model's flattened fraction and flank slope (STATE(5), STATE(7))"
+            + _WITHOUT
+            + " (IERR = 9)",
         ),
         harness=SBMF_FRICTION,
     ),
@@ -469,8 +507,13 @@ for _record in (
             "flattened fraction (NSTATE >= 5), STATE(6) the bulk's hardening modulus, an input "
             "the caller sets (NSTATE >= 6; without it the perfectly plastic rate, an upper limit "
             "for a hardening metal)",
+            bulk_strain_two=_NEUTRAL_TWO,
             no_strain=_NOT_RUN + "NSTATE < 5 leaves no state slot for the flattened fraction "
             "(STATE(5))" + _WITHOUT + " (IERR = 9)",
+            no_strain_two=_NOT_RUN + "NSTATE < 7 leaves no state slots for the two-state "
+            "model's flattened fraction and flank slope (STATE(5), STATE(7))"
+            + _WITHOUT
+            + " (IERR = 9)",
         ),
         harness=SBMF_FRICTION,
     ),
@@ -491,12 +534,9 @@ for _record in (
             implicit=True,
             zone_keys=_CALCULIX_KEYS,
             total_strain=True,
-            bulk_strain="PREDEF(1, 1) and PREDEF(2, 1) (NPRED = 1), the equivalent plastic "
-            "strain under the contact point (CalculiX's PEEQ averaged over a solid element's "
-            "integration points: face-to-face, the slave point's element; node-to-surface, the "
-            "elements of the slave node's faces, weighted as its area) at the iterate and its "
-            "increment over the increment, which the patched ccx passes; STATEV(5) the "
-            "flattened fraction (DEPVAR >= 5)",
+            bulk_strain=_CCX_STRAIN + "STATEV(5) the flattened fraction (DEPVAR >= 5)",
+            bulk_strain_two=_CCX_STRAIN + "STATEV(5) the flattened fraction and STATEV(6) the "
+            "flank slope (DEPVAR >= 6)",
             no_strain="the parameter file's flattening block (issue 43) does not grow here: "
             "the patched ccx passes no plastic strain for layered (composite) or beam-derived "
             "slave elements; the law runs with the flattened fraction it has (written once "

@@ -23,9 +23,14 @@ C     patched ccx passes the equivalent plastic strain under the point
 C     (its solid elements' PEEQ) as the predefined field 1 (NPRED = 1;
 C     PREDEF(1,1) at this iterate, PREDEF(2,1) its increment since the
 C     start of the increment); STATEV(5) = the flattened contact
-C     fraction (DEPVAR >= 5, FRIC_DEPVAR), a trial value kept only when
+{% if flat.limit %}
+C     fraction, STATEV(6) = the asperities' flank slope (the two-state
+C     model) (DEPVAR >= {{ flat_states }}, FRIC_DEPVAR), trial values kept only when
+{% else %}
+C     fraction (DEPVAR >= {{ flat_states }}, FRIC_DEPVAR), a trial value kept only when
+{% endif %}
 C     the increment converges, as p_hist. NPRED = 0 (layered or beam
-C     elements): the fraction kept, not grown, said once.
+C     elements): the state kept, not grown, said once.
 {% endif %}
 {% if zones %}
 C     Zones: the law of the name in {{ zones.key.argument }}, compared trimmed
@@ -55,6 +60,9 @@ C
       DOUBLE PRECISION P, PH, G1H, G1NEW, TLIM, DTAU, XKT, KFALL
 {% if flat and target.form.bulk_strain %}
       DOUBLE PRECISION AF, ANEW, DEPS, SIGY, HMOD
+{% if flat.limit %}
+      DOUBLE PRECISION SF, SNEW
+{% endif %}
 {% if flow %}
       DOUBLE PRECISION EM
 {% endif %}
@@ -177,8 +185,17 @@ C       no strain passed: the flattened fraction is kept, not grown
       END IF
       AF = 0.0D0
       IF (NSTATV .GE. 5) AF = MIN(MAX(STATEV(5), 0.0D0), 1.0D0)
+{% if flat.limit %}
+C     the two-state model (perfectly plastic: HMOD not read)
+      SF = 0.0D0
+      IF (NSTATV .GE. 6) SF = MAX(STATEV(6), 0.0D0)
+      CALL SBMF_TSHR(P, PH, AF, SF, DEPS, SIGY, G1H, TLIM, DTAU, G1NEW,
+     &               ANEW, SNEW)
+      IF (HMOD .LT. 0.0D0) CONTINUE
+{% else %}
       CALL {{ "SBMF_ZFSHR(IZ, " if zones else "SBMF_FSHR(" }}P, PH, AF, DEPS, SIGY, HMOD, G1H, TLIM,
      &               DTAU, G1NEW, ANEW)
+{% endif %}
 {% else %}
       CALL {{ "SBMF_ZSHEAR(IZ, " if zones else "SBMF_SHEAR(" }}P, PH, G1H, TLIM, DTAU, G1NEW)
 {% endif %}
@@ -211,17 +228,24 @@ C     trial history max(p_hist, p): kept by Abaqus only if converged
 {% endif %}
 {% if flat and target.form.bulk_strain %}
       IF (NSTATV .GE. 5) STATEV(5) = ANEW
+{% if flat.limit %}
+      IF (NSTATV .GE. 6) STATEV(6) = SNEW
+{% endif %}
 {% endif %}
       RETURN
       END
 C
 {% if flat and target.form.bulk_strain %}
-C     The state variables FRIC needs (DEPVAR >= 5: STATEV(1) = p_hist,
-C     STATEV(5) = the flattened contact fraction). The CalculiX patch
-C     checks DEPVAR against it when ccx reads the deck.
+C     The state variables FRIC needs (DEPVAR >= {{ flat_states }}: STATEV(1) = p_hist,
+C     STATEV(5) = the flattened contact fraction{{ "," if flat.limit else ")." }}
+{% if flat.limit %}
+C     STATEV(6) = the flank slope).
+{% endif %}
+C     The CalculiX patch checks DEPVAR against it when ccx reads the
+C     deck.
       INTEGER FUNCTION FRIC_DEPVAR()
       IMPLICIT NONE
-      FRIC_DEPVAR = 5
+      FRIC_DEPVAR = {{ flat_states }}
 {% else %}
 C     The state variables FRIC needs (DEPVAR >= 1: STATEV(1) = p_hist).
 C     The CalculiX patch checks DEPVAR against it when ccx reads the

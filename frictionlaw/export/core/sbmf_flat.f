@@ -3,8 +3,10 @@
   Eqs. F5-F6), included by core/sbmf_law.f after the law's routines when its parameter file has
   a flattening block: frictionlaw._kernels_flattening statement by statement ({{ zp }}A1D:
   alpha1 and its slope; FINV: alpha1_inverse; FPAN: flat_panels; FQUAD: flat_quad; FSOLV:
-  flattening_solve; FRATE: flat_rate; FLAT: flattening_scalar; FSHR: flat_shear_scalar). Context: the law's
-  CoreLaw (zp, law, first) and flat, its FlatSpec (frictionlaw.export._flat, host units).
+  flattening_solve; FRATE: flat_rate; FLAT: flattening_scalar; FF5: flat_shear_of; FSHR:
+  flat_shear_scalar). For the two-state model (flat.limit set) the one-state update (FRATE to
+  FLAT, FSHR) gives way to core/sbmf_limit.f, which shares A1D, FINV and FF5. Context: the
+  law's CoreLaw (zp, law, first) and flat, its FlatSpec (frictionlaw.export._flat, host units).
 #}
 C=======================================================================
 C     alpha1(T) and d alpha1/dT of the first loading that runs: its
@@ -83,6 +85,7 @@ C=======================================================================
       RETURN
       END
 C
+{% if not flat.limit %}
 C=======================================================================
 C     The lattice's rate at the fraction A and the weight of its term
 C     in the tangent (Eq. F2c): CL = 1 + SL (1 - A), XL = 1, or where
@@ -390,35 +393,27 @@ C=======================================================================
       END IF
       RETURN
       END
+{% endif %}
 C
 C=======================================================================
-C     The shear limit with the flattening (Eqs. F5, F6): without strain
-C     on a surface never flattened (DEPS <= 0, AF = 0), and for P <= 0,
-C     {{ zp }}SHEAR itself. Otherwise the trial fraction ANEW of
-C     {{ zp }}FLAT, then F5 with PH: for P >= PH the larger of
-C     TMAX alpha1(P) and TMAX ANEW (DTAU the update's there); below PH
-C     the law itself where ANEW <= alpha1(PH), else its reload branch
-C     of the level p_f at P p_f/PH (DTAU at that fixed level). G1OUT:
-C     the cache value for max(PH, P) where it is known, else G1H.
+C     Eq. F5 at the trial fraction ANEW (DADP its d alpha/dP, PF its
+C     flattening pressure where the update found it above PH, else 0):
+C     for P >= PH the larger of TMAX alpha1(P) and TMAX ANEW (DTAU the
+C     update's there); below PH the law itself where ANEW <=
+C     alpha1(PH), else its reload branch of the level p_f (alpha1(p_f)
+C     = ANEW) at P p_f/PH (DTAU at that fixed level). G1OUT: the cache
+C     value for max(PH, P) where it is known, else G1H.
 C=======================================================================
-      SUBROUTINE {{ zp }}FSHR(P, PH, AF, DEPS, SIGY, HMOD, G1H, TAU,
-     &                        DTAU, G1OUT, ANEW)
+      SUBROUTINE {{ zp }}FF5(P, PH, ANEW, PF, DADP, G1H, TAU, DTAU,
+     &                       G1OUT)
       IMPLICIT NONE
-      DOUBLE PRECISION P, PH, AF, DEPS, SIGY, HMOD, G1H, TAU, DTAU
-      DOUBLE PRECISION G1OUT
-      DOUBLE PRECISION ANEW, PF, DADP, T1, D1, G1, TA, AH, DH, G1X
+      DOUBLE PRECISION P, PH, ANEW, PF, DADP, G1H, TAU, DTAU, G1OUT
+      DOUBLE PRECISION T1, D1, G1, TA, AH, DH, G1X, PFL
       DOUBLE PRECISION {{ zp }}FINV
       EXTERNAL {{ zp }}FINV
       DOUBLE PRECISION TMAX, CAP
       PARAMETER (TMAX = {{ law.TMAX | double }})
       PARAMETER (CAP = {{ flat.cap | double }})
-      ANEW = AF
-      IF (.NOT. (P .GT. 0.0D0) .OR.
-     &    (.NOT. (DEPS .GT. 0.0D0) .AND. AF .EQ. 0.0D0)) THEN
-        CALL {{ zp }}SHEAR(P, PH, G1H, TAU, DTAU, G1OUT)
-        RETURN
-      END IF
-      CALL {{ zp }}FLAT(P, PH, AF, DEPS, SIGY, HMOD, ANEW, PF, DADP)
       IF (P .GE. PH) THEN
         CALL {{ zp }}FIRST(P, T1, D1, G1)
         G1OUT = G1
@@ -437,10 +432,38 @@ C=======================================================================
         CALL {{ zp }}SHEAR(P, PH, G1H, TAU, DTAU, G1OUT)
         RETURN
       END IF
-      IF (.NOT. (PF .GT. PH)) PF = {{ zp }}FINV(ANEW, PH, CAP)
+      PFL = PF
+      IF (.NOT. (PFL .GT. PH)) PFL = {{ zp }}FINV(ANEW, PH, CAP)
       G1OUT = G1H
-      CALL {{ zp }}RELOAD((P/PH)*PF, PF, -1.0D0, TAU, DTAU, G1X)
-      DTAU = DTAU*(PF/PH)
+      CALL {{ zp }}RELOAD((P/PH)*PFL, PFL, -1.0D0, TAU, DTAU, G1X)
+      DTAU = DTAU*(PFL/PH)
       RETURN
       END
 C
+{% if flat.limit %}
+{% include "core/sbmf_limit.f" %}
+{% else %}
+C=======================================================================
+C     The shear limit with the flattening (Eqs. F5, F6): without strain
+C     on a surface never flattened (DEPS <= 0, AF = 0), and for P <= 0,
+C     {{ zp }}SHEAR itself. Otherwise the trial fraction ANEW of
+C     {{ zp }}FLAT, then F5 ({{ zp }}FF5).
+C=======================================================================
+      SUBROUTINE {{ zp }}FSHR(P, PH, AF, DEPS, SIGY, HMOD, G1H, TAU,
+     &                        DTAU, G1OUT, ANEW)
+      IMPLICIT NONE
+      DOUBLE PRECISION P, PH, AF, DEPS, SIGY, HMOD, G1H, TAU, DTAU
+      DOUBLE PRECISION G1OUT
+      DOUBLE PRECISION ANEW, PF, DADP
+      ANEW = AF
+      IF (.NOT. (P .GT. 0.0D0) .OR.
+     &    (.NOT. (DEPS .GT. 0.0D0) .AND. AF .EQ. 0.0D0)) THEN
+        CALL {{ zp }}SHEAR(P, PH, G1H, TAU, DTAU, G1OUT)
+        RETURN
+      END IF
+      CALL {{ zp }}FLAT(P, PH, AF, DEPS, SIGY, HMOD, ANEW, PF, DADP)
+      CALL {{ zp }}FF5(P, PH, ANEW, PF, DADP, G1H, TAU, DTAU, G1OUT)
+      RETURN
+      END
+C
+{% endif %}

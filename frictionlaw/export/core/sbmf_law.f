@@ -238,6 +238,6 @@ C=======================================================================
       END
 C
 {% endif %}
-{% if flat %}
+{% if flat and target.form.bulk_strain %}
 {% include "core/sbmf_flat.f" %}
 {% endif %}

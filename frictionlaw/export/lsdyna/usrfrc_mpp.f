@@ -20,7 +20,8 @@ C     Flattening under bulk strain (the file's flattening block): the
 C     slave node's element plastic strain UE(1) (NE >= 1), its
 C     increment since the last cycle in contact, UH(5) = the flattened
 C     contact fraction, UH(6) = the plastic strain and UH(7) =
-C     MOD(cycle, 2**20) + 1 of the last call in contact (NH >= 7).
+C     MOD(cycle, 2**20) + 1 of the last call in contact{% if flat.limit %}, UH(8) =
+C     the asperities' flank slope (the two-state model){% endif %} (NH >= {{ flat_states }}).
 C     Without them the law runs without flattening, said once.
 {% endif %}
 {% if zones %}
@@ -51,6 +52,9 @@ C
       LOGICAL USECAC
 {% if flat %}
       DOUBLE PRECISION AF, ANEW, DEPS, SIGY, HMOD
+{% if flat.limit %}
+      DOUBLE PRECISION SF, SNEW
+{% endif %}
 {% if flow %}
       DOUBLE PRECISION EM
 {% endif %}
@@ -102,7 +106,7 @@ C     guards: a failed one refuses the law (no friction, no history)
 {% else %}
       IF (USECAC) G1H = DBLE(UH(2))
 {% endif %}
-      IF (NE .GE. 1 .AND. NH .GE. 7) THEN
+      IF (NE .GE. 1 .AND. NH .GE. {{ flat_states }}) THEN
         AF = MIN(MAX(DBLE(UH(5)), 0.0D0), 1.0D0)
 C       the strain since the last cycle, if the point was in contact
 C       then (else it starts counting now)
@@ -119,8 +123,17 @@ C       no flow curve: the file's sigma_y, perfectly plastic
         SIGY = 0.0D0
         HMOD = 0.0D0
 {% endif %}
+{% if flat.limit %}
+C       the two-state model (perfectly plastic: HMOD not read)
+        SF = DBLE(UH(8))
+        CALL SBMF_TSHR(P, PH, AF, SF, DEPS, SIGY, G1H, TLIM, DTAU,
+     &                 G1NEW, ANEW, SNEW)
+        IF (HMOD .LT. 0.0D0) CONTINUE
+        UH(8) = REAL(SNEW)
+{% else %}
         CALL {{ "SBMF_ZFSHR(IZ, " if zones else "SBMF_FSHR(" }}P, PH, AF, DEPS, SIGY, HMOD, G1H, TLIM,
      &                 DTAU, G1NEW, ANEW)
+{% endif %}
         RA = REAL(ANEW)
         IF (DBLE(RA) .GT. ANEW) RA = NEAREST(RA, -1.0)
         UH(5) = RA

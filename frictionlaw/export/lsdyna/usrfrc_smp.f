@@ -32,8 +32,9 @@ C     slave node's element plastic strain UFEPS(1, ILBSV(II)) (NEPS >=
 C     1), its increment since the last cycle in contact, UFHIST(5, .)
 C     = the flattened contact fraction, UFHIST(6, .) = the plastic
 C     strain and UFHIST(7, .) = MOD(cycle, 2**20) + 1 of the last call
-C     in contact (NHV >= 7). Without them the law runs without
-C     flattening and says so once (a warning).
+C     in contact{% if flat.limit %}, UFHIST(8, .) = the asperities' flank slope (the
+C     two-state model){% endif %} (NHV >= {{ flat_states }}). Without them the law runs
+C     without flattening and says so once (a warning).
 {% endif %}
 {% if zones %}
 C     Zones: the law of the interface number NOSL ({{ zones.laws | length }} laws);
@@ -70,6 +71,9 @@ C
       LOGICAL USECAC, REFUSE
 {% if flat %}
       DOUBLE PRECISION AF, ANEW, DEPS, SIGY, HMOD
+{% if flat.limit %}
+      DOUBLE PRECISION SF, SNEW
+{% endif %}
 {% if flow %}
       DOUBLE PRECISION EM
 {% endif %}
@@ -114,9 +118,9 @@ C     one refuses the law (no friction at any node, history unchanged)
       USECAC = USECAC .AND. (NHV .GE. 4)
 {% endif %}
 {% if flat %}
-C     the flattening needs the element plastic strain and 3 more
+C     the flattening needs the element plastic strain and {{ flat_states - 4 }} more
 C     history variables: without them the law without it, said once
-      FLATOK = NEPS .GE. 1 .AND. NHV .GE. 7
+      FLATOK = NEPS .GE. 1 .AND. NHV .GE. {{ flat_states }}
 {% if guards %}
       IF (.NOT. (FLATOK .OR. REFUSE)) CALL SBMF_GUARD(9, 0.0D0)
 {% endif %}
@@ -207,8 +211,16 @@ C         no flow curve: the file's sigma_y, perfectly plastic
           SIGY = 0.0D0
           HMOD = 0.0D0
 {% endif %}
+{% if flat.limit %}
+C         the two-state model (perfectly plastic: HMOD not read)
+          SF = DBLE(UFHIST(8, IH))
+          CALL SBMF_TSHR(P, PH, AF, SF, DEPS, SIGY, G1H, TLIM, DTAU,
+     &                   G1NEW, ANEW, SNEW)
+          IF (HMOD .LT. 0.0D0) CONTINUE
+{% else %}
           CALL {{ "SBMF_ZFSHR(IZ, " if zones else "SBMF_FSHR(" }}P, PH, AF, DEPS, SIGY, HMOD, G1H,
      &                   TLIM, DTAU, G1NEW, ANEW)
+{% endif %}
         ELSE
           CALL {{ "SBMF_ZSHEAR(IZ, " if zones else "SBMF_SHEAR(" }}P, PH, G1H, TLIM, DTAU, G1NEW)
         END IF
@@ -250,6 +262,9 @@ C         stored rounded down (the fraction never falls), as p_hist
           UFHIST(5, IH) = RA
           UFHIST(6, IH) = UFEPS(1, IH)
           UFHIST(7, IH) = REAL(MOD(NCYCLE, 1048576) + 1)
+{% if flat.limit %}
+          UFHIST(8, IH) = REAL(SNEW)
+{% endif %}
         END IF
 {% endif %}
       END DO

@@ -33,7 +33,13 @@ C          STATE(NSTATE): the committed state (as at the start of the
 C          increment): 1 p_hist, 2 cache -ln alpha1(p_hist) (<= 0:
 C          recompute), 3 status of the last call, 4 the law (zone
 C          number) that wrote the cache, 5 the flattened contact
-{% if flat %}
+{% if flat and flat.limit %}
+C          fraction alpha_f (0: never flattened; read and written),
+C          6 not read (the one-state model's hardening modulus: the
+C          two-state model of this law's block is perfectly plastic),
+C          7 the asperities' flank slope s_f (0: never flattened, the
+C          block's slope; read and written).
+{% elif flat %}
 C          fraction alpha_f (0: never flattened; read and written),
 C          6 an input the caller sets before each call, read and
 C          never written: the bulk's hardening modulus d sigma_y /
@@ -59,7 +65,7 @@ C          an implicit caller, whose P may be a Newton iterate, should
 C          take a smaller substep instead), -7 a ZONE no law covers,
 C          -8 another IVERS; 5 a warning: the first P beyond the
 C          calibrated range in this process (once per process); 9 a
-C          warning: the law has a flattening block and NSTATE < 5
+C          warning: the law has a flattening block and NSTATE < {{ 7 if flat and flat.limit else 5 }}
 C          leaves no slot for its state, so it runs without
 C          flattening (once per process).
 {% if zones %}
@@ -82,7 +88,9 @@ C=======================================================================
       DOUBLE PRECISION P, DU(ND), TOLD(ND), KHOST, DEPS, SIGY
       DOUBLE PRECISION STATE(NSTATE), TNEW(ND), DTDDU(ND, ND), DTDP(ND)
       DOUBLE PRECISION PH, G1H, G1NEW, TLIM, DTAU, XKT
-{% if flat %}
+{% if flat and flat.limit %}
+      DOUBLE PRECISION AF, ANEW, SF, SNEW
+{% elif flat %}
       DOUBLE PRECISION AF, ANEW, HMOD
 {% endif %}
       INTEGER SBMF_ONCE
@@ -149,7 +157,23 @@ C     guards: the stated unit system, the pressure (the caller reports)
         IF (NSTATE .GE. 3) STATE(3) = 0.0D0
         RETURN
       END IF
-{% if flat %}
+{% if flat and flat.limit %}
+      IF (NSTATE .GE. 7) THEN
+C       the two-state model: STATE(5) the fraction, STATE(7) the slope
+        AF = STATE(5)
+        SF = STATE(7)
+        CALL SBMF_TSHR(P, PH, AF, SF, DEPS, SIGY, G1H, TLIM, DTAU,
+     &                 G1NEW, ANEW, SNEW)
+        STATE(5) = ANEW
+        STATE(7) = SNEW
+      ELSE
+C       no slots for the two states: the law without flattening
+        IF (DEPS .GT. 0.0D0 .AND. IERR .EQ. 0) THEN
+          IF (SBMF_ONCE(9) .EQ. 1) IERR = 9
+        END IF
+        CALL SBMF_SHEAR(P, PH, G1H, TLIM, DTAU, G1NEW)
+      END IF
+{% elif flat %}
       IF (NSTATE .GE. 5) THEN
         AF = STATE(5)
         HMOD = 0.0D0
@@ -199,7 +223,7 @@ C     flattening state, the bulk's hardening modulus): allocate this
 C     many per contact point.
       INTEGER FUNCTION SBMF_NSTATE()
       IMPLICIT NONE
-      SBMF_NSTATE = 6
+      SBMF_NSTATE = {{ 7 if flat and flat.limit else 6 }}
       RETURN
       END
 C
