@@ -378,3 +378,60 @@ def test_a_zoned_routine_flattens_its_zone_in_ccx(ccx_work, tmp_path):
     proc, dat = _run(binary, other, tmp_path / "other")
     assert proc.returncode == 0 and "Job finished" in proc.stdout, proc.stdout[-2000:]
     assert all(v[5] == 0.0 for _, pts, _ in _points(dat) for v in pts.values())
+
+
+def test_the_two_state_model_flattens_in_ccx_as_the_runtime_replay(ccx_work, tmp_path):
+    """The example's block as the two-state model (limit-analysis): ccx asks for DEPVAR = 6
+    (5 is refused while it reads the deck), and pressing the elastic-plastic block at every
+    converged increment gives each contact point's STATEV(5) and STATEV(6) (the flattened
+    fraction and the flank slope) as the runtime's update from one of its face's previous
+    states with its slave element's PEEQ increment (ccx prints 7 digits)."""
+    P = fl.FrictionParams.from_json(FLAT)
+    P = P.replace(flattening=fl.Flattening(P.flattening.slope, model="limit-analysis"))
+    path = tmp_path / "two.json"
+    P.to_json(path)
+    out = _export(tmp_path, path, "two")
+    exe = _link(ccx_work, out / "sbmf_fric.f", out / "ccx")
+    assert "*FRICTION, USER, DEPVAR=6, PROPERTIES=1" in (out / "README.md").read_text()
+    few = [LINES[0], "*FRICTION, USER, DEPVAR=5, PROPERTIES=1", "MM-T-S"]
+    proc, _ = _run(exe, plastic_block(PRESS, few), tmp_path / "few")
+    assert proc.returncode != 0 and "USER needs DEPVAR" in proc.stdout and ">= 6" in proc.stdout
+    six = [LINES[0], "*FRICTION, USER, DEPVAR=6, PROPERTIES=1", "MM-T-S"]
+    proc, dat = _run(exe, _with_peeq(plastic_block(PRESS, six, static=INCREMENTS)), tmp_path / "r")
+    assert proc.returncode == 0 and "Job finished" in proc.stdout, proc.stdout[-2000:]
+    run = _points(dat)
+    prev_pts, prev_peeq = {}, {}
+    worst_a = worst_s = 0.0
+    turned = 0
+    for _, pts, peeq in run:
+        faces, old = {}, {}
+        for k in pts:
+            faces.setdefault(k[:2], []).append(k)
+        for k in prev_pts:
+            old.setdefault(k[:2], []).append(prev_pts[k])
+        for face, keys in faces.items():
+            n = len(keys)
+            p = np.array([pts[k][0] for k in keys]) * 1e6
+            got = np.array([[pts[k][5], pts[k][6]] for k in keys])
+            de = np.full(n, peeq.get(face[0], 0.0) - prev_peeq.get(face[0], 0.0))
+            best = np.full((n, 2), np.inf)
+            for row in old.get(face, [(0.0,) * 7]):
+                st = fl.HistoryState(
+                    p_hist=np.full(n, row[1] * 1e6),
+                    alpha_f=np.full(n, row[5]),
+                    slope_f=np.full(n, row[6]),
+                )
+                fl.traction_update(fl.SBMFLaw(P), p, np.ones(n), np.zeros(n), 1e30, st, d_eps=de)
+                miss = np.abs(np.column_stack([st.alpha_f_trial, st.slope_f_trial]) - got)
+                pick = miss.sum(axis=1) < best.sum(axis=1)
+                best[pick] = miss[pick]
+            on = p > 0
+            worst_a = max(worst_a, float(best[on, 0].max(initial=0.0)))
+            worst_s = max(worst_s, float(best[on, 1].max(initial=0.0)))
+            turned += int(
+                np.sum(on & (got[:, 1] > 0) & (np.abs(got[:, 1] - P.flattening.slope) > 1e-3))
+            )
+        prev_pts, prev_peeq = pts, peeq
+    assert worst_a < 1e-6 and worst_s < 1e-6, (worst_a, worst_s)
+    assert turned > 100
+    assert max(v[5] for v in run[-1][1].values()) > 0.9
