@@ -14,8 +14,8 @@ truth's at 0.02 H (``asperity_low.csv``), each profile on its finest mesh; and t
 hardening truth (``flattening_hardening.csv``: DC04's Swift curve, 0.05-0.45 H), where the
 two-state law reads the table at the current flow stress (``flow_curve``: the only way the
 perfectly plastic table sees the hardening) beside the one-state model with the hardening
-modulus (Eq. F2c, that study's column). Writes ``results/flattening_limit_runtime.md`` and
-``.csv``; seconds.
+modulus (Eq. F2c, that study's column). Writes ``results/flattening_limit_runtime.md``,
+``.csv`` and ``.png`` (a panel per pressure: the truth, both laws); seconds.
 
 Run: python benchmarks/flattening_limit_runtime.py
 """
@@ -238,9 +238,59 @@ def report(rows):
     return lines
 
 
+def figure(rows, path):
+    """One panel per pressure of the perfectly plastic truth (0.02 H on its finest meshes) and of
+    the hardening truth: the truth (dots), the two-state law (solid), the one-state (dashed), a
+    colour per profile."""
+    from matplotlib.figure import Figure
+
+    panels = [
+        (f"{'DC04 hardening' if hard else 'perfectly plastic'}, p/H {ph:g}", hard, ph)
+        for hard in (False, True)
+        for ph in sorted({r["p_over_H"] for r in rows if ("hardening" in r["mesh"]) == hard})
+    ]
+    profiles = list(dict.fromkeys(r["profile"] for r in rows))
+    ncol = 4
+    nrow = -(-len(panels) // ncol)
+    fig = Figure(figsize=(13, 3.2 * nrow))
+    axes = np.atleast_1d(fig.subplots(nrow, ncol, sharey=True)).ravel()
+    for ax in axes[len(panels) :]:
+        ax.set_visible(False)
+    for ax, (title, hard, ph) in zip(axes, panels, strict=False):
+        for i, name in enumerate(profiles):
+            sel = [
+                r
+                for r in rows
+                if r["profile"] == name
+                and r["p_over_H"] == ph
+                and ("hardening" in r["mesh"]) == hard
+            ]
+            if not sel:
+                continue
+            e = [r["strain"] for r in sel]
+            c = f"C{i}"
+            ax.plot(e, [r["alpha_truth"] for r in sel], "o", color=c, ms=3)
+            ax.plot(e, [r["alpha_two_state"] for r in sel], "-", color=c, label=name)
+            ax.plot(e, [r["alpha_one_state"] for r in sel], "--", color=c, lw=0.8)
+        ax.set_xscale("symlog", linthresh=0.005)
+        ax.set_xlabel("bulk strain (1)")
+        ax.set_title(title, fontsize=9)
+        ax.grid(alpha=0.3)
+    for ax in axes[::ncol]:
+        ax.set_ylabel("contact fraction alpha (1)")
+    axes[0].legend(fontsize=7)
+    fig.suptitle(
+        "FE asperity truth (dots), the two-state law (solid) and the one-state law (dashed; "
+        "with the hardening modulus on DC04), nothing fitted"
+    )
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+
+
 def main():
     rows = compare() + hardening()
     write_report("flattening_limit_runtime", rows, report(rows))
+    figure(rows, RESULTS / "flattening_limit_runtime.png")
 
 
 if __name__ == "__main__":
