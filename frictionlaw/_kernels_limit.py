@@ -24,7 +24,7 @@ from numba import float64, int8, int64, types
 from ._flattening_block import STRETCH_PER_EQUIVALENT_STRAIN as STRETCH
 from ._kernels import first_scalar, return_map_row, shear_scalar
 from ._kernels_branches import _RO, _RO2, _opts
-from ._kernels_flattening import FLAT_HEAD, P_MIN_RATIO, flat_shear_of
+from ._kernels_flattening import FLAT_HEAD, P_MIN_RATIO, flat_shear_of, flat_shear_scalar
 from ._limit_table import PRANDTL_FACTOR, S_FLOOR, STEP
 
 __all__ = [
@@ -35,6 +35,9 @@ __all__ = [
     "limit_shear_scalar",
     "traction_array_limit",
     "traction_array_limit_parallel",
+    "zoned_limit_row",
+    "traction_array_zoned_limit",
+    "traction_array_zoned_limit_parallel",
 ]
 
 #: relative pressure step of the update's ``d alpha / d p``
@@ -227,6 +230,102 @@ def traction_array_limit_parallel(
         tau, dtau, A, s = limit_shear_scalar(
             code, coeffs, fdata, P, off, a, ls, dA, ds,
             p[i], p_hist[i], alpha_f[i], slope_f[i], d_eps[i], sigy[i],
+        )  # fmt: skip
+        status[i] = return_map_row(tau, dtau, p[i], du, t_old, k_t[i], t_new, dt_ddu, dt_dp, i)
+        p_trial[i] = max(p_hist[i], p[i]) if p[i] > 0.0 else p_hist[i]
+        a_trial[i] = A
+        s_trial[i] = s
+
+
+@nb.jit(
+    types.UniTuple(float64, 4)(
+        _ROI, _ROI, _RO, _ROI, _RO, _ROI, *_TAB, int64,
+        float64, float64, float64, float64, float64, float64, float64,
+    ),
+    **_opts,
+)  # fmt: skip
+def zoned_limit_row(
+    codes, offsets, coeffs, f_offsets, fdata, models, P, off, a, ls, dA, ds, z,
+    p, p_hist, alpha_f, slope_f, d_eps, sigy, hard,
+):  # fmt: skip
+    """``(tau, dtau/dp, alpha_f', slope_f')`` of zone ``z``'s law at one node.
+
+    A two-state zone (``models[z] == 1``) runs :func:`limit_shear_scalar`; another zone its
+    one-state flattening or none (``frictionlaw._kernels_flattening.flat_shear_scalar``, with
+    the hardening modulus ``hard``) and passes ``slope_f`` on unchanged: the flank slope is the
+    workpiece's, as the fraction is, and only a two-state zone turns it.
+    """
+    c = coeffs[offsets[z] : offsets[z + 1]]
+    fd = fdata[f_offsets[z] : f_offsets[z + 1]]
+    if models[z] == 1:
+        return limit_shear_scalar(
+            codes[z], c, fd, P, off, a, ls, dA, ds, p, p_hist, alpha_f, slope_f, d_eps, sigy
+        )
+    t, d, af = flat_shear_scalar(codes[z], c, fd, p, p_hist, alpha_f, d_eps, sigy, hard)
+    return t, d, af, slope_f
+
+
+_zoned_limit_sig = types.void(
+    _ROI,
+    _ROI,
+    _RO,
+    _ROI,
+    _RO,
+    _ROI,
+    *_TAB,
+    _ROI,
+    _RO,
+    _RO,
+    _RO,
+    _RO,
+    _RO,
+    _RO,
+    _RO,
+    _RO2,
+    _RO2,
+    _RO,
+    float64[:, ::1],
+    int8[::1],
+    float64[:, :, ::1],
+    float64[:, ::1],
+    float64[::1],
+    float64[::1],
+    float64[::1],
+)
+
+
+@nb.jit(_zoned_limit_sig, **_opts)
+def traction_array_zoned_limit(
+    codes, offsets, coeffs, f_offsets, fdata, models, P, off, a, ls, dA, ds, zone,
+    p, p_hist, alpha_f, slope_f, d_eps, sigy, hard,
+    du, t_old, k_t, t_new, status, dt_ddu, dt_dp, p_trial, a_trial, s_trial,
+):  # fmt: skip
+    """The return map of a zoned law with a two-state zone: each node's zone law.
+
+    :func:`zoned_limit_row` per node; writes the trial ``p_hist``, ``alpha_f`` and ``slope_f``.
+    """
+    for i in range(p.shape[0]):
+        tau, dtau, A, s = zoned_limit_row(
+            codes, offsets, coeffs, f_offsets, fdata, models, P, off, a, ls, dA, ds, zone[i],
+            p[i], p_hist[i], alpha_f[i], slope_f[i], d_eps[i], sigy[i], hard[i],
+        )  # fmt: skip
+        status[i] = return_map_row(tau, dtau, p[i], du, t_old, k_t[i], t_new, dt_ddu, dt_dp, i)
+        p_trial[i] = max(p_hist[i], p[i]) if p[i] > 0.0 else p_hist[i]
+        a_trial[i] = A
+        s_trial[i] = s
+
+
+@nb.jit(_zoned_limit_sig, parallel=True, **_opts)
+def traction_array_zoned_limit_parallel(
+    codes, offsets, coeffs, f_offsets, fdata, models, P, off, a, ls, dA, ds, zone,
+    p, p_hist, alpha_f, slope_f, d_eps, sigy, hard,
+    du, t_old, k_t, t_new, status, dt_ddu, dt_dp, p_trial, a_trial, s_trial,
+):  # fmt: skip
+    """As :func:`traction_array_zoned_limit`, threads over the nodes."""
+    for i in nb.prange(p.shape[0]):
+        tau, dtau, A, s = zoned_limit_row(
+            codes, offsets, coeffs, f_offsets, fdata, models, P, off, a, ls, dA, ds, zone[i],
+            p[i], p_hist[i], alpha_f[i], slope_f[i], d_eps[i], sigy[i], hard[i],
         )  # fmt: skip
         status[i] = return_map_row(tau, dtau, p[i], du, t_old, k_t[i], t_new, dt_ddu, dt_dp, i)
         p_trial[i] = max(p_hist[i], p[i]) if p[i] > 0.0 else p_hist[i]

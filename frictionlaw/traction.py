@@ -191,7 +191,7 @@ def traction_update(
     if d_eps is not None:
         de, sy, hd, (a_c, a_t) = _flattening_inputs(law, d_eps, sigma_y, hardening, state, n)
         if getattr(law, "uses_two_state", False):  # model limit-analysis: a second state
-            _limit_update(law, p, p_hist, a_c, a_t, de, sy, state, tail, parallel)
+            _limit_update(law, zoned, p, p_hist, a_c, a_t, de, sy, hd, state, tail, parallel)
         else:
             fk = flattening_kernels()
             if zoned is not None:
@@ -237,43 +237,40 @@ def flattening_kernels() -> ModuleType:
 
 def _limit_update(
     law: "Law",
+    zoned: NDArray[np.int64] | None,
     p: NDArray[np.float64],
     p_hist: NDArray[np.float64],
     a_c: NDArray[np.float64],
     a_t: NDArray[np.float64],
     de: NDArray[np.float64],
     sy: NDArray[np.float64],
+    hd: NDArray[np.float64],
     state: "HistoryState | None",
     tail: tuple,
     parallel: bool,
 ) -> None:
     """The return map with the two-state flattening (model limit-analysis).
 
-    Its kernels read the shipped rate table and write the trial ``slope_f`` beside ``alpha_f``.
+    Its kernels read the shipped rate table and write the trial ``slope_f`` beside ``alpha_f``;
+    a zoned law (``zoned``, each node's zone) runs each node's zone law, its one-state zones
+    with the hardening modulus ``hd``.
     """
     from ._limit_table import rate_table
 
     n = p.size
     s_c, s_t = state.slope_arrays() if state is not None else (np.zeros(n), np.empty(n))
     t = rate_table()
+    table = (t.pressures, t.offsets, t.a, t.ln_s, t.dA, t.ds)
     lk = limit_kernels()
+    nodes = (np.ascontiguousarray(p), p_hist, a_c, s_c, de, sy)
+    if zoned is not None:
+        kern = lk.traction_array_zoned_limit_parallel if parallel else lk.traction_array_zoned_limit
+        head = (*law.kernel_data(), *law.flattening_kernel_data(), law.flattening_models())  # type: ignore[union-attr]
+        kern(*head, *table, zoned, *nodes, hd, *tail, a_t, s_t)
+        return
     kern = lk.traction_array_limit_parallel if parallel else lk.traction_array_limit
-    head = (int(law.code), law.coeffs, law.flattening_data, t.pressures, t.offsets, t.a)  # type: ignore[union-attr]
-    kern(
-        *head,
-        t.ln_s,
-        t.dA,
-        t.ds,
-        np.ascontiguousarray(p),
-        p_hist,
-        a_c,
-        s_c,
-        de,
-        sy,
-        *tail,
-        a_t,
-        s_t,
-    )
+    head = (int(law.code), law.coeffs, law.flattening_data)  # type: ignore[union-attr]
+    kern(*head, *table, *nodes, *tail, a_t, s_t)
 
 
 def limit_kernels() -> ModuleType:

@@ -13,8 +13,11 @@ the new zone's law (its ``alpha1(p_hist)`` recomputed from that law); nothing of
 law travels with it. The flattening state (issue 43) is the workpiece's too, and it is the
 flattened contact *fraction* ``alpha_f`` that travels: a zone with a flattening block reads it
 as its own law's pressure ``p_f`` (``alpha1(p_f) = alpha_f`` of that law) and grows it; a zone
-without one runs its calibrated law and leaves ``alpha_f`` as it came. Names are compared trimmed and case-insensitive (:func:`zone_key`), as the
-exported routines compare the names their hosts pass (docs/fe_codes.md, "Zones").
+without one runs its calibrated law and leaves ``alpha_f`` as it came. The two-state model's
+flank slope ``slope_f`` travels the same way: a two-state zone reads and turns it (0: its own
+block's slope), any other zone leaves it as it came. Names are compared trimmed and
+case-insensitive (:func:`zone_key`), as the exported routines compare the names their hosts pass
+(docs/fe_codes.md, "Zones").
 """
 
 from collections.abc import Mapping
@@ -108,12 +111,6 @@ class ZonedLaw:
                     f"the law of zone {n!r} must be a Coulomb, Tresca, CoulombCap or SBMFLaw, "
                     f"got {type(law).__name__}"
                 )
-            if law.uses_two_state:
-                raise ValueError(
-                    f"the law of zone {n!r} has the two-state flattening (model "
-                    "'limit-analysis'), which runs in one-law updates only: give its zone the "
-                    "one-state model ('layer-yield')"
-                )
         coeffs = [np.ascontiguousarray(law.coeffs, dtype=np.float64) for law in laws]
         offsets = np.concatenate([[0], np.cumsum([c.size for c in coeffs])]).astype(np.int64)
         fdata = [np.ascontiguousarray(law.flattening_data, dtype=np.float64) for law in laws]
@@ -126,6 +123,7 @@ class ZonedLaw:
             ("_coeffs", np.concatenate(coeffs)),
             ("_f_offsets", f_offsets),
             ("_fdata", np.concatenate(fdata)),
+            ("_models", np.array([int(law.uses_two_state) for law in laws], dtype=np.int64)),
         ):
             if isinstance(value, np.ndarray):
                 value.flags.writeable = False
@@ -151,6 +149,14 @@ class ZonedLaw:
         """True if any zone's law has a flattening block (it reads the bulk strain increment)."""
         return any(law.uses_flattening for law in self.laws)
 
+    @property
+    def uses_two_state(self) -> bool:
+        """True if any zone's flattening block is the two-state model (``limit-analysis``).
+
+        The nodes then carry the flank slope ``slope_f`` too, which only those zones turn.
+        """
+        return bool(self._models.any())
+
     def index(self, name: str) -> int:
         """The zone id of ``name`` (trimmed, case-insensitive); ValueError naming it if none."""
         key = zone_key(name)
@@ -170,6 +176,10 @@ class ZonedLaw:
     def flattening_kernel_data(self) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
         """``(f_offsets, fdata)``: each zone's flattening data (an empty slice: none; read-only)."""
         return self._f_offsets, self._fdata
+
+    def flattening_models(self) -> NDArray[np.int64]:
+        """Each zone's flattening model for the kernels: 1 two-state, 0 otherwise (read-only)."""
+        return self._models
 
     def shear_limit(
         self, p: ArrayLike, p_hist: ArrayLike, zone: ArrayLike, *, parallel: bool | None = None

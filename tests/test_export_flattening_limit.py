@@ -8,7 +8,7 @@ and flattens as the runtime's traction update does given the same strain increme
 relative on the shear and the states in double precision (the table read and integrated
 statement by statement), 2e-6 in LS-DYNA's single precision. The update's d alpha/dp is a
 forward difference of two integrations in both, compared to 1e-7. Without the extra slot the
-routine says so once and runs the law without flattening; a zoned export is refused.
+routine says so once and runs the law without flattening.
 """
 
 import numpy as np
@@ -256,19 +256,14 @@ def test_calculix_fric_flattens_as_the_runtime(tmp_path):
     assert np.any(statev[:, 4] > af + 0.05)
 
 
-def test_zoned_and_strainless_exports(tmp_path, capsys):
-    """A zoned export of a two-state file is refused (exit 2, naming --zones); a host that
-    passes no strain takes it with --without-flattening as before."""
+def test_strainless_hosts_take_it_without_flattening(tmp_path, capsys):
+    """A host that passes no strain takes a two-state file only with --without-flattening (exit
+    2 without it), and its routine then carries no flattening code (zoned two-state routines:
+    tests/test_export_zones_flattening.py)."""
     path = tmp_path / "two.json"
     law().to_json(path)
-    one = tmp_path / "one.json"
-    fl.FrictionParams(**BASE).to_json(one)
-    code = export_main(
-        ["lsdyna", "--zone", f"die={path}", "--zone", f"punch={one}", "--units", "SI",
-         "--out", str(tmp_path / "z")]
-    )  # fmt: skip
-    err = capsys.readouterr().err
-    assert code == 2 and "--zone" in err and "two-state" in err, err
+    code = export_main(["abaqus-fric", "--params", str(path), "--out", str(tmp_path / "a")])
+    assert code == 2 and "--without-flattening" in capsys.readouterr().err
     files, _ = exp.render("abaqus-fric", path, units="SI", without_flattening=True)
     assert "SBMF_TSHR" not in files["sbmf_fric.f"]  # nor the table: the host cannot run it
     assert "DATA (DA(I)" not in files["sbmf_fric.f"]

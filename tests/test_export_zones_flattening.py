@@ -25,6 +25,8 @@ pytestmark = pytest.mark.skipif(harness.gfortran() is None, reason="gfortran not
 #: zone 1 flattens (slope 0.05), zone 2 has no block, the default law flattens (slope 0.1)
 FA = dataclasses.replace(ZA, flattening=fl.Flattening(slope=0.05))
 FD = dataclasses.replace(ZD, flattening=fl.Flattening(slope=0.1))
+#: zone 1 as the two-state model (limit-analysis) instead
+FT = dataclasses.replace(ZA, flattening=fl.Flattening(slope=0.05, model="limit-analysis"))
 NAMES = {"lsdyna-usrfrc": ("3", "12"), "lsdyna-usrfrc-mpp": ("3", "12")}
 
 
@@ -32,19 +34,19 @@ NAMES = {"lsdyna-usrfrc": ("3", "12"), "lsdyna-usrfrc-mpp": ("3", "12")}
 def files(tmp_path_factory):
     folder = tmp_path_factory.mktemp("zflat")
     out = {}
-    for key, params in (("a", FA), ("b", ZB), ("d", FD)):
+    for key, params in (("a", FA), ("b", ZB), ("d", FD), ("t", FT)):
         out[key] = folder / f"zone_{key}.json"
         params.to_json(out[key])
     return out
 
 
-def _load(tmp_path, target, files):
+def _load(tmp_path, target, files, rim_file="a", entry="SBMF_ZFSHR"):
     rim, flank = NAMES.get(target, ("Rim", "Flank"))
-    zones = [(rim, files["a"]), (flank, files["b"])]
+    zones = [(rim, files[rim_file]), (flank, files["b"])]
     texts, _ = exp.render(target, files["d"], zones=zones)
     src = {n: t for n, t in texts.items() if n.endswith(".f")}
-    assert "SUBROUTINE SBMF_ZFSHR" in src[exp.target(target).file]
-    name = re.sub(r"[^a-z0-9]", "_", f"zf_{target}")
+    assert f"SUBROUTINE {entry}" in src[exp.target(target).file]
+    name = re.sub(r"[^a-z0-9]", "_", f"zf_{target}_{rim_file}")
     options, flags = {}, ("-O2",)
     if "usrfrc" in target:  # LS-DYNA's double-precision build: REAL is 8 bytes
         options["dtype"] = np.float64
@@ -132,3 +134,38 @@ def test_hosts_without_strain_need_the_users_word(files):
         exp.render("abaqus-fric", files["d"], zones=zones)
     texts, _ = exp.render("abaqus-fric", files["d"], zones=zones, without_flattening=True)
     assert "SBMF_ZFSHR" not in texts["sbmf_fric.f"] and "SBMF_GUARD(9" in texts["sbmf_fric.f"]
+
+
+#: the flank slope's column of each target's state (0-based) and its state count
+SLOPE = {"lsdyna": (6, 7), "calculix": (5, 6), "lsdyna-usrfrc": (7, 8), "lsdyna-usrfrc-mpp": (7, 8)}
+
+
+@pytest.mark.parametrize("target", ["lsdyna", "calculix", "lsdyna-usrfrc", "lsdyna-usrfrc-mpp"])
+def test_a_two_state_zone_turns_the_slope_and_both_states_travel(tmp_path, files, target):
+    """Zone 1 the two-state model, zone 2 no block, the default the one-state model: each
+    visit's fraction and flank slope as the runtime's ZonedLaw (1e-12; the one-state zone
+    perfectly plastic and passing the slope on, the plain zone passing both on)."""
+    host, texts, names = _load(tmp_path, target, files, "t", "SBMF_ZTSHR")
+    col, nsv = SLOPE[target]
+    assert "flank slope" in texts["README.md"]
+    laws = tuple(fl.SBMFLaw(p) for p in (FT, ZB, FD))
+    zl = fl.ZonedLaw(("rim", "flank", "default"), laws)
+    n = P.size
+    state = np.zeros((n, nsv))
+    ref = fl.HistoryState(n)
+    eps = 0.0
+    turned = {0: 0.0, 1: 0.0, 2: 0.0}
+    for cycle, (step, zone) in enumerate(STEPS, start=1):
+        eps += step
+        before = ref.slope_f.copy()
+        tau = _call(target, host, names[zone], P, state, step, eps, cycle)
+        res = fl.traction_update(
+            zl, P, np.ones(n), np.zeros(n), 1e30, ref, d_eps=step, zone=np.full(n, zone)
+        )
+        ref.commit()
+        np.testing.assert_allclose(state[:, 4], ref.alpha_f, rtol=1e-12, atol=0)
+        np.testing.assert_allclose(state[:, col], ref.slope_f, rtol=1e-12, atol=0)
+        np.testing.assert_allclose(tau, np.abs(res.traction), rtol=1e-11)
+        turned[zone] = max(turned[zone], float(np.max(np.abs(ref.slope_f - before))))
+    # only the two-state zone turned the flank; the others passed it on
+    assert turned[0] > 1e-3 and turned[1] == 0.0 and turned[2] == 0.0

@@ -28,8 +28,8 @@ FORMS = {
 }
 
 
-def law(slope=0.1, beta=1.0, **kw):
-    flat = fl.Flattening(slope=slope, beta=beta, model="limit-analysis")
+def law(slope=0.1, beta=1.0, model="limit-analysis", **kw):
+    flat = fl.Flattening(slope=slope, beta=beta, model=model)
     return fl.FrictionParams(**{**BASE, **kw}, flattening=flat)
 
 
@@ -156,7 +156,7 @@ def test_the_host_flow_stress_against_the_numpy_model():
     np.testing.assert_allclose(st.slope_f_trial, s_ref, rtol=1e-13)
 
 
-def test_hardening_and_zones_are_refused_before_any_work():
+def test_hardening_is_refused_before_any_work():
     P = law()
     s = fl.HistoryState(2)
     with pytest.raises(ValueError, match="hardening does not apply to the two-state"):
@@ -164,8 +164,75 @@ def test_hardening_and_zones_are_refused_before_any_work():
             fl.SBMFLaw(P), [1e8, 1e8], np.ones(2), np.zeros(2), 1e20, s, d_eps=0.01, hardening=1e9
         )
     assert np.array_equal(s.alpha_f_trial, np.zeros(2))
-    with pytest.raises(ValueError, match="one-law updates only"):
-        fl.ZonedLaw.from_mapping({"die": fl.SBMFLaw(P)})
+    zl = fl.ZonedLaw.from_mapping(
+        {"die": fl.SBMFLaw(P), "punch": fl.SBMFLaw(law(model="layer-yield"))}
+    )
+    with pytest.raises(ValueError, match="hardening does not apply to the two-state"):
+        fl.traction_update(
+            zl, [1e8, 1e8], np.ones(2), np.zeros(2), 1e20, s, zone=[1, 1], d_eps=0.01,
+            hardening=1e9,
+        )  # fmt: skip
+
+
+def _zoned(zl, zone, p, p_hist, alpha_f, slope_f, d_eps, parallel=None):
+    n = np.size(p)
+    state = fl.HistoryState(
+        p_hist=np.broadcast_to(p_hist, n),
+        alpha_f=np.broadcast_to(alpha_f, n),
+        slope_f=np.broadcast_to(slope_f, n),
+    )
+    res = fl.traction_update(
+        zl, p, np.ones(n), np.zeros(n), 1e20, state, zone=zone, d_eps=d_eps, parallel=parallel
+    )
+    return res.traction, res.dt_dp, state
+
+
+@pytest.mark.parametrize("parallel", [False, True])
+def test_zones_run_each_zone_and_the_states_travel(parallel):
+    """A zoned law with a two-state zone, a one-state zone and one without a block: each node is
+    its zone's one-law update bit for bit (the two-state zone's both states; the others'
+    fraction, the slope passed on as it came), serial and parallel alike."""
+    two, one, plain = law(0.1), law(0.05, model="layer-yield"), fl.FrictionParams(**BASE)
+    zl = fl.ZonedLaw(("a", "b", "c"), (fl.SBMFLaw(two), fl.SBMFLaw(one), fl.SBMFLaw(plain)))
+    assert zl.uses_two_state and list(zl.flattening_models()) == [1, 0, 0]
+    p, ph, af, sf, de = grid()
+    n = p.size
+    for z, P in enumerate((two, one, plain)):
+        zone = np.full(n, z)
+        tz, dz, sz = _zoned(zl, zone, p, ph, af, sf, de, parallel)
+        if P.flattening is None:
+            ref = fl.SBMFLaw(P).shear_limit(p, ph)
+            assert np.array_equal(tz, ref[0]) and np.array_equal(sz.alpha_f_trial, af)
+        else:
+            t1, d1, s1 = update(P, p, ph, af, sf, de, parallel=parallel) if z == 0 else (
+                *_one_state(P, p, ph, af, de), None
+            )  # fmt: skip
+            assert np.array_equal(tz, t1) and np.array_equal(dz, d1)
+            if s1 is not None:
+                assert np.array_equal(sz.alpha_f_trial, s1.alpha_f_trial)
+                assert np.array_equal(sz.slope_f_trial, s1.slope_f_trial)
+        if z > 0:  # only a two-state zone turns the flank
+            assert np.array_equal(sz.slope_f_trial, sf)
+    # flattened under a, the node comes under b: b reads the fraction through its own alpha1
+    # and leaves the slope as it came; back under a, the turned slope is read again
+    q = np.array([0.05, 0.1, 0.3]) * H
+    _, _, s_a = _zoned(zl, np.zeros(3, int), q, 0.0, 0.0, 0.0, 0.05)
+    a_a, f_a = s_a.alpha_f_trial.copy(), s_a.slope_f_trial.copy()
+    assert np.all(f_a > 0) and np.any(np.abs(f_a - 0.1) > 1e-3)
+    t_b, _, s_b = _zoned(zl, np.ones(3, int), q, q, a_a, f_a, 0.0)
+    assert np.array_equal(s_b.alpha_f_trial, a_a) and np.array_equal(s_b.slope_f_trial, f_a)
+    assert np.allclose(t_b, one.tau_max * np.maximum(fl.alpha_first(q, one), a_a), rtol=1e-12)
+    _, _, s_back = _zoned(zl, np.zeros(3, int), q, q, a_a, f_a, 0.02)
+    _, _, s_ref = update(two, q, q, a_a, f_a, 0.02)
+    assert np.array_equal(s_back.slope_f_trial, s_ref.slope_f_trial)
+
+
+def _one_state(P, p, p_hist, alpha_f, d_eps):
+    """The one-state law's update at slipping nodes: (tau, dt_dp)."""
+    n = np.size(p)
+    state = fl.HistoryState(p_hist=np.broadcast_to(p_hist, n), alpha_f=np.broadcast_to(alpha_f, n))
+    res = fl.traction_update(fl.SBMFLaw(P), p, np.ones(n), np.zeros(n), 1e20, state, d_eps=d_eps)
+    return res.traction, res.dt_dp
 
 
 def test_extremes_are_finite_and_at_most_one():
@@ -176,20 +243,21 @@ def test_extremes_are_finite_and_at_most_one():
     assert np.all(st.alpha_f_trial <= 1.0) and np.all(st.slope_f_trial >= 0)
 
 
-def test_the_export_refuses_the_two_state_block_where_a_routine_would_run_it(tmp_path, capsys):
-    """The Fortran routines carry the one-state model only: a routine whose host passes the bulk
-    strain would run its rate on the two-state block's inputs, so it is refused (exit 2); hosts
+def test_the_routines_whose_host_passes_the_strain_export_it(tmp_path, capsys):
+    """Every routine target whose host passes the bulk strain exports the two-state block (exit
+    0; its routine carries the table, tests/test_export_flattening_limit.py runs them); hosts
     without strain and tables run the law without flattening, with the user's word, as for the
     one-state block."""
     from frictionlaw import export as exp
     from frictionlaw.export.cli import main
 
     path = law().to_json(tmp_path / "two.json")
-    for target in ("lsdyna-usrfrc", "lsdyna", "ansys-userfric", "calculix"):
-        with pytest.raises(ValueError, match="two-state model .'limit-analysis'."):
-            exp.render(target, path)
+    for target in ("lsdyna-usrfrc", "lsdyna-usrfrc-mpp", "lsdyna", "ansys-userfric", "calculix"):
         out = tmp_path / target
-        assert main([target, "--params", str(path), "--out", str(out)]) == 2
-        assert "layer-yield" in capsys.readouterr().err and not out.exists()
+        assert main([target, "--params", str(path), "--out", str(out), "--quiet"]) == 0
+        routine = next(f for f in out.iterdir() if f.suffix == ".f")
+        assert "SBMF_TSHR" in routine.read_text()
+    assert main(["abaqus-fric", "--params", str(path), "--out", str(tmp_path / "a")]) == 2
+    assert "--without-flattening" in capsys.readouterr().err
     assert exp.render("abaqus-fric", path, without_flattening=True)[0]
     assert exp.render("abaqus-table", path, without_flattening=True)[0]

@@ -12,7 +12,6 @@ from pathlib import Path
 from sbmf_cli import OutputFolder, ParameterError
 
 from .. import __version__
-from .._flattening_block import LIMIT_MODEL
 from ..params import FrictionParams
 from . import _targets
 from ._flat import flat_states, flow_spec
@@ -135,15 +134,6 @@ def _check_flattening(record, laws, zones, without_flattening=False):
             )
         return
     path = flat[0].path
-    two = [law for law in flat if law.params.flattening.model == LIMIT_MODEL]
-    if two and zones and isinstance(record.form, _targets.Routine) and record.form.bulk_strain:
-        raise ParameterError(
-            f"{{zones}}: {two[0].path}'s flattening block is the two-state model "
-            f"({LIMIT_MODEL!r}), which a zoned routine does not carry (nor the runtime's "
-            "zoned law): export one routine for that file, or give the zone a one-state "
-            "'layer-yield' block (docs/flattening.md)",
-            "zones",
-        )
     if not isinstance(record.form, _targets.Routine):
         if without_flattening:
             return  # the table of the law without it; its header says so

@@ -261,7 +261,11 @@ def zoned_context(table):
         "guard": first.guard,
         # the first flattening block of the zones (None without one): the templates declare and
         # run the flattening where it is set, each zone's law its own (SBMF_ZFSHR)
-        "flat": next((law.core.flat for law in table.laws if law.core.flat), None),
+        # (a two-state one first: its slot counts are the routine's, flat_states)
+        "flat": next(
+            (law.core.flat for law in table.laws if law.core.flat and law.core.flat.limit),
+            next((law.core.flat for law in table.laws if law.core.flat), None),
+        ),
         **shared_constants(),
     }
 

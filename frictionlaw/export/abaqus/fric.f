@@ -189,8 +189,8 @@ C       no strain passed: the flattened fraction is kept, not grown
 C     the two-state model (perfectly plastic: HMOD not read)
       SF = 0.0D0
       IF (NSTATV .GE. 6) SF = MAX(STATEV(6), 0.0D0)
-      CALL SBMF_TSHR(P, PH, AF, SF, DEPS, SIGY, G1H, TLIM, DTAU, G1NEW,
-     &               ANEW, SNEW)
+      CALL {{ "SBMF_ZTSHR(IZ, " if zones else "SBMF_TSHR(" }}P, PH, AF, SF, DEPS,
+     &     SIGY, G1H, TLIM, DTAU, G1NEW, ANEW, SNEW)
       IF (HMOD .LT. 0.0D0) CONTINUE
 {% else %}
       CALL {{ "SBMF_ZFSHR(IZ, " if zones else "SBMF_FSHR(" }}P, PH, AF, DEPS, SIGY, HMOD, G1H, TLIM,

@@ -103,7 +103,8 @@ C=======================================================================
       RETURN
       END
 C
-{% if target.form.bulk_strain and laws | selectattr("flat") | list %}
+{% set two_state = laws | selectattr("flat") | selectattr("flat.limit") | list %}
+{% if target.form.bulk_strain and laws | selectattr("flat") | list and not two_state %}
 C=======================================================================
 C     The flattening (issue 43) of law IZ: its SBMF_FSHR where the law
 C     has a flattening block (the flattened fraction AF read through
@@ -123,6 +124,43 @@ C=======================================================================
 {% if law.flat %}
       CASE ({{ loop.index }})
         CALL {{ law.prefix }}FSHR(P, PH, AF, DEPS, SIGY, HMOD, G1H, TAU,
+     &                  DTAU, G1OUT, ANEW)
+{% endif %}
+{% endfor %}
+      CASE DEFAULT
+C       a law without a flattening block (or no law): SBMF_ZSHEAR
+        CALL SBMF_ZSHEAR(IZ, P, PH, G1H, TAU, DTAU, G1OUT)
+      END SELECT
+      RETURN
+      END
+C
+{% endif %}
+{% if target.form.bulk_strain and two_state %}
+C=======================================================================
+C     The flattening of law IZ where a zone has the two-state model:
+C     that zone's law's TSHR (both states AF, SF read and grown); a
+C     one-state zone its law's FSHR, perfectly plastic (as the runtime,
+C     which takes no hardening modulus for a zoned law with a
+C     two-state zone), the slope SF passed on (SNEW = SF); a zone
+C     without a block SBMF_ZSHEAR, both states as they came.
+C=======================================================================
+      SUBROUTINE SBMF_ZTSHR(IZ, P, PH, AF, SF, DEPS, SIGY, G1H, TAU,
+     &                      DTAU, G1OUT, ANEW, SNEW)
+      IMPLICIT NONE
+      INTEGER IZ
+      DOUBLE PRECISION P, PH, AF, SF, DEPS, SIGY, G1H, TAU, DTAU
+      DOUBLE PRECISION G1OUT, ANEW, SNEW
+      ANEW = AF
+      SNEW = SF
+      SELECT CASE (IZ)
+{% for law in laws %}
+{% if law.flat and law.flat.limit %}
+      CASE ({{ loop.index }})
+        CALL {{ law.prefix }}TSHR(P, PH, AF, SF, DEPS, SIGY, G1H, TAU,
+     &                  DTAU, G1OUT, ANEW, SNEW)
+{% elif law.flat %}
+      CASE ({{ loop.index }})
+        CALL {{ law.prefix }}FSHR(P, PH, AF, DEPS, SIGY, 0.0D0, G1H, TAU,
      &                  DTAU, G1OUT, ANEW)
 {% endif %}
 {% endfor %}

@@ -126,8 +126,8 @@ C       no flow curve: the file's sigma_y, perfectly plastic
 {% if flat.limit %}
 C       the two-state model (perfectly plastic: HMOD not read)
         SF = DBLE(UH(8))
-        CALL SBMF_TSHR(P, PH, AF, SF, DEPS, SIGY, G1H, TLIM, DTAU,
-     &                 G1NEW, ANEW, SNEW)
+        CALL {{ "SBMF_ZTSHR(IZ, " if zones else "SBMF_TSHR(" }}P, PH, AF, SF, DEPS,
+     &       SIGY, G1H, TLIM, DTAU, G1NEW, ANEW, SNEW)
         IF (HMOD .LT. 0.0D0) CONTINUE
         UH(8) = REAL(SNEW)
 {% else %}

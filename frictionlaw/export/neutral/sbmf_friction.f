@@ -162,8 +162,8 @@ C     guards: the stated unit system, the pressure (the caller reports)
 C       the two-state model: STATE(5) the fraction, STATE(7) the slope
         AF = STATE(5)
         SF = STATE(7)
-        CALL SBMF_TSHR(P, PH, AF, SF, DEPS, SIGY, G1H, TLIM, DTAU,
-     &                 G1NEW, ANEW, SNEW)
+        CALL {{ "SBMF_ZTSHR(IZ, " if zones else "SBMF_TSHR(" }}P, PH, AF, SF, DEPS,
+     &       SIGY, G1H, TLIM, DTAU, G1NEW, ANEW, SNEW)
         STATE(5) = ANEW
         STATE(7) = SNEW
       ELSE
@@ -171,7 +171,7 @@ C       no slots for the two states: the law without flattening
         IF (DEPS .GT. 0.0D0 .AND. IERR .EQ. 0) THEN
           IF (SBMF_ONCE(9) .EQ. 1) IERR = 9
         END IF
-        CALL SBMF_SHEAR(P, PH, G1H, TLIM, DTAU, G1NEW)
+        CALL {{ "SBMF_ZSHEAR(IZ, " if zones else "SBMF_SHEAR(" }}P, PH, G1H, TLIM, DTAU, G1NEW)
       END IF
 {% elif flat %}
       IF (NSTATE .GE. 5) THEN
