@@ -91,6 +91,7 @@ class ZonedLaw:
     _coeffs: NDArray[np.float64] = field(init=False, repr=False, compare=False)
     _f_offsets: NDArray[np.int64] = field(init=False, repr=False, compare=False)
     _fdata: NDArray[np.float64] = field(init=False, repr=False, compare=False)
+    _models: NDArray[np.int64] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         names, laws = tuple(self.names), tuple(self.laws)

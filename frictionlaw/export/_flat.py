@@ -52,7 +52,8 @@ def data_statements(name, values, index="I", start=1):
     a statement (one statement per chunk: Fortran 77 allows 19 continuations).
     """
     words = [str(v) if isinstance(v, int) else fortran_short(v) for v in values]
-    lines, cur = [], []
+    lines: list[list[str]] = []
+    cur: list[str] = []
     for w in words:
         if cur and len("     &  " + ", ".join([*cur, w]) + " /") > 72:
             lines.append(cur)
