@@ -122,8 +122,8 @@ def traction_update(
         with ``d_eps`` only: it limits the slip-line lattice's sinking rate to ``6 p / h``
         (docs/flattening.md, Eq. F2c); ``None`` or 0: a perfectly plastic bulk, as before.
         Refused for a block of the two-state model (``limit-analysis``), whose table is
-        perfectly plastic; that model reads and writes the state's ``slope_f`` beside
-        ``alpha_f``.
+        perfectly plastic, and for a zoned law with such a zone; that model reads and writes
+        the state's ``slope_f`` beside ``alpha_f``.
 
     Returns
     -------
