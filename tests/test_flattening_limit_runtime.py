@@ -136,6 +136,23 @@ def test_tangent_is_the_derivative_of_the_flattened_shear():
         assert dtdp[1] == pytest.approx(fd, rel=2e-3)
 
 
+def test_tangent_is_the_forward_difference_of_the_numpy_model():
+    """The update's d alpha/dp, carried through the integration, against a forward difference
+    (relative step 1e-7) of the NumPy model's fraction at every first-loading node of the grid
+    that flattened beyond alpha1(p): 6e-6 relative (the difference's own error; the right
+    derivative at the table's grid lines and at p = p_hist, as the difference takes it)."""
+    P = law()
+    p, ph, af, sf, de = grid()
+    _, dtdp, st = update(P, p, ph, af, sf, de)
+    sel = (p >= ph) & (st.alpha_f_trial > fl.alpha_first(p, P)) & (de > 0)
+    assert sel.sum() > 300
+    h = 1e-7
+    a_up, _ = limit_update(af, sf, np.maximum(ph, p * (1 + h)), p * (1 + h), de, P)
+    a_at, _ = limit_update(af, sf, np.maximum(ph, p), p, de, P)
+    fd = (a_up - a_at) / (p * (1 + h) - p)
+    np.testing.assert_allclose(dtdp[sel] / P.tau_max, fd[sel], rtol=1e-5)
+
+
 def test_serial_and_parallel_agree_bit_for_bit():
     P = law()
     p, ph, af, sf, de = grid()

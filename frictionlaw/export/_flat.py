@@ -82,9 +82,8 @@ class LimitSpec:
     data : tuple of str
         The DATA statements of the row offsets ``OFF``, ``AR``, ``LS`` and the rates ``DA``,
         ``DS`` (row-major, as the runtime's arrays).
-    step, s_floor, prandtl, dp : float
-        The integration's stretch step, the slope's floor, ``2 + pi`` and the relative
-        pressure step of the update's ``d alpha / d p`` (the kernels').
+    step, s_floor, prandtl : float
+        The integration's stretch step, the slope's floor and ``2 + pi`` (the kernels').
     """
 
     pressures: tuple
@@ -94,12 +93,10 @@ class LimitSpec:
     step: float
     s_floor: float
     prandtl: float
-    dp: float
 
 
 def limit_spec():
     """The :class:`LimitSpec` of the shipped table (it depends on no parameter file)."""
-    from .._kernels_limit import DP  # the kernels' rules (numba loads)
     from .._limit_table import PRANDTL_FACTOR, S_FLOOR, STEP, rate_table
 
     t = rate_table()
@@ -118,7 +115,6 @@ def limit_spec():
         float(STEP),
         float(S_FLOOR),
         float(PRANDTL_FACTOR),
-        float(DP),
     )
 
 
