@@ -13,7 +13,8 @@ turn in one run, best of ``--repeat`` rounds, serial and parallel kernels. Cases
   lattice's rate limited, Eq. F2c, at the lower pressures of the set);
 - ``two-state, ...``: the same law and cases with the block's two-state model
   (``limit-analysis``: the tabulated rates integrated in steps of 0.0005 of stretch, the
-  tangent a second integration), its flattened state after 0.005 of strain;
+  tangent carried through the same steps on first loading), its flattened state after 0.005
+  of strain;
 - ``strain 0.02, virgin`` for both models: an increment ten times larger (the two-state law's
   steps of 0.0005 of stretch grow in number with it; the one-state solve does not).
 
