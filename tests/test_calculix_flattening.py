@@ -380,26 +380,21 @@ def test_a_zoned_routine_flattens_its_zone_in_ccx(ccx_work, tmp_path):
     assert all(v[5] == 0.0 for _, pts, _ in _points(dat) for v in pts.values())
 
 
-def test_the_two_state_model_flattens_in_ccx_as_the_runtime_replay(ccx_work, tmp_path):
-    """The example's block as the two-state model (limit-analysis): ccx asks for DEPVAR = 6
-    (5 is refused while it reads the deck), and pressing the elastic-plastic block at every
-    converged increment gives each contact point's STATEV(5) and STATEV(6) (the flattened
-    fraction and the flank slope) as the runtime's update from one of its face's previous
-    states with its slave element's PEEQ increment (ccx prints 7 digits)."""
+def _two_state(tmp_path):
+    """The example's block as the two-state model: (params, its file)."""
     P = fl.FrictionParams.from_json(FLAT)
     P = P.replace(flattening=fl.Flattening(P.flattening.slope, model="limit-analysis"))
     path = tmp_path / "two.json"
     P.to_json(path)
-    out = _export(tmp_path, path, "two")
-    exe = _link(ccx_work, out / "sbmf_fric.f", out / "ccx")
-    assert "*FRICTION, USER, DEPVAR=6, PROPERTIES=1" in (out / "README.md").read_text()
-    few = [LINES[0], "*FRICTION, USER, DEPVAR=5, PROPERTIES=1", "MM-T-S"]
-    proc, _ = _run(exe, plastic_block(PRESS, few), tmp_path / "few")
-    assert proc.returncode != 0 and "USER needs DEPVAR" in proc.stdout and ">= 6" in proc.stdout
-    six = [LINES[0], "*FRICTION, USER, DEPVAR=6, PROPERTIES=1", "MM-T-S"]
-    proc, dat = _run(exe, _with_peeq(plastic_block(PRESS, six, static=INCREMENTS)), tmp_path / "r")
-    assert proc.returncode == 0 and "Job finished" in proc.stdout, proc.stdout[-2000:]
-    run = _points(dat)
+    return P, path
+
+
+def _replay_two(run, P):
+    """The largest misses of each point's STATEV(5) and STATEV(6) against the runtime's update
+    (``P``: a one-law two-state file, or a ZonedLaw with ``zone``) of one of its face's previous
+    states, and how many point states have a turned slope."""
+    law, zone = P if isinstance(P, tuple) else (fl.SBMFLaw(P), None)
+    slope0 = (law.laws[zone] if zone is not None else law).params.flattening.slope
     prev_pts, prev_peeq = {}, {}
     worst_a = worst_s = 0.0
     turned = 0
@@ -421,17 +416,70 @@ def test_the_two_state_model_flattens_in_ccx_as_the_runtime_replay(ccx_work, tmp
                     alpha_f=np.full(n, row[5]),
                     slope_f=np.full(n, row[6]),
                 )
-                fl.traction_update(fl.SBMFLaw(P), p, np.ones(n), np.zeros(n), 1e30, st, d_eps=de)
+                kw = {} if zone is None else {"zone": np.full(n, zone)}
+                fl.traction_update(law, p, np.ones(n), np.zeros(n), 1e30, st, d_eps=de, **kw)
                 miss = np.abs(np.column_stack([st.alpha_f_trial, st.slope_f_trial]) - got)
                 pick = miss.sum(axis=1) < best.sum(axis=1)
                 best[pick] = miss[pick]
             on = p > 0
             worst_a = max(worst_a, float(best[on, 0].max(initial=0.0)))
             worst_s = max(worst_s, float(best[on, 1].max(initial=0.0)))
-            turned += int(
-                np.sum(on & (got[:, 1] > 0) & (np.abs(got[:, 1] - P.flattening.slope) > 1e-3))
-            )
+            moved = on & (got[:, 1] > 0) & (np.abs(got[:, 1] - slope0) > 1e-3)
+            turned += int(np.sum(moved))
         prev_pts, prev_peeq = pts, peeq
+    return worst_a, worst_s, turned
+
+
+SIX = [LINES[0], "*FRICTION, USER, DEPVAR=6, PROPERTIES=1", "MM-T-S"]
+
+
+def test_the_two_state_model_flattens_in_ccx_as_the_runtime_replay(ccx_work, tmp_path):
+    """The example's block as the two-state model (limit-analysis): ccx asks for DEPVAR = 6
+    (5 is refused while it reads the deck), and pressing the elastic-plastic block at every
+    converged increment gives each contact point's STATEV(5) and STATEV(6) (the flattened
+    fraction and the flank slope) as the runtime's update from one of its face's previous
+    states with its slave element's PEEQ increment (1.2e-7 and 6.3e-8 seen: ccx prints 7
+    digits)."""
+    P, path = _two_state(tmp_path)
+    out = _export(tmp_path, path, "two")
+    exe = _link(ccx_work, out / "sbmf_fric.f", out / "ccx")
+    assert "*FRICTION, USER, DEPVAR=6, PROPERTIES=1" in (out / "README.md").read_text()
+    few = [LINES[0], "*FRICTION, USER, DEPVAR=5, PROPERTIES=1", "MM-T-S"]
+    proc, _ = _run(exe, plastic_block(PRESS, few), tmp_path / "few")
+    assert proc.returncode != 0 and "USER needs DEPVAR" in proc.stdout and ">= 6" in proc.stdout
+    proc, dat = _run(exe, _with_peeq(plastic_block(PRESS, SIX, static=INCREMENTS)), tmp_path / "r")
+    assert proc.returncode == 0 and "Job finished" in proc.stdout, proc.stdout[-2000:]
+    run = _points(dat)
+    worst_a, worst_s, turned = _replay_two(run, P)
     assert worst_a < 1e-6 and worst_s < 1e-6, (worst_a, worst_s)
     assert turned > 100
     assert max(v[5] for v in run[-1][1].values()) > 0.9
+
+
+def test_a_zoned_routine_with_a_two_state_zone_in_ccx(ccx_work, tmp_path):
+    """``--zone SBMF=two-state file --zone OTHER=the one-state file``: the pressed block under
+    the interaction SBMF grows both states as the zoned runtime's replay (1e-6), under OTHER
+    the one-state zone grows the fraction as its one-law replay and leaves the slope at 0."""
+    P, path = _two_state(tmp_path)
+    out = tmp_path / "zoned"
+    code = export_main(
+        ["calculix", "--zone", f"SBMF={path}", "--zone", f"OTHER={FLAT}", "--out", str(out)]
+        + ["--units", "mm-t-s", "--quiet"]
+    )
+    assert code == 0
+    binary = _link(ccx_work, out / "sbmf_fric.f", out / "ccx")
+    zl = fl.ZonedLaw(
+        ("SBMF", "OTHER"), (fl.SBMFLaw(P), fl.SBMFLaw(fl.FrictionParams.from_json(FLAT)))
+    )
+    deck = _with_peeq(plastic_block(PRESS, SIX, static=INCREMENTS))
+    proc, dat = _run(binary, deck, tmp_path / "sbmf")
+    assert proc.returncode == 0 and "Job finished" in proc.stdout, proc.stdout[-2000:]
+    worst_a, worst_s, turned = _replay_two(_points(dat), (zl, 0))
+    assert worst_a < 1e-6 and worst_s < 1e-6 and turned > 100, (worst_a, worst_s, turned)
+    other = deck.replace("NAME=SBMF", "NAME=OTHER").replace("INTERACTION=SBMF", "INTERACTION=OTHER")
+    proc, dat = _run(binary, other, tmp_path / "other")
+    assert proc.returncode == 0 and "Job finished" in proc.stdout, proc.stdout[-2000:]
+    run = _points(dat)
+    worst, grew = _replay_miss(run, fl.FrictionParams.from_json(FLAT))
+    assert worst < 1e-6 and grew > 1000, (worst, grew)
+    assert all(v[6] == 0.0 for _, pts, _ in run for v in pts.values())
