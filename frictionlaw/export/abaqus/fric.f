@@ -186,11 +186,12 @@ C       no strain passed: the flattened fraction is kept, not grown
       AF = 0.0D0
       IF (NSTATV .GE. 5) AF = MIN(MAX(STATEV(5), 0.0D0), 1.0D0)
 {% if flat.limit %}
-C     the two-state model (perfectly plastic: HMOD not read)
+C     the two-state model (perfectly plastic)
       SF = 0.0D0
       IF (NSTATV .GE. 6) SF = MAX(STATEV(6), 0.0D0)
       CALL {{ "SBMF_ZTSHR(IZ, " if zones else "SBMF_TSHR(" }}P, PH, AF, SF, DEPS,
      &     SIGY, G1H, TLIM, DTAU, G1NEW, ANEW, SNEW)
+C     HMOD: the one-state model's, set above and not read here
       IF (HMOD .LT. 0.0D0) CONTINUE
 {% else %}
       CALL {{ "SBMF_ZFSHR(IZ, " if zones else "SBMF_FSHR(" }}P, PH, AF, DEPS, SIGY, HMOD, G1H, TLIM,

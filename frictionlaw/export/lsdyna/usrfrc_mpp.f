@@ -124,10 +124,11 @@ C       no flow curve: the file's sigma_y, perfectly plastic
         HMOD = 0.0D0
 {% endif %}
 {% if flat.limit %}
-C       the two-state model (perfectly plastic: HMOD not read)
+C       the two-state model (perfectly plastic)
         SF = DBLE(UH(8))
         CALL {{ "SBMF_ZTSHR(IZ, " if zones else "SBMF_TSHR(" }}P, PH, AF, SF, DEPS,
      &       SIGY, G1H, TLIM, DTAU, G1NEW, ANEW, SNEW)
+C       HMOD: the one-state model's, set above and not read here
         IF (HMOD .LT. 0.0D0) CONTINUE
         UH(8) = REAL(SNEW)
 {% else %}

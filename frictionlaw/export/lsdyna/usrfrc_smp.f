@@ -212,10 +212,11 @@ C         no flow curve: the file's sigma_y, perfectly plastic
           HMOD = 0.0D0
 {% endif %}
 {% if flat.limit %}
-C         the two-state model (perfectly plastic: HMOD not read)
+C         the two-state model (perfectly plastic)
           SF = DBLE(UFHIST(8, IH))
           CALL {{ "SBMF_ZTSHR(IZ, " if zones else "SBMF_TSHR(" }}P, PH, AF, SF, DEPS,
      &         SIGY, G1H, TLIM, DTAU, G1NEW, ANEW, SNEW)
+C         HMOD: the one-state model's, set above and not read here
           IF (HMOD .LT. 0.0D0) CONTINUE
 {% else %}
           CALL {{ "SBMF_ZFSHR(IZ, " if zones else "SBMF_FSHR(" }}P, PH, AF, DEPS, SIGY, HMOD, G1H,
