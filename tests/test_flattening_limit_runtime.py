@@ -33,17 +33,19 @@ def law(slope=0.1, beta=1.0, model="limit-analysis", **kw):
     return fl.FrictionParams(**{**BASE, **kw}, flattening=flat)
 
 
-def update(P, p, p_hist, alpha_f, slope_f, d_eps, sigma_y=None, parallel=None):
-    """One traction update at slipping nodes: (tau, dt_dp, state after it)."""
+def update(P, p, p_hist, alpha_f, slope_f, d_eps, sigma_y=None, parallel=None, zone=None):
+    """One traction update at slipping nodes: (tau, dt_dp, state after it). ``P`` a parameter
+    file, or a ZonedLaw with each node's ``zone``."""
     n = np.size(p)
     state = fl.HistoryState(
         p_hist=np.broadcast_to(p_hist, n),
         alpha_f=np.broadcast_to(alpha_f, n),
         slope_f=np.broadcast_to(slope_f, n),
     )
+    law, kw = (P, {"zone": zone}) if zone is not None else (fl.SBMFLaw(P), {})
     res = fl.traction_update(
-        fl.SBMFLaw(P), p, np.ones(n), np.zeros(n), 1e20, state, d_eps=d_eps, sigma_y=sigma_y,
-        parallel=parallel,
+        law, p, np.ones(n), np.zeros(n), 1e20, state, d_eps=d_eps, sigma_y=sigma_y,
+        parallel=parallel, **kw,
     )  # fmt: skip
     return res.traction, res.dt_dp, state
 
@@ -191,19 +193,6 @@ def test_hardening_is_refused_before_any_work():
         )  # fmt: skip
 
 
-def _zoned(zl, zone, p, p_hist, alpha_f, slope_f, d_eps, parallel=None):
-    n = np.size(p)
-    state = fl.HistoryState(
-        p_hist=np.broadcast_to(p_hist, n),
-        alpha_f=np.broadcast_to(alpha_f, n),
-        slope_f=np.broadcast_to(slope_f, n),
-    )
-    res = fl.traction_update(
-        zl, p, np.ones(n), np.zeros(n), 1e20, state, zone=zone, d_eps=d_eps, parallel=parallel
-    )
-    return res.traction, res.dt_dp, state
-
-
 @pytest.mark.parametrize("parallel", [False, True])
 def test_zones_run_each_zone_and_the_states_travel(parallel):
     """A zoned law with a two-state zone, a one-state zone and one without a block: each node is
@@ -216,7 +205,7 @@ def test_zones_run_each_zone_and_the_states_travel(parallel):
     n = p.size
     for z, P in enumerate((two, one, plain)):
         zone = np.full(n, z)
-        tz, dz, sz = _zoned(zl, zone, p, ph, af, sf, de, parallel)
+        tz, dz, sz = update(zl, p, ph, af, sf, de, parallel=parallel, zone=zone)
         if P.flattening is None:
             ref = fl.SBMFLaw(P).shear_limit(p, ph)
             assert np.array_equal(tz, ref[0]) and np.array_equal(sz.alpha_f_trial, af)
@@ -233,13 +222,13 @@ def test_zones_run_each_zone_and_the_states_travel(parallel):
     # flattened under a, the node comes under b: b reads the fraction through its own alpha1
     # and leaves the slope as it came; back under a, the turned slope is read again
     q = np.array([0.05, 0.1, 0.3]) * H
-    _, _, s_a = _zoned(zl, np.zeros(3, int), q, 0.0, 0.0, 0.0, 0.05)
+    _, _, s_a = update(zl, q, 0.0, 0.0, 0.0, 0.05, zone=np.zeros(3, int))
     a_a, f_a = s_a.alpha_f_trial.copy(), s_a.slope_f_trial.copy()
     assert np.all(f_a > 0) and np.any(np.abs(f_a - 0.1) > 1e-3)
-    t_b, _, s_b = _zoned(zl, np.ones(3, int), q, q, a_a, f_a, 0.0)
+    t_b, _, s_b = update(zl, q, q, a_a, f_a, 0.0, zone=np.ones(3, int))
     assert np.array_equal(s_b.alpha_f_trial, a_a) and np.array_equal(s_b.slope_f_trial, f_a)
     assert np.allclose(t_b, one.tau_max * np.maximum(fl.alpha_first(q, one), a_a), rtol=1e-12)
-    _, _, s_back = _zoned(zl, np.zeros(3, int), q, q, a_a, f_a, 0.02)
+    _, _, s_back = update(zl, q, q, a_a, f_a, 0.02, zone=np.zeros(3, int))
     _, _, s_ref = update(two, q, q, a_a, f_a, 0.02)
     assert np.array_equal(s_back.slope_f_trial, s_ref.slope_f_trial)
 
