@@ -17,6 +17,7 @@ from test_export_flattening import BASE, H, load
 
 import frictionlaw as fl
 from frictionlaw import export as exp
+from frictionlaw._limit_table import rate_table
 from frictionlaw.export import harness
 from frictionlaw.export._flat import data_statements, fortran_short, limit_spec
 from frictionlaw.export.cli import main as export_main
@@ -59,9 +60,6 @@ def test_the_table_is_written_bit_for_bit():
     assert fortran_short(0.1) == "0.1D0" and fortran_short(-2.5e-7) == "-2.5D-7"
     assert float(fortran_short(np.pi).replace("D", "e")) == np.pi
     spec = limit_spec()
-    t = fl.flattening_limit  # noqa: F841 (the public module the table belongs to)
-    from frictionlaw._limit_table import rate_table
-
     table = rate_table()
     values = {}
     for stmt in spec.data:
@@ -107,9 +105,8 @@ def test_neutral_entry_flattens_as_the_runtime(tmp_path, target):
     assert np.any(state[:, 6] < np.where(sf > 0, sf, 0.05) * 0.9)
     still = de == 0
     assert np.array_equal(state[still, 4], af[still]) and np.array_equal(state[still, 6], sf[still])
-    # against the one-state block, the same inputs move the shear (the model is the one run)
+    # the one-state block's update on the same inputs differs (the model run is the two-state)
     one = fl.FrictionParams(**BASE, flattening=fl.Flattening(slope=0.05))
-    tau_one = fl.SBMFLaw(one).shear_limit(p, ph)  # noqa: F841
     st1 = fl.HistoryState(p_hist=ph, alpha_f=af)
     fl.traction_update(
         fl.SBMFLaw(one), p, np.ones(n), np.zeros(n), 1e30, st1, d_eps=de,
