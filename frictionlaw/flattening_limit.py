@@ -55,6 +55,7 @@ __all__ = [
     "limit_rates",
     "limit_update",
     "prandtl_ratio",
+    "table_pressures",
 ]
 
 
@@ -82,6 +83,21 @@ def prandtl_ratio(
     if sigma_y is not None:
         k = k * (host_flow_stress(sigma_y, p.shape) / params.sigma_y)
     return p / (PRANDTL_FACTOR * k)
+
+
+def table_pressures(params: "FrictionParams", sigma_y: float | None = None) -> tuple[float, float]:
+    """The contact pressures (Pa) the rate table covers for ``params``: ``(p_lo, p_hi)``.
+
+    The table's lowest and highest ``p / H_P`` (0.02 and 0.6) times ``H_P = (2 + pi) k``, ``k``
+    the file's, scaled by ``sigma_y / params.sigma_y`` for a flow stress ``sigma_y`` (Pa). Below
+    ``p_lo`` the law reads the rates at ``p_lo`` (the optimum slows further at lower pressure on
+    steep flanks: an upper bound of the flattening there), above ``p_hi`` those at ``p_hi``.
+    """
+    lo, hi = (float(v) for v in rate_table().pressures[[0, -1]])
+    ref = float(params.k) * PRANDTL_FACTOR  # type: ignore[arg-type]  # H_P at the file's flow stress
+    if sigma_y is not None:
+        ref *= float(host_flow_stress(sigma_y, ())) / params.sigma_y
+    return lo * ref, hi * ref
 
 
 def limit_rates(

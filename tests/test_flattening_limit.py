@@ -16,7 +16,7 @@ from scipy.integrate import solve_ivp
 
 from frictionlaw import Flattening, FrictionParams, alpha_first, flattening_curve
 from frictionlaw.flattening import flattening_update
-from frictionlaw.flattening_limit import limit_rates, limit_update, prandtl_ratio
+from frictionlaw.flattening_limit import limit_rates, limit_update, prandtl_ratio, table_pressures
 
 H = 8e8
 RS = math.sqrt(3.0) / 2.0
@@ -269,6 +269,9 @@ def test_the_command_writes_a_two_state_block(tmp_path, capsys):
     said = capsys.readouterr()
     assert f"model {MODEL}" in said.out
     assert "is perfectly plastic" in said.err and "prefer layer-yield" in said.err
+    lo, hi = table_pressures(P)  # the table's pressures at the file's flow stress, said
+    assert f"covers contact pressures {lo / 1e6:.3g}-{hi / 1e6:.3g} MPa" in said.err
+    assert lo == pytest.approx(0.02 * (2 + np.pi) * P.k) and hi == pytest.approx(0.6 / 0.02 * lo)
 
 
 def test_a_slope_outside_the_table_is_refused_before_any_sweep(tmp_path, capsys, monkeypatch):
@@ -368,3 +371,20 @@ def test_a_two_state_fit_beyond_the_range_of_beta_is_refused_naming_the_bound():
     eps = np.array([1e-5, 2e-5, 3e-5, 4e-5])  # full contact at once: beta beyond 1000
     with pytest.raises(ValueError, match="bound of"):
         fit_beta(law(0.05), FlatteningData("fast.csv", eps, np.ones(4), p))
+
+
+def test_table_pressures_scale_with_the_flow_stress():
+    """The table's pressure range in Pa: 0.02 and 0.6 H_P, H_P = (2 + pi) k, k scaled by a
+    host's flow stress; the law's rates are the same on either side of the lowest (clamped)."""
+    P = law()
+    lo, hi = table_pressures(P)
+    assert prandtl_ratio(lo, P) == pytest.approx(0.02) and prandtl_ratio(hi, P) == pytest.approx(
+        0.6
+    )
+    lo2, hi2 = table_pressures(P, sigma_y=2 * P.sigma_y)
+    assert (lo2, hi2) == pytest.approx((2 * lo, 2 * hi))
+    below = limit_rates(prandtl_ratio(0.5 * lo, P), 0.2, 0.05)
+    at = limit_rates(prandtl_ratio(lo, P), 0.2, 0.05)
+    assert np.allclose(below, at, rtol=1e-12)
+    with pytest.raises(ValueError, match="sigma_y"):
+        table_pressures(P, sigma_y=-1.0)

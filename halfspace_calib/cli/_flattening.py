@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 from frictionlaw.flattening import FLATTENING_MODEL, FLATTENING_MODELS, LIMIT_MODEL
-from frictionlaw.flattening_limit import LIMIT_SLOPE_RANGE
+from frictionlaw.flattening_limit import LIMIT_SLOPE_RANGE, table_pressures
 from frictionlaw.flow_curve import read_flow_curve
 from sbmf_cli import existing_file, file_path
 
@@ -132,12 +132,18 @@ def with_flattening(cal, on, data, model=FLATTENING_MODEL):
         return cal
     block, record = derive_flattening(cal, data, model)
     if model != FLATTENING_MODEL:
+        lo, hi = table_pressures(cal.params)
         cal.notes = (
             *cal.notes,
             f"the flattening model {model} is perfectly plastic: against our FE asperity truth "
             "it misses a hardening sheet (DC04) by up to 0.65 in the contact fraction, where "
             "layer-yield with the host's hardening modulus misses by 0.34; prefer layer-yield "
             "for a sheet that hardens over the process's strains (docs/flattening.md)",
+            f"the flattening model {model}'s table covers contact pressures "
+            f"{lo / 1e6:.3g}-{hi / 1e6:.3g} MPa at this sigma_y ({cal.params.sigma_y / 1e6:.4g} "
+            f"MPa; they scale with the host's flow stress): below {lo / 1e6:.3g} MPa it reads "
+            "the rates there, an upper bound of the flattening (its optimum slows at lower "
+            "pressure on steep flanks)",
         )
     fit = record.get("fit")
     if fit:
