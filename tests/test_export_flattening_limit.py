@@ -115,6 +115,35 @@ def test_neutral_entry_flattens_as_the_runtime(tmp_path, target):
     assert np.abs(st1.alpha_f_trial - state[:, 4]).max() > 0.05
 
 
+def test_neutral_entry_in_mm_t_s(tmp_path):
+    """Exported for mm-t-s (MPa): pressures, flow stresses and shear in MPa, the table (in
+    p / H_P, dimensionless) read the same; the states and the shear as the runtime's in SI to
+    1e-12; without strain on a surface never flattened the law itself, bit for bit."""
+    P = law()
+    host, _ = load(tmp_path, "lsdyna", P, units="mm-t-s", name="two_mm")
+    p, ph, af, sf, de, sy = grid()
+    n = p.size
+    state = np.zeros((n, 7))
+    state[:, 0], state[:, 4], state[:, 6] = ph * 1e-6, af, sf
+    out = host.friction(
+        "", p * 1e-6, state, np.ones((n, 1)), np.zeros((n, 1)), 1e30, deps=de, sigy=sy * 1e-6
+    )
+    tau, dtdp, a_ref, s_ref = runtime(P, p, ph, af, sf, de, sy)
+    assert np.all(out["ierr"] == 0)
+    assert np.allclose(np.abs(out["t"][:, 0]) * 1e6, tau, rtol=1e-12, atol=0)
+    assert np.allclose(np.abs(out["dt_dp"][:, 0]), np.abs(dtdp), rtol=1e-11, atol=1e-300)
+    assert np.allclose(state[:, 4], a_ref, rtol=1e-12, atol=0)
+    assert np.allclose(state[:, 6], s_ref, rtol=1e-12, atol=0)
+    plain, _ = load(tmp_path, "lsdyna", fl.FrictionParams(**BASE), units="mm-t-s", name="plain")
+    s1, s2 = (np.zeros((n, 7)) for _ in range(2))
+    s1[:, 0] = s2[:, 0] = ph * 1e-6
+    o1 = host.friction("", p * 1e-6, s1, np.ones((n, 1)), np.zeros((n, 1)), 1e30)
+    o2 = plain.friction("", p * 1e-6, s2, np.ones((n, 1)), np.zeros((n, 1)), 1e30)
+    for k in ("t", "dt_ddu", "dt_dp", "status"):
+        assert np.array_equal(o1[k], o2[k]), k
+    assert np.array_equal(s1, s2)
+
+
 def test_neutral_entry_without_the_slope_slot_says_so_once(tmp_path):
     """NSTATE 5 or 6 (enough for the one-state model) is too few for the two-state model: the
     law without flattening, IERR = 9 once, the message naming STATE(7); SBMF_NSTATE() says 7."""
