@@ -136,7 +136,6 @@ C       HMOD: the one-state model's, set above and not read here
      &                 DTAU, G1NEW, ANEW)
 {% endif %}
         RA = REAL(ANEW)
-        IF (DBLE(RA) .GT. ANEW) RA = NEAREST(RA, -1.0)
         UH(5) = RA
         UH(6) = UE(1)
         UH(7) = REAL(MOD(NCYCLE, 1048576) + 1)

@@ -257,9 +257,10 @@ C         stored rounded down: a constant pressure stays on Eq. 24
         IF (NHV .GE. 3) UFHIST(3, IH) = REAL(ISTAT)
 {% if flat %}
         IF (FLATOK) THEN
-C         stored rounded down (the fraction never falls), as p_hist
+C         stored rounded to nearest: never below the stored fraction
+C         (ANEW >= AF, which REAL holds), and unbiased over many
+C         cycles (rounded down, as p_hist, it lost 0.5 ulp a cycle)
           RA = REAL(ANEW)
-          IF (DBLE(RA) .GT. ANEW) RA = NEAREST(RA, -1.0)
           UFHIST(5, IH) = RA
           UFHIST(6, IH) = UFEPS(1, IH)
           UFHIST(7, IH) = REAL(MOD(NCYCLE, 1048576) + 1)
