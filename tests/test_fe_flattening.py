@@ -14,11 +14,13 @@ import pytest
 
 import frictionlaw as fl
 from fe_demo.cli import main
+from fe_demo.output.flattening import flattening_record
 from fe_demo.scenes import run_upsetting
 from fe_demo.scenes.laws import EXAMPLE_FLATTENING_PATH, example_params
 from fe_demo.solver.contact import DieContact, surface_projection
 from fe_demo.solver.element import kinematics
 from fe_demo.solver.mesh import cylinder_mesh
+from frictionlaw.flattening_limit import table_pressures
 
 FLAT = fl.FrictionParams.from_json(EXAMPLE_FLATTENING_PATH)
 KW = dict(nr=8, n_increments=10, reduction=0.4)
@@ -176,3 +178,47 @@ def test_a_two_state_block_flattens_at_the_die_without_the_hardening_modulus():
     assert touched.any() and np.all(state.slope_f[touched] > 0)
     # the flanks turned (flatter at most nodes; the table steepens them a little at high p)
     assert np.any(np.abs(state.slope_f[touched] / two.flattening.slope - 1) > 0.05)
+    # the die nodes pressed below the table's lowest pressure are counted (at the node's flow
+    # stress), the one-state run has no such column
+    n = np.asarray(h1["n_below_flattening_table"])
+    ev, mdl = with_.model.accepted, with_.model
+    act = ev.p > 0
+    eps = mdl.surface_plastic_strain()[act]
+    lo = table_pressures(two)[0] * mdl.mat.flow_stress(eps) / two.sigma_y
+    assert n[-1] == np.count_nonzero(ev.p[act] < lo) and n.max() >= n[-1] >= 0
+    # upsetting presses every die node far above the table (8-20 MPa here): two nodes set to
+    # 1 kPa are counted, the others not
+    from fe_demo.scenes.drive import _die_fraction
+
+    saved = ev.p.copy()
+    try:
+        ev.p[np.flatnonzero(act)[:2]] = 1e3
+        assert _die_fraction(mdl, act)["n_below_flattening_table"] == n[-1] + 2
+    finally:
+        ev.p[:] = saved
+    assert "n_below_flattening_table" not in run_upsetting("sbmf", params=FLAT, **KW).history
+    rec = flattening_record(h0, h1)
+    assert rec["n_below_flattening_table_max_with"] == int(n.max())
+
+
+def test_nodes_below_the_two_state_table_are_said_once(tmp_path, capsys):
+    """A comparison whose flattening run counted die nodes below the two-state table says so
+    on stderr with the largest and the last count; a run without the column says nothing."""
+    from types import SimpleNamespace
+
+    from fe_demo.cli.runs import write_flattening
+    from sbmf_cli import Console
+
+    def hist(n):
+        h = {"force": [1e5, 2e5], "alpha_die_mean": [0.1, 0.3], "eps_p_die_mean": [0.0, 0.1]}
+        h |= {"alpha_f_max": [0.0, 0.4], "height_reduction": [0.1, 0.2]}
+        return h | ({"n_below_flattening_table": n} if n is not None else {})
+
+    for n, said in (([3, 1], True), (None, False)):
+        runs = [("up", (tmp_path / "a", SimpleNamespace(history=hist(None))),
+                 (tmp_path / "b", SimpleNamespace(history=hist(n))))]  # fmt: skip
+        write_flattening(Console("fe-demo", quiet=True), tmp_path / "out", runs)
+        err = capsys.readouterr().err
+        assert (
+            "up to 3 die contact nodes pressed below" in err and "(1 at the end)" in err
+        ) == said

@@ -137,6 +137,13 @@ def write_flattening(con, out, pairs):
                 f"{rec['alpha_die_mean_end_without']:.3f} -> {rec['alpha_die_mean_end_with']:.3f} at "
                 f"a mean plastic strain of {rec['eps_p_die_mean_end_with']:.3f} there"
             )
+        if rec.get("n_below_flattening_table_max_with"):
+            con.warn(
+                f"[{label}] flattening: up to {rec['n_below_flattening_table_max_with']} die "
+                "contact nodes pressed below the two-state table's lowest pressure (0.02 H_P at "
+                "their flow stress), where the law reads its lowest rates: an upper bound of the "
+                f"flattening there ({rec['n_below_flattening_table_end_with']} at the end)"
+            )
     out.mkdir(parents=True, exist_ok=True)
     plot_flattening(out / "flattening.png", curves)
     for label, (f0, _), (f1, _) in pairs:  # the reports again, now with the figure

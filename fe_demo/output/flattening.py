@@ -34,9 +34,23 @@ def flattening_record(without, with_):
         "alpha_die_mean_end_with": end(with_, "alpha_die_mean"),
         "eps_p_die_mean_end_with": end(with_, "eps_p_die_mean"),
         "alpha_f_max_end_with": end(with_, "alpha_f_max"),
+        # the two-state block: die contact nodes below its rate table (upper-bound rates there)
+        "n_below_flattening_table_end_with": _count(with_, "n_below_flattening_table", -1),
+        "n_below_flattening_table_max_with": _count(with_, "n_below_flattening_table", None),
         "height_reduction_end_without": end(without, "height_reduction"),
         "height_reduction_end_with": end(with_, "height_reduction"),
     }
+
+
+def _count(h, key, at):
+    """The history's count ``key`` at row ``at`` (None: the largest over the run).
+
+    None without the column (a one-state block).
+    """
+    if not h or not len(h.get(key, ())):
+        return None
+    v = np.asarray(h[key])
+    return int(v.max() if at is None else v[at])
 
 
 def flattening_figure(runs, title="Flattening under bulk strain"):
@@ -90,7 +104,21 @@ def flattening_section(info, image):
         ("mean contact fraction at the die at the end, with", "alpha_die_mean_end_with", "", None),
         ("mean plastic strain at the die at the end", "eps_p_die_mean_end_with", "", None),
         ("largest flattened fraction alpha_f", "alpha_f_max_end_with", "", None),
+        (
+            "die contact nodes below the two-state table, at the end",
+            "n_below_flattening_table_end_with",
+            "",
+            None,
+        ),
+        (
+            "die contact nodes below the two-state table, most over the run",
+            "n_below_flattening_table_max_with",
+            "",
+            None,
+        ),
     ):
+        if rec.get(key) is None and key.startswith("n_below"):
+            continue  # a one-state block: no table
         cell = number_cell(rec.get(key), f"flattening.{key}", ".4g", scale)
         rows.append(
             f"<tr><td class='t'>{html.escape(what)}</td>{cell}<td class='t'>{unit}</td></tr>"

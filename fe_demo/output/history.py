@@ -63,6 +63,7 @@ HISTORY_UNITS = {
     "n_hist_above_H": "1",
     "alpha_die_mean": "fraction",
     "alpha_f_max": "fraction",
+    "n_below_flattening_table": "1",
     "eps_p_die_mean": "1",
 }
 

@@ -14,6 +14,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from frictionlaw import OPEN, SLIP, STICK
+from frictionlaw.flattening import LIMIT_MODEL
+from frictionlaw.flattening_limit import table_pressures
 
 from ..solver.model import FormingModel
 from ..solver.remesh import block_corners, element_quality, remesh
@@ -188,18 +190,32 @@ def _record(model, law):
 
 
 def _die_fraction(model, active):
-    """Area-weighted means over the die's contact nodes: contact fraction and plastic strain."""
+    """Area-weighted means over the die's contact nodes: contact fraction and plastic strain.
+
+    With a two-state flattening block also ``n_below_flattening_table``: the die's contact
+    nodes whose pressure lies below the block's rate table (0.02 ``H_P`` at the node's flow
+    stress, :func:`frictionlaw.flattening_limit.table_pressures`), where the law reads the
+    table's lowest rates, an upper bound of the flattening.
+    """
+    c = model.contact
+    params = getattr(c.law, "params", None)
+    flat = getattr(params, "flattening", None)
+    two = flat is not None and flat.model == LIMIT_MODEL
+    extra = {"n_below_flattening_table": 0} if two else {}
     if not active.any():
-        return {"alpha_die_mean": 0.0, "eps_p_die_mean": 0.0, "alpha_f_max": 0.0}
+        return {"alpha_die_mean": 0.0, "eps_p_die_mean": 0.0, "alpha_f_max": 0.0, **extra}
     from ..solver.contact import nodal_areas
 
-    c = model.contact
     area = nodal_areas(model.x, model.axi.boundary_edges, c.nodes)[active]
     eps = model.surface_plastic_strain()[active]
+    if two:
+        lo = table_pressures(params)[0] * model.mat.flow_stress(eps) / params.sigma_y
+        extra["n_below_flattening_table"] = int(np.count_nonzero(model.accepted.p[active] < lo))
     return {
         "alpha_die_mean": float(np.average(c.alpha[active], weights=area)),
         "eps_p_die_mean": float(np.average(eps, weights=area)),
         "alpha_f_max": float(c.state.alpha_f.max()),
+        **extra,
     }
 
 
