@@ -285,8 +285,9 @@ def test_an_interrupt_wrapped_in_another_exception_is_still_the_interrupt(capsys
     without a signal it propagates unchanged."""
     from sbmf_cli import interruptible
 
-    # the run installs its handler only over Python's default one: give it that here (a test
-    # before this one in the same worker may have left another), and put back what was there
+    # the run installs its handler only over Python's default one: give it that here (a runner
+    # started in the background starts its processes with SIGINT ignored), and put back what
+    # was there
     before = signal.signal(signal.SIGINT, signal.default_int_handler)
     try:
         _wrapped_interrupt(interruptible, capsys)
