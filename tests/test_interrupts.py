@@ -286,8 +286,8 @@ def test_an_interrupt_wrapped_in_another_exception_is_still_the_interrupt(capsys
     from sbmf_cli import interruptible
 
     # the run installs its handler only over Python's default one: give it that here (a runner
-    # started in the background starts its processes with SIGINT ignored), and put back what
-    # was there
+    # may start its processes with another, e.g. SIGINT ignored in a background job), and put
+    # back what was there
     before = signal.signal(signal.SIGINT, signal.default_int_handler)
     try:
         _wrapped_interrupt(interruptible, capsys)
