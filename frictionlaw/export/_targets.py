@@ -337,6 +337,28 @@ _CCX_STRAIN = (
     "elements of the slave node's faces, weighted as its area) at the iterate and its "
     "increment over the increment, which the patched ccx passes; "
 )
+
+
+def _usrfrc_strain(passes, slots, count, strain_count):
+    """The bulk-strain texts of an LS-DYNA usrfrc target (``Routine`` keywords), both models.
+
+    ``passes``: the argument that gives the element's plastic strain; ``slots``: the history
+    slots 5.. (``{}`` their last); ``count``: the deck's history count; ``strain_count``: the
+    count of strain values. The one-state model keeps 5-7, the two-state model 5-8.
+    """
+    one = "the flattened fraction, the plastic strain and the cycle of the last call"
+    two = "the flattened fraction, the plastic strain, the cycle of the last call and the {}slope"
+    run = f"{passes}; its increment between consecutive cycles in contact, "
+    few = f"the deck gives no element plastic strain ({strain_count} = 0) or too few history "
+    slope = two.format("two-state model's flank ")
+    return {
+        "bulk_strain": f"{run}{slots.format(7)} holding {one} ({count} >= 7)",
+        "bulk_strain_two": f"{run}{slots.format(8)} holding {two.format('flank ')} ({count} >= 8)",
+        "no_strain": f"{_NOT_RUN}{few}variables ({count} < 7; 5-7 hold {one}){_WITHOUT}",
+        "no_strain_two": f"{_NOT_RUN}{few}variables ({count} < 8; 5-8 hold {slope}){_WITHOUT}",
+    }
+
+
 _NEUTRAL_TWO = (
     "DEPS and SIGY, the arguments of SBMF_FRICTION_V (the caller's bulk plastic strain "
     "increment and flow stress under the point), STATE(5) the flattened fraction and STATE(7) "
@@ -412,20 +434,13 @@ for _record in (
             units_input=("UA(1)", "the first user parameter of *USER_INTERFACE_FRICTION"),
             zone_keys=_LSDYNA_KEYS,
             total_strain=True,
-            bulk_strain="UFEPS(1, ILBSV(II)), the plastic strain of the slave node's element "
-            "that LS-DYNA passes (NEPS >= 1); its increment between consecutive cycles in "
-            "contact, UFHIST(5..7, .) holding the flattened fraction, the plastic strain and "
-            "the cycle of the last call (NHV >= 7)",
-            bulk_strain_two="UFEPS(1, ILBSV(II)), the plastic strain of the slave node's "
-            "element that LS-DYNA passes (NEPS >= 1); its increment between consecutive cycles "
-            "in contact, UFHIST(5..8, .) holding the flattened fraction, the plastic strain, the "
-            "cycle of the last call and the flank slope (NHV >= 8)",
-            no_strain=_NOT_RUN + "the deck gives no element plastic strain (NEPS = 0) or too "
-            "few history variables (NHV < 7; 5-7 hold the flattened fraction, the plastic "
-            "strain and the cycle of the last call)" + _WITHOUT,
-            no_strain_two=_NOT_RUN + "the deck gives no element plastic strain (NEPS = 0) or "
-            "too few history variables (NHV < 8; 5-8 hold the flattened fraction, the plastic "
-            "strain, the cycle of the last call and the two-state model's flank slope)" + _WITHOUT,
+            **_usrfrc_strain(
+                "UFEPS(1, ILBSV(II)), the plastic strain of the slave node's element that "
+                "LS-DYNA passes (NEPS >= 1)",
+                "UFHIST(5..{}, .)",
+                "NHV",
+                "NEPS",
+            ),
         ),
         harness=USRFRC,
     ),
@@ -442,20 +457,13 @@ for _record in (
             units_input=("UC(1)", "the first user parameter of *USER_INTERFACE_FRICTION"),
             zone_keys=_LSDYNA_KEYS,
             total_strain=True,
-            bulk_strain="UE(1), the plastic strain of the slave node's element that LS-DYNA "
-            "passes (NE >= 1; LSTC's sample: not for SOFT = 4); its increment between "
-            "consecutive cycles in contact, UH(5..7) holding the flattened fraction, the "
-            "plastic strain and the cycle of the last call (NH >= 7)",
-            bulk_strain_two="UE(1), the plastic strain of the slave node's element that "
-            "LS-DYNA passes (NE >= 1; LSTC's sample: not for SOFT = 4); its increment between "
-            "consecutive cycles in contact, UH(5..8) holding the flattened fraction, the "
-            "plastic strain, the cycle of the last call and the flank slope (NH >= 8)",
-            no_strain=_NOT_RUN + "the deck gives no element plastic strain (NE = 0) or too "
-            "few history variables (NH < 7; 5-7 hold the flattened fraction, the plastic "
-            "strain and the cycle of the last call)" + _WITHOUT,
-            no_strain_two=_NOT_RUN + "the deck gives no element plastic strain (NE = 0) or "
-            "too few history variables (NH < 8; 5-8 hold the flattened fraction, the plastic "
-            "strain, the cycle of the last call and the two-state model's flank slope)" + _WITHOUT,
+            **_usrfrc_strain(
+                "UE(1), the plastic strain of the slave node's element that LS-DYNA passes "
+                "(NE >= 1; LSTC's sample: not for SOFT = 4)",
+                "UH(5..{})",
+                "NH",
+                "NE",
+            ),
         ),
         harness=USRFRC_MPP,
     ),
