@@ -70,6 +70,20 @@ def _limit_block(params: "FrictionParams") -> Flattening:
     return flat
 
 
+def _prandtl_hardness(
+    params: "FrictionParams", sigma_y: ArrayLike | None, shape: tuple
+) -> float | NDArray[np.float64]:
+    """``H_P = (2 + pi) k``, the bulk's Prandtl hardness.
+
+    ``k`` is the file's, scaled by ``sigma_y / params.sigma_y`` (broadcast to ``shape``) when a
+    flow stress is given.
+    """
+    k: float | NDArray[np.float64] = float(params.k)  # type: ignore[arg-type]
+    if sigma_y is not None:
+        k = k * (host_flow_stress(sigma_y, shape) / params.sigma_y)
+    return PRANDTL_FACTOR * k
+
+
 def prandtl_ratio(
     p: ArrayLike, params: "FrictionParams", sigma_y: ArrayLike | None = None
 ) -> NDArray[np.float64]:
@@ -78,26 +92,24 @@ def prandtl_ratio(
     ``k`` is the file's, scaled by ``sigma_y / params.sigma_y`` when the host passes its flow
     stress (Pa, in ``[1e3, 1e13]``, one value or per node).
     """
-    k: float | NDArray[np.float64] = float(params.k)  # type: ignore[arg-type]
     p = as_float_array("p", p)
-    if sigma_y is not None:
-        k = k * (host_flow_stress(sigma_y, p.shape) / params.sigma_y)
-    return p / (PRANDTL_FACTOR * k)
+    return p / _prandtl_hardness(params, sigma_y, p.shape)
 
 
-def table_pressures(params: "FrictionParams", sigma_y: float | None = None) -> tuple[float, float]:
+def table_pressures(
+    params: "FrictionParams", sigma_y: ArrayLike | None = None
+) -> tuple[float | NDArray[np.float64], float | NDArray[np.float64]]:
     """The contact pressures (Pa) the rate table covers for ``params``: ``(p_lo, p_hi)``.
 
     The table's lowest and highest ``p / H_P`` (0.02 and 0.6) times ``H_P = (2 + pi) k``, ``k``
-    the file's, scaled by ``sigma_y / params.sigma_y`` for a flow stress ``sigma_y`` (Pa). Below
-    ``p_lo`` the law reads the rates at ``p_lo`` (the optimum slows further at lower pressure on
-    steep flanks: an upper bound of the flattening there), above ``p_hi`` those at ``p_hi``.
+    the file's, scaled by ``sigma_y / params.sigma_y`` for a flow stress ``sigma_y`` (Pa, one
+    value or per node: then per node). Below ``p_lo`` the law reads the rates at ``p_lo`` (the
+    optimum slows further at lower pressure on steep flanks: an upper bound of the flattening
+    there), above ``p_hi`` those at ``p_hi``.
     """
     lo, hi = (float(v) for v in rate_table().pressures[[0, -1]])
-    ref = float(params.k) * PRANDTL_FACTOR  # type: ignore[arg-type]  # H_P at the file's flow stress
-    if sigma_y is not None:
-        ref *= float(host_flow_stress(sigma_y, ())) / params.sigma_y
-    return lo * ref, hi * ref
+    hp = _prandtl_hardness(params, sigma_y, () if sigma_y is None else np.shape(sigma_y))
+    return lo * hp, hi * hp
 
 
 def limit_rates(

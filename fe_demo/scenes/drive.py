@@ -209,7 +209,7 @@ def _die_fraction(model, active):
     area = nodal_areas(model.x, model.axi.boundary_edges, c.nodes)[active]
     eps = model.surface_plastic_strain()[active]
     if two:
-        lo = table_pressures(params)[0] * model.mat.flow_stress(eps) / params.sigma_y
+        lo = table_pressures(params, sigma_y=model.mat.flow_stress(eps))[0]
         extra["n_below_flattening_table"] = int(np.count_nonzero(model.accepted.p[active] < lo))
     return {
         "alpha_die_mean": float(np.average(c.alpha[active], weights=area)),
