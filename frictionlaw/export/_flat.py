@@ -21,14 +21,8 @@ __all__ = [
     "flat_states",
     "FlowSpec",
     "flow_spec",
-    "FLAT_STATE_NEUTRAL",
-    "FLAT_STATE_LSDYNA",
 ]
 
-#: the state slot of the flattened fraction in SBMF_FRICTION_V's STATE
-FLAT_STATE_NEUTRAL = 5
-#: LS-DYNA's history slots: the fraction, the plastic strain and the cycle of the last call
-FLAT_STATE_LSDYNA = (5, 6, 7)
 #: a DATA statement's continuation lines (Fortran 77's limit is 19)
 _DATA_LINES = 18
 
