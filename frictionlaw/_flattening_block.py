@@ -16,6 +16,7 @@ __all__ = [
     "FLATTENING_MODELS",
     "LIMIT_MODEL",
     "LIMIT_SLOPE_RANGE",
+    "EDGE_POINTS_RANGE",
     "FLATTENING_VERSION",
     "SLOPE_RANGE",
     "BETA_RANGE",
@@ -34,6 +35,8 @@ LIMIT_MODEL = "limit-analysis"
 FLATTENING_MODELS = (FLATTENING_MODEL, LIMIT_MODEL)
 #: the flank slopes the two-state law's table covers (its ``slope`` must lie in them)
 LIMIT_SLOPE_RANGE = (0.01, 0.2)
+#: how many contact fractions an ``edge_slope`` table may hold (equally spaced over [0, 1])
+EDGE_POINTS_RANGE = (2, 1001)
 #: version of the ``flattening`` object inside a parameter file: 2 added the slip-line lattice's
 #: rate to the layer's (docs/flattening.md, Eq. F2); 3 reads the host's strain as the equivalent
 #: plastic strain, stretching the asperities by :data:`STRETCH_PER_EQUIVALENT_STRAIN` of it.
@@ -100,6 +103,12 @@ class Flattening:
         the two-state law (contact fraction and flank slope per node) whose rates are the
         tabulated rigid-plastic optimum of the wedge cell, ``slope`` then in ``[0.01, 0.2]``,
         the table's (docs/flattening.md).
+    edge_slope : sequence of float, optional
+        Model ``limit-analysis`` only: the workpiece's edge slope at the contact fractions
+        ``A = i / (n - 1)``, ``i = 0 .. n - 1`` (``n`` in ``[2, 1001]``, each in ``[1e-8, 10]``):
+        the mean ``|dz/dx|`` of the profiles where the level that leaves the share ``A`` of the
+        surface above it crosses them. The law then reads the flank slope as ``r * edge(A)``
+        (``r`` the flank's turn) instead of one ``slope``; ``None``: the constant ``slope``.
     """
 
     slope: float
@@ -107,9 +116,12 @@ class Flattening:
     beta_band: tuple[float, float] | None = None
     band_level: float | None = None
     model: str = FLATTENING_MODEL
+    edge_slope: tuple[float, ...] | None = None
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
+        if self.edge_slope is not None:
+            set_(self, "edge_slope", _edge_table(self.edge_slope, self.model))
         if self.model not in FLATTENING_MODELS:
             raise ValueError(
                 f"flattening.model must be one of {list(FLATTENING_MODELS)}, got {self.model!r}"
@@ -143,8 +155,12 @@ class Flattening:
         return self.beta_band is not None
 
     def to_dict(self) -> dict[str, Any]:
-        """The ``flattening`` JSON object (with its own model name, version and units)."""
-        return {
+        """The ``flattening`` JSON object (with its own model name, version and units).
+
+        ``edge_slope`` is written only when the block has one (files without it stay readable
+        by runtimes that do not know the field).
+        """
+        doc = {
             "model": self.model,
             "version": FLATTENING_VERSION,
             "units": {"slope": "1", "beta": "1"},
@@ -153,6 +169,9 @@ class Flattening:
             "beta_band": None if self.beta_band is None else list(self.beta_band),
             "band_level": self.band_level,
         }
+        if self.edge_slope is not None:
+            doc["edge_slope"] = list(self.edge_slope)
+        return doc
 
     @classmethod
     def from_dict(cls, doc: object, *, source: str = "<dict>") -> "Flattening":
@@ -193,6 +212,7 @@ class Flattening:
             "beta",
             "beta_band",
             "band_level",
+            "edge_slope",
         }
         if unknown:
             raise ValueError(f"{where}: unknown fields {sorted(unknown)}")
@@ -206,11 +226,35 @@ class Flattening:
                 beta_band=None if band is None else tuple(band),
                 band_level=doc.get("band_level"),
                 model=doc["model"],
+                edge_slope=doc.get("edge_slope"),
             )
         except TypeError:
             raise ValueError(f"{where}.beta_band must be [lower, upper], got {band!r}") from None
         except ValueError as exc:
             raise ValueError(f"{source}: {exc}") from None
+
+
+def _edge_table(values: Any, model: str) -> tuple[float, ...]:
+    """``edge_slope`` checked: a list of ``n`` numbers in ``SLOPE_RANGE``, model limit-analysis."""
+    if model != LIMIT_MODEL:
+        raise ValueError(
+            f"flattening.edge_slope applies to model {LIMIT_MODEL!r} only (the one-state model "
+            f"takes one slope), got model {model!r}"
+        )
+    if isinstance(values, (str, bytes, dict)) or not hasattr(values, "__len__"):
+        raise ValueError(
+            f"flattening.edge_slope must be a list of {EDGE_POINTS_RANGE[0]}-"
+            f"{EDGE_POINTS_RANGE[1]} slopes at equally spaced contact fractions, got {values!r}"
+        )
+    n = len(values)
+    if not EDGE_POINTS_RANGE[0] <= n <= EDGE_POINTS_RANGE[1]:
+        raise ValueError(
+            f"flattening.edge_slope must hold {EDGE_POINTS_RANGE[0]}-{EDGE_POINTS_RANGE[1]} "
+            f"slopes (at A = 0 .. 1), got {n}"
+        )
+    return tuple(
+        _number(f"flattening.edge_slope[{i}]", v, *SLOPE_RANGE) for i, v in enumerate(values)
+    )
 
 
 def beta_absorbs_hardening(params: Any) -> bool:

@@ -6,6 +6,11 @@ against is :func:`frictionlaw.flattening_limit.limit_update` (``frictionlaw._lim
 reading and integrator); the contact fraction then enters the shear through Eq. F5 as in the
 one-state model (:func:`frictionlaw._kernels_flattening.flat_shear_of`).
 
+A block's ``edge_slope`` table (the workpiece's edge slope at equally spaced contact fractions)
+comes as one more array ``E`` after the rate table (empty: the block's one slope): the
+integrators then carry the flank's turn ``r = s / E(A)`` in place of ``s`` and read the table at
+``max(r E(A), S_FLOOR)`` (:func:`edge_scalar`; ``frictionlaw._limit_table``'s rule).
+
 The law's flattening data is the one-state layout (``frictionlaw.flattening.flattening_data``):
 slot 0 the block's slope, 1 ``beta``, 2 ``2 k`` of the file, 3 its ``sigma_y``, 4 the pressure
 where ``alpha1`` is 1, 5.. ``alpha1``'s coefficients. The rate table comes as six arrays
@@ -30,6 +35,7 @@ from ._kernels_flattening import FLAT_HEAD, P_MIN_RATIO, flat_shear_of, flat_she
 from ._limit_table import PRANDTL_FACTOR, S_FLOOR, STEP
 
 __all__ = [
+    "edge_scalar",
     "limit_rates_scalar",
     "limit_rates_d",
     "limit_integrate",
@@ -45,6 +51,31 @@ __all__ = [
 
 _ROI = types.Array(int64, 1, "C", readonly=True)
 _TAB = (_RO, _ROI, _RO, _RO, _RO2, _RO2)
+#: the rate table and the edge-slope table (empty: none)
+_ETAB = (*_TAB, _RO)
+
+
+@nb.jit(types.UniTuple(float64, 2)(_RO, float64), **_opts)
+def edge_scalar(E, A):
+    """``(E(A), dE/dA)``: the edge slope linear between ``E``'s equally spaced fractions.
+
+    ``(1, 0)`` for an empty table; the right derivative at a grid point (0 at ``A = 1``).
+    """
+    n = E.shape[0]
+    if n == 0:
+        return 1.0, 0.0
+    u = A * (n - 1)
+    i = min(int(math.floor(u)), n - 2)
+    g = (E[i + 1] - E[i]) * (n - 1) if u < n - 1 else 0.0
+    return E[i] + (u - i) * (E[i + 1] - E[i]), g
+
+
+@nb.jit(float64(_RO, float64), **_opts)
+def _start_log(E, s):
+    """``ln s`` floored at ``S_FLOOR``, or ``ln r`` with an edge table (``_limit_table``)."""
+    if E.shape[0] == 0:
+        return math.log(max(s, S_FLOOR))
+    return math.log(max(s, 1e-300))
 
 
 @nb.jit(int64(_RO, int64, int64, float64), **_opts)
@@ -88,28 +119,29 @@ def limit_rates_scalar(P, off, a, ls, dA, ds, x, A, s):
     return max((1 - w) * a0 + w * a1, 0.0), (1 - w) * s0 + w * s1
 
 
-@nb.jit(types.UniTuple(float64, 2)(*_TAB, float64, float64, float64, float64), **_opts)
-def limit_integrate(P, off, a, ls, dA, ds, A, s, x, stretch):
+@nb.jit(types.UniTuple(float64, 2)(*_ETAB, float64, float64, float64, float64), **_opts)
+def limit_integrate(P, off, a, ls, dA, ds, E, A, s, x, stretch):
     """``(A, s)`` after ``stretch`` at ``x``.
 
     The midpoint rule in ``(A, ln s)``, steps of ``STEP`` (the last shorter), ``A`` at most 1
-    (it then stops), ``s`` at least ``S_FLOOR``.
+    (it then stops), ``s`` at least ``S_FLOOR``. With an edge table ``E`` the given ``s`` is
+    the turn ``r`` and the rule runs in ``(A, ln r)``; the end's slope is ``max(r E(A), S_FLOOR)``.
     """
     A = min(A, 1.0)
-    q = math.log(max(s, S_FLOOR))
+    q = _start_log(E, s)
     left = stretch
     while left > 1e-12 and A < 1.0:
         h = min(STEP, left)
-        sq = max(math.exp(q), S_FLOOR)
+        sq = max(math.exp(q) * edge_scalar(E, A)[0], S_FLOOR)
         ra, rs = limit_rates_scalar(P, off, a, ls, dA, ds, x, A, sq)
         am = min(A + 0.5 * h * ra, 1.0)
         qm = q + 0.5 * h * rs / sq
-        sm = max(math.exp(qm), S_FLOOR)
+        sm = max(math.exp(qm) * edge_scalar(E, am)[0], S_FLOOR)
         ra, rs = limit_rates_scalar(P, off, a, ls, dA, ds, x, am, sm)
         A = min(A + h * ra, 1.0)
         q = q + h * rs / sm
         left -= h
-    return A, max(math.exp(q), S_FLOOR)
+    return A, max(math.exp(q) * edge_scalar(E, A)[0], S_FLOOR)
 
 
 @nb.jit(types.UniTuple(float64, 6)(*_TAB, int64, float64, float64), **_opts)
@@ -166,10 +198,10 @@ def limit_rates_d(P, off, a, ls, dA, ds, x, A, s):
 
 
 @nb.jit(
-    types.UniTuple(float64, 3)(*_TAB, float64, float64, float64, float64, float64, float64),
+    types.UniTuple(float64, 3)(*_ETAB, float64, float64, float64, float64, float64, float64),
     **_opts,
 )
-def limit_integrate_d(P, off, a, ls, dA, ds, A, s, x, stretch, A_p, x_p):
+def limit_integrate_d(P, off, a, ls, dA, ds, E, A, s, x, stretch, A_p, x_p):
     """:func:`limit_integrate` (its states bit for bit) with ``dA / dp`` of its end.
 
     The derivative is carried forward through the same steps: ``A_p`` the start's ``dA / dp``,
@@ -178,14 +210,15 @@ def limit_integrate_d(P, off, a, ls, dA, ds, A, s, x, stretch, A_p, x_p):
     """
     A = min(A, 1.0)
     Ad = A_p if A < 1.0 else 0.0
-    q = math.log(max(s, S_FLOOR))
+    q = _start_log(E, s)
     qd = 0.0
     left = stretch
     while left > 1e-12 and A < 1.0:
         h = min(STEP, left)
-        e = math.exp(q)
+        g, gA = edge_scalar(E, A)
+        e = math.exp(q) * g
         sq = max(e, S_FLOOR)
-        sqd = e * qd if e > S_FLOOR else 0.0
+        sqd = e * qd + math.exp(q) * gA * Ad if e > S_FLOOR else 0.0
         ra, rs, rax, rsx, raA, rsA, ras, rss = limit_rates_d(P, off, a, ls, dA, ds, x, A, sq)
         rad = rax * x_p + raA * Ad + ras * sqd
         rsd = rsx * x_p + rsA * Ad + rss * sqd
@@ -194,9 +227,10 @@ def limit_integrate_d(P, off, a, ls, dA, ds, A, s, x, stretch, A_p, x_p):
         amd = Ad + 0.5 * h * rad if amr < 1.0 else 0.0
         qm = q + 0.5 * h * rs / sq
         qmd = qd + 0.5 * h * (rsd - rs * sqd / sq) / sq
-        em = math.exp(qm)
+        g, gA = edge_scalar(E, am)
+        em = math.exp(qm) * g
         sm = max(em, S_FLOOR)
-        smd = em * qmd if em > S_FLOOR else 0.0
+        smd = em * qmd + math.exp(qm) * gA * amd if em > S_FLOOR else 0.0
         ra, rs, rax, rsx, raA, rsA, ras, rss = limit_rates_d(P, off, a, ls, dA, ds, x, am, sm)
         rad = rax * x_p + raA * amd + ras * smd
         rsd = rsx * x_p + rsA * amd + rss * smd
@@ -206,44 +240,48 @@ def limit_integrate_d(P, off, a, ls, dA, ds, A, s, x, stretch, A_p, x_p):
         q = q + h * rs / sm
         qd = qd + h * (rsd - rs * smd / sm) / sm
         left -= h
-    return A, max(math.exp(q), S_FLOOR), Ad
+    return A, max(math.exp(q) * edge_scalar(E, A)[0], S_FLOOR), Ad
 
 
 @nb.jit(
-    types.UniTuple(float64, 2)(_RO, *_TAB, float64, float64, float64, float64, float64, float64),
+    types.UniTuple(float64, 2)(_RO, *_ETAB, float64, float64, float64, float64, float64, float64),
     **_opts,
 )
-def _advance(fdata, P, off, a, ls, dA, ds, p, p_hist, alpha_f, s0, d_eps, k):
+def _advance(fdata, P, off, a, ls, dA, ds, E, p, p_hist, alpha_f, s0, d_eps, k):
     """One node's states at pressure ``p`` (``k`` the shear flow stress): ``(alpha_f', s)``."""
     c1 = fdata[FLAT_HEAD:]
     a0 = max(alpha_f, first_scalar(c1, max(p, p_hist))[0])
     x = p / (PRANDTL_FACTOR * k)
-    A, s = limit_integrate(P, off, a, ls, dA, ds, a0, s0, x, STRETCH * fdata[1] * d_eps)
+    A, s = limit_integrate(P, off, a, ls, dA, ds, E, a0, s0, x, STRETCH * fdata[1] * d_eps)
     return max(A, alpha_f), s
 
 
 @nb.jit(
-    types.UniTuple(float64, 3)(_RO, *_TAB, float64, float64, float64, float64, float64, float64),
+    types.UniTuple(float64, 3)(_RO, *_ETAB, float64, float64, float64, float64, float64, float64),
     **_opts,
 )
-def limit_scalar(fdata, P, off, a, ls, dA, ds, p, p_hist, alpha_f, slope_f, d_eps, sigy):
+def limit_scalar(fdata, P, off, a, ls, dA, ds, E, p, p_hist, alpha_f, slope_f, d_eps, sigy):
     """One node's two states over a strain increment: ``(alpha_f', slope_f', d alpha / d p)``.
 
     From the committed ``alpha_f`` and ``slope_f`` (0: the block's slope) and the trial history
     ``p_hist``, at ``p`` with the bulk's equivalent plastic strain increment ``d_eps`` (flow
-    stress ``sigy``, ``<= 0``: the file's). ``d_eps = 0``, ``p <= 1e-12 H`` and full contact
+    stress ``sigy``, ``<= 0``: the file's); with an edge table the turn ``slope_f / E(alpha_f)``
+    (1 never flattened). ``d_eps = 0``, ``p <= 1e-12 H`` and full contact
     leave both states as they are (and ``d alpha / d p = 0``). The derivative is computed
     where Eq. F5 reads it, on first loading (``p >= p_hist``) above ``alpha1(p)``; 0 elsewhere.
     """
     H = fdata[FLAT_HEAD + 1]
     if not (d_eps > 0.0 and p > P_MIN_RATIO * H and alpha_f < 1.0):
         return alpha_f, slope_f, 0.0
-    s0 = slope_f if slope_f > 0.0 else fdata[0]
+    if E.shape[0] == 0:
+        s0 = slope_f if slope_f > 0.0 else fdata[0]
+    else:
+        s0 = slope_f / edge_scalar(E, alpha_f)[0] if slope_f > 0.0 else 1.0
     k = 0.5 * fdata[2]
     if sigy > 0.0:
         k = k * (sigy / fdata[3])
     if p < p_hist:  # F5 reads no derivative of the update below p_hist (flat_shear_of)
-        A, s = _advance(fdata, P, off, a, ls, dA, ds, p, p_hist, alpha_f, s0, d_eps, k)
+        A, s = _advance(fdata, P, off, a, ls, dA, ds, E, p, p_hist, alpha_f, s0, d_eps, k)
         return A, s, 0.0
     # first loading: the same integration carries d A / d p forward (from alpha1' where the
     # start is alpha1(p), and from x = p / H_P)
@@ -252,7 +290,7 @@ def limit_scalar(fdata, P, off, a, ls, dA, ds, p, p_hist, alpha_f, slope_f, d_ep
     a0 = max(alpha_f, a1)
     x = p / (PRANDTL_FACTOR * k)
     A, s, A_p = limit_integrate_d(
-        P, off, a, ls, dA, ds, a0, s0, x, STRETCH * fdata[1] * d_eps,
+        P, off, a, ls, dA, ds, E, a0, s0, x, STRETCH * fdata[1] * d_eps,
         a1_p if a1 >= alpha_f else 0.0, 1.0 / (PRANDTL_FACTOR * k),
     )  # fmt: skip
     if not A > alpha_f:
@@ -264,12 +302,12 @@ def limit_scalar(fdata, P, off, a, ls, dA, ds, p, p_hist, alpha_f, slope_f, d_ep
 
 @nb.jit(
     types.UniTuple(float64, 4)(
-        int64, _RO, _RO, *_TAB, float64, float64, float64, float64, float64, float64
+        int64, _RO, _RO, *_ETAB, float64, float64, float64, float64, float64, float64
     ),
     **_opts,
 )
 def limit_shear_scalar(
-    code, coeffs, fdata, P, off, a, ls, dA, ds, p, p_hist, alpha_f, slope_f, d_eps, sigy
+    code, coeffs, fdata, P, off, a, ls, dA, ds, E, p, p_hist, alpha_f, slope_f, d_eps, sigy
 ):
     """``(tau, dtau/dp, alpha_f', slope_f')`` of law ``code`` with the two-state flattening.
 
@@ -280,7 +318,7 @@ def limit_shear_scalar(
         t, d = shear_scalar(code, coeffs, p, p_hist)
         return t, d, alpha_f, slope_f
     A, s, dadp = limit_scalar(
-        fdata, P, off, a, ls, dA, ds, p, p_hist, alpha_f, slope_f, d_eps, sigy
+        fdata, P, off, a, ls, dA, ds, E, p, p_hist, alpha_f, slope_f, d_eps, sigy
     )
     t, d = flat_shear_of(code, coeffs, fdata, p, p_hist, A, 0.0, dadp)
     return t, d, A, s
@@ -290,7 +328,7 @@ _traction_limit_sig = types.void(
     int64,
     _RO,
     _RO,
-    *_TAB,
+    *_ETAB,
     _RO,
     _RO,
     _RO,
@@ -312,7 +350,7 @@ _traction_limit_sig = types.void(
 
 @nb.jit(_traction_limit_sig, **_opts)
 def traction_array_limit(
-    code, coeffs, fdata, P, off, a, ls, dA, ds, p, p_hist, alpha_f, slope_f, d_eps, sigy,
+    code, coeffs, fdata, P, off, a, ls, dA, ds, E, p, p_hist, alpha_f, slope_f, d_eps, sigy,
     du, t_old, k_t, t_new, status, dt_ddu, dt_dp, p_trial, a_trial, s_trial,
 ):  # fmt: skip
     """The return map with the two-state flattened law at every node.
@@ -321,7 +359,7 @@ def traction_array_limit(
     """
     for i in range(p.shape[0]):
         tau, dtau, A, s = limit_shear_scalar(
-            code, coeffs, fdata, P, off, a, ls, dA, ds,
+            code, coeffs, fdata, P, off, a, ls, dA, ds, E,
             p[i], p_hist[i], alpha_f[i], slope_f[i], d_eps[i], sigy[i],
         )  # fmt: skip
         status[i] = return_map_row(tau, dtau, p[i], du, t_old, k_t[i], t_new, dt_ddu, dt_dp, i)
@@ -332,13 +370,13 @@ def traction_array_limit(
 
 @nb.jit(_traction_limit_sig, parallel=True, **_opts)
 def traction_array_limit_parallel(
-    code, coeffs, fdata, P, off, a, ls, dA, ds, p, p_hist, alpha_f, slope_f, d_eps, sigy,
+    code, coeffs, fdata, P, off, a, ls, dA, ds, E, p, p_hist, alpha_f, slope_f, d_eps, sigy,
     du, t_old, k_t, t_new, status, dt_ddu, dt_dp, p_trial, a_trial, s_trial,
 ):  # fmt: skip
     """As :func:`traction_array_limit`, threads over the nodes."""
     for i in nb.prange(p.shape[0]):
         tau, dtau, A, s = limit_shear_scalar(
-            code, coeffs, fdata, P, off, a, ls, dA, ds,
+            code, coeffs, fdata, P, off, a, ls, dA, ds, E,
             p[i], p_hist[i], alpha_f[i], slope_f[i], d_eps[i], sigy[i],
         )  # fmt: skip
         status[i] = return_map_row(tau, dtau, p[i], du, t_old, k_t[i], t_new, dt_ddu, dt_dp, i)
@@ -349,13 +387,13 @@ def traction_array_limit_parallel(
 
 @nb.jit(
     types.UniTuple(float64, 4)(
-        _ROI, _ROI, _RO, _ROI, _RO, _ROI, *_TAB, int64,
+        _ROI, _ROI, _RO, _ROI, _RO, _ROI, *_ETAB, _ROI, int64,
         float64, float64, float64, float64, float64, float64, float64,
     ),
     **_opts,
 )  # fmt: skip
 def zoned_limit_row(
-    codes, offsets, coeffs, f_offsets, fdata, models, P, off, a, ls, dA, ds, z,
+    codes, offsets, coeffs, f_offsets, fdata, models, P, off, a, ls, dA, ds, E, e_off, z,
     p, p_hist, alpha_f, slope_f, d_eps, sigy, hard,
 ):  # fmt: skip
     """``(tau, dtau/dp, alpha_f', slope_f')`` of zone ``z``'s law at one node.
@@ -363,13 +401,15 @@ def zoned_limit_row(
     A two-state zone (``models[z] == 1``) runs :func:`limit_shear_scalar`; another zone its
     one-state flattening or none (``frictionlaw._kernels_flattening.flat_shear_scalar``, with
     the hardening modulus ``hard``) and passes ``slope_f`` on unchanged: the flank slope is the
-    workpiece's, as the fraction is, and only a two-state zone turns it.
+    workpiece's, as the fraction is, and only a two-state zone turns it. Zone ``z``'s edge
+    table is ``E[e_off[z]:e_off[z + 1]]`` (empty: its block's one slope).
     """
     c = coeffs[offsets[z] : offsets[z + 1]]
     fd = fdata[f_offsets[z] : f_offsets[z + 1]]
     if models[z] == 1:
+        ez = E[e_off[z] : e_off[z + 1]]
         return limit_shear_scalar(
-            codes[z], c, fd, P, off, a, ls, dA, ds, p, p_hist, alpha_f, slope_f, d_eps, sigy
+            codes[z], c, fd, P, off, a, ls, dA, ds, ez, p, p_hist, alpha_f, slope_f, d_eps, sigy
         )
     t, d, af = flat_shear_scalar(codes[z], c, fd, p, p_hist, alpha_f, d_eps, sigy, hard)
     return t, d, af, slope_f
@@ -382,7 +422,8 @@ _zoned_limit_sig = types.void(
     _ROI,
     _RO,
     _ROI,
-    *_TAB,
+    *_ETAB,
+    _ROI,
     _ROI,
     _RO,
     _RO,
@@ -406,7 +447,7 @@ _zoned_limit_sig = types.void(
 
 @nb.jit(_zoned_limit_sig, **_opts)
 def traction_array_zoned_limit(
-    codes, offsets, coeffs, f_offsets, fdata, models, P, off, a, ls, dA, ds, zone,
+    codes, offsets, coeffs, f_offsets, fdata, models, P, off, a, ls, dA, ds, E, e_off, zone,
     p, p_hist, alpha_f, slope_f, d_eps, sigy, hard,
     du, t_old, k_t, t_new, status, dt_ddu, dt_dp, p_trial, a_trial, s_trial,
 ):  # fmt: skip
@@ -416,7 +457,7 @@ def traction_array_zoned_limit(
     """
     for i in range(p.shape[0]):
         tau, dtau, A, s = zoned_limit_row(
-            codes, offsets, coeffs, f_offsets, fdata, models, P, off, a, ls, dA, ds, zone[i],
+            codes, offsets, coeffs, f_offsets, fdata, models, P, off, a, ls, dA, ds, E, e_off, zone[i],
             p[i], p_hist[i], alpha_f[i], slope_f[i], d_eps[i], sigy[i], hard[i],
         )  # fmt: skip
         status[i] = return_map_row(tau, dtau, p[i], du, t_old, k_t[i], t_new, dt_ddu, dt_dp, i)
@@ -427,14 +468,14 @@ def traction_array_zoned_limit(
 
 @nb.jit(_zoned_limit_sig, parallel=True, **_opts)
 def traction_array_zoned_limit_parallel(
-    codes, offsets, coeffs, f_offsets, fdata, models, P, off, a, ls, dA, ds, zone,
+    codes, offsets, coeffs, f_offsets, fdata, models, P, off, a, ls, dA, ds, E, e_off, zone,
     p, p_hist, alpha_f, slope_f, d_eps, sigy, hard,
     du, t_old, k_t, t_new, status, dt_ddu, dt_dp, p_trial, a_trial, s_trial,
 ):  # fmt: skip
     """As :func:`traction_array_zoned_limit`, threads over the nodes."""
     for i in nb.prange(p.shape[0]):
         tau, dtau, A, s = zoned_limit_row(
-            codes, offsets, coeffs, f_offsets, fdata, models, P, off, a, ls, dA, ds, zone[i],
+            codes, offsets, coeffs, f_offsets, fdata, models, P, off, a, ls, dA, ds, E, e_off, zone[i],
             p[i], p_hist[i], alpha_f[i], slope_f[i], d_eps[i], sigy[i], hard[i],
         )  # fmt: skip
         status[i] = return_map_row(tau, dtau, p[i], du, t_old, k_t[i], t_new, dt_ddu, dt_dp, i)

@@ -14,6 +14,12 @@ to the table's first and last pressure; ``dA / d eps`` held at ``>= 0`` (a node'
 never falls). Integration: the explicit midpoint rule in ``(A, ln s)``, steps of
 :data:`STEP` in stretch, ``A`` at most 1, ``s`` at least :data:`S_FLOOR`.
 
+A block with an ``edge_slope`` table (the workpiece's edge slope ``E(A)`` at equally spaced
+contact fractions, :func:`edge_at`) carries the flank's turn ``r = s / E(A)`` instead: the
+midpoint rule runs in ``(A, ln r)``, the table is read at ``s = max(r E(A), S_FLOOR)`` and its
+``d ln s / d eps`` turns ``r``, so that ``s`` follows the surface's own edges as the contact
+grows. Without a table ``E = 1`` and ``r = s``: the same operations, the same numbers.
+
 This module is the NumPy reference of the kernels in ``_kernels_limit.py``.
 """
 
@@ -36,6 +42,7 @@ __all__ = [
     "RateTable",
     "rate_table",
     "table_rates",
+    "edge_at",
     "integrate",
     "integrate_shared",
 ]
@@ -131,34 +138,70 @@ def table_rates(x: NDArray, A: NDArray, s: NDArray, t: RateTable) -> tuple[NDArr
     return np.maximum((1 - w) * a0 + w * a1, 0.0), (1 - w) * s0 + w * s1
 
 
-def _midpoint(a, qa, xa, h, t):
-    """One midpoint step of length ``h`` from ``(a, ln s)``: the rule of :func:`integrate`."""
-    dA, ds = table_rates(xa, a, np.maximum(np.exp(qa), S_FLOOR), t)
+def edge_at(edge: NDArray | None, A: NDArray) -> NDArray[np.float64] | float:
+    """The edge slope ``E(A)``, linear between the table's equally spaced fractions (1 without).
+
+    ``edge`` holds ``E`` at ``A = i / (n - 1)``; ``A`` in [0, 1]. The kernels' arithmetic:
+    ``u = A (n - 1)``, ``i = min(floor(u), n - 2)``, ``E[i] + (u - i) (E[i + 1] - E[i])``.
+    """
+    if edge is None or len(edge) == 0:
+        return 1.0
+    e = np.asarray(edge, dtype=float)
+    u = np.asarray(A, dtype=float) * (e.size - 1)
+    i = np.minimum(np.floor(u), e.size - 2).astype(np.int64)
+    return e[i] + (u - i) * (e[i + 1] - e[i])
+
+
+def start_log(s: NDArray, edge: NDArray | None) -> NDArray[np.float64]:
+    """The integration's start ``ln s`` (floored at :data:`S_FLOOR`), or ``ln r`` with a table."""
+    s = np.asarray(s, dtype=float)
+    if edge is None or len(edge) == 0:
+        return np.log(np.maximum(s, S_FLOOR))
+    return np.log(np.maximum(s, 1e-300))
+
+
+def _slope(a, q, edge):
+    """The flank slope the table is read at: ``max(exp(q) E(a), S_FLOOR)``."""
+    return np.maximum(np.exp(q) * edge_at(edge, a), S_FLOOR)
+
+
+def _midpoint(a, qa, xa, h, t, edge=None):
+    """One midpoint step of length ``h`` from ``(a, ln r)``: the rule of :func:`integrate`."""
+    sa = _slope(a, qa, edge)
+    dA, ds = table_rates(xa, a, sa, t)
     am = np.minimum(a + 0.5 * h * dA, 1.0)
-    qm = qa + 0.5 * h * ds / np.maximum(np.exp(qa), S_FLOOR)
-    dA, ds = table_rates(xa, am, np.maximum(np.exp(qm), S_FLOOR), t)
-    return np.minimum(a + h * dA, 1.0), qa + h * ds / np.maximum(np.exp(qm), S_FLOOR)
+    qm = qa + 0.5 * h * ds / sa
+    sm = _slope(am, qm, edge)
+    dA, ds = table_rates(xa, am, sm, t)
+    return np.minimum(a + h * dA, 1.0), qa + h * ds / sm
 
 
 def integrate(
-    A: NDArray, s: NDArray, x: NDArray, stretch: NDArray, t: RateTable
+    A: NDArray,
+    s: NDArray,
+    x: NDArray,
+    stretch: NDArray,
+    t: RateTable,
+    edge: NDArray | None = None,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """``(A, s)`` after ``stretch`` at ``p / H_P = x`` (flat arrays of one size).
 
     The midpoint rule in ``(A, ln s)`` with steps of :data:`STEP` (the last one shorter), ``A``
-    at most 1 (it then stops), ``s`` at least :data:`S_FLOOR`.
+    at most 1 (it then stops), ``s`` at least :data:`S_FLOOR`. With an ``edge`` table (module
+    text) the given ``s`` is the flank's turn ``r`` at the start and the rule runs in
+    ``(A, ln r)``; the slope returned is ``max(r E(A), S_FLOOR)`` at the end.
     """
     A = np.minimum(np.array(A, dtype=float), 1.0)
-    q = np.log(np.maximum(np.asarray(s, dtype=float), S_FLOOR))
+    q = start_log(s, edge)
     left = np.array(stretch, dtype=float)
     x = np.asarray(x, dtype=float)
     act = np.flatnonzero((left > 0) & (A < 1.0))
     while act.size:
         h = np.minimum(STEP, left[act])
-        A[act], q[act] = _midpoint(A[act], q[act], x[act], h, t)
+        A[act], q[act] = _midpoint(A[act], q[act], x[act], h, t, edge)
         left[act] -= h
         act = act[(left[act] > 1e-12) & (A[act] < 1.0)]
-    return A, np.maximum(np.exp(q), S_FLOOR)
+    return A, _slope(A, q, edge)
 
 
 #: the most states :func:`integrate_shared` keeps (steps times distinct starts); beyond, per point
@@ -166,7 +209,12 @@ _DENSE_MAX = 4_000_000
 
 
 def integrate_shared(
-    A: NDArray, s: NDArray, x: NDArray, stretch: NDArray, t: RateTable
+    A: NDArray,
+    s: NDArray,
+    x: NDArray,
+    stretch: NDArray,
+    t: RateTable,
+    edge: NDArray | None = None,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """:func:`integrate` for many points that share their start ``(A, s, x)`` (a curve's points).
 
@@ -186,20 +234,20 @@ def integrate_shared(
     full, part = full + whole, np.where(whole, 0.0, part)
     n = int(full.max(initial=0))
     g0 = np.minimum(keys[0], 1.0)
-    As, qs = [g0], [np.log(np.maximum(keys[1], S_FLOOR))]
+    As, qs = [g0], [start_log(keys[1], edge)]
     for _ in range(n):  # until every start is in full contact (its state then stays)
         a, q = As[-1].copy(), qs[-1].copy()
         go = a < 1.0
         if not go.any():
             break
         if len(As) * g0.size > _DENSE_MAX:
-            return integrate(A, s, x, stretch, t)
-        a[go], q[go] = _midpoint(a[go], q[go], keys[2][go], STEP, t)
+            return integrate(A, s, x, stretch, t, edge)
+        a[go], q[go] = _midpoint(a[go], q[go], keys[2][go], STEP, t, edge)
         As.append(a)
         qs.append(q)
     full = np.minimum(full, len(As) - 1)
     a, q = np.array(As)[full, inv], np.array(qs)[full, inv]
     go = (part > 1e-12) & (a < 1.0)
     if go.any():
-        a[go], q[go] = _midpoint(a[go], q[go], x[go], part[go], t)
-    return a, np.maximum(np.exp(q), S_FLOOR)
+        a[go], q[go] = _midpoint(a[go], q[go], x[go], part[go], t, edge)
+    return a, _slope(a, q, edge)

@@ -15,6 +15,10 @@ project's FE asperity truth, nothing fitted, it misses by at most 0.134 at 0.05-
 * a node starts from ``A0 = max(alpha_f, alpha1(max(p, p_hist)))`` (as Eq. F6 starts from the
   largest of ``p_f``, ``p_hist`` and ``p``) and the block's ``slope`` (a state of 0: never
   flattened);
+* with the block's ``edge_slope`` (the workpiece's edge slope ``E(A)``, from its surface) the
+  flank slope is ``r E(A)``: the node's turn ``r = slope_f / E(alpha_f)`` (1 never flattened)
+  is what the table's ``d ln s / d eps`` turns, and the slope follows the surface's own edges
+  as the contact grows (docs/flattening.md, "The edge slope");
 * the stretch across the ridges is ``beta r_s d_eps`` (``r_s = sqrt(3) / 2`` of the host's
   equivalent plastic strain, Eq. F1b; ``beta`` scales it, 1 unless fitted);
 * ``(A, s)`` follow the table's rates at the current ``p`` (``frictionlaw._limit_table``); the
@@ -42,7 +46,14 @@ from ._flattening_block import (
 )
 from ._flattening_rates import host_flow_stress
 from ._flattening_runs import running_max, strain_runs
-from ._limit_table import PRANDTL_FACTOR, integrate, integrate_shared, rate_table, table_rates
+from ._limit_table import (
+    PRANDTL_FACTOR,
+    edge_at,
+    integrate,
+    integrate_shared,
+    rate_table,
+    table_rates,
+)
 from .law import alpha_first, as_float_array, broadcast_named
 
 if TYPE_CHECKING:
@@ -54,6 +65,7 @@ __all__ = [
     "LIMIT_SLOPE_RANGE",
     "limit_rates",
     "limit_update",
+    "edge_slope_at",
     "prandtl_ratio",
     "table_pressures",
 ]
@@ -112,6 +124,26 @@ def table_pressures(
     return lo * hp, hi * hp
 
 
+def _edge(flat: Flattening) -> NDArray[np.float64] | None:
+    return None if flat.edge_slope is None else np.asarray(flat.edge_slope, dtype=float)
+
+
+def edge_slope_at(A: ArrayLike, params: "FrictionParams") -> NDArray[np.float64]:
+    """The block's flank slope of a virgin surface at contact fraction ``A`` (in [0, 1]).
+
+    Its ``edge_slope`` table read linearly between its equally spaced fractions, or its one
+    ``slope`` where it has none.
+    """
+    flat = _limit_block(params)
+    a = as_float_array("A", A)
+    if not (np.all(np.isfinite(a)) and np.all((a >= 0) & (a <= 1))):
+        raise ValueError("A must be a contact fraction in [0, 1]")
+    e = _edge(flat)
+    if e is None:
+        return np.full(a.shape, flat.slope)
+    return np.asarray(edge_at(e, a), dtype=float)
+
+
 def limit_rates(
     p_over_HP: ArrayLike, A: ArrayLike, s: ArrayLike
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -146,7 +178,9 @@ def limit_update(
     The two-state counterpart of Eq. F6 (module text): from the committed fraction ``alpha_f``
     and slope ``slope_f`` (0: never flattened, the block's ``slope``), the trial history
     ``p_hist`` and the pressure ``p`` (Pa), ``d_eps`` the equivalent plastic strain increment of
-    the bulk under the node (``>= 0``). Returns ``(alpha_f', slope_f')``: the fraction never
+    the bulk under the node (``>= 0``). With the block's ``edge_slope`` the node's turn is
+    ``slope_f / E(alpha_f)`` (1 never flattened) and its slope ``r E(A)`` at the end.
+    Returns ``(alpha_f', slope_f')``: the fraction never
     below ``alpha_f``, at most 1; ``d_eps = 0``, ``p <= 1e-12 H`` (open) and full contact
     leave both as they are. Like ``p_hist``, call it from the committed states in every
     iteration and commit once.
@@ -170,9 +204,13 @@ def limit_update(
     if not go.any():
         return a_out, s_out
     a0 = np.maximum(alpha_f[go], alpha_first(np.maximum(p[go], p_hist[go]), params))
-    s0 = np.where(slope_f[go] > 0, slope_f[go], flat.slope)
+    e = _edge(flat)
+    if e is None:
+        s0 = np.where(slope_f[go] > 0, slope_f[go], flat.slope)
+    else:  # the flank's turn r = s / E(A) at the committed fraction
+        s0 = np.where(slope_f[go] > 0, slope_f[go] / edge_at(e, alpha_f[go]), 1.0)
     stretch = STRETCH_PER_EQUIVALENT_STRAIN * flat.beta * d_eps[go]
-    a, s = integrate(a0, s0, x_all[go], stretch, rate_table())
+    a, s = integrate(a0, s0, x_all[go], stretch, rate_table(), e)
     a_out[go] = np.maximum(a, alpha_f[go])
     s_out[go] = s
     return a_out, s_out
@@ -204,7 +242,8 @@ def limit_curve(
     steps = FLOW_CURVE_STEPS if steps is None else int(steps)
     flat = _limit_block(params)
     a0 = np.asarray(alpha_first(p, params), dtype=float)
-    s0 = np.full(p.shape, flat.slope)
+    e = _edge(flat)
+    s0 = np.full(p.shape, flat.slope if e is None else 1.0)  # with a table: the turn r
     go = p > P_MIN_RATIO * params.H
     a, s = a0.copy(), s0
     if flow_curve is None:  # the points of a pressure share their start: one integration each
@@ -214,6 +253,7 @@ def limit_curve(
             prandtl_ratio(p[go], params, sigma_y),
             STRETCH_PER_EQUIVALENT_STRAIN * flat.beta * strains[go],
             rate_table(),
+            e,
         )
     else:
         de = strains / steps
@@ -225,6 +265,9 @@ def limit_curve(
                 x[go],
                 STRETCH_PER_EQUIVALENT_STRAIN * flat.beta * de[go],
                 rate_table(),
+                e,
             )
+            if e is not None:  # the next step starts from the turn, not the slope
+                s[go] = s[go] / edge_at(e, a[go])
     # Eq. F5 at p = p_hist reads alpha1(max(p, p_f)) = max(alpha1(p), A): the state itself
     return running_max(np.maximum(a, a0), strain_runs(p, strains))

@@ -44,6 +44,16 @@ class _Law:
         return flat is not None and flat.model == LIMIT_MODEL
 
     @property
+    def edge_data(self) -> NDArray[np.float64]:
+        """The two-state kernels' edge-slope table (the block's ``edge_slope``; empty: none)."""
+        flat = getattr(getattr(self, "params", None), "flattening", None)
+        if flat is None or flat.edge_slope is None:
+            return np.zeros(0)
+        out = np.array(flat.edge_slope, dtype=np.float64)
+        out.flags.writeable = False
+        return out
+
+    @property
     def coeffs(self) -> NDArray[np.float64]:
         raise NotImplementedError
 

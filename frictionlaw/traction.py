@@ -266,11 +266,11 @@ def _limit_update(
     if zoned is not None:
         kern = lk.traction_array_zoned_limit_parallel if parallel else lk.traction_array_zoned_limit
         head = (*law.kernel_data(), *law.flattening_kernel_data(), law.flattening_models())  # type: ignore[union-attr]
-        kern(*head, *table, zoned, *nodes, hd, *tail, a_t, s_t)
+        kern(*head, *table, *law.edge_kernel_data(), zoned, *nodes, hd, *tail, a_t, s_t)  # type: ignore[union-attr]
         return
     kern = lk.traction_array_limit_parallel if parallel else lk.traction_array_limit
     head = (int(law.code), law.coeffs, law.flattening_data)  # type: ignore[union-attr]
-    kern(*head, *table, *nodes, *tail, a_t, s_t)
+    kern(*head, *table, law.edge_data, *nodes, *tail, a_t, s_t)  # type: ignore[union-attr]
 
 
 def limit_kernels() -> ModuleType:

@@ -92,6 +92,8 @@ class ZonedLaw:
     _f_offsets: NDArray[np.int64] = field(init=False, repr=False, compare=False)
     _fdata: NDArray[np.float64] = field(init=False, repr=False, compare=False)
     _models: NDArray[np.int64] = field(init=False, repr=False, compare=False)
+    _edges: NDArray[np.float64] = field(init=False, repr=False, compare=False)
+    _e_offsets: NDArray[np.int64] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         names, laws = tuple(self.names), tuple(self.laws)
@@ -116,6 +118,8 @@ class ZonedLaw:
         offsets = np.concatenate([[0], np.cumsum([c.size for c in coeffs])]).astype(np.int64)
         fdata = [np.ascontiguousarray(law.flattening_data, dtype=np.float64) for law in laws]
         f_offsets = np.concatenate([[0], np.cumsum([d.size for d in fdata])]).astype(np.int64)
+        edges = [law.edge_data for law in laws]
+        e_offsets = np.concatenate([[0], np.cumsum([e.size for e in edges])]).astype(np.int64)
         for name, value in (
             ("names", names),
             ("laws", laws),
@@ -125,6 +129,8 @@ class ZonedLaw:
             ("_f_offsets", f_offsets),
             ("_fdata", np.concatenate(fdata)),
             ("_models", np.array([int(law.uses_two_state) for law in laws], dtype=np.int64)),
+            ("_edges", np.concatenate(edges).astype(np.float64)),
+            ("_e_offsets", e_offsets),
         ):
             if isinstance(value, np.ndarray):
                 value.flags.writeable = False
@@ -177,6 +183,10 @@ class ZonedLaw:
     def flattening_kernel_data(self) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
         """``(f_offsets, fdata)``: each zone's flattening data (an empty slice: none; read-only)."""
         return self._f_offsets, self._fdata
+
+    def edge_kernel_data(self) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+        """``(edges, e_offsets)``: each two-state zone's edge-slope table (empty: none)."""
+        return self._edges, self._e_offsets
 
     def flattening_models(self) -> NDArray[np.int64]:
         """Each zone's flattening model for the kernels: 1 two-state, 0 otherwise (read-only)."""

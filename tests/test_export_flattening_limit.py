@@ -25,10 +25,13 @@ from frictionlaw.export.cli import main as export_main
 pytestmark = pytest.mark.skipif(harness.gfortran() is None, reason="needs gfortran")
 
 TWO = "limit-analysis"
+#: an edge-slope table (flattening.edge_slope): the flank the law reads follows it
+EDGE = tuple(float(v) for v in 0.02 + 0.08 * np.linspace(0.0, 1.0, 21) ** 1.5)
 
 
-def law(slope=0.05, beta=1.0):
-    return fl.FrictionParams(**BASE, flattening=fl.Flattening(slope=slope, beta=beta, model=TWO))
+def law(slope=0.05, beta=1.0, edge=None):
+    flat = fl.Flattening(slope=slope, beta=beta, model=TWO, edge_slope=edge)
+    return fl.FrictionParams(**BASE, flattening=flat)
 
 
 def grid():
@@ -79,10 +82,16 @@ def test_the_table_is_written_bit_for_bit():
     assert first.endswith("1.0D0, 2.0D0, 3 /")
 
 
-@pytest.mark.parametrize("target", ["lsdyna", "ansys-userfric"])
-def test_neutral_entry_flattens_as_the_runtime(tmp_path, target):
-    P = law()
-    host, files = load(tmp_path, target, P, name=f"two_{target}")
+@pytest.mark.parametrize(
+    ("target", "edge"), [("lsdyna", None), ("ansys-userfric", None), ("lsdyna", EDGE)]
+)
+def test_neutral_entry_flattens_as_the_runtime(tmp_path, target, edge):
+    """The neutral entry's states, shear and tangent as the runtime's, with the block's one
+    slope and with an edge-slope table (the routine then carries it as DATA, ``TEDG``)."""
+    P = law(edge=edge)
+    host, files = load(tmp_path, target, P, name=f"two_{target}_{edge is None}")
+    routine = next(v for k, v in files.items() if k.endswith(".f"))
+    assert ("TEDG" in routine) == (edge is not None)
     readme = files["README.md"]
     assert "STATE(7)" in readme and "flank slope" in readme
     p, ph, af, sf, de, sy = grid()
@@ -161,20 +170,22 @@ def test_neutral_entry_without_the_slope_slot_says_so_once(tmp_path):
     assert "NSTATE < 7" in msg and "STATE(7)" in msg
 
 
-@pytest.mark.parametrize(("prec", "curve"), [("DP", None), ("SP", None), ("DP", "swift")])
-def test_lsdyna_usrfrc_flattens_over_cycles(tmp_path, prec, curve):
+@pytest.mark.parametrize(
+    ("prec", "curve", "edge"),
+    [("DP", None, None), ("SP", None, None), ("DP", "swift", None), ("DP", None, EDGE)],
+)
+def test_lsdyna_usrfrc_flattens_over_cycles(tmp_path, prec, curve, edge):
     """SMP and MPP: the element plastic strain's increments between cycles in contact, the
     slope in history variable 8 (NHV >= 8); with --flow-curve the flow stress off the curve at
     the middle of each cycle's strain, as the runtime given it (the hardening modulus not
-    read: the table is perfectly plastic)."""
+    read: the table is perfectly plastic); with an edge-slope table as well."""
     from test_export_flattening import CURVES
 
-    P = law()
+    P = law(edge=edge)
     fc = CURVES[curve]
-    smp, files = load(tmp_path, "lsdyna-usrfrc", P, prec=prec, flow_curve=fc, name=f"smp{prec}")
-    mpp, mfiles = load(
-        tmp_path, "lsdyna-usrfrc-mpp", P, prec=prec, flow_curve=fc, name=f"mpp{prec}"
-    )
+    tag = f"{prec}{curve}{edge is None}"
+    smp, files = load(tmp_path, "lsdyna-usrfrc", P, prec=prec, flow_curve=fc, name=f"smp{tag}")
+    mpp, mfiles = load(tmp_path, "lsdyna-usrfrc-mpp", P, prec=prec, flow_curve=fc, name=f"mpp{tag}")
     assert "(NHV >= 8)" in files["README.md"] and "(NH >= 8)" in mfiles["README.md"]
     dt = np.float32 if prec == "SP" else np.float64
     tol = 1e-12 if prec == "DP" else 2e-6
@@ -256,11 +267,12 @@ def test_lsdyna_with_seven_history_variables_says_so_once(tmp_path):
     assert len(log) == 1 and "NHV < 8" in log[0], log
 
 
-def test_calculix_fric_flattens_as_the_runtime(tmp_path):
+@pytest.mark.parametrize("edge", [None, EDGE])
+def test_calculix_fric_flattens_as_the_runtime(tmp_path, edge):
     """The patched ccx's FRIC (PREDEF(2, 1) the increment's strain): STATEV(5) and STATEV(6)
-    as the runtime's trial states; FRIC_DEPVAR() asks for 6."""
-    P = law()
-    host, files = load(tmp_path, "calculix", P, name="two_ccx")
+    as the runtime's trial states; FRIC_DEPVAR() asks for 6 (with an edge table too)."""
+    P = law(edge=edge)
+    host, files = load(tmp_path, "calculix", P, name=f"two_ccx_{edge is None}")
     assert "FRIC_DEPVAR = 6" in files["sbmf_fric.f"]
     p, ph, af, sf, de, sy = grid()
     keep = sy == 0  # FRIC: the file's flow stress (no flow curve baked in)

@@ -27,6 +27,14 @@ FA = dataclasses.replace(ZA, flattening=fl.Flattening(slope=0.05))
 FD = dataclasses.replace(ZD, flattening=fl.Flattening(slope=0.1))
 #: zone 1 as the two-state model (limit-analysis) instead
 FT = dataclasses.replace(ZA, flattening=fl.Flattening(slope=0.05, model="limit-analysis"))
+#: ... and with an edge-slope table (flattening.edge_slope: the flank follows it)
+FE = dataclasses.replace(
+    ZA,
+    flattening=fl.Flattening(
+        slope=0.05, model="limit-analysis", edge_slope=(0.02, 0.03, 0.05, 0.08, 0.1)
+    ),
+)
+RIMS = {"t": FT, "e": FE}
 NAMES = {"lsdyna-usrfrc": ("3", "12"), "lsdyna-usrfrc-mpp": ("3", "12")}
 
 
@@ -34,7 +42,7 @@ NAMES = {"lsdyna-usrfrc": ("3", "12"), "lsdyna-usrfrc-mpp": ("3", "12")}
 def files(tmp_path_factory):
     folder = tmp_path_factory.mktemp("zflat")
     out = {}
-    for key, params in (("a", FA), ("b", ZB), ("d", FD), ("t", FT)):
+    for key, params in (("a", FA), ("b", ZB), ("d", FD), ("t", FT), ("e", FE)):
         out[key] = folder / f"zone_{key}.json"
         params.to_json(out[key])
     return out
@@ -140,15 +148,23 @@ def test_hosts_without_strain_need_the_users_word(files):
 SLOPE = {"lsdyna": (6, 7), "calculix": (5, 6), "lsdyna-usrfrc": (7, 8), "lsdyna-usrfrc-mpp": (7, 8)}
 
 
-@pytest.mark.parametrize("target", ["lsdyna", "calculix", "lsdyna-usrfrc", "lsdyna-usrfrc-mpp"])
-def test_a_two_state_zone_turns_the_slope_and_both_states_travel(tmp_path, files, target):
-    """Zone 1 the two-state model, zone 2 no block, the default the one-state model: each
-    visit's fraction and flank slope as the runtime's ZonedLaw (1e-12; the one-state zone
-    perfectly plastic and passing the slope on, the plain zone passing both on)."""
-    host, texts, names = _load(tmp_path, target, files, "t", "SBMF_ZTSHR")
+@pytest.mark.parametrize(
+    ("target", "rim"),
+    [
+        *((t, "t") for t in ("lsdyna", "calculix", "lsdyna-usrfrc", "lsdyna-usrfrc-mpp")),
+        ("lsdyna", "e"),
+        ("calculix", "e"),
+    ],
+)
+def test_a_two_state_zone_turns_the_slope_and_both_states_travel(tmp_path, files, target, rim):
+    """Zone 1 the two-state model (rim ``e``: with an edge-slope table), zone 2 no block, the
+    default the one-state model: each visit's fraction and flank slope as the runtime's
+    ZonedLaw (1e-12; the one-state zone perfectly plastic and passing the slope on, the plain
+    zone passing both on)."""
+    host, texts, names = _load(tmp_path, target, files, rim, "SBMF_ZTSHR")
     col, nsv = SLOPE[target]
     assert "flank slope" in texts["README.md"]
-    laws = tuple(fl.SBMFLaw(p) for p in (FT, ZB, FD))
+    laws = tuple(fl.SBMFLaw(p) for p in (RIMS[rim], ZB, FD))
     zl = fl.ZonedLaw(("rim", "flank", "default"), laws)
     n = P.size
     state = np.zeros((n, nsv))

@@ -255,7 +255,12 @@ def test_the_command_writes_a_two_state_block(tmp_path, capsys):
     rec = doc["provenance"]["flattening"]
     assert doc["flattening"]["model"] == MODEL and rec["model"].startswith(MODEL)
     assert doc["flattening"]["slope"] == rec["slope"] and "the table" in rec["beta_source"]
+    # the workpiece's edge slope at 51 contact fractions, read back as the block's
+    edge = doc["flattening"]["edge_slope"]
+    assert len(edge) == 51 and "bearing level" in rec["edge_slope_source"]
+    assert min(edge) > 0 and 0.3 < np.mean(edge) / rec["slope"] < 3
     P = FrictionParams.from_json(out / "params.json")
+    assert P.flattening.edge_slope == tuple(edge)
     t = rec["table"]
     for key, alphas in t["alpha_at_p_over_H"].items():
         got = flattening_curve(float(key[:-1]) * P.H, t["strains"], P).tolist()

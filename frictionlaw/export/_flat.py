@@ -138,6 +138,9 @@ class FlatSpec:
     limit : LimitSpec or None
         The two-state model's table (``"model": "limit-analysis"``); None for the one-state
         model.
+    edge : tuple of float
+        The two-state block's ``edge_slope`` (empty: its one slope); ``edge_data`` its DATA
+        statements (``EDG``).
     """
 
     slope: float
@@ -152,6 +155,8 @@ class FlatSpec:
     width: float
     narrow: tuple
     limit: "LimitSpec | None" = None
+    edge: tuple = ()
+    edge_data: tuple = ()
 
 
 def flat_spec(params, units):
@@ -172,6 +177,7 @@ def flat_spec(params, units):
         )
     s = units.stress
     slope, beta, s0, sigma_y, cap = (float(v) for v in data[: K.FLAT_HEAD])
+    edge = tuple(float(v) for v in params.flattening.edge_slope or ())
     H = params.H * s
     return FlatSpec(
         slope,
@@ -186,6 +192,8 @@ def flat_spec(params, units):
         float(K._WIDTH),
         tuple(float(x) for x in K._NARROW),
         limit_spec() if params.flattening.model == LIMIT_MODEL else None,
+        edge,
+        data_statements("EDG", edge) if edge else (),
     )
 
 

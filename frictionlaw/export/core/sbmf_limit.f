@@ -157,6 +157,31 @@ C=======================================================================
       RETURN
       END
 C
+{% if flat.edge %}
+C=======================================================================
+C     The block's edge slope G = E(A) and GA = dE/dA: linear between
+C     its NE values at the equally spaced contact fractions 0 .. 1 (the
+C     right derivative at a grid point, 0 at A = 1).
+C=======================================================================
+      SUBROUTINE {{ zp }}TEDG(A, G, GA)
+      IMPLICIT NONE
+      INTEGER NE, I
+      PARAMETER (NE = {{ flat.edge | length }})
+      DOUBLE PRECISION A, G, GA, U, EDG(NE)
+{% for statement in flat.edge_data %}
+{{ statement }}
+{% endfor %}
+      U = A*DBLE(NE - 1)
+      I = MIN(INT(U), NE - 2)
+      G = EDG(I + 1) + (U - DBLE(I))*(EDG(I + 2) - EDG(I + 1))
+      GA = 0.0D0
+      IF (U .LT. DBLE(NE - 1)) THEN
+        GA = (EDG(I + 2) - EDG(I + 1))*DBLE(NE - 1)
+      END IF
+      RETURN
+      END
+C
+{% endif %}
 C=======================================================================
 C     (A, S) after the stretch STR at X = p/H_P: the explicit midpoint
 C     rule in (A, ln s), steps of STEP (the last shorter), A at most 1
@@ -166,24 +191,46 @@ C=======================================================================
       IMPLICIT NONE
       DOUBLE PRECISION A, S, X, STR, Q, LEFT, H, SQ, RA, RS, AM, QM, SM
       DOUBLE PRECISION STEP, SFLR
+{% if flat.edge %}
+      DOUBLE PRECISION G, GA
+{% endif %}
       PARAMETER (STEP = {{ flat.limit.step | double }})
       PARAMETER (SFLR = {{ flat.limit.s_floor | double }})
       A = MIN(A, 1.0D0)
+{% if flat.edge %}
+      Q = LOG(MAX(S, 1.0D-300))
+{% else %}
       Q = LOG(MAX(S, SFLR))
+{% endif %}
       LEFT = STR
       DO WHILE (LEFT .GT. 1.0D-12 .AND. A .LT. 1.0D0)
         H = MIN(STEP, LEFT)
+{% if flat.edge %}
+        CALL {{ zp }}TEDG(A, G, GA)
+        SQ = MAX(EXP(Q)*G, SFLR)
+{% else %}
         SQ = MAX(EXP(Q), SFLR)
+{% endif %}
         CALL {{ zp }}TRAT(X, A, SQ, RA, RS)
         AM = MIN(A + 0.5D0*H*RA, 1.0D0)
         QM = Q + 0.5D0*H*RS/SQ
+{% if flat.edge %}
+        CALL {{ zp }}TEDG(AM, G, GA)
+        SM = MAX(EXP(QM)*G, SFLR)
+{% else %}
         SM = MAX(EXP(QM), SFLR)
+{% endif %}
         CALL {{ zp }}TRAT(X, AM, SM, RA, RS)
         A = MIN(A + H*RA, 1.0D0)
         Q = Q + H*RS/SM
         LEFT = LEFT - H
       END DO
+{% if flat.edge %}
+      CALL {{ zp }}TEDG(A, G, GA)
+      S = MAX(EXP(Q)*G, SFLR)
+{% else %}
       S = MAX(EXP(Q), SFLR)
+{% endif %}
       RETURN
       END
 C
@@ -199,19 +246,34 @@ C=======================================================================
       DOUBLE PRECISION RA, RS, RAX, RSX, RAA, RSA, RAS, RSS, RAD, RSD
       DOUBLE PRECISION AMR, AM, AMD, QM, QMD, EM, SM, SMD, AR
       DOUBLE PRECISION STEP, SFLR
+{% if flat.edge %}
+      DOUBLE PRECISION G, GA
+{% endif %}
       PARAMETER (STEP = {{ flat.limit.step | double }})
       PARAMETER (SFLR = {{ flat.limit.s_floor | double }})
       A = MIN(A, 1.0D0)
       IF (.NOT. (A .LT. 1.0D0)) AP = 0.0D0
+{% if flat.edge %}
+      Q = LOG(MAX(S, 1.0D-300))
+{% else %}
       Q = LOG(MAX(S, SFLR))
+{% endif %}
       QD = 0.0D0
       LEFT = STR
       DO WHILE (LEFT .GT. 1.0D-12 .AND. A .LT. 1.0D0)
         H = MIN(STEP, LEFT)
+{% if flat.edge %}
+        CALL {{ zp }}TEDG(A, G, GA)
+        E = EXP(Q)*G
+        SQ = MAX(E, SFLR)
+        SQD = 0.0D0
+        IF (E .GT. SFLR) SQD = E*QD + EXP(Q)*GA*AP
+{% else %}
         E = EXP(Q)
         SQ = MAX(E, SFLR)
         SQD = 0.0D0
         IF (E .GT. SFLR) SQD = E*QD
+{% endif %}
         CALL {{ zp }}TRTD(X, A, SQ, RA, RS, RAX, RSX, RAA, RSA, RAS, RSS)
         RAD = RAX*XP + RAA*AP + RAS*SQD
         RSD = RSX*XP + RSA*AP + RSS*SQD
@@ -221,10 +283,18 @@ C=======================================================================
         IF (AMR .LT. 1.0D0) AMD = AP + 0.5D0*H*RAD
         QM = Q + 0.5D0*H*RS/SQ
         QMD = QD + 0.5D0*H*(RSD - RS*SQD/SQ)/SQ
+{% if flat.edge %}
+        CALL {{ zp }}TEDG(AM, G, GA)
+        EM = EXP(QM)*G
+        SM = MAX(EM, SFLR)
+        SMD = 0.0D0
+        IF (EM .GT. SFLR) SMD = EM*QMD + EXP(QM)*GA*AMD
+{% else %}
         EM = EXP(QM)
         SM = MAX(EM, SFLR)
         SMD = 0.0D0
         IF (EM .GT. SFLR) SMD = EM*QMD
+{% endif %}
         CALL {{ zp }}TRTD(X, AM, SM, RA, RS, RAX, RSX, RAA, RSA, RAS, RSS)
         RAD = RAX*XP + RAA*AMD + RAS*SMD
         RSD = RSX*XP + RSA*AMD + RSS*SMD
@@ -239,7 +309,12 @@ C=======================================================================
         QD = QD + H*(RSD - RS*SMD/SM)/SM
         LEFT = LEFT - H
       END DO
+{% if flat.edge %}
+      CALL {{ zp }}TEDG(A, G, GA)
+      S = MAX(EXP(Q)*G, SFLR)
+{% else %}
       S = MAX(EXP(Q), SFLR)
+{% endif %}
       RETURN
       END
 C
@@ -291,8 +366,17 @@ C=======================================================================
       DADP = 0.0D0
       IF (.NOT. (DEPS .GT. 0.0D0 .AND. P .GT. PMIN .AND.
      &    AF .LT. 1.0D0)) RETURN
+{% if flat.edge %}
+C     the flank's turn r = SF/E(AF) (1: never flattened)
+      S0 = 1.0D0
+      IF (SF .GT. 0.0D0) THEN
+        CALL {{ zp }}TEDG(AF, A1, D1)
+        S0 = SF/A1
+      END IF
+{% else %}
       S0 = SLOPE
       IF (SF .GT. 0.0D0) S0 = SF
+{% endif %}
       XK = 0.5D0*S0F
       IF (SIGY .GT. 0.0D0) XK = XK*(SIGY/SIGYF)
       IF (P .LT. PH) THEN

@@ -5,6 +5,8 @@ parameter is fitted to friction:
 
 * the asperity flank slope ``tan(theta)``: the RMS profile slope of the workpiece on the solver
   grid (the surface the half-space model contacts), the quadratic mean of the x and y profiles;
+  for the two-state model also its edge slope at 51 contact fractions (``flattening_edges``),
+  the flank slope that law reads as the contact grows;
 * the zero-strain asperity hardness: the computed first loading itself (the law's ``alpha1``,
   fitted to it, is what the model reads; its ``p / alpha`` is reported);
 * the asperity half-spacing ``l`` is reported for the FE asperity model and the reader, from the
@@ -18,6 +20,7 @@ squares in ``ln beta``, with a Student-t band from the linearised residuals (:fu
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -28,6 +31,7 @@ from frictionlaw.flattening_curves import FlatteningCurves, FlatteningPaths
 from frictionlaw.flattening_limit import LIMIT_SLOPE_RANGE
 
 from ...contact.normal import solve_normal_pair
+from .flattening_edges import EDGE_POINTS, edge_slope_table
 from .flattening_sheet import FlatteningData, read_flattening_data
 
 __all__ = [
@@ -191,8 +195,9 @@ def fit_beta(params, data: FlatteningData, level: float = BAND_LEVEL) -> dict:
     Raises ``ValueError`` when the points do not constrain ``beta`` (all at zero strain or at
     full contact) or the best ``beta`` lies on the range's bound.
     """
-    slope, fc, model = params.flattening.slope, data.flow_curve, params.flattening.model
-    base = params.replace(flattening=Flattening(slope=slope, model=model))  # beta = 1
+    fc, model = data.flow_curve, params.flattening.model
+    unfitted = dataclasses.replace(params.flattening, beta=1.0, beta_band=None, band_level=None)
+    base = params.replace(flattening=unfitted)
     if model == LIMIT_MODEL:  # the two-state law: its curves integrated at each trial beta
 
         def models(ln_beta):
@@ -201,7 +206,7 @@ def fit_beta(params, data: FlatteningData, level: float = BAND_LEVEL) -> dict:
                     flattening_curve(
                         data.p,
                         data.strain,
-                        params.replace(flattening=Flattening(slope, _in_range(b), model=model)),
+                        params.replace(flattening=dataclasses.replace(unfitted, beta=_in_range(b))),
                         flow_curve=fc,
                     )
                     for b in np.atleast_1d(ln_beta)
@@ -407,7 +412,8 @@ def derive_flattening(
             f"[{LIMIT_SLOPE_RANGE[0]:g}, {LIMIT_SLOPE_RANGE[1]:g}]: calibrate the one-state "
             "model (layer-yield) for this surface"
         )
-    block = Flattening(slope=slope, model=model)
+    edges = edge_slope_table(wp) if model == LIMIT_MODEL else None
+    block = Flattening(slope=slope, model=model, edge_slope=edges)
     p, a = cal.sweeps.loading
     p_patch = _alpha_pressure(P, PATCH_ALPHA, float(p.min()) * 1e-3, 0.99 * scene.H)
     res = solve_normal_pair(
@@ -431,6 +437,13 @@ def derive_flattening(
         "slope_source": (
             "RMS profile slope of the workpiece on the solver grid "
             f"({wp.shape[0]} x {wp.shape[1]}, element {wp.dx:.4g} m), quadratic mean of x and y"
+        ),
+        "edge_slope_source": None
+        if edges is None
+        else (
+            f"the workpiece's edge slope at {EDGE_POINTS} contact fractions: the mean |dz/dx| of "
+            "the x and of the y profiles where their bearing level crosses them (binned over "
+            "the fractions, their quadratic mean); the flank slope the two-state law reads"
         ),
         "zero_strain_hardness": {
             "source": "the computed first loading: p / alpha of the half-space model; the law's "
@@ -463,12 +476,8 @@ def derive_flattening(
             why = f"the fit of beta to {data.path} failed: {exc}"
             record["problem"] = "; ".join(filter(None, (record["problem"], why)))
         else:
-            block = Flattening(
-                slope=slope,
-                beta=fit["beta"],
-                beta_band=tuple(fit["band"]),
-                band_level=fit["level"],
-                model=model,
+            block = dataclasses.replace(
+                block, beta=fit["beta"], beta_band=tuple(fit["band"]), band_level=fit["level"]
             )
             record["beta"] = fit["beta"]
             record["beta_source"] = f"fitted to {fit['points']} measured points of {data.path}"
