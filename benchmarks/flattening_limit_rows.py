@@ -18,7 +18,10 @@ slopes. This script gives the law the row's own geometry, nothing fitted:
   held out, the four rows of ``--held-out``.
 
 Writes ``results/flattening_limit_rows.md`` / ``.csv``: the row as a wedge of its RMS slope, by
-its edge slope, and the runtime's law (L+E, built as ``flattening_truth.py`` builds it).
+its edge slope, and the runtime's law (L+E, built as ``flattening_truth.py`` builds it); and the
+runtime's two-state law with the block's ``edge_slope`` as a calibration writes it (51 contact
+fractions, ``halfspace_calib.pipeline.sweep.flattening_edges``; the runtime's own steps, no cap
+on ``A``), column ``alpha_runtime_edges``.
 
 Run: python benchmarks/flattening_limit_rows.py [--s-min 0.02] (after asperity_flattening.py
 --no-table --rows, and --held-out for the held-out rows)
@@ -40,6 +43,7 @@ from flattening_limit_law import S_GRID, STEP, TABLE, Rates, _read
 from flattening_truth import law_of, law_strain
 
 import frictionlaw as fl
+from halfspace_calib.pipeline.sweep.flattening_edges import EDGE_POINTS, profile_edge_slopes
 
 ROWS_TRUTH = RESULTS / "asperity_rows.csv"
 HELD_OUT_TRUTH = RESULTS / "asperity_rows_heldout.csv"  # asperity_flattening.py --held-out
@@ -104,6 +108,16 @@ def edge_slopes(x, z, n=1600):
     return lambda A: float(np.interp(A, a, s))
 
 
+def block_edges(x, z):
+    """The block's ``edge_slope`` of the profile (``x``, ``z``) as a calibration tabulates it:
+    :func:`profile_edge_slopes` at ``EDGE_POINTS`` fractions, a bin without crossings taking its
+    nearest neighbour's value (as ``edge_slope_table`` does)."""
+    e = profile_edge_slopes(np.asarray(z)[:, None], float(x[1] - x[0]), False, EDGE_POINTS)
+    ok = np.flatnonzero(np.isfinite(e))
+    near = ok[np.abs(np.arange(e.size)[:, None] - ok[None, :]).argmin(axis=1)]
+    return tuple(float(v) for v in e[near])
+
+
 def _truth(path, rows, mode):
     """``{row index: (name, profile x, z, its rows of the truth file on its finest mesh)}``."""
     truth = read_rows(path)
@@ -136,6 +150,11 @@ def compare_rows(rows, held_out=False, s_grid=S_GRID):
         for r in mine:
             cols.setdefault(float(r["p_over_H"]), {})[float(r["strain"])] = float(r["alpha"])
         law = law_of(cols, deg, H_row)
+        two = law.replace(
+            flattening=fl.Flattening(
+                law.flattening.slope, model="limit-analysis", edge_slope=block_edges(x, z)
+            )
+        )
         shape = edge_slopes(x, z)
         s_mean = mean_edge_slope(x, z)
         for ph in sorted(cols):
@@ -146,6 +165,7 @@ def compare_rows(rows, held_out=False, s_grid=S_GRID):
             edges = curve(rate, a0, None, strains, STEP, slope_of=shape, dA_max=DA_MAX)
             mean = curve(rate, a0, s_mean, strains, STEP)
             runtime = fl.flattening_curve(ph * H_row, law_strain(strains), law)
+            run_edges = fl.flattening_curve(ph * H_row, law_strain(strains), two)
             out += [
                 {
                     "profile": name,
@@ -160,13 +180,16 @@ def compare_rows(rows, held_out=False, s_grid=S_GRID):
                     "alpha_law": round(float(a), 4),
                     "alpha_edge_mean": round(m[0], 4),
                     "edge_mean_deg": round(math.degrees(math.atan(s_mean)), 3),
+                    "alpha_runtime_edges": round(float(r2), 4),
                 }
-                for e, w, g, a, m in zip(strains, wedge, edges, runtime, mean, strict=True)
+                for e, w, g, a, m, r2 in zip(
+                    strains, wedge, edges, runtime, mean, run_edges, strict=True
+                )
             ]
     return out
 
 
-COLUMNS = ("alpha_rms", "alpha_edges", "alpha_law", "alpha_edge_mean")
+COLUMNS = ("alpha_rms", "alpha_edges", "alpha_law", "alpha_edge_mean", "alpha_runtime_edges")
 
 
 def _misses(sel):
@@ -189,8 +212,8 @@ def summary(out):
     keys = list(dict.fromkeys((r["held_out"], r["profile"], r["p_over_H"]) for r in out))
     lines = [
         "| row | p/H | mesh | largest miss: wedge of the RMS slope | edge slope | runtime's law "
-        "| wedge of the mean edge slope |",
-        "|---|---|---|---|---|---|---|",
+        "| wedge of the mean edge slope | runtime's two-state law, block's edge_slope |",
+        "|---|---|---|---|---|---|---|---|",
     ]
     for k in keys:
         sel = [r for r in out if (r["held_out"], r["profile"], r["p_over_H"]) == k]
@@ -202,8 +225,9 @@ def summary(out):
     lines += [
         "",
         "| curves | largest miss / RMS / within 0.05: wedge of the RMS slope | edge slope | "
-        "runtime's law | wedge of the mean edge slope |",
-        "|---|---|---|---|---|",
+        "runtime's law | wedge of the mean edge slope | runtime's two-state law, block's "
+        "edge_slope |",
+        "|---|---|---|---|---|---|",
     ]
     groups = [
         ("the rows of --rows", False),
@@ -246,8 +270,10 @@ def main(s_min=None):
         "edge slope (the harmonic mean of the slopes where the level that leaves the share `A` "
         "above it crosses the row), the flank's turn from the table in both; the runtime's law "
         "(L+E) from the row's pressing-alone fractions and RMS slope; and the row as a wedge of "
-        "its mean edge slope over the contact fractions (one constant, `mean_edge_slope`). "
-        "Nothing fitted.",
+        "its mean edge slope over the contact fractions (one constant, `mean_edge_slope`); the "
+        "runtime's two-state law (`flattening_curve`) with the block's `edge_slope` as a "
+        "calibration tabulates it (51 fractions, binned), alpha1 the row's pressing-alone "
+        "fractions. Nothing fitted.",
         "",
         *summary(out),
     ]
