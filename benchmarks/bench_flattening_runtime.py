@@ -46,6 +46,14 @@ P = fl.FrictionParams(
 )
 #: the same law with the two-state model
 P2 = P.replace(flattening=fl.Flattening(slope=0.05, model="limit-analysis"))
+#: ... with an edge-slope table of 51 contact fractions (as halfspace-calib writes it)
+P3 = P.replace(
+    flattening=fl.Flattening(
+        slope=0.05,
+        model="limit-analysis",
+        edge_slope=tuple(float(v) for v in 0.03 + 0.04 * np.linspace(0.0, 1.0, 51) ** 1.5),
+    )
+)
 
 
 #: the hardening modulus of the hardening case (Pa): 6 p / h below the lattice's rate up to 0.4 H
@@ -55,7 +63,7 @@ HARDENING = 2e9
 def cases(n, rng):
     p = rng.uniform(0.05, 0.6, n) * H
     ph = np.where(rng.random(n) < 0.5, p * rng.uniform(1.0, 1.5, n), 0.0)
-    law, law2 = fl.SBMFLaw(P), fl.SBMFLaw(P2)
+    law, law2, law3 = fl.SBMFLaw(P), fl.SBMFLaw(P2), fl.SBMFLaw(P3)
     # flattened surfaces: the state after 0.005 of strain at the node's pressure (partly
     # flattened: with the lattice's rate 0.05 reaches full contact, where the update returns at once)
     s = fl.HistoryState(p_hist=ph)
@@ -86,6 +94,8 @@ def cases(n, rng):
             "two-state, strain, virgin": (inc, zero, zero, law2),
             "two-state, strain, flattened": (inc, a2, s_2, law2),
             "two-state, strain 0.02, virgin": (big, zero, zero, law2),
+            "two-state edges, strain, virgin": (inc, zero, zero, law3),
+            "two-state edges, strain 0.02, virgin": (big, zero, zero, law3),
         },
     )
 
@@ -141,7 +151,7 @@ def main(argv=None):
             }
             rows.append(row)
             print(
-                f"{row['kernels']:8} {key:31} {row['ns_per_node']:9.1f} ns/node "
+                f"{row['kernels']:8} {key:37} {row['ns_per_node']:9.1f} ns/node "
                 f"{row['ratio_to_without']:7.2f}x"
             )
     path = Path(args.out)
