@@ -12,6 +12,7 @@ import math
 
 import numpy as np
 import pytest
+from test_flattening_limit_runtime import update
 
 import frictionlaw as fl
 from frictionlaw import _kernels_limit as KL
@@ -33,20 +34,6 @@ EDGE = tuple(float(v) for v in 0.02 + 0.08 * np.linspace(0.0, 1.0, 21) ** 1.5)
 def law(edge=EDGE, slope=0.05, beta=1.0):
     flat = fl.Flattening(slope=slope, beta=beta, model="limit-analysis", edge_slope=edge)
     return fl.FrictionParams(**BASE, flattening=flat)
-
-
-def update(P, p, p_hist, alpha_f, slope_f, d_eps, parallel=None, zone=None):
-    n = np.size(p)
-    state = fl.HistoryState(
-        p_hist=np.broadcast_to(p_hist, n),
-        alpha_f=np.broadcast_to(alpha_f, n),
-        slope_f=np.broadcast_to(slope_f, n),
-    )
-    lw, kw = (P, {"zone": zone}) if zone is not None else (fl.SBMFLaw(P), {})
-    res = fl.traction_update(
-        lw, p, np.ones(n), np.zeros(n), 1e20, state, d_eps=d_eps, parallel=parallel, **kw
-    )
-    return res.traction, res.dt_dp, state
 
 
 def grid():
