@@ -380,10 +380,16 @@ def test_a_zoned_routine_flattens_its_zone_in_ccx(ccx_work, tmp_path):
     assert all(v[5] == 0.0 for _, pts, _ in _points(dat) for v in pts.values())
 
 
-def _two_state(tmp_path):
-    """The example's block as the two-state model: (params, its file)."""
+#: an edge-slope table for the two-state block (flattening.edge_slope): shallow first edges
+EDGE = (0.02, 0.03, 0.045, 0.06, 0.08, 0.1)
+
+
+def _two_state(tmp_path, edge=None):
+    """The example's block as the two-state model (with ``edge`` its edge-slope table):
+    (params, its file)."""
     P = fl.FrictionParams.from_json(FLAT)
-    P = P.replace(flattening=fl.Flattening(P.flattening.slope, model="limit-analysis"))
+    flat = fl.Flattening(P.flattening.slope, model="limit-analysis", edge_slope=edge)
+    P = P.replace(flattening=flat)
     path = tmp_path / "two.json"
     P.to_json(path)
     return P, path
@@ -433,14 +439,15 @@ def _replay_two(run, P):
 SIX = [LINES[0], "*FRICTION, USER, DEPVAR=6, PROPERTIES=1", "MM-T-S"]
 
 
-def test_the_two_state_model_flattens_in_ccx_as_the_runtime_replay(ccx_work, tmp_path):
-    """The example's block as the two-state model (limit-analysis): ccx asks for DEPVAR = 6
-    (5 is refused while it reads the deck), and pressing the elastic-plastic block at every
-    converged increment gives each contact point's STATEV(5) and STATEV(6) (the flattened
-    fraction and the flank slope) as the runtime's update from one of its face's previous
-    states with its slave element's PEEQ increment (1.2e-7 and 6.3e-8 seen: ccx prints 7
-    digits)."""
-    P, path = _two_state(tmp_path)
+@pytest.mark.parametrize("edge", [None, EDGE])
+def test_the_two_state_model_flattens_in_ccx_as_the_runtime_replay(ccx_work, tmp_path, edge):
+    """The example's block as the two-state model (limit-analysis), with its one slope and with
+    an edge-slope table: ccx asks for DEPVAR = 6 (5 is refused while it reads the deck), and
+    pressing the elastic-plastic block at every converged increment gives each contact point's
+    STATEV(5) and STATEV(6) (the flattened fraction and the flank slope) as the runtime's update
+    from one of its face's previous states with its slave element's PEEQ increment (1.2e-7 and
+    6.3e-8 seen: ccx prints 7 digits)."""
+    P, path = _two_state(tmp_path, edge)
     out = _export(tmp_path, path, "two")
     exe = _link(ccx_work, out / "sbmf_fric.f", out / "ccx")
     assert "*FRICTION, USER, DEPVAR=6, PROPERTIES=1" in (out / "README.md").read_text()
