@@ -19,10 +19,15 @@ one, beside the truth's (``flattening_limit_pressed.csv``); then the two-state l
 that slope against the truth's 24 wedge curves (the study's integrator and table, as
 ``flattening_limit_pressed.py``). Nothing fitted.
 
-Writes ``results/flattening_limit_pressing.md`` / ``.csv``, the table
-``results/flattening_pressing_table.csv`` (reused; ``--fresh`` solves it again) and the package's
-``frictionlaw/data/pressing_turn.csv`` (the turn the runtime's two-state law reads,
-``frictionlaw._limit_table.pressing_table``).
+Then the same turn on the measured rows, through the runtime's two-state law
+(``frictionlaw.flattening_limit.limit_update`` started from the pressed flank: ``alpha_f`` the pressing-alone
+fraction, ``slope_f`` the turned edge slope): each row with its own edge-slope table, and the
+scan's one block against the mean of the rows (``flattening_limit_rows.py``,
+``flattening_limit_scan.py``), with and without the turn. Not adopted in the runtime: it
+makes the rows given their own geometry too slow (docs/flattening_studies.md).
+
+Writes ``results/flattening_limit_pressing.md`` / ``.csv`` and the table
+``results/flattening_pressing_table.csv`` (reused; ``--fresh`` solves it again).
 
 Run: python benchmarks/flattening_limit_pressing.py [--fresh] (about 6 min with two workers)
 """
@@ -33,7 +38,7 @@ import os
 from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
-from _provenance import RESULTS, ROOT, read_rows, run_record, write_report, write_rows
+from _provenance import RESULTS, read_rows, run_record, write_report, write_rows
 from flattening_limit import curve, program, solve
 from flattening_limit_law import PRESSURES, STEP, TABLE, Rates, _flank_weights, _read, n_flank
 
@@ -172,7 +177,11 @@ def summary(out):
         keys = sorted({(r["slope_deg"], r["p_over_H"]) for r in sel})
         worst = {
             c: [
-                max(abs(r[c] - r["alpha_truth"]) for r in sel if (r["slope_deg"], r["p_over_H"]) == k)
+                max(
+                    abs(r[c] - r["alpha_truth"])
+                    for r in sel
+                    if (r["slope_deg"], r["p_over_H"]) == k
+                )
                 for k in keys
             ]
             for c in COLS
@@ -194,30 +203,131 @@ def summary(out):
     return lines
 
 
-SHIPPED = ROOT / "frictionlaw" / "data" / "pressing_turn.csv"
+def _pressed_curve(turn, P, p, eps):
+    """The runtime's two-state curve at ``p`` from the pressed flank: the pressing-alone
+    fraction ``alpha1(p)`` and the flank turned by :class:`Turn` to it (read at the block's
+    slope), then ``limit_update`` over each strain (the edge table, if any, as the runtime
+    reads it: the turn ``r = slope_f / E(alpha_f)``)."""
+    import frictionlaw as fl
+    from frictionlaw._limit_table import edge_at
+    from frictionlaw.flattening_limit import limit_update
+
+    f = P.flattening
+    a0 = float(fl.alpha_first(p, P))
+    base = float(edge_at(np.array(f.edge_slope), a0)) if f.edge_slope else f.slope
+    n = len(eps)
+    a, _ = limit_update(
+        np.full(n, a0), np.full(n, turn.ratio(a0, f.slope) * base), np.zeros(n),
+        np.full(n, p), np.asarray(eps, dtype=float), P,
+    )  # fmt: skip
+    return np.maximum(a, a0)
 
 
-def ship(rows):
-    """The package's copy of the turn (``frictionlaw/data/pressing_turn.csv``)."""
-    head = [
-        "# The two-state flattening law's pressing turn (model limit-analysis, docs/flattening.md).",
-        "# The rigid-perfectly plastic collapse mechanism of the wedge cell (plane strain, half",
-        "# period l = 1) pressed without stretch: along the pressing its flank slope s turns by",
-        "# dlns_dA per unit growth of the contact fraction A. Computed by",
-        "# benchmarks/flattening_limit_pressing.py (12 x 16 triangles, 48 sides).",
-        "A,slope_deg,s,dlns_dA",
+def rows_compare(turn):
+    """Rows with their own edge table, and the scan's blocks, with and without the turn."""
+    from flattening_limit_rows import (
+        HELD_OUT_ROWS,
+        HELD_OUT_TRUTH,
+        ROWS,
+        ROWS_TRUTH,
+        _truth,
+        block_edges,
+    )
+    from flattening_limit_scan import blocks, scan_surface
+    from flattening_truth import law_of, law_strain
+
+    import frictionlaw as fl
+
+    scan = blocks(scan_surface())
+    out = []
+    for held, path, rows, mode in (
+        (False, ROWS_TRUTH, ROWS, "--rows"),
+        (True, HELD_OUT_TRUTH, HELD_OUT_ROWS, "--held-out"),
+    ):
+        for name, x, z, mine in _truth(path, rows, mode).values():
+            deg = float(mine[0]["slope_deg"])
+            H_row = float(mine[0]["p_Pa"]) / float(mine[0]["p_over_H"])
+            cols = {}
+            for r in mine:
+                cols.setdefault(float(r["p_over_H"]), {})[float(r["strain"])] = float(r["alpha"])
+            law = law_of(cols, deg, H_row)
+            own = fl.Flattening(
+                law.flattening.slope, model="limit-analysis", edge_slope=block_edges(x, z)
+            )
+            laws = {"own": own, "scan": scan["edge_slope"]}
+            for ph in sorted(cols):
+                strains = sorted(cols[ph])
+                eps = law_strain(strains)
+                got = {}
+                for k, f in laws.items():
+                    Pk = law.replace(flattening=f)
+                    got[k] = fl.flattening_curve(ph * H_row, eps, Pk)
+                    got[k + "_pressed"] = _pressed_curve(turn, Pk, ph * H_row, eps)
+                out += [
+                    {
+                        "profile": name,
+                        "held_out": held,
+                        "p_over_H": ph,
+                        "strain": e,
+                        "alpha_truth": cols[ph][e],
+                        **{f"alpha_{k}": float(v[i]) for k, v in got.items()},
+                    }
+                    for i, e in enumerate(strains)
+                ]
+    return out
+
+
+def rows_summary(out):
+    import flattening_limit_scan as S
+
+    def row_miss(sel, c):
+        return S._row_misses(sel, c)
+
+    lines = [
+        "## The measured rows (the runtime's two-state law with edge-slope tables)",
+        "",
+        "| rows | own table | own table, pressed flank | scan's table | scan's table, pressed |",
+        "|---|---|---|---|---|",
     ]
-    body = [
-        f"{r['A']:g},{r['slope_deg']:g},{math.tan(math.radians(r['slope_deg'])):.12g},"
-        f"{r['dlns_dA']:.6f}"
-        for r in sorted(rows, key=lambda r: (r["A"], r["slope_deg"]))
+    cols = ("alpha_own", "alpha_own_pressed", "alpha_scan", "alpha_scan_pressed")
+    for label, sel in (
+        ("of --rows (64, 128, 192)", [r for r in out if not r["held_out"]]),
+        ("held out (32, 96, 160, 224)", [r for r in out if r["held_out"]]),
+        ("all", out),
+    ):
+        lines.append(f"| {label} | " + " | ".join(row_miss(sel, c) for c in cols) + " |")
+    saved = S.BLOCKS
+    S.BLOCKS = ("scan", "scan_pressed")
+    means = S.surface_means(out)
+    S.BLOCKS = saved
+    lines += [
+        "",
+        "The surface (mean over the rows at each pressure), the scan's table: largest miss "
+        "without / with the pressed flank:",
+        "",
+        "| p/H | rows | without | with |",
+        "|---|---|---|---|",
     ]
-    SHIPPED.write_text("\n".join(head + body) + "\n", encoding="utf-8")
+    worst = {"scan": [], "scan_pressed": []}
+    for ph, (n, _, truth, law) in means.items():
+        d = {k: np.abs(law[k] - truth) for k in worst}
+        for k in worst:
+            worst[k].append(d[k])
+        lines.append(f"| {ph:g} | {n} | {d['scan'].max():.3f} | {d['scan_pressed'].max():.3f} |")
+    lines.append(
+        "| all | | "
+        + " | ".join(
+            f"{np.concatenate(worst[k]).max():.3f} (RMS "
+            f"{math.sqrt(np.mean(np.concatenate(worst[k]) ** 2)):.3f})"
+            for k in worst
+        )
+        + " |"
+    )
+    return lines
 
 
 def main(fresh=False):
     rows = table(fresh)
-    ship(rows)
     turn = Turn(rows)
     out = compare(turn, _read(TABLE))
     lines = [
@@ -240,6 +350,8 @@ def main(fresh=False):
         ),
         "",
         *summary(out),
+        "",
+        *rows_summary(rows_compare(turn)),
     ]
     write_report("flattening_limit_pressing", out, lines)
 

@@ -6,11 +6,7 @@ against is :func:`frictionlaw.flattening_limit.limit_update` (``frictionlaw._lim
 reading and integrator); the contact fraction then enters the shear through Eq. F5 as in the
 one-state model (:func:`frictionlaw._kernels_flattening.flat_shear_of`).
 
-The pressing's turn comes as two more arrays after the rate table (``PS`` the slopes'
-logarithms, ``PL`` the integrated ``ln(s / s_0)`` at equally spaced contact fractions,
-``frictionlaw._limit_table.PressingTable``): a node's start slope is turned by
-``PL(A0) - PL(alpha_f)`` (from ``A = 0`` on a virgin flank), read at the block's slope
-(:func:`pressing_scalar`). A block's ``edge_slope`` table (the workpiece's edge slope at equally spaced contact fractions)
+A block's ``edge_slope`` table (the workpiece's edge slope at equally spaced contact fractions)
 comes as one more array ``E`` after the rate table (empty: the block's one slope): the
 integrators then carry the flank's turn ``r = s / E(A)`` in place of ``s`` and read the table at
 ``max(r E(A), S_FLOOR)`` (:func:`edge_scalar`; ``frictionlaw._limit_table``'s rule).
@@ -40,7 +36,6 @@ from ._limit_table import PRANDTL_FACTOR, S_FLOOR, STEP
 
 __all__ = [
     "edge_scalar",
-    "pressing_scalar",
     "limit_rates_scalar",
     "limit_rates_d",
     "limit_integrate",
@@ -58,8 +53,6 @@ _ROI = types.Array(int64, 1, "C", readonly=True)
 _TAB = (_RO, _ROI, _RO, _RO, _RO2, _RO2)
 #: the rate table and the edge-slope table (empty: none)
 _ETAB = (*_TAB, _RO)
-#: the rate table, the pressing's table (``PS``, ``PL``) and the edge-slope table
-_FTAB = (*_TAB, _RO, _RO2, _RO)
 
 
 @nb.jit(types.UniTuple(float64, 2)(_RO, float64), **_opts)
@@ -92,25 +85,6 @@ def _cell(v, lo, hi, x):
     while i < hi - 2 and x > v[i + 1]:
         i += 1
     return i
-
-
-@nb.jit(types.UniTuple(float64, 2)(_RO, _RO2, float64, float64), **_opts)
-def pressing_scalar(PS, PL, A, s):
-    """``(ln(s' / s), d/dA)``: the turn of a virgin flank ``s`` pressed from 0 to ``A``.
-
-    Linear between ``PL``'s equally spaced fractions and in ``ln s`` (clamped to ``PS``); the
-    right derivative at a grid point, 0 at ``A = 1`` (``_limit_table.pressing_log``).
-    """
-    n = PL.shape[0]
-    u = A * (n - 1)
-    i = min(int(math.floor(u)), n - 2)
-    q = math.log(s)
-    j = _cell(PS, 0, PS.shape[0], q)
-    ts = min(max((q - PS[j]) / (PS[j + 1] - PS[j]), 0.0), 1.0)
-    l0 = (1 - ts) * PL[i, j] + ts * PL[i, j + 1]
-    l1 = (1 - ts) * PL[i + 1, j] + ts * PL[i + 1, j + 1]
-    g = (l1 - l0) * (n - 1) if u < n - 1 else 0.0
-    return l0 + (u - i) * (l1 - l0), g
 
 
 @nb.jit(types.UniTuple(float64, 2)(*_TAB, int64, float64, float64), **_opts)
@@ -224,22 +198,20 @@ def limit_rates_d(P, off, a, ls, dA, ds, x, A, s):
 
 
 @nb.jit(
-    types.UniTuple(float64, 3)(
-        *_ETAB, float64, float64, float64, float64, float64, float64, float64
-    ),
+    types.UniTuple(float64, 3)(*_ETAB, float64, float64, float64, float64, float64, float64),
     **_opts,
 )
-def limit_integrate_d(P, off, a, ls, dA, ds, E, A, s, x, stretch, A_p, x_p, q_p):
+def limit_integrate_d(P, off, a, ls, dA, ds, E, A, s, x, stretch, A_p, x_p):
     """:func:`limit_integrate` (its states bit for bit) with ``dA / dp`` of its end.
 
     The derivative is carried forward through the same steps: ``A_p`` the start's ``dA / dp``,
-    ``x_p = dx / dp``, ``q_p`` the start's ``d ln s / dp`` (the pressing's turn to the start);
-    0 through a step where ``A`` reaches 1 or ``s`` its floor. Returns ``(A, s, dA / dp)``.
+    ``x_p = dx / dp`` (the start's slope does not depend on ``p``); 0 through a step where ``A``
+    reaches 1 or ``s`` its floor. Returns ``(A, s, dA / dp)``.
     """
     A = min(A, 1.0)
     Ad = A_p if A < 1.0 else 0.0
     q = _start_log(E, s)
-    qd = q_p
+    qd = 0.0
     left = stretch
     while left > 1e-12 and A < 1.0:
         h = min(STEP, left)
@@ -275,19 +247,20 @@ def limit_integrate_d(P, off, a, ls, dA, ds, E, A, s, x, stretch, A_p, x_p, q_p)
     types.UniTuple(float64, 2)(_RO, *_ETAB, float64, float64, float64, float64, float64, float64),
     **_opts,
 )
-def _advance(fdata, P, off, a, ls, dA, ds, E, p, a0, alpha_f, s0, d_eps, k):
-    """One node's states at pressure ``p`` from ``(a0, s0)`` (``k`` the shear flow stress):
-    ``(alpha_f', s)``."""
+def _advance(fdata, P, off, a, ls, dA, ds, E, p, p_hist, alpha_f, s0, d_eps, k):
+    """One node's states at pressure ``p`` (``k`` the shear flow stress): ``(alpha_f', s)``."""
+    c1 = fdata[FLAT_HEAD:]
+    a0 = max(alpha_f, first_scalar(c1, max(p, p_hist))[0])
     x = p / (PRANDTL_FACTOR * k)
     A, s = limit_integrate(P, off, a, ls, dA, ds, E, a0, s0, x, STRETCH * fdata[1] * d_eps)
     return max(A, alpha_f), s
 
 
 @nb.jit(
-    types.UniTuple(float64, 3)(_RO, *_FTAB, float64, float64, float64, float64, float64, float64),
+    types.UniTuple(float64, 3)(_RO, *_ETAB, float64, float64, float64, float64, float64, float64),
     **_opts,
 )
-def limit_scalar(fdata, P, off, a, ls, dA, ds, PS, PL, E, p, p_hist, alpha_f, slope_f, d_eps, sigy):
+def limit_scalar(fdata, P, off, a, ls, dA, ds, E, p, p_hist, alpha_f, slope_f, d_eps, sigy):
     """One node's two states over a strain increment: ``(alpha_f', slope_f', d alpha / d p)``.
 
     From the committed ``alpha_f`` and ``slope_f`` (0: the block's slope) and the trial history
@@ -300,32 +273,25 @@ def limit_scalar(fdata, P, off, a, ls, dA, ds, PS, PL, E, p, p_hist, alpha_f, sl
     H = fdata[FLAT_HEAD + 1]
     if not (d_eps > 0.0 and p > P_MIN_RATIO * H and alpha_f < 1.0):
         return alpha_f, slope_f, 0.0
-    sv = fdata[0]  # the block's slope: where the pressing's turn is read
     if E.shape[0] == 0:
-        s0 = slope_f if slope_f > 0.0 else sv
+        s0 = slope_f if slope_f > 0.0 else fdata[0]
     else:
         s0 = slope_f / edge_scalar(E, alpha_f)[0] if slope_f > 0.0 else 1.0
-    lf = pressing_scalar(PS, PL, alpha_f, sv)[0] if slope_f > 0.0 else 0.0
     k = 0.5 * fdata[2]
     if sigy > 0.0:
         k = k * (sigy / fdata[3])
-    c1 = fdata[FLAT_HEAD:]
     if p < p_hist:  # F5 reads no derivative of the update below p_hist (flat_shear_of)
-        a0 = max(alpha_f, first_scalar(c1, p_hist)[0])
-        s0 = s0 * math.exp(pressing_scalar(PS, PL, a0, sv)[0] - lf)
-        A, s = _advance(fdata, P, off, a, ls, dA, ds, E, p, a0, alpha_f, s0, d_eps, k)
+        A, s = _advance(fdata, P, off, a, ls, dA, ds, E, p, p_hist, alpha_f, s0, d_eps, k)
         return A, s, 0.0
     # first loading: the same integration carries d A / d p forward (from alpha1' where the
-    # start is alpha1(p), through the pressing's turn to it, and from x = p / H_P)
+    # start is alpha1(p), and from x = p / H_P)
+    c1 = fdata[FLAT_HEAD:]
     a1, a1_p = first_scalar(c1, p)
     a0 = max(alpha_f, a1)
-    a0_p = a1_p if a1 >= alpha_f else 0.0
-    la, la_A = pressing_scalar(PS, PL, a0, sv)
-    s0 = s0 * math.exp(la - lf)
     x = p / (PRANDTL_FACTOR * k)
     A, s, A_p = limit_integrate_d(
         P, off, a, ls, dA, ds, E, a0, s0, x, STRETCH * fdata[1] * d_eps,
-        a0_p, 1.0 / (PRANDTL_FACTOR * k), la_A * a0_p,
+        a1_p if a1 >= alpha_f else 0.0, 1.0 / (PRANDTL_FACTOR * k),
     )  # fmt: skip
     if not A > alpha_f:
         A, A_p = alpha_f, 0.0
@@ -336,14 +302,13 @@ def limit_scalar(fdata, P, off, a, ls, dA, ds, PS, PL, E, p, p_hist, alpha_f, sl
 
 @nb.jit(
     types.UniTuple(float64, 4)(
-        int64, _RO, _RO, *_FTAB, float64, float64, float64, float64, float64, float64
+        int64, _RO, _RO, *_ETAB, float64, float64, float64, float64, float64, float64
     ),
     **_opts,
 )
 def limit_shear_scalar(
-    code, coeffs, fdata, P, off, a, ls, dA, ds, PS, PL, E, p, p_hist, alpha_f, slope_f, d_eps,
-    sigy,
-):  # fmt: skip
+    code, coeffs, fdata, P, off, a, ls, dA, ds, E, p, p_hist, alpha_f, slope_f, d_eps, sigy
+):
     """``(tau, dtau/dp, alpha_f', slope_f')`` of law ``code`` with the two-state flattening.
 
     With ``alpha_f = 0`` and ``d_eps = 0`` (or ``p <= 0``): :func:`shear_scalar` itself, bit for
@@ -353,7 +318,7 @@ def limit_shear_scalar(
         t, d = shear_scalar(code, coeffs, p, p_hist)
         return t, d, alpha_f, slope_f
     A, s, dadp = limit_scalar(
-        fdata, P, off, a, ls, dA, ds, PS, PL, E, p, p_hist, alpha_f, slope_f, d_eps, sigy
+        fdata, P, off, a, ls, dA, ds, E, p, p_hist, alpha_f, slope_f, d_eps, sigy
     )
     t, d = flat_shear_of(code, coeffs, fdata, p, p_hist, A, 0.0, dadp)
     return t, d, A, s
@@ -363,7 +328,7 @@ _traction_limit_sig = types.void(
     int64,
     _RO,
     _RO,
-    *_FTAB,
+    *_ETAB,
     _RO,
     _RO,
     _RO,
@@ -385,8 +350,8 @@ _traction_limit_sig = types.void(
 
 @nb.jit(_traction_limit_sig, **_opts)
 def traction_array_limit(
-    code, coeffs, fdata, P, off, a, ls, dA, ds, PS, PL, E, p, p_hist, alpha_f, slope_f, d_eps,
-    sigy, du, t_old, k_t, t_new, status, dt_ddu, dt_dp, p_trial, a_trial, s_trial,
+    code, coeffs, fdata, P, off, a, ls, dA, ds, E, p, p_hist, alpha_f, slope_f, d_eps, sigy,
+    du, t_old, k_t, t_new, status, dt_ddu, dt_dp, p_trial, a_trial, s_trial,
 ):  # fmt: skip
     """The return map with the two-state flattened law at every node.
 
@@ -394,7 +359,7 @@ def traction_array_limit(
     """
     for i in range(p.shape[0]):
         tau, dtau, A, s = limit_shear_scalar(
-            code, coeffs, fdata, P, off, a, ls, dA, ds, PS, PL, E,
+            code, coeffs, fdata, P, off, a, ls, dA, ds, E,
             p[i], p_hist[i], alpha_f[i], slope_f[i], d_eps[i], sigy[i],
         )  # fmt: skip
         status[i] = return_map_row(tau, dtau, p[i], du, t_old, k_t[i], t_new, dt_ddu, dt_dp, i)
@@ -405,13 +370,13 @@ def traction_array_limit(
 
 @nb.jit(_traction_limit_sig, parallel=True, **_opts)
 def traction_array_limit_parallel(
-    code, coeffs, fdata, P, off, a, ls, dA, ds, PS, PL, E, p, p_hist, alpha_f, slope_f, d_eps,
-    sigy, du, t_old, k_t, t_new, status, dt_ddu, dt_dp, p_trial, a_trial, s_trial,
+    code, coeffs, fdata, P, off, a, ls, dA, ds, E, p, p_hist, alpha_f, slope_f, d_eps, sigy,
+    du, t_old, k_t, t_new, status, dt_ddu, dt_dp, p_trial, a_trial, s_trial,
 ):  # fmt: skip
     """As :func:`traction_array_limit`, threads over the nodes."""
     for i in nb.prange(p.shape[0]):
         tau, dtau, A, s = limit_shear_scalar(
-            code, coeffs, fdata, P, off, a, ls, dA, ds, PS, PL, E,
+            code, coeffs, fdata, P, off, a, ls, dA, ds, E,
             p[i], p_hist[i], alpha_f[i], slope_f[i], d_eps[i], sigy[i],
         )  # fmt: skip
         status[i] = return_map_row(tau, dtau, p[i], du, t_old, k_t[i], t_new, dt_ddu, dt_dp, i)
@@ -422,14 +387,14 @@ def traction_array_limit_parallel(
 
 @nb.jit(
     types.UniTuple(float64, 4)(
-        _ROI, _ROI, _RO, _ROI, _RO, _ROI, *_FTAB, _ROI, int64,
+        _ROI, _ROI, _RO, _ROI, _RO, _ROI, *_ETAB, _ROI, int64,
         float64, float64, float64, float64, float64, float64, float64,
     ),
     **_opts,
 )  # fmt: skip
 def zoned_limit_row(
-    codes, offsets, coeffs, f_offsets, fdata, models, P, off, a, ls, dA, ds, PS, PL, E, e_off,
-    z, p, p_hist, alpha_f, slope_f, d_eps, sigy, hard,
+    codes, offsets, coeffs, f_offsets, fdata, models, P, off, a, ls, dA, ds, E, e_off, z,
+    p, p_hist, alpha_f, slope_f, d_eps, sigy, hard,
 ):  # fmt: skip
     """``(tau, dtau/dp, alpha_f', slope_f')`` of zone ``z``'s law at one node.
 
@@ -444,9 +409,8 @@ def zoned_limit_row(
     if models[z] == 1:
         ez = E[e_off[z] : e_off[z + 1]]
         return limit_shear_scalar(
-            codes[z], c, fd, P, off, a, ls, dA, ds, PS, PL, ez, p, p_hist, alpha_f, slope_f,
-            d_eps, sigy,
-        )  # fmt: skip
+            codes[z], c, fd, P, off, a, ls, dA, ds, ez, p, p_hist, alpha_f, slope_f, d_eps, sigy
+        )
     t, d, af = flat_shear_scalar(codes[z], c, fd, p, p_hist, alpha_f, d_eps, sigy, hard)
     return t, d, af, slope_f
 
@@ -458,7 +422,7 @@ _zoned_limit_sig = types.void(
     _ROI,
     _RO,
     _ROI,
-    *_FTAB,
+    *_ETAB,
     _ROI,
     _ROI,
     _RO,
@@ -483,8 +447,8 @@ _zoned_limit_sig = types.void(
 
 @nb.jit(_zoned_limit_sig, **_opts)
 def traction_array_zoned_limit(
-    codes, offsets, coeffs, f_offsets, fdata, models, P, off, a, ls, dA, ds, PS, PL, E, e_off,
-    zone, p, p_hist, alpha_f, slope_f, d_eps, sigy, hard,
+    codes, offsets, coeffs, f_offsets, fdata, models, P, off, a, ls, dA, ds, E, e_off, zone,
+    p, p_hist, alpha_f, slope_f, d_eps, sigy, hard,
     du, t_old, k_t, t_new, status, dt_ddu, dt_dp, p_trial, a_trial, s_trial,
 ):  # fmt: skip
     """The return map of a zoned law with a two-state zone: each node's zone law.
@@ -493,8 +457,7 @@ def traction_array_zoned_limit(
     """
     for i in range(p.shape[0]):
         tau, dtau, A, s = zoned_limit_row(
-            codes, offsets, coeffs, f_offsets, fdata, models, P, off, a, ls, dA, ds, PS, PL, E,
-            e_off, zone[i],
+            codes, offsets, coeffs, f_offsets, fdata, models, P, off, a, ls, dA, ds, E, e_off, zone[i],
             p[i], p_hist[i], alpha_f[i], slope_f[i], d_eps[i], sigy[i], hard[i],
         )  # fmt: skip
         status[i] = return_map_row(tau, dtau, p[i], du, t_old, k_t[i], t_new, dt_ddu, dt_dp, i)
@@ -505,15 +468,14 @@ def traction_array_zoned_limit(
 
 @nb.jit(_zoned_limit_sig, parallel=True, **_opts)
 def traction_array_zoned_limit_parallel(
-    codes, offsets, coeffs, f_offsets, fdata, models, P, off, a, ls, dA, ds, PS, PL, E, e_off,
-    zone, p, p_hist, alpha_f, slope_f, d_eps, sigy, hard,
+    codes, offsets, coeffs, f_offsets, fdata, models, P, off, a, ls, dA, ds, E, e_off, zone,
+    p, p_hist, alpha_f, slope_f, d_eps, sigy, hard,
     du, t_old, k_t, t_new, status, dt_ddu, dt_dp, p_trial, a_trial, s_trial,
 ):  # fmt: skip
     """As :func:`traction_array_zoned_limit`, threads over the nodes."""
     for i in nb.prange(p.shape[0]):
         tau, dtau, A, s = zoned_limit_row(
-            codes, offsets, coeffs, f_offsets, fdata, models, P, off, a, ls, dA, ds, PS, PL, E,
-            e_off, zone[i],
+            codes, offsets, coeffs, f_offsets, fdata, models, P, off, a, ls, dA, ds, E, e_off, zone[i],
             p[i], p_hist[i], alpha_f[i], slope_f[i], d_eps[i], sigy[i], hard[i],
         )  # fmt: skip
         status[i] = return_map_row(tau, dtau, p[i], du, t_old, k_t[i], t_new, dt_ddu, dt_dp, i)

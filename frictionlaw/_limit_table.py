@@ -43,9 +43,6 @@ __all__ = [
     "rate_table",
     "table_rates",
     "edge_at",
-    "PressingTable",
-    "pressing_table",
-    "pressing_log",
     "integrate",
     "integrate_shared",
 ]
@@ -103,90 +100,6 @@ def rate_table() -> RateTable:
         ds=np.ascontiguousarray(ds.reshape(-1, n_s)),
         key=2.0 * k + a_rows,
     )
-
-
-#: the contact fractions at which the pressing's turn is integrated for the runtime (0 .. 1)
-PRESS_POINTS = 41
-#: the pressing's integration step in ``A`` (the study's midpoint rule)
-PRESS_STEP = 0.005
-
-
-@dataclass(frozen=True)
-class PressingTable:
-    """The flank's turn by the pressing alone, integrated: ``L[i, j] = ln(s / s_0)`` after
-    pressing a virgin flank of slope ``s_0 = exp(ln_s[j])`` from ``A = 0`` to ``A = i / (n - 1)``.
-
-    ``turn_a``, ``turn`` are the shipped ``d ln s / dA`` (``data/pressing_turn.csv``: the
-    collapse mechanism of the wedge cell pressed without stretch) at its ``A`` and slopes.
-    """
-
-    ln_s: NDArray[np.float64]
-    L: NDArray[np.float64]
-    turn_a: NDArray[np.float64]
-    turn: NDArray[np.float64]
-
-
-def _turn_at(pt_a, ls, g, A, q_s):
-    """``d ln s / dA`` bilinear in ``A`` and ``ln s`` (clamped to the shipped grid)."""
-    i = int(np.clip(np.searchsorted(pt_a, A) - 1, 0, pt_a.size - 2))
-    j = int(np.clip(np.searchsorted(ls, q_s) - 1, 0, ls.size - 2))
-    ta = min(max((A - pt_a[i]) / (pt_a[i + 1] - pt_a[i]), 0.0), 1.0)
-    ts = min(max((q_s - ls[j]) / (ls[j + 1] - ls[j]), 0.0), 1.0)
-    return (1 - ta) * ((1 - ts) * g[i, j] + ts * g[i, j + 1]) + ta * (
-        (1 - ts) * g[i + 1, j] + ts * g[i + 1, j + 1]
-    )
-
-
-@lru_cache(maxsize=1)
-def pressing_table() -> PressingTable:
-    """The shipped pressing turn, integrated once (read once).
-
-    For each tabulated slope ``s_0``: ``ln s`` from 0 at ``A = 0`` by the midpoint rule in
-    ``A`` (steps of :data:`PRESS_STEP`), the turn read at the current slope; below the table's
-    smallest ``A`` its turn there, above its largest that one's (clamped).
-    """
-    text = resources.files("frictionlaw").joinpath("data/pressing_turn.csv").read_text("utf-8")
-    lines = [ln for ln in text.splitlines() if ln and not ln.startswith("#")]
-    rows = np.array([[float(v) for v in ln.split(",")] for ln in lines[1:]])
-    a_vals, s_vals = np.unique(rows[:, 0]), np.unique(rows[:, 2])
-    g = np.full((a_vals.size, s_vals.size), np.nan)
-    for A, _, s0, v in rows:
-        g[np.searchsorted(a_vals, A), np.searchsorted(s_vals, s0)] = v
-    if not np.all(np.isfinite(g)):
-        raise RuntimeError("data/pressing_turn.csv: the grid lacks a point")
-    ls = np.log(s_vals)
-    marks = np.linspace(0.0, 1.0, PRESS_POINTS)
-    L = np.zeros((PRESS_POINTS, s_vals.size))
-    for j, l0 in enumerate(ls):
-        q, A = 0.0, 0.0
-        for i in range(1, PRESS_POINTS):
-            while A < marks[i] - 1e-12:
-                h = min(PRESS_STEP, marks[i] - A)
-                qm = q + 0.5 * h * _turn_at(a_vals, ls, g, A, l0 + q)
-                q += h * _turn_at(a_vals, ls, g, A + 0.5 * h, l0 + qm)
-                A += h
-            L[i, j] = q
-    return PressingTable(ln_s=ls, L=L, turn_a=a_vals, turn=g)
-
-
-def pressing_log(
-    A: NDArray, s0: NDArray | float, pt: PressingTable
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """``(ln(s / s_0), its derivative in A)`` of a virgin flank ``s_0`` pressed to ``A``.
-
-    Linear between the table's equally spaced fractions and in ``ln s_0`` (clamped to its
-    slopes); the right derivative at a grid point, 0 at ``A = 1``. The kernels' arithmetic.
-    """
-    A = np.asarray(A, dtype=float)
-    n = pt.L.shape[0]
-    u = A * (n - 1)
-    i = np.minimum(np.floor(u), n - 2).astype(np.int64)
-    q = np.log(np.broadcast_to(np.asarray(s0, dtype=float), A.shape))
-    j = np.clip(np.searchsorted(pt.ln_s, q) - 1, 0, pt.ln_s.size - 2)
-    ts = np.clip((q - pt.ln_s[j]) / (pt.ln_s[j + 1] - pt.ln_s[j]), 0.0, 1.0)
-    l0 = (1 - ts) * pt.L[i, j] + ts * pt.L[i, j + 1]
-    l1 = (1 - ts) * pt.L[i + 1, j] + ts * pt.L[i + 1, j + 1]
-    return l0 + (u - i) * (l1 - l0), np.where(u < n - 1, (l1 - l0) * (n - 1), 0.0)
 
 
 def _at_pressure(t: RateTable, i: NDArray, A: NDArray, ls: NDArray) -> tuple[NDArray, NDArray]:

@@ -14,10 +14,7 @@ project's FE asperity truth, nothing fitted, it misses by at most 0.134 at 0.05-
 
 * a node starts from ``A0 = max(alpha_f, alpha1(max(p, p_hist)))`` (as Eq. F6 starts from the
   largest of ``p_f``, ``p_hist`` and ``p``) and the block's ``slope`` (a state of 0: never
-  flattened), turned by the pressing from ``alpha_f`` (0 on a virgin flank) to ``A0``: the
-  collapse mechanism of the wedge cell pressed without stretch steepens the flank as the
-  contact grows (``data/pressing_turn.csv``, integrated by ``_limit_table.pressing_table``;
-  1.06 / 1.14 / 1.24-1.36 times the slope at ``A`` 0.2 / 0.3 / 0.4-0.5);
+  flattened);
 * with the block's ``edge_slope`` (the workpiece's edge slope ``E(A)``, from its surface) the
   flank slope is ``r E(A)``: the node's turn ``r = slope_f / E(alpha_f)`` (1 never flattened)
   is what the table's ``d ln s / d eps`` turns, and the slope follows the surface's own edges
@@ -54,8 +51,6 @@ from ._limit_table import (
     edge_at,
     integrate,
     integrate_shared,
-    pressing_log,
-    pressing_table,
     rate_table,
     table_rates,
 )
@@ -214,10 +209,6 @@ def limit_update(
         s0 = np.where(slope_f[go] > 0, slope_f[go], flat.slope)
     else:  # the flank's turn r = s / E(A) at the committed fraction
         s0 = np.where(slope_f[go] > 0, slope_f[go] / edge_at(e, alpha_f[go]), 1.0)
-    # the pressing's turn from the committed fraction (A = 0 on a virgin flank) to A0
-    pt = pressing_table()
-    lf = np.where(slope_f[go] > 0, pressing_log(alpha_f[go], flat.slope, pt)[0], 0.0)
-    s0 = s0 * np.exp(pressing_log(a0, flat.slope, pt)[0] - lf)
     stretch = STRETCH_PER_EQUIVALENT_STRAIN * flat.beta * d_eps[go]
     a, s = integrate(a0, s0, x_all[go], stretch, rate_table(), e)
     a_out[go] = np.maximum(a, alpha_f[go])
@@ -253,7 +244,6 @@ def limit_curve(
     a0 = np.asarray(alpha_first(p, params), dtype=float)
     e = _edge(flat)
     s0 = np.full(p.shape, flat.slope if e is None else 1.0)  # with a table: the turn r
-    s0 = s0 * np.exp(pressing_log(np.minimum(a0, 1.0), flat.slope, pressing_table())[0])
     go = p > P_MIN_RATIO * params.H
     a, s = a0.copy(), s0
     if flow_curve is None:  # the points of a pressure share their start: one integration each

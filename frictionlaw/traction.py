@@ -255,12 +255,12 @@ def _limit_update(
     a zoned law (``zoned``, each node's zone) runs each node's zone law, its one-state zones
     with the hardening modulus ``hd``.
     """
-    from ._limit_table import pressing_table, rate_table
+    from ._limit_table import rate_table
 
     n = p.size
     s_c, s_t = state.slope_arrays() if state is not None else (np.zeros(n), np.empty(n))
-    t, pt = rate_table(), pressing_table()
-    table = (t.pressures, t.offsets, t.a, t.ln_s, t.dA, t.ds, pt.ln_s, pt.L)
+    t = rate_table()
+    table = (t.pressures, t.offsets, t.a, t.ln_s, t.dA, t.ds)
     lk = limit_kernels()
     nodes = (np.ascontiguousarray(p), p_hist, a_c, s_c, de, sy)
     if zoned is not None:

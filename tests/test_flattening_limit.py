@@ -9,14 +9,12 @@ import csv
 import json
 import math
 from importlib import resources
-from pathlib import Path
 
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
 from frictionlaw import Flattening, FrictionParams, alpha_first, flattening_curve
-from frictionlaw._limit_table import pressing_log, pressing_table
 from frictionlaw.flattening import flattening_update
 from frictionlaw.flattening_limit import limit_rates, limit_update, prandtl_ratio, table_pressures
 
@@ -100,13 +98,11 @@ def test_the_table_pressure_is_over_the_prandtl_hardness_of_the_host_flow_stress
 # ----------------------------------------------------------------------------- the curves
 @pytest.mark.parametrize("ph, slope", [(0.02, 0.176), (0.05, 0.05), (0.3, 0.12), (0.5, 0.02)])
 def test_the_midpoint_rule_against_an_adaptive_ode_solver(ph, slope):
-    """The integrated states against SciPy's RK45 of the same rates at tight tolerances, from
-    the pressed flank (the pressing's turn to alpha1(p))."""
+    """The integrated states against SciPy's RK45 of the same rates at tight tolerances."""
     P = law(slope)
     p = ph * H
     x = float(prandtl_ratio(p, P))
     a0 = float(alpha_first(p, P))
-    s0 = slope * math.exp(float(pressing_log(np.array(a0), slope, pressing_table())[0]))
 
     def rhs(_, y):
         dA, ds = limit_rates(x, min(max(y[0], 0.0), 1.0), max(math.exp(y[1]), 1e-3))
@@ -116,7 +112,7 @@ def test_the_midpoint_rule_against_an_adaptive_ode_solver(ph, slope):
     ref = solve_ivp(
         rhs,
         (0, RS * strains[-1]),
-        [a0, math.log(s0)],
+        [a0, math.log(slope)],
         t_eval=RS * strains,
         rtol=1e-10,
         atol=1e-12,
@@ -397,45 +393,3 @@ def test_table_pressures_scale_with_the_flow_stress():
     assert np.allclose(below, at, rtol=1e-12)
     with pytest.raises(ValueError, match="sigma_y"):
         table_pressures(P, sigma_y=-1.0)
-
-
-# ------------------------------------------------------------------- the pressing's turn
-RESULTS = Path(__file__).resolve().parents[1] / "benchmarks" / "results"
-
-
-def test_the_pressing_turn_is_the_shipped_limit_analysis_integrated():
-    """``pressing_table`` integrates the shipped turn ``d ln s / dA`` (the collapse mechanism of
-    the wedge cell pressed without stretch, benchmarks/flattening_limit_pressing.py, whose table
-    it equals to the CSV's 6 decimals) from A = 0: against SciPy's RK45 of the same bilinear turn
-    to 5e-6 (the midpoint rule's steps of 0.005 across the turn's kinks); the kernel reads it as NumPy does (1e-14); it steepens the flank by 13-18 % at
-    A = 0.3 and 24-36 % at 0.4-0.5 (the truth's pressing: 10-14 % at 0.3 H)."""
-    from frictionlaw import _kernels_limit as KL
-    from frictionlaw._limit_table import _turn_at
-
-    pt = pressing_table()
-    text = (RESULTS / "flattening_pressing_table.csv").read_text(encoding="utf-8")
-    study = {
-        (float(r["A"]), float(r["slope_deg"])): float(r["dlns_dA"])
-        for r in csv.DictReader(text.splitlines())
-    }
-    degs = sorted({d for _, d in study})
-    got = {(A, d): pt.turn[i, j] for i, A in enumerate(pt.turn_a) for j, d in enumerate(degs)}
-    assert set(got) == set(study)
-    assert max(abs(got[k] - study[k]) for k in study) < 1e-6
-    assert np.all(pt.L[0] == 0.0)
-    for j, l0 in enumerate(pt.ln_s):
-        sol = solve_ivp(
-            lambda A, q, l0=l0: [_turn_at(pt.turn_a, pt.ln_s, pt.turn, A, l0 + q[0])],
-            (0.0, 1.0), [0.0], t_eval=np.linspace(0, 1, pt.L.shape[0]), rtol=1e-10, atol=1e-12,
-            max_step=1e-3,
-        )  # fmt: skip
-        np.testing.assert_allclose(pt.L[:, j], sol.y[0], atol=5e-6)  # 1.5e-6 seen
-    rng = np.random.default_rng(3)
-    A, s = rng.uniform(0, 1, 200), np.exp(rng.uniform(np.log(0.005), np.log(0.5), 200))
-    ref_l, ref_d = pressing_log(A, s, pt)
-    for a, sv, rl, rd in zip(A, s, ref_l, ref_d, strict=True):
-        kl, kd = KL.pressing_scalar(pt.ln_s, pt.L, a, sv)
-        assert math.isclose(kl, rl, rel_tol=1e-14, abs_tol=1e-15)
-        assert math.isclose(kd, rd, rel_tol=1e-14, abs_tol=1e-15)
-    ratio = np.exp(pressing_log(np.array([0.3, 0.4, 0.5]), 0.1, pt)[0])
-    assert 1.13 < ratio[0] < 1.18 and np.all((ratio[1:] > 1.2) & (ratio[1:] < 1.4))

@@ -78,10 +78,6 @@ class LimitSpec:
         ``DS`` (row-major, as the runtime's arrays).
     step, s_floor, prandtl : float
         The integration's stretch step, the slope's floor and ``2 + pi`` (the kernels').
-    press_ln_s, press_points : tuple of float, int
-        The pressing's table (``frictionlaw._limit_table.PressingTable``): its slopes'
-        logarithms and its number of equally spaced contact fractions; ``press_data`` its DATA
-        statements (``PS``, ``PL`` row-major, as the runtime's arrays).
     """
 
     pressures: tuple
@@ -91,16 +87,13 @@ class LimitSpec:
     step: float
     s_floor: float
     prandtl: float
-    press_ln_s: tuple = ()
-    press_points: int = 0
-    press_data: tuple = ()
 
 
 def limit_spec():
     """The :class:`LimitSpec` of the shipped table (it depends on no parameter file)."""
-    from .._limit_table import PRANDTL_FACTOR, S_FLOOR, STEP, pressing_table, rate_table
+    from .._limit_table import PRANDTL_FACTOR, S_FLOOR, STEP, rate_table
 
-    t, pt = rate_table(), pressing_table()
+    t = rate_table()
     data = (
         *data_statements("OFF", [int(v) for v in t.offsets]),
         *data_statements("AR", t.a),
@@ -108,7 +101,6 @@ def limit_spec():
         *data_statements("DA", t.dA.ravel()),
         *data_statements("DS", t.ds.ravel()),
     )
-    press = (*data_statements("PS", pt.ln_s), *data_statements("PL", pt.L.ravel()))
     return LimitSpec(
         tuple(float(v) for v in t.pressures),
         tuple(float(v) for v in t.a),
@@ -117,9 +109,6 @@ def limit_spec():
         float(STEP),
         float(S_FLOOR),
         float(PRANDTL_FACTOR),
-        tuple(float(v) for v in pt.ln_s),
-        int(pt.L.shape[0]),
-        press,
     )
 
 

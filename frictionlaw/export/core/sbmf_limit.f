@@ -3,8 +3,7 @@
   core/sbmf_flat.f in place of the one-state update when the block's model is limit-analysis:
   frictionlaw._kernels_limit statement by statement ({{ zp }}TCEL: _cell; TATP: _at_pressure_d,
   which holds the shipped rate table as DATA; TRAT: limit_rates_scalar; TINT: limit_integrate;
-  TRTD: limit_rates_d; TIND: limit_integrate_d; TADV: _advance; TFLT: limit_scalar; TPRS:
-  pressing_scalar, the pressing's turn (its table as DATA); TEDG: edge_scalar; TSHR:
+  TRTD: limit_rates_d; TIND: limit_integrate_d; TADV: _advance; TFLT: limit_scalar; TSHR:
   limit_shear_scalar, with F5 from {{ zp }}FF5).
   Context: the law's CoreLaw (zp, law) and flat, its FlatSpec, flat.limit its LimitSpec
   (frictionlaw.export._flat; the table's values as the package's CSV gives them).
@@ -158,40 +157,6 @@ C=======================================================================
       RETURN
       END
 C
-C=======================================================================
-C     The pressing's turn of a virgin flank of slope S pressed from
-C     A = 0 to A: PLG = ln(s'/s) and PLA = d PLG/dA, linear between the
-C     table's NA equally spaced contact fractions and in ln S (clamped
-C     to its NPS slopes; the right derivative at a grid point, 0 at
-C     A = 1). The table (frictionlaw/data/pressing_turn.csv integrated,
-C     frictionlaw._limit_table.pressing_table): row I, slope J at
-C     (I - 1) NPS + J.
-C=======================================================================
-      SUBROUTINE {{ zp }}TPRS(A, S, PLG, PLA)
-      IMPLICIT NONE
-      INTEGER NA, NPS, I, J
-      PARAMETER (NA = {{ flat.limit.press_points }})
-      PARAMETER (NPS = {{ flat.limit.press_ln_s | length }})
-      DOUBLE PRECISION A, S, PLG, PLA, U, Q, TS, L0, L1
-      DOUBLE PRECISION PS(NPS), PL(NA*NPS)
-      INTEGER {{ zp }}TCEL
-      EXTERNAL {{ zp }}TCEL
-{% for statement in flat.limit.press_data %}
-{{ statement }}
-{% endfor %}
-      U = A*DBLE(NA - 1)
-      I = MIN(INT(U), NA - 2)
-      Q = LOG(S)
-      J = {{ zp }}TCEL(PS, 1, NPS, Q)
-      TS = MIN(MAX((Q - PS(J))/(PS(J + 1) - PS(J)), 0.0D0), 1.0D0)
-      L0 = (1.0D0 - TS)*PL(I*NPS + J) + TS*PL(I*NPS + J + 1)
-      L1 = (1.0D0 - TS)*PL((I + 1)*NPS + J) + TS*PL((I + 1)*NPS + J + 1)
-      PLG = L0 + (U - DBLE(I))*(L1 - L0)
-      PLA = 0.0D0
-      IF (U .LT. DBLE(NA - 1)) PLA = (L1 - L0)*DBLE(NA - 1)
-      RETURN
-      END
-C
 {% if flat.edge %}
 C=======================================================================
 C     The block's edge slope G = E(A) and GA = dE/dA: linear between
@@ -272,14 +237,12 @@ C
 C=======================================================================
 C     {{ zp }}TINT (A, S the same operations) with d A/dP of its end
 C     carried through the same steps: AP in, the start's d A/dP; out,
-C     the end's; XP = dX/dP; QP the start's d ln S/dP (the pressing's
-C     turn to the start); 0 through a step where A reaches 1 or S its
-C     floor.
+C     the end's; XP = dX/dP (the start's slope does not depend on P);
+C     0 through a step where A reaches 1 or S its floor.
 C=======================================================================
-      SUBROUTINE {{ zp }}TIND(A, S, X, STR, AP, XP, QP)
+      SUBROUTINE {{ zp }}TIND(A, S, X, STR, AP, XP)
       IMPLICIT NONE
-      DOUBLE PRECISION A, S, X, STR, AP, XP, QP, Q, QD, LEFT, H, E, SQ
-      DOUBLE PRECISION SQD
+      DOUBLE PRECISION A, S, X, STR, AP, XP, Q, QD, LEFT, H, E, SQ, SQD
       DOUBLE PRECISION RA, RS, RAX, RSX, RAA, RSA, RAS, RSS, RAD, RSD
       DOUBLE PRECISION AMR, AM, AMD, QM, QMD, EM, SM, SMD, AR
       DOUBLE PRECISION STEP, SFLR
@@ -295,7 +258,7 @@ C=======================================================================
 {% else %}
       Q = LOG(MAX(S, SFLR))
 {% endif %}
-      QD = QP
+      QD = 0.0D0
       LEFT = STR
       DO WHILE (LEFT .GT. 1.0D-12 .AND. A .LT. 1.0D0)
         H = MIN(STEP, LEFT)
@@ -357,17 +320,18 @@ C=======================================================================
 C
 C=======================================================================
 C     One node's states at the pressure P (XK the shear flow stress):
-C     from A0 and the slope S0 over the stretch STR BETA DEPS; ANEW
-C     never below AF.
+C     from A0 = max(AF, alpha1(max(P, PH))) and the slope S0 over the
+C     stretch STR BETA DEPS; ANEW never below AF.
 C=======================================================================
-      SUBROUTINE {{ zp }}TADV(P, A0, AF, S0, DEPS, XK, ANEW, SNEW)
+      SUBROUTINE {{ zp }}TADV(P, PH, AF, S0, DEPS, XK, ANEW, SNEW)
       IMPLICIT NONE
-      DOUBLE PRECISION P, A0, AF, S0, DEPS, XK, ANEW, SNEW
+      DOUBLE PRECISION P, PH, AF, S0, DEPS, XK, ANEW, SNEW, A1, D1
       DOUBLE PRECISION BETA, STR, PRF
       PARAMETER (BETA = {{ flat.beta | double }})
       PARAMETER (STR = {{ flat.stretch | double }})
       PARAMETER (PRF = {{ flat.limit.prandtl | double }})
-      ANEW = A0
+      CALL {{ zp }}A1D(MAX(P, PH), A1, D1)
+      ANEW = MAX(AF, A1)
       SNEW = S0
       CALL {{ zp }}TINT(ANEW, SNEW, P/(PRF*XK), STR*BETA*DEPS)
       ANEW = MAX(ANEW, AF)
@@ -388,7 +352,7 @@ C=======================================================================
      &                        DADP)
       IMPLICIT NONE
       DOUBLE PRECISION P, PH, AF, SF, DEPS, SIGY, ANEW, SNEW, DADP
-      DOUBLE PRECISION S0, XK, A1, D1, X, AP, A0, LF, LA, LAA
+      DOUBLE PRECISION S0, XK, A1, D1, X, AP
       DOUBLE PRECISION SLOPE, S0F, SIGYF, PMIN, BETA, STR, PRF
       PARAMETER (SLOPE = {{ flat.slope | double }})
       PARAMETER (S0F = {{ flat.s0 | double }})
@@ -413,32 +377,21 @@ C     the flank's turn r = SF/E(AF) (1: never flattened)
       S0 = SLOPE
       IF (SF .GT. 0.0D0) S0 = SF
 {% endif %}
-C     the pressing's turn from AF (from 0 on a virgin flank) to A0, read
-C     at the block's slope
-      LF = 0.0D0
-      IF (SF .GT. 0.0D0) CALL {{ zp }}TPRS(AF, SLOPE, LF, LAA)
       XK = 0.5D0*S0F
       IF (SIGY .GT. 0.0D0) XK = XK*(SIGY/SIGYF)
       IF (P .LT. PH) THEN
-        CALL {{ zp }}A1D(PH, A1, D1)
-        A0 = MAX(AF, A1)
-        CALL {{ zp }}TPRS(A0, SLOPE, LA, LAA)
-        S0 = S0*EXP(LA - LF)
-        CALL {{ zp }}TADV(P, A0, AF, S0, DEPS, XK, ANEW, SNEW)
+        CALL {{ zp }}TADV(P, PH, AF, S0, DEPS, XK, ANEW, SNEW)
         RETURN
       END IF
 C     first loading: d A/dP carried forward from alpha1' where the start
-C     is alpha1(P), through the pressing's turn to it, and from
-C     X = P/H_P
+C     is alpha1(P), and from X = P/H_P
       CALL {{ zp }}A1D(P, A1, D1)
       ANEW = MAX(AF, A1)
       AP = 0.0D0
       IF (A1 .GE. AF) AP = D1
-      CALL {{ zp }}TPRS(ANEW, SLOPE, LA, LAA)
-      SNEW = S0*EXP(LA - LF)
+      SNEW = S0
       X = P/(PRF*XK)
-      CALL {{ zp }}TIND(ANEW, SNEW, X, STR*BETA*DEPS, AP, 1.0D0/(PRF*XK),
-     &                  LAA*AP)
+      CALL {{ zp }}TIND(ANEW, SNEW, X, STR*BETA*DEPS, AP, 1.0D0/(PRF*XK))
       IF (.NOT. (ANEW .GT. AF)) THEN
         ANEW = AF
         AP = 0.0D0
