@@ -92,6 +92,7 @@ def test_neutral_entry_flattens_as_the_runtime(tmp_path, target, edge):
     host, files = load(tmp_path, target, P, name=f"two_{target}_{edge is None}")
     routine = next(v for k, v in files.items() if k.endswith(".f"))
     assert ("TEDG" in routine) == (edge is not None)
+    assert ("`edge_slope`, 21\nvalues" in files["README.md"]) == (edge is not None)
     readme = files["README.md"]
     assert "STATE(7)" in readme and "flank slope" in readme
     p, ph, af, sf, de, sy = grid()
