@@ -376,7 +376,7 @@ def refine(args, mat):
 ROWS = (64, 128, 192)  # the measured scan's rows: the middle one (the table's) and two more
 ROW_MESHES = ((128, 48), (256, 64))  # nx 256: a top node on each of the row's 256 samples
 ROW_STRAINS = (0.0, 0.005, 0.01, 0.02, 0.05, 0.1)
-ROW_P_OVER_H = (0.05, 0.1)  # the other rows: the lowest pressures
+ROW_P_OVER_H = (0.05, 0.1, 0.2, 0.3)  # the other rows: the lowest pressures (0.2, 0.3 added later)
 # Four more rows, evenly spread between the others and fixed before any of them was run: the
 # held-out test of a row's map to the wedge table (``--held-out``), at ``HELD_OUT_P_OVER_H``.
 HELD_OUT_ROWS = (32, 96, 160, 224)

@@ -3,9 +3,10 @@
 The block's edge-slope table makes the flank slope the law reads follow the surface's own
 edges as the contact grows (``s = r E(A)``, ``r`` the flank's turn). Checked here: the block's
 field, the NumPy model against an analytic limit (a constant table is the block's one slope),
-the kernels against the NumPy model, zones, the geometry of the table from a surface (a wedge
-lattice, a sinusoid, ridges), the calibration's block and the exported routines in host
-emulation against the runtime.
+the kernels against the NumPy model, zones, and the geometry of the table from a surface (a
+wedge lattice, a sinusoid, ridges). The calibration's block is checked in
+tests/test_flattening_limit.py, the exported routines in tests/test_export_flattening_limit.py,
+tests/test_export_zones_flattening.py and, inside ccx, tests/test_calculix_flattening.py.
 """
 
 import math
