@@ -185,3 +185,29 @@ def test_ridges_take_the_blocks_quadratic_mean():
     slope = 1e-6 * 2 * 4 / (128 * 1e-5)  # dz/dx of the sawtooth
     assert len(table) == EDGE_POINTS
     assert np.allclose(table, slope / math.sqrt(2), rtol=1e-9)
+
+
+def test_a_flat_topped_and_quantised_scan_gets_a_table_the_block_takes():
+    """Heights rounded to steps (an instrument's resolution) and cut flat at the top (a
+    skin-passed sheet): bins spanned by level segments alone are held at the floor, the block
+    takes the table, and the law runs."""
+    from halfspace_calib.pipeline.sweep.flattening_edges import EDGE_FLOOR
+    from halfspace_calib.topography.surface import Surface
+
+    rng = np.random.default_rng(5)
+    h = rng.normal(size=(64, 64))
+    h = np.fft.irfft2(np.fft.rfft2(h) * np.exp(-0.02 * np.arange(33)[None, :] ** 2), s=h.shape)
+    h = np.minimum(h, np.quantile(h, 0.8))  # the top 20 % flat
+    h = np.round(h / (h.std() / 8)) * (h.std() / 8) * 1e-6  # 8 steps per RMS height, in m
+    table = edge_slope_table(Surface(h, dx=1e-6, dy=1e-6, periodic=True))
+    assert len(table) == EDGE_POINTS and np.all(np.isfinite(table))
+    assert min(table) >= EDGE_FLOOR and max(table) > 10 * EDGE_FLOOR
+    P = law(edge=table, slope=0.05)
+    assert np.all(np.diff(fl.flattening_curve(0.1 * H, [0.0, 0.01, 0.05], P)) >= 0)
+    # a band of levels crossed only by a nearly level ramp (slope 1e-9): held at the floor
+    z = np.r_[np.linspace(0.0, 1.0, 11), 1.0 + 1e-9 * np.arange(1, 101), np.linspace(1.1, 2.0, 10)]
+    z = np.r_[z, z[::-1][1:-1]] * 1e-6
+    ridge = Surface(np.repeat(z[:, None], 4, axis=1), dx=1e-6, dy=1e-6, periodic=True)
+    raw = profile_edge_slopes(ridge.heights, 1e-6, True, 51)
+    assert np.nanmin(raw) < 1e-6
+    assert min(edge_slope_table(ridge)) == EDGE_FLOOR

@@ -21,12 +21,16 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["EDGE_POINTS", "edge_slope_table", "profile_edge_slopes"]
+__all__ = ["EDGE_POINTS", "EDGE_FLOOR", "edge_slope_table", "profile_edge_slopes"]
 
 #: contact fractions of the block's ``edge_slope`` (0, 0.02, ..., 1): coarser tables (26, 21
 #: points) and finer ones (101, 1601) move the resolved measured rows' largest miss by at most
 #: 0.01 (docs/flattening.md, "The edge slope")
 EDGE_POINTS = 51
+#: the table's smallest value: the two-state law's floor on the flank slope it integrates
+#: (``1e-3``; its rates are read at 0.01 below 0.01). A flat-topped or height-quantised scan has
+#: bins spanned by level segments alone, whose edge slope would be 0
+EDGE_FLOOR = 1e-3
 
 
 def _segments(h: NDArray, step: float, periodic: bool) -> tuple[NDArray, NDArray, float]:
@@ -107,8 +111,8 @@ def edge_slope_table(surface, n: int = EDGE_POINTS) -> tuple[float, ...]:
     """The block's ``edge_slope``: the x and y profiles' edge slopes, their quadratic mean.
 
     :func:`profile_edge_slopes` of both directions of a :class:`Surface` at ``n`` contact
-    fractions; a fraction where a direction has no crossing takes its nearest neighbour's.
-    ``ValueError`` for a flat surface.
+    fractions; a fraction where a direction has no crossing takes its nearest neighbour's; at
+    least :data:`EDGE_FLOOR`. ``ValueError`` for a flat surface.
     """
     h = np.asarray(surface.heights, dtype=float)
     sx = profile_edge_slopes(h, surface.dx, surface.periodic, n)
@@ -123,6 +127,6 @@ def edge_slope_table(surface, n: int = EDGE_POINTS) -> tuple[float, ...]:
             s = s[idx[np.abs(np.arange(n)[:, None] - idx[None, :]).argmin(axis=1)]]
         out.append(s)
     e = np.sqrt(0.5 * (out[0] ** 2 + out[1] ** 2))
-    if not np.all(e > 0):
+    if not np.any(e > 0):
         raise ValueError("the workpiece has no slanted profile segment: no edge slope")
-    return tuple(float(v) for v in e)
+    return tuple(float(v) for v in np.maximum(e, EDGE_FLOOR))
