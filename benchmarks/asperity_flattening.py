@@ -30,7 +30,8 @@ Parts (each writes its files under ``benchmarks/results/``):
   beside the table's 64 x 32, with the first-order extrapolation; ``--workers`` processes (2);
 - ``--rows``: ``asperity_rows.csv``, ``.md``: rows of the scan on meshes that resolve their
   samples (the table's 64 columns take every fourth): the middle row on 128 x 48 and 256 x 64 at
-  every pressure, rows 64 and 192 on 256 x 64 at 0.05 and 0.1 H (169 min of one core).
+  every pressure, rows 64 and 192 on 256 x 64 at 0.05 and 0.1 H (169 min of one core) and,
+  added later, at 0.2-0.6 H (8 jobs of 12-14 min each, two workers).
 - ``--held-out``: ``asperity_rows_heldout.csv``, ``.md``: rows 32, 96, 160 and 224 on 256 x 64
   at 0.05, 0.1, 0.2, 0.3, 0.45 and 0.6 H, the rows fixed before any was run: the held-out test
   of a row's map to the wedge table (``flattening_limit_rows.py``).
@@ -376,7 +377,7 @@ def refine(args, mat):
 ROWS = (64, 128, 192)  # the measured scan's rows: the middle one (the table's) and two more
 ROW_MESHES = ((128, 48), (256, 64))  # nx 256: a top node on each of the row's 256 samples
 ROW_STRAINS = (0.0, 0.005, 0.01, 0.02, 0.05, 0.1)
-ROW_P_OVER_H = (0.05, 0.1, 0.2, 0.3)  # the other rows: the lowest pressures (0.2, 0.3 added later)
+ROW_P_OVER_H = (0.05, 0.1, 0.2, 0.3, 0.45, 0.6)  # the other rows (0.2-0.6 added later)
 # Four more rows, evenly spread between the others and fixed before any of them was run: the
 # held-out test of a row's map to the wedge table (``--held-out``), at ``HELD_OUT_P_OVER_H``.
 HELD_OUT_ROWS = (32, 96, 160, 224)
