@@ -37,10 +37,18 @@ import math
 import os
 from concurrent.futures import ProcessPoolExecutor
 
+import flattening_limit_scan as S
 import numpy as np
 from _provenance import RESULTS, read_rows, run_record, write_report, write_rows
 from flattening_limit import curve, program, solve
 from flattening_limit_law import PRESSURES, STEP, TABLE, Rates, _flank_weights, _read, n_flank
+from flattening_limit_rows import block_edges, truth_rows
+from flattening_limit_scan import blocks, scan_surface
+from flattening_truth import law_strain
+
+import frictionlaw as fl
+from frictionlaw._limit_table import edge_at
+from frictionlaw.flattening_limit import limit_update
 
 A_PRESS = (0.05, 0.1, 0.15, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7)
 SLOPES = (3.0, 5.0, 7.0, 10.0)
@@ -208,10 +216,6 @@ def _pressed_curve(turn, P, p, eps):
     fraction ``alpha1(p)`` and the flank turned by :class:`Turn` to it (read at the block's
     slope), then ``limit_update`` over each strain (the edge table, if any, as the runtime
     reads it: the turn ``r = slope_f / E(alpha_f)``)."""
-    import frictionlaw as fl
-    from frictionlaw._limit_table import edge_at
-    from frictionlaw.flattening_limit import limit_update
-
     f = P.flattening
     a0 = float(fl.alpha_first(p, P))
     base = float(edge_at(np.array(f.edge_slope), a0)) if f.edge_slope else f.slope
@@ -225,61 +229,36 @@ def _pressed_curve(turn, P, p, eps):
 
 def rows_compare(turn):
     """Rows with their own edge table, and the scan's blocks, with and without the turn."""
-    from flattening_limit_rows import (
-        HELD_OUT_ROWS,
-        HELD_OUT_TRUTH,
-        ROWS,
-        ROWS_TRUTH,
-        _truth,
-        block_edges,
-    )
-    from flattening_limit_scan import blocks, scan_surface
-    from flattening_truth import law_of, law_strain
-
-    import frictionlaw as fl
-
     scan = blocks(scan_surface())
     out = []
-    for held, path, rows, mode in (
-        (False, ROWS_TRUTH, ROWS, "--rows"),
-        (True, HELD_OUT_TRUTH, HELD_OUT_ROWS, "--held-out"),
-    ):
-        for name, x, z, mine in _truth(path, rows, mode).values():
-            deg = float(mine[0]["slope_deg"])
-            H_row = float(mine[0]["p_Pa"]) / float(mine[0]["p_over_H"])
-            cols = {}
-            for r in mine:
-                cols.setdefault(float(r["p_over_H"]), {})[float(r["strain"])] = float(r["alpha"])
-            law = law_of(cols, deg, H_row)
-            own = fl.Flattening(
-                law.flattening.slope, model="limit-analysis", edge_slope=block_edges(x, z)
-            )
-            laws = {"own": own, "scan": scan["edge_slope"]}
-            for ph in sorted(cols):
-                strains = sorted(cols[ph])
-                eps = law_strain(strains)
-                got = {}
-                for k, f in laws.items():
-                    Pk = law.replace(flattening=f)
-                    got[k] = fl.flattening_curve(ph * H_row, eps, Pk)
-                    got[k + "_pressed"] = _pressed_curve(turn, Pk, ph * H_row, eps)
-                out += [
-                    {
-                        "profile": name,
-                        "held_out": held,
-                        "p_over_H": ph,
-                        "strain": e,
-                        "alpha_truth": cols[ph][e],
-                        **{f"alpha_{k}": float(v[i]) for k, v in got.items()},
-                    }
-                    for i, e in enumerate(strains)
-                ]
+    for held, name, x, z, _, H_row, cols, law, _ in truth_rows():
+        own = fl.Flattening(
+            law.flattening.slope, model="limit-analysis", edge_slope=block_edges(x, z)
+        )
+        laws = {"own": own, "scan": scan["edge_slope"]}
+        for ph in sorted(cols):
+            strains = sorted(cols[ph])
+            eps = law_strain(strains)
+            got = {}
+            for k, f in laws.items():
+                Pk = law.replace(flattening=f)
+                got[k] = fl.flattening_curve(ph * H_row, eps, Pk)
+                got[k + "_pressed"] = _pressed_curve(turn, Pk, ph * H_row, eps)
+            out += [
+                {
+                    "profile": name,
+                    "held_out": held,
+                    "p_over_H": ph,
+                    "strain": e,
+                    "alpha_truth": cols[ph][e],
+                    **{f"alpha_{k}": float(v[i]) for k, v in got.items()},
+                }
+                for i, e in enumerate(strains)
+            ]
     return out
 
 
 def rows_summary(out):
-    import flattening_limit_scan as S
-
     def row_miss(sel, c):
         return S._row_misses(sel, c)
 

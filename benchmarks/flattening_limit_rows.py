@@ -133,23 +133,36 @@ def _truth(path, rows, mode):
     return out
 
 
+def truth_rows(held_out=None):
+    """Each truth row as ``(held_out, name, x, z, deg, H_row, cols, law, mesh)``: its profile,
+    RMS slope (deg), hardness, ``cols`` ``{p/H: {strain: alpha}}`` on its finest mesh, the law
+    ``flattening_truth.law_of`` builds from its pressing-alone fractions and that mesh
+    (``"256x64"``). ``held_out``: only
+    the rows of ``--rows`` (False) or of ``--held-out`` (True); ``None`` both."""
+    sets = (
+        (False, ROWS_TRUTH, ROWS, "--rows"),
+        (True, HELD_OUT_TRUTH, HELD_OUT_ROWS, "--held-out"),
+    )
+    for held, path, rows, mode in sets:
+        if held_out is not None and held != held_out:
+            continue
+        for name, x, z, mine in _truth(path, rows, mode).values():
+            deg = float(mine[0]["slope_deg"])
+            H_row = float(mine[0]["p_Pa"]) / float(mine[0]["p_over_H"])
+            cols = {}
+            for r in mine:
+                cols.setdefault(float(r["p_over_H"]), {})[float(r["strain"])] = float(r["alpha"])
+            mesh = f"{mine[0]['nx']}x{mine[0]['nz']}"
+            yield held, name, x, z, deg, H_row, cols, law_of(cols, deg, H_row), mesh
+
+
 def compare_rows(rows, held_out=False, s_grid=S_GRID):
     """The table's curves (``rows``, on the flank slopes ``s_grid``) against each resolved row at
     each of its pressures: the row as a wedge of its RMS slope, by its edge slope, and the
     runtime's law. ``held_out``: the rows of ``asperity_flattening.py --held-out``
     (``HELD_OUT_ROWS``) instead of ``ROWS``."""
-    if held_out:
-        truth = _truth(HELD_OUT_TRUTH, HELD_OUT_ROWS, "--held-out")
-    else:
-        truth = _truth(ROWS_TRUTH, ROWS, "--rows")
     out, rates = [], {}
-    for name, x, z, mine in truth.values():
-        deg = float(mine[0]["slope_deg"])
-        H_row = float(mine[0]["p_Pa"]) / float(mine[0]["p_over_H"])
-        cols = {}
-        for r in mine:
-            cols.setdefault(float(r["p_over_H"]), {})[float(r["strain"])] = float(r["alpha"])
-        law = law_of(cols, deg, H_row)
+    for _, name, x, z, deg, H_row, cols, law, mesh in truth_rows(held_out):
         two = law.replace(
             flattening=fl.Flattening(
                 law.flattening.slope, model="limit-analysis", edge_slope=block_edges(x, z)
@@ -170,7 +183,7 @@ def compare_rows(rows, held_out=False, s_grid=S_GRID):
                 {
                     "profile": name,
                     "held_out": held_out,
-                    "mesh": f"{mine[0]['nx']}x{mine[0]['nz']}",
+                    "mesh": mesh,
                     "slope_deg": deg,
                     "p_over_H": ph,
                     "strain": e,

@@ -29,8 +29,8 @@ import math
 import numpy as np
 from _provenance import RESULTS, run_record, write_rows
 from asperity_flattening import MEASURED
-from flattening_limit_rows import HELD_OUT_ROWS, HELD_OUT_TRUTH, ROWS, ROWS_TRUTH, _truth
-from flattening_truth import law_of, law_strain
+from flattening_limit_rows import truth_rows
+from flattening_truth import law_strain
 
 import frictionlaw as fl
 from halfspace_calib.pipeline.sweep.flattening import rms_slope
@@ -65,36 +65,24 @@ def blocks(surface):
 def curves(flats):
     """Every truth row's curves with each block: one row per (row, p/H, strain)."""
     out = []
-    for held, path, rows, mode in (
-        (False, ROWS_TRUTH, ROWS, "--rows"),
-        (True, HELD_OUT_TRUTH, HELD_OUT_ROWS, "--held-out"),
-    ):
-        for name, _, _, mine in _truth(path, rows, mode).values():
-            deg = float(mine[0]["slope_deg"])
-            H_row = float(mine[0]["p_Pa"]) / float(mine[0]["p_over_H"])
-            cols = {}
-            for r in mine:
-                cols.setdefault(float(r["p_over_H"]), {})[float(r["strain"])] = float(r["alpha"])
-            law = law_of(cols, deg, H_row)
-            for ph in sorted(cols):
-                strains = sorted(cols[ph])
-                got = {
-                    k: fl.flattening_curve(
-                        ph * H_row, law_strain(strains), law.replace(flattening=f)
-                    )
-                    for k, f in flats.items()
+    for held, name, _, _, _, H_row, cols, law, _ in truth_rows():
+        for ph in sorted(cols):
+            strains = sorted(cols[ph])
+            got = {
+                k: fl.flattening_curve(ph * H_row, law_strain(strains), law.replace(flattening=f))
+                for k, f in flats.items()
+            }
+            out += [
+                {
+                    "profile": name,
+                    "held_out": held,
+                    "p_over_H": ph,
+                    "strain": e,
+                    "alpha_truth": cols[ph][e],
+                    **{f"alpha_{k}": round(float(got[k][i]), 5) for k in flats},
                 }
-                out += [
-                    {
-                        "profile": name,
-                        "held_out": held,
-                        "p_over_H": ph,
-                        "strain": e,
-                        "alpha_truth": cols[ph][e],
-                        **{f"alpha_{k}": round(float(got[k][i]), 5) for k in flats},
-                    }
-                    for i, e in enumerate(strains)
-                ]
+                for i, e in enumerate(strains)
+            ]
     return out
 
 
