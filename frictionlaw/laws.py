@@ -31,6 +31,8 @@ class _Law:
     uses_history = False
     #: the data of the flattening kernels (empty: no flattening under bulk strain)
     flattening_data: NDArray[np.float64] = np.zeros(0)
+    #: the two-state kernels' edge-slope table (the block's ``edge_slope``; empty: none)
+    edge_data: NDArray[np.float64] = np.zeros(0)
 
     @property
     def uses_flattening(self) -> bool:
@@ -42,16 +44,6 @@ class _Law:
         """True for a flattening block of the two-state model (``limit-analysis``)."""
         flat = getattr(getattr(self, "params", None), "flattening", None)
         return flat is not None and flat.model == LIMIT_MODEL
-
-    @property
-    def edge_data(self) -> NDArray[np.float64]:
-        """The two-state kernels' edge-slope table (the block's ``edge_slope``; empty: none)."""
-        flat = getattr(getattr(self, "params", None), "flattening", None)
-        if flat is None or flat.edge_slope is None:
-            return np.zeros(0)
-        out = np.array(flat.edge_slope, dtype=np.float64)
-        out.flags.writeable = False
-        return out
 
     @property
     def coeffs(self) -> NDArray[np.float64]:
@@ -137,13 +129,24 @@ class SBMFLaw(_Law):
         if not isinstance(self.params, FrictionParams):
             raise ValueError("params must be a FrictionParams instance")
         data = flattening_data(self.params)
-        data.flags.writeable = False
-        object.__setattr__(self, "_flattening_data", data)
+        flat = self.params.flattening
+        edge = np.array(() if flat is None else flat.edge_slope or (), dtype=np.float64)
+        for name, value in (("_flattening_data", data), ("_edge_data", edge)):
+            value.flags.writeable = False
+            object.__setattr__(self, name, value)
 
     @property
     def flattening_data(self) -> NDArray[np.float64]:  # type: ignore[override]
         """The flattening kernels' data of the file's block (empty without one; read-only)."""
         return self._flattening_data  # type: ignore[attr-defined]
+
+    @property
+    def edge_data(self) -> NDArray[np.float64]:  # type: ignore[override]
+        """The block's ``edge_slope`` as the two-state kernels read it (empty: none; read-only).
+
+        Made once with the law, as its flattening data is.
+        """
+        return self._edge_data  # type: ignore[attr-defined]
 
     @property
     def coeffs(self) -> NDArray[np.float64]:
