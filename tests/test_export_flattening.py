@@ -173,8 +173,16 @@ def test_neutral_entry_in_mm_t_s_and_without_strain(tmp_path):
     assert np.allclose(np.abs(out["t"][:, 0]) * 1e6, tau, rtol=1e-12, atol=0)
     assert np.allclose(state[:, 4], a_ref, rtol=1e-12, atol=0)
     # no strain on a surface never flattened: the law without a flattening block, bit for bit
+    assert_plain_without_strain(tmp_path, host, p, ph, 5)
+
+
+def assert_plain_without_strain(tmp_path, host, p, ph, nstate):
+    """A routine in mm-t-s with a flattening block, called without strain on surfaces never
+    flattened (``nstate`` state slots), returns the law without the block bit for bit: the
+    traction, its derivatives, the status and the state."""
+    n = p.size
     plain, _ = load(tmp_path, "lsdyna", fl.FrictionParams(**BASE), units="mm-t-s", name="plain")
-    s1, s2 = (np.zeros((n, 5)) for _ in range(2))
+    s1, s2 = (np.zeros((n, nstate)) for _ in range(2))
     s1[:, 0] = s2[:, 0] = ph * 1e-6
     o1 = host.friction("", p * 1e-6, s1, np.ones((n, 1)), np.zeros((n, 1)), 1e30)
     o2 = plain.friction("", p * 1e-6, s2, np.ones((n, 1)), np.zeros((n, 1)), 1e30)

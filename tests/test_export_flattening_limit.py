@@ -13,7 +13,7 @@ runs the law without flattening.
 
 import numpy as np
 import pytest
-from test_export_flattening import BASE, H, load
+from test_export_flattening import BASE, H, assert_plain_without_strain, load
 
 import frictionlaw as fl
 from frictionlaw import export as exp
@@ -144,14 +144,7 @@ def test_neutral_entry_in_mm_t_s(tmp_path):
     assert np.allclose(np.abs(out["dt_dp"][:, 0]), np.abs(dtdp), rtol=1e-11, atol=1e-300)
     assert np.allclose(state[:, 4], a_ref, rtol=1e-12, atol=0)
     assert np.allclose(state[:, 6], s_ref, rtol=1e-12, atol=0)
-    plain, _ = load(tmp_path, "lsdyna", fl.FrictionParams(**BASE), units="mm-t-s", name="plain")
-    s1, s2 = (np.zeros((n, 7)) for _ in range(2))
-    s1[:, 0] = s2[:, 0] = ph * 1e-6
-    o1 = host.friction("", p * 1e-6, s1, np.ones((n, 1)), np.zeros((n, 1)), 1e30)
-    o2 = plain.friction("", p * 1e-6, s2, np.ones((n, 1)), np.zeros((n, 1)), 1e30)
-    for k in ("t", "dt_ddu", "dt_dp", "status"):
-        assert np.array_equal(o1[k], o2[k]), k
-    assert np.array_equal(s1, s2)
+    assert_plain_without_strain(tmp_path, host, p, ph, 7)
 
 
 def test_neutral_entry_without_the_slope_slot_says_so_once(tmp_path):
