@@ -16,11 +16,11 @@ Run: python benchmarks/flattening_limit_pressed.py (about 10 min on the shared 2
 
 import math
 
-import numpy as np
 from _provenance import RESULTS, read_rows, run_record, write_report
 from flattening_flank import run
 from flattening_limit import curve
 from flattening_limit_law import PRESSURES, STEP, TABLE, Rates, _read
+from flattening_truth import curve_misses
 
 SLOPES = (3.0, 5.0, 7.0, 10.0)
 
@@ -71,16 +71,8 @@ def summary(out):
     ]
     for ph in (*PRESSURES, None):
         sel = [r for r in out if ph is None or r["p_over_H"] == ph]
-        keys = sorted({(r["slope_deg"], r["p_over_H"]) for r in sel})
-        worst = {
-            c: [
-                max(
-                    abs(r[c] - r["alpha_truth"])
-                    for r in sel
-                    if (r["slope_deg"], r["p_over_H"]) == k
-                )
-                for k in keys
-            ]
+        m = {
+            c: curve_misses(sel, c, ("slope_deg", "p_over_H"))
             for c in ("alpha_virgin", "alpha_pressed")
         }
         ratios = (
@@ -93,12 +85,11 @@ def summary(out):
         )
         lines.append(
             f"| {'all' if ph is None else f'{ph:g}'} | {ratios} | "
-            f"{max(worst['alpha_virgin']):.3f} | {max(worst['alpha_pressed']):.3f} | "
-            f"{sum(w <= 0.05 for w in worst['alpha_virgin'])} of {len(keys)} | "
-            f"{sum(w <= 0.05 for w in worst['alpha_pressed'])} |"
+            f"{m['alpha_virgin'][0]:.3f} | {m['alpha_pressed'][0]:.3f} | "
+            f"{m['alpha_virgin'][2]} of {m['alpha_virgin'][3]} | {m['alpha_pressed'][2]} |"
         )
     rms = {
-        c: math.sqrt(np.mean([(r[c] - r["alpha_truth"]) ** 2 for r in out]))
+        c: curve_misses(out, c, ("slope_deg", "p_over_H"))[1]
         for c in ("alpha_virgin", "alpha_pressed")
     }
     lines += ["", f"RMS: virgin {rms['alpha_virgin']:.3f}, pressed {rms['alpha_pressed']:.3f}."]

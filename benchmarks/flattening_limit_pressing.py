@@ -44,7 +44,7 @@ from flattening_limit import curve, program, solve
 from flattening_limit_law import PRESSURES, STEP, TABLE, Rates, _flank_weights, _read, n_flank
 from flattening_limit_rows import block_edges, truth_rows
 from flattening_limit_scan import blocks, scan_surface
-from flattening_truth import law_strain
+from flattening_truth import curve_misses, law_strain
 
 import frictionlaw as fl
 from frictionlaw._limit_table import edge_at
@@ -182,18 +182,7 @@ def summary(out):
     ]
     for ph in (*PRESSURES, None):
         sel = [r for r in out if ph is None or r["p_over_H"] == ph]
-        keys = sorted({(r["slope_deg"], r["p_over_H"]) for r in sel})
-        worst = {
-            c: [
-                max(
-                    abs(r[c] - r["alpha_truth"])
-                    for r in sel
-                    if (r["slope_deg"], r["p_over_H"]) == k
-                )
-                for k in keys
-            ]
-            for c in COLS
-        }
+        m = {c: curve_misses(sel, c, ("slope_deg", "p_over_H")) for c in COLS}
         rt = rl = ""
         if ph is not None:
             first = {r["slope_deg"]: r for r in sel}
@@ -201,12 +190,12 @@ def summary(out):
             rl = ", ".join(f"{first[d]['ratio_limit']:.2f}" for d in SLOPES)
         lines.append(
             f"| {'all' if ph is None else f'{ph:g}'} | {rt} | {rl} | "
-            + " | ".join(f"{max(worst[c]):.3f}" for c in COLS)
+            + " | ".join(f"{m[c][0]:.3f}" for c in COLS)
             + " | "
-            + " / ".join(str(sum(w <= 0.05 for w in worst[c])) for c in COLS)
+            + " / ".join(str(m[c][2]) for c in COLS)
             + " |"
         )
-    rms = {c: math.sqrt(np.mean([(r[c] - r["alpha_truth"]) ** 2 for r in out])) for c in COLS}
+    rms = {c: curve_misses(out, c, ("slope_deg", "p_over_H"))[1] for c in COLS}
     lines += ["", "RMS: " + ", ".join(f"{c} {v:.3f}" for c, v in rms.items()) + "."]
     return lines
 

@@ -40,7 +40,7 @@ from asperity_flattening import (
 )
 from flattening_limit import curve
 from flattening_limit_law import S_GRID, STEP, TABLE, Rates, _read
-from flattening_truth import law_of, law_strain
+from flattening_truth import curve_misses, law_of, law_strain
 
 import frictionlaw as fl
 from halfspace_calib.pipeline.sweep.flattening_edges import EDGE_POINTS, profile_edge_slopes
@@ -207,16 +207,7 @@ COLUMNS = ("alpha_rms", "alpha_edges", "alpha_law", "alpha_edge_mean", "alpha_ru
 
 def _misses(sel):
     """Per column: the largest miss, the RMS miss and the curves (row, p/H) within 0.05."""
-    curves = {(r["profile"], r["p_over_H"]) for r in sel}
-    out = []
-    for c in COLUMNS:
-        worst = {
-            k: max(abs(r[c] - r["alpha_truth"]) for r in sel if (r["profile"], r["p_over_H"]) == k)
-            for k in curves
-        }
-        rms = math.sqrt(np.mean([(r[c] - r["alpha_truth"]) ** 2 for r in sel]))
-        out.append((max(worst.values()), rms, sum(v <= 0.05 for v in worst.values()), len(curves)))
-    return out
+    return [curve_misses(sel, c) for c in COLUMNS]
 
 
 def summary(out):

@@ -24,7 +24,14 @@ import math
 
 import numpy as np
 from _provenance import RESULTS, read_rows, run_record, write_report
-from flattening_truth import BAR, law_of, law_strain, low_curves, low_law, read_truth
+from flattening_truth import (
+    curve_misses,
+    law_of,
+    law_strain,
+    low_curves,
+    low_law,
+    read_truth,
+)
 
 import frictionlaw as fl
 from frictionlaw.flow_curve import SwiftCurve
@@ -163,20 +170,7 @@ def hardening():
 
 def _band(rows, low):
     sel = [r for r in rows if low(r)]
-    keys = sorted({(r["profile"], r["p_over_H"]) for r in sel})
-    out = {}
-    for col in ("alpha_two_state", "alpha_one_state"):
-        d = np.array([r[col] - r["alpha_truth"] for r in sel])
-        per = [
-            max(abs(r[col] - r["alpha_truth"]) for r in sel if (r["profile"], r["p_over_H"]) == k)
-            for k in keys
-        ]
-        out[col] = (
-            float(np.abs(d).max()),
-            float(np.sqrt(np.mean(d**2))),
-            sum(m <= BAR for m in per),
-            len(keys),
-        )
+    out = {col: curve_misses(sel, col) for col in ("alpha_two_state", "alpha_one_state")}
     known = [r for r in sel if math.isfinite(r["alpha_study"])]
     out["study"] = max((abs(r["alpha_two_state"] - r["alpha_study"]) for r in known), default=None)
     out["study_points"] = len(known)

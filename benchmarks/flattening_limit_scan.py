@@ -30,7 +30,7 @@ import numpy as np
 from _provenance import RESULTS, run_record, write_rows
 from asperity_flattening import MEASURED
 from flattening_limit_rows import truth_rows
-from flattening_truth import law_strain
+from flattening_truth import curve_misses, law_strain
 
 import frictionlaw as fl
 from halfspace_calib.pipeline.sweep.flattening import rms_slope
@@ -105,13 +105,9 @@ def surface_means(out):
 
 
 def _row_misses(sel, key):
-    curves = {(r["profile"], r["p_over_H"]) for r in sel}
-    worst = [
-        max(abs(r[key] - r["alpha_truth"]) for r in sel if (r["profile"], r["p_over_H"]) == c)
-        for c in curves
-    ]
-    rms = math.sqrt(np.mean([(r[key] - r["alpha_truth"]) ** 2 for r in sel]))
-    return f"{max(worst):.3f} / {rms:.3f} / {sum(w <= 0.05 for w in worst)} of {len(worst)}"
+    """``largest / RMS / n of m`` curves (row, p/H) within 0.05, of column ``key``."""
+    worst, rms, within, n = curve_misses(sel, key)
+    return f"{worst:.3f} / {rms:.3f} / {within} of {n}"
 
 
 def report(flats, out):

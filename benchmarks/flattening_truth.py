@@ -40,6 +40,18 @@ BAR = 0.05  # the issue's bar on |alpha_law - alpha_truth|
 EQUIVALENT_PER_STRETCH = 2.0 / math.sqrt(3.0)
 
 
+def curve_misses(sel, column, key=("profile", "p_over_H")):
+    """Misses of ``column`` against ``alpha_truth`` over the rows ``sel`` (dicts), a curve being
+    the rows sharing ``key``: ``(largest, RMS over the rows, curves whose largest is within
+    BAR, curves)``."""
+    worst = {}
+    for r in sel:
+        k = tuple(r[f] for f in key)
+        worst[k] = max(worst.get(k, 0.0), abs(r[column] - r["alpha_truth"]))
+    rms = math.sqrt(np.mean([(r[column] - r["alpha_truth"]) ** 2 for r in sel]))
+    return max(worst.values()), rms, sum(w <= BAR for w in worst.values()), len(worst)
+
+
 def law_strain(stretch):
     """The equivalent plastic strain a host passes for the truth's plane-strain ``stretch``."""
     return EQUIVALENT_PER_STRETCH * np.asarray(stretch, dtype=float)
