@@ -42,9 +42,9 @@ import numpy as np
 from _provenance import RESULTS, read_rows, run_record, write_report, write_rows
 from flattening_limit import curve, program, solve
 from flattening_limit_law import PRESSURES, STEP, TABLE, Rates, _flank_weights, _read, n_flank
-from flattening_limit_rows import block_edges, truth_rows
-from flattening_limit_scan import blocks, scan_surface
-from flattening_truth import curve_misses, law_strain
+from flattening_limit_rows import block_edges
+from flattening_limit_scan import blocks, row_curves, scan_surface
+from flattening_truth import curve_misses
 
 import frictionlaw as fl
 from frictionlaw._limit_table import edge_at
@@ -219,32 +219,19 @@ def _pressed_curve(turn, P, p, eps):
 def rows_compare(turn):
     """Rows with their own edge table, and the scan's blocks, with and without the turn."""
     scan = blocks(scan_surface())
-    out = []
-    for held, name, x, z, _, H_row, cols, law, _ in truth_rows():
+
+    def at(law, x, z, p, eps):
         own = fl.Flattening(
             law.flattening.slope, model="limit-analysis", edge_slope=block_edges(x, z)
         )
-        laws = {"own": own, "scan": scan["edge_slope"]}
-        for ph in sorted(cols):
-            strains = sorted(cols[ph])
-            eps = law_strain(strains)
-            got = {}
-            for k, f in laws.items():
-                Pk = law.replace(flattening=f)
-                got[k] = fl.flattening_curve(ph * H_row, eps, Pk)
-                got[k + "_pressed"] = _pressed_curve(turn, Pk, ph * H_row, eps)
-            out += [
-                {
-                    "profile": name,
-                    "held_out": held,
-                    "p_over_H": ph,
-                    "strain": e,
-                    "alpha_truth": cols[ph][e],
-                    **{f"alpha_{k}": float(v[i]) for k, v in got.items()},
-                }
-                for i, e in enumerate(strains)
-            ]
-    return out
+        got = {}
+        for k, f in {"own": own, "scan": scan["edge_slope"]}.items():
+            Pk = law.replace(flattening=f)
+            got[k] = fl.flattening_curve(p, eps, Pk)
+            got[k + "_pressed"] = _pressed_curve(turn, Pk, p, eps)
+        return got
+
+    return row_curves(at)
 
 
 def rows_summary(out):

@@ -62,16 +62,15 @@ def blocks(surface):
     }
 
 
-def curves(flats):
-    """Every truth row's curves with each block: one row per (row, p/H, strain)."""
+def row_curves(curves_at, digits=None):
+    """One row per (truth row, p/H, strain): ``curves_at(law, x, z, p, eps)`` gives ``{name:
+    alpha at eps}`` for the row's law (``truth_rows``), its profile and each pressure; written
+    as ``alpha_<name>`` beside the truth (rounded to ``digits`` when given)."""
     out = []
-    for held, name, _, _, _, H_row, cols, law, _ in truth_rows():
+    for held, name, x, z, _, H_row, cols, law, _ in truth_rows():
         for ph in sorted(cols):
             strains = sorted(cols[ph])
-            got = {
-                k: fl.flattening_curve(ph * H_row, law_strain(strains), law.replace(flattening=f))
-                for k, f in flats.items()
-            }
+            got = curves_at(law, x, z, ph * H_row, law_strain(strains))
             out += [
                 {
                     "profile": name,
@@ -79,11 +78,23 @@ def curves(flats):
                     "p_over_H": ph,
                     "strain": e,
                     "alpha_truth": cols[ph][e],
-                    **{f"alpha_{k}": round(float(got[k][i]), 5) for k in flats},
+                    **{
+                        f"alpha_{k}": float(v[i]) if digits is None else round(float(v[i]), digits)
+                        for k, v in got.items()
+                    },
                 }
                 for i, e in enumerate(strains)
             ]
     return out
+
+
+def curves(flats):
+    """Every truth row's curves with each block: one row per (row, p/H, strain)."""
+
+    def at(law, x, z, p, eps):
+        return {k: fl.flattening_curve(p, eps, law.replace(flattening=f)) for k, f in flats.items()}
+
+    return row_curves(at, digits=5)
 
 
 def surface_means(out):
