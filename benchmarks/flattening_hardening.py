@@ -13,10 +13,12 @@ pressing-alone fractions (as ``flattening_truth.py`` builds it from the perfectl
 so that the flattening is compared, not the first loading. Nothing is fitted.
 
 Beside it the law given the hardening modulus too (docs/flattening.md, Eq. F2c: the lattice's
-sinking limited by the hardening its uneven split costs, ``min(c_L, 6 p / h)``), computed by an
-independent ODE in ``A`` (:func:`candidate_curve`), checked against the runtime's
-``flattening_update(..., hardening=)`` with and without the limit (the run prints both
-differences).
+sinking limited by the hardening its uneven split costs, ``min(c_L, 6 p / h)``; Eq. F2d: the
+flattening beyond the pressing held at the sinking the hardening holds, ``3 p / (4 h)``
+half-spacings), computed by an independent ODE in ``A`` (:func:`candidate_curve`, F2d in closed
+form), checked against the runtime's ``flattening_update(..., hardening=)`` with and without the
+limits (the run prints both differences), and the ODE with F2c alone, as the runtime was before
+F2d.
 
 Run: python benchmarks/flattening_hardening.py [--profiles "wedge 5 deg,wedge 10 deg"] [--reuse]
 [--workers 2] (default: every profile of ``asperity_flattening.py`` at p/H 0.05, 0.2 and 0.45;
@@ -42,6 +44,8 @@ P_OVER_H = (0.05, 0.2, 0.45)
 STRAINS = (0.0, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2)
 #: sub-steps of the law's integration between two reported strains (the flow stress per step)
 SUBSTEPS = 50
+#: depths of F2d's sinking zone in half-spacings beside its estimate (1), to show what it weighs
+DEPTHS = (0.5, 2.0 / 3.0, 1.5, 2.0)
 
 
 def law_curve(P, p, strains, mat, hardening=False):
@@ -60,14 +64,27 @@ def law_curve(P, p, strains, mat, hardening=False):
     return np.array(out)
 
 
-def candidate_curve(P, p, slope, strains, mat, limited=True, grid=4001):
+def held_stretch(A, a0, p, slope, mat, depth=1.0):
+    """The stretch at which the sinking a hardening bulk holds (Eq. F2d) reaches ``A``: its
+    Swift modulus ``h = n K (eps0 + eps_eq)^(n - 1)`` equal to ``3 p / (4 (A - a0) tan(theta))``
+    (0 where the initial modulus holds ``A`` already); ``depth``: the sinking zone's depth in
+    half-spacings (F2d's estimate: 1)."""
+    h = 0.75 * depth * p / ((A - a0) * slope)
+    eq = (h / (mat.n * mat.K)) ** (1.0 / (mat.n - 1.0)) - mat.eps0
+    return np.maximum(eq, 0.0) / EQUIVALENT_PER_STRETCH
+
+
+def candidate_curve(P, p, slope, strains, mat, limited=True, held=True, grid=4001, depth=1.0):
     """The contact fraction after the stretches ``strains`` at ``p`` with the lattice's rate
-    limited by the hardening (module text; ``limited=False``: the runtime's rate).
+    limited by the hardening and the sinking it holds (module text; ``limited=False``: the
+    runtime's perfectly plastic rate; ``held=False``: F2c alone).
 
     ``d eps / dA = tan(theta) / (c_L,h + c_E)`` from ``alpha1(p)`` to full contact, Heun's
     method on a grid in ``A`` clustered at both ends, the flow stress and ``h`` at the
     equivalent strain ``2 / sqrt(3)`` of the stretch reached; ``c_E`` infinite at the start
-    (``d eps / dA = 0`` there).
+    (``d eps / dA = 0`` there). With ``held`` no ``A`` is reached before the stretch at which
+    the Swift modulus holds it (Eq. F2d, :func:`held_stretch`: ``A <= alpha1(p) + 3 p / (4 h
+    tan(theta))`` read the other way, in closed form; ``depth`` half-spacings deep).
     """
     a0 = float(fl.alpha_first(p, P))
     w = 0.5 - 0.5 * np.cos(np.pi * np.linspace(0.0, 1.0, grid))
@@ -91,6 +108,8 @@ def candidate_curve(P, p, slope, strains, mat, limited=True, grid=4001):
         k1 = slope_of(i - 1, eps[i - 1])
         k2 = slope_of(i, eps[i - 1] + k1 * dA)
         eps[i] = eps[i - 1] + 0.5 * (k1 + k2) * dA
+        if limited and held:
+            eps[i] = max(eps[i], float(held_stretch(A[i], a0, p, slope, mat, depth)))
     return np.interp(np.asarray(strains, dtype=float), eps, A)
 
 
@@ -140,6 +159,8 @@ def main(argv=None):
         stored = _fe_runs(names, profs, args, mat)
     rows, lines = [], []
     check = check_h = 0.0
+    misses = {"without the modulus": [], "F2c alone": [], "F2c and F2d": []}
+    depth_miss = {}
     for name in names:
         key = next(k for k in pp if k[0] == name)
         P = law_of(pp[key], key[1], H)
@@ -156,6 +177,7 @@ def main(argv=None):
             law_h = law_curve(Ph, ph * H, STRAINS, mat)
             slope = math.tan(math.radians(key[1]))
             cand = candidate_curve(Ph, ph * H, slope, STRAINS, mat)
+            f2c = candidate_curve(Ph, ph * H, slope, STRAINS, mat, held=False)
             law_hh = law_curve(Ph, ph * H, STRAINS, mat, hardening=True)
             check_h = max(check_h, float(np.abs(law_hh - cand).max()))
             check = max(
@@ -164,6 +186,11 @@ def main(argv=None):
                     np.abs(candidate_curve(Ph, ph * H, slope, STRAINS, mat, False) - law_h).max()
                 ),
             )
+            for key_m, curve in zip(misses, (law_h, f2c, cand), strict=True):
+                misses[key_m].append(curve - a_h)
+            for d in DEPTHS:
+                c_d = candidate_curve(Ph, ph * H, slope, STRAINS, mat, depth=d)
+                depth_miss[d] = max(depth_miss.get(d, 0.0), float(np.abs(c_d - a_h).max()))
             for i, e in enumerate(STRAINS):
                 rows.append(
                     {
@@ -175,6 +202,7 @@ def main(argv=None):
                         "alpha_law": law[i],
                         "alpha_law_hardening_start": law_h[i],
                         "alpha_law_with_hardening_modulus": cand[i],
+                        "alpha_law_lattice_limit_only": f2c[i],
                         "flow_stress_MPa": float(mat.flow_stress(EQUIVALENT_PER_STRETCH * e)) / 1e6,
                         "converged": ok,
                     }
@@ -188,8 +216,8 @@ def main(argv=None):
                 + " ".join(f"{v:.3f}" for v in law_h)
                 + " | "
                 + " ".join(f"{v:.3f}" for v in cand)
-                + f" | {np.max(np.abs(law_h - a_h)):.3f} | {np.max(np.abs(cand - a_h)):.3f} | "
-                f"{np.max(np.abs(law - perfect)):.3f} |"
+                + f" | {np.max(np.abs(law_h - a_h)):.3f} | {np.max(np.abs(f2c - a_h)):.3f} | "
+                f"{np.max(np.abs(cand - a_h)):.3f} | {np.max(np.abs(law - perfect)):.3f} |"
             )
     write_rows(RESULTS / "flattening_hardening.csv", rows)
     head = [
@@ -205,10 +233,27 @@ def main(argv=None):
         "",
         "| profile | p/H | alpha, hardening truth | alpha, perfectly plastic truth | alpha, law "
         "(hardening truth's alpha1, current flow stress) | alpha, law with the hardening "
-        "modulus (F2c) | largest miss, hardening: law without the modulus | with it | "
-        "largest miss, perfectly plastic |",
-        "|---|---|---|---|---|---|---|---|---|",
+        "modulus (F2c, F2d) | largest miss, hardening: law without the modulus | with the "
+        "lattice's limit alone (F2c) | with both (F2c, F2d) | largest miss, perfectly plastic |",
+        "|---|---|---|---|---|---|---|---|---|---|",
     ]
+    lines.append("")
+    lines.append(
+        "Over the curves, the largest miss / RMS over their points / curves within 0.05: "
+        + "; ".join(
+            f"{k} {max(np.abs(d).max() for d in v):.3f} / "
+            f"{math.sqrt(np.mean(np.concatenate(v) ** 2)):.3f} / "
+            f"{sum(np.abs(d).max() <= 0.05 for d in v)} of {len(v)}"
+            for k, v in misses.items()
+        )
+        + "."
+    )
+    lines.append("")
+    lines.append(
+        "F2d's sinking zone (one half-spacing deep) other depths, the largest miss with F2c: "
+        + ", ".join(f"{d:g} half-spacings {m:.3f}" for d, m in depth_miss.items())
+        + " (the ODE)."
+    )
     lines.append("")
     lines.append(
         f"The ODE without the limit against the runtime's curve: {check:.1e} "

@@ -21,6 +21,7 @@ __all__ = [
     "SLOPE_RANGE",
     "BETA_RANGE",
     "STRETCH_PER_EQUIVALENT_STRAIN",
+    "HARDENING_SINK",
     "P_MIN_RATIO",
     "FLOW_CURVE_STEPS",
     "beta_absorbs_hardening",
@@ -46,6 +47,10 @@ FLATTENING_VERSION = 3
 #: ``sqrt(3) / 2``: exact for plane strain across the ridges, and the stretch doing the same
 #: plastic work as the bulk's equivalent strain on any other path (docs/flattening.md, F1)
 STRETCH_PER_EQUIVALENT_STRAIN = math.sqrt(3.0) / 2.0
+#: the plateaus' sinking per half-spacing a hardening bulk holds, times ``h / p`` (Eq. F2d): the
+#: plane-strain columns under and between the contacts differ in stretch by ``3 p / (4 h)``
+#: (``d (2 k) / d eps_x = 4 h / 3``) over a depth of one half-spacing (docs/flattening.md)
+HARDENING_SINK = 0.75
 #: below this ``p / H`` a node does not flatten, in either model and in the kernels: a numerical
 #: floor (the one-state integrals' ``acosh(p_f / p)`` grows without bound); the lattice's rate
 #: itself does not vanish with ``p`` (docs/flattening.md, F6)

@@ -1,4 +1,5 @@
-"""The flattening's sinking rates (Eqs. F2a-F2c) and their sum, the growth rate (Eq. F3).
+"""The flattening's sinking rates (Eqs. F2a-F2c), their sum, the growth rate (Eq. F3), and the
+sinking a hardening bulk holds (Eq. F2d).
 
 Private: :mod:`frictionlaw.flattening` is their public home (docs/flattening.md). Each checks
 its domain and names the argument. The host's flow stress, which scales the flow stress of
@@ -10,7 +11,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._flattening_block import STRETCH_PER_EQUIVALENT_STRAIN, _number
+from ._flattening_block import HARDENING_SINK, STRETCH_PER_EQUIVALENT_STRAIN, _number
 from .law import as_float_array
 
 __all__ = [
@@ -18,6 +19,7 @@ __all__ = [
     "layer_sink_rate",
     "lattice_sink_rate",
     "lattice_hardening_limit",
+    "hardening_sinking_limit",
     "contact_growth_rate",
 ]
 
@@ -92,6 +94,30 @@ def lattice_hardening_limit(p: ArrayLike, hardening: ArrayLike | None) -> NDArra
     h = _checked("hardening", hardening, 0.0, math.inf, why)
     with np.errstate(divide="ignore", over="ignore"):  # a modulus of 1e-300: no limit (inf)
         return np.where(h > 0, 6.0 * p / np.where(h > 0, h, 1.0), np.inf)
+
+
+def hardening_sinking_limit(
+    p: ArrayLike, hardening: ArrayLike | None
+) -> NDArray[np.float64]:
+    """The plateaus' sinking per half-spacing a hardening bulk holds at pressure ``p`` (Eq. F2d).
+
+    ``delta / l = 3 p / (4 h)``. Stretched in plane strain, the material under a contact carries
+    ``sigma_z = -p`` and reaches the stretching stress ``sigma_x`` at ``2 k - p``; the columns
+    under and between the contacts lie in series along the stretch, carry one ``sigma_x``, and
+    so differ in flow stress by ``p`` and in stretch by ``p / (d (2 k) / d eps_x) = 3 p /
+    (4 h)`` (``2 k = 2 sigma_y / sqrt 3``, ``eps_eq = 2 eps_x / sqrt 3``). Over the depth of one
+    half-spacing, where the contacts' pressure has spread, that is the plateaus' sinking
+    against the valleys: an equilibrium, not a rate, growing as ``h`` falls with strain and
+    never undone. ``inf`` (no limit) for a perfectly plastic bulk, ``h = 0`` or ``None``
+    (docs/flattening.md, "A hardening bulk").
+    """
+    p = _checked("p", p, 0.0, math.inf, "finite and >= 0 (Pa)")
+    if hardening is None:
+        return np.full(p.shape, np.inf)
+    why = "finite and >= 0 (Pa, d sigma_y / d eps_eq; 0: perfectly plastic)"
+    h = _checked("hardening", hardening, 0.0, math.inf, why)
+    with np.errstate(divide="ignore", over="ignore"):  # a modulus of 1e-300: no limit (inf)
+        return np.where(h > 0, HARDENING_SINK * p / np.where(h > 0, h, 1.0), np.inf)
 
 
 def contact_growth_rate(

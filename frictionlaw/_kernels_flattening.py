@@ -43,7 +43,7 @@ import numpy as np
 from numba import float64, int8, int64, types
 
 from ._codes import CODE_SBMF_RELOAD
-from ._flattening_block import P_MIN_RATIO
+from ._flattening_block import HARDENING_SINK, P_MIN_RATIO
 from ._flattening_block import STRETCH_PER_EQUIVALENT_STRAIN as STRETCH
 from ._kernels import first_offset, first_scalar, return_map_row, shear_scalar
 from ._kernels_branches import _RO, _RO2, _opts
@@ -316,8 +316,9 @@ def flattening_scalar(fdata, p, p_hist, alpha_f, d_eps, sigy, hard):
 
     From the committed fraction ``alpha_f`` and history ``p_hist``, at the pressure ``p`` with the
     bulk's plastic strain increment ``d_eps`` (and flow stress ``sigy``, ``<= 0``: the file's;
-    hardening modulus ``hard``, ``<= 0``: perfectly plastic, Eq. F2c):
-    ``P0 = max(p_f, p_hist, p)`` (``p_f`` the pressure whose ``alpha1`` is ``alpha_f``), then F6.
+    hardening modulus ``hard``, ``<= 0``: perfectly plastic, Eqs. F2c and F2d):
+    ``P0 = max(p_f, p_hist, p)`` (``p_f`` the pressure whose ``alpha1`` is ``alpha_f``), then F6,
+    held at ``alpha1(max(p_hist, p)) + 3 p / (4 h tan(theta))`` (F2d; its pressure then 0).
     Returns the trial fraction (never below ``alpha_f``), its flattening pressure where it was
     needed and the node is flattened beyond ``max(p_hist, p)`` (else 0), and the update's
     ``d alpha / d p`` (0 without one). ``d_eps = 0``, ``p <= 1e-12 H`` and a surface in full contact leave
@@ -343,6 +344,11 @@ def flattening_scalar(fdata, p, p_hist, alpha_f, d_eps, sigy, hard):
     D = d_eps * STRETCH * fdata[1] * (s0 / H) / (fdata[0] * x * x) / H
     cmax = 6.0 * p / hard if hard > 0.0 else math.inf  # Eq. F2c
     P, dadp, aP = flattening_solve(c1, p, P0, D, cap, p / s0, fdata[0], cmax)
+    if hard > 0.0:  # Eq. F2d: no further than the sinking the hardening holds
+        a_b, d_b = first_scalar(c1, max(p_hist, p))
+        k = HARDENING_SINK / (hard * fdata[0])
+        if a_b + k * p < 1.0 and aP > a_b + k * p:
+            aP, P, dadp = a_b + k * p, 0.0, k + (d_b if p >= p_hist else 0.0)
     if aP > alpha_f:
         return aP, P, dadp
     return alpha_f, pf, 0.0

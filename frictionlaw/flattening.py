@@ -45,6 +45,7 @@ from ._flattening_block import (
     FLATTENING_MODELS,
     FLATTENING_VERSION,
     FLOW_CURVE_STEPS,
+    HARDENING_SINK,
     LIMIT_MODEL,
     P_MIN_RATIO,
     SLOPE_RANGE,
@@ -54,6 +55,7 @@ from ._flattening_block import (
 )
 from ._flattening_rates import (
     contact_growth_rate,
+    hardening_sinking_limit,
     host_flow_stress,
     lattice_hardening_limit,
     lattice_sink_rate,
@@ -82,9 +84,11 @@ __all__ = [
     "FLATTENING_VERSION",
     "SLOPE_RANGE",
     "STRETCH_PER_EQUIVALENT_STRAIN",
+    "HARDENING_SINK",
     "BETA_RANGE",
     "lattice_sink_rate",
     "lattice_hardening_limit",
+    "hardening_sinking_limit",
     "layer_sink_rate",
     "contact_growth_rate",
     "equivalent_strain",
@@ -271,7 +275,8 @@ def equivalent_strain(
     strain ``eps / r_s`` (``r_s`` = :data:`STRETCH_PER_EQUIVALENT_STRAIN`, F1b),
     ``J = int_p^p_f alpha1'(t) t sqrt(t^2 - p^2) / W dt`` (module text): 0 for ``p_f <= p``;
     grows with ``p_f``, proportional to ``1 / beta``. ``hardening`` (``d sigma_y / d eps_eq``,
-    Pa, at a constant value) limits the lattice's rate (Eq. F2c).
+    Pa, at a constant value) limits the lattice's rate (Eq. F2c), and no strain flattens
+    beyond ``alpha1(p) + 3 p / (4 h tan(theta))`` (Eq. F2d: ``inf`` there).
     """
     flat = _flattening_of(params)
     p, p_f = broadcast_named(p=p, p_f=p_f)
@@ -294,6 +299,10 @@ def equivalent_strain(
     out = kappa * J / ph
     out[tiny & (p_f.ravel() > p.ravel())] = np.inf
     out[tiny & (p_f.ravel() <= p.ravel())] = 0.0
+    if hardening is not None:  # Eq. F2d: beyond the sinking a constant modulus holds, none
+        with np.errstate(over="ignore"):
+            a_eq = alpha_first(p, params) + hardening_sinking_limit(p, h) / flat.slope
+        out[(alpha_first(top, params) > a_eq.ravel()) & (a_eq.ravel() < 1.0)] = np.inf
     return out.reshape(p.shape)
 
 
@@ -358,7 +367,9 @@ def flattening_update(
         file's ``sigma_y`` by default.
     hardening : array_like, optional
         The bulk's hardening modulus ``d sigma_y / d eps_eq`` under the node (Pa, ``>= 0``):
-        it limits the lattice's rate (Eq. F2c). ``None`` or 0: a perfectly plastic bulk.
+        it limits the lattice's rate (Eq. F2c) and the flattening beyond the pressing,
+        ``alpha1(p_f) <= alpha1(max(p_hist, p)) + 3 p / (4 h tan(theta))`` (Eq. F2d, never
+        below the committed ``p_f``). ``None`` or 0: a perfectly plastic bulk.
     """
     flat = _flattening_of(params)
     p_f, p_hist, p, d_eps = broadcast_named(p_f=p_f, p_hist=p_hist, p=p, d_eps=d_eps)
@@ -390,7 +401,14 @@ def flattening_update(
     with np.errstate(over="ignore"):  # a strain beyond any forming: full contact
         target = _j_integral(ph, u0, *jx[:5], panels, kinks) + d_eps[go] * (ph / kappa)
     u = _solve_j(ph, target, u0, ucap, jx, panels)
-    out[go] = np.maximum(np.minimum(p[go] * np.cosh(u), cap), p_f[go])
+    P = np.minimum(p[go] * np.cosh(u), cap)
+    if hardening is not None:  # Eq. F2d: no further than the sinking the hardening holds
+        with np.errstate(over="ignore"):  # a modulus of 1e-300: no limit (inf)
+            lim = hardening_sinking_limit(p[go], h[go]) / flat.slope
+        a_eq = alpha_first(np.maximum(p_hist[go], p[go]), params) + lim
+        held = (a_eq < 1.0) & (alpha_first(P, params) > a_eq)
+        P = np.where(held, flattening_pressure(np.where(held, a_eq, 0.0), params), P)
+    out[go] = np.maximum(P, p_f[go])
     return out
 
 
@@ -496,7 +514,8 @@ def flattening_curve(
 
     Eq. F4 solved for ``p_f`` and read through Eq. F5: ``alpha1(p)`` at zero strain (the
     calibrated law exactly), never falling with strain, at most 1, reaching 1 at the finite
-    equivalent strain ``tan(theta) J(p, inf) / (r_s beta s0 p)``. For plots, checks and the fit
+    equivalent strain ``tan(theta) J(p, inf) / (r_s beta s0 p)`` (with a ``hardening``
+    modulus at most ``alpha1(p) + 3 p / (4 h tan(theta))``, Eq. F2d). For plots, checks and the fit
     of ``beta`` to a measured sheet. A block of the two-state model (``limit-analysis``) gives
     that law's curves (:func:`frictionlaw.flattening_limit.limit_curve`; no ``hardening``).
 

@@ -125,8 +125,9 @@ def _neutral_as_runtime(tmp_path, P, name):
 
 @pytest.mark.parametrize("form", ["eq24-paper", "tabulated"])
 def test_neutral_entry_limits_the_lattice_by_the_hardening_modulus(tmp_path, form):
-    """STATE(6), the bulk's hardening modulus (Eq. F2c): as the runtime's traction_update(...,
-    hardening=), where the limit acts everywhere, nowhere and from inside the step; never
+    """STATE(6), the bulk's hardening modulus (Eqs. F2c, F2d): as the runtime's
+    traction_update(..., hardening=), where the limit acts everywhere, nowhere and from inside
+    the step, and where the sinking it holds stops the flattening; never
     written; 0 and NSTATE = 5 the perfectly plastic law bit for bit."""
     P = law(form)
     host, files = load(tmp_path, "lsdyna", P, name=f"neutral_h_{form}")
@@ -149,6 +150,9 @@ def test_neutral_entry_limits_the_lattice_by_the_hardening_modulus(tmp_path, for
     assert np.allclose(np.abs(out["dt_dp"][:, 0]), np.abs(dtdp), rtol=1e-11, atol=1e-300)
     assert np.allclose(state[:, 4], a_ref, rtol=1e-12, atol=0)
     assert np.array_equal(state[:, 5], h)  # an input: never written
+    # held at the sinking the modulus holds (Eq. F2d) on many of the points
+    held = fl.alpha_first(np.maximum(ph, p), P) + 0.75 * p / (h * P.flattening.slope)
+    assert np.sum((np.abs(state[:, 4] - held) <= 1e-12 * held) & (held > af)) > 10
     plastic = runtime(P, p, ph, af, de, sy)[2]
     slowed = (de > 0) & (cmax == 0.2) & (p > 0.05 * H) & (plastic < 1) & (plastic > af)
     assert slowed.sum() > 10 and np.all(a_ref[slowed] < plastic[slowed])

@@ -25,6 +25,7 @@ from frictionlaw.flattening import (
     contact_growth_rate,
     equivalent_strain,
     flattened_alpha,
+    flattening_pressure,
     flattening_update,
     lattice_sink_rate,
     layer_sink_rate,
@@ -203,21 +204,47 @@ def test_the_host_strain_is_the_equivalent_plastic_strain():
     assert flattening_curve(p, s_stretch, P, sigma_y=1e3) < want - 0.01
 
 
-def test_hardening_limits_the_lattice_in_closed_form():
-    """Eq. F2c: with the layer's share removed (a 1 kPa flow stress) and a hardening modulus that
-    limits the lattice everywhere (``6 p / h = 0.4 < 1``), ``dA/d eps_eq = r_s beta 0.4 /
-    tan(theta)``: linear in strain until full contact."""
+def test_hardening_limits_the_lattice_and_the_sinking_in_closed_form():
+    """Eqs. F2c and F2d: with the layer's share removed (a 1 kPa flow stress) and a hardening
+    modulus that limits the lattice everywhere (``6 p / h = 0.4 < 1``), ``dA/d eps_eq = r_s beta
+    0.4 / tan(theta)``: linear in strain until the sinking the hardening holds, ``3 p / (4 h) =
+    0.05`` half-spacings, ``A = alpha1(p) + 0.05 / tan(theta)``, where it stays."""
     P = law(slope=0.08, beta=1.3)
     p = 0.1 * H
     h = 6.0 * p / 0.4
-    eps = np.array([0.0, 1e-3, 0.01, 0.05, 0.1, 0.5])
+    eps = np.array([0.0, 1e-3, 0.01, 0.05, 0.1, 0.5, 5.0])
     a0 = alpha_first(p, P)
-    want = np.minimum(a0 + RS * 1.3 * 0.4 * eps / 0.08, 1.0)
+    held = a0 + 0.75 * p / h / 0.08
+    assert held == pytest.approx(a0 + 0.625, rel=1e-14)
+    want = np.minimum(a0 + RS * 1.3 * 0.4 * eps / 0.08, held)
     got = flattening_curve(p, eps, P, sigma_y=1e3, hardening=h)
-    assert want[-2] < 1.0 and want[-1] == 1.0
+    assert want[-3] < held and want[-2] == held
     assert np.allclose(got, want, rtol=0, atol=2e-4)
-    # without the limit the lattice's exponential (test above) is far faster
+    assert got[-2:] == pytest.approx(held, abs=1e-12)
+    # the strain to flatten beyond it: none
+    assert equivalent_strain(p, flattening_pressure(held - 1e-3, P), P, hardening=h) < 0.5
+    assert equivalent_strain(p, flattening_pressure(held + 1e-3, P), P, hardening=h) == np.inf
+    # without the limits the lattice's exponential (test above) is far faster
     assert flattening_curve(p, 0.05, P, sigma_y=1e3) > want[3] + 0.1
+
+
+def test_the_sinking_a_hardening_bulk_holds_is_reached_and_kept():
+    """Eq. F2d in the per-node update: a node held at ``alpha1(max(p_hist, p)) + 3 p / (4 h
+    tan(theta))`` stays there under more strain at that modulus, moves on as the modulus falls
+    (a hardening that saturates), never falls when the pressure drops (the sinking is not
+    undone), and a node loaded higher before is held above that history's fraction."""
+    P = law(slope=0.1)
+    p, h = 0.05 * H, 2e10
+    held = alpha_first(p, P) + 0.75 * p / h / 0.1
+    pf = flattening_update(0.0, p, p, 0.5, P, hardening=h)
+    assert alpha_first(pf, P) == pytest.approx(held, abs=1e-12)
+    assert flattening_update(pf, p, p, 0.5, P, hardening=h) == pf
+    pf2 = flattening_update(pf, p, p, 0.5, P, hardening=h / 2)
+    assert alpha_first(pf2, P) == pytest.approx(alpha_first(p, P) + 2 * (held - alpha_first(p, P)))
+    assert flattening_update(pf2, p, 0.5 * p, 0.5, P, hardening=h / 2) == pf2
+    ph = 0.3 * H
+    top = flattening_update(0.0, ph, p, 0.5, P, hardening=h)
+    assert alpha_first(top, P) == pytest.approx(alpha_first(ph, P) + (held - alpha_first(p, P)))
 
 
 def test_hardening_slows_and_zero_is_perfect_plasticity():

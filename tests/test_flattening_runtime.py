@@ -241,11 +241,14 @@ def test_the_hardening_limit_against_the_numpy_model(form):
     P = law(**FORMS[form])
     p, ph, af, de = grid()
     pf0 = flattening_pressure(af, P)
-    for h, tol in ((1e11, 1e-9), (1e6, 1e-9), (4e9, 5e-5)):
+    for h, tol, n_held in ((1e11, 1e-9, 150), (1e6, 1e-9, 0), (4e9, 5e-5, 60)):
         _, _, a_k, _ = update(P, p, ph, af, de, hardening=h)
         pf = flattening_update(pf0, np.maximum(ph, p), p, de, P, hardening=h)
         a_ref = np.maximum(fl.alpha_first(pf, P), af)
         assert np.allclose(a_k, a_ref, rtol=tol, atol=1e-12), h
+        # Eq. F2d: held at the sinking the modulus holds on so many nodes of the grid
+        held = fl.alpha_first(np.maximum(ph, p), P) + 0.75 * p / (h * P.flattening.slope)
+        assert np.sum(np.abs(a_k - held) < 1e-12) >= n_held, h
     _, _, a0, _ = update(P, p, ph, af, de)
     _, _, a1, _ = update(P, p, ph, af, de, hardening=0.0)
     assert np.array_equal(a0, a1)  # 0: perfectly plastic, bit for bit
@@ -269,6 +272,18 @@ def test_the_tangent_with_the_hardening_limit():
         dp = 1e-6 * p
         t, dtdp, _, _ = update(P, np.array([p - dp, p, p + dp]), 0.0, 0.0, 0.01, hardening=h)
         assert dtdp[1] == pytest.approx((t[2] - t[0]) / (2 * dp), rel=1e-5, abs=1e-12), (pr, h)
+    # held by the hardening (Eq. F2d): alpha1'(p) + 3 / (4 h tan(theta)) on first loading;
+    # below a history the fraction's history term is fixed (the tangent there: the reload
+    # branch at its fixed level, as above)
+    for pr, ph_fac in ((0.2, 0.0), (0.05, 0.0), (0.2, 1.0 + 1e-5)):
+        p, h = pr * H, 1e11
+        dp = 1e-6 * p
+        pp = np.array([p - dp, p, p + dp])
+        t, dtdp, a, _ = update(P, pp, ph_fac * p, 0.0, 0.5, hardening=h)
+        held = fl.alpha_first(np.maximum(ph_fac * p, pp), P) + 0.75 * pp / (h * 0.05)
+        assert P.flattening.slope == 0.05 and np.allclose(a, held, rtol=1e-13, atol=0)
+        if ph_fac == 0.0:
+            assert dtdp[1] == pytest.approx((t[2] - t[0]) / (2 * dp), rel=1e-5, abs=1e-12), pr
 
 
 def test_the_host_flow_stress_against_the_numpy_model():

@@ -155,6 +155,49 @@ def test_the_curve_along_a_flow_curve_against_an_ode_solver(p_over_h):
     assert np.allclose(got, want, rtol=0, atol=2e-5), (got, want)
 
 
+def test_the_sinking_a_stiff_hardening_holds_against_an_ode_solver():
+    """Eq. F2d along a flow curve: a table of two stiff segments (moduli 2 and 1 GPa) holds the
+    flattening at ``alpha1(p) + 3 p / (4 h tan(theta))``, where it stays until the modulus
+    falls at the knot and then grows again; against SciPy integrating Eq. F3 segment by segment
+    up to that bound (an event ends the integration there, the bound holds the fraction to the
+    segment's end)."""
+    from scipy.integrate import solve_ivp
+
+    curve = TabulatedCurve((0.0, 0.1, 0.4), (LAW.sigma_y, LAW.sigma_y + 2e8, LAW.sigma_y + 5e8))
+    p, f = 0.05 * H, LAW.flattening
+    eps = np.array([0.02, 0.05, 0.1, 0.105, 0.2, 0.3])
+
+    def rate(e, y):
+        a = min(float(y[0]), 1.0 - 1e-12)
+        pf = float(flattening_pressure(a, LAW))
+        s0 = 2.0 * float(LAW.k) * float(curve.sigma_y(e)) / LAW.sigma_y
+        h = float(curve.hardening(e))
+        c = min(float(lattice_sink_rate(a, f.slope)), float(lattice_hardening_limit(p, h)))
+        c += float(layer_sink_rate(p / pf, s0 / pf))
+        return [STRETCH_PER_EQUIVALENT_STRAIN * f.beta * c / f.slope]
+
+    e0 = 1e-9  # the layer's singular start, as in the test above
+    a = float(flattening_curve(p, e0, LAW, flow_curve=curve, steps=1))
+    want, held = [], []
+    for lo, hi, h in ((e0, 0.1, 2e9), (0.1, 0.3, 1e9)):
+        bound = float(alpha_first(p, LAW)) + 0.75 * p / (h * f.slope)
+        held.append(bound)
+        at = eps[(eps > lo) & (eps <= hi)]
+        sol = solve_ivp(
+            rate, (lo, hi), [a], dense_output=True, rtol=1e-10, atol=1e-12,
+            events=lambda e, y, b=bound: y[0] - b,
+        )  # fmt: skip
+        stop = sol.t_events[0][0] if sol.t_events[0].size else math.inf
+        want += [bound if e >= stop else float(sol.sol(e)[0]) for e in at]
+        a = bound if stop < hi else float(sol.sol(hi)[0])
+    want = np.array(want)
+    got = flattening_curve(p, eps, LAW, flow_curve=curve, steps=630)  # the knot a step end
+    # the first segment reaches its bound before the knot, the second rises from it to its own
+    assert want[0] < held[0] - 0.01 and np.all(want[1:3] == held[0])
+    assert held[0] + 0.03 < want[3] < held[1] - 0.01 and want[-1] == held[1]
+    assert np.allclose(got, want, rtol=0, atol=2e-5), (got, want)
+
+
 def test_the_midpoint_steps_converge_at_second_order():
     p, eps = 0.05 * H, np.array([0.005, 0.02, 0.05])
     ref = flattening_curve(p, eps, LAW, flow_curve=DC04, steps=512)

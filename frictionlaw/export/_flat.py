@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._flattening_block import LIMIT_MODEL
-from ..flattening import STRETCH_PER_EQUIVALENT_STRAIN, flattening_data
+from ..flattening import HARDENING_SINK, STRETCH_PER_EQUIVALENT_STRAIN, flattening_data
 
 __all__ = [
     "FlatSpec",
@@ -141,6 +141,9 @@ class FlatSpec:
     edge : tuple of float
         The two-state block's ``edge_slope`` (empty: its one slope); ``edge_data`` its DATA
         statements (``EDG``).
+    sink : float
+        The sinking per half-spacing a hardening bulk holds, times ``h / p``, ``3 / 4`` (Eq.
+        F2d, :data:`frictionlaw.flattening.HARDENING_SINK`).
     """
 
     slope: float
@@ -157,6 +160,7 @@ class FlatSpec:
     limit: "LimitSpec | None" = None
     edge: tuple = ()
     edge_data: tuple = ()
+    sink: float = HARDENING_SINK
 
 
 def flat_spec(params, units):

@@ -343,7 +343,9 @@ C     pressure P with the bulk's plastic strain increment DEPS (and
 C     flow stress SIGY, <= 0: the file's sigma_y; hardening modulus
 C     HMOD, d sigma_y / d eps_eq, <= 0: perfectly plastic, which
 C     limits the lattice's rate to 6 P / HMOD, Eq. F2c): P0 =
-C     max(p_f, PH, P) (p_f the pressure whose alpha1 is AF), then F6.
+C     max(p_f, PH, P) (p_f the pressure whose alpha1 is AF), then F6,
+C     held at alpha1(max(PH, P)) + HSK P / (HMOD SLOPE) (Eq. F2d; PF
+C     then 0).
 C     ANEW: the trial fraction (never below AF); PF: its flattening
 C     pressure where it was needed and the point is flattened beyond
 C     max(PH, P), else 0; DADP: the update's d alpha/dP (0 without
@@ -354,7 +356,7 @@ C=======================================================================
      &                        DADP)
       IMPLICIT NONE
       DOUBLE PRECISION P, PH, AF, DEPS, SIGY, HMOD, ANEW, PF, DADP
-      DOUBLE PRECISION P0, A0, D0, S0, X, DD, PP, DA, AP, CMX
+      DOUBLE PRECISION P0, A0, D0, S0, X, DD, PP, DA, AP, CMX, HK
       DOUBLE PRECISION {{ zp }}FINV
       EXTERNAL {{ zp }}FINV
       DOUBLE PRECISION H, SLOPE, BETA, STR, S0F, SIGYF, CAP, PMIN
@@ -366,6 +368,8 @@ C=======================================================================
       PARAMETER (SIGYF = {{ flat.sigma_y | double }})
       PARAMETER (CAP = {{ flat.cap | double }})
       PARAMETER (PMIN = {{ flat.p_min | double }})
+      DOUBLE PRECISION HSK
+      PARAMETER (HSK = {{ flat.sink | double }})
       ANEW = AF
       PF = 0.0D0
       DADP = 0.0D0
@@ -386,6 +390,16 @@ C=======================================================================
       CMX = HUGE(1.0D0)
       IF (HMOD .GT. 0.0D0) CMX = 6.0D0*P/HMOD
       CALL {{ zp }}FSOLV(P, P0, DD, CAP, P/S0, SLOPE, CMX, PP, DA, AP)
+      IF (HMOD .GT. 0.0D0) THEN
+        CALL {{ zp }}A1D(MAX(PH, P), A0, D0)
+        HK = HSK/(HMOD*SLOPE)
+        IF (A0 + HK*P .LT. 1.0D0 .AND. AP .GT. A0 + HK*P) THEN
+          AP = A0 + HK*P
+          PP = 0.0D0
+          DA = HK
+          IF (P .GE. PH) DA = HK + D0
+        END IF
+      END IF
       IF (AP .GT. AF) THEN
         ANEW = AP
         PF = PP
