@@ -1,5 +1,4 @@
-"""The flattening's sinking rates (Eqs. F2a-F2c), their sum, the growth rate (Eq. F3), and the
-sinking a hardening bulk holds (Eq. F2d).
+"""The flattening's sinking rates and bound (Eqs. F2a-F2d) and the growth rate (Eq. F3).
 
 Private: :mod:`frictionlaw.flattening` is their public home (docs/flattening.md). Each checks
 its domain and names the argument. The host's flow stress, which scales the flow stress of
@@ -96,9 +95,7 @@ def lattice_hardening_limit(p: ArrayLike, hardening: ArrayLike | None) -> NDArra
         return np.where(h > 0, 6.0 * p / np.where(h > 0, h, 1.0), np.inf)
 
 
-def hardening_sinking_limit(
-    p: ArrayLike, hardening: ArrayLike | None
-) -> NDArray[np.float64]:
+def hardening_sinking_limit(p: ArrayLike, hardening: ArrayLike | None) -> NDArray[np.float64]:
     """The plateaus' sinking per half-spacing a hardening bulk holds at pressure ``p`` (Eq. F2d).
 
     ``delta / l = 3 p / (4 h)``. Stretched in plane strain, the material under a contact carries
