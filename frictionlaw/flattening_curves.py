@@ -41,6 +41,8 @@ from .flattening import (
     _s0,
     _split_at_kinks,
     _strain_scale,
+    flattening_pressure,
+    hardening_sinking_limit,
     lattice_hardening_limit,
 )
 from .law import alpha_first, broadcast_named
@@ -361,19 +363,19 @@ class FlatteningPaths:
             scale = np.repeat(b / block, n_p)  # Eq. F4: the strain per J scales as 1 / beta
             lv = np.tile(np.arange(n_p), n_b)
             u = np.zeros((n_b * n_p, self._nodes.shape[1]))
-            for k, (g, c_max, per) in enumerate(self._steps):
+            for k, (g, c_max, per, held) in enumerate(self._steps):
                 de = np.tile(self._nodes[:, k + 1] - self._nodes[:, k], n_b)
                 q = scale * de * np.tile(per, n_b)
-                u[:, k + 1] = _advance(
-                    self._grid, lv, u[:, k], q, np.tile(g, n_b), np.tile(c_max, n_b)
-                )
-            g, c_max, per = self._last
+                uk = _advance(self._grid, lv, u[:, k], q, np.tile(g, n_b), np.tile(c_max, n_b))
+                u[:, k + 1] = np.maximum(np.minimum(uk, np.tile(held, n_b)), u[:, k])  # F2d
+            g, c_max, per, held = self._last
             n_g = self._j.size
             row = (np.arange(n_b)[:, None] * n_p + self._j[None, :]).ravel()
             kr = np.tile(self._k, n_b)
             q = np.repeat(b / block, n_g) * np.tile(self._last_de * per, n_b)
             jj = np.tile(self._j, n_b)
             ur = _advance(self._grid, jj, u[row, kr], q, np.tile(g, n_b), np.tile(c_max, n_b))
+            ur = np.maximum(np.minimum(ur, np.tile(held, n_b)), u[row, kr])  # F2d
             ur = np.minimum(ur, u[row, kr + 1])  # the step to the next end holds the point
             pg = np.tile(self.p[self._go], n_b)
             p_f = np.minimum(pg * np.cosh(ur), self.cap)
@@ -400,12 +402,19 @@ def _path_nodes(top: NDArray, steps: int, flow_curve: "FlowCurve") -> NDArray[np
 
 
 def _step_terms(p, mid, params, flow_curve):
-    """``g = p / s0``, the hardening limit and ``1 / (kappa ph^2)`` at the strains ``mid``."""
+    """``g = p / s0``, the hardening limit, ``1 / (kappa ph^2)`` and the bound of Eq. F2d on
+    ``u`` (``inf``: none) at the strains ``mid``."""
     H = params.H
     s0 = _s0(params, flow_curve.sigma_y(mid), p.shape)
-    c_max = lattice_hardening_limit(p, flow_curve.hardening(mid))
+    h = flow_curve.hardening(mid)
+    c_max = lattice_hardening_limit(p, h)
     per = 1.0 / (_strain_scale(_flattening_of(params), H, s0) * (p / H) ** 2)
-    return p / s0, c_max, per
+    with np.errstate(over="ignore"):  # a modulus of 1e-300: no bound
+        a = alpha_first(p, params) + hardening_sinking_limit(p, h) / _flattening_of(params).slope
+    held = np.full(p.shape, np.inf)
+    b = a < 1.0
+    held[b] = np.arccosh(np.maximum(flattening_pressure(a[b], params) / p[b], 1.0))
+    return p / s0, c_max, per, held
 
 
 def _advance(grid: _Grid, j, u0, q, g, c_max) -> NDArray[np.float64]:

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from frictionlaw import Flattening, FrictionParams, flattening_curve
+from frictionlaw import Flattening, FrictionParams, alpha_first, flattening_curve
 from frictionlaw.first_loading import FirstLoadingTable
 from frictionlaw.flattening import _coeffs, _j_integrand, _kinks, _p_cap, equivalent_strain
 from frictionlaw.flattening_curves import FlatteningCurves, FlatteningPaths
@@ -150,6 +150,22 @@ def test_the_paths_end_steps_at_a_tabulated_curves_points():
     fine = FlatteningPaths(p, eps, P, tc, steps=1024).alpha()
     assert np.abs(FlatteningPaths(p, eps, P, tc).alpha() - fine).max() < 1e-6
     assert np.abs(flattening_curve(p, eps, P, flow_curve=tc, steps=64) - fine).max() > 1e-4
+
+
+def test_the_paths_hold_the_sinking_a_stiff_hardening_holds():
+    """Eq. F2d along the paths: a table of two stiff segments (moduli 2 and 1 GPa) holds the
+    fraction at ``alpha1(p) + 3 p / (4 h tan(theta))`` until the modulus falls at the knot; the
+    paths (which end a step there) as the per-point rule with the knot at a step end."""
+    P = law(EQ24)
+    tc = TabulatedCurve((0.0, 0.1, 0.4), (P.sigma_y, P.sigma_y + 2e8, P.sigma_y + 5e8))
+    p, eps = np.full(6, 0.05 * H), np.array([0.02, 0.05, 0.1, 0.105, 0.2, 0.3])
+    got = FlatteningPaths(p, eps, P, tc).alpha()
+    ref = flattening_curve(p, eps, P, flow_curve=tc, steps=630)
+    a0, k = float(alpha_first(0.05 * H, P)), 0.75 * 0.05 * H / P.flattening.slope
+    held = np.array([a0 + k / 2e9] * 3 + [math.nan] + [a0 + k / 1e9] * 2)
+    assert np.all(held[~np.isnan(held)] < 1.0) and ref[3] > held[2] + 0.01
+    assert np.allclose(ref[[1, 2, 4, 5]], held[[1, 2, 4, 5]], rtol=0, atol=1e-12)
+    assert np.abs(got - ref).max() < 1e-5
 
 
 # ----------------------------------------------------------------------------- the fit
