@@ -20,11 +20,16 @@ form), checked against the runtime's ``flattening_update(..., hardening=)`` with
 limits (the run prints both differences), and the ODE with F2c alone, as the runtime was before
 F2d.
 
+Held out: ``--material K,eps0,n`` runs another Swift curve of the same initial yield stress
+(so the same ``H``), into ``flattening_hardening_<tag>.*``: F2d's depth of one half-spacing was
+written down with DC04's truth in view, the other curves were run after it was fixed.
+
 Run: python benchmarks/flattening_hardening.py [--profiles "wedge 5 deg,wedge 10 deg"] [--reuse]
-[--workers 2] (default: every profile of ``asperity_flattening.py`` at p/H 0.05, 0.2 and 0.45;
-``--reuse``: the hardening truth's columns of the CSV a previous run wrote, the law evaluated
-again). 78 s with two workers on the shared 2-core machine. Writes
-benchmarks/results/flattening_hardening.csv and .md (run record: .run.json).
+[--workers 2] [--material K,eps0,n --tag NAME] (default: every profile of
+``asperity_flattening.py`` at p/H 0.05, 0.2 and 0.45, DC04; ``--reuse``: the hardening truth's
+columns of the CSV a previous run wrote, the law evaluated again). 78 s with two workers on the
+shared 2-core machine. Writes benchmarks/results/flattening_hardening[_NAME].csv and .md (run
+record: .run.json).
 """
 
 import argparse
@@ -42,6 +47,8 @@ from frictionlaw.flattening import flattening_pressure, flattening_update
 
 P_OVER_H = (0.05, 0.2, 0.45)
 STRAINS = (0.0, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2)
+#: the default results' name
+STEM = "flattening_hardening"
 #: sub-steps of the law's integration between two reported strains (the flow stress per step)
 SUBSTEPS = 50
 #: depths of F2d's sinking zone in half-spacings beside its estimate (1), to show what it weighs
@@ -124,16 +131,31 @@ def _fe_runs(names, profs, args, mat):
     }
 
 
-def _stored_truth():
+def _stored_truth(stem="flattening_hardening"):
     """``{(profile, p/H): (alpha_hardening, converged)}`` of the CSV a previous run wrote."""
     import csv
 
     out = {}
-    with (RESULTS / "flattening_hardening.csv").open(encoding="utf-8") as f:
+    with (RESULTS / f"{stem}.csv").open(encoding="utf-8") as f:
         for r in csv.DictReader(f):
             a, ok = out.setdefault((r["profile"], float(r["p_over_H"])), ([], r["converged"]))
             a.append(float(r["alpha_hardening"]))
     return {k: (np.array(a), ok == "True") for k, (a, ok) in out.items()}
+
+
+def _material(text):
+    """fe_demo's DC04, or the Swift curve ``K,eps0,n`` of the same initial yield stress."""
+    dc04 = Material()
+    if text is None:
+        return dc04
+    K, eps0, n = (float(v) for v in text.split(","))
+    mat = Material(K=K, eps0=eps0, n=n)
+    if abs(mat.sigma_y0 / dc04.sigma_y0 - 1.0) > 5e-3:
+        raise SystemExit(
+            f"--material: initial yield {mat.sigma_y0 / 1e6:.1f} MPa, not DC04's "
+            f"{dc04.sigma_y0 / 1e6:.1f} MPa (the perfectly plastic truth's H)"
+        )
+    return mat
 
 
 def main(argv=None):
@@ -149,10 +171,19 @@ def main(argv=None):
     ap.add_argument(
         "--reuse", action="store_true", help="the hardening truth of the CSV a previous run wrote"
     )
+    ap.add_argument(
+        "--material",
+        default=None,
+        help="another Swift curve K,eps0,n (K in Pa) of DC04's initial yield (default: DC04)",
+    )
+    ap.add_argument("--tag", default=None, help="results' name suffix (needed with --material)")
     args = ap.parse_args(argv)
-    stored = _stored_truth() if args.reuse else None
+    if bool(args.material) != bool(args.tag):
+        ap.error("--material and --tag go together (the held-out curve's results by name)")
+    stem = STEM + (f"_{args.tag}" if args.tag else "")
+    stored = _stored_truth(stem) if args.reuse else None
     pp, H = read_truth(RESULTS / "asperity_flattening.csv")
-    mat = Material()  # fe_demo's DC04 (Swift)
+    mat = _material(args.material)
     profs = profiles()
     names = list(profs) if args.profiles is None else args.profiles.split(",")
     if stored is None:
@@ -219,12 +250,14 @@ def main(argv=None):
                 + f" | {np.max(np.abs(law_h - a_h)):.3f} | {np.max(np.abs(f2c - a_h)):.3f} | "
                 f"{np.max(np.abs(cand - a_h)):.3f} | {np.max(np.abs(law - perfect)):.3f} |"
             )
-    write_rows(RESULTS / "flattening_hardening.csv", rows)
+    write_rows(RESULTS / f"{stem}.csv", rows)
     head = [
         "# The asperity truth with a hardening bulk (issue 43 study)",
         "",
-        f"`benchmarks/flattening_hardening.py`; mesh {args.nx} x {args.nz}; DC04 Swift "
-        f"(K 530 MPa, eps0 0.006, n 0.24; initial yield {mat.sigma_y0 / 1e6:.1f} MPa), "
+        f"`benchmarks/flattening_hardening.py`; mesh {args.nx} x {args.nz}; "
+        f"{'DC04 ' if not args.material else ''}Swift "
+        f"(K {mat.K / 1e6:.4g} MPa, eps0 {mat.eps0:g}, n {mat.n:g}; initial yield "
+        f"{mat.sigma_y0 / 1e6:.1f} MPa), "
         f"H = {H / 1e6:.1f} MPa as the perfectly plastic truth's; strains "
         + ", ".join(f"{e:g}" for e in STRAINS)
         + ". The law: the truth's own pressing-alone alpha as alpha1 (the hardening truth's for "
@@ -262,10 +295,13 @@ def main(argv=None):
         f"strains): {check_h:.1e}."
     )
     text = "\n".join(head + lines) + "\n"
-    Path(RESULTS / "flattening_hardening.md").write_text(text, encoding="utf-8")
+    Path(RESULTS / f"{stem}.md").write_text(text, encoding="utf-8")
     print(text)
 
 
 if __name__ == "__main__":
-    with run_record(__file__):
+    import sys
+
+    tag = sys.argv[sys.argv.index("--tag") + 1] if "--tag" in sys.argv[:-1] else None
+    with run_record(__file__, STEM + (f"_{tag}" if tag else "")):
         main()

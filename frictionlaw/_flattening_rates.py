@@ -86,13 +86,7 @@ def lattice_hardening_limit(p: ArrayLike, hardening: ArrayLike | None) -> NDArra
     ``min(c_L, 6 p / h)``: ``inf`` (no limit) for a perfectly plastic bulk, ``h = 0`` or ``None``
     (docs/flattening.md, "A hardening bulk").
     """
-    p = _checked("p", p, 0.0, math.inf, "finite and >= 0 (Pa)")
-    if hardening is None:
-        return np.full(p.shape, np.inf)
-    why = "finite and >= 0 (Pa, d sigma_y / d eps_eq; 0: perfectly plastic)"
-    h = _checked("hardening", hardening, 0.0, math.inf, why)
-    with np.errstate(divide="ignore", over="ignore"):  # a modulus of 1e-300: no limit (inf)
-        return np.where(h > 0, 6.0 * p / np.where(h > 0, h, 1.0), np.inf)
+    return _per_modulus(6.0, p, hardening)
 
 
 def hardening_sinking_limit(p: ArrayLike, hardening: ArrayLike | None) -> NDArray[np.float64]:
@@ -108,13 +102,18 @@ def hardening_sinking_limit(p: ArrayLike, hardening: ArrayLike | None) -> NDArra
     never undone. ``inf`` (no limit) for a perfectly plastic bulk, ``h = 0`` or ``None``
     (docs/flattening.md, "A hardening bulk").
     """
+    return _per_modulus(HARDENING_SINK, p, hardening)
+
+
+def _per_modulus(factor: float, p: ArrayLike, hardening: ArrayLike | None) -> NDArray[np.float64]:
+    """``factor p / h``, each argument checked and named; ``inf`` for ``h = 0`` or ``None``."""
     p = _checked("p", p, 0.0, math.inf, "finite and >= 0 (Pa)")
     if hardening is None:
         return np.full(p.shape, np.inf)
     why = "finite and >= 0 (Pa, d sigma_y / d eps_eq; 0: perfectly plastic)"
     h = _checked("hardening", hardening, 0.0, math.inf, why)
     with np.errstate(divide="ignore", over="ignore"):  # a modulus of 1e-300: no limit (inf)
-        return np.where(h > 0, HARDENING_SINK * p / np.where(h > 0, h, 1.0), np.inf)
+        return np.where(h > 0, factor * p / np.where(h > 0, h, 1.0), np.inf)
 
 
 def contact_growth_rate(

@@ -402,8 +402,10 @@ def _path_nodes(top: NDArray, steps: int, flow_curve: "FlowCurve") -> NDArray[np
 
 
 def _step_terms(p, mid, params, flow_curve):
-    """``g = p / s0``, the hardening limit, ``1 / (kappa ph^2)`` and the bound of Eq. F2d on
-    ``u`` (``inf``: none) at the strains ``mid``."""
+    """``g = p / s0``, both hardening limits and ``1 / (kappa ph^2)`` at the strains ``mid``.
+
+    The limits: F2c's on the lattice's rate and F2d's bound on ``u`` (``inf``: none).
+    """
     H = params.H
     s0 = _s0(params, flow_curve.sigma_y(mid), p.shape)
     h = flow_curve.hardening(mid)

@@ -228,6 +228,23 @@ def test_hardening_limits_the_lattice_and_the_sinking_in_closed_form():
     assert flattening_curve(p, 0.05, P, sigma_y=1e3) > want[3] + 0.1
 
 
+def test_the_sinking_limit_in_closed_form_and_its_arguments():
+    """Eq. F2d's ``3 p / (4 h)`` from the plane-strain columns: ``d (2 k) / d eps_x = 4 h / 3``
+    (``2 k = 2 sigma_y / sqrt 3``, ``eps_eq = 2 eps_x / sqrt 3``), so a stress difference ``p``
+    is a stretch difference ``3 p / (4 h)``; no bound for ``h = 0`` or ``None``; named errors."""
+    from frictionlaw.flattening import HARDENING_SINK, hardening_sinking_limit
+
+    d2k_dx = (2 / math.sqrt(3)) * (2 / math.sqrt(3))  # per unit h
+    assert HARDENING_SINK == pytest.approx(1 / d2k_dx, rel=1e-15)
+    got = hardening_sinking_limit([1e7, 1e8, 1e8], [1e9, 1e9, 0.0])
+    assert got[:2].tolist() == [0.0075, 0.075] and got[2] == np.inf
+    assert np.all(hardening_sinking_limit([1e7, 2e8], None) == np.inf)
+    with pytest.raises(ValueError, match="hardening must be finite and >= 0"):
+        hardening_sinking_limit(1e8, -2.0)
+    with pytest.raises(ValueError, match=r"p must be finite and >= 0 \(Pa\)"):
+        hardening_sinking_limit(-1.0, 1e9)
+
+
 def test_the_sinking_a_hardening_bulk_holds_is_reached_and_kept():
     """Eq. F2d in the per-node update: a node held at ``alpha1(max(p_hist, p)) + 3 p / (4 h
     tan(theta))`` stays there under more strain at that modulus, moves on as the modulus falls
