@@ -336,11 +336,15 @@ class FlatteningPaths:
         self._k = _search(self._nodes, self._j, ef[self._go])
         # each step's terms and each point's last step: fixed, whatever beta
         mids = (self._nodes[:, :-1] + self._nodes[:, 1:]) / 2
-        self._steps = [
-            _step_terms(levels, mids[:, k], params, flow_curve) for k in range(mids.shape[1])
-        ]
+        steps = [_step_terms(levels, mids[:, k], params, flow_curve) for k in range(mids.shape[1])]
         kn, eg = self._nodes[self._j, self._k], ef[self._go]
-        self._last = _step_terms(levels[self._j], (kn + eg) / 2, params, flow_curve)
+        last = _step_terms(levels[self._j], (kn + eg) / 2, params, flow_curve)
+        # F2d's bounds of every step and point as u, in one inversion of alpha1
+        p_all = np.concatenate([np.tile(levels, len(steps)), levels[self._j]])
+        a_all = np.concatenate([t[3] for t in steps] + [last[3]])
+        u_all = np.split(_held_u(p_all, a_all, params), np.arange(1, len(steps) + 1) * levels.size)
+        self._steps = [t[:3] + (u,) for t, u in zip(steps, u_all[:-1], strict=True)]
+        self._last = last[:3] + (u_all[-1],)
         self._last_de = eg - kn
 
     @property
@@ -404,7 +408,7 @@ def _path_nodes(top: NDArray, steps: int, flow_curve: "FlowCurve") -> NDArray[np
 def _step_terms(p, mid, params, flow_curve):
     """``g = p / s0``, both hardening limits and ``1 / (kappa ph^2)`` at the strains ``mid``.
 
-    The limits: F2c's on the lattice's rate and F2d's bound on ``u`` (``inf``: none).
+    The limits: F2c's on the lattice's rate and F2d's bound on the fraction (``inf``: none).
     """
     H = params.H
     s0 = _s0(params, flow_curve.sigma_y(mid), p.shape)
@@ -413,10 +417,15 @@ def _step_terms(p, mid, params, flow_curve):
     per = 1.0 / (_strain_scale(_flattening_of(params), H, s0) * (p / H) ** 2)
     with np.errstate(over="ignore"):  # a modulus of 1e-300: no bound
         a = alpha_first(p, params) + hardening_sinking_limit(p, h) / _flattening_of(params).slope
+    return p / s0, c_max, per, a
+
+
+def _held_u(p, a, params):
+    """F2d's bounds ``a`` on the fraction as ``u = acosh(p_f / p)`` (``inf`` from 1 on)."""
     held = np.full(p.shape, np.inf)
     b = a < 1.0
     held[b] = np.arccosh(np.maximum(flattening_pressure(a[b], params) / p[b], 1.0))
-    return p / s0, c_max, per, held
+    return held
 
 
 def _advance(grid: _Grid, j, u0, q, g, c_max) -> NDArray[np.float64]:
