@@ -531,7 +531,7 @@ def flattening_curve(
         Flow stress of the bulk (Pa) if not the file's ``sigma_y``.
     hardening : float, optional
         A constant hardening modulus ``d sigma_y / d eps_eq`` of the bulk (Pa), limiting the
-        lattice's rate (Eq. F2c); ``None``: a perfectly plastic bulk.
+        lattice's rate and the sinking (Eqs. F2c, F2d); ``None``: a perfectly plastic bulk.
     flow_curve : SwiftCurve or TabulatedCurve, optional
         The bulk's flow curve (:mod:`frictionlaw.flow_curve`) from zero strain, instead of
         ``sigma_y`` and ``hardening``: each point is integrated over ``steps`` equal strain steps

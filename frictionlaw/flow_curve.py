@@ -1,7 +1,7 @@
 """The workpiece's flow curve, for flattening runs that no FE host drives (docs/flattening.md).
 
 The flattening rate depends on the bulk's current flow stress (the layer's ``s0``) and, in a
-hardening bulk, on its hardening modulus ``d sigma_y / d eps_eq`` (Eq. F2c). An FE host passes
+hardening bulk, on its hardening modulus ``d sigma_y / d eps_eq`` (Eqs. F2c, F2d). An FE host passes
 both at each node. Where no host does (a curve at constant pressure, the fit of ``beta`` to a
 sheet measured in the lab) they come from the sheet's flow curve against the equivalent plastic
 strain, given in one of the two forms sheet-metal data sheets use:

@@ -120,7 +120,8 @@ def traction_update(
     hardening : float or array_like, shape (n,), optional
         The bulk's hardening modulus ``d sigma_y / d eps_eq`` per node (Pa, finite, ``>= 0``),
         with ``d_eps`` only: it limits the slip-line lattice's sinking rate to ``6 p / h``
-        (docs/flattening.md, Eq. F2c); ``None`` or 0: a perfectly plastic bulk, as before.
+        and the flattening beyond the pressing to ``3 p / (4 h tan(theta))`` (Eqs. F2c and
+        F2d, docs/flattening.md); ``None`` or 0: a perfectly plastic bulk, as before.
         Refused for a block of the two-state model (``limit-analysis``), whose table is
         perfectly plastic, and for a zoned law with such a zone; that model reads and writes
         the state's ``slope_f`` beside ``alpha_f``.

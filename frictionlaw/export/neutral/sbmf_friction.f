@@ -45,7 +45,7 @@ C          6 an input the caller sets before each call, read and
 C          never written: the bulk's hardening modulus d sigma_y /
 C          d eps_eq at the point (host stress unit; <= 0 or NSTATE < 6:
 C          perfectly plastic), which limits the flattening's lattice
-C          (Eq. F2c).
+C          and its sinking (Eqs. F2c, F2d).
 {% else %}
 C          fraction alpha_f (0: never flattened; kept as passed: this
 C          law has no flattening block), 6 the bulk's hardening
