@@ -417,8 +417,9 @@ def export(
         (SMP and MPP), whose host passes the element's plastic strain but neither its flow
         stress nor its hardening modulus: the routine reads both off the curve at the strain
         (docs/fe_codes.md), so the flattening's layer follows the hardening and its lattice and
-        sinking are limited by it (Eqs. F2c, F2d). Without it the routine runs the file's ``sigma_y`` and the
-        perfectly plastic rate. Refused for other targets and files without a flattening block.
+        sinking are limited by it (Eqs. F2c, F2d). Without it the routine runs the file's
+        ``sigma_y`` and the perfectly plastic rate. Refused for other targets and files without
+        a flattening block.
 
     Returns
     -------
