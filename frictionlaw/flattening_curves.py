@@ -336,14 +336,14 @@ class FlatteningPaths:
         self._k = _search(self._nodes, self._j, ef[self._go])
         # each step's terms and each point's last step: fixed, whatever beta
         mids = (self._nodes[:, :-1] + self._nodes[:, 1:]) / 2
-        steps = [_step_terms(levels, mids[:, k], params, flow_curve) for k in range(mids.shape[1])]
+        terms = [_step_terms(levels, mids[:, k], params, flow_curve) for k in range(mids.shape[1])]
         kn, eg = self._nodes[self._j, self._k], ef[self._go]
         last = _step_terms(levels[self._j], (kn + eg) / 2, params, flow_curve)
         # F2d's bounds of every step and point as u, in one inversion of alpha1
-        p_all = np.concatenate([np.tile(levels, len(steps)), levels[self._j]])
-        a_all = np.concatenate([t[3] for t in steps] + [last[3]])
-        u_all = np.split(_held_u(p_all, a_all, params), np.arange(1, len(steps) + 1) * levels.size)
-        self._steps = [t[:3] + (u,) for t, u in zip(steps, u_all[:-1], strict=True)]
+        p_all = np.concatenate([np.tile(levels, len(terms)), levels[self._j]])
+        a_all = np.concatenate([t[3] for t in terms] + [last[3]])
+        u_all = np.split(_held_u(p_all, a_all, params), np.arange(1, len(terms) + 1) * levels.size)
+        self._steps = [t[:3] + (u,) for t, u in zip(terms, u_all[:-1], strict=True)]
         self._last = last[:3] + (u_all[-1],)
         self._last_de = eg - kn
 
