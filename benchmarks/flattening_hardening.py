@@ -132,7 +132,7 @@ def _fe_runs(names, profs, args, mat):
     }
 
 
-def _stored_truth(stem="flattening_hardening"):
+def _stored_truth(stem=STEM):
     """``{(profile, p/H): (alpha_hardening, converged)}`` of the CSV a previous run wrote."""
     import csv
 
