@@ -31,6 +31,16 @@ def pressed_slope(deg, ph):
     return float(s[0]) / math.tan(math.radians(deg))
 
 
+def wedge_truth(truth, deg, ph):
+    """The FE truth's ``(strain, alpha)`` of the ``deg`` wedge at ``p/H = ph``, by strain
+    (``truth``: the rows of ``flattening_truth.csv``)."""
+    return sorted(
+        (float(r["strain"]), float(r["alpha_truth"]))
+        for r in truth
+        if r["profile"] == f"wedge {deg:g} deg" and float(r["p_over_H"]) == ph
+    )
+
+
 def compare(rows):
     truth = read_rows(RESULTS / "flattening_truth.csv")
     out = []
@@ -38,11 +48,7 @@ def compare(rows):
         rate = Rates(rows, ph)
         for deg in SLOPES:
             ratio = pressed_slope(deg, ph)
-            pts = sorted(
-                (float(r["strain"]), float(r["alpha_truth"]))
-                for r in truth
-                if r["profile"] == f"wedge {deg:g} deg" and float(r["p_over_H"]) == ph
-            )
+            pts = wedge_truth(truth, deg, ph)
             strains = [e for e, _ in pts]
             t = math.tan(math.radians(deg))
             virgin = curve(rate, pts[0][1], t, strains, STEP)

@@ -42,6 +42,7 @@ import numpy as np
 from _provenance import RESULTS, read_rows, run_record, write_report, write_rows
 from flattening_limit import curve, program, solve
 from flattening_limit_law import PRESSURES, STEP, TABLE, Rates, _flank_weights, _read, n_flank
+from flattening_limit_pressed import wedge_truth
 from flattening_limit_rows import block_edges
 from flattening_limit_scan import blocks, row_curves, scan_surface
 from flattening_truth import curve_misses
@@ -140,11 +141,7 @@ def compare(turn, rows):
     for ph in PRESSURES:
         rate = Rates(rows, ph)
         for deg in SLOPES:
-            pts = sorted(
-                (float(r["strain"]), float(r["alpha_truth"]))
-                for r in truth
-                if r["profile"] == f"wedge {deg:g} deg" and float(r["p_over_H"]) == ph
-            )
+            pts = wedge_truth(truth, deg, ph)
             strains = [e for e, _ in pts]
             t = math.tan(math.radians(deg))
             a0 = pts[0][1]
