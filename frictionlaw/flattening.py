@@ -300,8 +300,7 @@ def equivalent_strain(
     out[tiny & (p_f.ravel() > p.ravel())] = np.inf
     out[tiny & (p_f.ravel() <= p.ravel())] = 0.0
     if hardening is not None:  # Eq. F2d: beyond the sinking a constant modulus holds, none
-        with np.errstate(over="ignore"):
-            a_eq = alpha_first(p, params) + hardening_sinking_limit(p, h) / flat.slope
+        a_eq = _sinking_bound(p, p, h, params)
         out[(alpha_first(top, params) > a_eq.ravel()) & (a_eq.ravel() < 1.0)] = np.inf
     return out.reshape(p.shape)
 
@@ -403,13 +402,21 @@ def flattening_update(
     u = _solve_j(ph, target, u0, ucap, jx, panels)
     P = np.minimum(p[go] * np.cosh(u), cap)
     if hardening is not None:  # Eq. F2d: no further than the sinking the hardening holds
-        with np.errstate(over="ignore"):  # a modulus of 1e-300: no limit (inf)
-            lim = hardening_sinking_limit(p[go], h[go]) / flat.slope
-        a_eq = alpha_first(np.maximum(p_hist[go], p[go]), params) + lim
+        a_eq = _sinking_bound(np.maximum(p_hist[go], p[go]), p[go], h[go], params)
         held = (a_eq < 1.0) & (alpha_first(P, params) > a_eq)
         P = np.where(held, flattening_pressure(np.where(held, a_eq, 0.0), params), P)
     out[go] = np.maximum(P, p_f[go])
     return out
+
+
+def _sinking_bound(base, p, h, params):
+    """Eq. F2d's bound on the flattened fraction: ``alpha1(base) + 3 p / (4 h tan(theta))``.
+
+    ``inf`` where the modulus is 0.
+    """
+    with np.errstate(over="ignore"):  # a modulus of 1e-300: no bound (inf)
+        lim = hardening_sinking_limit(p, h) / _flattening_of(params).slope
+    return alpha_first(base, params) + lim
 
 
 def _solve_j(ph, target, lo, hi, jx, panels):

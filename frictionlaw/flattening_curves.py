@@ -39,10 +39,10 @@ from .flattening import (
     _kinks,
     _p_cap,
     _s0,
+    _sinking_bound,
     _split_at_kinks,
     _strain_scale,
     flattening_pressure,
-    hardening_sinking_limit,
     lattice_hardening_limit,
 )
 from .law import alpha_first, broadcast_named
@@ -415,9 +415,7 @@ def _step_terms(p, mid, params, flow_curve):
     h = flow_curve.hardening(mid)
     c_max = lattice_hardening_limit(p, h)
     per = 1.0 / (_strain_scale(_flattening_of(params), H, s0) * (p / H) ** 2)
-    with np.errstate(over="ignore"):  # a modulus of 1e-300: no bound
-        a = alpha_first(p, params) + hardening_sinking_limit(p, h) / _flattening_of(params).slope
-    return p / s0, c_max, per, a
+    return p / s0, c_max, per, _sinking_bound(p, p, h, params)
 
 
 def _held_u(p, a, params):
