@@ -18,6 +18,7 @@ __all__ = [
     "layer_sink_rate",
     "lattice_sink_rate",
     "lattice_hardening_limit",
+    "lattice_hardening_factor",
     "hardening_sinking_limit",
     "contact_growth_rate",
 ]
@@ -74,17 +75,34 @@ def _checked(name: str, value: ArrayLike, lo: float, hi: float, allowed: str) ->
     return a
 
 
-def lattice_hardening_limit(p: ArrayLike, hardening: ArrayLike | None) -> NDArray[np.float64]:
-    """The lattice's sinking rate a hardening bulk allows (Eq. F2c): ``2 p / h_k``.
+def lattice_hardening_limit(
+    p: ArrayLike, hardening: ArrayLike | None, alpha: ArrayLike
+) -> NDArray[np.float64]:
+    """The lattice's sinking rate a hardening bulk allows (Eq. F2c): ``6 p (1 - A) / h``.
 
     The lattice sinks the plateaus by an uneven split of the slip between its two families; in a
     hardening bulk the side that slipped more is stronger and the pressure pays for it. Material
     carried through the sinking zone by the stretch gains the extra shear ``v_b / (l eps_dot)``
     and on average half the flow stress ``h_k`` times it, ``h_k = dk/dgamma = h / 3`` (von Mises,
-    ``h = d sigma_y / d eps_eq``); the pressure's work equals that dissipation at
-    ``v_b / (l eps_dot) = 2 p / h_k = 6 p / h``. The lattice's rate is
-    ``min(c_L, 6 p / h)``: ``inf`` (no limit) for a perfectly plastic bulk, ``h = 0`` or ``None``
+    ``h = d sigma_y / d eps_eq``). The pressure works on the split only through the plateaus'
+    descent against the surface's mean, ``(1 - A) v_b`` (the valleys, ``1 - A`` of the period,
+    rise by ``A v_b``: the split leaves the mean surface where the uniform thinning puts it), so
+    its work equals that dissipation at ``v_b / (l eps_dot) = 2 p (1 - A) / h_k = 6 p (1 - A) /
+    h``. The lattice's rate is ``min(c_L, 6 p (1 - A) / h)`` at the contact fraction ``alpha``:
+    ``inf`` (no limit) for a perfectly plastic bulk, ``h = 0`` or ``None``
     (docs/flattening.md, "A hardening bulk").
+    """
+    a = _checked("alpha", alpha, 0.0, 1.0, "a contact fraction in [0, 1]")
+    k = lattice_hardening_factor(p, hardening)
+    with np.errstate(invalid="ignore"):  # inf (no limit) times 1 - A = 0 stays inf
+        return np.where(np.isinf(k), np.inf, k * (1.0 - a))
+
+
+def lattice_hardening_factor(p: ArrayLike, hardening: ArrayLike | None) -> NDArray[np.float64]:
+    """Eq. F2c's limit per unit ``1 - A``: ``6 p / h`` (``inf`` for ``h = 0`` or ``None``).
+
+    What a node's update carries: the limit itself is this times ``1 - A`` at the fraction the
+    integral of Eq. F4 has reached (:func:`lattice_hardening_limit`).
     """
     return _per_modulus(6.0, p, hardening)
 

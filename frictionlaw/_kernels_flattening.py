@@ -128,12 +128,13 @@ def flat_rate(m, a, cmax):
     """The lattice's rate at the fraction ``a`` and the weight of its term in the tangent.
 
     ``(c_L, 1)`` with ``c_L = 1 + m (1 - a)`` (``m = tan(theta)``; a function of ``t = p cosh v``
-    through ``a``), or ``(cmax, 0)`` where the hardening limits it (Eq. F2c: ``cmax = 6 p / h``,
-    a function of ``p`` itself, whose tangent has no such term; docs/flattening.md, F6).
+    through ``a``), or ``(cmax (1 - a), 0)`` where the hardening limits it (Eq. F2c: ``cmax = 6 p
+    / h``; ``p`` times a function of ``t``, whose tangent has no such term; docs/flattening.md,
+    F6). ``cmax`` infinite: no limit.
     """
     cl = 1.0 + m * (1.0 - a)
-    if cl > cmax:
-        return cmax, 0.0
+    if cmax < math.inf and cl > cmax * (1.0 - a):
+        return cmax * (1.0 - a), 0.0
     return cl, 1.0
 
 
@@ -144,9 +145,10 @@ def flat_panels(c1, p, ua, ub, g, slope, cmax):
     """The two integrals of :func:`flat_quad` over ``ua..ub`` where the integrand is smooth.
 
     ``g = p / s0``, ``slope = tan(theta)`` and the hardening's limit ``cmax`` on the lattice's
-    rate (Eq. F2c, ``inf``: none) set ``W`` (:func:`flat_weight`). Where the limit acts the
-    lattice's rate is ``cmax = 6 p / h``, proportional to ``p``: the tangent's integrand is
-    ``alpha1' cosh v / W^2`` there (docs/flattening.md, F6).
+    rate (Eq. F2c, per unit ``1 - A``; ``inf``: none) set ``W`` (:func:`flat_weight`). Where the
+    limit acts the lattice's rate is ``cmax (1 - alpha1(t))``, ``cmax = 6 p / h``: ``p`` times a
+    function of ``t``, and the tangent's integrand is ``alpha1' cosh v / W^2`` there
+    (docs/flattening.md, F6).
 
     Gauss-Legendre on equal panels no wider than 0.5 in ``v``: 8 nodes a panel, 4 on an
     interval narrower than 0.05 and 2 below 7e-4 (the Newton corrections), each within about
@@ -184,11 +186,11 @@ def flat_quad(c1, p, ua, ub, g, m, cmax):
     """The strain integral of Eq. F4 and the tangent's integral over ``ua..ub``.
 
     ``(int alpha1' cosh v sinh(v)^2 / W dv, int alpha1' cosh v (1 - g c_L cosh v sinh(v)^3) /
-    W^2 dv)`` over ``ua..ub``, ``alpha1'`` at ``p cosh v``, ``W`` of :func:`flat_weight` with ``g = p / s0``
-    and ``c_L = min(1 + m (1 - alpha1), cmax)``, ``m = tan(theta)`` (``cmax`` where the hardening
-    limits it, Eq. F2c, the second integrand ``alpha1' cosh v / W^2`` there). Both integrals at
-    once (the second is
-    the tangent's, Eq. F6's ``d p_f / d p`` at a fixed ``s0``);
+    W^2 dv)`` over ``ua..ub``, ``alpha1'`` at ``p cosh v``, ``W`` of :func:`flat_weight` with
+    ``g = p / s0`` and ``c_L = min(1 + m (1 - alpha1), cmax (1 - alpha1))``, ``m = tan(theta)``
+    (the second where the hardening limits it, Eq. F2c, the second integrand ``alpha1' cosh v /
+    W^2`` there). Both integrals at once (the second is the tangent's, Eq. F6's ``d p_f / d p``
+    at a fixed ``s0``);
     ``ub < ua`` gives their negatives. Eq. 24's ``alpha1'`` is smooth: :func:`flat_panels` over
     the interval. The tabulated first loading's is continuous with kinks in its slope at the
     levels and where its top extension reaches a contact fraction of 1: the interval is split
@@ -342,7 +344,7 @@ def flattening_scalar(fdata, p, p_hist, alpha_f, d_eps, sigy, hard):
     x = p / H
     # 1/Pa, as the integrals; the equivalent strain stretches the ridges by STRETCH of it
     D = d_eps * STRETCH * fdata[1] * (s0 / H) / (fdata[0] * x * x) / H
-    cmax = 6.0 * p / hard if hard > 0.0 else math.inf  # Eq. F2c
+    cmax = 6.0 * p / hard if hard > 0.0 else math.inf  # Eq. F2c, per unit 1 - A
     P, dadp, aP = flattening_solve(c1, p, P0, D, cap, p / s0, fdata[0], cmax)
     if hard > 0.0:  # Eq. F2d: no further than the sinking the hardening holds
         a_b, d_b = first_scalar(c1, max(p_hist, p))

@@ -57,6 +57,7 @@ from ._flattening_rates import (
     contact_growth_rate,
     hardening_sinking_limit,
     host_flow_stress,
+    lattice_hardening_factor,
     lattice_hardening_limit,
     lattice_sink_rate,
     layer_sink_rate,
@@ -143,9 +144,9 @@ def _j_integral(
     """``J / H^2`` of Eq. F4 up to ``p_f = p cosh(u)``, pressures in units of ``H`` (``ph``).
 
     ``t = p cosh(v)`` turns ``J`` into ``p^3 int_0^u alpha1'(t) cosh v sinh(v)^2 / W dv`` with
-    ``W = 1 + g cosh v sinh v min(c_L(alpha1(t)), c_max)``, ``g = p / s0``, ``c_max`` the
-    hardening's limit of Eq. F2c (``inf``: none): a smooth integrand (a kink where the limit
-    starts to act), summed by
+    ``W = 1 + g cosh v sinh v min(c_L(A), c_max (1 - A))``, ``A = alpha1(t)``, ``g = p / s0``,
+    ``c_max`` the hardening's limit of Eq. F2c per unit ``1 - A`` (``inf``: none): a smooth
+    integrand (a kink where the limit starts to act), summed by
     composite Gauss-Legendre (``_NODES`` per panel, at least ``_PANELS`` panels, none wider than
     ``_WIDTH``); a solve passes one ``panels`` for all its calls, so that ``J`` is one function of
     ``u`` throughout. ``kinks`` (:func:`_kinks`, pressures in units of ``H``): a tabulated
@@ -183,7 +184,9 @@ def _j_integrand(ph, v, coeffs, H, g, slope, c_max):
     """``alpha1'(p cosh v) H cosh v sinh(v)^2 / W`` (F4 in ``v``; ``ph``, ``g``, ``c_max``: rows)."""
     ch, sh = np.cosh(v), np.sinh(v)
     a, d = evaluate(K.CODE_SBMF, coeffs, ph[:, None] * ch * H, 0.0)
-    c = np.minimum(lattice_sink_rate(np.asarray(a), slope), c_max[:, None])
+    c, lim = lattice_sink_rate(np.asarray(a), slope), np.isfinite(c_max)[:, None]
+    with np.errstate(invalid="ignore"):  # Eq. F2c, 6 p (1 - A) / h; inf: none (inf 0 is NaN)
+        c = np.where(lim, np.minimum(c, c_max[:, None] * (1.0 - np.asarray(a))), c)
     W = 1.0 + g[:, None] * ch * sh * c
     return np.asarray(d) * H * ch * sh**2 / W
 
@@ -292,7 +295,7 @@ def equivalent_strain(
     cap = _p_cap(params, coeffs)
     top = np.minimum(p_f.ravel(), cap)  # alpha1 is 1 beyond: J is complete
     u = np.arccosh(np.maximum(top / p.ravel(), 1.0))
-    c_max = lattice_hardening_limit(p, h).ravel()
+    c_max = lattice_hardening_factor(p, h).ravel()
     kinks = _kinks(params, cap)
     J = _j_integral(ph, u, coeffs, H, p.ravel() / s0, flat.slope, c_max, kinks=kinks)
     kappa = _strain_scale(flat, H, s0)
@@ -391,7 +394,7 @@ def flattening_update(
     p0 = np.minimum(np.maximum(np.maximum(p_f[go], p_hist[go]), p[go]), cap)
     s0 = s0_all[go]
     kappa = _strain_scale(flat, H, s0)
-    c_max = lattice_hardening_limit(p[go], h[go])
+    c_max = lattice_hardening_factor(p[go], h[go])
     kinks = _kinks(params, cap)
     jx = (coeffs, H, p[go] / s0, flat.slope, c_max, kinks)  # what J needs besides p / H and u
     u0 = np.arccosh(np.maximum(p0 / p[go], 1.0))

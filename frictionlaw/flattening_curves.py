@@ -28,6 +28,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._flattening_rates import lattice_hardening_factor
 from ._flattening_runs import running_max, strain_runs
 from .flattening import (
     _GW,
@@ -43,7 +44,6 @@ from .flattening import (
     _split_at_kinks,
     _strain_scale,
     flattening_pressure,
-    lattice_hardening_limit,
 )
 from .law import alpha_first, broadcast_named
 
@@ -413,7 +413,7 @@ def _step_terms(p, mid, params, flow_curve):
     H = params.H
     s0 = _s0(params, flow_curve.sigma_y(mid), p.shape)
     h = flow_curve.hardening(mid)
-    c_max = lattice_hardening_limit(p, h)
+    c_max = lattice_hardening_factor(p, h)
     per = 1.0 / (_strain_scale(_flattening_of(params), H, s0) * (p / H) ** 2)
     return p / s0, c_max, per, _sinking_bound(p, p, h, params)
 

@@ -137,9 +137,10 @@ def test_neutral_entry_limits_the_lattice_by_the_hardening_modulus(tmp_path, for
     assert fn() == 6
     p, ph, af, de, sy = grid()
     n = p.size
-    # 6 p / h: 0.2 (limited throughout), 1.02 (the limit starts inside the step: c_L falls
-    # from 1.05 as alpha rises), 50 (never), and DC04's modulus at eps 0.1 (700 MPa)
-    cmax = np.array([0.2, 1.02, 50.0, np.nan])[np.arange(n) % 4]
+    # 6 p / h: 0.05 (limited throughout, 0.05 (1 - A) < c_L), 1.02 (the limit starts inside the
+    # step: 1.02 (1 - A) falls below c_L as alpha rises), 50 (never but near full contact), and
+    # DC04's modulus at eps 0.1 (700 MPa)
+    cmax = np.array([0.05, 1.02, 50.0, np.nan])[np.arange(n) % 4]
     h = np.where(np.isnan(cmax), 7e8, 6.0 * p / np.nan_to_num(cmax, nan=1.0))
     state = np.zeros((n, 6))
     state[:, 0], state[:, 4], state[:, 5] = ph, af, h
@@ -154,7 +155,7 @@ def test_neutral_entry_limits_the_lattice_by_the_hardening_modulus(tmp_path, for
     held = fl.alpha_first(np.maximum(ph, p), P) + 0.75 * p / (h * P.flattening.slope)
     assert np.sum((np.abs(state[:, 4] - held) <= 1e-12 * held) & (held > af)) > 10
     plastic = runtime(P, p, ph, af, de, sy)[2]
-    slowed = (de > 0) & (cmax == 0.2) & (p > 0.05 * H) & (plastic < 1) & (plastic > af)
+    slowed = (de > 0) & (cmax == 0.05) & (p > 0.05 * H) & (plastic < 1) & (plastic > af)
     assert slowed.sum() > 10 and np.all(a_ref[slowed] < plastic[slowed])
     for k in (5, 6):  # no slot, or a zero modulus: the perfectly plastic rate
         st = np.zeros((n, k))

@@ -207,8 +207,9 @@ def test_the_host_strain_is_the_equivalent_plastic_strain():
 def test_hardening_limits_the_lattice_and_the_sinking_in_closed_form():
     """Eqs. F2c and F2d: with the layer's share removed (a 1 kPa flow stress) and a hardening
     modulus that limits the lattice everywhere (``6 p / h = 0.4 < 1``), ``dA/d eps_eq = r_s beta
-    0.4 / tan(theta)``: linear in strain until the sinking the hardening holds, ``3 p / (4 h) =
-    0.05`` half-spacings, ``A = alpha1(p) + 0.05 / tan(theta)``, where it stays."""
+    0.4 (1 - A) / tan(theta)``: ``1 - A`` falls exponentially with strain until the sinking the
+    hardening holds, ``3 p / (4 h) = 0.05`` half-spacings, ``A = alpha1(p) + 0.05 / tan(theta)``,
+    where it stays."""
     P = law(slope=0.08, beta=1.3)
     p = 0.1 * H
     h = 6.0 * p / 0.4
@@ -216,7 +217,7 @@ def test_hardening_limits_the_lattice_and_the_sinking_in_closed_form():
     a0 = alpha_first(p, P)
     held = a0 + 0.75 * p / h / 0.08
     assert held == pytest.approx(a0 + 0.625, rel=1e-14)
-    want = np.minimum(a0 + RS * 1.3 * 0.4 * eps / 0.08, held)
+    want = np.minimum(1.0 - (1.0 - a0) * np.exp(-RS * 1.3 * 0.4 * eps / 0.08), held)
     got = flattening_curve(p, eps, P, sigma_y=1e3, hardening=h)
     assert want[-3] < held and want[-2] == held
     assert np.allclose(got, want, rtol=0, atol=2e-4)
@@ -226,6 +227,22 @@ def test_hardening_limits_the_lattice_and_the_sinking_in_closed_form():
     assert equivalent_strain(p, flattening_pressure(held + 1e-3, P), P, hardening=h) == np.inf
     # without the limits the lattice's exponential (test above) is far faster
     assert flattening_curve(p, 0.05, P, sigma_y=1e3) > want[3] + 0.1
+
+
+def test_the_lattice_hardening_limit_falls_with_the_valleys():
+    """Eq. F2c: the pressure works on the lattice's split only through the plateaus' descent
+    against the surface's mean, ``(1 - A)`` of the relative sinking (the valleys, ``1 - A`` of
+    the period, rise by ``A`` of it), so the limit is ``6 p (1 - A) / h``: 0 at full contact,
+    ``6 p / h`` on a virgin point contact."""
+    from frictionlaw.flattening import lattice_hardening_limit
+
+    a = np.array([0.0, 0.25, 0.9, 1.0])
+    got = lattice_hardening_limit(1e8, 1e9, a)
+    assert got == pytest.approx([0.6, 0.45, 0.06, 0.0], rel=1e-14, abs=0)
+    # the split's surface velocities: plateaus down by (1 - A) v_b, valleys up by A v_b
+    down, up = (1.0 - a[:3]), a[:3]
+    assert np.allclose(a[:3] * down - (1.0 - a[:3]) * up, 0.0) and np.allclose(down + up, 1.0)
+    assert np.all(lattice_hardening_limit(1e8, None, a) == np.inf)
 
 
 def test_the_sinking_limit_in_closed_form_and_its_arguments():
@@ -552,14 +569,16 @@ def test_extreme_inputs_give_no_warning_and_bad_ones_are_named():
         warnings.simplefilter("error")
         base = flattening_curve(0.1 * H, [0.0, 0.01], P)
         assert np.array_equal(flattening_curve(0.1 * H, [0.0, 0.01], P, hardening=1e-300), base)
-        assert lattice_hardening_limit(1e8, 5e-324) == np.inf
+        assert lattice_hardening_limit(1e8, 5e-324, 0.5) == np.inf
+        assert lattice_hardening_limit([1e8, 1e8], [0.0, 5e-324], 1.0).tolist() == [np.inf] * 2
         eq = equivalent_strain([1e-300, 1e-100, 1e-300], [H, H, 1e-300], P)
         assert eq.tolist() == [np.inf, np.inf, 0.0]
     for call, name in (
         (lambda: flattened_alpha(1e8, np.inf, 0.0, P), "p_hist and p_f must be finite"),
         (lambda: layer_sink_rate(2.0, 1.0), "r must be in \\[0, 1\\]"),
         (lambda: lattice_sink_rate(5.0, 0.1), "alpha must be a contact fraction"),
-        (lambda: lattice_hardening_limit(1e8, -1.0), "hardening must be finite and >= 0"),
+        (lambda: lattice_hardening_limit(1e8, -1.0, 0.5), "hardening must be finite and >= 0"),
+        (lambda: lattice_hardening_limit(1e8, 1e9, 1.5), "alpha must be a contact fraction"),
         (lambda: contact_growth_rate(np.nan, 1e8, 0.3, 0.1, 1.0, 3e8), "p must not contain NaN"),
         (lambda: contact_growth_rate(1e8, 0.0, 0.3, 0.1, 1.0, 3e8), "p_f must be > 0"),
         (lambda: contact_growth_rate(1e8, 2e8, 0.3, 0.0, 1.0, 3e8), "slope must be finite and > 0"),

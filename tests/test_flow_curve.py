@@ -131,7 +131,7 @@ def _ode_curve(p, strains, params, curve):
         s0 = 2.0 * k_file * float(curve.sigma_y(eps)) / params.sigma_y
         c = min(
             float(lattice_sink_rate(a, f.slope)),
-            float(lattice_hardening_limit(p, float(curve.hardening(eps)))),
+            float(lattice_hardening_limit(p, float(curve.hardening(eps)), a)),
         )
         c += float(layer_sink_rate(p / pf, s0 / pf))
         return [STRETCH_PER_EQUIVALENT_STRAIN * f.beta * c / f.slope]
@@ -172,7 +172,7 @@ def test_the_sinking_a_stiff_hardening_holds_against_an_ode_solver():
         pf = float(flattening_pressure(a, LAW))
         s0 = 2.0 * float(LAW.k) * float(curve.sigma_y(e)) / LAW.sigma_y
         h = float(curve.hardening(e))
-        c = min(float(lattice_sink_rate(a, f.slope)), float(lattice_hardening_limit(p, h)))
+        c = min(float(lattice_sink_rate(a, f.slope)), float(lattice_hardening_limit(p, h, a)))
         c += float(layer_sink_rate(p / pf, s0 / pf))
         return [STRETCH_PER_EQUIVALENT_STRAIN * f.beta * c / f.slope]
 

@@ -89,17 +89,19 @@ C
 C=======================================================================
 C     The lattice's rate at the fraction A and the weight of its term
 C     in the tangent (Eq. F2c): CL = 1 + SL (1 - A), XL = 1, or where
-C     that exceeds the hardening's limit CMX (6 P / h; HUGE: none),
-C     CL = CMX, XL = 0.
+C     that exceeds the hardening's limit CMX (1 - A) (CMX = 6 P / h;
+C     HUGE or above: none), CL = CMX (1 - A), XL = 0.
 C=======================================================================
       SUBROUTINE {{ zp }}FRATE(SL, A, CMX, CL, XL)
       IMPLICIT NONE
       DOUBLE PRECISION SL, A, CMX, CL, XL
       CL = 1.0D0 + SL*(1.0D0 - A)
       XL = 1.0D0
-      IF (CL .GT. CMX) THEN
-        CL = CMX
-        XL = 0.0D0
+      IF (CMX .LT. HUGE(1.0D0)) THEN
+        IF (CL .GT. CMX*(1.0D0 - A)) THEN
+          CL = CMX*(1.0D0 - A)
+          XL = 0.0D0
+        END IF
       END IF
       RETURN
       END
@@ -110,8 +112,9 @@ C     int alpha1'(P cosh v) cosh v (1 - G CL cosh v sinh(v)**3) / W**2
 C     dv over UA..UB, W = 1 + G cosh v sinh v CL, CL = 1 + SL (1 -
 C     alpha1) the lattice's rate, G = P/s0, SL = tan(theta), where the
 C     integrand is smooth; where CL exceeds the hardening's limit CMX
-C     (Eq. F2c, 6 P / h, a function of P itself) CL = CMX and the
-C     second integrand is alpha1' cosh v / W**2 (FLATRT). Gauss-Legendre
+C     (1 - alpha1) (Eq. F2c, CMX = 6 P / h: P times a function of t)
+C     CL is that and the second integrand is alpha1' cosh v / W**2
+C     (FRATE). Gauss-Legendre
 C     on equal panels no wider than WIDTH, 8 nodes a panel, 4 on an
 C     interval narrower than NARR2 and 2 below NARR1.
 C=======================================================================
@@ -342,7 +345,7 @@ C     the committed flattened fraction AF and history PH, at the
 C     pressure P with the bulk's plastic strain increment DEPS (and
 C     flow stress SIGY, <= 0: the file's sigma_y; hardening modulus
 C     HMOD, d sigma_y / d eps_eq, <= 0: perfectly plastic, which
-C     limits the lattice's rate to 6 P / HMOD, Eq. F2c): P0 =
+C     limits the lattice's rate to 6 P (1 - A) / HMOD, Eq. F2c): P0 =
 C     max(p_f, PH, P) (p_f the pressure whose alpha1 is AF), then F6,
 C     held at alpha1(max(PH, P)) + HSK P / (HMOD SLOPE) (Eq. F2d; PF
 C     then 0).
