@@ -39,20 +39,29 @@ bracket or every eighth step. Every kernel has an explicit signature, ``cache=Tr
 import math
 
 import numba as nb
-import numpy as np
 from numba import float64, int8, int64, types
 
 from ._codes import CODE_SBMF_RELOAD
 from ._flattening_block import HARDENING_SINK, P_MIN_RATIO
 from ._flattening_block import STRETCH_PER_EQUIVALENT_STRAIN as STRETCH
-from ._kernels import first_offset, first_scalar, return_map_row, shear_scalar
+from ._kernels import first_scalar, return_map_row, shear_scalar
 from ._kernels_branches import _RO, _RO2, _opts
+from ._kernels_flattening_quad import (  # noqa: F401  (_GX, _GW, _WIDTH, _NARROW: the export's rules)
+    _GW,
+    _GX,
+    _NARROW,
+    _WIDTH,
+    alpha1_inverse,
+    flat_quad,
+    flat_rate,
+    flat_switch,
+    flat_weight,
+)
 
 __all__ = [
     "FLAT_HEAD",
     "P_MIN_RATIO",
     "alpha1_inverse",
-    "flat_panels",
     "flat_weight",
     "flat_rate",
     "flat_quad",
@@ -68,170 +77,7 @@ __all__ = [
 
 #: slots before the law's ``tau_max = 1`` coefficients in a law's flattening data
 FLAT_HEAD = 5
-#: Gauss-Legendre nodes and weights of the 2-, 4- and 8-point rules, one after the other
-_GX, _GW = (
-    np.ascontiguousarray(np.concatenate(r))
-    for r in zip(*(np.polynomial.legendre.leggauss(m) for m in (2, 4, 8)), strict=True)
-)
-_WIDTH = 0.5  # the widest panel in v, as the reference's
-_NARROW = (7e-4, 0.05)  # the widest interval of the 2- and of the 4-point rule
 _ROI = types.Array(int64, 1, "C", readonly=True)
-
-
-@nb.jit(float64(_RO, float64, float64, float64), **_opts)
-def alpha1_inverse(c1, a, lo, hi):
-    """The pressure ``P`` in ``[lo, hi]`` with ``alpha1(P) = a`` (``c1``: ``tau_max = 1``).
-
-    ``alpha1(lo) < a``; ``hi`` where ``alpha1(hi) <= a``. Safeguarded Newton in ``ln P`` on
-    ``ln alpha1`` (concave for Eq. 24, so from below it stays below), bisection in ``ln P`` where
-    a step leaves the bracket; to 1e-15 in ``ln P``.
-    """
-    if not a < first_scalar(c1, hi)[0]:
-        return hi
-    ln_a = math.log(a)
-    ylo = math.log(lo)
-    yhi = math.log(hi)
-    y = ylo
-    for it in range(200):
-        P = math.exp(y)
-        al, d = first_scalar(c1, P)
-        if not al > 0.0:
-            g = -math.inf
-        else:
-            g = math.log(al) - ln_a
-        if g == 0.0:
-            return P
-        if g < 0.0:
-            ylo = y
-        else:
-            yhi = y
-        s = P * d / al if al > 0.0 else 0.0
-        yn = y - g / s if s > 0.0 else math.nan
-        if abs(yn - y) <= 1e-15 * (1.0 + abs(y)):  # converged: the rest is below rounding
-            return math.exp(yn)
-        if not (ylo < yn < yhi) or it % 8 == 7:
-            yn = 0.5 * (ylo + yhi)
-        if abs(yn - y) <= 1e-15 * (1.0 + abs(y)) or yhi - ylo <= 1e-15 * (1.0 + abs(yhi)):
-            return math.exp(yn)
-        y = yn
-    return math.exp(y)
-
-
-@nb.jit(float64(float64, float64, float64, float64), **_opts)
-def flat_weight(g, ch, sh, cl):
-    """``W = 1 + g cosh v sinh v c_L``: the lattice's rate over the layer's in Eq. F4's integrand."""
-    return 1.0 + g * ch * sh * cl
-
-
-@nb.jit(types.UniTuple(float64, 2)(float64, float64, float64), **_opts)
-def flat_rate(m, a, cmax):
-    """The lattice's rate at the fraction ``a`` and the weight of its term in the tangent.
-
-    ``(c_L, 1)`` with ``c_L = 1 + m (1 - a)`` (``m = tan(theta)``; a function of ``t = p cosh v``
-    through ``a``), or ``(cmax (1 - a), 0)`` where the hardening limits it (Eq. F2c: ``cmax = 6 p
-    / h``; ``p`` times a function of ``t``, whose tangent has no such term; docs/flattening.md,
-    F6). ``cmax`` infinite: no limit.
-    """
-    cl = 1.0 + m * (1.0 - a)
-    if cmax < math.inf and cl > cmax * (1.0 - a):
-        return cmax * (1.0 - a), 0.0
-    return cl, 1.0
-
-
-@nb.jit(
-    types.UniTuple(float64, 2)(_RO, float64, float64, float64, float64, float64, float64), **_opts
-)
-def flat_panels(c1, p, ua, ub, g, slope, cmax):
-    """The two integrals of :func:`flat_quad` over ``ua..ub`` where the integrand is smooth.
-
-    ``g = p / s0``, ``slope = tan(theta)`` and the hardening's limit ``cmax`` on the lattice's
-    rate (Eq. F2c, per unit ``1 - A``; ``inf``: none) set ``W`` (:func:`flat_weight`). Where the
-    limit acts the lattice's rate is ``cmax (1 - alpha1(t))``, ``cmax = 6 p / h``: ``p`` times a
-    function of ``t``, and the tangent's integrand is ``alpha1' cosh v / W^2`` there
-    (docs/flattening.md, F6).
-
-    Gauss-Legendre on equal panels no wider than 0.5 in ``v``: 8 nodes a panel, 4 on an
-    interval narrower than 0.05 and 2 below 7e-4 (the Newton corrections), each within about
-    1e-13 of the panel's integral for an integrand whose derivatives grow as ``6^k``.
-    """
-    span = ub - ua
-    n = max(1, int(math.ceil(abs(span) / _WIDTH)))
-    h = span / n
-    if abs(h) <= _NARROW[0]:
-        k0, m = 0, 2
-    elif abs(h) <= _NARROW[1]:
-        k0, m = 2, 4
-    else:
-        k0, m = 6, 8
-    s1 = 0.0
-    s2 = 0.0
-    for k in range(n):
-        mid = ua + (k + 0.5) * h
-        for j in range(k0, k0 + m):
-            v = mid + 0.5 * h * _GX[j]
-            ch = math.cosh(v)
-            sh = math.sinh(v)
-            a, d = first_scalar(c1, p * ch)
-            cl, lim = flat_rate(slope, a, cmax)
-            w = flat_weight(g, ch, sh, cl)
-            s1 += _GW[j] * (d * ch * sh * sh / w)
-            s2 += _GW[j] * (d * ch * (1.0 - lim * g * cl * ch * sh * sh * sh) / (w * w))
-    return 0.5 * h * s1, 0.5 * h * s2
-
-
-@nb.jit(
-    types.UniTuple(float64, 2)(_RO, float64, float64, float64, float64, float64, float64), **_opts
-)
-def flat_quad(c1, p, ua, ub, g, m, cmax):
-    """The strain integral of Eq. F4 and the tangent's integral over ``ua..ub``.
-
-    ``(int alpha1' cosh v sinh(v)^2 / W dv, int alpha1' cosh v (1 - g c_L cosh v sinh(v)^3) /
-    W^2 dv)`` over ``ua..ub``, ``alpha1'`` at ``p cosh v``, ``W`` of :func:`flat_weight` with
-    ``g = p / s0`` and ``c_L = min(1 + m (1 - alpha1), cmax (1 - alpha1))``, ``m = tan(theta)``
-    (the second where the hardening limits it, Eq. F2c, the second integrand ``alpha1' cosh v /
-    W^2`` there). Both integrals at once (the second is the tangent's, Eq. F6's ``d p_f / d p``
-    at a fixed ``s0``);
-    ``ub < ua`` gives their negatives. Eq. 24's ``alpha1'`` is smooth: :func:`flat_panels` over
-    the interval. The tabulated first loading's is continuous with kinks in its slope at the
-    levels and where its top extension reaches a contact fraction of 1: the interval is split
-    there (at ``v = acosh(p_j / p)``) and each piece summed by :func:`flat_panels`.
-    """
-    sign = 1.0
-    lo = ua
-    hi = ub
-    if hi < lo:
-        sign = -1.0
-        lo = ub
-        hi = ua
-    f0 = first_offset(c1)
-    if f0 < 0:
-        s1, s2 = flat_panels(c1, p, lo, hi, g, m, cmax)
-        return sign * s1, sign * s2
-    nj = int(c1[f0 + 1])
-    H = c1[1]
-    s1 = 0.0
-    s2 = 0.0
-    a = lo
-    for j in range(nj + 1):
-        if j < nj:
-            tk = H * math.exp(c1[f0 + 2 + j])
-        else:  # where the top level's power law reaches ln alpha = 0
-            dtop = c1[f0 + 1 + 3 * nj]
-            if not dtop > 0.0:
-                break
-            tk = H * math.exp(c1[f0 + 1 + nj] - c1[f0 + 1 + 2 * nj] / dtop)
-        if not tk > p:
-            continue
-        vk = math.acosh(tk / p)
-        if vk >= hi:
-            break
-        if vk > a:
-            r1, r2 = flat_panels(c1, p, a, vk, g, m, cmax)
-            s1 += r1
-            s2 += r2
-            a = vk
-    r1, r2 = flat_panels(c1, p, a, hi, g, m, cmax)
-    return sign * (s1 + r1), sign * (s2 + r2)
 
 
 @nb.jit(
@@ -248,6 +94,7 @@ def flattening_solve(c1, p, P0, D, cap, g, m, cmax):
     """
     u0 = math.acosh(max(P0 / p, 1.0))
     ucap = math.acosh(cap / p)
+    vc = flat_switch(c1, p, P0, cap, m, cmax)  # where F2c's limit starts to act (inf: nowhere)
     u = u0
     F = 0.0  # the integral from u0 to u
     Ic = 0.0
@@ -282,7 +129,7 @@ def flattening_solve(c1, p, P0, D, cap, g, m, cmax):
             un = hi if not hi_checked else 0.5 * (lo + hi)
         elif not un > lo or (it % 8 == 7 and hi_checked):
             un = 0.5 * (lo + hi)
-        dF, dI = flat_quad(c1, p, u, un, g, m, cmax)
+        dF, dI = flat_quad(c1, p, u, un, g, m, cmax, vc)
         Fn = F + dF
         In = Ic + dI
         if un == ucap and not hi_checked:

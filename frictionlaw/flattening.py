@@ -32,7 +32,6 @@ float64; F6 is written per node so that it ports to a kernel.
 """
 
 import math
-from functools import lru_cache
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -53,6 +52,7 @@ from ._flattening_block import (
     Flattening,
     beta_absorbs_hardening,
 )
+from ._flattening_j import _j_integral, _panels, _solve_j
 from ._flattening_rates import (
     contact_growth_rate,
     hardening_sinking_limit,
@@ -101,94 +101,9 @@ __all__ = [
     "beta_absorbs_hardening",
 ]
 
-#: Gauss-Legendre nodes per panel of the ``J`` integral (F4), at least ``_PANELS`` panels and
-#: none wider than ``_WIDTH`` in ``u``: within 1e-9 of adaptive quadrature (the test's tolerance;
-#: 1e-13 typical) over ``p / H`` 1e-3 to 0.9 and ``p_f / p`` up to 4 (tests/test_flattening.py)
-_PANELS, _NODES, _WIDTH = 16, 8, 0.5
-_GX, _GW = np.polynomial.legendre.leggauss(_NODES)
 
-
-@lru_cache(maxsize=64)
-def _rule(panels: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Composite Gauss-Legendre nodes and weights on ``[0, 1]`` with ``panels`` equal panels."""
-    e = np.linspace(0.0, 1.0, panels + 1)
-    x = ((e[:-1, None] + e[1:, None]) / 2 + np.diff(e)[:, None] / 2 * _GX).ravel()
-    return x, (np.diff(e)[:, None] / 2 * _GW).ravel()
-
-
-# ----------------------------------------------------------------------------- equations
 def _coeffs(params: "FrictionParams") -> NDArray[np.float64]:
     return sbmf_coeffs(params, 1.0)  # tau_max = 1: the kernel's tau is alpha1
-
-
-def _panels(u_max: float, kinked: bool = False) -> int:
-    """Panels of the ``J`` sum up to ``u_max``: at least ``_PANELS``, none wider than ``_WIDTH``.
-
-    ``kinked``: the kinks of a tabulated ``alpha1`` split the interval as well, and half the
-    floor does (the width rule stays), so that the split costs little more than the plain sum.
-    """
-    return max(_PANELS // 2 if kinked else _PANELS, math.ceil(u_max / _WIDTH))
-
-
-def _j_integral(
-    ph: NDArray,
-    u: NDArray,
-    coeffs: NDArray,
-    H: float,
-    g: NDArray,
-    slope: float,
-    c_max: NDArray,
-    panels: int | None = None,
-    kinks: NDArray | None = None,
-) -> NDArray[np.float64]:
-    """``J / H^2`` of Eq. F4 up to ``p_f = p cosh(u)``, pressures in units of ``H`` (``ph``).
-
-    ``t = p cosh(v)`` turns ``J`` into ``p^3 int_0^u alpha1'(t) cosh v sinh(v)^2 / W dv`` with
-    ``W = 1 + g cosh v sinh v min(c_L(A), c_max (1 - A))``, ``A = alpha1(t)``, ``g = p / s0``,
-    ``c_max`` the hardening's limit of Eq. F2c per unit ``1 - A`` (``inf``: none): a smooth
-    integrand (a kink where the limit starts to act), summed by
-    composite Gauss-Legendre (``_NODES`` per panel, at least ``_PANELS`` panels, none wider than
-    ``_WIDTH``); a solve passes one ``panels`` for all its calls, so that ``J`` is one function of
-    ``u`` throughout. ``kinks`` (:func:`_kinks`, pressures in units of ``H``): a tabulated
-    ``alpha1``'s slope jumps there, and the panels are split at them, as the kernels split.
-    """
-    if panels is None:
-        panels = _panels(float(u.max(initial=0.0)), kinks is not None and kinks.size > 0)
-    if kinks is None or kinks.size == 0:
-        x, w = _rule(panels)
-        v = u[:, None] * x[None, :]
-        f = _j_integrand(ph, v, coeffs, H, g, slope, c_max)
-        return ph**3 * u * (f @ w)
-    edges = _split_at_kinks(u[:, None] * np.linspace(0.0, 1.0, panels + 1)[None, :], ph, u, kinks)
-    half = np.diff(edges, axis=1)[:, :, None] / 2
-    v = ((edges[:, :-1, None] + edges[:, 1:, None]) / 2 + half * _GX).reshape(len(ph), -1)
-    f = _j_integrand(ph, v, coeffs, H, g, slope, c_max)
-    return ph**3 * np.sum(f * (half * _GW).reshape(len(ph), -1), axis=1)
-
-
-def _split_at_kinks(edges: NDArray, ph: NDArray, u: NDArray, kinks: NDArray) -> NDArray:
-    """``edges`` (a row per pressure ``ph``, from 0 to ``u``) with each row's kinks, sorted.
-
-    A kink ``t_k`` (units of ``H``) lies at ``v_k = acosh(t_k / p)`` of row ``p``: every segment
-    between the result's edges is then one where ``alpha1'`` is smooth (the kernels split there
-    too). Kinks outside every row's ``0..u`` split nothing and are left out; inside some rows,
-    they end empty segments in the others.
-    """
-    with np.errstate(invalid="ignore"):
-        vk = np.arccosh(np.maximum(kinks[None, :] / ph[:, None], 1.0))
-    vk = vk[:, ((vk > 0.0) & (vk < u[:, None])).any(axis=0)]
-    return np.sort(np.concatenate([edges, np.minimum(vk, u[:, None])], axis=1), axis=1)
-
-
-def _j_integrand(ph, v, coeffs, H, g, slope, c_max):
-    """``alpha1'(p cosh v) H cosh v sinh(v)^2 / W`` (F4 in ``v``; ``ph``, ``g``, ``c_max``: rows)."""
-    ch, sh = np.cosh(v), np.sinh(v)
-    a, d = evaluate(K.CODE_SBMF, coeffs, ph[:, None] * ch * H, 0.0)
-    c, lim = lattice_sink_rate(np.asarray(a), slope), np.isfinite(c_max)[:, None]
-    with np.errstate(invalid="ignore"):  # Eq. F2c, 6 p (1 - A) / h; inf: none (inf 0 is NaN)
-        c = np.where(lim, np.minimum(c, c_max[:, None] * (1.0 - np.asarray(a))), c)
-    W = 1.0 + g[:, None] * ch * sh * c
-    return np.asarray(d) * H * ch * sh**2 / W
 
 
 def _kinks(params: "FrictionParams", cap: float) -> NDArray[np.float64] | None:
@@ -297,7 +212,8 @@ def equivalent_strain(
     u = np.arccosh(np.maximum(top / p.ravel(), 1.0))
     c_max = lattice_hardening_factor(p, h).ravel()
     kinks = _kinks(params, cap)
-    J = _j_integral(ph, u, coeffs, H, p.ravel() / s0, flat.slope, c_max, kinks=kinks)
+    vc = _switch(p.ravel(), c_max, params, cap)
+    J = _j_integral(ph, u, coeffs, H, p.ravel() / s0, flat.slope, c_max, kinks=kinks, vc=vc)
     kappa = _strain_scale(flat, H, s0)
     out = kappa * J / ph
     out[tiny & (p_f.ravel() > p.ravel())] = np.inf
@@ -396,12 +312,13 @@ def flattening_update(
     kappa = _strain_scale(flat, H, s0)
     c_max = lattice_hardening_factor(p[go], h[go])
     kinks = _kinks(params, cap)
-    jx = (coeffs, H, p[go] / s0, flat.slope, c_max, kinks)  # what J needs besides p / H and u
+    vc = _switch(p[go], c_max, params, cap)
+    jx = (coeffs, H, p[go] / s0, flat.slope, c_max, kinks, vc)  # what J needs but p / H and u
     u0 = np.arccosh(np.maximum(p0 / p[go], 1.0))
     ucap = np.arccosh(cap / p[go])
     panels = _panels(float(ucap.max()), kinks is not None)
     with np.errstate(over="ignore"):  # a strain beyond any forming: full contact
-        target = _j_integral(ph, u0, *jx[:5], panels, kinks) + d_eps[go] * (ph / kappa)
+        target = _j_integral(ph, u0, *jx[:5], panels, kinks, vc) + d_eps[go] * (ph / kappa)
     u = _solve_j(ph, target, u0, ucap, jx, panels)
     P = np.minimum(p[go] * np.cosh(u), cap)
     if hardening is not None:  # Eq. F2d: no further than the sinking the hardening holds
@@ -409,6 +326,24 @@ def flattening_update(
         held = (a_eq < 1.0) & (alpha_first(P, params) > a_eq)
         P = np.where(held, flattening_pressure(np.where(held, a_eq, 0.0), params), P)
     out[go] = np.maximum(P, p_f[go])
+    return out
+
+
+def _switch(p, c_max, params, cap):
+    """``v`` where Eq. F2c's limit starts to act along ``t = p cosh v`` (``inf``: nowhere).
+
+    ``c_max (1 - A)`` falls below ``c_L = 1 + tan(theta) (1 - A)`` above ``A_c = 1 - 1 / (c_max -
+    tan(theta))``; where that lies above ``alpha1(p)`` and below the cap, ``acosh(t_c / p)`` with
+    ``alpha1(t_c) = A_c``: the ``J`` sum is split there (a kink), as the kernels split.
+    """
+    k = c_max - _flattening_of(params).slope
+    out = np.full(p.shape, np.inf)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ac = np.where(np.isfinite(k) & (k > 1.0), 1.0 - 1.0 / k, 0.0)
+    go = ac > alpha_first(p, params)
+    if go.any():
+        t = flattening_pressure(ac[go], params)
+        out[go] = np.where(t < cap, np.arccosh(np.minimum(t, cap) / p[go]), np.inf)
     return out
 
 
@@ -420,41 +355,6 @@ def _sinking_bound(base, p, h, params):
     with np.errstate(over="ignore"):  # a modulus of 1e-300: no bound (inf)
         lim = hardening_sinking_limit(p, h) / _flattening_of(params).slope
     return alpha_first(base, params) + lim
-
-
-def _solve_j(ph, target, lo, hi, jx, panels):
-    """``u`` in ``[lo, hi]`` with ``J(u) = target`` (``hi`` where ``J(hi) <= target``).
-
-    Safeguarded Newton in ``u`` (``dJ/du``: :func:`_j_integrand` times ``p^3``), bisection where
-    the step leaves the bracket and every fifth step (so that the bracket shrinks even
-    where rounding makes Newton circle the root); ``J`` increases with ``u``.
-    """
-    lo, hi = lo.copy(), hi.copy()
-    coeffs, H, g, slope, c_max, kinks = jx
-    full = _j_integral(ph, hi, coeffs, H, g, slope, c_max, panels, kinks) <= target
-    u = np.where(full, hi, 0.5 * (lo + hi))
-    act = ~full
-    for it in range(300):
-        if not act.any():
-            break
-        ua = u[act]
-        ga, ca = g[act], c_max[act]
-        J = _j_integral(ph[act], ua, coeffs, H, ga, slope, ca, panels, kinks)
-        dJ = ph[act] ** 3 * _j_integrand(ph[act], ua[:, None], coeffs, H, ga, slope, ca)[:, 0]
-        below = J < target[act]
-        la, ha = np.where(below, ua, lo[act]), np.where(below, hi[act], ua)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            step = ua - (J - target[act]) / dJ
-        bad = ~np.isfinite(step) | (step <= la) | (step >= ha) | (it % 5 == 4)
-        hit = np.abs(J - target[act]) <= 4e-16 * np.abs(target[act])  # ua is the root
-        new = np.where(hit, ua, np.where(bad, 0.5 * (la + ha), step))
-        done = hit | (np.abs(new - ua) <= 1e-14 * (1.0 + ua)) | (ha - la <= 1e-14 * (1.0 + ha))
-        lo[act], hi[act], u[act] = la, ha, new
-        idx = np.flatnonzero(act)
-        act[idx[done]] = False
-    if act.any():  # every fifth step halves a bracket of at most ~60: unreachable, said if not
-        raise RuntimeError(f"flattening: the J inversion did not converge at {act.sum()} nodes")
-    return u
 
 
 def flattening_pressure(alpha: ArrayLike, params: "FrictionParams") -> NDArray[np.float64]:

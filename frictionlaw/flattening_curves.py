@@ -28,20 +28,17 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._flattening_j import _GW, _GX, _j_integrand, _split_at_kinks
 from ._flattening_rates import lattice_hardening_factor
 from ._flattening_runs import running_max, strain_runs
 from .flattening import (
-    _GW,
-    _GX,
     P_MIN_RATIO,
     _coeffs,
     _flattening_of,
-    _j_integrand,
     _kinks,
     _p_cap,
     _s0,
     _sinking_bound,
-    _split_at_kinks,
     _strain_scale,
     flattening_pressure,
 )

@@ -119,7 +119,7 @@ def traction_update(
         rate and hardening enter); the file's ``sigma_y`` by default.
     hardening : float or array_like, shape (n,), optional
         The bulk's hardening modulus ``d sigma_y / d eps_eq`` per node (Pa, finite, ``>= 0``),
-        with ``d_eps`` only: it limits the slip-line lattice's sinking rate to ``6 p / h``
+        with ``d_eps`` only: it limits the slip-line lattice's sinking rate to ``6 p (1 - A) / h``
         and the flattening beyond the pressing to ``3 p / (4 h tan(theta))`` (Eqs. F2c and
         F2d, docs/flattening.md); ``None`` or 0: a perfectly plastic bulk, as before.
         Refused for a block of the two-state model (``limit-analysis``), whose table is

@@ -245,6 +245,29 @@ def test_the_lattice_hardening_limit_falls_with_the_valleys():
     assert np.all(lattice_hardening_limit(1e8, None, a) == np.inf)
 
 
+@pytest.mark.parametrize("ph, a_c", [(0.1, 0.2), (0.2, 0.3), (0.2, 0.5)])
+def test_the_strain_across_the_hardening_limits_start_against_scipy(ph, a_c):
+    """Eq. F4 where F2c's limit starts to act inside the integral (at ``A_c``, a kink of the
+    integrand: the sum is split there): the equivalent strain against SciPy's adaptive
+    quadrature of Eq. F3 in ``A`` told the kink (1e-9; unsplit, the sum was 1.4e-5 off)."""
+    P = law(slope=0.05, beta=1.2)
+    f, p = P.flattening, ph * H
+    h = 6.0 * p / (f.slope + 1.0 / (1.0 - a_c))  # 6 p (1 - A) / h = c_L at A_c
+    a0 = float(alpha_first(p, P))
+    s0 = 2.0 * float(P.k)
+
+    def d_eps_d_a(a):
+        t = float(flattening_pressure(a, P))
+        c = min(1.0 + f.slope * (1.0 - a), 6.0 * p * (1.0 - a) / h)
+        c_e = s0 * p / (t * math.sqrt(t * t - p * p))
+        return f.slope / (RS * f.beta * (c + c_e))
+
+    for a in (a_c - 0.05, a_c + 0.05, 0.9):
+        want = integrate.quad(d_eps_d_a, a0, a, points=[a_c], limit=200, epsrel=1e-12)[0]
+        got = float(equivalent_strain(p, flattening_pressure(a, P), P, hardening=h))
+        assert got == pytest.approx(want, rel=1e-9), a
+
+
 def test_the_sinking_limit_in_closed_form_and_its_arguments():
     """Eq. F2d's ``3 p / (4 h)`` from the plane-strain columns: ``d (2 k) / d eps_x = 4 h / 3``
     (``2 k = 2 sigma_y / sqrt 3``, ``eps_eq = 2 eps_x / sqrt 3``), so a stress difference ``p``

@@ -16,8 +16,9 @@ import numpy as np
 import pytest
 
 from frictionlaw import Flattening, FrictionParams, alpha_first, flattening_curve
+from frictionlaw._flattening_j import _j_integrand
 from frictionlaw.first_loading import FirstLoadingTable
-from frictionlaw.flattening import _coeffs, _j_integrand, _kinks, _p_cap, equivalent_strain
+from frictionlaw.flattening import _coeffs, _kinks, _p_cap, equivalent_strain
 from frictionlaw.flattening_curves import FlatteningCurves, FlatteningPaths
 from frictionlaw.flow_curve import SwiftCurve, TabulatedCurve
 from halfspace_calib.cli import main

@@ -257,16 +257,19 @@ def test_the_hardening_limit_against_the_numpy_model(form):
 
 
 def test_the_tangent_with_the_hardening_limit():
-    """Where the limit acts the lattice's rate is ``6 p / h``, a function of ``p`` itself: the
-    consistent tangent's integrand changes (docs/flattening.md, F6); a central difference."""
+    """Where the limit acts the lattice's rate is ``6 p (1 - A) / h``, ``p`` times a function of
+    ``t = p cosh v``: the consistent tangent's integrand changes (docs/flattening.md, F6); a
+    central difference."""
     P = law()
-    # the limit everywhere, and (the last two) from inside the step on: 6 p / h just above 1
+    # the limit everywhere, and (the last two) from inside the step on: 6 p (1 - A) / h falls
+    # below c_L = 1 + 0.05 (1 - A) at A = 0.3 and 0.2 (the step takes A from 0.21 and 0.105 to
+    # 0.53 and 0.42 without the limit)
     for pr, h in (
         (0.2, 1e11),
         (0.05, 1e10),
         (0.3, 3e9),
-        (0.2, 1.2 * H / 1.02),
-        (0.1, 0.6 * H / 1.04),
+        (0.2, 1.2 * H / (0.05 + 1 / 0.7)),
+        (0.1, 0.6 * H / (0.05 + 1 / 0.8)),
     ):
         p = pr * H
         dp = 1e-6 * p
@@ -392,3 +395,30 @@ def test_a_stored_flattened_fraction_is_read_without_a_strain_increment():
     assert shear() == shear(d_eps=0.0) == pytest.approx(0.9 * P.tau_max, rel=1e-12)
     virgin = fl.traction_update(law_, p, [1e-3], [0.0], 1e12, fl.HistoryState(1)).traction[0]
     assert virgin == pytest.approx(float(fl.shear_limit(p[0], 0.0, P)), rel=1e-12)
+
+
+@pytest.mark.parametrize("form", ["eq24", "tabulated"])
+def test_the_switch_of_the_hardening_limit_against_the_numpy_model(form):
+    """Where Eq. F2c's limit starts to act (``A_c = 1 - 1 / (c_max - tan(theta))``, the kink
+    both sums are split at): the kernel's ``v`` against the NumPy model's (1e-12), ``inf``
+    where the limit acts from the start, nowhere, or only beyond the cap."""
+    from frictionlaw._kernels_flattening_quad import flat_switch
+    from frictionlaw.flattening import _p_cap, _switch, flattening_data
+
+    P = law() if form == "eq24" else law(**FORMS["tabulated-first"])
+    fd = flattening_data(P)
+    c1, cap, m = fd[KF.FLAT_HEAD :], float(fd[4]), P.flattening.slope
+    p = np.array([0.01, 0.05, 0.1, 0.2, 0.4]) * H
+    for a_c in (-0.5, 0.0, 0.1, 0.3, 0.6, 0.95):
+        cmax = np.full(p.shape, m + 1.0 / (1.0 - a_c))
+        want = _switch(p, cmax, P, _p_cap(P, sbmf_coeffs(P, 1.0)))
+        got = np.array([flat_switch(c1, q, q, cap, m, c) for q, c in zip(p, cmax, strict=True)])
+        assert np.array_equal(np.isinf(got), np.isinf(want)), a_c
+        fin = np.isfinite(want)
+        assert np.allclose(got[fin], want[fin], rtol=1e-12, atol=0), a_c
+        a0 = fl.alpha_first(p, P)
+        assert np.all(np.isinf(want[a0 >= a_c]))  # limited from the start
+        assert np.all(np.isfinite(want[a0 < a_c]) | (a_c <= 0.0)), a_c
+        at = fl.alpha_first(p[fin] * np.cosh(want[fin]), P)
+        assert np.allclose(at, a_c, rtol=0, atol=1e-12)
+    assert flat_switch(c1, p[1], p[1], cap, m, math.inf) == math.inf

@@ -2,7 +2,8 @@
   The flattening of the asperities under bulk strain of one law (issue 43, docs/flattening.md,
   Eqs. F5-F6), included by core/sbmf_law.f after the law's routines when its parameter file has
   a flattening block: frictionlaw._kernels_flattening statement by statement ({{ zp }}A1D:
-  alpha1 and its slope; FINV: alpha1_inverse; FPAN: flat_panels; FQUAD: flat_quad; FSOLV:
+  alpha1 and its slope; FINV: alpha1_inverse; FPAN: flat_panels; FSWTC: flat_switch; FQUAD:
+  flat_quad; FKINK: flat_kinked; FSOLV:
   flattening_solve; FRATE: flat_rate; FLAT: flattening_scalar; FF5: flat_shear_of; FSHR:
   flat_shear_scalar). For the two-state model (flat.limit set) the one-state update (FRATE to
   FLAT, FSHR) gives way to core/sbmf_limit.f, which shares A1D, FINV and FF5. Context: the
@@ -168,14 +169,69 @@ C=======================================================================
       END
 C
 C=======================================================================
-C     {{ zp }}FPAN's two integrals over UA..UB (UB < UA: their
-C     negatives){% if first %}, split where the tabulated first
-C     loading's slope has kinks: at its levels and where its top
-C     level's power law reaches ln alpha = 0 (v = acosh(p_j/P)){% endif %}.
+C     VC: v where Eq. F2c's limit starts to act on the way up from P0
+C     (t = P cosh v): CMX (1 - A) falls below 1 + SL (1 - A) above
+C     A_c = 1 - 1/(CMX - SL), everywhere for CMX <= SL + 1. There the
+C     strain integral's integrand has a kink and the tangent's a jump,
+C     which the panels must not straddle. HUGE where the limit acts
+C     nowhere, from P0 on or only beyond CAP.
 C=======================================================================
-      SUBROUTINE {{ zp }}FQUAD(P, UA, UB, G, SL, CMX, S1, S2)
+      DOUBLE PRECISION FUNCTION {{ zp }}FSWTC(P, P0, CAP, SL, CMX)
       IMPLICIT NONE
-      DOUBLE PRECISION P, UA, UB, G, SL, CMX, S1, S2, SGN, XLO, XHI
+      DOUBLE PRECISION P, P0, CAP, SL, CMX, AC, A0, D0, TC
+      DOUBLE PRECISION {{ zp }}FINV
+      EXTERNAL {{ zp }}FINV
+      {{ zp }}FSWTC = HUGE(1.0D0)
+      IF (.NOT. (CMX .LT. HUGE(1.0D0) .AND. CMX .GT. SL + 1.0D0))
+     &  RETURN
+      AC = 1.0D0 - 1.0D0/(CMX - SL)
+      CALL {{ zp }}A1D(P0, A0, D0)
+      IF (.NOT. (AC .GT. A0)) RETURN
+      TC = {{ zp }}FINV(AC, P0, CAP)
+      IF (.NOT. (TC .LT. CAP)) RETURN
+      {{ zp }}FSWTC = ACOSH(TC/P)
+      RETURN
+      END
+C
+C=======================================================================
+C     {{ zp }}FPAN's two integrals over UA..UB (UB < UA: their
+C     negatives), split at VC, where Eq. F2c's limit starts to act
+C     ({{ zp }}FSWTC; HUGE: nowhere), each piece by {{ zp }}FKINK.
+C=======================================================================
+      SUBROUTINE {{ zp }}FQUAD(P, UA, UB, G, SL, CMX, VC, S1, S2)
+      IMPLICIT NONE
+      DOUBLE PRECISION P, UA, UB, G, SL, CMX, VC, S1, S2
+      DOUBLE PRECISION SGN, XLO, XHI, R1, R2
+      SGN = 1.0D0
+      XLO = UA
+      XHI = UB
+      IF (XHI .LT. XLO) THEN
+        SGN = -1.0D0
+        XLO = UB
+        XHI = UA
+      END IF
+      IF (XLO .LT. VC .AND. VC .LT. XHI) THEN
+        CALL {{ zp }}FKINK(P, XLO, VC, G, SL, CMX, S1, S2)
+        CALL {{ zp }}FKINK(P, VC, XHI, G, SL, CMX, R1, R2)
+        S1 = S1 + R1
+        S2 = S2 + R2
+      ELSE
+        CALL {{ zp }}FKINK(P, XLO, XHI, G, SL, CMX, S1, S2)
+      END IF
+      S1 = SGN*S1
+      S2 = SGN*S2
+      RETURN
+      END
+C
+C=======================================================================
+C     {{ zp }}FPAN's two integrals over XLO..XHI (XLO <= XHI){% if first %},
+C     split where the tabulated first loading's slope has kinks: at its
+C     levels and where its top level's power law reaches ln alpha = 0
+C     (v = acosh(p_j/P)){% endif %}.
+C=======================================================================
+      SUBROUTINE {{ zp }}FKINK(P, XLO, XHI, G, SL, CMX, S1, S2)
+      IMPLICIT NONE
+      DOUBLE PRECISION P, XLO, XHI, G, SL, CMX, S1, S2
 {% if first %}
       DOUBLE PRECISION T1, T2, R1, R2, A, TK, VK
       INTEGER J, NJ
@@ -189,14 +245,6 @@ C=======================================================================
      &  ") }} /))
 {% endfor %}
 {% endif %}
-      SGN = 1.0D0
-      XLO = UA
-      XHI = UB
-      IF (XHI .LT. XLO) THEN
-        SGN = -1.0D0
-        XLO = UB
-        XHI = UA
-      END IF
 {% if first %}
       T1 = 0.0D0
       T2 = 0.0D0
@@ -219,12 +267,10 @@ C=======================================================================
         END IF
       END DO
       CALL {{ zp }}FPAN(P, A, XHI, G, SL, CMX, R1, R2)
-      S1 = SGN*(T1 + R1)
-      S2 = SGN*(T2 + R2)
+      S1 = T1 + R1
+      S2 = T2 + R2
 {% else %}
       CALL {{ zp }}FPAN(P, XLO, XHI, G, SL, CMX, S1, S2)
-      S1 = SGN*S1
-      S2 = SGN*S2
 {% endif %}
       RETURN
       END
@@ -245,12 +291,15 @@ C=======================================================================
       IMPLICIT NONE
       DOUBLE PRECISION P, P0, D, CAP, G, SL, CMX, PF, DADP, AP
       DOUBLE PRECISION U0, UCAP, U, F, XIC, XLO, XHI, R, CH, SH, A, DA
+      DOUBLE PRECISION VC, {{ zp }}FSWTC
+      EXTERNAL {{ zp }}FSWTC
       DOUBLE PRECISION CL, XL, W
       DOUBLE PRECISION UN, WN, DF, DI, FN, XIN, STEP
       INTEGER IT
       LOGICAL HICHK, HAVE
       U0 = ACOSH(MAX(P0/P, 1.0D0))
       UCAP = ACOSH(CAP/P)
+      VC = {{ zp }}FSWTC(P, P0, CAP, SL, CMX)
       U = U0
       F = 0.0D0
       XIC = 0.0D0
@@ -298,7 +347,7 @@ C           1D-13, so F + R and the tangent's integral by its value at U
      &           (MOD(IT, 8) .EQ. 7 .AND. HICHK)) THEN
           UN = 0.5D0*(XLO + XHI)
         END IF
-        CALL {{ zp }}FQUAD(P, U, UN, G, SL, CMX, DF, DI)
+        CALL {{ zp }}FQUAD(P, U, UN, G, SL, CMX, VC, DF, DI)
         FN = F + DF
         XIN = XIC + DI
         IF (UN .EQ. UCAP .AND. .NOT. HICHK) THEN
