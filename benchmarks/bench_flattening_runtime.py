@@ -56,7 +56,8 @@ P3 = P.replace(
 )
 
 
-#: the hardening modulus of the hardening case (Pa): 6 p / h below the lattice's rate up to 0.4 H
+#: the hardening modulus of the hardening case (Pa): 6 p (1 - A) / h below the lattice's rate up
+#: to 0.4 H
 HARDENING = 2e9
 
 

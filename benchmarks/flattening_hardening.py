@@ -13,8 +13,8 @@ pressing-alone fractions (as ``flattening_truth.py`` builds it from the perfectl
 so that the flattening is compared, not the first loading. Nothing is fitted.
 
 Beside it the law given the hardening modulus too (docs/flattening.md, Eq. F2c: the lattice's
-sinking limited by the hardening its uneven split costs, ``min(c_L, 6 p / h)``; Eq. F2d: the
-flattening beyond the pressing held at the sinking the hardening holds, ``3 p / (4 h)``
+sinking limited by the hardening its uneven split costs, ``min(c_L, 6 p (1 - A) / h)``; Eq. F2d:
+the flattening beyond the pressing held at the sinking the hardening holds, ``3 p / (4 h)``
 half-spacings), computed by an independent ODE in ``A`` (:func:`candidate_curve`, F2d in closed
 form), checked against the runtime's ``flattening_update(..., hardening=)`` with and without the
 limits (the run prints both differences), and the ODE with F2c alone, as the runtime was before
@@ -22,8 +22,9 @@ F2d.
 
 Held out: ``--material K,eps0,n`` runs another Swift curve of the same initial yield stress
 (so the same ``H``), into ``flattening_hardening_<tag>.*``: F2d's depth of one half-spacing was
-written down with DC04's truth in view, the other curves were run after it was fixed. A mesh
-study: ``--nx 128 --nz 48 --tag fine``.
+written down with DC04's truth in view, the ``n`` 0.1 and 0.4 curves were run after it was
+fixed, and the ``n`` 0.2 and 0.3 curves (tags ``n02``, ``n03``) after F2c's factor ``1 - A``
+was. A mesh study: ``--nx 128 --nz 48 --tag fine``.
 
 Run: python benchmarks/flattening_hardening.py [--profiles "wedge 5 deg,wedge 10 deg"] [--reuse]
 [--workers 2] [--material K,eps0,n --tag NAME] (default: every profile of
@@ -103,8 +104,8 @@ def candidate_curve(P, p, slope, strains, mat, limited=True, held=True, grid=400
         eq = EQUIVALENT_PER_STRETCH * stretch
         s0 = 2.0 * float(mat.flow_stress(eq)) / math.sqrt(3.0)
         c = 1.0 + slope * (1.0 - A[j])
-        if limited:
-            c = min(c, 2.0 * p / (float(mat.hardening(eq)) / 3.0))
+        if limited:  # Eq. F2c: 2 p (1 - A) / h_k, h_k = h / 3
+            c = min(c, 2.0 * p * (1.0 - A[j]) / (float(mat.hardening(eq)) / 3.0))
         r = min(p / p_f[j], 1.0)
         if r >= 1.0:
             return 0.0

@@ -106,7 +106,7 @@ def compare():
 
 def capped_curve(a0, s0, p, strains, flow_curve, factor=6.0, held=False):
     """The two-state law along ``flow_curve`` with F2c's limit on its rate, a study (not in the
-    runtime): ``tan(theta) dA / d eps <= factor p / h`` (``h`` the curve's modulus), the
+    runtime): ``tan(theta) dA / d eps <= factor p (1 - A) / h`` (``h`` the curve's modulus), the
     one-state model's limit of the lattice applied to the whole tabulated rate; the runtime's
     midpoint rule in ``(A, ln s)`` at each step's middle flow stress and modulus. ``factor``
     None: no limit on the rate; ``held``: F2d's bound on the fraction, ``A <= a0 + 3 p / (4 h
@@ -126,7 +126,7 @@ def capped_curve(a0, s0, p, strains, flow_curve, factor=6.0, held=False):
             def rates(A, q, x=x, cap=cap):
                 s = max(math.exp(q), S_FLOOR)
                 dA, ds = table_rates(np.array([x]), np.array([A]), np.array([s]), t)
-                return min(float(dA[0]), cap / s), float(ds[0]) / s
+                return min(float(dA[0]), cap * (1.0 - A) / s), float(ds[0]) / s
 
             dA, dq = rates(A, q)
             dA, dq = rates(min(A + 0.5 * h * rs * dA, 1.0), q + 0.5 * h * rs * dq)
@@ -228,7 +228,7 @@ def report(rows):
         "The one-state model's limits by the hardening applied to the two-state law along DC04's "
         "curve, a study (`capped_curve`, not in the runtime), on the hardening truth (largest "
         "miss / RMS / curves within 0.05): the lattice's limit (Eq. F2c, `tan(theta) dA / "
-        f"d eps <= 6 p / h`) on the whole tabulated rate {m['f2c'][0]:.3f} / {m['f2c'][1]:.3f} "
+        f"d eps <= 6 p (1 - A) / h`) on the whole tabulated rate {m['f2c'][0]:.3f} / {m['f2c'][1]:.3f} "
         f"/ {m['f2c'][2]}; the sinking the hardening holds (Eq. F2d, `A <= alpha1(p) + 3 p / "
         f"(4 h tan(theta))`) {m['f2d'][0]:.3f} / {m['f2d'][1]:.3f} / {m['f2d'][2]}; both "
         f"{m['f2c_f2d'][0]:.3f} / {m['f2c_f2d'][1]:.3f} / {m['f2c_f2d'][2]} of {m['f2d'][3]}.",
