@@ -31,7 +31,8 @@ by Newton's method, its first step in ``w = sinh(u)^3 / 3`` (``dJ/dw = alpha1' /
 law linear in ``p`` without the lattice) and the next ones in ``u``, each step's
 interval summed by Gauss-Legendre
 panels no wider than 0.5 in ``v`` (the reference's rule; fewer nodes on narrow intervals; split at
-the tabulated first loading's levels, where its slope has kinks), bisection where a step leaves the
+the tabulated first loading's levels, where its slope has kinks, and where Eq. F2c's limit starts
+to act; :mod:`frictionlaw._kernels_flattening_quad`), bisection where a step leaves the
 bracket or every eighth step. Every kernel has an explicit signature, ``cache=True`` and no
 ``fastmath``; serial and ``prange`` array kernels are separate functions.
 """
