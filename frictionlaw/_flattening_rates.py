@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._flattening_block import HARDENING_SINK, STRETCH_PER_EQUIVALENT_STRAIN, _number
-from .law import as_float_array
+from .law import as_float_array, broadcast_named
 
 __all__ = [
     "host_flow_stress",
@@ -92,7 +92,11 @@ def lattice_hardening_limit(
     ``inf`` (no limit) for a perfectly plastic bulk, ``h = 0`` or ``None``
     (docs/flattening.md, "A hardening bulk").
     """
-    a = _checked("alpha", alpha, 0.0, 1.0, "a contact fraction in [0, 1]")
+    if hardening is None:
+        p, a = broadcast_named(p=p, alpha=alpha)
+    else:
+        p, hardening, a = broadcast_named(p=p, hardening=hardening, alpha=alpha)
+    a = _checked("alpha", a, 0.0, 1.0, "a contact fraction in [0, 1]")
     k = lattice_hardening_factor(p, hardening)
     with np.errstate(invalid="ignore"):  # inf (no limit) times 1 - A = 0 stays inf
         return np.where(np.isinf(k), np.inf, k * (1.0 - a))

@@ -602,6 +602,7 @@ def test_extreme_inputs_give_no_warning_and_bad_ones_are_named():
         (lambda: lattice_sink_rate(5.0, 0.1), "alpha must be a contact fraction"),
         (lambda: lattice_hardening_limit(1e8, -1.0, 0.5), "hardening must be finite and >= 0"),
         (lambda: lattice_hardening_limit(1e8, 1e9, 1.5), "alpha must be a contact fraction"),
+        (lambda: lattice_hardening_limit([1e8] * 3, 1e9, [0.1, 0.2]), "alpha has shape \\(2,\\)"),
         (lambda: contact_growth_rate(np.nan, 1e8, 0.3, 0.1, 1.0, 3e8), "p must not contain NaN"),
         (lambda: contact_growth_rate(1e8, 0.0, 0.3, 0.1, 1.0, 3e8), "p_f must be > 0"),
         (lambda: contact_growth_rate(1e8, 2e8, 0.3, 0.0, 1.0, 3e8), "slope must be finite and > 0"),
