@@ -14,7 +14,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import _codes as K
-from ._flattening_rates import lattice_sink_rate
+from ._flattening_rates import lattice_sink_rate, limit_at
 from .law import evaluate
 
 #: Gauss-Legendre nodes per panel of the ``J`` integral (F4), at least ``_PANELS`` panels and
@@ -68,8 +68,6 @@ def _j_integral(
     """
     kinked = kinks is not None and kinks.size > 0
     switch = vc is not None and bool(np.any((vc > 0.0) & (vc < u)))
-    kinks = np.empty(0) if kinks is None else kinks
-    vc = np.full(u.shape, np.inf) if vc is None else vc
     if panels is None:
         panels = _panels(float(u.max(initial=0.0)), kinked)
     if not (kinked or switch):
@@ -78,9 +76,9 @@ def _j_integral(
         f = _j_integrand(ph, v, coeffs, H, g, slope, c_max)
         return ph**3 * u * (f @ w)
     edges = u[:, None] * np.linspace(0.0, 1.0, panels + 1)[None, :]
-    if kinked:
+    if kinks is not None and kinked:
         edges = _split_at_kinks(edges, ph, u, kinks)
-    if switch:  # an empty segment at 0 or u where a row's switch lies outside it
+    if vc is not None and switch:  # an empty segment at 0 or u where a row's switch lies outside
         edges = np.sort(np.concatenate([edges, np.clip(vc, 0.0, u)[:, None]], axis=1), axis=1)
     half = np.diff(edges, axis=1)[:, :, None] / 2
     v = ((edges[:, :-1, None] + edges[:, 1:, None]) / 2 + half * _GX).reshape(len(ph), -1)
@@ -106,9 +104,7 @@ def _j_integrand(ph, v, coeffs, H, g, slope, c_max):
     """``alpha1'(p cosh v) H cosh v sinh(v)^2 / W`` (F4 in ``v``; ``ph``, ``g``, ``c_max``: rows)."""
     ch, sh = np.cosh(v), np.sinh(v)
     a, d = evaluate(K.CODE_SBMF, coeffs, ph[:, None] * ch * H, 0.0)
-    c, lim = lattice_sink_rate(np.asarray(a), slope), np.isfinite(c_max)[:, None]
-    with np.errstate(invalid="ignore"):  # Eq. F2c, 6 p (1 - A) / h; inf: none (inf 0 is NaN)
-        c = np.where(lim, np.minimum(c, c_max[:, None] * (1.0 - np.asarray(a))), c)
+    c = np.minimum(lattice_sink_rate(np.asarray(a), slope), limit_at(c_max[:, None], a))
     W = 1.0 + g[:, None] * ch * sh * c
     return np.asarray(d) * H * ch * sh**2 / W
 

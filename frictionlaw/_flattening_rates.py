@@ -19,6 +19,7 @@ __all__ = [
     "lattice_sink_rate",
     "lattice_hardening_limit",
     "lattice_hardening_factor",
+    "limit_at",
     "hardening_sinking_limit",
     "contact_growth_rate",
 ]
@@ -97,8 +98,17 @@ def lattice_hardening_limit(
     else:
         p, hardening, a = broadcast_named(p=p, hardening=hardening, alpha=alpha)
     a = _checked("alpha", a, 0.0, 1.0, "a contact fraction in [0, 1]")
-    k = lattice_hardening_factor(p, hardening)
-    with np.errstate(invalid="ignore"):  # inf (no limit) times 1 - A = 0 stays inf
+    return limit_at(lattice_hardening_factor(p, hardening), a)
+
+
+def limit_at(factor: ArrayLike, alpha: ArrayLike) -> NDArray[np.float64]:
+    """Eq. F2c's limit at the fraction ``alpha`` from its factor: ``factor (1 - A)``.
+
+    An infinite factor (no limit) stays infinite at full contact (``inf 0`` would be NaN).
+    Unchecked: the callers have checked both.
+    """
+    k, a = np.asarray(factor, dtype=float), np.asarray(alpha, dtype=float)
+    with np.errstate(invalid="ignore"):
         return np.where(np.isinf(k), np.inf, k * (1.0 - a))
 
 

@@ -47,11 +47,7 @@ from ._flattening_block import HARDENING_SINK, P_MIN_RATIO
 from ._flattening_block import STRETCH_PER_EQUIVALENT_STRAIN as STRETCH
 from ._kernels import first_scalar, return_map_row, shear_scalar
 from ._kernels_branches import _RO, _RO2, _opts
-from ._kernels_flattening_quad import (  # noqa: F401  (_GX, _GW, _WIDTH, _NARROW: the export's rules)
-    _GW,
-    _GX,
-    _NARROW,
-    _WIDTH,
+from ._kernels_flattening_quad import (
     alpha1_inverse,
     flat_quad,
     flat_rate,

@@ -338,12 +338,14 @@ def _switch(p, c_max, params, cap):
     """
     k = c_max - _flattening_of(params).slope
     out = np.full(p.shape, np.inf)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ac = np.where(np.isfinite(k) & (k > 1.0), 1.0 - 1.0 / k, 0.0)
-    go = ac > alpha_first(p, params)
-    if go.any():
-        t = flattening_pressure(ac[go], params)
-        out[go] = np.where(t < cap, np.arccosh(np.minimum(t, cap) / p[go]), np.inf)
+    some = np.flatnonzero(np.isfinite(k) & (k > 1.0))  # elsewhere no limit, or it acts throughout
+    if some.size == 0:
+        return out
+    ac = 1.0 - 1.0 / k[some]
+    go = some[ac > alpha_first(p[some], params)]
+    if go.size:
+        t = flattening_pressure(1.0 - 1.0 / k[go], params)
+        out[go] = np.where(t < cap, np.arccosh(t / p[go]), np.inf)
     return out
 
 

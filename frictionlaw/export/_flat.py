@@ -173,6 +173,7 @@ def flat_spec(params, units):
     if data.size == 0:
         return None
     from .. import _kernels_flattening as K  # the rules the kernels integrate by (numba loads)
+    from .. import _kernels_flattening_quad as Q
 
     if not params.tau_max > 0:
         raise ValueError(
@@ -191,10 +192,10 @@ def flat_spec(params, units):
         sigma_y * s,
         cap * s,
         float(np.float64(K.P_MIN_RATIO) * np.float64(H)),
-        tuple(float(x) for x in K._GX),
-        tuple(float(w) for w in K._GW),
-        float(K._WIDTH),
-        tuple(float(x) for x in K._NARROW),
+        tuple(float(x) for x in Q._GX),
+        tuple(float(w) for w in Q._GW),
+        float(Q._WIDTH),
+        tuple(float(x) for x in Q._NARROW),
         limit_spec() if params.flattening.model == LIMIT_MODEL else None,
         edge,
         data_statements("EDG", edge) if edge else (),
