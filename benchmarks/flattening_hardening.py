@@ -73,12 +73,13 @@ def law_curve(P, p, strains, mat, hardening=False):
     return np.array(out)
 
 
-def held_stretch(A, a0, p, slope, mat, depth=1.0):
-    """The stretch at which the sinking a hardening bulk holds (Eq. F2d) reaches ``A``: its
-    Swift modulus ``h = n K (eps0 + eps_eq)^(n - 1)`` equal to ``3 p / (4 (A - a0) tan(theta))``
-    (0 where the initial modulus holds ``A`` already); ``depth``: the sinking zone's depth in
+def held_stretch(sink, p, mat, depth=1.0):
+    """The stretch at which the sinking a hardening bulk holds (Eq. F2d) reaches ``sink``, the
+    plateaus' sinking per half-spacing that a fraction needs (``(A - a0) tan(theta)`` on a
+    straight flank): its Swift modulus ``h = n K (eps0 + eps_eq)^(n - 1)`` equal to ``3 p / (4
+    sink)`` (0 where the initial modulus holds it already); ``depth``: the sinking zone's depth in
     half-spacings (F2d's estimate: 1)."""
-    h = 0.75 * depth * p / ((A - a0) * slope)
+    h = 0.75 * depth * p / sink
     eq = (h / (mat.n * mat.K)) ** (1.0 / (mat.n - 1.0)) - mat.eps0
     return np.maximum(eq, 0.0) / EQUIVALENT_PER_STRETCH
 
@@ -86,30 +87,40 @@ def held_stretch(A, a0, p, slope, mat, depth=1.0):
 def candidate_curve(P, p, slope, strains, mat, limited=True, held=True, grid=4001, depth=1.0):
     """The contact fraction after the stretches ``strains`` at ``p`` with the lattice's rate
     limited by the hardening and the sinking it holds (module text; ``limited=False``: the
-    runtime's perfectly plastic rate; ``held=False``: F2c alone).
+    runtime's perfectly plastic rate; ``held=False``: F2c alone; ``mat`` None: a perfectly
+    plastic bulk at the file's flow stress, neither limit).
 
     ``d eps / dA = tan(theta) / (c_L,h + c_E)`` from ``alpha1(p)`` to full contact, Heun's
     method on a grid in ``A`` clustered at both ends, the flow stress and ``h`` at the
     equivalent strain ``2 / sqrt(3)`` of the stretch reached; ``c_E`` infinite at the start
     (``d eps / dA = 0`` there). With ``held`` no ``A`` is reached before the stretch at which
     the Swift modulus holds it (Eq. F2d, :func:`held_stretch`: ``A <= alpha1(p) + 3 p / (4 h
-    tan(theta))`` read the other way, in closed form; ``depth`` half-spacings deep).
+    tan(theta))`` read the other way, in closed form; ``depth`` half-spacings deep). ``slope``
+    a function of ``A`` (a profile's edge slope, ``flattening_hardening_edges.py``): the flank
+    at the contact edge, F2d's sinking the trapezoidal integral of it from ``alpha1(p)``.
     """
     a0 = float(fl.alpha_first(p, P))
     w = 0.5 - 0.5 * np.cos(np.pi * np.linspace(0.0, 1.0, grid))
     A = a0 + (1.0 - 1e-9 - a0) * w
     p_f = np.maximum(flattening_pressure(A, P), p)
+    if callable(slope):
+        E = np.array([slope(a) for a in A])
+        sink = np.concatenate([[0.0], np.cumsum(0.5 * (E[1:] + E[:-1]) * np.diff(A))])
+    else:
+        E, sink = np.full(A.shape, float(slope)), (A - a0) * slope
+    limited, held = limited and mat is not None, held and mat is not None
 
     def slope_of(j, stretch):
         eq = EQUIVALENT_PER_STRETCH * stretch
-        s0 = 2.0 * float(mat.flow_stress(eq)) / math.sqrt(3.0)
-        c = 1.0 + slope * (1.0 - A[j])
+        sy = P.sigma_y if mat is None else float(mat.flow_stress(eq))
+        s0 = 2.0 * sy / math.sqrt(3.0)
+        c = 1.0 + E[j] * (1.0 - A[j])
         if limited:  # Eq. F2c: 2 p (1 - A) / h_k, h_k = h / 3
             c = min(c, 2.0 * p * (1.0 - A[j]) / (float(mat.hardening(eq)) / 3.0))
         r = min(p / p_f[j], 1.0)
         if r >= 1.0:
             return 0.0
-        return slope / (c + (s0 / p_f[j]) * r / math.sqrt(1.0 - r * r))
+        return E[j] / (c + (s0 / p_f[j]) * r / math.sqrt(1.0 - r * r))
 
     eps = np.zeros_like(A)
     for i in range(1, A.size):
@@ -118,7 +129,7 @@ def candidate_curve(P, p, slope, strains, mat, limited=True, held=True, grid=400
         k2 = slope_of(i, eps[i - 1] + k1 * dA)
         eps[i] = eps[i - 1] + 0.5 * (k1 + k2) * dA
         if limited and held:
-            eps[i] = max(eps[i], float(held_stretch(A[i], a0, p, slope, mat, depth)))
+            eps[i] = max(eps[i], float(held_stretch(sink[i], p, mat, depth)))
     return np.interp(np.asarray(strains, dtype=float), eps, A)
 
 

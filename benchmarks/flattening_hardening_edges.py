@@ -10,11 +10,11 @@ place of ``tan(theta)`` (``dA / d eps = (c + c_E) / E(A)``, ``c = min(1 + E (1 -
 / h)``), F2d's bound as the sinking height the hardening holds, ``int_{alpha1(p)}^A E dA <= 3 p /
 (4 h)`` (the plateaus must sink that far to reach ``A``), ``E`` the block's 51-fraction table
 of the row as a calibration writes it (``flattening_limit_rows.block_edges``). Integrated in
-``A`` as ``flattening_hardening.candidate_curve`` integrates the runtime's law, with the RMS
-slope beside it (the runtime's law to the ODE's error), against the hardening truths the CSVs of
-``flattening_hardening.py`` hold (DC04 on 64 x 32 and 128 x 48, Swift curves of ``n`` 0.1-0.4)
-and against the perfectly plastic truth's row (``asperity_flattening.csv``, 0.05-0.6 H, no
-modulus). Nothing fitted; not in the runtime (a study: a one-state block carries no table).
+``A`` by ``flattening_hardening.candidate_curve`` (the study's ODE of the runtime's law), with
+the RMS slope beside it (the runtime's law to the ODE's error), against the hardening truths the
+CSVs of ``flattening_hardening.py`` hold (DC04 on 64 x 32 and 128 x 48, Swift curves of ``n``
+0.1-0.4) and against the perfectly plastic truth's row (``asperity_flattening.csv``, 0.05-0.6 H,
+no modulus). Nothing fitted; not in the runtime (a study: a one-state block carries no table).
 
 Run: python benchmarks/flattening_hardening_edges.py (about 10 s). Writes
 benchmarks/results/flattening_hardening_edges.csv and .md (run record: .run.json).
@@ -28,10 +28,9 @@ import numpy as np
 from _provenance import RESULTS, run_record, write_rows
 from asperity_flattening import profiles
 from flattening_limit_rows import block_edges
-from flattening_truth import EQUIVALENT_PER_STRETCH, law_of, law_strain, read_truth
+from flattening_truth import law_of, law_strain, read_truth
 
 import frictionlaw as fl
-from frictionlaw.flattening import flattening_pressure
 
 #: the hardening truths: results stem, the Swift curve (None: DC04) and a label
 TRUTHS = (
@@ -44,40 +43,6 @@ TRUTHS = (
 )
 
 
-def edge_curve(P, p, slope_of, strains, mat=None, grid=4001):
-    """The one-state law's fraction after the stretches ``strains`` at ``p`` with the flank slope
-    ``slope_of(A)`` at the contact edge (module text); ``mat`` None: a perfectly plastic bulk at
-    the file's flow stress, else its flow curve and modulus at the stretch reached. Heun's method
-    on a grid in ``A`` clustered at both ends, as ``fh.candidate_curve``."""
-    a0 = float(fl.alpha_first(p, P))
-    w = 0.5 - 0.5 * np.cos(np.pi * np.linspace(0.0, 1.0, grid))
-    A = a0 + (1.0 - 1e-9 - a0) * w
-    p_f = np.maximum(flattening_pressure(A, P), p)
-    E = np.array([slope_of(a) for a in A])
-    sink = np.concatenate([[0.0], np.cumsum(0.5 * (E[1:] + E[:-1]) * np.diff(A))])
-
-    def rate(j, stretch):  # d stretch / dA
-        eq = EQUIVALENT_PER_STRETCH * stretch
-        sy = P.sigma_y if mat is None else float(mat.flow_stress(eq))
-        s0 = 2.0 * sy / math.sqrt(3.0)
-        c = 1.0 + E[j] * (1.0 - A[j])
-        if mat is not None:
-            c = min(c, 6.0 * p * (1.0 - A[j]) / float(mat.hardening(eq)))
-        r = min(p / p_f[j], 1.0)
-        return 0.0 if r >= 1.0 else E[j] / (c + (s0 / p_f[j]) * r / math.sqrt(1.0 - r * r))
-
-    eps = np.zeros_like(A)
-    for i in range(1, A.size):
-        dA = A[i] - A[i - 1]
-        k1 = rate(i - 1, eps[i - 1])
-        eps[i] = eps[i - 1] + 0.5 * (k1 + rate(i, eps[i - 1] + k1 * dA)) * dA
-        if mat is not None:  # F2d: the sinking height int E dA held at 3 p / (4 h)
-            h_req = 0.75 * p / max(sink[i], 1e-300)
-            eq = (h_req / (mat.n * mat.K)) ** (1.0 / (mat.n - 1.0)) - mat.eps0
-            eps[i] = max(eps[i], max(eq, 0.0) / EQUIVALENT_PER_STRETCH)
-    return np.interp(np.asarray(strains, dtype=float), eps, A)
-
-
 def main():
     pp, H = read_truth(RESULTS / "asperity_flattening.csv")
     profs = profiles()
@@ -87,7 +52,7 @@ def main():
     at = np.linspace(0.0, 1.0, table.size)
     rms = math.tan(math.radians(rms_deg))
     key = next(k for k in pp if k[0] == name)
-    laws = {"RMS slope": lambda a: rms, "edge slope": lambda a: float(np.interp(a, at, table))}
+    laws = {"RMS slope": rms, "edge slope": lambda a: float(np.interp(a, at, table))}
     rows, lines = [], []
     for stem, material, label in TRUTHS:
         if not (RESULTS / f"{stem}.csv").exists():
@@ -97,7 +62,7 @@ def main():
         cells = []
         for ph in fh.P_OVER_H:
             a_t = truth[(name, ph)][0]
-            got = {k: edge_curve(P, ph * H, f, fh.STRAINS, mat) for k, f in laws.items()}
+            got = {k: fh.candidate_curve(P, ph * H, f, fh.STRAINS, mat) for k, f in laws.items()}
             for i, e in enumerate(fh.STRAINS):
                 rows.append(
                     {"truth": label, "p_over_H": ph, "strain": e, "alpha_truth": a_t[i]}
@@ -114,7 +79,7 @@ def main():
     for ph in sorted(pp[key]):
         strains = sorted(pp[key][ph])
         a_t = np.array([pp[key][ph][e] for e in strains])
-        got = {k: edge_curve(P, ph * H, f, strains) for k, f in laws.items()}
+        got = {k: fh.candidate_curve(P, ph * H, f, strains, None) for k, f in laws.items()}
         runtime = fl.flattening_curve(ph * H, law_strain(strains), P)
         check = float(np.abs(got["RMS slope"] - runtime).max())
         pp_cells.append(
