@@ -8,9 +8,36 @@ fixes the conventions every reader of a lab sheet here shares.
 """
 
 import csv
+import re
 from pathlib import Path
 
-__all__ = ["read_rows"]
+__all__ = [
+    "read_rows",
+    "number",
+    "STRESS_UNITS",
+    "STRESS_SHOWN",
+    "plain",
+    "known_names",
+    "header_cell",
+    "is_units_row",
+    "with_units",
+]
+
+#: the stress and pressure units a lab sheet's header may give (compared in lower case) ->
+#: factor to Pa (psi and ksi exactly, from the pound-force and the inch)
+STRESS_UNITS = {
+    "pa": 1.0,
+    "kpa": 1e3,
+    "mpa": 1e6,
+    "gpa": 1e9,
+    "n/mm2": 1e6,
+    "n/mm\u00b2": 1e6,
+    "n/mm^2": 1e6,
+    "psi": 6894.757293168361,
+    "ksi": 6894757.293168361,
+}
+#: the same, as the messages show them
+STRESS_SHOWN = "Pa, kPa, MPa, GPa, N/mm², psi, ksi"
 
 
 def read_rows(path) -> tuple[list[int], list[list[str]], str]:
@@ -67,3 +94,98 @@ def number(cell: str, sep: str) -> float:
     if sep != "," and text.count(",") == 1 and "." not in text:
         text = text.replace(",", ".")
     return float(text)
+
+
+_UMLAUT = str.maketrans({"ä": "ae", "ö": "oe", "ü": "ue", "ß": "ss"})
+#: ``name [unit]``, ``name (unit)``, ``name in unit``, ``name / unit``
+_BRACKETED = re.compile(
+    r"^(?P<name>.*?)\s*(?:[(\[]\s*(?P<b>[^)\]]*?)\s*[)\]]|\s+in\s+(?P<w>\S+)|\s*/\s*(?P<s>\S+))$",
+    flags=re.IGNORECASE,
+)
+
+
+def plain(name: str) -> str:
+    """A column name as the readers compare it.
+
+    Lower case, umlauts spelt out, ``_``, ``-`` and ``.`` as spaces.
+    """
+    text = name.strip().lower().translate(_UMLAUT)
+    return " ".join(re.sub(r"[_\-.]+", " ", text).split())
+
+
+def known_names(names: dict) -> dict[str, str]:
+    """``{plain name: quantity}`` of ``{quantity: (names, ...)}``."""
+    return {plain(n): q for q, spelt in names.items() for n in spelt}
+
+
+def header_cell(cell: str, known: dict[str, str]) -> tuple[str | None, str]:
+    """``(quantity or None, unit as written)`` of one header cell.
+
+    ``name``, ``name [unit]``, ``name (unit)``, ``name in unit``, ``name / unit``, ``name%``,
+    ``name_unit``; ``known``: ``{plain name: quantity}`` (:func:`known_names`).
+    """
+    text = cell.strip()
+    if plain(text) in known:
+        return known[plain(text)], ""
+    m = _BRACKETED.match(text)
+    if m and plain(m["name"]) in known:
+        return known[plain(m["name"])], next(u for u in (m["b"], m["w"], m["s"]) if u is not None)
+    if text.endswith("%") and plain(text[:-1]) in known:  # alpha%, alpha_%
+        return known[plain(text[:-1])], "%"
+    for sep in ("_", " "):  # p_MPa, p_kPa, strain_-
+        name, _, tail = text.rpartition(sep)
+        if name and plain(name) in known:
+            return known[plain(name)], tail
+    return None, ""
+
+
+def is_units_row(head: list[str], row: list[str], sep: str, known: dict[str, str]) -> bool:
+    """Whether the row under the header gives units, as lab software writes them.
+
+    No number in a column the reader reads, and one cell there at least.
+    """
+    cells = [
+        row[j].strip() if j < len(row) else ""
+        for j, c in enumerate(head)
+        if header_cell(c, known)[0]
+    ]
+    if not any(cells):
+        return False
+    for cell in cells:
+        try:
+            number(cell, sep)
+            return False
+        except ValueError:
+            pass
+    return True
+
+
+def with_units(path, line: int, head: list[str], units: list[str], known, allowed, shown):
+    """The header with the units row's units (``p`` over ``MPa`` is ``p [MPa]``).
+
+    ``allowed`` and ``shown``: each quantity's units (lower case -> factor) and how a message
+    says them. ``ValueError`` naming the line and the column for a unit the reader does not know
+    or one the header contradicts.
+    """
+    out = list(head)
+    for j, cell in enumerate(head):
+        quantity, unit = header_cell(cell, known)
+        unit = unit.strip()
+        given = units[j].strip() if j < len(units) else ""
+        given = given[1:-1].strip() if given[:1] + given[-1:] in ("[]", "()") else given
+        if quantity is None or not given:
+            continue
+        if unit and unit.lower() == given.lower():
+            continue  # p_MPa over MPa
+        if unit:
+            raise ValueError(
+                f"{path}: line {line} (the units row): the column {cell.strip()!r} says "
+                f"{unit!r} and the units row {given!r}: keep one"
+            )
+        if allowed[quantity].get(given.lower()) is None:
+            raise ValueError(
+                f"{path}: line {line} (the units row), column {cell.strip()!r}: unknown unit "
+                f"{given!r}; {quantity} takes {shown[quantity]}"
+            )
+        out[j] = f"{cell.strip()} [{given}]"
+    return out

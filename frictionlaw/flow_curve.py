@@ -20,7 +20,17 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._table import number, read_rows
+from ._table import (
+    STRESS_SHOWN,
+    STRESS_UNITS,
+    header_cell,
+    is_units_row,
+    known_names,
+    number,
+    plain,
+    read_rows,
+    with_units,
+)
 
 __all__ = ["SwiftCurve", "TabulatedCurve", "FlowCurve", "read_flow_curve", "flow_curve_from_dict"]
 
@@ -175,32 +185,118 @@ def flow_curve_from_dict(d: dict) -> "FlowCurve":
     raise ValueError(f"a flow curve record has the form 'swift' or 'table', got {d.get('form')!r}")
 
 
+#: a flow curve CSV's column names (compared as :func:`~._table.plain` does: any case, umlauts
+#: spelt out, ``_``, ``-``, ``.`` as spaces), in English and German, each with its unit
+FLOW_NAMES = {
+    "strain": (
+        "strain",
+        "eps",
+        "epsilon",
+        "\u03b5",
+        "plastic strain",
+        "true strain",
+        "true plastic strain",
+        "equivalent plastic strain",
+        "log strain",
+        "logarithmic strain",
+        "peeq",
+        "phi",
+        "\u03c6",
+        "Umformgrad",
+        "Vergleichsumformgrad",
+    ),
+    "sigma_y": (
+        "sigma_y",
+        "sigma",
+        "\u03c3",
+        "flow stress",
+        "yield stress",
+        "true stress",
+        "stress",
+        "kf",
+        "k_f",
+        "Fließspannung",
+        "Fliesspannung",
+    ),
+}
+#: the units each column takes (lower case) -> factor to 1 or to Pa; a stress needs one
+FLOW_UNITS = {
+    "strain": {"": 1.0, "-": 1.0, "1": 1.0, "mm/mm": 1.0, "m/m": 1.0, "%": 0.01},
+    "sigma_y": STRESS_UNITS,
+}
+_FLOW_SHOWN = {"strain": "none, -, 1, mm/mm, m/m, %", "sigma_y": STRESS_SHOWN}
+_FLOW_KNOWN = known_names(FLOW_NAMES)
+#: how an engineering (nominal) column starts: a flow curve is true stress against true strain
+_NOMINAL = ("engineering ", "eng ", "nominal ", "technische ")
+
+
+def _flow_columns(path: Path, line: int, head: list[str]) -> dict[str, tuple[int, float, str]]:
+    """``{"strain" or "sigma_y": (index, factor, header as written)}`` of a flow curve's header."""
+    found: dict[str, tuple[int, float, str]] = {}
+    for j, cell in enumerate(head):
+        written = cell.strip()
+        if plain(written).startswith(_NOMINAL):
+            raise ValueError(
+                f"{path}: line {line}: the column {written!r} is an engineering (nominal) value: "
+                "a flow curve is the true stress against the true (logarithmic) plastic strain; "
+                "convert a nominal strain e to ln(1 + e) and its stress s to s (1 + e), and take "
+                "the elastic part off the strain"
+            )
+        quantity, unit = header_cell(written, _FLOW_KNOWN)
+        if quantity is None:
+            continue  # a remark or another column: not read
+        if quantity in found:
+            raise ValueError(
+                f"{path}: line {line}: two {quantity} columns ({found[quantity][2]!r} and "
+                f"{written!r}): keep one (which one to read would be a guess)"
+            )
+        factor = FLOW_UNITS[quantity].get(unit.strip().lower())
+        if factor is None and not unit.strip():
+            raise ValueError(
+                f"{path}: line {line}: the flow stress column {written!r} gives no unit: name "
+                f"it with one, e.g. sigma_y_MPa or 'sigma_y [MPa]' (units: {STRESS_SHOWN})"
+            )
+        if factor is None:
+            raise ValueError(
+                f"{path}: line {line}: the column {written!r}: unknown unit {unit.strip()!r}; "
+                f"{quantity} takes {_FLOW_SHOWN[quantity]}"
+            )
+        found[quantity] = (j, factor, written)
+    if len(found) != 2:
+        shown = ", ".join(repr(h.strip()) for h in head) or "nothing"
+        raise ValueError(
+            f"{path}: the first row must name the columns strain and sigma_y with its unit, e.g. "
+            f"strain and sigma_y_MPa or 'sigma_y [MPa]' (true stress against equivalent plastic "
+            f"strain); found {shown}; names read: "
+            + "; ".join(f"{q}: {', '.join(n)}" for q, n in FLOW_NAMES.items())
+        )
+    return found
+
+
 def _read_table(path: Path) -> TabulatedCurve:
-    """A CSV with the columns ``strain`` and ``sigma_y_Pa`` or ``sigma_y_MPa`` (any case)."""
+    """A CSV with a strain and a flow stress column.
+
+    Named and with units as :data:`FLOW_NAMES` and :data:`FLOW_UNITS` say; a second header row
+    may give the units.
+    """
     try:
         line_of, rows, sep = read_rows(path)
     except OSError as exc:
         raise ValueError(f"flow curve: cannot read {path}: {exc.strerror or exc}") from None
-    head = [h.strip().lower() for h in rows[0]] if rows else []
-    units = [(c, f) for c, f in (("sigma_y_pa", 1.0), ("sigma_y_mpa", 1e6)) if c in head]
-    if "strain" not in head or len(units) != 1:
-        raise ValueError(
-            f"{path}: the first row must name the columns strain and one of sigma_y_Pa, "
-            f"sigma_y_MPa (true stress against equivalent plastic strain); got "
-            f"{', '.join(head) or 'nothing'}"
-        )
-    (col, factor), je = units[0], head.index("strain")
-    js = head.index(col)
+    head = rows[0] if rows else []
+    if len(rows) > 1 and is_units_row(head, rows[1], sep, _FLOW_KNOWN):
+        head = with_units(path, line_of[1], head, rows[1], _FLOW_KNOWN, FLOW_UNITS, _FLOW_SHOWN)
+        line_of, rows = line_of[:1] + line_of[2:], rows[:1] + rows[2:]
+    cols = _flow_columns(path, line_of[0] if line_of else 1, head)
+    (je, fe, _), (js, fs, ws) = cols["strain"], cols["sigma_y"]
     eps, sig = [], []
     for i, row in zip(line_of[1:], rows[1:], strict=True):
         try:
-            e, s = number(row[je], sep), number(row[js], sep) * factor
+            e, s = number(row[je], sep) * fe, number(row[js], sep) * fs
         except (IndexError, ValueError):
             cells = "".join(row[j] for j in (je, js) if j < len(row))
             hint = " (a decimal comma? write 0.5, not 0,5)" if "," in cells else ""
-            raise ValueError(
-                f"{path}: line {i}: strain and {rows[0][js].strip()} must be numbers{hint}"
-            ) from None
+            raise ValueError(f"{path}: line {i}: strain and {ws} must be numbers{hint}") from None
         eps.append(e)
         sig.append(s)
     try:
@@ -213,8 +309,10 @@ def read_flow_curve(spec: str) -> "FlowCurve":
     """The flow curve of a command line's text.
 
     ``swift:K,eps0,n`` (``K`` in Pa, e.g. ``swift:530e6,0.006,0.24``), or the path of a CSV
-    with the columns ``strain`` and ``sigma_y_Pa`` or ``sigma_y_MPa`` (commas, semicolons or
-    tabs; ``#`` comment lines). ``ValueError`` naming what is wrong.
+    with a strain and a flow stress column with its unit (``strain`` and ``sigma_y_MPa``,
+    ``phi; kf [MPa]``, ``true strain, true stress (psi)``, :data:`FLOW_NAMES`, :data:`FLOW_UNITS`;
+    commas, semicolons or tabs; ``#`` comment lines; a second header row of units). ``ValueError``
+    naming what is wrong.
     """
     text = str(spec).strip()
     if text.lower().startswith("swift:"):

@@ -199,6 +199,16 @@ def test_unit_bearing_headers_convert_to_fractions_and_pa(tmp_path, head, scale)
     assert d.p == pytest.approx([2.4e8] * 3, rel=1e-12)
 
 
+@pytest.mark.parametrize("unit, pa", [("psi", 1.0), ("ksi", 1e3)])
+def test_a_us_sheet_in_psi_or_ksi_reads_in_pa(tmp_path, unit, pa):
+    """psi: a pound-force (0.45359237 kg x 9.80665 m/s^2) per square inch (0.0254 m), exact."""
+    psi = 0.45359237 * 9.80665 / 0.0254**2
+    f = tmp_path / "d.csv"
+    p = 2.4e8 / (psi * pa)
+    f.write_text(f"strain,alpha,p [{unit}]\n0,0.3,{p!r}\n0.01,0.4,{p!r}\n0.02,0.46,{p!r}\n")
+    assert read_flattening_data(f).p == pytest.approx([2.4e8] * 3, rel=1e-12)
+
+
 @pytest.mark.parametrize(
     "units, scale",
     [

@@ -105,7 +105,10 @@ def test_the_command_line_text(tmp_path):
     with pytest.raises(ValueError, match="neither swift:K,eps0,n nor an existing CSV"):
         read_flow_curve(str(tmp_path / "none.csv"))
     f.write_text("strain,stress\n0,1e8\n0.1,2e8\n")
-    with pytest.raises(ValueError, match="must name the columns strain and one of sigma_y_Pa"):
+    with pytest.raises(ValueError, match="'stress' gives no unit: name it with one, e.g. sigma_y"):
+        read_flow_curve(str(f))
+    f.write_text("strain,force_kN\n0,1\n0.1,2\n")
+    with pytest.raises(ValueError, match="must name the columns strain and sigma_y with its unit"):
         read_flow_curve(str(f))
     f.write_text("strain;sigma_y_MPa\n0;155\n0,1;300\n")  # a German sheet: decimal commas
     assert read_flow_curve(str(f)).strain == (0.0, 0.1)
@@ -114,6 +117,45 @@ def test_the_command_line_text(tmp_path):
         read_flow_curve(str(f))
     f.write_text("strain,sigma_y_MPa\n0,155\n0.1,140\n")
     with pytest.raises(ValueError, match=f"{f.name}: tabulated flow curve: sigma_y falls"):
+        read_flow_curve(str(f))
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "phi;kf [MPa]\n0;155\n0,1;300\n",  # a German sheet: Umformgrad and Fliessspannung
+        "Umformgrad;Fließspannung\n-;N/mm²\n0;155\n0,1;300\n",  # a units row under the names
+        "True strain,True stress (ksi)\n0,22.4808493482\n0.1,43.5113213191\n",  # a US sheet
+        "plastic strain [%]\tflow stress / Pa\n0\t155e6\n10\t300e6\n",
+        "# tensile test 3, RD\nPEEQ,sigma_y in GPa,remark\n0,0.155,yield\n0.1,0.300,\n",
+    ],
+)
+def test_a_lab_flow_curve_reads_as_written(tmp_path, text):
+    f = tmp_path / "curve.csv"
+    f.write_text(text, encoding="utf-8")
+    t = read_flow_curve(str(f))
+    assert t.strain == pytest.approx((0.0, 0.1), abs=1e-15)
+    # ksi: 1000 lbf / in^2, lbf = 0.45359237 kg x 9.80665 m/s^2, in = 0.0254 m (exact)
+    assert t.sigma_y_points == pytest.approx((155e6, 300e6), rel=1e-8)
+
+
+@pytest.mark.parametrize(
+    "text, match",
+    [
+        (
+            "engineering strain,engineering stress [MPa]\n0,155\n0.1,300\n",
+            r"engineering \(nominal\) value: a flow curve is the true stress.*ln\(1 \+ e\)",
+        ),
+        ("strain,sigma_y [bar]\n0,1550\n0.1,3000\n", r"unknown unit 'bar'; sigma_y takes Pa, kPa"),
+        ("strain,sigma_y_MPa,sigma_y_Pa\n0,155,1\n0.1,300,2\n", "two sigma_y columns"),
+        ("strain;kf\n-;furlong\n0;155\n0,1;300\n", r"line 2 \(the units row\).*'furlong'"),
+        ("strain [MPa],sigma_y_MPa\n0,155\n0.1,300\n", "unknown unit 'MPa'; strain takes none"),
+    ],
+)
+def test_a_flow_curve_header_the_reader_cannot_read_is_refused_naming_it(tmp_path, text, match):
+    f = tmp_path / "curve.csv"
+    f.write_text(text, encoding="utf-8")
+    with pytest.raises(ValueError, match=match):
         read_flow_curve(str(f))
 
 

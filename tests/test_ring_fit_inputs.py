@@ -128,6 +128,14 @@ def test_the_files_header_states_ring_and_material(tmp_path, points):
     euro = "# geometry: OD = 20,5 mm; ID = 10 mm; H = 7 mm\n"
     t = ringfit.read_ring_tests([_write(tmp_path / "b.csv", points, header=euro)])
     assert t.geometry["outer_diameter"] == pytest.approx(0.0205)
+    # a German data sheet's N/mm² and a US one's ksi (1000 lbf / in^2, exact: 6.894757 MPa)
+    german = "# material: E = 70000 N/mm\u00b2; nu = 0,33; K = 180 N/mm2; eps0 = 0,01; n = 0,2\n"
+    t = ringfit.read_ring_tests([_write(tmp_path / "c.csv", points, header=german)])
+    assert t.material == pytest.approx({"E": 70e9, "nu": 0.33, "K": 180e6, "eps0": 0.01, "n": 0.2})
+    us = "# material: E = 10152.6 ksi, K = 26.1066 ksi, eps0 = 0.01, n = 0.2\n"
+    t = ringfit.read_ring_tests([_write(tmp_path / "d.csv", points, header=us)])
+    assert t.material["E"] == pytest.approx(70e9, rel=1e-5)
+    assert t.material["K"] == pytest.approx(180e6, rel=1e-5)
 
 
 @pytest.mark.parametrize(

@@ -28,7 +28,7 @@ commas)::
 ``geometry``: the ring's outer and inner diameter and height before the test (``OD``, ``ID``,
 ``H``; units ``m``, ``mm`` or ``um``). ``material``: the Swift flow curve
 ``sigma_f = K (eps0 + eps_p)^n`` and the elastic constants (``K`` and ``E`` in ``Pa``, ``kPa``,
-``MPa`` or ``GPa``; ``nu``, ``eps0``, ``n`` without a unit); ``K``, ``eps0`` and ``n`` are required,
+``MPa``, ``GPa``, ``N/mm²``, ``psi`` or ``ksi``; ``nu``, ``eps0``, ``n`` without a unit); ``K``, ``eps0`` and ``n`` are required,
 ``E`` and ``nu`` default to ``fe-demo``'s DC04 values. Pooled files must state the same
 conditions where they state any.
 """
@@ -44,6 +44,7 @@ from pathlib import Path
 
 import numpy as np
 
+from frictionlaw._table import STRESS_UNITS
 from sbmf_cli import ParameterError
 
 __all__ = [
@@ -61,7 +62,7 @@ REDUCTION_RANGE = (0.0, 0.7)
 COLUMNS = ("inner_diameter_change", "inner_diameter_min_change")
 
 _LENGTH = {"m": 1.0, "mm": 1e-3, "um": 1e-6}
-_STRESS = {"pa": 1.0, "kpa": 1e3, "mpa": 1e6, "gpa": 1e9}
+_STRESS = STRESS_UNITS
 #: key -> (name in the record, units it takes (None: none), required)
 _GEOMETRY = {
     "od": ("outer_diameter", _LENGTH, True),
@@ -123,7 +124,10 @@ def _stated(path, kind, body):
     sep = ";" if ";" in body else ","
     out = {}
     for item in (s for s in body.split(sep) if s.strip()):
-        m = re.fullmatch(r"\s*([A-Za-z_0-9]+)\s*=\s*([-+0-9.,eE]+)\s*([A-Za-z]*)\s*", item)
+        m = re.fullmatch(
+            r"\s*([A-Za-z_0-9]+)\s*=\s*([-+0-9.,eE]+)\s*((?:[A-Za-z][A-Za-z/^0-9\u00b2]*)?)\s*",
+            item,
+        )
         if not m or m.group(1).lower() not in keys:
             raise _bad(
                 path,

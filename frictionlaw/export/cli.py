@@ -117,8 +117,9 @@ def build_parser():
         metavar="SPEC",
         help="the workpiece's flow curve, for lsdyna-usrfrc, lsdyna-usrfrc-mpp and calculix "
         "with a flattening block (their hosts pass the plastic strain, not the flow stress): "
-        "swift:K,eps0,n (K in Pa, e.g. swift:530e6,0.006,0.24) or a CSV with "
-        "the columns strain and sigma_y_Pa (or sigma_y_MPa); the routine reads the flow stress "
+        "swift:K,eps0,n (K in Pa, e.g. swift:530e6,0.006,0.24) or a CSV with a strain "
+        "and a flow stress column with its unit (strain and sigma_y_MPa, phi and kf [MPa], "
+        "...); the routine reads the flow stress "
         "and hardening modulus off it at the element's plastic strain (default: none: the "
         "file's sigma_y and the perfectly plastic rate, an upper limit for a hardening metal)",
     )

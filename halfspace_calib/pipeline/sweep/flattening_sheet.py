@@ -19,7 +19,17 @@ from pathlib import Path
 
 import numpy as np
 
-from frictionlaw._table import number, read_rows
+from frictionlaw._table import (
+    STRESS_SHOWN,
+    STRESS_UNITS,
+    header_cell,
+    is_units_row,
+    known_names,
+    number,
+    plain,
+    read_rows,
+    with_units,
+)
 from frictionlaw.flow_curve import FlowCurve
 
 from ...topography._formats import file_sha256
@@ -77,47 +87,22 @@ NAMES = {
 UNITS = {
     "strain": {"": 1.0, "-": 1.0, "1": 1.0, "mm/mm": 1.0, "m/m": 1.0, "%": 0.01},
     "alpha": {"": 1.0, "-": 1.0, "1": 1.0, "%": 0.01},
-    "p": {"pa": 1.0, "kpa": 1e3, "mpa": 1e6, "gpa": 1e9, "n/mm2": 1e6, "n/mm\u00b2": 1e6},
+    "p": STRESS_UNITS,
 }
 #: the units as the messages show them
 _SHOWN = {
     "strain": "none, -, 1, mm/mm, %",
     "alpha": "none, -, 1, %",
-    "p": "Pa, kPa, MPa, GPa, N/mm²",
+    "p": STRESS_SHOWN,
 }
 #: headers of an engineering strain (refused: the law's strain is a true strain)
 _ENGINEERING = ("engineering strain", "eng strain", "strain eng", "technische dehnung")
-_UMLAUT = str.maketrans({"ä": "ae", "ö": "oe", "ü": "ue", "ß": "ss"})
-
-
-def _plain(name: str) -> str:
-    text = name.strip().lower().translate(_UMLAUT)
-    return " ".join(re.sub(r"[_\-.]+", " ", text).split())
-
-
-_KNOWN = {_plain(n): q for q, names in NAMES.items() for n in names}
-#: ``name [unit]``, ``name (unit)``, ``name in unit``, ``name / unit``
-_BRACKETED = re.compile(
-    r"^(?P<name>.*?)\s*(?:[(\[]\s*(?P<b>[^)\]]*?)\s*[)\]]|\s+in\s+(?P<w>\S+)|\s*/\s*(?P<s>\S+))$",
-    flags=re.IGNORECASE,
-)
+_KNOWN = known_names(NAMES)
 
 
 def _header_cell(cell: str) -> tuple[str | None, str]:
     """``(quantity or None, unit as written)`` of one header cell."""
-    text = cell.strip()
-    if _plain(text) in _KNOWN:
-        return _KNOWN[_plain(text)], ""
-    m = _BRACKETED.match(text)
-    if m and _plain(m["name"]) in _KNOWN:
-        return _KNOWN[_plain(m["name"])], next(u for u in (m["b"], m["w"], m["s"]) if u is not None)
-    if text.endswith("%") and _plain(text[:-1]) in _KNOWN:  # alpha%, alpha_%
-        return _KNOWN[_plain(text[:-1])], "%"
-    for sep in ("_", " "):  # p_MPa, p_kPa, strain_-
-        name, _, tail = text.rpartition(sep)
-        if name and _plain(name) in _KNOWN:
-            return _KNOWN[_plain(name)], tail
-    return None, ""
+    return header_cell(cell, _KNOWN)
 
 
 def _columns(path: Path, line: int, head: list[str]) -> dict[str, tuple[int, float, str]]:
@@ -125,7 +110,7 @@ def _columns(path: Path, line: int, head: list[str]) -> dict[str, tuple[int, flo
     found: dict[str, tuple[int, float, str]] = {}
     for j, cell in enumerate(head):
         written = cell.strip()
-        if _plain(written) in _ENGINEERING:
+        if plain(written) in _ENGINEERING:
             raise ValueError(
                 f"{path}: line {line}: the column {written!r} is an engineering strain: the law's "
                 "strain is the host's equivalent plastic strain, a true (logarithmic) strain; "
@@ -179,8 +164,8 @@ def read_flattening_data(path) -> FlatteningData:
     path = Path(path)
     line_of, rows, sep = read_rows(path)
     head = rows[0] if rows else []
-    if len(rows) > 1 and _is_units_row(head, rows[1], sep):
-        head = _with_units(path, line_of[1], head, rows[1])
+    if len(rows) > 1 and is_units_row(head, rows[1], sep, _KNOWN):
+        head = with_units(path, line_of[1], head, rows[1], _KNOWN, UNITS, _SHOWN)
         line_of, rows = line_of[:1] + line_of[2:], rows[:1] + rows[2:]
     cols = _columns(path, line_of[0] if line_of else 1, head)
     vals: dict[str, list[float]] = {c: [] for c in cols}
@@ -216,48 +201,6 @@ def read_flattening_data(path) -> FlatteningData:
 
 #: a number written with thousands separators (``1,234.5``, ``12.000.000``, ``1'234``)
 _THOUSANDS = re.compile(r"^[+-]?\d{1,3}(?:([,.' \u00a0\u202f])\d{3})(?:\1\d{3})*(?:[.,]\d*)?$")
-
-
-def _is_units_row(head: list[str], row: list[str], sep: str) -> bool:
-    """Whether the row under the header gives units: no number in a read column, one unit."""
-    cells = [
-        row[j].strip() if j < len(row) else "" for j, c in enumerate(head) if _header_cell(c)[0]
-    ]
-    if not any(cells):
-        return False
-    for cell in cells:
-        try:
-            number(cell, sep)
-            return False
-        except ValueError:
-            pass
-    return True
-
-
-def _with_units(path: Path, line: int, head: list[str], units: list[str]) -> list[str]:
-    """The header with the units row's units (``p`` over ``MPa`` is ``p [MPa]``)."""
-    out = list(head)
-    for j, cell in enumerate(head):
-        quantity, unit = _header_cell(cell)
-        unit = unit.strip()
-        given = units[j].strip() if j < len(units) else ""
-        given = given[1:-1].strip() if given[:1] + given[-1:] in ("[]", "()") else given
-        if quantity is None or not given:
-            continue
-        if unit and unit.lower() == given.lower():
-            continue  # p_MPa over MPa
-        if unit:
-            raise ValueError(
-                f"{path}: line {line} (the units row): the column {cell.strip()!r} says "
-                f"{unit!r} and the units row {given!r}: keep one"
-            )
-        if UNITS[quantity].get(given.lower()) is None:
-            raise ValueError(
-                f"{path}: line {line} (the units row), column {cell.strip()!r}: unknown unit "
-                f"{given!r}; {quantity} takes {_SHOWN[quantity]}"
-            )
-        out[j] = f"{cell.strip()} [{given}]"
-    return out
 
 
 def _check_values(path: Path, data: FlatteningData, line_of: list[int], name: dict) -> None:

@@ -26,6 +26,7 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 from scipy.stats import t as student_t
 
+from frictionlaw._table import STRESS_UNITS
 from sbmf_cli import ParameterError
 
 from ...common.checks import text_file
@@ -44,7 +45,7 @@ __all__ = [
     "read_after_contact",
 ]
 
-_PRESSURE_UNITS = {"pa": 1.0, "kpa": 1e3, "mpa": 1e6, "gpa": 1e9}
+_PRESSURE_UNITS = STRESS_UNITS
 _LENGTH_UNITS = {"m": 1.0, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "nm": 1e-9}
 #: the fitted H is searched in ``(H_LOW * max p_mean, H_HIGH * max p_mean)``
 H_LOW, H_HIGH = 1.02, 100.0
@@ -227,7 +228,7 @@ def read_after_contact(path):
     """Read measured after-contact roughness: a text table with a header naming the units.
 
     Lines starting with ``#`` are comments; the first other line is the header
-    ``p_mean [MPa], Ra [um], Rq [um]`` (pressure units Pa, kPa, MPa, GPa; lengths m, mm, um,
+    ``p_mean [MPa], Ra [um], Rq [um]`` (pressure units Pa, kPa, MPa, GPa, N/mm², psi, ksi; lengths m, mm, um,
     nm), then one row per sample, comma- or whitespace-separated. A ``p_mean = 0`` row is the
     roughness before contact (checked against, not fitted).
 
