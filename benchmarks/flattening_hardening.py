@@ -57,6 +57,21 @@ SUBSTEPS = 50
 DEPTHS = (0.5, 2.0 / 3.0, 1.5, 2.0)
 
 
+def miss_summary(misses):
+    """The report's line of ``{law: [law - truth of each curve]}``: the largest miss, the RMS
+    over the points and the curves within 0.05, per law."""
+    return (
+        "Over the curves, the largest miss / RMS over their points / curves within 0.05: "
+        + "; ".join(
+            f"{k} {max(np.abs(d).max() for d in v):.3f} / "
+            f"{math.sqrt(np.mean(np.concatenate(v) ** 2)):.3f} / "
+            f"{sum(np.abs(d).max() <= 0.05 for d in v)} of {len(v)}"
+            for k, v in misses.items()
+        )
+        + "."
+    )
+
+
 def law_curve(P, p, strains, mat, hardening=False):
     """The law's contact fraction after the stretches ``strains`` at ``p``, each step at the
     current flow stress (of the equivalent plastic strain, ``2 / sqrt(3)`` of the stretch, which
@@ -286,16 +301,7 @@ def main(argv=None):
         "|---|---|---|---|---|---|---|---|---|---|",
     ]
     lines.append("")
-    lines.append(
-        "Over the curves, the largest miss / RMS over their points / curves within 0.05: "
-        + "; ".join(
-            f"{k} {max(np.abs(d).max() for d in v):.3f} / "
-            f"{math.sqrt(np.mean(np.concatenate(v) ** 2)):.3f} / "
-            f"{sum(np.abs(d).max() <= 0.05 for d in v)} of {len(v)}"
-            for k, v in misses.items()
-        )
-        + "."
-    )
+    lines.append(miss_summary(misses))
     lines.append("")
     lines.append(
         "F2d's sinking zone (one half-spacing deep) other depths, the largest miss with F2c: "
@@ -314,9 +320,14 @@ def main(argv=None):
     print(text)
 
 
-if __name__ == "__main__":
+def run_tagged(script, stem, main):
+    """``main()`` under its run record, named ``stem`` or ``stem_<tag>`` as ``--tag`` says."""
     import sys
 
     tag = sys.argv[sys.argv.index("--tag") + 1] if "--tag" in sys.argv[:-1] else None
-    with run_record(__file__, STEM + (f"_{tag}" if tag else "")):
+    with run_record(script, stem + (f"_{tag}" if tag else "")):
         main()
+
+
+if __name__ == "__main__":
+    run_tagged(__file__, STEM, main)

@@ -36,9 +36,16 @@ import math
 from pathlib import Path
 
 import numpy as np
-from _provenance import RESULTS, read_rows, run_record, write_rows
+from _provenance import RESULTS, read_rows, write_rows
 from asperity_flattening import each_case, profiles
-from flattening_hardening import STRAINS, _material, candidate_curve, law_curve
+from flattening_hardening import (
+    STRAINS,
+    _material,
+    candidate_curve,
+    law_curve,
+    miss_summary,
+    run_tagged,
+)
 from flattening_truth import law_of, law_strain, read_truth
 
 import frictionlaw as fl
@@ -249,14 +256,7 @@ def main(argv=None):
     ]
     lines += [
         "",
-        "Over the curves, the largest miss / RMS over their points / curves within 0.05: "
-        + "; ".join(
-            f"{k} {max(np.abs(d).max() for d in v):.3f} / "
-            f"{math.sqrt(np.mean(np.concatenate(v) ** 2)):.3f} / "
-            f"{sum(np.abs(d).max() <= 0.05 for d in v)} of {len(v)}"
-            for k, v in misses.items()
-        )
-        + ".",
+        miss_summary(misses),
         "",
         f"The one-state ODE with the limits against the runtime given the hardening modulus "
         f"(`flattening_update(..., hardening=)`): {check:.1e} largest difference in alpha.",
@@ -269,8 +269,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    import sys
-
-    tag = sys.argv[sys.argv.index("--tag") + 1] if "--tag" in sys.argv[:-1] else None
-    with run_record(__file__, STEM + (f"_{tag}" if tag else "")):
-        main()
+    run_tagged(__file__, STEM, main)

@@ -21,6 +21,8 @@ __all__ = [
     "header_cell",
     "is_units_row",
     "with_units",
+    "find_columns",
+    "header_and_rows",
 ]
 
 #: the stress and pressure units a lab sheet's header may give (compared in lower case) ->
@@ -189,3 +191,57 @@ def with_units(path, line: int, head: list[str], units: list[str], known, allowe
             )
         out[j] = f"{cell.strip()} [{given}]"
     return out
+
+
+def find_columns(path, line: int, head: list[str], known, allowed, shown, *, named, refuse=None):
+    """``{quantity: (index, factor, header as written)}`` of the columns a header names.
+
+    ``known``: ``{plain name: quantity}``; ``allowed`` and ``shown``: each quantity's units
+    (lower case -> factor; a quantity without ``""`` needs one) and how a message says them;
+    ``named``: ``{quantity: (its name in a message, an example header)}`` for the quantities
+    that need a unit; ``refuse``: a function of a header cell giving the message for a column
+    the reader refuses (an engineering strain), or ``None``. Cells naming no quantity are not
+    read. ``ValueError`` naming the line and the column for a quantity named twice, a unit the
+    reader does not know or one missing; which quantities must be there is the caller's.
+    """
+    found: dict[str, tuple[int, float, str]] = {}
+    for j, cell in enumerate(head):
+        written = cell.strip()
+        message = refuse(written) if refuse is not None else None
+        if message:
+            raise ValueError(f"{path}: line {line}: {message}")
+        quantity, unit = header_cell(written, known)
+        if quantity is None:
+            continue  # a remark or another column: not read
+        if quantity in found:
+            raise ValueError(
+                f"{path}: line {line}: the column {quantity} appears twice ({found[quantity][2]!r} "
+                f"and {written!r}): keep one (which one to read would be a guess)"
+            )
+        factor = allowed[quantity].get(unit.strip().lower())
+        if factor is None and not unit.strip():
+            what, example = named[quantity]
+            raise ValueError(
+                f"{path}: line {line}: the {what} column {written!r} gives no unit: name it with "
+                f"one, e.g. {example} (units: {shown[quantity]})"
+            )
+        if factor is None:
+            raise ValueError(
+                f"{path}: line {line}: the column {written!r}: unknown unit {unit.strip()!r}; "
+                f"{quantity} takes {shown[quantity]}"
+            )
+        found[quantity] = (j, factor, written)
+    return found
+
+
+def header_and_rows(path, line_of, rows, sep, known, allowed, shown):
+    """``(header, line_of, rows)`` of a sheet :func:`read_rows` read.
+
+    A units row under the header is folded into it (:func:`with_units`) and dropped from the
+    rows; without one all is as :func:`read_rows` gave it.
+    """
+    head = rows[0] if rows else []
+    if len(rows) > 1 and is_units_row(head, rows[1], sep, known):
+        head = with_units(path, line_of[1], head, rows[1], known, allowed, shown)
+        line_of, rows = line_of[:1] + line_of[2:], rows[:1] + rows[2:]
+    return head, line_of, rows

@@ -23,13 +23,12 @@ from numpy.typing import ArrayLike, NDArray
 from ._table import (
     STRESS_SHOWN,
     STRESS_UNITS,
-    header_cell,
-    is_units_row,
+    find_columns,
+    header_and_rows,
     known_names,
     number,
     plain,
     read_rows,
-    with_units,
 )
 
 __all__ = ["SwiftCurve", "TabulatedCurve", "FlowCurve", "read_flow_curve", "flow_curve_from_dict"]
@@ -230,38 +229,23 @@ _FLOW_KNOWN = known_names(FLOW_NAMES)
 _NOMINAL = ("engineering ", "eng ", "nominal ", "technische ")
 
 
+def _nominal(written: str) -> str | None:
+    """The message for a column headed as an engineering value (``None`` for another)."""
+    if not plain(written).startswith(_NOMINAL):
+        return None
+    return (
+        f"the column {written!r} is an engineering (nominal) value: a flow curve is the true "
+        "stress against the true (logarithmic) plastic strain; convert a nominal strain e to "
+        "ln(1 + e) and its stress s to s (1 + e), and take the elastic part off the strain"
+    )
+
+
 def _flow_columns(path: Path, line: int, head: list[str]) -> dict[str, tuple[int, float, str]]:
     """``{"strain" or "sigma_y": (index, factor, header as written)}`` of a flow curve's header."""
-    found: dict[str, tuple[int, float, str]] = {}
-    for j, cell in enumerate(head):
-        written = cell.strip()
-        if plain(written).startswith(_NOMINAL):
-            raise ValueError(
-                f"{path}: line {line}: the column {written!r} is an engineering (nominal) value: "
-                "a flow curve is the true stress against the true (logarithmic) plastic strain; "
-                "convert a nominal strain e to ln(1 + e) and its stress s to s (1 + e), and take "
-                "the elastic part off the strain"
-            )
-        quantity, unit = header_cell(written, _FLOW_KNOWN)
-        if quantity is None:
-            continue  # a remark or another column: not read
-        if quantity in found:
-            raise ValueError(
-                f"{path}: line {line}: two {quantity} columns ({found[quantity][2]!r} and "
-                f"{written!r}): keep one (which one to read would be a guess)"
-            )
-        factor = FLOW_UNITS[quantity].get(unit.strip().lower())
-        if factor is None and not unit.strip():
-            raise ValueError(
-                f"{path}: line {line}: the flow stress column {written!r} gives no unit: name "
-                f"it with one, e.g. sigma_y_MPa or 'sigma_y [MPa]' (units: {STRESS_SHOWN})"
-            )
-        if factor is None:
-            raise ValueError(
-                f"{path}: line {line}: the column {written!r}: unknown unit {unit.strip()!r}; "
-                f"{quantity} takes {_FLOW_SHOWN[quantity]}"
-            )
-        found[quantity] = (j, factor, written)
+    named = {"sigma_y": ("flow stress", "sigma_y_MPa or 'sigma_y [MPa]'")}
+    found = find_columns(
+        path, line, head, _FLOW_KNOWN, FLOW_UNITS, _FLOW_SHOWN, named=named, refuse=_nominal
+    )
     if len(found) != 2:
         shown = ", ".join(repr(h.strip()) for h in head) or "nothing"
         raise ValueError(
@@ -283,10 +267,9 @@ def _read_table(path: Path) -> TabulatedCurve:
         line_of, rows, sep = read_rows(path)
     except OSError as exc:
         raise ValueError(f"flow curve: cannot read {path}: {exc.strerror or exc}") from None
-    head = rows[0] if rows else []
-    if len(rows) > 1 and is_units_row(head, rows[1], sep, _FLOW_KNOWN):
-        head = with_units(path, line_of[1], head, rows[1], _FLOW_KNOWN, FLOW_UNITS, _FLOW_SHOWN)
-        line_of, rows = line_of[:1] + line_of[2:], rows[:1] + rows[2:]
+    head, line_of, rows = header_and_rows(
+        path, line_of, rows, sep, _FLOW_KNOWN, FLOW_UNITS, _FLOW_SHOWN
+    )
     cols = _flow_columns(path, line_of[0] if line_of else 1, head)
     (je, fe, _), (js, fs, ws) = cols["strain"], cols["sigma_y"]
     eps, sig = [], []

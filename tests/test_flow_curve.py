@@ -147,7 +147,7 @@ def test_a_lab_flow_curve_reads_as_written(tmp_path, text):
             r"engineering \(nominal\) value: a flow curve is the true stress.*ln\(1 \+ e\)",
         ),
         ("strain,sigma_y [bar]\n0,1550\n0.1,3000\n", r"unknown unit 'bar'; sigma_y takes Pa, kPa"),
-        ("strain,sigma_y_MPa,sigma_y_Pa\n0,155,1\n0.1,300,2\n", "two sigma_y columns"),
+        ("strain,sigma_y_MPa,sigma_y_Pa\n0,155,1\n0.1,300,2\n", "the column sigma_y appears twice"),
         ("strain;kf\n-;furlong\n0;155\n0,1;300\n", r"line 2 \(the units row\).*'furlong'"),
         ("strain [MPa],sigma_y_MPa\n0,155\n0.1,300\n", "unknown unit 'MPa'; strain takes none"),
     ],

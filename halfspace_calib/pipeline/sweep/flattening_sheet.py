@@ -22,13 +22,12 @@ import numpy as np
 from frictionlaw._table import (
     STRESS_SHOWN,
     STRESS_UNITS,
-    header_cell,
-    is_units_row,
+    find_columns,
+    header_and_rows,
     known_names,
     number,
     plain,
     read_rows,
-    with_units,
 )
 from frictionlaw.flow_curve import FlowCurve
 
@@ -100,42 +99,21 @@ _ENGINEERING = ("engineering strain", "eng strain", "strain eng", "technische de
 _KNOWN = known_names(NAMES)
 
 
-def _header_cell(cell: str) -> tuple[str | None, str]:
-    """``(quantity or None, unit as written)`` of one header cell."""
-    return header_cell(cell, _KNOWN)
+def _engineering(written: str) -> str | None:
+    """The message for a column headed as an engineering strain (``None`` for another)."""
+    if plain(written) not in _ENGINEERING:
+        return None
+    return (
+        f"the column {written!r} is an engineering strain: the law's strain is the host's "
+        "equivalent plastic strain, a true (logarithmic) strain; convert each value e to "
+        "ln(1 + e) and name the column strain"
+    )
 
 
 def _columns(path: Path, line: int, head: list[str]) -> dict[str, tuple[int, float, str]]:
     """``{quantity: (index, factor, header as written)}``; ``ValueError`` for a bad header."""
-    found: dict[str, tuple[int, float, str]] = {}
-    for j, cell in enumerate(head):
-        written = cell.strip()
-        if plain(written) in _ENGINEERING:
-            raise ValueError(
-                f"{path}: line {line}: the column {written!r} is an engineering strain: the law's "
-                "strain is the host's equivalent plastic strain, a true (logarithmic) strain; "
-                "convert each value e to ln(1 + e) and name the column strain"
-            )
-        quantity, unit = _header_cell(written)
-        if quantity is None:
-            continue  # a remark or another column: not read
-        if quantity in found:
-            raise ValueError(
-                f"{path}: line {line}: the column {quantity} appears twice ({found[quantity][2]!r} "
-                f"and {written!r}): keep one (which one to read would be a guess)"
-            )
-        factor = UNITS[quantity].get(unit.strip().lower())
-        if factor is None and quantity == "p" and not unit.strip():
-            raise ValueError(
-                f"{path}: line {line}: the pressure column {written!r} gives no unit: name it "
-                f"with one, e.g. p_MPa, p [MPa] or p_Pa (units: {_SHOWN['p']})"
-            )
-        if factor is None:
-            raise ValueError(
-                f"{path}: line {line}: the column {written!r}: unknown unit {unit.strip()!r}; "
-                f"{quantity} takes {_SHOWN[quantity]}"
-            )
-        found[quantity] = (j, factor, written)
+    named = {"p": ("pressure", "p_MPa, p [MPa] or p_Pa")}
+    found = find_columns(path, line, head, _KNOWN, UNITS, _SHOWN, named=named, refuse=_engineering)
     missing = [q for q in ("strain", "alpha", "p") if q not in found]
     if missing:
         shown = ", ".join(repr(h.strip()) for h in head) or "nothing"
@@ -163,10 +141,7 @@ def read_flattening_data(path) -> FlatteningData:
     """
     path = Path(path)
     line_of, rows, sep = read_rows(path)
-    head = rows[0] if rows else []
-    if len(rows) > 1 and is_units_row(head, rows[1], sep, _KNOWN):
-        head = with_units(path, line_of[1], head, rows[1], _KNOWN, UNITS, _SHOWN)
-        line_of, rows = line_of[:1] + line_of[2:], rows[:1] + rows[2:]
+    head, line_of, rows = header_and_rows(path, line_of, rows, sep, _KNOWN, UNITS, _SHOWN)
     cols = _columns(path, line_of[0] if line_of else 1, head)
     vals: dict[str, list[float]] = {c: [] for c in cols}
     for i, r in zip(line_of[1:], rows[1:], strict=True):
