@@ -93,7 +93,7 @@ def test_data_above_the_model_initial_is_refused():
 
 def _table(tmp_path, text, name="after.csv"):
     f = tmp_path / name
-    f.write_text(text)
+    f.write_text(text, encoding="utf-8")
     return f
 
 
@@ -108,6 +108,17 @@ def test_reading_units_samples_and_the_initial_row(tmp_path):
     assert d.initial == pytest.approx((1.0e-6, 1.3e-6)) and str(f) in d.source
     g = _table(tmp_path, "p_mean (GPa) Ra (nm) Rq (nm)\n0.1 900 1100\n0.2 800 1000\n", "b.txt")
     assert read_after_contact(g).Rq == pytest.approx((1.1e-6, 1.0e-6))
+    # German Excel's "CSV UTF-8": a byte-order mark, semicolons, decimal commas, N/mm², and
+    # the Greek mu (U+03BC) some keyboards give for the micro sign (U+00B5)
+    h = _table(
+        tmp_path,
+        "\ufeffp_mean [N/mm\u00b2];Ra [\u03bcm];Rq [\u00b5m]\n0;1,0;1,3\n100;0,9;1,1\n"
+        "300;0,6;0,8\n",
+        "c.csv",
+    )
+    d = read_after_contact(h)
+    assert d.p_mean == (100e6, 300e6) and d.Ra == pytest.approx((0.9e-6, 0.6e-6))
+    assert d.Rq == pytest.approx((1.1e-6, 0.8e-6)) and d.initial == pytest.approx((1e-6, 1.3e-6))
 
 
 @pytest.mark.parametrize(

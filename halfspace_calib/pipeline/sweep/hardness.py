@@ -26,7 +26,7 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 from scipy.stats import t as student_t
 
-from frictionlaw._table import STRESS_UNITS
+from frictionlaw._table import STRESS_UNITS, number
 from sbmf_cli import ParameterError
 
 from ...common.checks import text_file
@@ -46,7 +46,7 @@ __all__ = [
 ]
 
 _PRESSURE_UNITS = STRESS_UNITS
-_LENGTH_UNITS = {"m": 1.0, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "nm": 1e-9}
+_LENGTH_UNITS = {"m": 1.0, "mm": 1e-3, "um": 1e-6, "\u00b5m": 1e-6, "\u03bcm": 1e-6, "nm": 1e-9}
 #: the fitted H is searched in ``(H_LOW * max p_mean, H_HIGH * max p_mean)``
 H_LOW, H_HIGH = 1.02, 100.0
 #: points of the coarse scan of log H before the bounded search
@@ -188,7 +188,7 @@ def roughness_of_scans(scans, scene, surfaces):
     return data, records
 
 
-def _read_scans(path, lines, split, heads):
+def _read_scans(path, lines, split, heads, sep):
     """The ``p_mean [unit], file`` form of :func:`read_after_contact`."""
     try:
         name, factor = _unit(heads[0], _PRESSURE_UNITS, "p_mean")
@@ -202,7 +202,7 @@ def _read_scans(path, lines, split, heads):
         if len(cells) != 2:
             raise ValueError(f"{path}: row {i} is not 'p_mean, file': {ln.strip()!r}")
         try:
-            p = float(cells[0]) * factor
+            p = number(cells[0], sep) * factor
         except ValueError:
             raise ValueError(f"{path}: row {i}: p_mean {cells[0]!r} is not a number") from None
         if not (math.isfinite(p) and p > 0):
@@ -228,8 +228,10 @@ def read_after_contact(path):
     """Read measured after-contact roughness: a text table with a header naming the units.
 
     Lines starting with ``#`` are comments; the first other line is the header
-    ``p_mean [MPa], Ra [um], Rq [um]`` (pressure units Pa, kPa, MPa, GPa, N/mm², psi, ksi; lengths m, mm, um,
-    nm), then one row per sample, comma- or whitespace-separated. A ``p_mean = 0`` row is the
+    ``p_mean [MPa], Ra [um], Rq [um]`` (pressure units Pa, kPa, MPa, GPa, N/mm², psi, ksi;
+    lengths m, mm, um or µm, nm), then one row per sample, separated by commas, semicolons, tabs
+    or whitespace (the header decides; with semicolons or tabs a decimal comma is read, as
+    German or French spreadsheets write numbers; a UTF-8 byte-order mark is dropped). A ``p_mean = 0`` row is the
     roughness before contact (checked against, not fitted).
 
     With the header ``p_mean [MPa], file`` the rows name surfaces scanned after unloading
@@ -243,16 +245,18 @@ def read_after_contact(path):
         initial, non-numeric cells: the message names the file and what to fix.
     """
     path = Path(path)
-    text = text_file(path, "after-contact roughness file")
+    text = text_file(path, "after-contact roughness file").lstrip("\ufeff")
     lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
     if not lines:
         raise ValueError(f"{path}: no header and no rows")
-    split = (lambda s: s.split(",")) if "," in lines[0] else (lambda s: s.split())
+    # semicolons or tabs (and then decimal commas), commas, or whitespace: the header decides
+    sep = next((d for d in (";", "\t", ",") if d in lines[0]), " ")
+    split = (lambda s: s.split(sep)) if sep != " " else (lambda s: s.split())
     heads = re.findall(r"[A-Za-z_]+\s*[\[(][^\])]*[\])]", lines[0])
     if len(heads) != 3:
         heads = split(lines[0])
     if len(heads) == 2:  # 'p_mean [MPa], file'
-        return _read_scans(path, lines, split, heads)
+        return _read_scans(path, lines, split, heads, sep)
     if len(heads) != 3:
         raise ValueError(
             f"{path}: the header must be 'p_mean [MPa], Ra [um], Rq [um]' or 'p_mean [MPa], file'"
@@ -272,7 +276,7 @@ def read_after_contact(path):
     for i, ln in enumerate(lines[1:], start=2):
         cells = split(ln)
         try:
-            vals = [float(c) * f for c, (_, f) in zip(cells, cols, strict=True)]
+            vals = [number(c, sep) * f for c, (_, f) in zip(cells, cols, strict=True)]
         except ValueError:
             raise ValueError(f"{path}: row {i} is not three numbers: {ln.strip()!r}") from None
         rows.append(vals)
