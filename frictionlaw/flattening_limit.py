@@ -9,8 +9,9 @@ hardness; 0.02-0.6), ``A`` and ``s`` (0.01-0.2): at low pressure the optimum tur
 flank before it grows the contact, which no rate of the fraction alone can do. Against the
 project's FE asperity truth, nothing fitted, it misses by at most 0.134 at 0.05-0.6 ``H`` and
 0.138 at 0.02 ``H`` where the default model misses by 0.264 and 0.643, but a hardening sheet
-(DC04) by 0.648 where the default with the hardening modulus misses by 0.195
-(docs/flattening.md, "The two-state model").
+(DC04) by 0.648 at 0.05-0.45 ``H`` and 0.837 at 0.02 ``H`` where the default with the hardening
+modulus misses by 0.195 and 0.105 (docs/flattening.md, "The two-state model" and "Below the
+table").
 
 * a node starts from ``A0 = max(alpha_f, alpha1(max(p, p_hist)))`` (as Eq. F6 starts from the
   largest of ``p_f``, ``p_hist`` and ``p``) and the block's ``slope`` (a state of 0: never

@@ -136,9 +136,10 @@ def with_flattening(cal, on, data, model=FLATTENING_MODEL):
         cal.notes = (
             *cal.notes,
             f"the flattening model {model} is perfectly plastic: against our FE asperity truth "
-            "it misses a hardening sheet (DC04) by up to 0.65 in the contact fraction, where "
-            "layer-yield with the host's hardening modulus misses by 0.195; prefer layer-yield "
-            "for a sheet that hardens over the process's strains (docs/flattening.md)",
+            "it misses a hardening sheet (DC04) by up to 0.65 in the contact fraction at "
+            "0.05-0.45 H and 0.84 at 0.02 H, where layer-yield with the host's hardening "
+            "modulus misses by 0.195 and 0.105; prefer layer-yield for a sheet that hardens "
+            "over the process's strains (docs/flattening.md)",
             f"the flattening model {model}'s table covers contact pressures "
             f"{lo / 1e6:.3g}-{hi / 1e6:.3g} MPa at this sigma_y ({cal.params.sigma_y / 1e6:.4g} "
             f"MPa; they scale with the host's flow stress): below {lo / 1e6:.3g} MPa it reads "
