@@ -192,17 +192,22 @@ FLOW_NAMES = {
         "eps",
         "epsilon",
         "\u03b5",
-        "plastic strain",
         "true strain",
-        "true plastic strain",
-        "equivalent plastic strain",
         "log strain",
         "logarithmic strain",
-        "peeq",
         "phi",
         "\u03c6",
         "Umformgrad",
         "Vergleichsumformgrad",
+    ),
+    # read in place of a total strain column beside it (a tensile test's export gives both)
+    "plastic_strain": (
+        "plastic strain",
+        "true plastic strain",
+        "equivalent plastic strain",
+        "eps_p",
+        "peeq",
+        "plastische Dehnung",
     ),
     "sigma_y": (
         "sigma_y",
@@ -219,40 +224,45 @@ FLOW_NAMES = {
     ),
 }
 #: the units each column takes (lower case) -> factor to 1 or to Pa; a stress needs one
-FLOW_UNITS = {
-    "strain": {"": 1.0, "-": 1.0, "1": 1.0, "mm/mm": 1.0, "m/m": 1.0, "%": 0.01},
-    "sigma_y": STRESS_UNITS,
+_STRAIN_UNITS = {"": 1.0, "-": 1.0, "1": 1.0, "mm/mm": 1.0, "m/m": 1.0, "%": 0.01}
+FLOW_UNITS = {"strain": _STRAIN_UNITS, "plastic_strain": _STRAIN_UNITS, "sigma_y": STRESS_UNITS}
+_FLOW_SHOWN = {
+    "strain": "none, -, 1, mm/mm, m/m, %",
+    "plastic_strain": "none, -, 1, mm/mm, m/m, %",
+    "sigma_y": STRESS_SHOWN,
 }
-_FLOW_SHOWN = {"strain": "none, -, 1, mm/mm, m/m, %", "sigma_y": STRESS_SHOWN}
 _FLOW_KNOWN = known_names(FLOW_NAMES)
 #: how an engineering (nominal) column starts: a flow curve is true stress against true strain
 _NOMINAL = ("engineering ", "eng ", "nominal ", "technische ")
 
 
-def _nominal(written: str) -> str | None:
-    """The message for a column headed as an engineering value (``None`` for another)."""
-    if not plain(written).startswith(_NOMINAL):
-        return None
-    return (
-        f"the column {written!r} is an engineering (nominal) value: a flow curve is the true "
-        "stress against the true (logarithmic) plastic strain; convert a nominal strain e to "
-        "ln(1 + e) and its stress s to s (1 + e), and take the elastic part off the strain"
-    )
-
-
 def _flow_columns(path: Path, line: int, head: list[str]) -> dict[str, tuple[int, float, str]]:
-    """``{"strain" or "sigma_y": (index, factor, header as written)}`` of a flow curve's header."""
+    """``{"strain" or "sigma_y": (index, factor, header as written)}`` of a flow curve's header.
+
+    Engineering (nominal) columns are not read; a header with no true column of a quantity but
+    an engineering one is refused with the conversion. A plastic strain column is read in place
+    of a total strain column beside it.
+    """
     named = {"sigma_y": ("flow stress", "sigma_y_MPa or 'sigma_y [MPa]'")}
-    found = find_columns(
-        path, line, head, _FLOW_KNOWN, FLOW_UNITS, _FLOW_SHOWN, named=named, refuse=_nominal
-    )
+    found = find_columns(path, line, head, _FLOW_KNOWN, FLOW_UNITS, _FLOW_SHOWN, named=named)
+    if "plastic_strain" in found:
+        found["strain"] = found.pop("plastic_strain")
     if len(found) != 2:
+        nominal = [h.strip() for h in head if plain(h).startswith(_NOMINAL)]
+        if nominal:
+            raise ValueError(
+                f"{path}: line {line}: the column {nominal[0]!r} is an engineering (nominal) "
+                "value: a flow curve is the true stress against the true (logarithmic) plastic "
+                "strain; convert a nominal strain e to ln(1 + e) and its stress s to s (1 + e), "
+                "take the elastic part off the strain, and head the columns strain and sigma_y "
+                "with its unit"
+            )
         shown = ", ".join(repr(h.strip()) for h in head) or "nothing"
         raise ValueError(
             f"{path}: the first row must name the columns strain and sigma_y with its unit, e.g. "
             f"strain and sigma_y_MPa or 'sigma_y [MPa]' (true stress against equivalent plastic "
             f"strain); found {shown}; names read: "
-            + "; ".join(f"{q}: {', '.join(n)}" for q, n in FLOW_NAMES.items())
+            + "; ".join(f"{q.replace('_', ' ')}: {', '.join(n)}" for q, n in FLOW_NAMES.items())
         )
     return found
 

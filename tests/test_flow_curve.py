@@ -128,6 +128,10 @@ def test_the_command_line_text(tmp_path):
         "True strain,True stress (ksi)\n0,22.4808493482\n0.1,43.5113213191\n",  # a US sheet
         "plastic strain [%]\tflow stress / Pa\n0\t155e6\n10\t300e6\n",
         "# tensile test 3, RD\nPEEQ,sigma_y in GPa,remark\n0,0.155,yield\n0.1,0.300,\n",
+        # a tensile test's export: engineering columns beside the true ones are not read, the
+        # true plastic strain is read in place of the total one
+        "Eng. strain;Eng. stress [MPa];True strain;True plastic strain;True stress [MPa]\n"
+        "0,0008;155;0,0008;0;155\n0,106;271;0,1008;0,1;300\n",
     ],
 )
 def test_a_lab_flow_curve_reads_as_written(tmp_path, text):
