@@ -1,4 +1,4 @@
-"""The hardening asperity truth below the table: 0.02 H, where much of sheet forming lives (issue 43).
+"""The hardening asperity truth at 0.02 H, where much of sheet forming lives (issue 43).
 
 ``flattening_hardening.py`` holds the law given the hardening modulus (docs/flattening.md, Eqs.
 F2c and F2d) to a hardening FE truth at 0.05, 0.2 and 0.45 H; ``asperity_low.py`` holds the

@@ -28,9 +28,9 @@ commas)::
 ``geometry``: the ring's outer and inner diameter and height before the test (``OD``, ``ID``,
 ``H``; units ``m``, ``mm`` or ``um``). ``material``: the Swift flow curve
 ``sigma_f = K (eps0 + eps_p)^n`` and the elastic constants (``K`` and ``E`` in ``Pa``, ``kPa``,
-``MPa``, ``GPa``, ``N/mm²``, ``psi`` or ``ksi``; ``nu``, ``eps0``, ``n`` without a unit); ``K``, ``eps0`` and ``n`` are required,
-``E`` and ``nu`` default to ``fe-demo``'s DC04 values. Pooled files must state the same
-conditions where they state any.
+``MPa``, ``GPa``, ``N/mm²``, ``psi`` or ``ksi``; ``nu``, ``eps0``, ``n`` without a unit); ``K``,
+``eps0`` and ``n`` are required, ``E`` and ``nu`` default to ``fe-demo``'s DC04 values. Pooled
+files must state the same conditions where they state any.
 """
 
 from __future__ import annotations

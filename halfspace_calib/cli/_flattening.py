@@ -61,10 +61,10 @@ def add_flattening_options(ap):
         type=file_path,
         help="the measured sheet's flow curve, for the fit of --flattening-data: swift:K,eps0,n "
         "(K in Pa, e.g. swift:530e6,0.006,0.24) or a CSV with a strain and a flow stress column "
-        "with its unit (strain and sigma_y_MPa, phi and kf [MPa], ...), not extrapolated; each point is then integrated at the flow stress "
-        "and hardening modulus of its strain, as a host passing both runs the law (default: "
-        "none: a perfectly plastic sheet at the calibration's sigma_y, beta absorbing its "
-        "hardening)",
+        "with its unit (strain and sigma_y_MPa, phi and kf [MPa], ...), not extrapolated; each "
+        "point is then integrated at the flow stress and hardening modulus of its strain, as a "
+        "host passing both runs the law (default: none: a perfectly plastic sheet at the "
+        "calibration's sigma_y, beta absorbing its hardening)",
     )
 
 

@@ -231,8 +231,8 @@ def read_after_contact(path):
     ``p_mean [MPa], Ra [um], Rq [um]`` (pressure units Pa, kPa, MPa, GPa, N/mm², psi, ksi;
     lengths m, mm, um or µm, nm), then one row per sample, separated by commas, semicolons, tabs
     or whitespace (the header decides; with semicolons or tabs a decimal comma is read, as
-    German or French spreadsheets write numbers; a UTF-8 byte-order mark is dropped). A ``p_mean = 0`` row is the
-    roughness before contact (checked against, not fitted).
+    German or French spreadsheets write numbers; a UTF-8 byte-order mark is dropped). A
+    ``p_mean = 0`` row is the roughness before contact (checked against, not fitted).
 
     With the header ``p_mean [MPa], file`` the rows name surfaces scanned after unloading
     (instrument files, as the workpiece's; relative to the table's folder) and an
