@@ -148,9 +148,10 @@ def candidate_curve(P, p, slope, strains, mat, limited=True, held=True, grid=400
     return np.interp(np.asarray(strains, dtype=float), eps, A)
 
 
-def _fe_runs(names, profs, args, mat):
-    """The hardening truth of every (profile, pressure), ``--workers`` processes."""
-    keys = [(n, ph) for n in names for ph in P_OVER_H]
+def _fe_runs(names, profs, args, mat, pressures=P_OVER_H):
+    """The hardening truth of every (profile, pressure), ``--workers`` processes, on ``--nx`` x
+    ``--nz`` elements: ``{(profile, p/H): (alpha at STRAINS, converged)}``."""
+    keys = [(n, ph) for n in names for ph in pressures]
     jobs = [(n, profs[n], ph, STRAINS, args.nx, args.nz, mat) for n, ph in keys]
     runs = run_cases(jobs, args.workers)
     return {

@@ -21,8 +21,7 @@ each with ``alpha1`` the hardening truth's pressing-alone fractions: this run's 
 ``flattening_truth.low_law`` builds the perfectly plastic law below the table. The perfectly
 plastic truth at 0.02 H (``asperity_low.csv``, 128 x 48) is shown beside it.
 
-Each FE job's rows are kept in ``results/<stem>.partial.csv`` as it ends, and a rerun computes
-only the jobs missing there (``--reuse``: only the laws, from ``<stem>.csv``).
+``--reuse``: the truth of the CSV a previous run wrote, only the laws computed again.
 
 Run: python benchmarks/flattening_hardening_low.py [--workers 2] [--material K,eps0,n --tag NAME]
 [--nx 256 --nz 64 --tag fine] [--reuse] (DC04: 2.5 min with two workers; 256 x 64: 7 min).
@@ -31,13 +30,13 @@ Writes benchmarks/results/flattening_hardening_low[_NAME].csv, .md and .png (run
 """
 
 import argparse
-import csv
 import math
 from pathlib import Path
 
+import flattening_hardening as fh
 import numpy as np
 from _provenance import RESULTS, read_rows, write_rows
-from asperity_flattening import each_case, profiles
+from asperity_flattening import profiles
 from flattening_hardening import (
     STRAINS,
     _material,
@@ -54,59 +53,6 @@ from frictionlaw.flow_curve import SwiftCurve
 P_OVER_H = 0.02
 MESH = (128, 48)
 STEM = "flattening_hardening_low"
-
-
-def _partial(path):
-    """``{profile: [rows]}`` of the jobs a previous run finished (``path`` may be missing)."""
-    out = {}
-    if path.exists():
-        for r in read_rows(path):
-            out.setdefault(r["profile"], []).append(r)
-    return out
-
-
-def fe_truth(names, profs, mat, mesh, workers, stem):
-    """``{profile: alpha at STRAINS}``: the hardening truth at ``P_OVER_H``, each job's rows
-    appended to ``<stem>.partial.csv`` as it ends."""
-    path = RESULTS / f"{stem}.partial.csv"
-    done = _partial(path)
-    todo = [n for n in names if n not in done]
-    jobs = [(n, profs[n], P_OVER_H, STRAINS, *mesh, mat) for n in todo]
-    for k, rows in each_case(jobs, workers):
-        new = not path.exists()
-        with path.open("a", encoding="utf-8", newline="") as f:
-            w = csv.DictWriter(f, fieldnames=["profile", "strain", "alpha", "converged"])
-            if new:
-                w.writeheader()
-            for e, r in zip(STRAINS, rows, strict=True):
-                w.writerow(
-                    {
-                        "profile": todo[k],
-                        "strain": e,
-                        "alpha": r["alpha"],
-                        "converged": r["converged"],
-                    }
-                )
-        done[todo[k]] = [
-            {"strain": e, "alpha": r["alpha"], "converged": r["converged"]}
-            for e, r in zip(STRAINS, rows, strict=True)
-        ]
-    return {
-        n: (
-            np.array([float(r["alpha"]) for r in done[n]]),
-            all(str(r["converged"]) == "True" for r in done[n]),
-        )
-        for n in names
-    }
-
-
-def _pressing(stem):
-    """``{profile: {p/H: alpha after pressing alone}}`` of the hardening table's run."""
-    out = {}
-    for r in read_rows(RESULTS / f"{stem}.csv"):
-        if float(r["strain"]) == 0.0:
-            out.setdefault(r["profile"], {})[float(r["p_over_H"])] = float(r["alpha_hardening"])
-    return out
 
 
 def _perfectly_plastic_low(mesh):
@@ -177,14 +123,11 @@ def main(argv=None):
     profs = profiles()
     names = list(profs)
     if args.reuse:
-        truth = {}
-        for r in read_rows(RESULTS / f"{stem}.csv"):
-            a, _ = truth.setdefault(r["profile"], ([], r["converged"] == "True"))
-            a.append(float(r["alpha_hardening"]))
-        truth = {n: (np.array(a), ok) for n, (a, ok) in truth.items()}
+        stored = fh._stored_truth(stem)
     else:
-        truth = fe_truth(names, profs, mat, mesh, args.workers, stem)
-    pressing = _pressing("flattening_hardening" + suffix)
+        stored = fh._fe_runs(names, profs, args, mat, (P_OVER_H,))
+    truth = {n: stored[(n, P_OVER_H)] for n in names}
+    table = fh._stored_truth("flattening_hardening" + suffix)  # its pressing-alone fractions
     plastic = _perfectly_plastic_low(mesh)
     p = P_OVER_H * H
     rows, lines, check = [], [], 0.0
@@ -192,9 +135,9 @@ def main(argv=None):
     for name in names:
         deg = next(k for k in pp if k[0] == name)[1]
         a_h, ok = truth[name]
-        table = {ph: {0.0: a} for ph, a in pressing[name].items()}
-        table[P_OVER_H] = {0.0: float(a_h[0])}
-        P = law_of(table, deg, H)
+        first = {ph: {0.0: float(table[(name, ph)][0][0])} for ph in fh.P_OVER_H}
+        first[P_OVER_H] = {0.0: float(a_h[0])}
+        P = law_of(first, deg, H)
         slope = math.tan(math.radians(deg))
         plain = law_curve(P, p, STRAINS, mat)
         held = candidate_curve(P, p, slope, STRAINS, mat)
@@ -230,7 +173,6 @@ def main(argv=None):
             + " |"
         )
     write_rows(RESULTS / f"{stem}.csv", rows)
-    (RESULTS / f"{stem}.partial.csv").unlink(missing_ok=True)
     figure(
         rows,
         RESULTS / f"{stem}.png",

@@ -105,10 +105,9 @@ def bound_curve(P, p, slope, strains, mat, depth=DEPTH, grid=2001):
     return np.interp(np.asarray(strains, dtype=float), out, A)
 
 
-def law_misses(H):
+def law_misses(pp, H):
     """``{label: (runtime's misses, the bound's (DEPTH), the bound's (the half-space's depth),
     pressures)}``: each curve's largest miss and its ``p / H``."""
-    pp, _ = read_truth(RESULTS / "asperity_flattening.csv")
     out = {}
     for tag, material, label in CURVES:
         mat = _material(material)
@@ -155,7 +154,7 @@ def orthotropic_compliance(mu1, mu2, k=1.0):
 
 
 def main():
-    _, H = read_truth(RESULTS / "asperity_flattening.csv")
+    pp, H = read_truth(RESULTS / "asperity_flattening.csv")
     check = max(
         abs(orthotropic_compliance(1.0, m2) * 2.0 * math.sqrt(m2) - 1.0)
         for m2 in (1.5, 3.0, 10.0, 100.0, 1000.0)
@@ -236,7 +235,7 @@ def main():
         "| tangent-secant | with the half-space's depth | at 0.02-0.05 H |",
         "|---|---|---|---|---|---|---|",
     ]
-    for label, (now, new, half, at) in law_misses(H).items():
+    for label, (now, new, half, at) in law_misses(pp, H).items():
         low = [k for k, ph in enumerate(at) if ph <= 0.05]
         lines.append(
             f"| {label} | {max(now):.3f} / {sum(m <= 0.05 for m in now)} | "
