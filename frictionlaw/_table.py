@@ -16,11 +16,10 @@ __all__ = [
     "number",
     "STRESS_UNITS",
     "STRESS_SHOWN",
+    "STRAIN_UNITS",
+    "STRAIN_SHOWN",
     "plain",
     "known_names",
-    "header_cell",
-    "is_units_row",
-    "with_units",
     "find_columns",
     "header_and_rows",
 ]
@@ -40,6 +39,10 @@ STRESS_UNITS = {
 }
 #: the same, as the messages show them
 STRESS_SHOWN = "Pa, kPa, MPa, GPa, N/mm², psi, ksi"
+#: the units a strain column may give (a fraction or per cent) -> factor to the fraction
+STRAIN_UNITS = {"": 1.0, "-": 1.0, "1": 1.0, "mm/mm": 1.0, "m/m": 1.0, "%": 0.01}
+#: the same, as the messages show them
+STRAIN_SHOWN = "none, -, 1, mm/mm, m/m, %"
 
 
 def read_rows(path) -> tuple[list[int], list[list[str]], str]:

@@ -21,6 +21,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._table import (
+    STRAIN_SHOWN,
+    STRAIN_UNITS,
     STRESS_SHOWN,
     STRESS_UNITS,
     find_columns,
@@ -224,13 +226,8 @@ FLOW_NAMES = {
     ),
 }
 #: the units each column takes (lower case) -> factor to 1 or to Pa; a stress needs one
-_STRAIN_UNITS = {"": 1.0, "-": 1.0, "1": 1.0, "mm/mm": 1.0, "m/m": 1.0, "%": 0.01}
-FLOW_UNITS = {"strain": _STRAIN_UNITS, "plastic_strain": _STRAIN_UNITS, "sigma_y": STRESS_UNITS}
-_FLOW_SHOWN = {
-    "strain": "none, -, 1, mm/mm, m/m, %",
-    "plastic_strain": "none, -, 1, mm/mm, m/m, %",
-    "sigma_y": STRESS_SHOWN,
-}
+FLOW_UNITS = {"strain": STRAIN_UNITS, "plastic_strain": STRAIN_UNITS, "sigma_y": STRESS_UNITS}
+_FLOW_SHOWN = {"strain": STRAIN_SHOWN, "plastic_strain": STRAIN_SHOWN, "sigma_y": STRESS_SHOWN}
 _FLOW_KNOWN = known_names(FLOW_NAMES)
 #: how an engineering (nominal) column starts: a flow curve is true stress against true strain
 _NOMINAL = ("engineering ", "eng ", "nominal ", "technische ")

@@ -62,7 +62,6 @@ REDUCTION_RANGE = (0.0, 0.7)
 COLUMNS = ("inner_diameter_change", "inner_diameter_min_change")
 
 _LENGTH = {"m": 1.0, "mm": 1e-3, "um": 1e-6}
-_STRESS = STRESS_UNITS
 #: key -> (name in the record, units it takes (None: none), required)
 _GEOMETRY = {
     "od": ("outer_diameter", _LENGTH, True),
@@ -70,9 +69,9 @@ _GEOMETRY = {
     "h": ("height", _LENGTH, True),
 }
 _MATERIAL = {
-    "e": ("E", _STRESS, False),
+    "e": ("E", STRESS_UNITS, False),
     "nu": ("nu", None, False),
-    "k": ("K", _STRESS, True),
+    "k": ("K", STRESS_UNITS, True),
     "eps0": ("eps0", None, True),
     "n": ("n", None, True),
 }

@@ -20,6 +20,8 @@ from pathlib import Path
 import numpy as np
 
 from frictionlaw._table import (
+    STRAIN_SHOWN,
+    STRAIN_UNITS,
     STRESS_SHOWN,
     STRESS_UNITS,
     find_columns,
@@ -84,13 +86,13 @@ NAMES = {
 #: the units a header may give each quantity (compared in lower case) -> factor to the fraction
 #: or to Pa; a pressure needs one
 UNITS = {
-    "strain": {"": 1.0, "-": 1.0, "1": 1.0, "mm/mm": 1.0, "m/m": 1.0, "%": 0.01},
+    "strain": STRAIN_UNITS,
     "alpha": {"": 1.0, "-": 1.0, "1": 1.0, "%": 0.01},
     "p": STRESS_UNITS,
 }
 #: the units as the messages show them
 _SHOWN = {
-    "strain": "none, -, 1, mm/mm, %",
+    "strain": STRAIN_SHOWN,
     "alpha": "none, -, 1, %",
     "p": STRESS_SHOWN,
 }

@@ -45,7 +45,6 @@ __all__ = [
     "read_after_contact",
 ]
 
-_PRESSURE_UNITS = STRESS_UNITS
 _LENGTH_UNITS = {"m": 1.0, "mm": 1e-3, "um": 1e-6, "\u00b5m": 1e-6, "\u03bcm": 1e-6, "nm": 1e-9}
 #: the fitted H is searched in ``(H_LOW * max p_mean, H_HIGH * max p_mean)``
 H_LOW, H_HIGH = 1.02, 100.0
@@ -191,7 +190,7 @@ def roughness_of_scans(scans, scene, surfaces):
 def _read_scans(path, lines, split, heads, sep):
     """The ``p_mean [unit], file`` form of :func:`read_after_contact`."""
     try:
-        name, factor = _unit(heads[0], _PRESSURE_UNITS, "p_mean")
+        name, factor = _unit(heads[0], STRESS_UNITS, "p_mean")
     except ValueError as exc:
         raise ValueError(f"{path}: {exc}") from None
     if name.lower() != "p_mean" or heads[1].strip().lower() != "file":
@@ -263,7 +262,7 @@ def read_after_contact(path):
         )
     try:
         cols = [
-            _unit(heads[0], _PRESSURE_UNITS, "p_mean"),
+            _unit(heads[0], STRESS_UNITS, "p_mean"),
             _unit(heads[1], _LENGTH_UNITS, "Ra"),
             _unit(heads[2], _LENGTH_UNITS, "Rq"),
         ]
